@@ -1,0 +1,57 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "core/polygon_mesh.h"
+
+#include <algorithm>
+
+CAGEKIT_NAMESPACE_BEGIN
+
+void BoundingBox::extend(const Vec3& p) {
+  if (empty) {
+    min = max = p;
+    empty = false;
+    return;
+  }
+  min = {std::min(min.x, p.x), std::min(min.y, p.y), std::min(min.z, p.z)};
+  max = {std::max(max.x, p.x), std::max(max.y, p.y), std::max(max.z, p.z)};
+}
+
+uint32_t PolygonMesh::add_vertex(const Vec3& p) {
+  positions.push_back(p);
+  return static_cast<uint32_t>(positions.size() - 1);
+}
+
+uint32_t PolygonMesh::add_face(const uint32_t* vertices, size_t count) {
+  face_vertices.insert(face_vertices.end(), vertices, vertices + count);
+  face_offsets.push_back(static_cast<uint32_t>(face_vertices.size()));
+  return static_cast<uint32_t>(num_faces() - 1);
+}
+
+uint32_t PolygonMesh::add_face(std::initializer_list<uint32_t> vertices) {
+  return add_face(vertices.begin(), vertices.size());
+}
+
+void PolygonMesh::clear() {
+  positions.clear();
+  face_offsets.assign(1, 0);
+  face_vertices.clear();
+}
+
+void PolygonMesh::reserve(size_t vertices, size_t faces, size_t face_vertex_count) {
+  positions.reserve(vertices);
+  face_offsets.reserve(faces + 1);
+  face_vertices.reserve(face_vertex_count);
+}
+
+BoundingBox PolygonMesh::bounding_box() const {
+  BoundingBox box;
+  for (const Vec3& p : positions) box.extend(p);
+  return box;
+}
+
+bool PolygonMesh::all_faces_have_size(uint32_t n) const {
+  for (size_t f = 0; f < num_faces(); ++f)
+    if (face_size(f) != n) return false;
+  return true;
+}
+
+CAGEKIT_NAMESPACE_END

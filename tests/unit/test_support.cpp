@@ -1,0 +1,74 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "test_support.h"
+
+#include <fstream>
+#include <map>
+#include <utility>
+
+namespace cagekit_test {
+
+using cagekit::PolygonMesh;
+using cagekit::Vec3;
+
+std::string shared_mesh_path(const std::string& name) {
+  const std::string path = std::string(CAGEKIT_SHARED_MESHES) + "/" + name;
+  std::ifstream probe(path);
+  return probe.good() ? path : std::string();
+}
+
+PolygonMesh unit_cube_quads() {
+  PolygonMesh m;
+  for (int i = 0; i < 8; ++i) m.add_vertex(Vec3(i & 1, (i >> 1) & 1, (i >> 2) & 1));
+  // Outward-oriented (counter-clockwise seen from outside).
+  m.add_face({0, 2, 3, 1});  // z = 0
+  m.add_face({4, 5, 7, 6});  // z = 1
+  m.add_face({0, 1, 5, 4});  // y = 0
+  m.add_face({2, 6, 7, 3});  // y = 1
+  m.add_face({0, 4, 6, 2});  // x = 0
+  m.add_face({1, 3, 7, 5});  // x = 1
+  return m;
+}
+
+PolygonMesh quad_grid(int nx, int ny, double (*height)(double, double)) {
+  PolygonMesh m;
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i) m.add_vertex(Vec3(i, j, height ? height(i, j) : 0.0));
+  auto id = [nx](int i, int j) { return static_cast<uint32_t>(j * (nx + 1) + i); };
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) m.add_face({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+  return m;
+}
+
+PolygonMesh triangle_sphere(int levels) {
+  PolygonMesh m;
+  const Vec3 v[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  for (const Vec3& p : v) m.add_vertex(p);
+  const uint32_t f[8][3] = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+                            {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+  for (const auto& t : f) m.add_face(t, 3);
+  for (int l = 0; l < levels; ++l) {
+    PolygonMesh next;
+    next.positions = m.positions;
+    std::map<std::pair<uint32_t, uint32_t>, uint32_t> mid;
+    auto midpoint = [&](uint32_t a, uint32_t b) {
+      auto key = std::minmax(a, b);
+      auto it = mid.find(key);
+      if (it != mid.end()) return it->second;
+      const uint32_t id = next.add_vertex(cagekit::normalized(0.5 * (next.positions[a] + next.positions[b])));
+      mid.emplace(key, id);
+      return id;
+    };
+    for (size_t t = 0; t < m.num_faces(); ++t) {
+      const uint32_t a = m.face_vertex(t, 0), b = m.face_vertex(t, 1), c = m.face_vertex(t, 2);
+      const uint32_t ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
+      next.add_face({a, ab, ca});
+      next.add_face({ab, b, bc});
+      next.add_face({ca, bc, c});
+      next.add_face({ab, bc, ca});
+    }
+    m = std::move(next);
+  }
+  return m;
+}
+
+}  // namespace cagekit_test

@@ -1,0 +1,23 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// Shared helpers for the C++ unit tests: locating the shared meshes, small generated meshes.
+#include <string>
+
+#include "core/cage.h"
+#include "core/polygon_mesh.h"
+
+namespace cagekit_test {
+
+// Full path of ../shared/meshes/NAME, or "" when it is not present (tests then GTEST_SKIP).
+std::string shared_mesh_path(const std::string& name);
+
+// An axis-aligned unit cube of 6 quads, outward-oriented, vertices at {0,1}^3.
+cagekit::PolygonMesh unit_cube_quads();
+
+// A regular grid of nx * ny quads over [0,nx]x[0,ny] at z = height(x, y); open boundary.
+cagekit::PolygonMesh quad_grid(int nx, int ny, double (*height)(double x, double y) = nullptr);
+
+// A UV-sphere-like closed mesh of triangles (an octahedron subdivided `levels` times, projected).
+cagekit::PolygonMesh triangle_sphere(int levels);
+
+}  // namespace cagekit_test
