@@ -1,0 +1,62 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// SubdivisionSurface: the Catmull-Clark limit surface of a cage, evaluable at any parametric
+// location, with first and second derivatives and the basis weights phi_j of the control
+// vertices (thesis §2.3–2.4, (2.24)–(2.26)). Chapters 7 (fitting) and 8 (multiresolution)
+// stand on this.
+//
+// Parameterisation: OpenSubdiv's "ptex" faces. A quad of the cage is one parametric face with
+// (u, v) in [0,1]^2; an n-gon (n != 4) is split into n parametric quads, one per corner.
+// ptex_face(base_face, corner) maps between the two.
+//
+// Thread-safety: after construction, every const member may be called from any thread.
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "core/cage.h"
+
+CAGEKIT_NAMESPACE_BEGIN
+
+struct SurfaceOptions {
+  // Adaptive isolation level of features (extraordinary vertices, creases) in OpenSubdiv;
+  // higher is closer to the exact limit surface near extraordinary vertices, at more memory.
+  int isolation_level = 6;
+};
+
+struct SurfacePoint {
+  Vec3 position, du, dv, duu, duv, dvv;
+};
+
+// A stencil: the limit quantity at one location = sum_k weights[k] * control[indices[k]].
+struct BasisWeights {
+  std::vector<uint32_t> indices;  // control vertices of the cage
+  std::vector<double> w, wu, wv, wuu, wuv, wvv;
+};
+
+class SubdivisionSurface {
+ public:
+  explicit SubdivisionSurface(const Cage& cage, const SurfaceOptions& options = {});
+  ~SubdivisionSurface();
+  SubdivisionSurface(SubdivisionSurface&&) noexcept;
+  SubdivisionSurface& operator=(SubdivisionSurface&&) noexcept;
+
+  uint32_t num_control_vertices() const;
+  uint32_t num_ptex_faces() const;
+  uint32_t ptex_face(uint32_t base_face, uint32_t corner = 0) const;
+  uint32_t base_face_of_ptex(uint32_t ptex_face) const;
+
+  // Evaluates with the cage's own control positions or with `control` (one per control vertex,
+  // e.g. moved cage vertices). u, v in [0,1]; out-of-range faces/params throw invalid_argument.
+  SurfacePoint evaluate(uint32_t ptex_face, double u, double v) const;
+  SurfacePoint evaluate(uint32_t ptex_face, double u, double v, const std::vector<Vec3>& control) const;
+  // The basis functions phi_j that are non-zero at (ptex_face, u, v) and their derivatives.
+  // They sum to 1 (partition of unity) and their derivatives sum to 0.
+  BasisWeights basis(uint32_t ptex_face, double u, double v) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+CAGEKIT_NAMESPACE_END
