@@ -1,0 +1,530 @@
+/*
+ * CageKit — structure-preserving Catmull-Clark models from dense triangle meshes.
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ *
+ * The public C API of libcagekit. C99; also compiles as C++.
+ *
+ * Conventions (the same for every call; individual functions only state exceptions):
+ *
+ * - Handles. Objects are opaque, reference-counted handles (cagekit_context, cagekit_mesh,
+ *   cagekit_cage, cagekit_surface, cagekit_blob). A function that creates a handle hands the
+ *   caller one reference; release it with the type's *_release() function. *_retain() adds a
+ *   reference. Every object keeps its context alive, so a context may be released before the
+ *   objects made with it. Releasing NULL is a no-op.
+ *
+ * - Status codes. Every call that can fail returns a cagekit_status: 0 on success, negative on
+ *   error (CAGEKIT_FAILED(s)). On error, output handles are set to NULL, output buffers are left
+ *   in an unspecified state, and nothing is allocated. A human-readable message describing the
+ *   failure precisely (file and line, element index, ...) is available from
+ *   cagekit_last_error_message() on the same thread.
+ *
+ * - No C++ exception, abort() or exit() ever leaves the library. Bad input (corrupt files, NaN,
+ *   out-of-range indices, hostile sizes) yields an error status, never a crash.
+ *
+ * - Options and report structs begin with `struct_size`, which the caller sets to
+ *   sizeof(the struct) as compiled (use the CAGEKIT_*_INIT helpers or the *_init functions).
+ *   Fields may be added at the end in later minor versions without breaking the ABI: the library
+ *   reads/writes only the fields that fit in struct_size. Passing NULL for an options struct
+ *   means "all defaults".
+ *
+ * - Buffers. Inputs are copied: the library never keeps a caller pointer after a call returns.
+ *   Outputs use the two-call idiom (as OpenXR): call with capacity 0 (the buffer may be NULL) to
+ *   get the required count, allocate, call again. A capacity that is too small yields
+ *   CAGEKIT_ERROR_SIZE_INSUFFICIENT with the required count still written.
+ *
+ * - Thread safety. All functions may be called concurrently from several threads on DIFFERENT
+ *   objects. A single object may be used by several threads at once only through calls that
+ *   are documented as read-only on it ("reads"); calls marked "modifies" need exclusive access.
+ *   Contexts are safe to share between threads (the last error is kept per thread).
+ *
+ * - Long operations report progress through the context's progress callback (on the calling
+ *   thread) and can be cancelled: by returning 0 from the callback, or by
+ *   cagekit_context_cancel() from any thread. They then return CAGEKIT_ERROR_CANCELLED.
+ */
+#ifndef CAGEKIT_CAGEKIT_H
+#define CAGEKIT_CAGEKIT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#if defined(_WIN32)
+#  if defined(CAGEKIT_BUILDING_LIBRARY)
+#    define CAGEKIT_API __declspec(dllexport)
+#  else
+#    define CAGEKIT_API __declspec(dllimport)
+#  endif
+#else
+#  define CAGEKIT_API __attribute__((visibility("default")))
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ------------------------------------------------------------------------------------------ */
+/* Versioning                                                                                 */
+/* ------------------------------------------------------------------------------------------ */
+
+/* Packs a version as 10 bits major, 10 bits minor, 12 bits patch. */
+#define CAGEKIT_MAKE_VERSION(major, minor, patch) \
+  ((((uint32_t)(major)) << 22) | (((uint32_t)(minor)) << 12) | ((uint32_t)(patch)))
+#define CAGEKIT_VERSION_MAJOR 0
+#define CAGEKIT_VERSION_MINOR 1
+#define CAGEKIT_VERSION_PATCH 0
+#define CAGEKIT_VERSION \
+  CAGEKIT_MAKE_VERSION(CAGEKIT_VERSION_MAJOR, CAGEKIT_VERSION_MINOR, CAGEKIT_VERSION_PATCH)
+
+/* The ABI major version: incremented on any change that breaks binary compatibility (it is the
+ * number in the shared library's soname, libcagekit.so.N). A host built against this header
+ * passes CAGEKIT_ABI_VERSION in cagekit_context_desc and may compare it with
+ * cagekit_abi_version() of the library it loaded. */
+#define CAGEKIT_ABI_VERSION 1
+
+/* Version of the loaded library (CAGEKIT_MAKE_VERSION packing). Thread-safe, never fails. */
+CAGEKIT_API uint32_t cagekit_version(void);
+/* "MAJOR.MINOR.PATCH" of the loaded library; a static string. Thread-safe, never fails. */
+CAGEKIT_API const char* cagekit_version_string(void);
+/* ABI major version of the loaded library. Thread-safe, never fails. */
+CAGEKIT_API uint32_t cagekit_abi_version(void);
+
+/* ------------------------------------------------------------------------------------------ */
+/* Status codes and errors                                                                    */
+/* ------------------------------------------------------------------------------------------ */
+
+typedef enum cagekit_status {
+  CAGEKIT_SUCCESS = 0,
+  CAGEKIT_ERROR_INVALID_ARGUMENT = -1,   /* NULL where not allowed, value out of range */
+  CAGEKIT_ERROR_INVALID_HANDLE = -2,     /* not a live handle of the expected type */
+  CAGEKIT_ERROR_OUT_OF_MEMORY = -3,
+  CAGEKIT_ERROR_SIZE_INSUFFICIENT = -4,  /* output capacity too small (two-call idiom) */
+  CAGEKIT_ERROR_IO = -5,                 /* a file could not be opened, read or written */
+  CAGEKIT_ERROR_PARSE = -6,              /* malformed or corrupt file content */
+  CAGEKIT_ERROR_UNSUPPORTED_FORMAT = -7, /* unknown file format or feature */
+  CAGEKIT_ERROR_INVALID_MESH = -8,       /* the mesh fails validation for this operation */
+  CAGEKIT_ERROR_LIMIT_EXCEEDED = -9,     /* a size beyond what the library accepts */
+  CAGEKIT_ERROR_CANCELLED = -10,         /* cancelled by the progress callback or _cancel() */
+  CAGEKIT_ERROR_INTERNAL = -11,          /* a bug in CageKit: please report it */
+  CAGEKIT_ERROR_VERSION_MISMATCH = -12   /* the host was built for another ABI version */
+} cagekit_status;
+
+#define CAGEKIT_SUCCEEDED(status) ((status) >= 0)
+#define CAGEKIT_FAILED(status) ((status) < 0)
+
+/* A static English name of a status ("invalid argument"). Thread-safe, never fails. */
+CAGEKIT_API const char* cagekit_status_string(cagekit_status status);
+
+/* ------------------------------------------------------------------------------------------ */
+/* Context                                                                                    */
+/* ------------------------------------------------------------------------------------------ */
+
+typedef struct cagekit_context_t* cagekit_context;
+typedef struct cagekit_mesh_t* cagekit_mesh;
+typedef struct cagekit_cage_t* cagekit_cage;
+typedef struct cagekit_surface_t* cagekit_surface;
+typedef struct cagekit_blob_t* cagekit_blob;
+
+typedef enum cagekit_log_level {
+  CAGEKIT_LOG_DEBUG = 0,
+  CAGEKIT_LOG_INFO = 1,
+  CAGEKIT_LOG_WARNING = 2,
+  CAGEKIT_LOG_ERROR = 3
+} cagekit_log_level;
+
+/* Receives log messages at or above the context's log level. Called on the thread that made
+ * the library call; `message` is valid only during the callback. Must not call back into
+ * CageKit with the same context. */
+typedef void (*cagekit_log_fn)(void* user_data, cagekit_log_level level, const char* message);
+
+/* Receives the progress of a long operation: `stage` names the step ("reading",
+ * "subdivide", ...), `fraction` is in [0, 1] and non-decreasing within a stage. Return nonzero to
+ * continue, 0 to cancel (the operation then returns CAGEKIT_ERROR_CANCELLED). Called on the
+ * thread that made the library call, at most every few milliseconds of work. Must not call back
+ * into CageKit with the same context. */
+typedef int (*cagekit_progress_fn)(void* user_data, const char* stage, double fraction);
+
+typedef struct cagekit_context_desc {
+  size_t struct_size;             /* sizeof(cagekit_context_desc) */
+  uint32_t abi_version;           /* CAGEKIT_ABI_VERSION of the header the host was built with */
+  cagekit_log_fn log;             /* may be NULL */
+  void* log_user_data;
+  cagekit_log_level log_level;    /* lowest level passed to `log` (default WARNING) */
+  cagekit_progress_fn progress;   /* may be NULL */
+  void* progress_user_data;
+} cagekit_context_desc;
+
+#define CAGEKIT_CONTEXT_DESC_INIT \
+  { sizeof(cagekit_context_desc), CAGEKIT_ABI_VERSION, NULL, NULL, CAGEKIT_LOG_WARNING, NULL, NULL }
+
+/* Creates a context, the owner of settings and callbacks for the objects made with it.
+ * desc may be NULL (no callbacks). Fails with CAGEKIT_ERROR_VERSION_MISMATCH when
+ * desc->abi_version differs from the library's. *out receives one reference.
+ * Thread-safe. Errors: INVALID_ARGUMENT (out NULL, bad struct_size), VERSION_MISMATCH,
+ * OUT_OF_MEMORY. The message of a failed create is available from
+ * cagekit_last_error_message(NULL). */
+CAGEKIT_API cagekit_status cagekit_context_create(const cagekit_context_desc* desc, cagekit_context* out);
+CAGEKIT_API void cagekit_context_retain(cagekit_context context);
+CAGEKIT_API void cagekit_context_release(cagekit_context context);
+
+/* Replaces the progress callback (NULL removes it). Modifies the context: must not run while
+ * another thread is inside a call using this context. */
+CAGEKIT_API cagekit_status cagekit_context_set_progress(cagekit_context context, cagekit_progress_fn progress,
+                                                        void* user_data);
+
+/* Requests cancellation of every long operation running with this context and of those that
+ * start later, until cagekit_context_reset_cancel(). Safe to call from any thread, e.g. a UI
+ * thread, at any time. */
+CAGEKIT_API void cagekit_context_cancel(cagekit_context context);
+/* Clears a cancellation request. Safe to call from any thread. */
+CAGEKIT_API void cagekit_context_reset_cancel(cagekit_context context);
+
+/* The message of the most recent failed call made on the calling thread with objects of this
+ * context (context NULL: of a failed cagekit_context_create on this thread), or "" if none.
+ * The string stays valid until the next failing call on this thread with this context, or until
+ * the context is destroyed. Thread-safe (messages are kept per thread). */
+CAGEKIT_API const char* cagekit_last_error_message(cagekit_context context);
+
+/* ------------------------------------------------------------------------------------------ */
+/* Blob: a library-owned byte buffer (file contents encoded in memory)                        */
+/* ------------------------------------------------------------------------------------------ */
+
+/* The bytes of a blob; valid until the blob is released. Reads. */
+CAGEKIT_API const void* cagekit_blob_data(cagekit_blob blob);
+CAGEKIT_API size_t cagekit_blob_size(cagekit_blob blob);
+CAGEKIT_API void cagekit_blob_retain(cagekit_blob blob);
+CAGEKIT_API void cagekit_blob_release(cagekit_blob blob);
+
+/* ------------------------------------------------------------------------------------------ */
+/* Mesh: an indexed polygon mesh                                                              */
+/* ------------------------------------------------------------------------------------------ */
+
+typedef enum cagekit_scalar_type {
+  CAGEKIT_SCALAR_FLOAT32 = 0,
+  CAGEKIT_SCALAR_FLOAT64 = 1
+} cagekit_scalar_type;
+
+typedef struct cagekit_mesh_desc {
+  size_t struct_size;                /* sizeof(cagekit_mesh_desc) */
+  uint32_t vertex_count;
+  const void* positions;             /* vertex_count xyz triples of position_type */
+  cagekit_scalar_type position_type;
+  size_t position_stride;            /* bytes from one vertex to the next; 0 = 3 packed scalars */
+  uint32_t face_count;
+  const uint32_t* face_sizes;        /* face_count sizes; NULL = every face has uniform_face_size */
+  uint32_t uniform_face_size;        /* used when face_sizes is NULL (3 for triangle meshes) */
+  const uint32_t* face_indices;      /* sum of face sizes vertex indices, faces one after another */
+} cagekit_mesh_desc;
+
+#define CAGEKIT_MESH_DESC_INIT \
+  { sizeof(cagekit_mesh_desc), 0, NULL, CAGEKIT_SCALAR_FLOAT64, 0, 0, NULL, 3, NULL }
+
+/* Creates a mesh by copying caller buffers. The content is NOT validated here (so that
+ * cagekit_mesh_validate can report and cagekit_mesh_repair can fix it); operations that need a
+ * valid mesh check it and fail with CAGEKIT_ERROR_INVALID_MESH. Structural errors of the
+ * description itself fail: NULL buffers with nonzero counts, face sizes of 0, totals beyond
+ * 2^31 indices (LIMIT_EXCEEDED). Thread-safe. */
+CAGEKIT_API cagekit_status cagekit_mesh_create(cagekit_context context, const cagekit_mesh_desc* desc,
+                                               cagekit_mesh* out);
+CAGEKIT_API void cagekit_mesh_retain(cagekit_mesh mesh);
+CAGEKIT_API void cagekit_mesh_release(cagekit_mesh mesh);
+
+/* Element counts. Any output pointer may be NULL. Reads. */
+CAGEKIT_API cagekit_status cagekit_mesh_get_counts(cagekit_mesh mesh, uint32_t* vertex_count, uint32_t* face_count,
+                                                   uint64_t* face_index_count);
+
+/* Copies the positions as `type` xyz triples (3 * vertex_count scalars) into `positions`.
+ * Two-call idiom over vertices: capacity is in vertices, *vertex_count_out receives
+ * vertex_count. Reads. */
+CAGEKIT_API cagekit_status cagekit_mesh_get_positions(cagekit_mesh mesh, cagekit_scalar_type type,
+                                                      uint32_t vertex_capacity, uint32_t* vertex_count_out,
+                                                      void* positions);
+
+/* Copies the faces: face_sizes (face_count entries) and face_indices (sum of sizes entries).
+ * Two-call idiom on both arrays; either array may be NULL with capacity 0 to query sizes only.
+ * Reads. */
+CAGEKIT_API cagekit_status cagekit_mesh_get_faces(cagekit_mesh mesh, uint32_t face_capacity, uint32_t* face_count_out,
+                                                  uint32_t* face_sizes, uint64_t index_capacity,
+                                                  uint64_t* index_count_out, uint32_t* face_indices);
+
+/* --- validation and repair --- */
+
+/* Kinds of problems; bit (1u << kind) is set in cagekit_validation_report.issue_flags. */
+typedef enum cagekit_mesh_issue {
+  CAGEKIT_ISSUE_INDEX_OUT_OF_RANGE = 0,
+  CAGEKIT_ISSUE_NON_FINITE_POSITION = 1,
+  CAGEKIT_ISSUE_DEGENERATE_FACE = 2,
+  CAGEKIT_ISSUE_DUPLICATE_FACE = 3,
+  CAGEKIT_ISSUE_NON_MANIFOLD_EDGE = 4,
+  CAGEKIT_ISSUE_NON_MANIFOLD_VERTEX = 5,
+  CAGEKIT_ISSUE_INCONSISTENT_ORIENTATION = 6,
+  CAGEKIT_ISSUE_UNREFERENCED_VERTEX = 7, /* a warning only: does not make a mesh invalid */
+  CAGEKIT_ISSUE_KIND_COUNT = 8
+} cagekit_mesh_issue;
+
+typedef struct cagekit_validation_report {
+  size_t struct_size;                        /* sizeof(cagekit_validation_report) */
+  int valid;                                 /* 1 when no error-level issue was found */
+  uint32_t issue_flags;                      /* bit (1u << cagekit_mesh_issue) per kind found */
+  uint64_t issue_counts[CAGEKIT_ISSUE_KIND_COUNT];
+} cagekit_validation_report;
+
+/* Checks the mesh for every cagekit_mesh_issue. Returns CAGEKIT_SUCCESS when it is valid and
+ * CAGEKIT_ERROR_INVALID_MESH when not; in both cases *report (may be NULL) is filled, and on
+ * INVALID_MESH the last error message lists each kind of problem with its count and first
+ * example ("face 12 refers to vertex 9000 but the mesh has 6475 vertices"). Reads. */
+CAGEKIT_API cagekit_status cagekit_mesh_validate(cagekit_mesh mesh, cagekit_validation_report* report);
+
+enum {
+  CAGEKIT_REPAIR_DROP_INVALID_FACES = 1u << 0,    /* out-of-range indices, non-finite positions */
+  CAGEKIT_REPAIR_DROP_DEGENERATE_FACES = 1u << 1,
+  CAGEKIT_REPAIR_DROP_DUPLICATE_FACES = 1u << 2,
+  CAGEKIT_REPAIR_SPLIT_NON_MANIFOLD = 1u << 3,    /* split non-manifold edges and vertices */
+  CAGEKIT_REPAIR_ORIENT = 1u << 4,                /* orient each component consistently */
+  CAGEKIT_REPAIR_REMOVE_UNREFERENCED = 1u << 5,
+  CAGEKIT_REPAIR_WELD = 1u << 6,                  /* merge vertices within weld_tolerance */
+  CAGEKIT_REPAIR_DEFAULT = 0x1f | (1u << 6)
+};
+
+typedef struct cagekit_repair_options {
+  size_t struct_size;       /* sizeof(cagekit_repair_options) */
+  uint32_t steps;           /* CAGEKIT_REPAIR_* flags */
+  double weld_tolerance;    /* absolute distance, model units; 0 merges exact duplicates only */
+} cagekit_repair_options;
+
+#define CAGEKIT_REPAIR_OPTIONS_INIT { sizeof(cagekit_repair_options), CAGEKIT_REPAIR_DEFAULT, 0.0 }
+
+typedef struct cagekit_repair_report {
+  size_t struct_size;       /* sizeof(cagekit_repair_report) */
+  uint64_t welded_vertices;
+  uint64_t dropped_invalid_faces;
+  uint64_t dropped_degenerate_faces;
+  uint64_t dropped_duplicate_faces;
+  uint64_t split_vertices;
+  uint64_t flipped_faces;
+  uint64_t removed_unreferenced_vertices;
+} cagekit_repair_report;
+
+/* Makes a repaired copy of `mesh` (the input is unchanged). With every step enabled the
+ * result always passes cagekit_mesh_validate. report may be NULL. Long operation (progress,
+ * cancel). Reads `mesh`. */
+CAGEKIT_API cagekit_status cagekit_mesh_repair(cagekit_mesh mesh, const cagekit_repair_options* options,
+                                               cagekit_mesh* out, cagekit_repair_report* report);
+
+/* --- statistics --- */
+
+typedef struct cagekit_mesh_info {
+  size_t struct_size;           /* sizeof(cagekit_mesh_info) */
+  uint64_t vertices, faces, edges;
+  uint64_t triangles, quads, other_polygons;
+  uint64_t boundary_edges, boundary_loops, components, unreferenced_vertices;
+  int64_t genus;                /* -1 when the mesh is not manifold */
+  int manifold;                 /* 1 when edge- and vertex-manifold with valid indices */
+  double bbox_min[3], bbox_max[3], bbox_diagonal;
+  uint64_t creases, corners, holes; /* tags (cages only; 0 for meshes) */
+} cagekit_mesh_info;
+
+/* Fills *info. Reads. */
+CAGEKIT_API cagekit_status cagekit_mesh_get_info(cagekit_mesh mesh, cagekit_mesh_info* info);
+
+/* ------------------------------------------------------------------------------------------ */
+/* Cage: a Catmull-Clark control mesh with crease tags                                        */
+/* ------------------------------------------------------------------------------------------ */
+
+/* Sharpness of an infinitely sharp crease or corner (the thesis's binary tag). Values in
+ * (0, CAGEKIT_SHARP) are OpenSubdiv semi-sharp creases; values >= CAGEKIT_SHARP are infinite. */
+#define CAGEKIT_SHARP 10.0f
+
+typedef enum cagekit_boundary_rule {
+  /* Boundary edges are infinitely sharp; boundary vertices follow the crease rules and are not
+   * pinned (the thesis's rule, §2.2.1). The default. */
+  CAGEKIT_BOUNDARY_EDGES_ONLY = 0,
+  /* As above, and boundary vertices with only two incident edges are pinned corners. */
+  CAGEKIT_BOUNDARY_EDGES_AND_CORNERS = 1
+} cagekit_boundary_rule;
+
+/* Creates a cage whose control mesh is a copy of `mesh`, with no tags and the default boundary
+ * rule. The mesh must be valid (cagekit_mesh_validate); otherwise INVALID_MESH with the first
+ * problem in the message. Thread-safe; reads `mesh`. */
+CAGEKIT_API cagekit_status cagekit_cage_create(cagekit_mesh mesh, cagekit_cage* out);
+CAGEKIT_API void cagekit_cage_retain(cagekit_cage cage);
+CAGEKIT_API void cagekit_cage_release(cagekit_cage cage);
+
+/* A new mesh handle holding a copy of the cage's control mesh. Reads. */
+CAGEKIT_API cagekit_status cagekit_cage_get_mesh(cagekit_cage cage, cagekit_mesh* out);
+
+/* Replaces the crease tags: `count` edges given as vertex pairs (2 * count indices, each pair
+ * an edge of the control mesh, either orientation) with a sharpness each (`sharpness` may be
+ * NULL: all CAGEKIT_SHARP). A sharpness of 0 removes the tag. Fails with INVALID_ARGUMENT naming
+ * the first pair that is not an edge or a sharpness that is negative or not finite; the tags are
+ * then unchanged. Modifies. */
+CAGEKIT_API cagekit_status cagekit_cage_set_creases(cagekit_cage cage, uint32_t count, const uint32_t* vertex_pairs,
+                                                    const float* sharpness);
+/* Reads the crease tags (two-call idiom over creases; vertex_pairs holds 2 * capacity entries;
+ * either output array may be NULL). Reads. */
+CAGEKIT_API cagekit_status cagekit_cage_get_creases(cagekit_cage cage, uint32_t capacity, uint32_t* count_out,
+                                                    uint32_t* vertex_pairs, float* sharpness);
+
+/* Replaces the corner tags (vertex indices with sharpness; sharpness NULL = CAGEKIT_SHARP).
+ * Modifies. */
+CAGEKIT_API cagekit_status cagekit_cage_set_corners(cagekit_cage cage, uint32_t count, const uint32_t* vertices,
+                                                    const float* sharpness);
+/* Reads the corner tags (two-call idiom). Reads. */
+CAGEKIT_API cagekit_status cagekit_cage_get_corners(cagekit_cage cage, uint32_t capacity, uint32_t* count_out,
+                                                    uint32_t* vertices, float* sharpness);
+
+/* Replaces the set of hole faces (faces that are not part of the limit surface). Modifies. */
+CAGEKIT_API cagekit_status cagekit_cage_set_holes(cagekit_cage cage, uint32_t count, const uint32_t* faces);
+/* Reads the hole faces (two-call idiom). Reads. */
+CAGEKIT_API cagekit_status cagekit_cage_get_holes(cagekit_cage cage, uint32_t capacity, uint32_t* count_out,
+                                                  uint32_t* faces);
+
+/* Sets / gets the boundary interpolation rule. set: modifies; get: reads. */
+CAGEKIT_API cagekit_status cagekit_cage_set_boundary_rule(cagekit_cage cage, cagekit_boundary_rule rule);
+CAGEKIT_API cagekit_status cagekit_cage_get_boundary_rule(cagekit_cage cage, cagekit_boundary_rule* rule);
+
+/* Statistics of the control mesh plus tag counts. Reads. */
+CAGEKIT_API cagekit_status cagekit_cage_get_info(cagekit_cage cage, cagekit_mesh_info* info);
+
+/* ------------------------------------------------------------------------------------------ */
+/* Files and streams: OBJ, PLY (ascii/binary), OFF, Draco                                     */
+/* ------------------------------------------------------------------------------------------ */
+
+typedef enum cagekit_file_format {
+  CAGEKIT_FORMAT_AUTO = 0,  /* by file extension; in memory, by sniffing the content */
+  CAGEKIT_FORMAT_OBJ = 1,   /* cages: OpenSubdiv-style `t crease` / `t corner` / `t hole` lines */
+  CAGEKIT_FORMAT_PLY = 2,   /* polygons only; no tags */
+  CAGEKIT_FORMAT_OFF = 3,   /* polygons only; no tags */
+  CAGEKIT_FORMAT_DRACO = 4  /* compressed; keeps polygons and cage tags (see io/README) */
+} cagekit_file_format;
+
+typedef struct cagekit_write_options {
+  size_t struct_size;               /* sizeof(cagekit_write_options) */
+  cagekit_file_format format;       /* AUTO: from the file extension (files only) */
+  int ply_binary;                   /* 1: binary little-endian PLY (default), 0: ascii */
+  int draco_position_bits;          /* position quantization, 1..30 (default 14) */
+  int draco_speed;                  /* 0 (smallest) .. 10 (fastest) (default 5) */
+} cagekit_write_options;
+
+#define CAGEKIT_WRITE_OPTIONS_INIT \
+  { sizeof(cagekit_write_options), CAGEKIT_FORMAT_AUTO, 1, 14, 5 }
+
+typedef struct cagekit_write_report {
+  size_t struct_size;               /* sizeof(cagekit_write_report) */
+  uint64_t bytes;                   /* size of the encoded file */
+  double max_position_error;        /* largest position change the encoding caused (measured) */
+} cagekit_write_report;
+
+/* Reads a mesh (tags in the file are ignored) or a cage from a file or a memory buffer.
+ * Errors: IO (cannot open/read), PARSE (the message names the file and the line or byte offset
+ * of the first problem), UNSUPPORTED_FORMAT, LIMIT_EXCEEDED (hostile element counts). Long
+ * operation (progress, cancel). Thread-safe. `data` is only read during the call. */
+CAGEKIT_API cagekit_status cagekit_mesh_read_file(cagekit_context context, const char* path,
+                                                  cagekit_file_format format, cagekit_mesh* out);
+CAGEKIT_API cagekit_status cagekit_mesh_read_memory(cagekit_context context, const void* data, size_t size,
+                                                    cagekit_file_format format, cagekit_mesh* out);
+CAGEKIT_API cagekit_status cagekit_cage_read_file(cagekit_context context, const char* path,
+                                                  cagekit_file_format format, cagekit_cage* out);
+CAGEKIT_API cagekit_status cagekit_cage_read_memory(cagekit_context context, const void* data, size_t size,
+                                                    cagekit_file_format format, cagekit_cage* out);
+
+/* Writes to a file atomically (a temporary file renamed over `path` on success: a failed write
+ * never leaves a partial file), or encodes into a new blob. options/report may be NULL.
+ * Writing a cage with tags to PLY or OFF drops the tags and logs a warning. Reads the object. */
+CAGEKIT_API cagekit_status cagekit_mesh_write_file(cagekit_mesh mesh, const char* path,
+                                                   const cagekit_write_options* options,
+                                                   cagekit_write_report* report);
+CAGEKIT_API cagekit_status cagekit_mesh_write_memory(cagekit_mesh mesh, const cagekit_write_options* options,
+                                                     cagekit_blob* out, cagekit_write_report* report);
+CAGEKIT_API cagekit_status cagekit_cage_write_file(cagekit_cage cage, const char* path,
+                                                   const cagekit_write_options* options,
+                                                   cagekit_write_report* report);
+CAGEKIT_API cagekit_status cagekit_cage_write_memory(cagekit_cage cage, const cagekit_write_options* options,
+                                                     cagekit_blob* out, cagekit_write_report* report);
+
+/* ------------------------------------------------------------------------------------------ */
+/* Catmull-Clark subdivision                                                                  */
+/* ------------------------------------------------------------------------------------------ */
+
+#define CAGEKIT_MAX_SUBDIVISION_LEVELS 8
+
+typedef struct cagekit_subdivide_options {
+  size_t struct_size;       /* sizeof(cagekit_subdivide_options) */
+  uint32_t levels;          /* 0 .. CAGEKIT_MAX_SUBDIVISION_LEVELS (default 1) */
+  int limit_positions;      /* 1: move the refined vertices onto the limit surface */
+} cagekit_subdivide_options;
+
+#define CAGEKIT_SUBDIVIDE_OPTIONS_INIT { sizeof(cagekit_subdivide_options), 1, 0 }
+
+/* Uniformly refines the cage `levels` times. The result is a new cage of quads whose tags are
+ * the refined tags (an infinitely sharp edge's two halves stay infinitely sharp; semi-sharp
+ * values decrease by 1 per level). Fails with LIMIT_EXCEEDED before allocating when the result
+ * would exceed 2^31 indices. Long operation (progress, cancel). Reads `cage`. */
+CAGEKIT_API cagekit_status cagekit_cage_subdivide(cagekit_cage cage, const cagekit_subdivide_options* options,
+                                                  cagekit_cage* out);
+
+/* Limit-surface positions and unit normals of the cage's control vertices (xyz per vertex;
+ * either output may be NULL). Two-call idiom over vertices. Reads. */
+CAGEKIT_API cagekit_status cagekit_cage_get_limit_points(cagekit_cage cage, uint32_t vertex_capacity,
+                                                         uint32_t* vertex_count_out, double* positions,
+                                                         double* normals);
+
+/* --- evaluation at any parametric location --- */
+
+typedef struct cagekit_surface_options {
+  size_t struct_size;       /* sizeof(cagekit_surface_options) */
+  uint32_t isolation_level; /* adaptive isolation of extraordinary features, 1..10 (default 6) */
+} cagekit_surface_options;
+
+#define CAGEKIT_SURFACE_OPTIONS_INIT { sizeof(cagekit_surface_options), 6 }
+
+/* A parametric location on the limit surface. Faces are "ptex" faces: a quad of the cage is one
+ * face with (u, v) in [0,1]^2, any other n-gon is n faces, one per corner (see
+ * cagekit_surface_get_ptex_face). */
+typedef struct cagekit_surface_location {
+  uint32_t face;
+  double u, v;
+} cagekit_surface_location;
+
+typedef struct cagekit_surface_point {
+  double position[3];
+  double du[3], dv[3];             /* first derivatives */
+  double duu[3], duv[3], dvv[3];   /* second derivatives */
+} cagekit_surface_point;
+
+/* Builds an evaluator for the limit surface of `cage` (a snapshot: later changes to the cage do
+ * not affect it). Long operation (progress, cancel). Reads `cage`. The surface is immutable:
+ * all its functions are read-only and may run concurrently from many threads. */
+CAGEKIT_API cagekit_status cagekit_surface_create(cagekit_cage cage, const cagekit_surface_options* options,
+                                                  cagekit_surface* out);
+CAGEKIT_API void cagekit_surface_retain(cagekit_surface surface);
+CAGEKIT_API void cagekit_surface_release(cagekit_surface surface);
+
+/* Number of ptex faces and of control vertices. Either pointer may be NULL. Reads. */
+CAGEKIT_API cagekit_status cagekit_surface_get_counts(cagekit_surface surface, uint32_t* ptex_face_count,
+                                                      uint32_t* control_vertex_count);
+/* The ptex face of corner `corner` of cage face `cage_face` (corner must be 0 for quads). Reads. */
+CAGEKIT_API cagekit_status cagekit_surface_get_ptex_face(cagekit_surface surface, uint32_t cage_face,
+                                                         uint32_t corner, uint32_t* ptex_face);
+
+/* Evaluates `count` locations into `points` (count entries). control_positions: NULL to use the
+ * cage's positions, or 3 * control_vertex_count doubles (moved control vertices). Fails with
+ * INVALID_ARGUMENT naming the first location with a bad face index or (u, v) outside [0,1]^2 or
+ * NaN. Reads. */
+CAGEKIT_API cagekit_status cagekit_surface_evaluate(cagekit_surface surface, const double* control_positions,
+                                                    uint32_t count, const cagekit_surface_location* locations,
+                                                    cagekit_surface_point* points);
+
+/* The basis functions phi_j (thesis (2.24)) that are non-zero at `location`, and their
+ * derivatives: position = sum_k w[k] * control[indices[k]], du = sum_k wu[k] * control[...], etc.
+ * Two-call idiom over the number of control vertices involved; every output array may be NULL.
+ * Reads. */
+CAGEKIT_API cagekit_status cagekit_surface_evaluate_basis(cagekit_surface surface,
+                                                          const cagekit_surface_location* location,
+                                                          uint32_t capacity, uint32_t* count_out,
+                                                          uint32_t* indices, double* w, double* wu, double* wv,
+                                                          double* wuu, double* wuv, double* wvv);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* CAGEKIT_CAGEKIT_H */

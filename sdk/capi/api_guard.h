@@ -1,0 +1,111 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// The exception barrier of the C ABI and small helpers shared by every entry point:
+// handle checks, versioned-struct reading/writing, two-call buffer sizing.
+#include <algorithm>
+#include <cstring>
+#include <new>
+#include <string>
+
+#include "capi/handles.h"
+#include "core/status.h"
+
+namespace cagekit_capi {
+
+using cagekit::Error;
+using cagekit::Status;
+using cagekit::fail;
+
+// Stores `message` as the calling thread's last error of `context` (nullptr: the thread-global
+// slot used when no context is known) and returns `status`. Never throws.
+cagekit_status record_error(cagekit_context context, cagekit_status status, const char* message) noexcept;
+
+// Runs `body`; translates any exception into a status recorded on `context`. Never throws.
+template <class Body>
+cagekit_status guarded(cagekit_context context, Body&& body) noexcept {
+  try {
+    body();
+    return CAGEKIT_SUCCESS;
+  } catch (const Error& e) {
+    return record_error(context, static_cast<cagekit_status>(e.status()), e.what());
+  } catch (const std::bad_alloc&) {
+    return record_error(context, CAGEKIT_ERROR_OUT_OF_MEMORY, "out of memory");
+  } catch (const std::length_error& e) {
+    return record_error(context, CAGEKIT_ERROR_OUT_OF_MEMORY, e.what());
+  } catch (const std::exception& e) {
+    return record_error(context, CAGEKIT_ERROR_INTERNAL, (std::string("internal error: ") + e.what()).c_str());
+  } catch (...) {
+    return record_error(context, CAGEKIT_ERROR_INTERNAL, "internal error: unknown exception");
+  }
+}
+
+template <class H>
+bool is_live(const H* handle) {
+  return handle != nullptr && handle->type.load(std::memory_order_relaxed) == H::kType;
+}
+
+// The context an object reports errors to (nullptr for a dead or null handle).
+template <class H>
+cagekit_context context_of(const H* handle) {
+  return is_live(handle) ? handle->context : nullptr;
+}
+
+template <class H>
+H& checked(H* handle, const char* what) {
+  if (!is_live(handle)) fail(Status::invalid_handle, std::string(what) + " is not a valid handle");
+  return *handle;
+}
+
+template <class H>
+void retain_handle(H* handle) {
+  if (is_live(handle)) handle->references.fetch_add(1, std::memory_order_relaxed);
+}
+
+template <class H>
+void release_handle(H* handle) {
+  if (is_live(handle) && handle->references.fetch_sub(1, std::memory_order_acq_rel) == 1) delete handle;
+}
+
+template <class T>
+void require_not_null(const T* pointer, const char* name) {
+  if (pointer == nullptr) fail(Status::invalid_argument, std::string(name) + " must not be NULL");
+}
+
+// Copies a caller's versioned input struct over `defaults`, reading only struct_size bytes.
+template <class T>
+T read_versioned(const T* in, const T& defaults, const char* name) {
+  T value = defaults;
+  if (in == nullptr) return value;
+  if (in->struct_size < sizeof(size_t) || in->struct_size > (1u << 16))
+    fail(Status::invalid_argument, std::string(name) + ".struct_size is " + std::to_string(in->struct_size) +
+                                       "; set it to sizeof(" + name + ")");
+  std::memcpy(static_cast<void*>(&value), in, std::min(in->struct_size, sizeof(T)));
+  value.struct_size = sizeof(T);
+  return value;
+}
+
+// Writes a versioned output struct: only the bytes the caller's struct_size covers.
+template <class T>
+void write_versioned(T* out, const T& value, const char* name) {
+  if (out == nullptr) return;
+  if (out->struct_size < sizeof(size_t) || out->struct_size > (1u << 16))
+    fail(Status::invalid_argument, std::string(name) + ".struct_size is " + std::to_string(out->struct_size) +
+                                       "; set it to sizeof(" + name + ")");
+  const size_t caller_size = out->struct_size;
+  std::memcpy(static_cast<void*>(out), &value, std::min(caller_size, sizeof(T)));
+  out->struct_size = caller_size;
+}
+
+// Two-call idiom: writes the required count, fails with size_insufficient if a non-zero
+// capacity is too small. Returns true when the caller's buffer should be filled.
+template <class Count>
+bool two_call_check(Count required, Count capacity, Count* count_out, bool have_buffer, const char* what) {
+  if (count_out) *count_out = required;
+  if (capacity == 0 || !have_buffer) return false;
+  if (capacity < required)
+    fail(Status::size_insufficient, std::string(what) + ": capacity " + std::to_string(capacity) +
+                                        " is less than the required " + std::to_string(required));
+  return true;
+}
+
+}  // namespace cagekit_capi

@@ -1,0 +1,180 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Cage handles: creation from a mesh, crease/corner/hole tags, boundary rule.
+#include <algorithm>
+#include <cmath>
+#include <unordered_set>
+
+#include "capi/api_guard.h"
+#include "capi/mesh_conversion.h"
+#include "core/mesh_validation.h"
+
+using namespace cagekit_capi;
+
+namespace {
+
+uint64_t edge_key(uint32_t a, uint32_t b) {
+  if (a > b) std::swap(a, b);
+  return (uint64_t(a) << 32) | b;
+}
+
+std::unordered_set<uint64_t> mesh_edges(const cagekit::PolygonMesh& mesh) {
+  std::unordered_set<uint64_t> edges;
+  edges.reserve(mesh.num_face_vertices());
+  for (size_t f = 0; f < mesh.num_faces(); ++f) {
+    const uint32_t n = mesh.face_size(f);
+    for (uint32_t c = 0; c < n; ++c) edges.insert(edge_key(mesh.face_vertex(f, c), mesh.face_vertex(f, (c + 1) % n)));
+  }
+  return edges;
+}
+
+float checked_sharpness(const float* sharpness, uint32_t i, const char* what) {
+  const float s = sharpness ? sharpness[i] : CAGEKIT_SHARP;
+  if (!std::isfinite(s) || s < 0)
+    fail(Status::invalid_argument, std::string(what) + " " + std::to_string(i) + " has sharpness " +
+                                       std::to_string(s) + "; it must be finite and >= 0");
+  return std::min(s, CAGEKIT_SHARP);
+}
+
+}  // namespace
+
+extern "C" {
+
+CAGEKIT_API cagekit_status cagekit_cage_create(cagekit_mesh mesh, cagekit_cage* out) {
+  return guarded(context_of(mesh), [&] {
+    require_not_null(out, "out");
+    *out = nullptr;
+    cagekit_mesh_t& m = checked(mesh, "mesh");
+    const cagekit::ValidationReport report = cagekit::validate_mesh(m.mesh, 1);
+    if (!report.ok()) fail(Status::invalid_mesh, "cannot make a cage of an invalid mesh: " + report.summary());
+    cagekit::Cage cage;
+    cage.mesh = m.mesh;
+    *out = std::make_unique<cagekit_cage_t>(m.context, std::move(cage)).release();
+  });
+}
+
+CAGEKIT_API void cagekit_cage_retain(cagekit_cage cage) { retain_handle(cage); }
+CAGEKIT_API void cagekit_cage_release(cagekit_cage cage) { release_handle(cage); }
+
+CAGEKIT_API cagekit_status cagekit_cage_get_mesh(cagekit_cage cage, cagekit_mesh* out) {
+  return guarded(context_of(cage), [&] {
+    require_not_null(out, "out");
+    *out = nullptr;
+    cagekit_cage_t& c = checked(cage, "cage");
+    *out = make_mesh_handle(c.context, c.cage.mesh);
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_cage_set_creases(cagekit_cage cage, uint32_t count, const uint32_t* vertex_pairs,
+                                                    const float* sharpness) {
+  return guarded(context_of(cage), [&] {
+    cagekit_cage_t& c = checked(cage, "cage");
+    if (count > 0) require_not_null(vertex_pairs, "vertex_pairs");
+    const std::unordered_set<uint64_t> edges = mesh_edges(c.cage.mesh);
+    std::vector<cagekit::EdgeCrease> creases;
+    creases.reserve(count);
+    for (uint32_t i = 0; i < count; ++i) {
+      const uint32_t a = vertex_pairs[2 * i], b = vertex_pairs[2 * i + 1];
+      if (!edges.count(edge_key(a, b)))
+        fail(Status::invalid_argument, "crease " + std::to_string(i) + " (" + std::to_string(a) + ", " +
+                                           std::to_string(b) + ") is not an edge of the cage");
+      const float s = checked_sharpness(sharpness, i, "crease");
+      if (s > 0) creases.push_back({a, b, s});
+    }
+    c.cage.creases = std::move(creases);
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_cage_get_creases(cagekit_cage cage, uint32_t capacity, uint32_t* count_out,
+                                                    uint32_t* vertex_pairs, float* sharpness) {
+  return guarded(context_of(cage), [&] {
+    const auto& creases = checked(cage, "cage").cage.creases;
+    if (!two_call_check(static_cast<uint32_t>(creases.size()), capacity, count_out,
+                        vertex_pairs != nullptr || sharpness != nullptr, "creases"))
+      return;
+    for (size_t i = 0; i < creases.size(); ++i) {
+      if (vertex_pairs) {
+        vertex_pairs[2 * i] = creases[i].v0;
+        vertex_pairs[2 * i + 1] = creases[i].v1;
+      }
+      if (sharpness) sharpness[i] = creases[i].sharpness;
+    }
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_cage_set_corners(cagekit_cage cage, uint32_t count, const uint32_t* vertices,
+                                                    const float* sharpness) {
+  return guarded(context_of(cage), [&] {
+    cagekit_cage_t& c = checked(cage, "cage");
+    if (count > 0) require_not_null(vertices, "vertices");
+    std::vector<cagekit::VertexCorner> corners;
+    corners.reserve(count);
+    for (uint32_t i = 0; i < count; ++i) {
+      if (vertices[i] >= c.cage.mesh.num_vertices())
+        fail(Status::invalid_argument, "corner " + std::to_string(i) + " names vertex " + std::to_string(vertices[i]) +
+                                           " but the cage has " + std::to_string(c.cage.mesh.num_vertices()));
+      const float s = checked_sharpness(sharpness, i, "corner");
+      if (s > 0) corners.push_back({vertices[i], s});
+    }
+    c.cage.corners = std::move(corners);
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_cage_get_corners(cagekit_cage cage, uint32_t capacity, uint32_t* count_out,
+                                                    uint32_t* vertices, float* sharpness) {
+  return guarded(context_of(cage), [&] {
+    const auto& corners = checked(cage, "cage").cage.corners;
+    if (!two_call_check(static_cast<uint32_t>(corners.size()), capacity, count_out,
+                        vertices != nullptr || sharpness != nullptr, "corners"))
+      return;
+    for (size_t i = 0; i < corners.size(); ++i) {
+      if (vertices) vertices[i] = corners[i].vertex;
+      if (sharpness) sharpness[i] = corners[i].sharpness;
+    }
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_cage_set_holes(cagekit_cage cage, uint32_t count, const uint32_t* faces) {
+  return guarded(context_of(cage), [&] {
+    cagekit_cage_t& c = checked(cage, "cage");
+    if (count > 0) require_not_null(faces, "faces");
+    for (uint32_t i = 0; i < count; ++i)
+      if (faces[i] >= c.cage.mesh.num_faces())
+        fail(Status::invalid_argument, "hole " + std::to_string(i) + " names face " + std::to_string(faces[i]) +
+                                           " but the cage has " + std::to_string(c.cage.mesh.num_faces()));
+    std::vector<uint32_t> holes(faces, faces + count);
+    std::sort(holes.begin(), holes.end());
+    holes.erase(std::unique(holes.begin(), holes.end()), holes.end());
+    c.cage.holes = std::move(holes);
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_cage_get_holes(cagekit_cage cage, uint32_t capacity, uint32_t* count_out,
+                                                  uint32_t* faces) {
+  return guarded(context_of(cage), [&] {
+    const auto& holes = checked(cage, "cage").cage.holes;
+    if (two_call_check(static_cast<uint32_t>(holes.size()), capacity, count_out, faces != nullptr, "holes"))
+      std::copy(holes.begin(), holes.end(), faces);
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_cage_set_boundary_rule(cagekit_cage cage, cagekit_boundary_rule rule) {
+  return guarded(context_of(cage), [&] {
+    cagekit_cage_t& c = checked(cage, "cage");
+    if (rule != CAGEKIT_BOUNDARY_EDGES_ONLY && rule != CAGEKIT_BOUNDARY_EDGES_AND_CORNERS)
+      fail(Status::invalid_argument, "rule is not a cagekit_boundary_rule");
+    c.cage.boundary = static_cast<cagekit::BoundaryRule>(rule);
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_cage_get_boundary_rule(cagekit_cage cage, cagekit_boundary_rule* rule) {
+  return guarded(context_of(cage), [&] {
+    require_not_null(rule, "rule");
+    *rule = static_cast<cagekit_boundary_rule>(checked(cage, "cage").cage.boundary);
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_cage_get_info(cagekit_cage cage, cagekit_mesh_info* info) {
+  return guarded(context_of(cage), [&] { fill_info(checked(cage, "cage").cage, info); });
+}
+
+}  // extern "C"

@@ -1,0 +1,90 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// The objects behind the C API's opaque handles. Each starts with a type tag (checked on every
+// call, so a wrong or released handle is reported as CAGEKIT_ERROR_INVALID_HANDLE as far as
+// that can be detected) and an atomic reference count.
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <unordered_map>
+#include <vector>
+
+#include <cagekit/cagekit.h>
+
+#include "core/cage.h"
+#include "core/task_monitor.h"
+#include "subdiv/subdivision_surface.h"
+
+namespace cagekit_capi {
+
+enum class HandleType : uint32_t {
+  context = 0x43544b31,  // "CTK1"
+  mesh = 0x4d534831,     // "MSH1"
+  cage = 0x43474531,     // "CGE1"
+  surface = 0x53524631,  // "SRF1"
+  blob = 0x424c4231,     // "BLB1"
+  dead = 0xdeadbeef,
+};
+
+struct Handle {
+  explicit Handle(HandleType t) : type(t) {}
+  virtual ~Handle() { type = HandleType::dead; }
+  std::atomic<HandleType> type;
+  std::atomic<int> references{1};
+};
+
+}  // namespace cagekit_capi
+
+struct cagekit_context_t : cagekit_capi::Handle {
+  static constexpr cagekit_capi::HandleType kType = cagekit_capi::HandleType::context;
+  cagekit_context_t() : Handle(kType) {}
+
+  cagekit_log_fn log = nullptr;
+  void* log_user_data = nullptr;
+  cagekit_log_level log_level = CAGEKIT_LOG_WARNING;
+  cagekit_progress_fn progress = nullptr;
+  void* progress_user_data = nullptr;
+  std::atomic<bool> cancel_requested{false};
+
+  std::mutex error_mutex;
+  std::unordered_map<std::thread::id, std::string> last_error;  // nodes are stable: c_str() stays valid
+
+  // Progress + cancellation + log forwarding for a long operation started now.
+  cagekit::TaskMonitor monitor();
+  void log_message(cagekit_log_level level, const std::string& message);
+};
+
+// Objects made by a context keep it alive.
+struct ContextBound : cagekit_capi::Handle {
+  ContextBound(cagekit_capi::HandleType t, cagekit_context c);
+  ~ContextBound() override;
+  cagekit_context context;
+};
+
+struct cagekit_mesh_t : ContextBound {
+  static constexpr cagekit_capi::HandleType kType = cagekit_capi::HandleType::mesh;
+  cagekit_mesh_t(cagekit_context c, cagekit::PolygonMesh m) : ContextBound(kType, c), mesh(std::move(m)) {}
+  cagekit::PolygonMesh mesh;
+};
+
+struct cagekit_cage_t : ContextBound {
+  static constexpr cagekit_capi::HandleType kType = cagekit_capi::HandleType::cage;
+  cagekit_cage_t(cagekit_context c, cagekit::Cage g) : ContextBound(kType, c), cage(std::move(g)) {}
+  cagekit::Cage cage;
+};
+
+struct cagekit_surface_t : ContextBound {
+  static constexpr cagekit_capi::HandleType kType = cagekit_capi::HandleType::surface;
+  cagekit_surface_t(cagekit_context c, cagekit::SubdivisionSurface s)
+      : ContextBound(kType, c), surface(std::move(s)) {}
+  cagekit::SubdivisionSurface surface;
+};
+
+struct cagekit_blob_t : cagekit_capi::Handle {
+  static constexpr cagekit_capi::HandleType kType = cagekit_capi::HandleType::blob;
+  explicit cagekit_blob_t(std::vector<uint8_t> b) : Handle(kType), bytes(std::move(b)) {}
+  std::vector<uint8_t> bytes;
+};

@@ -1,0 +1,16 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// Conversions between the C API's caller buffers/structs and the core types, shared by the
+// mesh, cage and I/O entry points.
+#include "capi/api_guard.h"
+
+namespace cagekit_capi {
+
+cagekit::PolygonMesh mesh_from_desc(const cagekit_mesh_desc& desc);
+void copy_positions(const cagekit::PolygonMesh& mesh, cagekit_scalar_type type, void* out);
+void copy_faces(const cagekit::PolygonMesh& mesh, uint32_t face_capacity, uint32_t* face_count_out,
+                uint32_t* face_sizes, uint64_t index_capacity, uint64_t* index_count_out, uint32_t* face_indices);
+void fill_info(const cagekit::Cage& cage, cagekit_mesh_info* info);
+cagekit_mesh make_mesh_handle(cagekit_context context, cagekit::PolygonMesh mesh);
+
+}  // namespace cagekit_capi

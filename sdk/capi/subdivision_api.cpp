@@ -1,0 +1,163 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Catmull-Clark refinement, limit points and limit-surface evaluation.
+#include <cmath>
+
+#include "capi/api_guard.h"
+#include "subdiv/subdivision_surface.h"
+#include "subdiv/uniform_refinement.h"
+
+using namespace cagekit_capi;
+
+namespace {
+
+void copy_vec3(const cagekit::Vec3& v, double* out) {
+  out[0] = v.x;
+  out[1] = v.y;
+  out[2] = v.z;
+}
+
+void check_location(const cagekit::SubdivisionSurface& surface, const cagekit_surface_location& l, uint32_t i) {
+  if (l.face >= surface.num_ptex_faces())
+    fail(Status::invalid_argument, "location " + std::to_string(i) + ": face " + std::to_string(l.face) +
+                                       " is not below the ptex face count " +
+                                       std::to_string(surface.num_ptex_faces()));
+  if (!(l.u >= 0.0 && l.u <= 1.0 && l.v >= 0.0 && l.v <= 1.0))
+    fail(Status::invalid_argument, "location " + std::to_string(i) + ": (u, v) = (" + std::to_string(l.u) + ", " +
+                                       std::to_string(l.v) + ") is not inside [0,1]^2");
+}
+
+}  // namespace
+
+extern "C" {
+
+CAGEKIT_API cagekit_status cagekit_cage_subdivide(cagekit_cage cage, const cagekit_subdivide_options* options,
+                                                  cagekit_cage* out) {
+  return guarded(context_of(cage), [&] {
+    require_not_null(out, "out");
+    *out = nullptr;
+    cagekit_cage_t& c = checked(cage, "cage");
+    cagekit_subdivide_options defaults = CAGEKIT_SUBDIVIDE_OPTIONS_INIT;
+    const cagekit_subdivide_options o = read_versioned(options, defaults, "cagekit_subdivide_options");
+    if (o.levels > CAGEKIT_MAX_SUBDIVISION_LEVELS)
+      fail(Status::invalid_argument, "levels must be at most " + std::to_string(CAGEKIT_MAX_SUBDIVISION_LEVELS) +
+                                         ", not " + std::to_string(o.levels));
+    cagekit::RefineOptions ro;
+    ro.levels = static_cast<int>(o.levels);
+    ro.limit_positions = o.limit_positions != 0;
+    cagekit::Cage refined = cagekit::refine_uniform(c.cage, ro, c.context->monitor());
+    *out = std::make_unique<cagekit_cage_t>(c.context, std::move(refined)).release();
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_cage_get_limit_points(cagekit_cage cage, uint32_t vertex_capacity,
+                                                         uint32_t* vertex_count_out, double* positions,
+                                                         double* normals) {
+  return guarded(context_of(cage), [&] {
+    const cagekit::Cage& c = checked(cage, "cage").cage;
+    if (!two_call_check(static_cast<uint32_t>(c.mesh.num_vertices()), vertex_capacity, vertex_count_out,
+                        positions != nullptr || normals != nullptr, "limit points"))
+      return;
+    std::vector<cagekit::Vec3> p, n;
+    cagekit::limit_positions_and_normals(c, &p, &n);
+    for (size_t v = 0; v < p.size(); ++v) {
+      if (positions) copy_vec3(p[v], positions + 3 * v);
+      if (normals) copy_vec3(n[v], normals + 3 * v);
+    }
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_surface_create(cagekit_cage cage, const cagekit_surface_options* options,
+                                                  cagekit_surface* out) {
+  return guarded(context_of(cage), [&] {
+    require_not_null(out, "out");
+    *out = nullptr;
+    cagekit_cage_t& c = checked(cage, "cage");
+    cagekit_surface_options defaults = CAGEKIT_SURFACE_OPTIONS_INIT;
+    const cagekit_surface_options o = read_versioned(options, defaults, "cagekit_surface_options");
+    if (o.isolation_level < 1 || o.isolation_level > 10)
+      fail(Status::invalid_argument, "isolation_level must be in 1..10, not " + std::to_string(o.isolation_level));
+    c.context->monitor().report("surface", 0.0);
+    cagekit::SurfaceOptions so;
+    so.isolation_level = static_cast<int>(o.isolation_level);
+    cagekit::SubdivisionSurface surface(c.cage, so);
+    c.context->monitor().report("surface", 1.0);
+    *out = std::make_unique<cagekit_surface_t>(c.context, std::move(surface)).release();
+  });
+}
+
+CAGEKIT_API void cagekit_surface_retain(cagekit_surface surface) { retain_handle(surface); }
+CAGEKIT_API void cagekit_surface_release(cagekit_surface surface) { release_handle(surface); }
+
+CAGEKIT_API cagekit_status cagekit_surface_get_counts(cagekit_surface surface, uint32_t* ptex_face_count,
+                                                      uint32_t* control_vertex_count) {
+  return guarded(context_of(surface), [&] {
+    const cagekit::SubdivisionSurface& s = checked(surface, "surface").surface;
+    if (ptex_face_count) *ptex_face_count = s.num_ptex_faces();
+    if (control_vertex_count) *control_vertex_count = s.num_control_vertices();
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_surface_get_ptex_face(cagekit_surface surface, uint32_t cage_face,
+                                                         uint32_t corner, uint32_t* ptex_face) {
+  return guarded(context_of(surface), [&] {
+    require_not_null(ptex_face, "ptex_face");
+    *ptex_face = checked(surface, "surface").surface.ptex_face(cage_face, corner);
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_surface_evaluate(cagekit_surface surface, const double* control_positions,
+                                                    uint32_t count, const cagekit_surface_location* locations,
+                                                    cagekit_surface_point* points) {
+  return guarded(context_of(surface), [&] {
+    const cagekit::SubdivisionSurface& s = checked(surface, "surface").surface;
+    if (count == 0) return;
+    require_not_null(locations, "locations");
+    require_not_null(points, "points");
+    for (uint32_t i = 0; i < count; ++i) check_location(s, locations[i], i);
+    std::vector<cagekit::Vec3> control;
+    if (control_positions) {
+      control.resize(s.num_control_vertices());
+      for (size_t v = 0; v < control.size(); ++v)
+        control[v] = {control_positions[3 * v], control_positions[3 * v + 1], control_positions[3 * v + 2]};
+    }
+    for (uint32_t i = 0; i < count; ++i) {
+      const cagekit_surface_location& l = locations[i];
+      const cagekit::SurfacePoint p =
+          control_positions ? s.evaluate(l.face, l.u, l.v, control) : s.evaluate(l.face, l.u, l.v);
+      cagekit_surface_point& o = points[i];
+      copy_vec3(p.position, o.position);
+      copy_vec3(p.du, o.du);
+      copy_vec3(p.dv, o.dv);
+      copy_vec3(p.duu, o.duu);
+      copy_vec3(p.duv, o.duv);
+      copy_vec3(p.dvv, o.dvv);
+    }
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_surface_evaluate_basis(cagekit_surface surface,
+                                                          const cagekit_surface_location* location,
+                                                          uint32_t capacity, uint32_t* count_out,
+                                                          uint32_t* indices, double* w, double* wu, double* wv,
+                                                          double* wuu, double* wuv, double* wvv) {
+  return guarded(context_of(surface), [&] {
+    const cagekit::SubdivisionSurface& s = checked(surface, "surface").surface;
+    require_not_null(location, "location");
+    check_location(s, *location, 0);
+    const cagekit::BasisWeights b = s.basis(location->face, location->u, location->v);
+    const bool any = indices || w || wu || wv || wuu || wuv || wvv;
+    if (!two_call_check(static_cast<uint32_t>(b.indices.size()), capacity, count_out, any, "basis weights")) return;
+    auto copy = [](const std::vector<double>& from, double* to) {
+      if (to) std::copy(from.begin(), from.end(), to);
+    };
+    if (indices) std::copy(b.indices.begin(), b.indices.end(), indices);
+    copy(b.w, w);
+    copy(b.wu, wu);
+    copy(b.wv, wv);
+    copy(b.wuu, wuu);
+    copy(b.wuv, wuv);
+    copy(b.wvv, wvv);
+  });
+}
+
+}  // extern "C"
