@@ -76,10 +76,11 @@ template <class T>
 T read_versioned(const T* in, const T& defaults, const char* name) {
   T value = defaults;
   if (in == nullptr) return value;
-  if (in->struct_size < sizeof(size_t) || in->struct_size > (1u << 16))
-    fail(Status::invalid_argument, std::string(name) + ".struct_size is " + std::to_string(in->struct_size) +
+  const size_t size = in->struct_size;
+  if (size < sizeof(size_t) || size > (1u << 16))
+    fail(Status::invalid_argument, std::string(name) + ".struct_size is " + std::to_string(size) +
                                        "; set it to sizeof(" + name + ")");
-  std::memcpy(static_cast<void*>(&value), in, std::min(in->struct_size, sizeof(T)));
+  std::memcpy(static_cast<void*>(&value), in, std::min(size, sizeof(T)));
   value.struct_size = sizeof(T);
   return value;
 }
@@ -88,10 +89,10 @@ T read_versioned(const T* in, const T& defaults, const char* name) {
 template <class T>
 void write_versioned(T* out, const T& value, const char* name) {
   if (out == nullptr) return;
-  if (out->struct_size < sizeof(size_t) || out->struct_size > (1u << 16))
-    fail(Status::invalid_argument, std::string(name) + ".struct_size is " + std::to_string(out->struct_size) +
-                                       "; set it to sizeof(" + name + ")");
   const size_t caller_size = out->struct_size;
+  if (caller_size < sizeof(size_t) || caller_size > (1u << 16))
+    fail(Status::invalid_argument, std::string(name) + ".struct_size is " + std::to_string(caller_size) +
+                                       "; set it to sizeof(" + name + ")");
   std::memcpy(static_cast<void*>(out), &value, std::min(caller_size, sizeof(T)));
   out->struct_size = caller_size;
 }

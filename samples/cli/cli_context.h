@@ -1,0 +1,92 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// Shared plumbing of the CLI commands: argument parsing helpers, the CageKit context with a
+// stderr progress bar, RAII holders for handles and the error convention (one line, exit 2).
+#include <cagekit/cagekit.h>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace cli {
+
+constexpr int kExitOk = 0;
+constexpr int kExitBadInput = 2;
+constexpr int kExitUsage = 64;
+
+// Thrown by commands; main() prints "cagekit: <message>" and exits with `code`.
+struct Failure : std::runtime_error {
+  Failure(int c, const std::string& message) : std::runtime_error(message), code(c) {}
+  int code;
+};
+
+class Args {
+ public:
+  Args(int argc, char** argv, int first);
+  // Removes and returns --name (a flag without value).
+  bool flag(const std::string& name);
+  // Removes --name VALUE; returns fallback when absent.
+  std::string option(const std::string& name, const std::string& fallback);
+  // Removes --name N; N must be an integer in [min, max]; fallback when absent.
+  int integer(const std::string& name, int fallback, int min, int max);
+  // Remaining positional arguments; fails on leftover --options.
+  std::vector<std::string> positional(size_t min_count, size_t max_count, const char* usage);
+
+ private:
+  std::vector<std::string> args_;
+};
+
+class Session {
+ public:
+  explicit Session(bool quiet);
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+  cagekit_context context() const { return context_; }
+  // Throws Failure(kExitBadInput, "<what>: <last error message>") when status is an error.
+  void check(cagekit_status status, const std::string& what) const;
+  // Ends the progress line on stderr (if one was started).
+  void finish_progress() const;
+
+ private:
+  cagekit_context context_ = nullptr;
+};
+
+template <class H, void (*Release)(H)>
+class Handle {
+ public:
+  Handle() = default;
+  ~Handle() { Release(h_); }
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  H* out() { Release(h_); h_ = nullptr; return &h_; }
+  H get() const { return h_; }
+
+ private:
+  H h_ = nullptr;
+};
+
+using Mesh = Handle<cagekit_mesh, cagekit_mesh_release>;
+using Cage = Handle<cagekit_cage, cagekit_cage_release>;
+
+cagekit_file_format format_from_extension(const std::string& path);
+
+int command_info(Args& args);
+int command_convert(Args& args);
+int command_subdivide(Args& args);
+int command_demo(Args& args);
+
+}  // namespace cli
+
+namespace cli {
+
+// A file read as a cage when it is a valid control mesh, else as a plain mesh (so that info
+// and convert also work on scans with defects); parse/I/O errors throw Failure.
+struct LoadedInput {
+  Cage cage;             // set when the file is a valid cage
+  Mesh mesh;             // set otherwise
+  std::string problem;   // why it is not a valid cage
+};
+void load_input(const Session& session, const std::string& path, LoadedInput* input);
+
+}  // namespace cli
