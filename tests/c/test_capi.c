@@ -1,0 +1,446 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later
+ * ABI tests of libcagekit written in C99 against the public header only. */
+#include <cagekit/cagekit.h>
+
+#include <math.h>
+#include <pthread.h>
+#include <stdint.h>
+#include <stdlib.h>
+
+#include "c_test.h"
+
+static cagekit_context new_context(void) {
+  cagekit_context context = NULL;
+  CHECK_OK(cagekit_context_create(NULL, &context));
+  return context;
+}
+
+/* A unit cube of 6 outward quads, positions as float or double. */
+static const double kCubeD[24] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 0, 0, 1, 1, 0, 1, 0, 1, 1, 1, 1, 1};
+static const uint32_t kCubeQuads[24] = {0, 2, 3, 1, 4, 5, 7, 6, 0, 1, 5, 4, 2, 6, 7, 3, 0, 4, 6, 2, 1, 3, 7, 5};
+static const uint32_t kCubeEdges[24] = {0, 1, 2, 3, 4, 5, 6, 7, 0, 2, 1, 3, 4, 6, 5, 7, 0, 4, 1, 5, 2, 6, 3, 7};
+
+static cagekit_mesh new_cube(cagekit_context context) {
+  cagekit_mesh_desc desc = CAGEKIT_MESH_DESC_INIT;
+  cagekit_mesh mesh = NULL;
+  desc.vertex_count = 8;
+  desc.positions = kCubeD;
+  desc.face_count = 6;
+  desc.uniform_face_size = 4;
+  desc.face_indices = kCubeQuads;
+  CHECK_OK(cagekit_mesh_create(context, &desc, &mesh));
+  return mesh;
+}
+
+static cagekit_cage new_creased_cube(cagekit_context context) {
+  cagekit_mesh mesh = new_cube(context);
+  cagekit_cage cage = NULL;
+  CHECK_OK(cagekit_cage_create(mesh, &cage));
+  CHECK_OK(cagekit_cage_set_creases(cage, 12, kCubeEdges, NULL));
+  cagekit_mesh_release(mesh);
+  return cage;
+}
+
+static void version_is_consistent(void) {
+  CHECK(cagekit_version() == CAGEKIT_VERSION);
+  CHECK(cagekit_abi_version() == CAGEKIT_ABI_VERSION);
+  CHECK(strlen(cagekit_version_string()) >= 5);
+  CHECK(CAGEKIT_MAKE_VERSION(1, 2, 3) > CAGEKIT_MAKE_VERSION(1, 1, 999));
+  CHECK(strcmp(cagekit_status_string(CAGEKIT_ERROR_PARSE), "parse error") == 0);
+  CHECK(strcmp(cagekit_status_string((cagekit_status)-999), "unknown status") == 0);
+}
+
+static void context_rejects_other_abi_and_bad_struct_size(void) {
+  cagekit_context_desc desc = CAGEKIT_CONTEXT_DESC_INIT;
+  cagekit_context context = (cagekit_context)1;
+  desc.abi_version = CAGEKIT_ABI_VERSION + 1;
+  CHECK_STATUS(cagekit_context_create(&desc, &context), CAGEKIT_ERROR_VERSION_MISMATCH);
+  CHECK(context == NULL);
+  CHECK(strstr(cagekit_last_error_message(NULL), "ABI") != NULL);
+  desc.abi_version = CAGEKIT_ABI_VERSION;
+  desc.struct_size = 3;
+  CHECK_STATUS(cagekit_context_create(&desc, &context), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_context_create(NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+}
+
+static void older_smaller_struct_is_accepted(void) {
+  /* A host built against an older header passes a shorter struct: only the fields it has. */
+  cagekit_context_desc desc = CAGEKIT_CONTEXT_DESC_INIT;
+  cagekit_context context = NULL;
+  desc.struct_size = offsetof(cagekit_context_desc, log);
+  CHECK_OK(cagekit_context_create(&desc, &context));
+  cagekit_context_release(context);
+}
+
+static void mesh_round_trips_through_buffers(void) {
+  cagekit_context context = new_context();
+  float positions[8 * 4]; /* stride of 4 floats */
+  cagekit_mesh_desc desc = CAGEKIT_MESH_DESC_INIT;
+  cagekit_mesh mesh = NULL;
+  uint32_t sizes[6] = {4, 4, 4, 4, 4, 4};
+  uint32_t vertex_count = 0, face_count = 0, read_sizes[6], read_indices[24];
+  uint64_t index_count = 0;
+  double back[24];
+  int i;
+  for (i = 0; i < 8; ++i) {
+    positions[4 * i] = (float)kCubeD[3 * i];
+    positions[4 * i + 1] = (float)kCubeD[3 * i + 1];
+    positions[4 * i + 2] = (float)kCubeD[3 * i + 2];
+    positions[4 * i + 3] = -1.0f;
+  }
+  desc.vertex_count = 8;
+  desc.positions = positions;
+  desc.position_type = CAGEKIT_SCALAR_FLOAT32;
+  desc.position_stride = 4 * sizeof(float);
+  desc.face_count = 6;
+  desc.face_sizes = sizes;
+  desc.face_indices = kCubeQuads;
+  CHECK_OK(cagekit_mesh_create(context, &desc, &mesh));
+
+  /* two-call idiom: size query, too small, right size */
+  CHECK_OK(cagekit_mesh_get_positions(mesh, CAGEKIT_SCALAR_FLOAT64, 0, &vertex_count, NULL));
+  CHECK(vertex_count == 8);
+  CHECK_STATUS(cagekit_mesh_get_positions(mesh, CAGEKIT_SCALAR_FLOAT64, 7, &vertex_count, back),
+               CAGEKIT_ERROR_SIZE_INSUFFICIENT);
+  CHECK(vertex_count == 8);
+  CHECK(strstr(cagekit_last_error_message(context), "capacity") != NULL);
+  CHECK_OK(cagekit_mesh_get_positions(mesh, CAGEKIT_SCALAR_FLOAT64, 8, &vertex_count, back));
+  for (i = 0; i < 24; ++i) CHECK(back[i] == kCubeD[i]);
+
+  CHECK_OK(cagekit_mesh_get_faces(mesh, 0, &face_count, NULL, 0, &index_count, NULL));
+  CHECK(face_count == 6 && index_count == 24);
+  CHECK_OK(cagekit_mesh_get_faces(mesh, 6, &face_count, read_sizes, 24, &index_count, read_indices));
+  for (i = 0; i < 6; ++i) CHECK(read_sizes[i] == 4);
+  CHECK(memcmp(read_indices, kCubeQuads, sizeof(kCubeQuads)) == 0);
+  CHECK_OK(cagekit_mesh_get_counts(mesh, &vertex_count, &face_count, &index_count));
+  CHECK(vertex_count == 8 && face_count == 6 && index_count == 24);
+  cagekit_mesh_release(mesh);
+  cagekit_context_release(context);
+}
+
+static void bad_descriptions_are_rejected(void) {
+  cagekit_context context = new_context();
+  cagekit_mesh_desc desc = CAGEKIT_MESH_DESC_INIT;
+  cagekit_mesh mesh = (cagekit_mesh)1;
+  uint32_t zero_size[1] = {0};
+  desc.vertex_count = 8;
+  desc.positions = NULL;
+  CHECK_STATUS(cagekit_mesh_create(context, &desc, &mesh), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(mesh == NULL);
+  CHECK(strstr(cagekit_last_error_message(context), "positions") != NULL);
+  desc.positions = kCubeD;
+  desc.face_count = 1;
+  desc.face_sizes = zero_size;
+  desc.face_indices = kCubeQuads;
+  CHECK_STATUS(cagekit_mesh_create(context, &desc, &mesh), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  desc.face_sizes = NULL;
+  desc.uniform_face_size = 0x80000000u;
+  CHECK_STATUS(cagekit_mesh_create(context, &desc, &mesh), CAGEKIT_ERROR_LIMIT_EXCEEDED);
+  CHECK_STATUS(cagekit_mesh_create(NULL, &desc, &mesh), CAGEKIT_ERROR_INVALID_HANDLE);
+  CHECK_STATUS(cagekit_mesh_create(context, NULL, &mesh), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  cagekit_context_release(context);
+}
+
+static void wrong_handle_types_are_detected(void) {
+  cagekit_context context = new_context();
+  cagekit_cage cage = new_creased_cube(context);
+  uint32_t count = 0;
+  /* a cage passed where a mesh is expected */
+  CHECK_STATUS(cagekit_mesh_get_counts((cagekit_mesh)(void*)cage, &count, NULL, NULL), CAGEKIT_ERROR_INVALID_HANDLE);
+  CHECK_STATUS(cagekit_mesh_get_counts(NULL, &count, NULL, NULL), CAGEKIT_ERROR_INVALID_HANDLE);
+  CHECK(strstr(cagekit_last_error_message(NULL), "not a valid handle") != NULL);
+  cagekit_cage_release(cage);
+  cagekit_context_release(context);
+}
+
+static void validation_names_the_problem_and_repair_fixes_it(void) {
+  cagekit_context context = new_context();
+  /* two triangles sharing an edge with the same direction (inconsistent), one bad index,
+     and one NaN position */
+  double positions[5 * 3] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 0, 0, 0};
+  uint32_t triangles[9] = {0, 1, 2, 1, 2, 3, 0, 1, 99};
+  cagekit_mesh_desc desc = CAGEKIT_MESH_DESC_INIT;
+  cagekit_mesh mesh = NULL, repaired = NULL;
+  cagekit_validation_report report;
+  cagekit_repair_report repair_report;
+  cagekit_repair_options repair_options = CAGEKIT_REPAIR_OPTIONS_INIT;
+  cagekit_cage cage = NULL;
+  positions[14] = NAN;
+  desc.vertex_count = 5;
+  desc.positions = positions;
+  desc.face_count = 3;
+  desc.face_indices = triangles;
+  CHECK_OK(cagekit_mesh_create(context, &desc, &mesh));
+  report.struct_size = sizeof(report);
+  CHECK_STATUS(cagekit_mesh_validate(mesh, &report), CAGEKIT_ERROR_INVALID_MESH);
+  CHECK(report.valid == 0);
+  CHECK(report.issue_flags & (1u << CAGEKIT_ISSUE_INDEX_OUT_OF_RANGE));
+  CHECK(report.issue_flags & (1u << CAGEKIT_ISSUE_NON_FINITE_POSITION));
+  CHECK(report.issue_flags & (1u << CAGEKIT_ISSUE_INCONSISTENT_ORIENTATION));
+  CHECK(report.issue_counts[CAGEKIT_ISSUE_INDEX_OUT_OF_RANGE] == 1);
+  CHECK(strstr(cagekit_last_error_message(context), "99") != NULL);
+  CHECK_STATUS(cagekit_cage_create(mesh, &cage), CAGEKIT_ERROR_INVALID_MESH);
+  CHECK(cage == NULL);
+
+  repair_report.struct_size = sizeof(repair_report);
+  repair_options.steps |= CAGEKIT_REPAIR_REMOVE_UNREFERENCED; /* also drops the NaN vertex */
+  CHECK_OK(cagekit_mesh_repair(mesh, &repair_options, &repaired, &repair_report));
+  CHECK(repair_report.dropped_invalid_faces == 1);
+  CHECK(repair_report.flipped_faces == 1);
+  CHECK_OK(cagekit_mesh_validate(repaired, &report));
+  CHECK(report.valid == 1);
+  cagekit_mesh_release(repaired);
+  cagekit_mesh_release(mesh);
+  cagekit_context_release(context);
+}
+
+static void cage_tags_round_trip_and_bad_tags_fail(void) {
+  cagekit_context context = new_context();
+  cagekit_cage cage = new_creased_cube(context);
+  uint32_t count = 0, pairs[24], corner = 0, bad_pair[2] = {0, 7}, hole = 2, holes[1];
+  float sharpness[12], corner_sharpness = 2.5f, negative = -1.0f;
+  cagekit_boundary_rule rule;
+  cagekit_mesh_info info;
+  int i;
+  CHECK_OK(cagekit_cage_get_creases(cage, 0, &count, NULL, NULL));
+  CHECK(count == 12);
+  CHECK_OK(cagekit_cage_get_creases(cage, 12, &count, pairs, sharpness));
+  for (i = 0; i < 12; ++i) CHECK(sharpness[i] == CAGEKIT_SHARP);
+  CHECK(memcmp(pairs, kCubeEdges, sizeof(pairs)) == 0);
+  /* (0, 7) is a diagonal, not an edge: rejected, tags unchanged */
+  CHECK_STATUS(cagekit_cage_set_creases(cage, 1, bad_pair, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context), "not an edge") != NULL);
+  CHECK_STATUS(cagekit_cage_set_creases(cage, 1, kCubeEdges, &negative), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_OK(cagekit_cage_get_creases(cage, 0, &count, NULL, NULL));
+  CHECK(count == 12);
+  CHECK_OK(cagekit_cage_set_corners(cage, 1, &corner, &corner_sharpness));
+  CHECK_OK(cagekit_cage_get_corners(cage, 1, &count, &corner, &corner_sharpness));
+  CHECK(count == 1 && corner == 0 && corner_sharpness == 2.5f);
+  corner = 8;
+  CHECK_STATUS(cagekit_cage_set_corners(cage, 1, &corner, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_OK(cagekit_cage_set_holes(cage, 1, &hole));
+  CHECK_OK(cagekit_cage_get_holes(cage, 1, &count, holes));
+  CHECK(count == 1 && holes[0] == 2);
+  hole = 6;
+  CHECK_STATUS(cagekit_cage_set_holes(cage, 1, &hole), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_OK(cagekit_cage_set_boundary_rule(cage, CAGEKIT_BOUNDARY_EDGES_AND_CORNERS));
+  CHECK_OK(cagekit_cage_get_boundary_rule(cage, &rule));
+  CHECK(rule == CAGEKIT_BOUNDARY_EDGES_AND_CORNERS);
+  CHECK_STATUS(cagekit_cage_set_boundary_rule(cage, (cagekit_boundary_rule)7), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  info.struct_size = sizeof(info);
+  CHECK_OK(cagekit_cage_get_info(cage, &info));
+  CHECK(info.creases == 12 && info.corners == 1 && info.holes == 1 && info.quads == 6 && info.genus == 0);
+  cagekit_cage_release(cage);
+  cagekit_context_release(context);
+}
+
+static void cage_survives_every_format_in_memory(void) {
+  cagekit_context context = new_context();
+  cagekit_cage cage = new_creased_cube(context), back = NULL;
+  cagekit_write_options options = CAGEKIT_WRITE_OPTIONS_INIT;
+  cagekit_write_report report;
+  cagekit_blob blob = NULL;
+  cagekit_mesh_info info;
+  const cagekit_file_format formats[4] = {CAGEKIT_FORMAT_OBJ, CAGEKIT_FORMAT_PLY, CAGEKIT_FORMAT_OFF,
+                                          CAGEKIT_FORMAT_DRACO};
+  int i;
+  for (i = 0; i < 4; ++i) {
+    options.format = formats[i];
+    report.struct_size = sizeof(report);
+    CHECK_OK(cagekit_cage_write_memory(cage, &options, &blob, &report));
+    CHECK(cagekit_blob_size(blob) == report.bytes && report.bytes > 0);
+    CHECK_OK(cagekit_cage_read_memory(context, cagekit_blob_data(blob), cagekit_blob_size(blob), CAGEKIT_FORMAT_AUTO,
+                                      &back));
+    info.struct_size = sizeof(info);
+    CHECK_OK(cagekit_cage_get_info(back, &info));
+    CHECK(info.quads == 6 && info.vertices == 8);
+    /* OBJ and Draco keep the tags; PLY and OFF hold polygons only */
+    CHECK(info.creases == ((formats[i] == CAGEKIT_FORMAT_OBJ || formats[i] == CAGEKIT_FORMAT_DRACO) ? 12u : 0u));
+    if (formats[i] == CAGEKIT_FORMAT_DRACO) CHECK(report.max_position_error < 1e-3);
+    cagekit_cage_release(back);
+    back = NULL;
+    cagekit_blob_release(blob);
+    blob = NULL;
+  }
+  options.format = CAGEKIT_FORMAT_AUTO;
+  CHECK_STATUS(cagekit_cage_write_memory(cage, &options, &blob, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  options.format = CAGEKIT_FORMAT_DRACO;
+  options.draco_position_bits = 31;
+  CHECK_STATUS(cagekit_cage_write_memory(cage, &options, &blob, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(blob == NULL);
+  cagekit_cage_release(cage);
+  cagekit_context_release(context);
+}
+
+static void corrupt_memory_is_a_parse_error(void) {
+  cagekit_context context = new_context();
+  const char* text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n";
+  cagekit_mesh mesh = NULL;
+  CHECK_STATUS(cagekit_mesh_read_memory(context, text, strlen(text), CAGEKIT_FORMAT_OBJ, &mesh),
+               CAGEKIT_ERROR_PARSE);
+  CHECK(mesh == NULL);
+  CHECK(strstr(cagekit_last_error_message(context), ":4") != NULL);
+  CHECK_STATUS(cagekit_mesh_read_memory(context, "\x01\x02garbage", 9, CAGEKIT_FORMAT_DRACO, &mesh),
+               CAGEKIT_ERROR_PARSE);
+  CHECK_STATUS(cagekit_mesh_read_file(context, "/nonexistent/dir/x.obj", CAGEKIT_FORMAT_AUTO, &mesh),
+               CAGEKIT_ERROR_IO);
+  cagekit_context_release(context);
+}
+
+static int g_progress_calls = 0;
+static int cancel_after_first(void* user, const char* stage, double fraction) {
+  (void)user;
+  (void)stage;
+  (void)fraction;
+  ++g_progress_calls;
+  return 0;
+}
+
+static void progress_callback_can_cancel(void) {
+  cagekit_context_desc desc = CAGEKIT_CONTEXT_DESC_INIT;
+  cagekit_context context = NULL;
+  cagekit_cage cage, refined = (cagekit_cage)1;
+  cagekit_subdivide_options options = CAGEKIT_SUBDIVIDE_OPTIONS_INIT;
+  desc.progress = cancel_after_first;
+  CHECK_OK(cagekit_context_create(&desc, &context));
+  cage = new_creased_cube(context);
+  options.levels = 4;
+  CHECK_STATUS(cagekit_cage_subdivide(cage, &options, &refined), CAGEKIT_ERROR_CANCELLED);
+  CHECK(refined == NULL);
+  CHECK(g_progress_calls >= 1);
+  CHECK_OK(cagekit_context_set_progress(context, NULL, NULL));
+  cagekit_context_cancel(context);
+  CHECK_STATUS(cagekit_cage_subdivide(cage, &options, &refined), CAGEKIT_ERROR_CANCELLED);
+  cagekit_context_reset_cancel(context);
+  CHECK_OK(cagekit_cage_subdivide(cage, &options, &refined));
+  cagekit_cage_release(refined);
+  cagekit_cage_release(cage);
+  cagekit_context_release(context);
+}
+
+static void subdivision_counts_and_tags(void) {
+  cagekit_context context = new_context();
+  cagekit_cage cage = new_creased_cube(context), refined = NULL;
+  cagekit_subdivide_options options = CAGEKIT_SUBDIVIDE_OPTIONS_INIT;
+  cagekit_mesh_info info;
+  uint32_t level;
+  for (level = 0; level <= 3; ++level) {
+    options.levels = level;
+    CHECK_OK(cagekit_cage_subdivide(cage, &options, &refined));
+    info.struct_size = sizeof(info);
+    CHECK_OK(cagekit_cage_get_info(refined, &info));
+    CHECK(info.faces == 6u << (2 * level));
+    CHECK(info.quads == info.faces);
+    CHECK(info.creases == 12u << level);
+    CHECK(info.genus == 0);
+    cagekit_cage_release(refined);
+    refined = NULL;
+  }
+  options.levels = CAGEKIT_MAX_SUBDIVISION_LEVELS + 1;
+  CHECK_STATUS(cagekit_cage_subdivide(cage, &options, &refined), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  cagekit_cage_release(cage);
+  cagekit_context_release(context);
+}
+
+static void surface_basis_is_a_partition_of_unity(void) {
+  cagekit_context context = new_context();
+  cagekit_mesh mesh = new_cube(context);
+  cagekit_cage cage = NULL;
+  cagekit_surface surface = NULL;
+  uint32_t ptex = 0, controls = 0, count = 0, k;
+  uint32_t indices[64];
+  double w[64], wu[64], sum, sum_u, moved[24];
+  cagekit_surface_location location = {3, 0.3, 0.7}, bad = {0, 1.5, 0.0};
+  cagekit_surface_point a, b;
+  int i;
+  CHECK_OK(cagekit_cage_create(mesh, &cage));
+  CHECK_OK(cagekit_surface_create(cage, NULL, &surface));
+  CHECK_OK(cagekit_surface_get_counts(surface, &ptex, &controls));
+  CHECK(ptex == 6 && controls == 8);
+  CHECK_OK(cagekit_surface_evaluate_basis(surface, &location, 0, &count, NULL, NULL, NULL, NULL, NULL, NULL, NULL));
+  CHECK(count > 0 && count <= 64);
+  CHECK_OK(cagekit_surface_evaluate_basis(surface, &location, 64, &count, indices, w, wu, NULL, NULL, NULL, NULL));
+  sum = sum_u = 0;
+  for (k = 0; k < count; ++k) {
+    CHECK(indices[k] < 8);
+    sum += w[k];
+    sum_u += wu[k];
+  }
+  CHECK(fabs(sum - 1.0) < 1e-12);
+  CHECK(fabs(sum_u) < 1e-10);
+  /* moving every control point by t moves the surface by t */
+  for (i = 0; i < 24; ++i) moved[i] = kCubeD[i] + (i % 3 == 2 ? 0.5 : 0.0);
+  CHECK_OK(cagekit_surface_evaluate(surface, NULL, 1, &location, &a));
+  CHECK_OK(cagekit_surface_evaluate(surface, moved, 1, &location, &b));
+  CHECK(fabs(b.position[2] - a.position[2] - 0.5) < 1e-12);
+  CHECK(fabs(b.position[0] - a.position[0]) < 1e-12);
+  CHECK_STATUS(cagekit_surface_evaluate(surface, NULL, 1, &bad, &a), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  bad.face = 6;
+  bad.u = 0.5;
+  CHECK_STATUS(cagekit_surface_evaluate(surface, NULL, 1, &bad, &a), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  cagekit_surface_release(surface);
+  cagekit_cage_release(cage);
+  cagekit_mesh_release(mesh);
+  cagekit_context_release(context);
+}
+
+/* The last error is kept per thread: a failure on one thread does not overwrite another's. */
+static cagekit_context g_shared_context;
+static void* fail_on_thread(void* arg) {
+  cagekit_mesh mesh = NULL;
+  const char* text = "v 0 0 0\nf 1 2 3\n";
+  int* ok = (int*)arg;
+  *ok = cagekit_mesh_read_memory(g_shared_context, text, strlen(text), CAGEKIT_FORMAT_OBJ, &mesh) ==
+            CAGEKIT_ERROR_PARSE &&
+        strlen(cagekit_last_error_message(g_shared_context)) > 0;
+  return NULL;
+}
+
+static void last_error_is_per_thread(void) {
+  pthread_t thread;
+  int thread_ok = 0;
+  cagekit_mesh mesh = NULL;
+  g_shared_context = new_context();
+  CHECK_STATUS(cagekit_mesh_read_file(g_shared_context, "/nonexistent.obj", CAGEKIT_FORMAT_AUTO, &mesh),
+               CAGEKIT_ERROR_IO);
+  CHECK(pthread_create(&thread, NULL, fail_on_thread, &thread_ok) == 0);
+  CHECK(pthread_join(thread, NULL) == 0);
+  CHECK(thread_ok);
+  CHECK(strstr(cagekit_last_error_message(g_shared_context), "nonexistent") != NULL);
+  cagekit_context_release(g_shared_context);
+}
+
+static void objects_outlive_their_context_reference(void) {
+  cagekit_context context = new_context();
+  cagekit_mesh mesh = new_cube(context);
+  uint32_t vertices = 0;
+  cagekit_context_release(context); /* the mesh keeps the context alive */
+  CHECK_OK(cagekit_mesh_get_counts(mesh, &vertices, NULL, NULL));
+  CHECK(vertices == 8);
+  cagekit_mesh_retain(mesh);
+  cagekit_mesh_release(mesh);
+  CHECK_OK(cagekit_mesh_get_counts(mesh, &vertices, NULL, NULL));
+  cagekit_mesh_release(mesh);
+  cagekit_mesh_release(NULL);
+}
+
+int main(void) {
+  static const c_test_case tests[] = {
+      {"version_is_consistent", version_is_consistent},
+      {"context_rejects_other_abi_and_bad_struct_size", context_rejects_other_abi_and_bad_struct_size},
+      {"older_smaller_struct_is_accepted", older_smaller_struct_is_accepted},
+      {"mesh_round_trips_through_buffers", mesh_round_trips_through_buffers},
+      {"bad_descriptions_are_rejected", bad_descriptions_are_rejected},
+      {"wrong_handle_types_are_detected", wrong_handle_types_are_detected},
+      {"validation_names_the_problem_and_repair_fixes_it", validation_names_the_problem_and_repair_fixes_it},
+      {"cage_tags_round_trip_and_bad_tags_fail", cage_tags_round_trip_and_bad_tags_fail},
+      {"cage_survives_every_format_in_memory", cage_survives_every_format_in_memory},
+      {"corrupt_memory_is_a_parse_error", corrupt_memory_is_a_parse_error},
+      {"progress_callback_can_cancel", progress_callback_can_cancel},
+      {"subdivision_counts_and_tags", subdivision_counts_and_tags},
+      {"surface_basis_is_a_partition_of_unity", surface_basis_is_a_partition_of_unity},
+      {"last_error_is_per_thread", last_error_is_per_thread},
+      {"objects_outlive_their_context_reference", objects_outlive_their_context_reference},
+  };
+  return run_tests(tests, (int)(sizeof(tests) / sizeof(tests[0])));
+}
