@@ -7,7 +7,7 @@ PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libcgal-dev libeigen3-dev libopenmesh-dev libosd-dev libdraco-dev
   libegl-dev libgles-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
-  libgtest-dev
+  libgtest-dev python3 binutils
 )
 
 missing=()
