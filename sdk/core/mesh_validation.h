@@ -36,6 +36,8 @@ struct MeshIssueRecord {
 struct ValidationReport {
   uint64_t counts[static_cast<int>(MeshIssue::count_)] = {};
   std::vector<MeshIssueRecord> records;  // the first `max_records` problems found, in order
+  // Message of the first problem of each kind, kept even when `records` is full ("" if none).
+  std::string first_message[static_cast<int>(MeshIssue::count_)];
   uint64_t count(MeshIssue i) const { return counts[static_cast<int>(i)]; }
   // Bit i set when counts[i] > 0.
   uint32_t flags() const;
