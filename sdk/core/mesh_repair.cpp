@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Mesh repair, in the order of mesh_repair.h. Every step is linear or O(n log n) apart from
-// welding with a tolerance, which is linear for well-spread points (a grid hash).
+// Mesh repair, in the order of mesh_repair.h. Every step is O(n log n); welding with a
+// tolerance sorts the points into grid cells and compares points of neighbouring cells only
+// (quadratic only for pathological inputs: dense clumps of points just out of reach).
 //
 // Splitting non-manifold configurations works on corners (face-vertex slots): corners at a
 // vertex that are joined across shared ("glued") edges form a fan, and every fan but the first
@@ -16,7 +17,6 @@
 #include <cmath>
 #include <cstring>
 #include <string>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -79,14 +79,6 @@ struct Cell {
   bool operator==(const Cell& o) const { return x == o.x && y == o.y && z == o.z; }
   bool operator<(const Cell& o) const { return x != o.x ? x < o.x : (y != o.y ? y < o.y : z < o.z); }
 };
-struct CellHash {
-  size_t operator()(const Cell& c) const {
-    uint64_t h = static_cast<uint64_t>(c.x) * 0x9e3779b97f4a7c15ull;
-    h ^= static_cast<uint64_t>(c.y) * 0xc2b2ae3d27d4eb4full + (h << 6) + (h >> 2);
-    h ^= static_cast<uint64_t>(c.z) * 0x165667b19e3779f9ull + (h << 6) + (h >> 2);
-    return static_cast<size_t>(h ^ (h >> 29));
-  }
-};
 
 int64_t cell_coord(double x, double size) {
   const double c = std::floor(x / size);
@@ -117,18 +109,18 @@ void weld_clusters(const PolygonMesh& m, double tol, detail::UnionFind& uf) {
     return;
   }
   // Cells of side tol/sqrt(3): two points of one cell are within tol, so a cell is united at
-  // once; points within tol lie at most 2 cells apart on each axis.
+  // once (a huge tolerance costs nothing); points within tol lie at most 2 cells apart per axis.
   const double size = tol / 1.7320508075688774;
   std::vector<Cell> cell_of(nv);
   for (uint32_t v : order) cell_of[v] = {cell_coord(p[v].x, size), cell_coord(p[v].y, size), cell_coord(p[v].z, size)};
   std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
     return cell_of[a] == cell_of[b] ? a < b : cell_of[a] < cell_of[b];
   });
-  std::vector<uint32_t> cell_start;
-  std::unordered_map<Cell, uint32_t, CellHash> cells;
+  std::vector<uint32_t> cell_start;  // cell k holds order[cell_start[k] .. cell_start[k+1])
+  std::vector<Cell> cells;           // sorted, unique
   for (size_t i = 0; i < order.size(); ++i) {
     if (i == 0 || !(cell_of[order[i]] == cell_of[order[i - 1]])) {
-      cells.emplace(cell_of[order[i]], static_cast<uint32_t>(cell_start.size()));
+      cells.push_back(cell_of[order[i]]);
       cell_start.push_back(static_cast<uint32_t>(i));
     } else {
       uf.unite(order[i - 1], order[i]);
@@ -136,27 +128,39 @@ void weld_clusters(const PolygonMesh& m, double tol, detail::UnionFind& uf) {
   }
   cell_start.push_back(static_cast<uint32_t>(order.size()));
   const double tol2 = tol * tol;
-  for (size_t a = 0; a + 1 < cell_start.size(); ++a) {
-    const Cell ca = cell_of[order[cell_start[a]]];
-    for (int dx = 0; dx <= 2; ++dx)
-      for (int dy = -2; dy <= 2; ++dy)
-        for (int dz = -2; dz <= 2; ++dz) {
-          if (dx == 0 && (dy < 0 || (dy == 0 && dz <= 0))) continue;  // each pair of cells once
-          const auto it = cells.find({ca.x + dx, ca.y + dy, ca.z + dz});
-          if (it == cells.end()) continue;
-          const size_t b = it->second;
-          if (uf.find(order[cell_start[a]]) == uf.find(order[cell_start[b]])) continue;
-          bool joined = false;
-          for (uint32_t i = cell_start[a]; i < cell_start[a + 1] && !joined; ++i)
-            for (uint32_t j = cell_start[b]; j < cell_start[b + 1]; ++j) {
-              const Vec3 d = p[order[i]] - p[order[j]];
-              if (dot(d, d) <= tol2) {
-                uf.unite(order[i], order[j]);
-                joined = true;
-                break;
-              }
-            }
+  auto join_cells = [&](size_t a, size_t b) {
+    if (uf.find(order[cell_start[a]]) == uf.find(order[cell_start[b]])) return;
+    for (uint32_t i = cell_start[a]; i < cell_start[a + 1]; ++i)
+      for (uint32_t j = cell_start[b]; j < cell_start[b + 1]; ++j) {
+        const Vec3 d = p[order[i]] - p[order[j]];
+        if (dot(d, d) <= tol2) {
+          uf.unite(order[i], order[j]);
+          return;
         }
+      }
+  };
+  // Neighbour rows (dx, dy) "after" the cell's own row, plus the own row for dz = 1, 2. Cells
+  // are sorted, so for each row the first candidate (x+dx, y+dy, z-2) only moves forward: one
+  // monotone cursor per row finds all neighbours in O(cells) overall.
+  struct Row {
+    int dx, dy, dz_min;
+    size_t cursor;
+  };
+  std::vector<Row> rows;
+  for (int dx = 0; dx <= 2; ++dx)
+    for (int dy = -2; dy <= 2; ++dy)
+      if (dx > 0 || dy >= 0) rows.push_back({dx, dy, dx == 0 && dy == 0 ? 1 : -2, 0});
+  for (size_t a = 0; a < cells.size(); ++a) {
+    const Cell ca = cells[a];
+    for (Row& row : rows) {
+      const Cell first{ca.x + row.dx, ca.y + row.dy, ca.z + row.dz_min};
+      while (row.cursor < cells.size() && cells[row.cursor] < first) ++row.cursor;
+      for (size_t b = row.cursor; b < cells.size(); ++b) {
+        const Cell& cb = cells[b];
+        if (cb.x != first.x || cb.y != first.y || cb.z > ca.z + 2) break;
+        join_cells(a, b);
+      }
+    }
   }
 }
 
