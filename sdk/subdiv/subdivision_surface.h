@@ -9,7 +9,24 @@
 // (u, v) in [0,1]^2; an n-gon (n != 4) is split into n parametric quads, one per corner.
 // ptex_face(base_face, corner) maps between the two.
 //
-// Thread-safety: after construction, every const member may be called from any thread.
+// Machinery (see README.md): OpenSubdiv Far feature-adaptive refinement to `isolation_level`,
+// a double-precision PatchTable with infinitely sharp patches (crease curves are exact cubic
+// B-splines) and Gregory end caps at the isolation level around extraordinary vertices, whose
+// patch points are folded back onto the cage's control vertices by stencils. The surface is
+// exact (the Catmull-Clark limit) on every regular patch; inside the end caps, the parameter
+// square [0, 2^-L]^2 at an extraordinary corner (L = isolation level, counted from the base
+// face; n-gon sub-faces start at level 1), it is OpenSubdiv's Gregory approximation, exact at
+// the extraordinary vertex itself. Derivatives are the exact derivatives of what is evaluated.
+//
+// Thread-safety: everything is precomputed at construction; afterwards every const member may
+// be called concurrently from any number of threads (no caches, no mutable state). Construction
+// and assignment need exclusive access. OpenSubdiv's error callback is process-global: CageKit
+// installs a silent one on first use (see opensubdiv_error_handler.h).
+//
+// Errors: the constructor throws Error(invalid_mesh) for a cage that cannot be subdivided,
+// invalid_argument for options out of range; queries throw invalid_argument for an unknown ptex
+// face, (u, v) outside [0,1]^2 or NaN, a ptex face of a hole face, a control array of the wrong
+// size.
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -18,9 +35,13 @@
 
 CAGEKIT_NAMESPACE_BEGIN
 
+constexpr int kMaxIsolationLevel = 10;
+
 struct SurfaceOptions {
   // Adaptive isolation level of features (extraordinary vertices, creases) in OpenSubdiv;
   // higher is closer to the exact limit surface near extraordinary vertices, at more memory.
+  // Range [1, kMaxIsolationLevel]. Semi-sharp creases are isolated to at least ceil(sharpness)
+  // levels so that they are exact too.
   int isolation_level = 6;
 };
 
