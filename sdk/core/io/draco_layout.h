@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "core/namespace.h"
+#include "core/io/mesh_io.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 namespace io_detail {
@@ -51,9 +51,9 @@ struct DracoOrder {
 std::vector<uint8_t> encode_draco_order(const DracoOrder& order);
 
 // Decodes and checks an order blob against what was decoded (num_triangles) and the limits.
-// Returns false with `error` set when the blob is malformed or inconsistent.
-bool decode_draco_order(const std::vector<uint8_t>& blob, uint32_t decoded_triangles, uint64_t max_vertices,
-                        uint64_t max_faces, uint32_t max_face_size, DracoOrder& order, std::string& error);
+// Returns Status::success, or parse_error (malformed, inconsistent) / limit_exceeded with `error`.
+Status decode_draco_order(const std::vector<uint8_t>& blob, uint32_t decoded_triangles, const ReadOptions& limits,
+                          DracoOrder& order, std::string& error);
 
 }  // namespace io_detail
 CAGEKIT_NAMESPACE_END

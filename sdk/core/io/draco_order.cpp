@@ -66,21 +66,21 @@ bool get_symbols(const std::vector<uint8_t>& in, size_t& pos, uint32_t count, st
 uint32_t zigzag(int64_t v) { return v >= 0 ? uint32_t(2 * v) : uint32_t(-2 * v - 1); }
 int64_t unzigzag(uint32_t v) { return (v & 1) ? -int64_t(v >> 1) - 1 : int64_t(v >> 1); }
 
-bool check_face_sizes(DracoOrder& order, uint32_t max_face_size, std::string& error) {
+Status check_face_sizes(DracoOrder& order, uint32_t max_face_size, std::string& error) {
   uint64_t triangles = 0;
   for (uint32_t& size : order.face_sizes) {
     if (uint64_t(size) + 3 > max_face_size) {
-      error = "face size exceeds the limit";
-      return false;
+      error = "a face has " + std::to_string(uint64_t(size) + 3) + " vertices, more than ReadOptions::max_face_size";
+      return Status::limit_exceeded;
     }
     size += 3;
     triangles += size - 2;
   }
   if (triangles != order.num_triangles) {
-    error = "face sizes do not add up to the triangle count";
-    return false;
+    error = "cagekit.order: face sizes do not add up to the triangle count";
+    return Status::parse_error;
   }
-  return true;
+  return Status::success;
 }
 
 bool decode_permutation(DracoOrder& order, std::string& error) {
@@ -89,7 +89,7 @@ bool decode_permutation(DracoOrder& order, std::string& error) {
   for (uint32_t& t : order.original_triangle) {
     const int64_t value = previous + 1 + unzigzag(t);
     if (value < 0 || value >= int64_t(order.num_triangles) || seen[size_t(value)]) {
-      error = "triangle order is not a permutation";
+      error = "cagekit.order: triangle order is not a permutation";
       return false;
     }
     seen[size_t(value)] = 1;
@@ -129,44 +129,45 @@ std::vector<uint8_t> encode_draco_order(const DracoOrder& order) {
   return out;
 }
 
-bool decode_draco_order(const std::vector<uint8_t>& blob, uint32_t decoded_triangles, uint64_t max_vertices,
-                        uint64_t max_faces, uint32_t max_face_size, DracoOrder& order, std::string& error) {
+Status decode_draco_order(const std::vector<uint8_t>& blob, uint32_t decoded_triangles, const ReadOptions& limits,
+                          DracoOrder& order, std::string& error) {
   size_t pos = 0;
   uint64_t nv = 0, nf = 0, nt = 0;
   error = "malformed cagekit.order data";
-  if (blob.empty() || blob[pos++] != kOrderVersion) return false;
+  if (blob.empty() || blob[pos++] != kOrderVersion) return Status::parse_error;
   if (!get_varint(blob, pos, nv) || !get_varint(blob, pos, nf) || !get_varint(blob, pos, nt) || pos >= blob.size())
-    return false;
+    return Status::parse_error;
   if (nt != decoded_triangles || nf > nt || nv > UINT32_MAX) {
     error = "cagekit.order does not match the decoded mesh";
-    return false;
+    return Status::parse_error;
   }
-  if (nv > max_vertices || nf > max_faces) {
-    error = "vertex or face count exceeds ReadOptions limits";
-    return false;
+  if (nv > limits.max_vertices || nf > limits.max_faces) {
+    error = std::to_string(nv) + " vertices / " + std::to_string(nf) + " faces exceed the ReadOptions limits";
+    return Status::limit_exceeded;
   }
   order.num_vertices = uint32_t(nv);
   order.num_faces = uint32_t(nf);
   order.num_triangles = uint32_t(nt);
   const uint8_t flags = blob[pos++];
-  if (flags & ~(kHasFaceSizes | kHasPermutation | kHasRotation)) return false;
+  if (flags & ~(kHasFaceSizes | kHasPermutation | kHasRotation)) return Status::parse_error;
   if (flags & kHasFaceSizes) {
-    if (!get_symbols(blob, pos, order.num_faces, order.face_sizes)) return false;
-    if (!check_face_sizes(order, max_face_size, error)) return false;
+    if (!get_symbols(blob, pos, order.num_faces, order.face_sizes)) return Status::parse_error;
+    const Status sizes = check_face_sizes(order, limits.max_face_size, error);
+    if (sizes != Status::success) return sizes;
   } else if (nf != nt) {
     error = "cagekit.order: face count differs from triangle count but no face sizes";
-    return false;
+    return Status::parse_error;
   }
   if (flags & kHasPermutation) {
-    if (!get_symbols(blob, pos, order.num_triangles, order.original_triangle)) return false;
-    if (!decode_permutation(order, error)) return false;
+    if (!get_symbols(blob, pos, order.num_triangles, order.original_triangle)) return Status::parse_error;
+    if (!decode_permutation(order, error)) return Status::parse_error;
   }
   if (flags & kHasRotation) {
-    if (!get_symbols(blob, pos, order.num_triangles, order.rotation)) return false;
+    if (!get_symbols(blob, pos, order.num_triangles, order.rotation)) return Status::parse_error;
     for (uint32_t r : order.rotation)
-      if (r > 2) return false;
+      if (r > 2) return Status::parse_error;
   }
-  return pos == blob.size();
+  return pos == blob.size() ? Status::success : Status::parse_error;
 }
 
 }  // namespace io_detail

@@ -206,9 +206,8 @@ Cage read_cagekit_mesh(const draco::Mesh& mesh, const draco::GeometryMetadata& m
   if (!md.GetEntryBinary(kDracoOrderKey, &blob)) context.fail_here("CageKit Draco file without cagekit.order");
   DracoOrder order;
   std::string error;
-  if (!decode_draco_order(blob, mesh.num_faces(), context.options.max_vertices, context.options.max_faces,
-                          context.options.max_face_size, order, error))
-    context.fail_here(error, error.find("limits") != std::string::npos ? Status::limit_exceeded : Status::parse_error);
+  const Status status = decode_draco_order(blob, mesh.num_faces(), context.options, order, error);
+  if (status != Status::success) context.fail_here(error, status);
   Cage cage;
   const std::vector<uint32_t> original = read_vertices(mesh, order, cage, context);
   context.monitor.report("reading", 0.8);

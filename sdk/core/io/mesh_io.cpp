@@ -39,6 +39,7 @@ Cage read_cage_from_memory(const uint8_t* data, size_t size, FileFormat format, 
                            const ReadOptions& options, const TaskMonitor& monitor) {
   const io_detail::ReadContext context{source_name, options, monitor};
   if (data == nullptr && size != 0) context.fail_here("no data (null pointer)", Status::invalid_argument);
+  if (size == 0) context.fail_here("empty file: no vertices");
   if (format == FileFormat::unknown) format = sniff_file_format(data, size);
   if (format == FileFormat::unknown)
     context.fail_here("cannot tell the file format (not OBJ, PLY, OFF or Draco)", Status::unsupported_format);

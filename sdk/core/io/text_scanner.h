@@ -4,6 +4,7 @@
 // and ascii bodies). Lines end in \n or \r\n; '#' starts a comment where the format says so.
 // Numbers are parsed with std::from_chars (no locale, no allocation); a leading '+' is accepted.
 #include <charconv>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -78,8 +79,6 @@ class FieldCursor {
     if (*s == '+' && s + 1 < e_ && *(s + 1) != '-') ++s;
     auto result = std::from_chars(s, e_, value);
     if (result.ec == std::errc::result_out_of_range) {
-      // Overflow/underflow: from_chars leaves value untouched; report by returning false
-      // only for overflow (underflow to a denormal/zero is harmless).
       return finish_out_of_range(s, result.ptr, value, stop);
     }
     if (result.ec != std::errc()) return false;
@@ -111,13 +110,14 @@ class FieldCursor {
     p_ = end;
     return true;
   }
+  // from_chars leaves `value` alone when the number does not fit a double: an underflow reads
+  // as 0, an overflow as an infinity (which the readers then refuse as non-finite).
   bool finish_out_of_range(const char* s, const char* end, double& value, char stop) {
-    // Decide overflow vs underflow from the exponent sign: huge values are not finite coordinates.
     const char* ex = s;
     while (ex < end && *ex != 'e' && *ex != 'E') ++ex;
     const bool negative_exponent = ex + 1 < end && ex[1] == '-';
-    if (!negative_exponent) return false;
-    value = 0.0;
+    const bool negative = *s == '-';
+    value = negative_exponent ? (negative ? -0.0 : 0.0) : (negative ? -HUGE_VAL : HUGE_VAL);
     return finish(end, stop);
   }
 
