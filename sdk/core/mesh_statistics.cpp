@@ -41,7 +41,10 @@ MeshStatistics compute_mesh_statistics(const Cage& cage) {
       else in_range = false;
     }
     topo[f] = in_range && n >= 3 && detail::find_repeated_vertex(fv, n) == kNone;
-    if (!topo[f]) manifold = false;
+    if (!topo[f]) {
+      manifold = false;
+      ++s.invalid_faces;
+    }
   }
   for (size_t v = 0; v < nv; ++v) s.unreferenced_vertices += !referenced[v];
 

@@ -12,10 +12,14 @@ struct MeshStatistics {
   uint64_t triangles = 0, quads = 0, other_polygons = 0;
   uint64_t boundary_edges = 0, boundary_loops = 0, components = 0;
   uint64_t unreferenced_vertices = 0;
+  // Faces left out of the topology (edges, chi, genus): an index >= vertices, fewer than 3
+  // vertices, or a repeated vertex. Any such face makes the mesh non-manifold.
+  uint64_t invalid_faces = 0;
   int64_t euler_characteristic = 0;  // V - E + F over referenced vertices
-  // Genus of the surface from chi = sum over components (2 - 2g - b); -1 when not manifold.
+  // Genus of the surface from chi = sum over components (2 - 2g - b); -1 when not manifold
+  // (or manifold but not orientable: a Moebius strip, a Klein bottle).
   int64_t genus = -1;
-  bool manifold = false;  // edge- and vertex-manifold, valid indices
+  bool manifold = false;  // edge- and vertex-manifold, valid indices, no face repeating a vertex
   BoundingBox bbox;
   double bbox_diagonal = 0;
   uint64_t creases = 0, corners = 0, holes = 0;

@@ -47,6 +47,10 @@ struct ValidationReport {
   std::string summary() const;
 };
 
+// Faces with out-of-range indices, fewer than 3 vertices or a repeated vertex, and the later
+// copies of duplicate faces, are reported and then left out of the edge/vertex checks (so each
+// defect is reported once, under its own kind). Throws Error(Status::invalid_mesh) only when
+// face_offsets itself is malformed.
 ValidationReport validate_mesh(const PolygonMesh& mesh, size_t max_records = 16);
 // Also checks the cage's tags: crease edges that are not mesh edges, corner/hole indices out
 // of range, negative or NaN sharpness (reported as index_out_of_range / non_finite_position).

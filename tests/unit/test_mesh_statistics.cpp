@@ -95,6 +95,7 @@ TEST(MeshStatistics, UnitCube) {
   EXPECT_EQ(s.boundary_loops, 0u);
   EXPECT_EQ(s.components, 1u);
   EXPECT_EQ(s.unreferenced_vertices, 0u);
+  EXPECT_EQ(s.invalid_faces, 0u);
   EXPECT_EQ(s.euler_characteristic, 2);
   EXPECT_EQ(s.genus, 0);
   EXPECT_TRUE(s.manifold);
@@ -264,6 +265,7 @@ TEST(MeshStatistics, InvalidFacesAreIgnoredInTopology) {
   m.positions[7].x = std::nan("");
   const MeshStatistics s = stats(m);
   EXPECT_EQ(s.faces, 9u);
+  EXPECT_EQ(s.invalid_faces, 3u);
   EXPECT_EQ(s.edges, 12u);
   EXPECT_EQ(s.euler_characteristic, 2);
   EXPECT_FALSE(s.manifold);
