@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <fstream>
 #include <iostream>
+#include <random>
 #include <set>
 #include <sstream>
 #include <string>
@@ -101,7 +102,7 @@ Counts counts_of(const PolygonMesh& m) { return {m.num_vertices(), mesh_edges(m)
 // |CV'| = |CV| + |CE| + |CF|, |CF'| = sum of face sizes, |CE'| = 2|CE| + sum of face sizes.
 Counts next_counts(const Counts& c) { return {c.v + c.e + c.f, 2 * c.e + c.fv, c.fv, 4 * c.fv}; }
 
-class RefinementCounts : public ::testing::TestWithParam<int> {};
+class SubdivRefinementCounts : public ::testing::TestWithParam<int> {};
 
 PolygonMesh counting_mesh(int which) {
   switch (which) {
@@ -111,7 +112,7 @@ PolygonMesh counting_mesh(int which) {
   }
 }
 
-TEST_P(RefinementCounts, vertex_edge_face_counts_follow_the_split_rules) {
+TEST_P(SubdivRefinementCounts, vertex_edge_face_counts_follow_the_split_rules) {
   const Cage cage = cage_of(counting_mesh(GetParam()));
   Counts expected = counts_of(cage.mesh);
   for (int level = 1; level <= 3; ++level) {
@@ -125,7 +126,7 @@ TEST_P(RefinementCounts, vertex_edge_face_counts_follow_the_split_rules) {
   }
 }
 
-TEST_P(RefinementCounts, extraordinary_vertices_grow_by_the_non_quad_faces_then_stay) {
+TEST_P(SubdivRefinementCounts, extraordinary_vertices_grow_by_the_non_quad_faces_then_stay) {
   const Cage cage = cage_of(counting_mesh(GetParam()));
   size_t non_quads = 0;
   for (size_t f = 0; f < cage.mesh.num_faces(); ++f) non_quads += cage.mesh.face_size(f) != 4;
@@ -143,9 +144,9 @@ TEST_P(RefinementCounts, extraordinary_vertices_grow_by_the_non_quad_faces_then_
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(CubeSpherePrism, RefinementCounts, ::testing::Values(0, 1, 2));
+INSTANTIATE_TEST_SUITE_P(CubeSpherePrism, SubdivRefinementCounts, ::testing::Values(0, 1, 2));
 
-TEST(UniformRefinement, inherited_vertices_keep_their_indices_and_level_zero_is_the_cage) {
+TEST(SubdivUniformRefinement, inherited_vertices_keep_their_indices_and_level_zero_is_the_cage) {
   Cage cage = cage_of(cagekit_test::unit_cube_quads());
   const Cage same = refine(cage, 0);
   EXPECT_EQ(same.mesh.positions, cage.mesh.positions);
@@ -162,7 +163,7 @@ TEST(UniformRefinement, inherited_vertices_keep_their_indices_and_level_zero_is_
   }
 }
 
-TEST(UniformRefinement, one_step_reproduces_the_thesis_rules_on_a_cube) {
+TEST(SubdivUniformRefinement, one_step_reproduces_the_thesis_rules_on_a_cube) {
   const Cage cage = cage_of(cagekit_test::unit_cube_quads());
   const Cage refined = refine(cage, 1);
   // (2.10) for a valence-3 corner of the unit cube: c' = (3*1*c + sum c_ij + sum f'_ij) / 9.
@@ -205,7 +206,7 @@ Cage fully_creased_cube(float sharpness) {
   return cage;
 }
 
-TEST(UniformRefinement, infinitely_sharp_cube_edges_stay_exactly_the_cube_edges) {
+TEST(SubdivUniformRefinement, infinitely_sharp_cube_edges_stay_exactly_the_cube_edges) {
   const Cage cage = fully_creased_cube(cagekit::kSharpnessInfinite);
   for (int level = 1; level <= 3; ++level) {
     const Cage refined = refine(cage, level);
@@ -226,7 +227,7 @@ TEST(UniformRefinement, infinitely_sharp_cube_edges_stay_exactly_the_cube_edges)
   }
 }
 
-TEST(UniformRefinement, semi_sharp_creases_decay_by_one_per_level) {
+TEST(SubdivUniformRefinement, semi_sharp_creases_decay_by_one_per_level) {
   const Cage cage = fully_creased_cube(2.0f);
   const Cage level1 = refine(cage, 1);
   ASSERT_EQ(level1.creases.size(), 24u);
@@ -235,7 +236,7 @@ TEST(UniformRefinement, semi_sharp_creases_decay_by_one_per_level) {
   EXPECT_TRUE(refine(cage, 3).creases.empty());
 }
 
-TEST(UniformRefinement, corners_stay_on_their_vertices) {
+TEST(SubdivUniformRefinement, corners_stay_on_their_vertices) {
   Cage cage = cage_of(cagekit_test::quad_grid(4, 4, [](double x, double y) { return 0.1 * x * y; }));
   const uint32_t corner = 2 * 5 + 2;  // an interior vertex
   cage.corners.push_back({corner, cagekit::kSharpnessInfinite});
@@ -254,7 +255,7 @@ TEST(UniformRefinement, corners_stay_on_their_vertices) {
   }
 }
 
-TEST(UniformRefinement, holes_become_the_children_of_the_hole_face) {
+TEST(SubdivUniformRefinement, holes_become_the_children_of_the_hole_face) {
   Cage cage = cage_of(cagekit_test::unit_cube_quads());
   cage.holes.push_back(0);  // the z = 0 face
   const Cage level1 = refine(cage, 1);
@@ -272,7 +273,7 @@ TEST(UniformRefinement, holes_become_the_children_of_the_hole_face) {
   EXPECT_EQ(distinct.size(), 64u);
 }
 
-TEST(UniformRefinement, limit_of_a_fully_creased_cube_stays_on_the_straight_edges) {
+TEST(SubdivUniformRefinement, limit_of_a_fully_creased_cube_stays_on_the_straight_edges) {
   const Cage cage = fully_creased_cube(cagekit::kSharpnessInfinite);
   const Cage refined = refine(cage, 3, /*limit=*/true);
   std::set<uint32_t> crease_vertices;
@@ -281,7 +282,7 @@ TEST(UniformRefinement, limit_of_a_fully_creased_cube_stays_on_the_straight_edge
   for (uint32_t v : crease_vertices) EXPECT_TRUE(on_cube_edge(refined.mesh.positions[v], 1e-14)) << v;
 }
 
-TEST(UniformRefinement, boundary_rule_edges_only_moves_one_face_corners_edges_and_corners_pins_them) {
+TEST(SubdivUniformRefinement, boundary_rule_edges_only_moves_one_face_corners_edges_and_corners_pins_them) {
   Cage cage = cage_of(cagekit_test::quad_grid(3, 3));
   const Vec3 corner = cage.mesh.positions[0];
   cage.boundary = BoundaryRule::edges_only;
@@ -290,7 +291,7 @@ TEST(UniformRefinement, boundary_rule_edges_only_moves_one_face_corners_edges_an
   EXPECT_EQ(refine(cage, 2).mesh.positions[0], corner);
 }
 
-TEST(UniformRefinement, limit_positions_converge_like_deep_refinement) {
+TEST(SubdivUniformRefinement, limit_positions_converge_like_deep_refinement) {
   const Cage cage = cage_of(cagekit_test::triangle_sphere(1));
   std::vector<Vec3> limit, normals;
   cagekit::limit_positions_and_normals(cage, &limit, &normals);
@@ -313,7 +314,7 @@ TEST(UniformRefinement, limit_positions_converge_like_deep_refinement) {
     EXPECT_NEAR(cagekit::distance(limit0.mesh.positions[v], limit[v]), 0.0, 1e-12);
 }
 
-TEST(UniformRefinement, limit_normals_are_unit_and_point_outwards) {
+TEST(SubdivUniformRefinement, limit_normals_are_unit_and_point_outwards) {
   const Cage sphere = cage_of(cagekit_test::triangle_sphere(1));
   std::vector<Vec3> limit, normals;
   cagekit::limit_positions_and_normals(sphere, &limit, &normals);
@@ -331,7 +332,7 @@ TEST(UniformRefinement, limit_normals_are_unit_and_point_outwards) {
 }
 
 // (2.16)/(2.17) against the thesis formulas on an all-quad cage (where they hold at level 0).
-TEST(UniformRefinement, limit_positions_match_the_thesis_masks) {
+TEST(SubdivUniformRefinement, limit_positions_match_the_thesis_masks) {
   const Cage cube = cage_of(cagekit_test::unit_cube_quads());
   std::vector<Vec3> limit;
   cagekit::limit_positions_and_normals(cube, &limit, nullptr);
@@ -348,7 +349,7 @@ TEST(UniformRefinement, limit_positions_match_the_thesis_masks) {
   EXPECT_NEAR(cagekit::distance(limit[1], boundary), 0.0, 1e-15);
 }
 
-TEST(UniformRefinement, reports_progress_and_can_be_cancelled) {
+TEST(SubdivUniformRefinement, reports_progress_and_can_be_cancelled) {
   const Cage cage = cage_of(cagekit_test::unit_cube_quads());
   std::vector<double> fractions;
   cagekit::TaskMonitor monitor([&](const char* stage, double f) {
@@ -379,7 +380,7 @@ Status status_of_refining(const Cage& cage, int levels = 1) {
   return Status::success;
 }
 
-TEST(UniformRefinement, rejects_bad_input_with_an_error_never_a_crash) {
+TEST(SubdivUniformRefinement, rejects_bad_input_with_an_error_never_a_crash) {
   const Cage good = cage_of(cagekit_test::unit_cube_quads());
   EXPECT_EQ(status_of_refining(good, -1), Status::invalid_argument);
   EXPECT_EQ(status_of_refining(good, cagekit::kMaxUniformLevels + 1), Status::invalid_argument);
@@ -420,7 +421,7 @@ TEST(UniformRefinement, rejects_bad_input_with_an_error_never_a_crash) {
   EXPECT_EQ(status_of_refining(cage_of(PolygonMesh())), Status::invalid_mesh);
 }
 
-TEST(UniformRefinement, hostile_sizes_fail_before_allocating) {
+TEST(SubdivUniformRefinement, hostile_sizes_fail_before_allocating) {
   // 100 x 100 quads = 40,000 face-vertices; 4^8 times that exceeds 2^31.
   const Cage grid = cage_of(cagekit_test::quad_grid(100, 100));
   EXPECT_EQ(status_of_refining(grid, 8), Status::limit_exceeded);
@@ -430,7 +431,7 @@ TEST(UniformRefinement, hostile_sizes_fail_before_allocating) {
   EXPECT_NE(status_of_refining(liar), Status::success);
 }
 
-TEST(UniformRefinement, accepts_non_manifold_and_unreferenced_vertices) {
+TEST(SubdivUniformRefinement, accepts_non_manifold_and_unreferenced_vertices) {
   PolygonMesh fin;  // three quads around one edge, plus an unused vertex
   for (int i = 0; i < 8; ++i) fin.add_vertex(Vec3(i % 2, (i / 2) % 2, i / 4));
   fin.add_vertex(Vec3(5, 5, 5));
@@ -443,6 +444,45 @@ TEST(UniformRefinement, accepts_non_manifold_and_unreferenced_vertices) {
   std::vector<Vec3> limit, normals;
   EXPECT_NO_THROW(cagekit::limit_positions_and_normals(cage_of(fin), &limit, &normals));
   EXPECT_EQ(limit.size(), 9u);
+}
+
+// Random polygon soups over few vertices: non-manifold edges and vertices, inconsistent
+// orientation, random tags. Every call either succeeds with finite output or throws an Error.
+TEST(SubdivUniformRefinement, random_soups_never_crash) {
+  std::mt19937 rng(20240611);
+  int succeeded = 0;
+  for (int trial = 0; trial < 150; ++trial) {
+    Cage cage;
+    const uint32_t nv = 4 + rng() % 10;
+    for (uint32_t v = 0; v < nv; ++v) cage.mesh.add_vertex(Vec3(rng() % 7, rng() % 5, rng() % 3));
+    const int nf = 1 + static_cast<int>(rng() % 9);
+    for (int f = 0; f < nf; ++f) {
+      std::vector<uint32_t> face;
+      const uint32_t size = 3 + rng() % std::min<uint32_t>(4, nv - 2);
+      while (face.size() < size) {
+        const uint32_t v = rng() % nv;
+        if (std::find(face.begin(), face.end(), v) == face.end()) face.push_back(v);
+      }
+      cage.mesh.add_face(face.data(), face.size());
+    }
+    const auto edges = mesh_edges(cage.mesh);
+    for (const Edge& e : edges)
+      if (rng() % 4 == 0) cage.creases.push_back({e.first, e.second, static_cast<float>(rng() % 12)});
+    if (rng() % 3 == 0) cage.corners.push_back({static_cast<uint32_t>(rng() % nv), 3.0f});
+    if (rng() % 4 == 0) cage.holes.push_back(static_cast<uint32_t>(rng() % nf));
+    cage.boundary = rng() % 2 ? BoundaryRule::edges_only : BoundaryRule::edges_and_corners;
+    try {
+      const Cage refined = refine(cage, 2, /*limit=*/trial % 2 == 0);
+      for (const Vec3& p : refined.mesh.positions) ASSERT_TRUE(cagekit::is_finite(p)) << "trial " << trial;
+      std::vector<Vec3> limit, normals;
+      cagekit::limit_positions_and_normals(cage, &limit, &normals);
+      for (const Vec3& p : limit) ASSERT_TRUE(cagekit::is_finite(p)) << "trial " << trial;
+      ++succeeded;
+    } catch (const Error& e) {
+      EXPECT_NE(e.status(), Status::internal_error) << "trial " << trial << ": " << e.what();
+    }
+  }
+  EXPECT_GT(succeeded, 100);
 }
 
 // A tiny OBJ reader (v and f only) for the timing check; the SDK's reader lives in core/io.
@@ -472,7 +512,7 @@ PolygonMesh read_obj(const std::string& path) {
   return m;
 }
 
-TEST(UniformRefinement, fandisk_to_level_two_timing) {
+TEST(SubdivUniformRefinement, fandisk_to_level_two_timing) {
   const std::string path = cagekit_test::shared_mesh_path("fandisk.obj");
   if (path.empty()) GTEST_SKIP() << "fandisk.obj not present";
   const Cage cage = cage_of(read_obj(path));
