@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "test_support.h"
 
+#include <algorithm>
 #include <fstream>
 #include <map>
 #include <utility>
