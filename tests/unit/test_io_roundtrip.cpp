@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
@@ -231,12 +232,19 @@ TEST(IoRoundTrip, DracoKeepsMixedFaceSizesAndOrder) {
   expect_same_connectivity(cage.mesh, back.mesh);
 }
 
-TEST(IoRoundTrip, DracoKeepsIsolatedVerticesAndDegenerateFaces) {
-  Cage cage = tagged_cube();
-  cage.mesh.add_vertex(Vec3(5, 5, 5));  // referenced by no face
-  const Cage back = read(write(cage, FileFormat::draco), FileFormat::draco);
-  expect_same_connectivity(cage.mesh, back.mesh);
-  expect_same_tags(cage, back);
+TEST(IoRoundTrip, DracoKeepsIsolatedVerticesDegenerateAndNonManifoldFaces) {
+  Cage isolated = tagged_cube();
+  isolated.mesh.add_vertex(Vec3(5, 5, 5));  // referenced by no face
+  Cage odd = tagged_cube();
+  odd.mesh.add_vertex(Vec3(0.5, -1, 0));
+  odd.mesh.add_face({0, 1, 8});     // a fin: edge (0,1) now has three faces
+  odd.mesh.add_face({0, 1, 8});     // the same face twice
+  odd.mesh.add_face({2, 2, 3, 6});  // a repeated vertex
+  for (const Cage& cage : {isolated, odd}) {
+    const Cage back = read(write(cage, FileFormat::draco), FileFormat::draco);
+    expect_same_connectivity(cage.mesh, back.mesh);
+    expect_same_tags(cage, back);
+  }
 }
 
 TEST(IoRoundTrip, FilesInEveryFormat) {
@@ -467,6 +475,21 @@ TEST(IoFiles, FailedWritesLeaveNoOutputAndNoTemporaryFiles) {
     EXPECT_NE(std::string(e.what()).find("no/such/dir"), std::string::npos);
   }
   std::remove(path.c_str());
+}
+
+TEST(IoFiles, FailedRenameRemovesTheTemporaryFile) {
+  namespace fs = std::filesystem;
+  const fs::path target = temp_path("a_directory.obj");
+  fs::create_directories(target / "inside");  // renaming a file over a non-empty directory fails
+  try {
+    write_cage_to_file(target.string(), tagged_cube(), {});
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.status(), Status::io_error);
+  }
+  for (const auto& entry : fs::directory_iterator(target.parent_path()))
+    EXPECT_EQ(entry.path().filename().string().find("io_roundtrip_a_directory.obj.tmp"), std::string::npos);
+  fs::remove_all(target);
 }
 
 TEST(IoProgress, ReportsAndCancels) {

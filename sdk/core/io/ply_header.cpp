@@ -101,7 +101,8 @@ class HeaderParser {
     element.line = lines_.line_number();
     const std::string_view count = fields.field();
     auto r = std::from_chars(count.data(), count.data() + count.size(), element.count);
-    if (element.name.empty() || count.empty() || r.ec != std::errc() || r.ptr != count.data() + count.size())
+    if (element.name.empty() || count.empty() || r.ec != std::errc() || r.ptr != count.data() + count.size() ||
+        !fields.at_end())
       fail("expected 'element <name> <count>'");
     for (const PlyElement& e : header_.elements)
       if (e.name == element.name) fail("element '" + element.name + "' is declared twice");
