@@ -106,6 +106,10 @@ void Session::check(cagekit_status status, const std::string& what) const {
   if (message.empty()) message = cagekit_status_string(status);
   // Reader messages already start with the file name; others get the context added.
   if (message.rfind(what, 0) != 0) message = what + ": " + message;
+  // One line: multi-line diagnostics (validation summaries) are joined.
+  while (!message.empty() && message.back() == '\n') message.pop_back();
+  for (size_t at = message.find('\n'); at != std::string::npos; at = message.find('\n', at))
+    message.replace(at, 1, "; ");
   throw Failure(kExitBadInput, message);
 }
 

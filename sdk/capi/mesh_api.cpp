@@ -38,7 +38,7 @@ cagekit::PolygonMesh mesh_from_desc(const cagekit_mesh_desc& d) {
       fail(Status::invalid_argument, "cagekit_mesh_desc.face_sizes is NULL and uniform_face_size is 0");
     index_count = uint64_t(d.face_count) * d.uniform_face_size;
   }
-  if (index_count > kMaxIndices) fail(Status::limit_exceeded, "more than 2^31 face indices");
+  if (index_count >= kMaxIndices) fail(Status::limit_exceeded, "2^31 or more face indices");
   if (index_count > 0 && d.face_indices == nullptr)
     fail(Status::invalid_argument, "cagekit_mesh_desc.face_indices is NULL but faces were given");
 

@@ -9,7 +9,7 @@ tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 failures=0; passed=0
 pass() { passed=$((passed + 1)); echo "[ OK   ] $1"; }
 fail() { failures=$((failures + 1)); echo "[ FAIL ] $1"; }
-json() { /usr/bin/env python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(eval(sys.argv[2], {}, {'d': d}))" "$@"; }
+json() { /usr/bin/env python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(eval(sys.argv[2], {'d': d}))" "$@"; }
 
 # 1. demo
 if "$cli" demo "$tmp/demo" --quiet >"$tmp/demo.out" 2>&1 &&
