@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -80,12 +81,23 @@ struct Cell {
   bool operator<(const Cell& o) const { return x != o.x ? x < o.x : (y != o.y ? y < o.y : z < o.z); }
 };
 
+// Cell coordinate floor(x / size). Where that does not fit (|x| / size >= 2^61), points within
+// the tolerance of x must have exactly the coordinate x (the spacing of doubles there exceeds
+// the tolerance): such coordinates get keys of their own beyond +-2^62 built from their bits.
 int64_t cell_coord(double x, double size) {
   const double c = std::floor(x / size);
-  const double limit = 4611686018427387904.0;  // 2^62: clamping keeps neighbours neighbours
-  if (!(c > -limit)) return -static_cast<int64_t>(limit);
-  if (!(c < limit)) return static_cast<int64_t>(limit);
-  return static_cast<int64_t>(c);
+  if (std::fabs(c) < 2305843009213693952.0) return static_cast<int64_t>(c);  // 2^61
+  uint64_t bits = 0;
+  std::memcpy(&bits, &x, sizeof bits);
+  const int64_t key = (int64_t(1) << 62) + static_cast<int64_t>((bits & ~(uint64_t(1) << 63)) >> 1);
+  return x < 0 ? -key : key;
+}
+
+// Up to 2^31 cells from the origin, rounding in x / size cannot widen a cell past tol/sqrt(3)
+// (size has a 2^-20 margin): all points of such a cell are within the tolerance.
+bool cell_is_tight(const Cell& c) {
+  const int64_t limit = int64_t(1) << 31;
+  return c.x > -limit && c.x < limit && c.y > -limit && c.y < limit && c.z > -limit && c.z < limit;
 }
 
 // Unites the finite vertices within `tol` of each other (tol == 0: identical positions).
@@ -108,13 +120,23 @@ void weld_clusters(const PolygonMesh& m, double tol, detail::UnionFind& uf) {
       if (p[order[i]] == p[order[i - 1]]) uf.unite(order[i - 1], order[i]);
     return;
   }
-  // Cells of side tol/sqrt(3): two points of one cell are within tol, so a cell is united at
-  // once (a huge tolerance costs nothing); points within tol lie at most 2 cells apart per axis.
-  const double size = tol / 1.7320508075688774;
+  // Cells of side tol/sqrt(3): two points of one (tight) cell are within tol, so such a cell
+  // is united at once (a huge tolerance costs nothing); points within tol lie at most 2 cells
+  // apart per axis.
+  double size = tol / 1.7320508075688774 * (1.0 - 1.0 / 1048576.0);
+  if (!(size > 0)) size = std::numeric_limits<double>::denorm_min();
   std::vector<Cell> cell_of(nv);
   for (uint32_t v : order) cell_of[v] = {cell_coord(p[v].x, size), cell_coord(p[v].y, size), cell_coord(p[v].z, size)};
+  auto position_less = [&](uint32_t a, uint32_t b) {
+    if (p[a].x != p[b].x) return p[a].x < p[b].x;
+    if (p[a].y != p[b].y) return p[a].y < p[b].y;
+    return p[a].z < p[b].z;
+  };
   std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
-    return cell_of[a] == cell_of[b] ? a < b : cell_of[a] < cell_of[b];
+    if (!(cell_of[a] == cell_of[b])) return cell_of[a] < cell_of[b];
+    if (position_less(a, b)) return true;
+    if (position_less(b, a)) return false;
+    return a < b;
   });
   std::vector<uint32_t> cell_start;  // cell k holds order[cell_start[k] .. cell_start[k+1])
   std::vector<Cell> cells;           // sorted, unique
@@ -122,22 +144,44 @@ void weld_clusters(const PolygonMesh& m, double tol, detail::UnionFind& uf) {
     if (i == 0 || !(cell_of[order[i]] == cell_of[order[i - 1]])) {
       cells.push_back(cell_of[order[i]]);
       cell_start.push_back(static_cast<uint32_t>(i));
-    } else {
+    } else if (cell_is_tight(cell_of[order[i]]) || p[order[i]] == p[order[i - 1]]) {
       uf.unite(order[i - 1], order[i]);
     }
   }
   cell_start.push_back(static_cast<uint32_t>(order.size()));
+  std::vector<uint8_t> tight(cells.size());
+  for (size_t k = 0; k < cells.size(); ++k) tight[k] = cell_is_tight(cells[k]);
   const double tol2 = tol * tol;
+  auto close = [&](uint32_t a, uint32_t b) {
+    const Vec3 d = p[a] - p[b];
+    return dot(d, d) <= tol2;
+  };
+  // Loose cells (far out, |x| > 2^31 tol): compare their distinct positions pairwise.
+  std::vector<uint32_t> distinct;
+  for (size_t k = 0; k < cells.size(); ++k) {
+    if (tight[k]) continue;
+    distinct.clear();
+    for (uint32_t i = cell_start[k]; i < cell_start[k + 1]; ++i)
+      if (i == cell_start[k] || p[order[i]] != p[order[i - 1]]) distinct.push_back(order[i]);
+    for (size_t i = 1; i < distinct.size(); ++i)
+      for (size_t j = 0; j < i; ++j)
+        if (uf.find(distinct[i]) != uf.find(distinct[j]) && close(distinct[i], distinct[j]))
+          uf.unite(distinct[i], distinct[j]);
+  }
   auto join_cells = [&](size_t a, size_t b) {
-    if (uf.find(order[cell_start[a]]) == uf.find(order[cell_start[b]])) return;
+    if (tight[a] && tight[b]) {  // both are one set already: one close pair joins them
+      if (uf.find(order[cell_start[a]]) == uf.find(order[cell_start[b]])) return;
+      for (uint32_t i = cell_start[a]; i < cell_start[a + 1]; ++i)
+        for (uint32_t j = cell_start[b]; j < cell_start[b + 1]; ++j)
+          if (close(order[i], order[j])) {
+            uf.unite(order[i], order[j]);
+            return;
+          }
+      return;
+    }
     for (uint32_t i = cell_start[a]; i < cell_start[a + 1]; ++i)
-      for (uint32_t j = cell_start[b]; j < cell_start[b + 1]; ++j) {
-        const Vec3 d = p[order[i]] - p[order[j]];
-        if (dot(d, d) <= tol2) {
-          uf.unite(order[i], order[j]);
-          return;
-        }
-      }
+      for (uint32_t j = cell_start[b]; j < cell_start[b + 1]; ++j)
+        if (uf.find(order[i]) != uf.find(order[j]) && close(order[i], order[j])) uf.unite(order[i], order[j]);
   };
   // Neighbour rows (dx, dy) "after" the cell's own row, plus the own row for dz = 1, 2. Cells
   // are sorted, so for each row the first candidate (x+dx, y+dy, z-2) only moves forward: one

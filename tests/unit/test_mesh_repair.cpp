@@ -237,6 +237,44 @@ TEST(MeshRepair, WeldTriangleSoupBackIntoTheSphere) {
   EXPECT_EQ(off.welded_vertices, 0u);
 }
 
+TEST(MeshRepair, WeldAtExtremeScales) {
+  const PolygonMesh sphere = cagekit_test::triangle_sphere(2);
+  struct Case {
+    double scale, offset, tol;
+  } cases[] = {
+      {1.0, 0.0, 1e-300},    // tolerance far below the coordinates' resolution
+      {1e3, 1e9, 1e-3},      // far from the origin: cells beyond 2^31
+      {1e-280, 0.0, 1e-290}, // tiny model, tiny tolerance
+      {1e290, 0.0, 1e280},   // huge model
+  };
+  for (const Case& c : cases) {
+    PolygonMesh m = sphere;
+    for (Vec3& p : m.positions) p = p * c.scale + Vec3(c.offset, -c.offset, c.offset);
+    PolygonMesh soup = triangle_soup(m, 0, nullptr);
+    RepairOptions opt;
+    opt.weld_tolerance = c.tol;
+    RepairReport rep;
+    const PolygonMesh out = repaired(soup, rep, opt);
+    EXPECT_EQ(out.num_vertices(), sphere.num_vertices()) << c.scale << " " << c.tol;
+    EXPECT_EQ(rep.dropped_degenerate_faces, 0u) << c.scale << " " << c.tol;
+    expect_valid(out);
+  }
+  // Near zero, distinct points closer than a tiny tolerance still merge.
+  PolygonMesh z;
+  z.add_vertex(Vec3(0, 0, 0));
+  z.add_vertex(Vec3(1e-301, 0, -1e-301));
+  z.add_vertex(Vec3(1e-299, 0, 0));
+  RepairOptions opt;
+  opt.weld_tolerance = 1e-300;
+  RepairReport rep;
+  EXPECT_EQ(repaired(z, rep, opt).num_vertices(), 2u);
+  // Far out (loose cells, compared pairwise): a chain 0 - 0.5 - 1.25 merges, 3 stays apart.
+  PolygonMesh f;
+  for (double x : {0.0, 0.5, 1.25, 3.0}) f.add_vertex(Vec3(1e12 + x, 0, 0));
+  opt.weld_tolerance = 1e-3 * 800;  // 0.8
+  EXPECT_EQ(repaired(f, rep, opt).num_vertices(), 2u);
+}
+
 TEST(MeshRepair, WeldIsTransitiveAndKeepsTheFirstPosition) {
   PolygonMesh m;
   m.add_vertex(Vec3(0, 0, 0));
