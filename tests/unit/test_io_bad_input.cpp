@@ -141,7 +141,7 @@ const char* kTriangleObj = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
 
 }  // namespace
 
-TEST(IoBadInput, EveryTruncationIsAnErrorOrAValidPrefix) {
+TEST(io_bad_input, EveryTruncationIsAnErrorOrAValidPrefix) {
   for (const Sample& s : samples()) {
     size_t errors = 0;
     for (size_t length = 0; length < s.bytes.size(); ++length) {
@@ -161,7 +161,7 @@ TEST(IoBadInput, EveryTruncationIsAnErrorOrAValidPrefix) {
   }
 }
 
-TEST(IoBadInput, RandomCorruptionNeverCrashes) {
+TEST(io_bad_input, RandomCorruptionNeverCrashes) {
   std::mt19937 rng(20240611);
   for (const Sample& s : samples()) {
     size_t accepted = 0;
@@ -192,7 +192,7 @@ TEST(IoBadInput, RandomCorruptionNeverCrashes) {
   }
 }
 
-TEST(IoBadInput, HostileCountsFailBeforeAllocating) {
+TEST(io_bad_input, HostileCountsFailBeforeAllocating) {
   expect_error(ply_binary_header("4000000000", "1") + "tiny", FileFormat::ply, Status::parse_error,
                {"byte", "4000000000", "vertex"});
   std::vector<uint8_t> many_faces = bytes_of(ply_binary_header("3", "4000000000"));
@@ -226,7 +226,7 @@ TEST(IoBadInput, HostileCountsFailBeforeAllocating) {
                Status::parse_error, {"bad.file:5:"});
 }
 
-TEST(IoBadInput, ReadOptionsLimitsApplyToEveryFormat) {
+TEST(io_bad_input, ReadOptionsLimitsApplyToEveryFormat) {
   ReadOptions few_vertices;
   few_vertices.max_vertices = 4;
   ReadOptions few_faces;
@@ -241,7 +241,7 @@ TEST(IoBadInput, ReadOptionsLimitsApplyToEveryFormat) {
   expect_error(samples()[4].bytes, FileFormat::draco, Status::limit_exceeded, {}, "cube.drc", small_faces);
 }
 
-TEST(IoBadInput, NonFiniteCoordinatesAreRefused) {
+TEST(io_bad_input, NonFiniteCoordinatesAreRefused) {
   for (const char* v : {"v nan 0 0\n", "v 0 inf 0\n", "v 0 0 -inf\n", "v 1e999 0 0\n", "v 0 -1e400 0\n"})
     expect_error(std::string("# x\n") + v + "v 1 0 0\nv 0 1 0\nf 1 2 3\n", FileFormat::obj, Status::parse_error,
                  {"bad.obj:2:", "finite"}, "bad.obj");
@@ -259,7 +259,7 @@ TEST(IoBadInput, NonFiniteCoordinatesAreRefused) {
   expect_error(ply_triangle(inf, tri), FileFormat::ply, Status::parse_error, {"byte"}, "bad.ply");
 }
 
-TEST(IoBadInput, BadIndicesNameTheLineOrByte) {
+TEST(io_bad_input, BadIndicesNameTheLineOrByte) {
   expect_error(std::string(kTriangleObj) + "f 1 2 9000\n", FileFormat::obj, Status::parse_error,
                {"fandisk.obj:4: face refers to vertex 9000 but only 3 vertices are defined"}, "fandisk.obj");
   expect_error(std::string(kTriangleObj) + "f 0 1 2\n", FileFormat::obj, Status::parse_error, {"bad.obj:4:", "0"},
@@ -291,7 +291,7 @@ TEST(IoBadInput, BadIndicesNameTheLineOrByte) {
                FileFormat::ply, Status::parse_error, {"bad.ply:13:", "vertex 7"}, "bad.ply");
 }
 
-TEST(IoBadInput, BadObjTagLines) {
+TEST(io_bad_input, BadObjTagLines) {
   const std::string cube = std::string(reinterpret_cast<const char*>(samples()[0].bytes.data()), samples()[0].bytes.size());
   const std::string base = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
   expect_error(base + "t crease 2/1/0 0 3 1\n", FileFormat::obj, Status::parse_error, {"t.obj:5:", "vertex 3"}, "t.obj");
@@ -310,7 +310,7 @@ TEST(IoBadInput, BadObjTagLines) {
   expect_error(cube + "t crease 2/1/0 0 8 1\n", FileFormat::obj, Status::parse_error, {"vertex 8"}, "t.obj");
 }
 
-TEST(IoBadInput, EmptyGarbageAndBinaryInput) {
+TEST(io_bad_input, EmptyGarbageAndBinaryInput) {
   for (FileFormat f : {FileFormat::obj, FileFormat::ply, FileFormat::off, FileFormat::draco})
     expect_error(std::vector<uint8_t>{}, f, Status::parse_error, {"no vertices"}, "empty");
   expect_error("# only a comment\nvt 0 0\n", FileFormat::obj, Status::parse_error, {"no vertices"}, "c.obj");
@@ -335,7 +335,7 @@ TEST(IoBadInput, EmptyGarbageAndBinaryInput) {
   expect_error(noise, FileFormat::obj, Status::parse_error, {"NUL"}, "noise");
 }
 
-TEST(IoBadInput, DracoPointCloudsAndBrokenCageKitData) {
+TEST(io_bad_input, DracoPointCloudsAndBrokenCageKitData) {
   draco::PointCloud cloud;
   cloud.set_num_points(3);
   draco::GeometryAttribute position;
@@ -371,7 +371,7 @@ TEST(IoBadInput, DracoPointCloudsAndBrokenCageKitData) {
   expect_error(encode(1, {1, 3, 1, 1, 0}), FileFormat::draco, Status::parse_error, {"vertex id"}, "v.drc");
 }
 
-TEST(IoBadInput, UnreadableFilesAreIoErrors) {
+TEST(io_bad_input, UnreadableFilesAreIoErrors) {
   try {
     read_cage_from_file("/nonexistent/dir/mesh.obj");
     FAIL() << "expected an error";
