@@ -11,23 +11,22 @@ namespace {
 
 namespace Far = OpenSubdiv::Far;
 
-thread_local std::string t_last_message;
+thread_local std::string t_error;
+thread_local std::string t_warning;
 
-// Called from inside OpenSubdiv: must neither throw nor print. Only the first message of a
-// call is kept, since later ones are usually consequences of it.
-void remember_message(const char* kind, const char* message) noexcept {
+// Called from inside OpenSubdiv: must neither throw nor print. Only the first message is kept,
+// since later ones are usually consequences of it.
+void remember(std::string* slot, const char* message) noexcept {
   try {
-    if (t_last_message.empty()) t_last_message = std::string(kind) + (message ? message : "(no message)");
+    if (slot->empty()) *slot = message && *message ? message : "(no message)";
   } catch (...) {
-    // Out of memory while recording a diagnostic: the caller still sees the failure itself.
+    // Out of memory while recording a diagnostic: the failure itself is still detected.
   }
 }
 
-void on_error(Far::ErrorType type, const char* message) {
-  remember_message(type == Far::FAR_FATAL_ERROR ? "OpenSubdiv fatal error: " : "OpenSubdiv error: ", message);
-}
+void on_error(Far::ErrorType, const char* message) { remember(&t_error, message); }
 
-void on_warning(const char* message) { remember_message("OpenSubdiv warning: ", message); }
+void on_warning(const char* message) { remember(&t_warning, message); }
 
 }  // namespace
 
@@ -37,10 +36,19 @@ void begin_opensubdiv_call() {
     Far::SetErrorCallback(&on_error);
     Far::SetWarningCallback(&on_warning);
   });
-  t_last_message.clear();
+  t_error.clear();
+  t_warning.clear();
 }
 
-std::string last_opensubdiv_message() { return t_last_message; }
+std::string last_opensubdiv_message() {
+  if (!t_error.empty()) return "OpenSubdiv error: " + t_error;
+  if (!t_warning.empty()) return "OpenSubdiv warning: " + t_warning;
+  return std::string();
+}
+
+void fail_on_opensubdiv_error(Status status, const std::string& what) {
+  if (!t_error.empty()) fail(status, what + ": OpenSubdiv error: " + t_error);
+}
 
 }  // namespace subdiv_detail
 CAGEKIT_NAMESPACE_END

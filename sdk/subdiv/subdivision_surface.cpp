@@ -64,6 +64,57 @@ struct StencilRows {
   size_t size() const { return offsets.size() - 1; }
 };
 
+// Sums of the six basis weights per control vertex (hash table with linear probing).
+class WeightAccumulator {
+ public:
+  double* slot(uint32_t key) {
+    if (2 * (used_ + 1) > keys_.size()) grow();
+    size_t i = hash(key);
+    while (keys_[i] != key && keys_[i] != kEmpty) i = (i + 1) & (keys_.size() - 1);
+    if (keys_[i] == kEmpty) {
+      keys_[i] = key;
+      ++used_;
+    }
+    return &sums_[6 * i];
+  }
+
+  BasisWeights sorted_weights() const {
+    std::vector<std::pair<uint32_t, size_t>> order;
+    order.reserve(used_);
+    for (size_t i = 0; i < keys_.size(); ++i)
+      if (keys_[i] != kEmpty) order.push_back({keys_[i], i});
+    std::sort(order.begin(), order.end());
+    BasisWeights out;
+    std::vector<double>* blocks[6] = {&out.w, &out.wu, &out.wv, &out.wuu, &out.wuv, &out.wvv};
+    out.indices.reserve(order.size());
+    for (auto* b : blocks) b->reserve(order.size());
+    for (const auto& [key, i] : order) {
+      out.indices.push_back(key);
+      for (int k = 0; k < 6; ++k) blocks[k]->push_back(sums_[6 * i + k]);
+    }
+    return out;
+  }
+
+ private:
+  static constexpr uint32_t kEmpty = 0xffffffffu;  // control indices are < 2^31
+  size_t hash(uint32_t key) const { return (key * 2654435761u) & (keys_.size() - 1); }
+  void grow() {
+    std::vector<uint32_t> keys;
+    std::vector<double> sums;
+    keys.swap(keys_);
+    sums.swap(sums_);
+    keys_.assign(std::max<size_t>(64, 2 * keys.size()), kEmpty);
+    sums_.assign(6 * keys_.size(), 0.0);
+    used_ = 0;
+    for (size_t i = 0; i < keys.size(); ++i)
+      if (keys[i] != kEmpty) std::copy_n(&sums[6 * i], 6, slot(keys[i]));
+  }
+
+  std::vector<uint32_t> keys_;
+  std::vector<double> sums_;
+  size_t used_ = 0;
+};
+
 }  // namespace
 
 struct SubdivisionSurface::Impl {
@@ -152,6 +203,7 @@ void SubdivisionSurface::Impl::build(const Cage& cage, const SurfaceOptions& opt
   if (!table || static_cast<size_t>(table->GetNumStencils()) != expected)
     fail(Status::internal_error, "OpenSubdiv's stencil tables do not cover the patch points: " +
                                      subdiv_detail::last_opensubdiv_message());
+  subdiv_detail::fail_on_opensubdiv_error(Status::invalid_mesh, "OpenSubdiv could not build the limit surface");
   derived.append(*table);
 
   derived_points.assign(derived.size(), Vec3());
@@ -244,26 +296,16 @@ SurfacePoint SubdivisionSurface::evaluate(uint32_t ptex_face, double u, double v
 BasisWeights SubdivisionSurface::basis(uint32_t ptex_face, double u, double v) const {
   PatchWeights pw;
   impl_->patch_weights(ptex_face, u, v, &pw);
-  // phi_j = sum over patch points i of (basis weight of i) * (stencil weight of j in i).
-  struct Term {
-    uint32_t control;
-    int point;
-    double weight;
-  };
-  std::vector<Term> terms;
+  // phi_j = sum over patch points i of (basis weight of i) * (stencil weight of j in i). Near
+  // extraordinary vertices the patch points' stencils overlap heavily (a thousand terms over
+  // about a hundred control vertices), so terms are summed in a small open-addressing table.
+  WeightAccumulator sums;
   for (int i = 0; i < pw.count; ++i)
-    impl_->for_each_control(pw.points[i], 1.0, [&](uint32_t j, double weight) { terms.push_back({j, i, weight}); });
-  std::sort(terms.begin(), terms.end(), [](const Term& a, const Term& b) { return a.control < b.control; });
-  BasisWeights out;
-  std::vector<double>* blocks[6] = {&out.w, &out.wu, &out.wv, &out.wuu, &out.wuv, &out.wvv};
-  for (size_t t = 0; t < terms.size(); ++t) {
-    if (t == 0 || terms[t].control != terms[t - 1].control) {
-      out.indices.push_back(terms[t].control);
-      for (auto* b : blocks) b->push_back(0.0);
-    }
-    for (int k = 0; k < 6; ++k) blocks[k]->back() += terms[t].weight * pw.w[k][terms[t].point];
-  }
-  return out;
+    impl_->for_each_control(pw.points[i], 1.0, [&](uint32_t j, double weight) {
+      double* slot = sums.slot(j);
+      for (int k = 0; k < 6; ++k) slot[k] += weight * pw.w[k][i];
+    });
+  return sums.sorted_weights();
 }
 
 CAGEKIT_NAMESPACE_END

@@ -74,6 +74,7 @@ std::unique_ptr<Far::TopologyRefiner> create_topology_refiner(const Cage& cage) 
     const std::string why = last_opensubdiv_message();
     fail(Status::invalid_mesh, "OpenSubdiv rejected the cage topology" + (why.empty() ? std::string() : ": " + why));
   }
+  fail_on_opensubdiv_error(Status::invalid_mesh, "OpenSubdiv could not read the cage topology");
   return refiner;
 }
 

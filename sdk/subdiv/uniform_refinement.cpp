@@ -141,6 +141,7 @@ Cage refine_uniform(const Cage& cage, const RefineOptions& options, const TaskMo
     primvar.Limit(coarse, fine);
     coarse.swap(fine);
   }
+  subdiv_detail::fail_on_opensubdiv_error(Status::invalid_mesh, "OpenSubdiv could not refine the cage");
   std::vector<Vec3> positions(coarse.size());
   for (size_t i = 0; i < coarse.size(); ++i) positions[i] = coarse[i].p;
   std::vector<PrimvarPoint>().swap(coarse);

@@ -32,6 +32,7 @@ void limit_positions_and_normals(const Cage& cage, std::vector<Vec3>* positions,
   primvar.Interpolate(1, level0, level1);
   primvar.Limit(level1, limit, tangent1, tangent2);
 
+  subdiv_detail::fail_on_opensubdiv_error(Status::invalid_mesh, "OpenSubdiv could not compute limit positions");
   const Far::TopologyLevel& base = refiner->GetLevel(0);
   const size_t n = cage.mesh.num_vertices();
   if (positions) positions->resize(n);

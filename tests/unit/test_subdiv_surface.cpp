@@ -774,9 +774,40 @@ TEST(SubdivisionSurface, random_soups_never_crash) {
       ++succeeded;
     } catch (const Error& e) {
       EXPECT_NE(e.status(), Status::internal_error) << "trial " << trial << ": " << e.what();
+      std::cout << "trial " << trial << " rejected: " << e.what() << "\n";
     }
   }
+  std::cout << succeeded << " of 60 random soups accepted\n";
   EXPECT_GT(succeeded, 40);
+}
+
+TEST(SubdivisionSurface, degenerate_but_valid_cages) {
+  Cage all_holes = cage_of(cagekit_test::unit_cube_quads());
+  all_holes.holes = {0, 1, 2, 3, 4, 5};
+  const SubdivisionSurface empty(all_holes);
+  EXPECT_EQ(status_of([&] { empty.evaluate(0, 0.5, 0.5); }), Status::invalid_argument);
+
+  PolygonMesh triangle;
+  triangle.add_vertex(Vec3(0, 0, 0));
+  triangle.add_vertex(Vec3(1, 0, 0));
+  triangle.add_vertex(Vec3(0, 1, 0));
+  triangle.add_face({0, 1, 2});
+  PolygonMesh bowtie = triangle;  // two triangles sharing only vertex 0
+  bowtie.add_vertex(Vec3(-1, 0, 0.5));
+  bowtie.add_vertex(Vec3(0, -1, 0.5));
+  bowtie.add_face({0, 3, 4});
+  for (const PolygonMesh& m : {triangle, bowtie, cagekit_test::quad_grid(1, 1)})
+    for (BoundaryRule rule : {BoundaryRule::edges_only, BoundaryRule::edges_and_corners}) {
+      Cage cage = cage_of(m);
+      cage.boundary = rule;
+      const SubdivisionSurface surface(cage);
+      for (uint32_t ptex = 0; ptex < surface.num_ptex_faces(); ++ptex)
+        for (double t : {0.0, 0.5, 1.0}) {
+          const SurfacePoint p = surface.evaluate(ptex, t, 1.0 - t);
+          EXPECT_TRUE(cagekit::is_finite(p.position) && cagekit::is_finite(p.duu));
+          EXPECT_NEAR(sum(surface.basis(ptex, t, t).w), 1.0, 1e-12);
+        }
+    }
 }
 
 TEST(SubdivisionSurface, const_evaluation_is_thread_safe_and_movable) {
