@@ -443,7 +443,10 @@ TEST(SubdivUniformRefinement, accepts_non_manifold_and_unreferenced_vertices) {
   for (const Vec3& p : refined.mesh.positions) EXPECT_TRUE(cagekit::is_finite(p));
   std::vector<Vec3> limit, normals;
   EXPECT_NO_THROW(cagekit::limit_positions_and_normals(cage_of(fin), &limit, &normals));
-  EXPECT_EQ(limit.size(), 9u);
+  ASSERT_EQ(limit.size(), 9u);
+  EXPECT_EQ(limit[8], fin.positions[8]);  // the unused vertex stays, without a normal
+  EXPECT_EQ(normals[8], Vec3());
+  for (int v = 0; v < 8; ++v) EXPECT_TRUE(cagekit::is_finite(limit[v]) && cagekit::is_finite(normals[v]));
 }
 
 // Random polygon soups over few vertices: non-manifold edges and vertices, inconsistent
