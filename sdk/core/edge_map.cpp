@@ -93,41 +93,36 @@ void find_duplicate_faces(const PolygonMesh& mesh, const std::vector<uint8_t>& i
   const size_t nf = mesh.num_faces();
   duplicate_of.assign(nf, kNone);
   reversed_dup.assign(nf, 0);
-  std::vector<std::pair<uint64_t, uint32_t>> keys;
-  keys.reserve(nf);
+  // Open-addressing hash table of the first face of each distinct canonical cycle, filled in
+  // face order: a later face that finds an equal cycle is its duplicate. Linear time.
+  size_t capacity = 16;
+  while (capacity < 2 * nf) capacity <<= 1;
+  const size_t mask = capacity - 1;
+  std::vector<uint32_t> slot_face(capacity, kNone);
+  std::vector<uint64_t> slot_hash(capacity, 0);
   std::vector<uint32_t> canon, other;
-  bool rev = false;
   for (size_t f = 0; f < nf; ++f) {
     if (!include[f]) continue;
+    bool rev = false;
     canonical_face(mesh.face_begin(f), mesh.face_size(f), canon, rev);
     uint64_t h = mix64(canon.size() + 0x9e3779b97f4a7c15ull);
     for (uint32_t x : canon) h = mix64(h ^ x);
-    keys.emplace_back(h, static_cast<uint32_t>(f));
-  }
-  std::sort(keys.begin(), keys.end());
-  for (size_t i = 0; i < keys.size();) {
-    size_t j = i + 1;
-    while (j < keys.size() && keys[j].first == keys[i].first) ++j;
-    if (j - i > 1) {
-      // Faces of the run in increasing order; compare each with the distinct faces before it.
-      std::vector<uint32_t> uniques;
-      for (size_t k = i; k < j; ++k) {
-        const uint32_t f = keys[k].second;
-        bool rev_f = false;
-        canonical_face(mesh.face_begin(f), mesh.face_size(f), canon, rev_f);
-        for (uint32_t g : uniques) {
-          bool rev_g = false;
-          canonical_face(mesh.face_begin(g), mesh.face_size(g), other, rev_g);
-          if (other == canon) {
-            duplicate_of[f] = g;
-            reversed_dup[f] = rev_f != rev_g;
-            break;
-          }
-        }
-        if (duplicate_of[f] == kNone) uniques.push_back(f);
+    for (size_t slot = h & mask;; slot = (slot + 1) & mask) {
+      const uint32_t g = slot_face[slot];
+      if (g == kNone) {
+        slot_face[slot] = static_cast<uint32_t>(f);
+        slot_hash[slot] = h;
+        break;
+      }
+      if (slot_hash[slot] != h || mesh.face_size(g) != canon.size()) continue;
+      bool rev_g = false;
+      canonical_face(mesh.face_begin(g), mesh.face_size(g), other, rev_g);
+      if (other == canon) {
+        duplicate_of[f] = g;
+        reversed_dup[f] = rev != rev_g;
+        break;
       }
     }
-    i = j;
   }
 }
 

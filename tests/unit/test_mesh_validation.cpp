@@ -372,7 +372,7 @@ TEST(MeshValidation, BrokenOffsetsThrowInvalidMesh) {
   EXPECT_THROW(validate_mesh(m), cagekit::Error);
 }
 
-TEST(CageValidation, TagsAreChecked) {
+TEST(MeshValidation, CageTagsAreChecked) {
   Cage c;
   c.mesh = cagekit_test::unit_cube_quads();
   c.creases.push_back({0, 1, 2.0f});   // fine
@@ -411,7 +411,7 @@ TEST(CageValidation, TagsAreChecked) {
   EXPECT_EQ(validate_cage(d).count(MeshIssue::index_out_of_range), 1u);
 }
 
-PolygonMesh big_grid_triangles(int n) {
+[[maybe_unused]] PolygonMesh big_grid_triangles(int n) {
   PolygonMesh g = cagekit_test::quad_grid(n, n);
   PolygonMesh t;
   t.positions = g.positions;
@@ -430,15 +430,16 @@ TEST(MeshValidation, MillionFacesIsFast) {
   const ValidationReport r = validate_mesh(quads);
   const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   EXPECT_TRUE(r.ok()) << r.summary();
-  const PolygonMesh tris = big_grid_triangles(710);  // ~1M triangles
+  std::printf("validate_mesh: 1,000,000 quads in %.0f ms\n", dt * 1e3);
+#if defined(NDEBUG) && !defined(__SANITIZE_ADDRESS__)
+  EXPECT_LT(dt, 2.0);  // about 0.35 s on the reference machine; generous for CI noise
+  const PolygonMesh tris = big_grid_triangles(710);  // ~1M triangles (Release only: slow in Debug)
   t0 = std::chrono::steady_clock::now();
   const ValidationReport rt = validate_mesh(tris);
   const double dt2 = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   EXPECT_TRUE(rt.ok()) << rt.summary();
-  std::printf("validate_mesh: 1,000,000 quads in %.0f ms, %zu triangles in %.0f ms\n", dt * 1e3, tris.num_faces(),
-              dt2 * 1e3);
-#if defined(NDEBUG) && !defined(__SANITIZE_ADDRESS__)
-  EXPECT_LT(dt, 2.0);  // about 0.3 s on one core of the reference machine; generous for CI noise
+  std::printf("validate_mesh: %zu triangles in %.0f ms\n", tris.num_faces(), dt2 * 1e3);
+  EXPECT_LT(dt2, 2.0);
 #endif
 }
 
