@@ -20,7 +20,7 @@ struct MeshStatistics {
   // (or manifold but not orientable: a Moebius strip, a Klein bottle).
   int64_t genus = -1;
   bool manifold = false;  // edge- and vertex-manifold, valid indices, no face repeating a vertex
-  BoundingBox bbox;
+  BoundingBox bbox;  // of every finite position (unreferenced vertices included, NaN/Inf left out)
   double bbox_diagonal = 0;
   uint64_t creases = 0, corners = 0, holes = 0;
 };
