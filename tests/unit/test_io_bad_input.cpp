@@ -349,26 +349,62 @@ TEST(io_bad_input, DracoPointCloudsAndBrokenCageKitData) {
   expect_error(std::vector<uint8_t>(buffer.data(), buffer.data() + buffer.size()), FileFormat::draco,
                Status::parse_error, {"not a mesh"}, "cloud.drc");
 
-  // A triangle with CageKit metadata that lies: bad layout version, bad order blob, no ids.
-  auto encode = [&](int version, const std::vector<uint8_t>& blob) {
+  // A triangle with CageKit metadata that lies: bad layout version, bad order blob, no ids,
+  // more vertices than points, non-finite isolated vertices.
+  auto encode = [&](int version, const std::vector<uint8_t>& blob, bool with_ids = false,
+                    const std::vector<double>& isolated = {}) {
     draco::Mesh mesh;
     mesh.set_num_points(3);
     draco::PointAttribute* p = mesh.attribute(mesh.AddAttribute(position, true, 3));
     for (uint32_t v = 0; v < 3; ++v) p->SetAttributeValue(draco::AttributeValueIndex(v), xyz[v]);
+    if (with_ids) {
+      draco::GeometryAttribute id;
+      id.Init(draco::GeometryAttribute::GENERIC, nullptr, 1, draco::DT_UINT32, false, 4, 0);
+      const int att = mesh.AddAttribute(id, true, 3);
+      for (uint32_t v = 0; v < 3; ++v) mesh.attribute(att)->SetAttributeValue(draco::AttributeValueIndex(v), &v);
+      auto name = std::make_unique<draco::AttributeMetadata>();
+      name->AddEntryString("name", "cagekit_vertex_id");
+      mesh.AddAttributeMetadata(att, std::move(name));
+    }
     mesh.AddFace({draco::PointIndex(0), draco::PointIndex(1), draco::PointIndex(2)});
     auto md = std::make_unique<draco::GeometryMetadata>();
     md->AddEntryInt("cagekit.version", version);
     md->AddEntryBinary("cagekit.order", blob);
-    mesh.AddMetadata(std::move(md));
+    if (!isolated.empty()) md->AddEntryDoubleArray("cagekit.isolated_positions", isolated);
+    if (with_ids) {
+      mesh.metadata()->AddEntryInt("cagekit.version", version);
+      mesh.metadata()->AddEntryBinary("cagekit.order", blob);
+      if (!isolated.empty()) mesh.metadata()->AddEntryDoubleArray("cagekit.isolated_positions", isolated);
+    } else {
+      mesh.AddMetadata(std::move(md));
+    }
     draco::Encoder e;
+    e.SetEncodingMethod(draco::MESH_SEQUENTIAL_ENCODING);  // keeps the point order of this test
     draco::EncoderBuffer b;
     EXPECT_TRUE(e.EncodeMeshToBuffer(mesh, &b).ok());
     return std::vector<uint8_t>(b.data(), b.data() + b.size());
   };
+  // Blob: version 1, num_vertices, num_faces, num_triangles, flags.
+  EXPECT_EQ(read_cage_from_memory(encode(1, {1, 3, 1, 1, 0}, true).data(), encode(1, {1, 3, 1, 1, 0}, true).size(),
+                                  FileFormat::draco, "ok.drc")
+                .mesh.num_faces(),
+            1u);
   expect_error(encode(2, {1, 3, 1, 1, 0}), FileFormat::draco, Status::version_mismatch, {"version"}, "v.drc");
   expect_error(encode(1, {9, 9, 9}), FileFormat::draco, Status::parse_error, {"cagekit.order"}, "v.drc");
   expect_error(encode(1, {1, 3, 1, 5, 0}), FileFormat::draco, Status::parse_error, {"does not match"}, "v.drc");
   expect_error(encode(1, {1, 3, 1, 1, 0}), FileFormat::draco, Status::parse_error, {"vertex id"}, "v.drc");
+  expect_error(encode(1, {1, 0xFF, 0xFF, 0x7F, 1, 1, 0}, true), FileFormat::draco, Status::parse_error,
+               {"more vertices than"}, "v.drc");
+  expect_error(encode(1, {1, 4, 1, 1, 0}, true), FileFormat::draco, Status::parse_error, {"more vertices than"},
+               "v.drc");
+  expect_error(encode(1, {1, 4, 1, 1, 0}, true, {0, NAN, 0}), FileFormat::draco, Status::parse_error,
+               {"not finite"}, "v.drc");
+  expect_error(encode(1, {1, 4, 1, 1, 0}, true, {0, 0, 0, 1}), FileFormat::draco, Status::parse_error,
+               {"isolated_positions"}, "v.drc");
+  EXPECT_EQ(read_cage_from_memory(encode(1, {1, 4, 1, 1, 0}, true, {5, 6, 7}).data(),
+                                  encode(1, {1, 4, 1, 1, 0}, true, {5, 6, 7}).size(), FileFormat::draco, "ok.drc")
+                .mesh.positions[3],
+            Vec3(5, 6, 7));
 }
 
 TEST(io_bad_input, UnreadableFilesAreIoErrors) {

@@ -14,6 +14,8 @@
 //       cagekit.crease_sharpness   double[] one per crease
 //       cagekit.corner_vertices    int[]    cagekit.corner_sharpness double[]
 //       cagekit.holes              int[] face indices
+//       cagekit.isolated_positions double[] x y z of each vertex no face uses (edgebreaker drops
+//                                  them), in increasing vertex index order
 //       cagekit.order              binary: the DracoOrder below, so that the original polygon
 //                                  list (sizes, order, first corners) is rebuilt exactly.
 // A file without cagekit.version is read as a plain triangle mesh.
@@ -35,6 +37,7 @@ inline constexpr const char* kDracoCornerVerticesKey = "cagekit.corner_vertices"
 inline constexpr const char* kDracoCornerSharpnessKey = "cagekit.corner_sharpness";
 inline constexpr const char* kDracoHolesKey = "cagekit.holes";
 inline constexpr const char* kDracoOrderKey = "cagekit.order";
+inline constexpr const char* kDracoIsolatedPositionsKey = "cagekit.isolated_positions";
 inline constexpr int kDracoLayoutVersion = 1;
 
 // How the decoded triangles map back to the original polygons. "Original triangle t" is the

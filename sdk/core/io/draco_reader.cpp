@@ -90,12 +90,32 @@ const draco::PointAttribute& vertex_id_attribute(const draco::Mesh& mesh, const 
   return *att;
 }
 
+// Vertices that no Draco point came back for (used by no face) are stored as exact doubles,
+// in increasing index order.
+void place_isolated_vertices(const std::vector<double>& xyz, const std::vector<uint8_t>& seen, Cage& cage,
+                             const ReadContext& context) {
+  size_t next = 0;
+  for (uint32_t v = 0; v < seen.size(); ++v) {
+    if (seen[v]) continue;
+    if (next + 3 > xyz.size()) context.fail_here("vertex " + std::to_string(v) + " is missing from the Draco data");
+    const Vec3 p(xyz[next], xyz[next + 1], xyz[next + 2]);
+    if (!is_finite(p)) context.fail_here("isolated vertex " + std::to_string(v) + " is not finite");
+    cage.mesh.positions[v] = p;
+    next += 3;
+  }
+  if (next != xyz.size()) context.fail_here("inconsistent cagekit.isolated_positions metadata");
+}
+
 // Original vertex of every decoded point, and the positions in original order.
-std::vector<uint32_t> read_vertices(const draco::Mesh& mesh, const DracoOrder& order, Cage& cage,
-                                    const ReadContext& context) {
+std::vector<uint32_t> read_vertices(const draco::Mesh& mesh, const draco::GeometryMetadata& md,
+                                    const DracoOrder& order, Cage& cage, const ReadContext& context) {
   const draco::PointAttribute& pos = position_attribute(mesh, context);
   const draco::PointAttribute& ids = vertex_id_attribute(mesh, context);
-  if (order.num_vertices > mesh.num_points()) context.fail_here("more vertices than Draco points");
+  std::vector<double> isolated;
+  md.GetEntryDoubleArray(kDracoIsolatedPositionsKey, &isolated);
+  // Every vertex is a decoded point or an isolated position: nothing is allocated beyond that.
+  if (order.num_vertices > uint64_t(mesh.num_points()) + isolated.size() / 3)
+    context.fail_here("more vertices than the Draco data holds");
   std::vector<uint32_t> original(mesh.num_points());
   std::vector<uint8_t> seen(order.num_vertices, 0);
   cage.mesh.positions.assign(order.num_vertices, Vec3());
@@ -111,8 +131,7 @@ std::vector<uint32_t> read_vertices(const draco::Mesh& mesh, const DracoOrder& o
       cage.mesh.positions[v] = read_position(pos, draco::AttributeValueIndex(value), context);
     }
   }
-  for (uint32_t v = 0; v < order.num_vertices; ++v)
-    if (!seen[v]) context.fail_here("vertex " + std::to_string(v) + " is missing from the Draco data");
+  place_isolated_vertices(isolated, seen, cage, context);
   return original;
 }
 
@@ -209,7 +228,7 @@ Cage read_cagekit_mesh(const draco::Mesh& mesh, const draco::GeometryMetadata& m
   const Status status = decode_draco_order(blob, mesh.num_faces(), context.options, order, error);
   if (status != Status::success) context.fail_here(error, status);
   Cage cage;
-  const std::vector<uint32_t> original = read_vertices(mesh, order, cage, context);
+  const std::vector<uint32_t> original = read_vertices(mesh, md, order, cage, context);
   context.monitor.report("reading", 0.8);
   read_polygons(mesh, order, original, cage, context);
   read_tags(md, cage, context);

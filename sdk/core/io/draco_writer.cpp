@@ -109,10 +109,11 @@ class TriangleMatcher {
   std::vector<uint32_t> cursor_;
 };
 
-// Decodes `bytes` and works out the DracoOrder; false if the encoder lost or changed anything
-// (isolated vertices, degenerate triangles, flipped triangles).
+// Decodes `bytes` and works out the DracoOrder and the vertices no point came back for
+// (edgebreaker drops vertices that no face uses); false if the encoder lost or changed triangles
+// (degenerate or flipped ones).
 bool map_decoded(const std::vector<uint8_t>& bytes, const PolygonMesh& polygons, const std::vector<Triangle>& originals,
-                 DracoOrder& order) {
+                 DracoOrder& order, std::vector<uint32_t>& isolated) {
   draco::DecoderBuffer buffer;
   buffer.Init(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   draco::Decoder decoder;
@@ -130,7 +131,9 @@ bool map_decoded(const std::vector<uint8_t>& bytes, const PolygonMesh& polygons,
       return false;
     seen[original[p]] = 1;
   }
-  if (std::find(seen.begin(), seen.end(), 0) != seen.end()) return false;  // isolated vertices were dropped
+  isolated.clear();
+  for (uint32_t v = 0; v < seen.size(); ++v)
+    if (!seen[v]) isolated.push_back(v);
   order.num_vertices = uint32_t(polygons.num_vertices());
   order.num_faces = uint32_t(polygons.num_faces());
   order.num_triangles = uint32_t(originals.size());
@@ -158,9 +161,20 @@ std::vector<int32_t> as_int32(const std::vector<uint32_t>& values) {
   return std::vector<int32_t>(values.begin(), values.end());  // uint32 bits, read back as uint32
 }
 
-void add_cage_metadata(draco::Mesh& mesh, const Cage& cage, const DracoOrder& order) {
+// Vertices that no face uses travel as exact doubles, in increasing index order.
+void add_isolated_vertices(draco::GeometryMetadata& md, const PolygonMesh& mesh, const std::vector<uint32_t>& isolated) {
+  if (isolated.empty()) return;
+  std::vector<double> xyz;
+  xyz.reserve(3 * isolated.size());
+  for (uint32_t v : isolated) xyz.insert(xyz.end(), {mesh.positions[v].x, mesh.positions[v].y, mesh.positions[v].z});
+  md.AddEntryDoubleArray(kDracoIsolatedPositionsKey, xyz);
+}
+
+void add_cage_metadata(draco::Mesh& mesh, const Cage& cage, const DracoOrder& order,
+                       const std::vector<uint32_t>& isolated) {
   draco::GeometryMetadata& md = *mesh.metadata();  // exists: the vertex id attribute has metadata
   md.AddEntryInt(kDracoVersionKey, kDracoLayoutVersion);
+  add_isolated_vertices(md, cage.mesh, isolated);
   md.AddEntryInt(kDracoBoundaryKey, int32_t(cage.boundary));
   std::vector<uint32_t> crease_vertices, corner_vertices;
   std::vector<double> crease_sharpness, corner_sharpness;
@@ -212,16 +226,17 @@ double write_draco(const Cage& cage, const WriteOptions& options, const TaskMoni
   const ReadOptions unlimited{UINT64_MAX, UINT64_MAX, UINT32_MAX};
   const std::string self_check = "<Draco self-check>";
   const TaskMonitor quiet;
-  // Edgebreaker compresses best; the sequential method keeps isolated vertices and degenerate
-  // triangles that edgebreaker drops.
+  // Edgebreaker compresses best; the sequential method keeps degenerate triangles that
+  // edgebreaker drops.
   for (int method : {draco::MESH_EDGEBREAKER_ENCODING, draco::MESH_SEQUENTIAL_ENCODING}) {
     monitor.report("writing", 0.1);
     std::unique_ptr<draco::Mesh> mesh = build_mesh(cage.mesh, triangles);
     DracoOrder order;
+    std::vector<uint32_t> isolated;
     const std::vector<uint8_t> first = encode(*mesh, options, method);
-    if (first.empty() || !map_decoded(first, cage.mesh, triangles, order)) continue;
+    if (first.empty() || !map_decoded(first, cage.mesh, triangles, order, isolated)) continue;
     monitor.report("writing", 0.5);
-    add_cage_metadata(*mesh, cage, order);
+    add_cage_metadata(*mesh, cage, order, isolated);
     std::vector<uint8_t> bytes = encode(*mesh, options, method);
     if (bytes.empty()) continue;
     monitor.report("writing", 0.8);
