@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Timings of the subdivision layer (not part of the CMake build; see the build line below).
-//   g++ -O3 -DNDEBUG -std=c++17 -include algorithm -Isdk -Itests/unit tests/bench/bench_subdivide.cpp \
-//       tests/unit/test_support.cpp -DCAGEKIT_SHARED_MESHES='"../shared/meshes"' \
+//   g++ -O3 -DNDEBUG -std=c++17 -Isdk -Itests/unit tests/bench/bench_subdivide.cpp
+//       tests/unit/test_support.cpp -DCAGEKIT_SHARED_MESHES='"../shared/meshes"'
 //       build-rel/sdk/subdiv/libcagekit_subdiv.a build-rel/sdk/core/libcagekit_core.a -losdCPU -o bench_subdivide
 // Prints: fandisk uniform refinement to levels 1-3 (median of 5), SubdivisionSurface
 // construction on generated cages, evaluate()/basis() cost per call.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
