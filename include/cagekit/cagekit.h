@@ -301,6 +301,8 @@ typedef struct cagekit_repair_report {
   uint64_t split_vertices;
   uint64_t flipped_faces;
   uint64_t removed_unreferenced_vertices;
+  uint64_t removed_non_finite_vertices;   /* NaN/Inf vertices (with DROP_INVALID_FACES) */
+  uint64_t non_orientable_components;     /* Moebius-like components cut open to orient them */
 } cagekit_repair_report;
 
 /* Makes a repaired copy of `mesh` (the input is unchanged). With every step enabled the
@@ -320,6 +322,7 @@ typedef struct cagekit_mesh_info {
   int manifold;                 /* 1 when edge- and vertex-manifold with valid indices */
   double bbox_min[3], bbox_max[3], bbox_diagonal;
   uint64_t creases, corners, holes; /* tags (cages only; 0 for meshes) */
+  uint64_t invalid_faces;       /* faces with bad indices or < 3 distinct vertices (ignored above) */
 } cagekit_mesh_info;
 
 /* Fills *info. Reads. */

@@ -174,7 +174,8 @@ CAGEKIT_API cagekit_status cagekit_cage_get_boundary_rule(cagekit_cage cage, cag
 }
 
 CAGEKIT_API cagekit_status cagekit_cage_get_info(cagekit_cage cage, cagekit_mesh_info* info) {
-  return guarded(context_of(cage), [&] { fill_info(checked(cage, "cage").cage, info); });
+  return guarded(context_of(cage), [&] { const cagekit::Cage& c = checked(cage, "cage").cage;
+    fill_info(c.mesh, &c, info); });
 }
 
 }  // extern "C"

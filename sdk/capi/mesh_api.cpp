@@ -94,9 +94,9 @@ void copy_faces(const cagekit::PolygonMesh& mesh, uint32_t face_capacity, uint32
   if (fill_indices) std::copy(mesh.face_vertices.begin(), mesh.face_vertices.end(), face_indices);
 }
 
-void fill_info(const cagekit::Cage& cage, cagekit_mesh_info* info) {
+void fill_info(const cagekit::PolygonMesh& mesh, const cagekit::Cage* tags, cagekit_mesh_info* info) {
   require_not_null(info, "info");
-  const cagekit::MeshStatistics s = cagekit::compute_mesh_statistics(cage);
+  const cagekit::MeshStatistics s = tags ? cagekit::compute_mesh_statistics(*tags) : cagekit::compute_mesh_statistics(mesh);
   cagekit_mesh_info out{};
   out.struct_size = sizeof(out);
   out.vertices = s.vertices;
@@ -119,6 +119,7 @@ void fill_info(const cagekit::Cage& cage, cagekit_mesh_info* info) {
   out.creases = s.creases;
   out.corners = s.corners;
   out.holes = s.holes;
+  out.invalid_faces = s.invalid_faces;
   write_versioned(info, out, "cagekit_mesh_info");
 }
 
@@ -222,6 +223,8 @@ CAGEKIT_API cagekit_status cagekit_mesh_repair(cagekit_mesh mesh, const cagekit_
       r.split_vertices = rr.split_vertices;
       r.flipped_faces = rr.flipped_faces;
       r.removed_unreferenced_vertices = rr.removed_unreferenced_vertices;
+      r.removed_non_finite_vertices = rr.removed_non_finite_vertices;
+      r.non_orientable_components = rr.non_orientable_components;
       write_versioned(report, r, "cagekit_repair_report");
     }
     *out = make_mesh_handle(m.context, std::move(repaired));
@@ -230,9 +233,7 @@ CAGEKIT_API cagekit_status cagekit_mesh_repair(cagekit_mesh mesh, const cagekit_
 
 CAGEKIT_API cagekit_status cagekit_mesh_get_info(cagekit_mesh mesh, cagekit_mesh_info* info) {
   return guarded(context_of(mesh), [&] {
-    cagekit::Cage cage;
-    cage.mesh = checked(mesh, "mesh").mesh;  // statistics take a cage; a copy keeps this simple
-    fill_info(cage, info);
+    fill_info(checked(mesh, "mesh").mesh, nullptr, info);
   });
 }
 

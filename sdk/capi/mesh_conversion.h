@@ -10,7 +10,8 @@ cagekit::PolygonMesh mesh_from_desc(const cagekit_mesh_desc& desc);
 void copy_positions(const cagekit::PolygonMesh& mesh, cagekit_scalar_type type, void* out);
 void copy_faces(const cagekit::PolygonMesh& mesh, uint32_t face_capacity, uint32_t* face_count_out,
                 uint32_t* face_sizes, uint64_t index_capacity, uint64_t* index_count_out, uint32_t* face_indices);
-void fill_info(const cagekit::Cage& cage, cagekit_mesh_info* info);
+// Statistics of `mesh`, with the tag counts of `tags` when it is a cage (tags->mesh == mesh).
+void fill_info(const cagekit::PolygonMesh& mesh, const cagekit::Cage* tags, cagekit_mesh_info* info);
 cagekit_mesh make_mesh_handle(cagekit_context context, cagekit::PolygonMesh mesh);
 
 }  // namespace cagekit_capi

@@ -12,16 +12,20 @@
 CAGEKIT_NAMESPACE_BEGIN
 
 MeshStatistics compute_mesh_statistics(const Cage& cage) {
+  MeshStatistics s = compute_mesh_statistics(cage.mesh);
+  s.creases = cage.creases.size();
+  s.corners = cage.corners.size();
+  s.holes = cage.holes.size();
+  return s;
+}
+
+MeshStatistics compute_mesh_statistics(const PolygonMesh& mesh) {
   using detail::kNone;
-  const PolygonMesh& mesh = cage.mesh;
   detail::check_mesh_arrays(mesh);
   MeshStatistics s;
   const size_t nv = mesh.num_vertices(), nf = mesh.num_faces(), nc = mesh.face_vertices.size();
   s.vertices = nv;
   s.faces = nf;
-  s.creases = cage.creases.size();
-  s.corners = cage.corners.size();
-  s.holes = cage.holes.size();
   for (const Vec3& p : mesh.positions)
     if (is_finite(p)) s.bbox.extend(p);
   s.bbox_diagonal = s.bbox.diagonal();

@@ -26,5 +26,7 @@ struct MeshStatistics {
 };
 
 MeshStatistics compute_mesh_statistics(const Cage& cage);
+// The same without tags (creases/corners/holes are 0); avoids copying a mesh into a cage.
+MeshStatistics compute_mesh_statistics(const PolygonMesh& mesh);
 
 CAGEKIT_NAMESPACE_END
