@@ -23,32 +23,7 @@ using cagekit::MeshStatistics;
 using cagekit::PolygonMesh;
 using cagekit::Vec3;
 
-// Test-local OBJ reader: `v x y z` and `f i j k ...` lines only (i, i/t, i/t/n, negative i).
-PolygonMesh load_obj(const std::string& path) {
-  PolygonMesh m;
-  std::ifstream in(path);
-  std::string line;
-  std::vector<uint32_t> face;
-  while (std::getline(in, line)) {
-    std::istringstream ls(line);
-    std::string tag;
-    ls >> tag;
-    if (tag == "v") {
-      Vec3 p;
-      ls >> p.x >> p.y >> p.z;
-      m.add_vertex(p);
-    } else if (tag == "f") {
-      face.clear();
-      std::string tok;
-      while (ls >> tok) {
-        const long i = std::strtol(tok.c_str(), nullptr, 10);
-        face.push_back(static_cast<uint32_t>(i < 0 ? static_cast<long>(m.num_vertices()) + i : i - 1));
-      }
-      m.add_face(face.data(), face.size());
-    }
-  }
-  return m;
-}
+PolygonMesh load_obj(const std::string& path) { return cagekit_test::load_mesh(path); }
 
 Cage cage_of(PolygonMesh m) {
   Cage c;

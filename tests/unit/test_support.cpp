@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "test_support.h"
 
+#include "core/io/mesh_io.h"
+
 #include <algorithm>
 #include <fstream>
 #include <map>
@@ -16,6 +18,8 @@ std::string shared_mesh_path(const std::string& name) {
   std::ifstream probe(path);
   return probe.good() ? path : std::string();
 }
+
+PolygonMesh load_mesh(const std::string& path) { return cagekit::read_cage_from_file(path).mesh; }
 
 PolygonMesh unit_cube_quads() {
   PolygonMesh m;

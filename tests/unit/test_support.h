@@ -11,6 +11,9 @@ namespace cagekit_test {
 // Full path of ../shared/meshes/NAME, or "" when it is not present (tests then GTEST_SKIP).
 std::string shared_mesh_path(const std::string& name);
 
+// Reads a mesh file with the library's reader (tags dropped).
+cagekit::PolygonMesh load_mesh(const std::string& path);
+
 // An axis-aligned unit cube of 6 quads, outward-oriented, vertices at {0,1}^3.
 cagekit::PolygonMesh unit_cube_quads();
 
