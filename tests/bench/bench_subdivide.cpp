@@ -1,113 +1,344 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Timings of the subdivision layer (not part of the CMake build; see the build line below).
-//   g++ -O3 -DNDEBUG -std=c++17 -Isdk -Itests/unit tests/bench/bench_subdivide.cpp
-//       tests/unit/test_support.cpp -DCAGEKIT_SHARED_MESHES='"../shared/meshes"'
-//       build-rel/sdk/subdiv/libcagekit_subdiv.a build-rel/sdk/core/libcagekit_core.a -losdCPU -o bench_subdivide
-// Prints: fandisk uniform refinement to levels 1-3 (median of 5), SubdivisionSurface
-// construction on generated cages, evaluate()/basis() cost per call.
+// bench_subdivide: uniform Catmull-Clark refinement of real meshes used as cages (no tags) to
+// levels 1, 2, 3, in one process on the same input:
+//   * CageKit C++   cagekit::refine_uniform (sdk/subdiv/uniform_refinement.h)
+//   * CageKit C API cagekit_cage_subdivide (<cagekit/cagekit.h>, libcagekit.so)
+//   * peer          raw OpenSubdiv 3.5: Far::TopologyRefinerFactory<TopologyDescriptor>::Create +
+//                   RefineUniform + PrimvarRefinerReal<double>::Interpolate level by level into
+//                   a caller-owned double xyz vertex buffer (the OpenSubdiv tutorial pattern)
+// Method (as in ../shared/spec/peer-measurements.md): in-process steady_clock around the library
+// call only (the input is already in each library's own structure), 1 warm-up run + median of 5;
+// peak RSS of the warm-up run above the RSS just before it (VmHWM after resetting it through
+// /proc/self/clear_refs). Output face counts of the three must be equal (exit 1 otherwise);
+// positions of CageKit and OpenSubdiv are compared (same vertex order). Never fails on timing.
+#include <cagekit/cagekit.h>
+#include <malloc.h>
+#include <opensubdiv/far/primvarRefiner.h>
+#include <opensubdiv/far/topologyDescriptor.h>
+#include <opensubdiv/far/topologyRefinerFactory.h>
+#include <opensubdiv/version.h>
+
 #include <algorithm>
-#include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
-#include <random>
-#include <sstream>
+#include <memory>
 #include <string>
 #include <vector>
 
-#include "subdiv/subdivision_surface.h"
+#include "core/cage.h"
+#include "core/io/mesh_io.h"
+#include "core/mesh_repair.h"
+#include "core/mesh_validation.h"
+#include "core/status.h"
 #include "subdiv/uniform_refinement.h"
-#include "test_support.h"
 
 namespace {
 
+namespace Far = OpenSubdiv::Far;
+namespace Sdc = OpenSubdiv::Sdc;
 using Clock = std::chrono::steady_clock;
+
+constexpr int kRuns = 5;
+
+// --- measurement helpers (each benchmark is self-contained) ---
 
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-cagekit::PolygonMesh read_obj(const std::string& path) {
-  cagekit::PolygonMesh m;
-  std::ifstream in(path);
+// /proc/self/status field in KiB ("VmHWM", "VmRSS"), -1 if unavailable.
+long status_kib(const char* field) {
+  std::ifstream in("/proc/self/status");
   std::string line;
-  std::vector<uint32_t> face;
-  while (std::getline(in, line)) {
-    std::istringstream s(line);
-    std::string tag;
-    s >> tag;
-    if (tag == "v") {
-      cagekit::Vec3 p;
-      s >> p.x >> p.y >> p.z;
-      m.add_vertex(p);
-    } else if (tag == "f") {
-      face.clear();
-      std::string token;
-      while (s >> token) face.push_back(static_cast<uint32_t>(std::stol(token.substr(0, token.find('/'))) - 1));
-      m.add_face(face.data(), face.size());
-    }
-  }
-  return m;
+  const std::string key = std::string(field) + ":";
+  while (std::getline(in, line))
+    if (line.compare(0, key.size(), key) == 0) return std::atol(line.c_str() + key.size());
+  return -1;
 }
+
+// Peak RSS of a region above the RSS at its start, in MiB: malloc_trim, reset VmHWM to the
+// current RSS (writing "5" to /proc/self/clear_refs, Linux >= 4.0), run, read VmHWM.
+struct PeakRss {
+  long start_kib = 0;
+  bool reset_ok = false;
+  void begin() {
+    malloc_trim(0);
+    std::ofstream clear("/proc/self/clear_refs");
+    clear << "5";
+    clear.close();
+    reset_ok = static_cast<bool>(clear);
+    start_kib = status_kib("VmRSS");
+  }
+  double mib_above_start() const { return (status_kib("VmHWM") - start_kib) / 1024.0; }
+};
+
+// One warm-up run (whose peak RSS is measured) then the median of kRuns timed runs.
+struct Timing {
+  double median_s = 0;
+  double peak_mib = 0;
+};
 
 template <typename F>
-double median_seconds(int runs, F&& f) {
-  std::vector<double> t;
-  for (int i = 0; i < runs; ++i) {
+Timing measure(F&& run) {
+  Timing t;
+  PeakRss rss;
+  rss.begin();
+  run();
+  t.peak_mib = rss.mib_above_start();
+  std::vector<double> times;
+  for (int i = 0; i < kRuns; ++i) {
     const auto start = Clock::now();
-    f();
-    t.push_back(seconds_since(start));
+    run();
+    times.push_back(seconds_since(start));
   }
-  std::sort(t.begin(), t.end());
-  return t[t.size() / 2];
+  std::sort(times.begin(), times.end());
+  t.median_s = times[times.size() / 2];
+  return t;
 }
 
-void bench_surface(const char* name, const cagekit::Cage& cage, int isolation) {
-  cagekit::SurfaceOptions options;
-  options.isolation_level = isolation;
-  const auto start = Clock::now();
-  const cagekit::SubdivisionSurface surface(cage, options);
-  const double build = seconds_since(start);
-  std::mt19937 rng(1);
-  std::uniform_real_distribution<double> unit(0, 1);
-  const int n = 200000;
-  std::vector<std::array<double, 3>> q(n);
-  for (auto& x : q) x = {double(rng() % surface.num_ptex_faces()), unit(rng), unit(rng)};
-  auto t0 = Clock::now();
-  double sink = 0;
-  for (const auto& x : q) sink += surface.evaluate(uint32_t(x[0]), x[1], x[2]).position.x;
-  const double eval = seconds_since(t0) / n;
-  t0 = Clock::now();
-  for (const auto& x : q) sink += surface.evaluate(uint32_t(x[0]), x[1], x[2], cage.mesh.positions).du.x;
-  const double eval_control = seconds_since(t0) / n;
-  t0 = Clock::now();
-  for (int i = 0; i < n / 4; ++i) sink += surface.basis(uint32_t(q[i][0]), q[i][1], q[i][2]).w.size();
-  const double basis = seconds_since(t0) / (n / 4);
-  std::printf("%-28s isolation %d: %zu faces, build %.1f ms, evaluate %.0f ns, evaluate(control) %.0f ns, "
-              "basis %.0f ns (sink %g)\n",
-              name, isolation, cage.mesh.num_faces(), build * 1e3, eval * 1e9, eval_control * 1e9, basis * 1e9, sink);
+std::string shared_mesh(const char* name) {
+  const std::string path = std::string(CAGEKIT_SHARED_MESHES) + "/" + name;
+  return std::ifstream(path).good() ? path : std::string();
+}
+
+// --- the peer: raw OpenSubdiv ---
+
+struct OsdVertex {
+  double x = 0, y = 0, z = 0;
+  void Clear() { x = y = z = 0; }
+  void AddWithWeight(const OsdVertex& s, double w) {
+    x += w * s.x;
+    y += w * s.y;
+    z += w * s.z;
+  }
+};
+
+// The peer's own input arrays (made once, outside the timed region).
+struct OsdInput {
+  std::vector<int> sizes, indices;
+  std::vector<OsdVertex> points;
+};
+
+OsdInput osd_input(const cagekit::PolygonMesh& mesh) {
+  OsdInput in;
+  for (size_t f = 0; f < mesh.num_faces(); ++f) in.sizes.push_back(static_cast<int>(mesh.face_size(f)));
+  in.indices.assign(mesh.face_vertices.begin(), mesh.face_vertices.end());
+  for (const cagekit::Vec3& p : mesh.positions) in.points.push_back({p.x, p.y, p.z});
+  return in;
+}
+
+struct OsdResult {
+  std::unique_ptr<Far::TopologyRefiner> refiner;
+  std::vector<OsdVertex> vertices;  // all levels, level 0 first
+  size_t last_level_offset = 0;
+};
+
+OsdResult osd_refine(const OsdInput& in, int levels) {
+  Far::TopologyDescriptor desc;
+  desc.numVertices = static_cast<int>(in.points.size());
+  desc.numFaces = static_cast<int>(in.sizes.size());
+  desc.numVertsPerFace = in.sizes.data();
+  desc.vertIndicesPerFace = in.indices.data();
+  Sdc::Options sdc;  // the same scheme options as CageKit's default cage
+  sdc.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+  sdc.SetCreasingMethod(Sdc::Options::CREASE_UNIFORM);
+  sdc.SetTriangleSubdivision(Sdc::Options::TRI_SUB_CATMARK);
+  using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
+  OsdResult r;
+  r.refiner.reset(Factory::Create(desc, Factory::Options(Sdc::SCHEME_CATMARK, sdc)));
+  r.refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(levels));
+  r.vertices.resize(static_cast<size_t>(r.refiner->GetNumVerticesTotal()));
+  std::copy(in.points.begin(), in.points.end(), r.vertices.begin());
+  Far::PrimvarRefinerReal<double> primvar(*r.refiner);
+  OsdVertex* src = r.vertices.data();
+  for (int level = 1; level <= levels; ++level) {
+    OsdVertex* dst = src + r.refiner->GetLevel(level - 1).GetNumVertices();
+    primvar.Interpolate(level, src, dst);
+    src = dst;
+  }
+  r.last_level_offset = static_cast<size_t>(src - r.vertices.data());
+  return r;
+}
+
+// --- CageKit through the C API ---
+
+[[noreturn]] void capi_fail(cagekit_context ctx, const char* what, cagekit_status s) {
+  std::fprintf(stderr, "bench_subdivide: %s failed: %s: %s\n", what, cagekit_status_string(s),
+               cagekit_last_error_message(ctx));
+  std::exit(2);
+}
+
+cagekit_cage capi_cage(cagekit_context ctx, const cagekit::PolygonMesh& mesh) {
+  std::vector<uint32_t> sizes(mesh.num_faces());
+  for (size_t f = 0; f < mesh.num_faces(); ++f) sizes[f] = mesh.face_size(f);
+  cagekit_mesh_desc desc = CAGEKIT_MESH_DESC_INIT;
+  desc.vertex_count = static_cast<uint32_t>(mesh.num_vertices());
+  desc.positions = mesh.positions.data();
+  desc.position_type = CAGEKIT_SCALAR_FLOAT64;
+  desc.position_stride = sizeof(cagekit::Vec3);
+  desc.face_count = static_cast<uint32_t>(mesh.num_faces());
+  desc.face_sizes = sizes.data();
+  desc.face_indices = mesh.face_vertices.data();
+  cagekit_mesh m = nullptr;
+  cagekit_status s = cagekit_mesh_create(ctx, &desc, &m);
+  if (CAGEKIT_FAILED(s)) capi_fail(ctx, "cagekit_mesh_create", s);
+  cagekit_cage cage = nullptr;
+  s = cagekit_cage_create(m, &cage);
+  cagekit_mesh_release(m);
+  if (CAGEKIT_FAILED(s)) capi_fail(ctx, "cagekit_cage_create", s);
+  return cage;
+}
+
+uint32_t capi_face_count(cagekit_context ctx, cagekit_cage cage) {
+  cagekit_mesh m = nullptr;
+  cagekit_status s = cagekit_cage_get_mesh(cage, &m);
+  if (CAGEKIT_FAILED(s)) capi_fail(ctx, "cagekit_cage_get_mesh", s);
+  uint32_t faces = 0;
+  s = cagekit_mesh_get_counts(m, nullptr, &faces, nullptr);
+  cagekit_mesh_release(m);
+  if (CAGEKIT_FAILED(s)) capi_fail(ctx, "cagekit_mesh_get_counts", s);
+  return faces;
+}
+
+struct Row {
+  std::string mesh;
+  int level = 0;
+  size_t faces = 0;
+  Timing ck, capi, osd;
+  double max_diff = 0, diag = 0;
+};
+
+std::string ms(double seconds) {
+  char b[32];
+  std::snprintf(b, sizeof b, seconds < 0.01 ? "%.2f" : seconds < 1 ? "%.1f" : "%.0f", seconds * 1e3);
+  return b;
 }
 
 }  // namespace
 
 int main() {
-  const std::string path = cagekit_test::shared_mesh_path("fandisk.obj");
-  if (!path.empty()) {
-    cagekit::Cage fandisk;
-    fandisk.mesh = read_obj(path);
-    for (int levels = 1; levels <= 3; ++levels) {
-      cagekit::RefineOptions options;
-      options.levels = levels;
-      const double t = median_seconds(5, [&] { cagekit::refine_uniform(fandisk, options); });
-      options.limit_positions = true;
-      const double tl = median_seconds(5, [&] { cagekit::refine_uniform(fandisk, options); });
-      std::printf("fandisk refine_uniform level %d: %.1f ms (with limit positions %.1f ms)\n", levels, t * 1e3, tl * 1e3);
+  std::printf("## bench_subdivide: uniform Catmull-Clark refinement, CageKit %s vs raw OpenSubdiv %d.%d.%d\n\n",
+              cagekit_version_string(), OPENSUBDIV_VERSION_MAJOR, OPENSUBDIV_VERSION_MINOR, OPENSUBDIV_VERSION_PATCH);
+  cagekit_context ctx = nullptr;
+  if (CAGEKIT_FAILED(cagekit_context_create(nullptr, &ctx))) return 2;
+
+  struct Input {
+    const char* label;
+    const char* file;
+  };
+  const Input inputs[] = {{"fandisk", "fandisk.obj"}, {"rocker-arm", "rocker-arm.obj"}, {"bunny", "stanford-bunny.obj"}};
+  std::vector<Row> rows;
+  std::vector<std::string> notes;
+  bool counts_ok = true;
+
+  for (const Input& input : inputs) {
+    const std::string path = shared_mesh(input.file);
+    if (path.empty()) {
+      std::printf("skipped %s: %s/%s not found\n", input.label, CAGEKIT_SHARED_MESHES, input.file);
+      continue;
     }
-    bench_surface("fandisk (12946 triangles)", fandisk, 6);
+    cagekit::Cage cage = cagekit::read_cage_from_file(path);
+    cage.clear_tags();
+    // Used as given when CageKit accepts it; repaired (unreferenced vertices removed, nothing
+    // else) only if refine_uniform refuses it.
+    try {
+      cagekit::RefineOptions one;
+      cagekit::refine_uniform(cage, one);
+    } catch (const cagekit::Error& e) {
+      cagekit::RepairOptions repair;
+      repair.weld_tolerance = -1;
+      repair.drop_invalid_faces = repair.drop_degenerate_faces = repair.drop_duplicate_faces = false;
+      repair.split_non_manifold = repair.orient_consistently = false;
+      repair.remove_unreferenced_vertices = true;
+      cagekit::RepairReport report;
+      cage.mesh = cagekit::repair_mesh(cage.mesh, repair, &report);
+      notes.push_back(std::string(input.label) + ": refine_uniform refused the file as read (" + e.what() +
+                      "); repaired with remove_unreferenced_vertices (" +
+                      std::to_string(report.removed_unreferenced_vertices) + " vertices removed) first");
+    }
+    const size_t unreferenced = cagekit::validate_mesh(cage.mesh).count(cagekit::MeshIssue::unreferenced_vertex);
+    if (unreferenced > 0)
+      notes.push_back(std::string(input.label) + ": used as read, with its " + std::to_string(unreferenced) +
+                      " unreferenced vertices (CageKit and OpenSubdiv both accept them)");
+    std::printf("%s: %zu vertices, %zu faces\n", input.label, cage.mesh.num_vertices(), cage.mesh.num_faces());
+    std::fflush(stdout);
+
+    const OsdInput osd_in = osd_input(cage.mesh);
+    cagekit_cage handle = capi_cage(ctx, cage.mesh);
+    for (int level = 1; level <= 3; ++level) {
+      Row row;
+      row.mesh = input.label;
+      row.level = level;
+      cagekit::RefineOptions options;
+      options.levels = level;
+      cagekit::Cage ck_out;
+      row.ck = measure([&] { ck_out = cagekit::refine_uniform(cage, options); });
+      ck_out = cagekit::Cage();  // the next runs' allocations must not overlap this result
+
+      cagekit_subdivide_options capi_options = CAGEKIT_SUBDIVIDE_OPTIONS_INIT;
+      capi_options.levels = static_cast<uint32_t>(level);
+      row.capi = measure([&] {
+        cagekit_cage out = nullptr;
+        const cagekit_status s = cagekit_cage_subdivide(handle, &capi_options, &out);
+        if (CAGEKIT_FAILED(s)) capi_fail(ctx, "cagekit_cage_subdivide", s);
+        cagekit_cage_release(out);
+      });
+
+      OsdResult osd_out;
+      row.osd = measure([&] { osd_out = osd_refine(osd_in, level); });
+      osd_out = OsdResult();
+
+      // Correctness, outside the timed runs: one more run of each, compared.
+      uint32_t capi_faces = 0;
+      {
+        cagekit_cage out = nullptr;
+        const cagekit_status s = cagekit_cage_subdivide(handle, &capi_options, &out);
+        if (CAGEKIT_FAILED(s)) capi_fail(ctx, "cagekit_cage_subdivide", s);
+        capi_faces = capi_face_count(ctx, out);
+        cagekit_cage_release(out);
+      }
+      ck_out = cagekit::refine_uniform(cage, options);
+      osd_out = osd_refine(osd_in, level);
+      const size_t osd_faces = static_cast<size_t>(osd_out.refiner->GetLevel(level).GetNumFaces());
+      row.faces = ck_out.mesh.num_faces();
+      if (row.faces != osd_faces || row.faces != capi_faces) {
+        std::fprintf(stderr, "bench_subdivide: %s level %d: face counts differ: CageKit %zu, C API %u, OpenSubdiv %zu\n",
+                     input.label, level, row.faces, capi_faces, osd_faces);
+        counts_ok = false;
+      }
+      const size_t n = std::min(ck_out.mesh.num_vertices(), osd_out.vertices.size() - osd_out.last_level_offset);
+      for (size_t i = 0; i < n; ++i) {
+        const cagekit::Vec3& a = ck_out.mesh.positions[i];
+        const OsdVertex& b = osd_out.vertices[osd_out.last_level_offset + i];
+        row.max_diff = std::max({row.max_diff, std::abs(a.x - b.x), std::abs(a.y - b.y), std::abs(a.z - b.z)});
+      }
+      row.diag = cage.mesh.bounding_box().diagonal();
+      std::printf("  level %d: %zu faces (CageKit %zu, C API %u, OpenSubdiv %zu)\n", level, row.faces, row.faces,
+                  capi_faces, osd_faces);
+      std::fflush(stdout);
+      rows.push_back(row);
+    }
+    cagekit_cage_release(handle);
   }
-  cagekit::Cage sphere;
-  sphere.mesh = cagekit_test::triangle_sphere(3);
-  for (int isolation : {2, 4, 6, 8, 10}) bench_surface("triangle sphere (512 tris)", sphere, isolation);
-  cagekit::Cage grid;
-  grid.mesh = cagekit_test::quad_grid(24, 24, [](double x, double y) { return 0.1 * x * y; });
-  bench_surface("quad grid 24x24", grid, 6);
+  cagekit_context_release(ctx);
+
+  std::printf("\n| mesh | level | output quads (all three equal) | CageKit C++ `refine_uniform` ms | C API "
+              "`cagekit_cage_subdivide` ms | OpenSubdiv ms | C++ / OSD | C API / OSD | peak RSS MiB C++ / C API / OSD | "
+              "max abs position diff vs OSD |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const Row& r : rows)
+    std::printf("| %s | %d | %zu | %s | %s | %s | %.2f | %.2f | %.0f / %.0f / %.0f | %.1e |\n", r.mesh.c_str(), r.level,
+                r.faces, ms(r.ck.median_s).c_str(), ms(r.capi.median_s).c_str(), ms(r.osd.median_s).c_str(),
+                r.ck.median_s / r.osd.median_s, r.capi.median_s / r.osd.median_s, r.ck.peak_mib, r.capi.peak_mib,
+                r.osd.peak_mib, r.max_diff);
+  std::printf("\nTimes: median of %d runs after 1 warm-up run; peak RSS: the warm-up run, above the RSS before it.\n",
+              kRuns);
+  for (const std::string& note : notes) std::printf("Note: %s.\n", note.c_str());
+  std::printf("\n");
+  if (!counts_ok) {
+    std::fprintf(stderr, "bench_subdivide: output face counts differ (see above)\n");
+    return 1;
+  }
   return 0;
 }
