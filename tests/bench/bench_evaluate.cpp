@@ -1,0 +1,3 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// bench_evaluate: being written (see tests/bench/README.md).
+int main() { return 0; }
