@@ -32,6 +32,9 @@
  *   get the required count, allocate, call again. A capacity that is too small yields
  *   CAGEKIT_ERROR_SIZE_INSUFFICIENT with the required count still written.
  *
+ * - Enumerations have a *_MAX_ENUM member (as Vulkan's) so that they are 32-bit and any int a
+ *   caller passes is a defined value; out-of-range values are rejected with INVALID_ARGUMENT.
+ *
  * - Thread safety. All functions may be called concurrently from several threads on DIFFERENT
  *   objects. A single object may be used by several threads at once only through calls that
  *   are documented as read-only on it ("reads"); calls marked "modifies" need exclusive access.
@@ -104,7 +107,8 @@ typedef enum cagekit_status {
   CAGEKIT_ERROR_LIMIT_EXCEEDED = -9,     /* a size beyond what the library accepts */
   CAGEKIT_ERROR_CANCELLED = -10,         /* cancelled by the progress callback or _cancel() */
   CAGEKIT_ERROR_INTERNAL = -11,          /* a bug in CageKit: please report it */
-  CAGEKIT_ERROR_VERSION_MISMATCH = -12   /* the host was built for another ABI version */
+  CAGEKIT_ERROR_VERSION_MISMATCH = -12,  /* the host was built for another ABI version */
+  CAGEKIT_STATUS_MAX_ENUM = 0x7fffffff   /* forces 32-bit enums (any int value is representable) */
 } cagekit_status;
 
 #define CAGEKIT_SUCCEEDED(status) ((status) >= 0)
@@ -127,7 +131,8 @@ typedef enum cagekit_log_level {
   CAGEKIT_LOG_DEBUG = 0,
   CAGEKIT_LOG_INFO = 1,
   CAGEKIT_LOG_WARNING = 2,
-  CAGEKIT_LOG_ERROR = 3
+  CAGEKIT_LOG_ERROR = 3,
+  CAGEKIT_LOG_MAX_ENUM = 0x7fffffff
 } cagekit_log_level;
 
 /* Receives log messages at or above the context's log level. Called on the thread that made
@@ -199,7 +204,8 @@ CAGEKIT_API void cagekit_blob_release(cagekit_blob blob);
 
 typedef enum cagekit_scalar_type {
   CAGEKIT_SCALAR_FLOAT32 = 0,
-  CAGEKIT_SCALAR_FLOAT64 = 1
+  CAGEKIT_SCALAR_FLOAT64 = 1,
+  CAGEKIT_SCALAR_MAX_ENUM = 0x7fffffff
 } cagekit_scalar_type;
 
 typedef struct cagekit_mesh_desc {
@@ -257,7 +263,8 @@ typedef enum cagekit_mesh_issue {
   CAGEKIT_ISSUE_NON_MANIFOLD_VERTEX = 5,
   CAGEKIT_ISSUE_INCONSISTENT_ORIENTATION = 6,
   CAGEKIT_ISSUE_UNREFERENCED_VERTEX = 7, /* a warning only: does not make a mesh invalid */
-  CAGEKIT_ISSUE_KIND_COUNT = 8
+  CAGEKIT_ISSUE_KIND_COUNT = 8,
+  CAGEKIT_ISSUE_MAX_ENUM = 0x7fffffff
 } cagekit_mesh_issue;
 
 typedef struct cagekit_validation_report {
@@ -341,7 +348,8 @@ typedef enum cagekit_boundary_rule {
    * pinned (the thesis's rule, §2.2.1). The default. */
   CAGEKIT_BOUNDARY_EDGES_ONLY = 0,
   /* As above, and boundary vertices with only two incident edges are pinned corners. */
-  CAGEKIT_BOUNDARY_EDGES_AND_CORNERS = 1
+  CAGEKIT_BOUNDARY_EDGES_AND_CORNERS = 1,
+  CAGEKIT_BOUNDARY_MAX_ENUM = 0x7fffffff
 } cagekit_boundary_rule;
 
 /* Creates a cage whose control mesh is a copy of `mesh`, with no tags and the default boundary
@@ -396,7 +404,8 @@ typedef enum cagekit_file_format {
   CAGEKIT_FORMAT_OBJ = 1,   /* cages: OpenSubdiv-style `t crease` / `t corner` / `t hole` lines */
   CAGEKIT_FORMAT_PLY = 2,   /* polygons only; no tags */
   CAGEKIT_FORMAT_OFF = 3,   /* polygons only; no tags */
-  CAGEKIT_FORMAT_DRACO = 4  /* compressed; keeps polygons and cage tags (see io/README) */
+  CAGEKIT_FORMAT_DRACO = 4, /* compressed; keeps polygons and cage tags (see io/README) */
+  CAGEKIT_FORMAT_MAX_ENUM = 0x7fffffff
 } cagekit_file_format;
 
 typedef struct cagekit_write_options {
