@@ -1,0 +1,60 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// Planar polygons with holes (thesis §3.3.1): a face of the simplified mesh projected into its
+// proxy plane. Exact-predicate validity test (§3.3, the injectivity criterion) and constrained
+// Delaunay triangulation without Steiner points. Implemented with CGAL (Epick: exact
+// predicates, inexact constructions) in ONE translation unit (planar_polygon_cgal.cpp).
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/vec3.h"
+
+CAGEKIT_NAMESPACE_BEGIN
+
+struct Vec2 {
+  double x = 0, y = 0;
+};
+
+// An orthonormal frame (origin + axes u, v with u x v = normal) of a proxy plane.
+struct PlaneFrame {
+  Vec3 origin, u, v, normal;
+  static PlaneFrame from_normal(const Vec3& origin, const Vec3& unit_normal);
+  Vec2 project(const Vec3& p) const { return {dot(p - origin, u), dot(p - origin, v)}; }
+};
+
+// loops[0] is the outer loop, the others are holes. Each loop lists indices into `points`;
+// consecutive entries (cyclically) are the loop's edges.
+struct PolygonLoops {
+  std::vector<Vec2> points;
+  std::vector<std::vector<uint32_t>> loops;
+};
+
+enum class PolygonDefect : int {
+  none = 0,
+  too_few_vertices,      // a loop with fewer than 3 vertices
+  repeated_vertex,       // the same point index (or identical coordinates) twice in the loop set
+  self_intersection,     // a loop is not a simple polygon
+  loops_intersect,       // two loops touch or cross
+  hole_outside,          // a hole is not inside the outer loop
+  holes_nested,          // a hole lies inside another hole
+  wrong_orientation,     // outer loop not counter-clockwise or a hole not clockwise (fold-over guard)
+};
+
+struct PolygonValidity {
+  PolygonDefect defect = PolygonDefect::none;
+  std::string message;  // which loop(s)/edges, for diagnostics and tests
+  bool ok() const { return defect == PolygonDefect::none; }
+};
+
+// The injectivity criterion (a)-(d) plus the orientation guard, with exact predicates.
+// O(m log m) in the total number of loop vertices m.
+PolygonValidity check_polygon_loops(const PolygonLoops& polygon);
+
+// Constrained Delaunay triangulation of a valid polygon with holes, no Steiner points: the
+// triangles cover exactly the polygon's interior, each counter-clockwise, as index triples into
+// polygon.points. Throws Error(invalid_argument) if the polygon is not valid.
+std::vector<std::array<uint32_t, 3>> triangulate_polygon(const PolygonLoops& polygon);
+
+CAGEKIT_NAMESPACE_END
