@@ -1,0 +1,26 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// Distances between an input mesh and its approximation (a simplified level or a cage's
+// control mesh), relative to the input's bounding-box diagonal — the definitions used by
+// ../shared/spec/peer-measurements.md so CageKit's numbers compare with the peers'.
+#include "core/polygon_mesh.h"
+#include "core/task_monitor.h"
+
+CAGEKIT_NAMESPACE_BEGIN
+
+struct ApproximationError {
+  // Largest distance from an input vertex that belongs to a face to the approximation's
+  // triangles (polygons fan-split from their first corner), / input bbox diagonal.
+  double hausdorff_rel = 0;
+  // max(hausdorff_rel, largest distance from sample points of the approximation — its vertices,
+  // edge midpoints and a barycentric grid on each triangle — to the input surface) / diagonal.
+  double hausdorff_sym_rel = 0;
+  // Mean input-vertex distance / diagonal.
+  double mean_rel = 0;
+};
+
+// Both meshes need valid indices; faces with fewer than 3 vertices are ignored.
+ApproximationError measure_approximation_error(const PolygonMesh& input, const PolygonMesh& approximation,
+                                               int samples_per_edge = 4, const TaskMonitor& monitor = {});
+
+CAGEKIT_NAMESPACE_END

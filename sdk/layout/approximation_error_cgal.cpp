@@ -1,0 +1,93 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Point-to-triangle-soup distances with CGAL's AABB tree (the peers were measured with it).
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Simple_cartesian.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "layout/approximation_error.h"
+
+CAGEKIT_NAMESPACE_BEGIN
+
+namespace {
+
+using Kernel = CGAL::Simple_cartesian<double>;
+using Point = Kernel::Point_3;
+using Triangle = Kernel::Triangle_3;
+using TriangleList = std::vector<Triangle>;
+using Primitive = CGAL::AABB_triangle_primitive<Kernel, TriangleList::const_iterator>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+
+Point to_point(const Vec3& v) { return Point(v.x, v.y, v.z); }
+
+// Fan triangles of every face (from its first corner), skipping faces with bad indices.
+TriangleList fan_triangles(const PolygonMesh& mesh) {
+  TriangleList triangles;
+  triangles.reserve(mesh.num_face_vertices());
+  for (size_t f = 0; f < mesh.num_faces(); ++f) {
+    const uint32_t n = mesh.face_size(f);
+    const uint32_t* v = mesh.face_begin(f);
+    if (n < 3 || std::any_of(v, v + n, [&](uint32_t i) { return i >= mesh.num_vertices(); })) continue;
+    for (uint32_t k = 1; k + 1 < n; ++k) {
+      Triangle t(to_point(mesh.positions[v[0]]), to_point(mesh.positions[v[k]]), to_point(mesh.positions[v[k + 1]]));
+      if (!t.is_degenerate()) triangles.push_back(t);
+    }
+  }
+  return triangles;
+}
+
+}  // namespace
+
+ApproximationError measure_approximation_error(const PolygonMesh& input, const PolygonMesh& approximation,
+                                               int samples_per_edge, const TaskMonitor& monitor) {
+  ApproximationError result;
+  const double diagonal = input.bounding_box().diagonal();
+  const TriangleList input_triangles = fan_triangles(input);
+  const TriangleList approx_triangles = fan_triangles(approximation);
+  if (diagonal <= 0 || input_triangles.empty() || approx_triangles.empty()) return result;
+
+  // Input vertices (those on a face) -> approximation.
+  Tree approx_tree(approx_triangles.begin(), approx_triangles.end());
+  approx_tree.accelerate_distance_queries();
+  std::vector<uint8_t> on_face(input.num_vertices(), 0);
+  for (uint32_t v : input.face_vertices)
+    if (v < on_face.size()) on_face[v] = 1;
+  double max_distance = 0, sum = 0;
+  uint64_t count = 0;
+  for (size_t v = 0; v < input.num_vertices(); ++v) {
+    if (!on_face[v] || !is_finite(input.positions[v])) continue;
+    const double d = std::sqrt(approx_tree.squared_distance(to_point(input.positions[v])));
+    max_distance = std::max(max_distance, d);
+    sum += d;
+    ++count;
+    if ((v & 0xffff) == 0) monitor.report("error", 0.5 * double(v) / double(input.num_vertices()));
+  }
+  result.hausdorff_rel = max_distance / diagonal;
+  result.mean_rel = count ? sum / double(count) / diagonal : 0.0;
+
+  // Samples of the approximation -> input surface.
+  Tree input_tree(input_triangles.begin(), input_triangles.end());
+  input_tree.accelerate_distance_queries();
+  const int n = std::max(1, samples_per_edge);
+  double max_back = 0;
+  for (size_t t = 0; t < approx_triangles.size(); ++t) {
+    const Triangle& tri = approx_triangles[t];
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; i + j <= n; ++j) {
+        const double a = double(i) / n, b = double(j) / n, c = 1.0 - a - b;
+        const Point p(a * tri[0].x() + b * tri[1].x() + c * tri[2].x(), a * tri[0].y() + b * tri[1].y() + c * tri[2].y(),
+                      a * tri[0].z() + b * tri[1].z() + c * tri[2].z());
+        max_back = std::max(max_back, input_tree.squared_distance(p));
+      }
+    if ((t & 0xfff) == 0) monitor.report("error", 0.5 + 0.5 * double(t) / double(approx_triangles.size()));
+  }
+  result.hausdorff_sym_rel = std::max(result.hausdorff_rel, std::sqrt(max_back) / diagonal);
+  monitor.report("error", 1.0);
+  return result;
+}
+
+CAGEKIT_NAMESPACE_END

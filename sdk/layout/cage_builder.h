@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// From a polygonal level of the simplification hierarchy to a Catmull-Clark control cage
+// (thesis §3.4): each face is partitioned into convex quad-dominant cells using only diagonals
+// of its constrained Delaunay triangulation, lifted back to the input vertices, and the cage's
+// edges get crease tags where neighbouring clusters meet at a sharp angle and on the mesh
+// boundary, so the limit surface keeps the part's sharp features.
+#include <cstdint>
+#include <vector>
+
+#include "core/cage.h"
+#include "layout/face_merge_simplifier.h"
+#include "layout/quad_dominant_partition.h"
+
+CAGEKIT_NAMESPACE_BEGIN
+
+struct CageBuildOptions {
+  // A cage edge on the border of two clusters is tagged infinitely sharp when the clusters'
+  // proxy normals differ by more than this angle (degrees). Negative: never.
+  double crease_angle_degrees = 30.0;
+  // Tag the edges on the mesh boundary (they are creases under the thesis's rule anyway;
+  // tagging them keeps them sharp under any boundary rule).
+  bool tag_boundary_edges = true;
+  PartitionOptions partition;
+};
+
+struct CageBuildReport {
+  uint64_t quads = 0, triangles = 0, pentagons = 0, other = 0;
+  uint64_t creases = 0;
+  uint64_t non_optimal_faces = 0;              // level faces whose partition is not proven optimal
+  std::vector<uint32_t> input_vertex_of;       // cage vertex -> input vertex
+  std::vector<uint32_t> cluster_of_cage_face;  // cage face -> level face (cluster)
+};
+
+Cage build_quad_dominant_cage(const PolygonMesh& input, const PolygonalLevel& level,
+                              const CageBuildOptions& options = {}, CageBuildReport* report = nullptr);
+
+// The level's faces as a polygon mesh over the used input vertices: faces without holes as
+// they are, faces with holes as their constrained Delaunay triangles (polygon meshes cannot hold
+// holes). `faces_triangulated` (may be null) receives how many level faces were triangulated.
+PolygonMesh polygonal_level_mesh(const PolygonMesh& input, const PolygonalLevel& level,
+                                 uint64_t* faces_triangulated = nullptr,
+                                 std::vector<uint32_t>* input_vertex_of = nullptr);
+
+// The planar embedding of one level face in its proxy plane: loop vertices projected, with
+// `input_vertex_of_point` mapping polygon points back to input vertices.
+PolygonLoops project_face(const PolygonMesh& input, const PolygonalFace& face,
+                          std::vector<uint32_t>* input_vertex_of_point);
+
+CAGEKIT_NAMESPACE_END

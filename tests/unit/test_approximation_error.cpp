@@ -1,0 +1,55 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "layout/approximation_error.h"
+#include "test_support.h"
+
+using cagekit::measure_approximation_error;
+using cagekit::PolygonMesh;
+using cagekit::Vec3;
+
+TEST(ApproximationError, a_mesh_is_at_distance_zero_from_itself) {
+  const PolygonMesh sphere = cagekit_test::triangle_sphere(3);
+  const auto e = measure_approximation_error(sphere, sphere);
+  EXPECT_NEAR(e.hausdorff_rel, 0.0, 1e-12);
+  EXPECT_NEAR(e.hausdorff_sym_rel, 0.0, 1e-12);
+  EXPECT_NEAR(e.mean_rel, 0.0, 1e-12);
+}
+
+TEST(ApproximationError, offset_plane_is_at_its_offset_relative_to_the_diagonal) {
+  const PolygonMesh grid = cagekit_test::quad_grid(4, 4);  // [0,4]^2 at z = 0, diagonal 4*sqrt(2)
+  PolygonMesh lifted = grid;
+  for (Vec3& p : lifted.positions) p.z += 0.25;
+  const auto e = measure_approximation_error(grid, lifted);
+  const double expected = 0.25 / (4.0 * std::sqrt(2.0));
+  EXPECT_NEAR(e.hausdorff_rel, expected, 1e-12);
+  EXPECT_NEAR(e.mean_rel, expected, 1e-12);
+  EXPECT_NEAR(e.hausdorff_sym_rel, expected, 1e-12);
+}
+
+TEST(ApproximationError, symmetric_distance_sees_what_one_sided_misses) {
+  // The approximation is the grid plus a far-away flap: input -> approximation is 0 but the
+  // flap is far from the input.
+  const PolygonMesh grid = cagekit_test::quad_grid(2, 2);
+  PolygonMesh with_flap = grid;
+  const uint32_t a = with_flap.add_vertex({0, 0, 0}), b = with_flap.add_vertex({1, 0, 0}),
+                 c = with_flap.add_vertex({0, 0, 3});
+  with_flap.add_face({a, b, c});
+  const auto e = measure_approximation_error(grid, with_flap);
+  const double diagonal = 2.0 * std::sqrt(2.0);
+  EXPECT_NEAR(e.hausdorff_rel, 0.0, 1e-12);
+  EXPECT_NEAR(e.hausdorff_sym_rel, 3.0 / diagonal, 1e-12);
+}
+
+TEST(ApproximationError, coarse_sphere_error_matches_the_chord_height) {
+  // The octahedron's faces are at distance 1/sqrt(3) from the centre: a unit-sphere vertex set
+  // approximated by it is at most 1 - 1/sqrt(3) away (the octahedron's face centres).
+  const PolygonMesh fine = cagekit_test::triangle_sphere(4);
+  const PolygonMesh octahedron = cagekit_test::triangle_sphere(0);
+  const auto e = measure_approximation_error(fine, octahedron);
+  const double diagonal = 2.0 * std::sqrt(3.0);
+  EXPECT_LE(e.hausdorff_rel, (1.0 - 1.0 / std::sqrt(3.0)) / diagonal + 1e-12);
+  EXPECT_GE(e.hausdorff_rel, 0.8 * (1.0 - 1.0 / std::sqrt(3.0)) / diagonal);
+}
