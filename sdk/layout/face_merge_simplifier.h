@@ -20,6 +20,10 @@ CAGEKIT_NAMESPACE_BEGIN
 struct SimplifyOptions {
   // Weight of the tie-break factors (3.8); the thesis leaves it open ("some small weight").
   double tie_break_epsilon = 0.01;
+  // Debug/test aid: before every committed operation, re-evaluate every valid operation from
+  // scratch and throw Error(internal_error) unless the committed one has the minimum priority.
+  // O(n) validity checks per operation: small meshes only.
+  bool verify_greedy_order = false;
 };
 
 // One face of a level: an outer loop and holes, as INPUT vertex indices (loops[0] outer,

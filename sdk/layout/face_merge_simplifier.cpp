@@ -1,0 +1,664 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Face-merge simplification (thesis §3.3, reconstructed main loop of spec §3.7). See README.md
+// for the decisions the thesis leaves open (normalisation, epsilon, initial planes, outer loop).
+#include "layout/face_merge_simplifier.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "core/mesh_validation.h"
+#include "core/status.h"
+#include "layout/merge_priority.h"
+#include "layout/operation_record.h"
+#include "layout/polygonal_face_set.h"
+
+CAGEKIT_NAMESPACE_BEGIN
+using namespace detail;
+
+namespace {
+
+struct Candidate {
+  double key;
+  uint32_t a, b;    // merge: face ids a < b; removal: vertex a of face b
+  uint32_t va, vb;  // versions of the faces (removal: vb = version of face b)
+  uint8_t kind;     // 0 merge, 1 boundary vertex removal
+};
+// Min-heap order: priority, then merges before removals, then ids (deterministic ties).
+struct CandidateAfter {
+  bool operator()(const Candidate& x, const Candidate& y) const {
+    if (x.key != y.key) return x.key > y.key;
+    if (x.kind != y.kind) return x.kind > y.kind;
+    if (x.a != y.a) return x.a > y.a;
+    return x.b > y.b;
+  }
+};
+
+struct LevelStats {
+  uint64_t faces, vertices;
+  double error;
+};
+
+}  // namespace
+
+namespace detail {
+struct HierarchyData {
+  PolygonMesh input;
+  Vec3 center;
+  double diag = 1, inv_diag = 1;
+  HierarchyRecords hier;
+  std::vector<LevelStats> stats;
+  std::vector<double> error_prefix_max;
+  std::vector<uint32_t> input_alive;  // input faces (all faces of the validated input)
+
+  Vec3 normalised(const Vec3& p) const { return (p - center) * inv_diag; }
+};
+}  // namespace detail
+
+struct SimplificationHierarchy::Impl : detail::HierarchyData {};
+
+namespace {
+
+class Builder {
+ public:
+  Builder(HierarchyData& impl, const SimplifyOptions& options, const TaskMonitor& monitor)
+      : impl_(impl), mesh_(impl.input), options_(options), monitor_(monitor) {}
+
+  void run();
+
+ private:
+  HierarchyData& impl_;
+  const PolygonMesh& mesh_;
+  SimplifyOptions options_;
+  const TaskMonitor& monitor_;
+  PolygonalFaceSet fs_;
+  std::vector<Vec3> pos_;  // normalised positions
+  std::vector<Candidate> heap_;
+  size_t heap_live_estimate_ = 0;
+  // Scratch.
+  std::vector<uint8_t> dirty_flag_;
+  std::vector<uint32_t> dirty_;
+  std::vector<uint32_t> slot_stamp_, slot_index_;
+  uint32_t slot_clock_ = 0;
+  PolygonLoops scratch_poly_;
+  std::vector<std::vector<uint32_t>> scratch_loops_;
+
+  PlaneFrame frame_of(const Vec3& centroid_input, const Vec3& normal) const {
+    return PlaneFrame::from_normal(impl_.normalised(centroid_input), normal);
+  }
+  void project(const std::vector<std::vector<uint32_t>>& loops, const PlaneFrame& frame, PolygonLoops& out) const;
+  static void classify_outer(PolygonLoops& poly, std::vector<std::vector<uint32_t>>& loops);
+  void rebuild_cdt(uint32_t f);
+  void push(const Candidate& c) {
+    heap_.push_back(c);
+    std::push_heap(heap_.begin(), heap_.end(), CandidateAfter());
+  }
+  void push_candidates(uint32_t f);
+  void push_boundary_candidates(uint32_t f);
+  bool evaluate_merge(uint32_t f, uint32_t g, double& e) const;
+  bool removal_valid(uint32_t f, uint32_t v);
+  bool try_remove_interior(uint32_t v);
+  void mark_dirty(uint32_t f) {
+    if (!dirty_flag_[f]) {
+      dirty_flag_[f] = 1;
+      dirty_.push_back(f);
+    }
+  }
+  void decimate_dirty();
+  void finish_step(double error, uint32_t merged_from, uint32_t merged_into);
+  bool try_merge(uint32_t f, uint32_t g, double e);
+  bool try_boundary_removal(uint32_t v, uint32_t f);
+  bool stale(const Candidate& c) const;
+  void verify_greedy(const Candidate& committed);
+  void compact_heap();
+};
+
+void Builder::project(const std::vector<std::vector<uint32_t>>& loops, const PlaneFrame& frame,
+                      PolygonLoops& out) const {
+  out.points.clear();
+  out.loops.resize(loops.size());
+  for (size_t l = 0; l < loops.size(); ++l) {
+    out.loops[l].clear();
+    for (const uint32_t v : loops[l]) {
+      out.loops[l].push_back(static_cast<uint32_t>(out.points.size()));
+      out.points.push_back(frame.project(pos_[v]));
+    }
+  }
+}
+
+// The loop with the largest signed area (counter-clockwise about the proxy normal) becomes the
+// outer loop, all others holes; check_polygon_loops then verifies orientation and containment.
+void Builder::classify_outer(PolygonLoops& poly, std::vector<std::vector<uint32_t>>& loops) {
+  size_t best = 0;
+  double best_area = -INFINITY;
+  for (size_t l = 0; l < poly.loops.size(); ++l) {
+    double a = 0;
+    const auto& loop = poly.loops[l];
+    for (size_t i = 0; i < loop.size(); ++i) {
+      const Vec2 &p = poly.points[loop[i]], &q = poly.points[loop[(i + 1) % loop.size()]];
+      a += p.x * q.y - p.y * q.x;
+    }
+    if (a > best_area) {
+      best_area = a;
+      best = l;
+    }
+  }
+  if (best != 0) {
+    std::swap(poly.loops[0], poly.loops[best]);
+    std::swap(loops[0], loops[best]);
+  }
+}
+
+void Builder::rebuild_cdt(uint32_t f) {
+  WorkFace& face = fs_.faces[f];
+  face.cdt = AreaMoments();
+  if (face.loops.size() == 1 && face.loops[0].size() == 3) {
+    const auto& l = face.loops[0];
+    face.cdt.add_triangle(pos_[l[0]], pos_[l[1]], pos_[l[2]]);
+    return;
+  }
+  project(face.loops, frame_of(face.centroid, face.normal), scratch_poly_);
+  std::vector<uint32_t> flat;
+  for (const auto& l : face.loops) flat.insert(flat.end(), l.begin(), l.end());
+  try {
+    for (const auto& t : triangulate_polygon(scratch_poly_))
+      face.cdt.add_triangle(pos_[flat[t[0]]], pos_[flat[t[1]]], pos_[flat[t[2]]]);
+  } catch (const Error&) {
+    // Only input polygons that are not valid in their own plane get here: use a fan.
+    for (const auto& l : face.loops)
+      for (size_t i = 1; i + 1 < l.size(); ++i) face.cdt.add_triangle(pos_[l[0]], pos_[l[i]], pos_[l[i + 1]]);
+  }
+}
+
+bool Builder::evaluate_merge(uint32_t f, uint32_t g, double& e) const {
+  // Recomputed from scratch (used by the greedy-order verifier); push_candidates does the same
+  // for all neighbours of f in one pass.
+  const WorkFace &F = fs_.faces[f], &G = fs_.faces[g];
+  uint64_t shared = 0;
+  double angle_sum = 0;
+  const double inv_d2 = impl_.inv_diag * impl_.inv_diag;
+  const double sf = F.area * inv_d2, sg = G.area * inv_d2;
+  const Vec3 nsum = F.normal * sf + G.normal * sg;
+  if (!(norm(nsum) > 0)) return false;
+  const Vec3 n = normalized(nsum);
+  for (const auto& loop : F.loops) {
+    const size_t m = loop.size();
+    for (size_t i = 0; i < m; ++i) {
+      const uint32_t p = loop[(i + m - 1) % m], a = loop[i], b = loop[(i + 1) % m], c = loop[(i + 2) % m];
+      if (fs_.face_of_halfedge(b, a) != g) continue;
+      ++shared;
+      if (fs_.face_of_halfedge(a, p) != g) {
+        const StarEntry* h = fs_.star_entry(a, g);
+        const double d = inner_angle(pos_[p], pos_[a], pos_[h->next], n) - M_PI / 2;
+        angle_sum += d * d;
+      }
+      if (fs_.face_of_halfedge(c, b) != g) {
+        const StarEntry* h = fs_.star_entry(b, g);
+        const double d = inner_angle(pos_[h->prev], pos_[b], pos_[c], n) - M_PI / 2;
+        angle_sum += d * d;
+      }
+    }
+  }
+  if (shared == 0) return false;
+  const Vec3 b = (impl_.normalised(F.centroid) * sf + impl_.normalised(G.centroid) * sg) * (1.0 / (sf + sg));
+  AreaMoments mo = F.cdt;
+  mo += G.cdt;
+  const double l2 = mo.squared_distance_integral(b, n);
+  const double l21 = l21_term(sf, F.normal, sg, G.normal, n);
+  const uint64_t m = F.num_loop_vertices() + G.num_loop_vertices() - 2 * shared;
+  e = quantize_priority(merge_priority(l2, l21, m, angle_sum, options_.tie_break_epsilon));
+  return true;
+}
+
+void Builder::push_candidates(uint32_t f) {
+  // Neighbours of f through its contour half-edges' twins.
+  if (++slot_clock_ == 0) {
+    std::fill(slot_stamp_.begin(), slot_stamp_.end(), 0);
+    slot_clock_ = 1;
+  }
+  std::vector<uint32_t> neighbours;
+  for (const auto& loop : fs_.faces[f].loops) {
+    const size_t m = loop.size();
+    for (size_t i = 0; i < m; ++i) {
+      const uint32_t g = fs_.face_of_halfedge(loop[(i + 1) % m], loop[i]);
+      if (g == kNoFace || slot_stamp_[g] == slot_clock_) continue;
+      slot_stamp_[g] = slot_clock_;
+      neighbours.push_back(g);
+    }
+  }
+  for (const uint32_t g : neighbours) {
+    double e;
+    if (!evaluate_merge(f, g, e)) continue;
+    const uint32_t a = std::min(f, g), b = std::max(f, g);
+    push({e, a, b, fs_.faces[a].version, fs_.faces[b].version, 0});
+    ++heap_live_estimate_;
+  }
+}
+
+void Builder::push_boundary_candidates(uint32_t f) {
+  for (const auto& loop : fs_.faces[f].loops) {
+    const size_t m = loop.size();
+    for (size_t i = 0; i < m; ++i) {
+      const uint32_t v = loop[i];
+      if (fs_.star_size(v) != 1) continue;
+      const double l2 = boundary_vertex_l2(pos_[loop[(i + m - 1) % m]], pos_[v], pos_[loop[(i + 1) % m]]);
+      push({quantize_priority(1.0 + l2), v, f, 0, fs_.faces[f].version, 1});
+      ++heap_live_estimate_;
+    }
+  }
+}
+
+// Preconditions of a valence-2 removal for face f: its loops without v stay valid in its plane.
+bool Builder::removal_valid(uint32_t f, uint32_t v) {
+  const WorkFace& face = fs_.faces[f];
+  scratch_loops_ = face.loops;
+  for (auto& l : scratch_loops_) {
+    auto it = std::find(l.begin(), l.end(), v);
+    if (it != l.end()) {
+      l.erase(it);
+      if (l.size() < 3) return false;
+    }
+  }
+  project(scratch_loops_, frame_of(face.centroid, face.normal), scratch_poly_);
+  return check_polygon_loops(scratch_poly_).ok();
+}
+
+bool Builder::try_remove_interior(uint32_t v) {
+  if (fs_.star_size(v) != 2) return false;
+  const StarEntry e0 = fs_.star_begin(v)[0], e1 = fs_.star_begin(v)[1];
+  if (e1.prev != e0.next || e1.next != e0.prev) return false;  // not an interior valence-2 vertex
+  const uint32_t u = e0.prev, w = e0.next;
+  if (fs_.edge_exists(u, w)) return false;
+  if (!removal_valid(e0.face, v) || !removal_valid(e1.face, v)) return false;
+  fs_.remove_loop_vertex(e0.face, v);
+  fs_.remove_loop_vertex(e1.face, v);
+  mark_dirty(e0.face);
+  mark_dirty(e1.face);
+  return true;
+}
+
+// Removes interior valence-2 vertices of the dirty faces as long as any can be removed
+// (blocked ones are retried whenever one of their faces changes).
+void Builder::decimate_dirty() {
+  for (size_t k = 0; k < dirty_.size(); ++k) {
+    const uint32_t f = dirty_[k];
+    bool again = true;
+    for (int pass = 0; again && pass < 8 && fs_.faces[f].alive; ++pass) {
+      again = false;
+      bool blocked = false, removed = false;
+      std::vector<uint32_t> verts;
+      for (const auto& l : fs_.faces[f].loops) verts.insert(verts.end(), l.begin(), l.end());
+      for (const uint32_t v : verts) {
+        if (fs_.star_size(v) != 2) continue;
+        const StarEntry e0 = fs_.star_begin(v)[0], e1 = fs_.star_begin(v)[1];
+        if (e1.prev != e0.next || e1.next != e0.prev) continue;
+        if (try_remove_interior(v))
+          removed = true;
+        else
+          blocked = true;
+      }
+      again = removed && blocked;
+    }
+  }
+}
+
+void Builder::finish_step(double error, uint32_t merged_from, uint32_t merged_into) {
+  LevelStep step;
+  step.record_begin = static_cast<uint32_t>(impl_.hier.records.size());
+  for (const uint32_t f : dirty_) {
+    WorkFace& face = fs_.faces[f];
+    ++face.version;
+    if (face.alive) rebuild_cdt(f);
+    impl_.hier.add_record(f, face.alive, face.loops, face.normal, face.centroid, face.area);
+  }
+  step.record_end = static_cast<uint32_t>(impl_.hier.records.size());
+  step.merged_from = merged_from;
+  step.merged_into = merged_into;
+  if (merged_from != kNoRecord) impl_.hier.parent[merged_from] = merged_into;
+  impl_.hier.steps.push_back(step);
+  const LevelStats& last = impl_.stats.back();
+  const uint64_t faces = last.faces - (merged_from != kNoRecord ? 1 : 0);
+  impl_.stats.push_back({faces, fs_.used_vertices(), error});
+  for (const uint32_t f : dirty_) {
+    dirty_flag_[f] = 0;
+    if (!fs_.faces[f].alive) continue;
+    push_candidates(f);
+    push_boundary_candidates(f);
+  }
+  dirty_.clear();
+}
+
+bool Builder::stale(const Candidate& c) const {
+  if (c.kind == 0) {
+    const WorkFace &a = fs_.faces[c.a], &b = fs_.faces[c.b];
+    return !a.alive || !b.alive || a.version != c.va || b.version != c.vb;
+  }
+  const WorkFace& f = fs_.faces[c.b];
+  return !f.alive || f.version != c.vb || fs_.star_size(c.a) != 1 || fs_.star_begin(c.a)[0].face != c.b;
+}
+
+bool Builder::try_merge(uint32_t f, uint32_t g, double e) {
+  std::vector<std::vector<uint32_t>> loops;
+  uint64_t shared = 0;
+  if (!fs_.splice(f, g, loops, shared)) return false;
+  const WorkFace &F = fs_.faces[f], &G = fs_.faces[g];
+  const double area = F.area + G.area;
+  const Vec3 nsum = F.normal * F.area + G.normal * G.area;
+  if (!(norm(nsum) > 0) || !(area > 0)) return false;
+  const Vec3 normal = normalized(nsum);
+  const Vec3 centroid = (F.centroid * F.area + G.centroid * G.area) * (1.0 / area);
+  project(loops, frame_of(centroid, normal), scratch_poly_);
+  classify_outer(scratch_poly_, loops);
+  if (!check_polygon_loops(scratch_poly_).ok()) return false;
+  // Commit: the face with the larger cluster keeps its id (union by size).
+  const bool keep_f = F.cluster_size > G.cluster_size || (F.cluster_size == G.cluster_size && f < g);
+  const uint32_t keep = keep_f ? f : g, gone = keep_f ? g : f;
+  fs_.remove_star(f);
+  fs_.remove_star(g);
+  WorkFace& K = fs_.faces[keep];
+  WorkFace& D = fs_.faces[gone];
+  K.loops = std::move(loops);
+  K.normal = normal;
+  K.centroid = centroid;
+  K.area = area;
+  K.cluster_size += D.cluster_size;
+  D.alive = false;
+  D.loops.clear();
+  fs_.add_star(keep);
+  mark_dirty(keep);
+  mark_dirty(gone);
+  decimate_dirty();
+  finish_step(e, gone, keep);
+  return true;
+}
+
+bool Builder::try_boundary_removal(uint32_t v, uint32_t f) {
+  const StarEntry e = fs_.star_begin(v)[0];
+  if (fs_.edge_exists(e.prev, e.next)) return false;
+  if (!removal_valid(f, v)) return false;
+  fs_.remove_loop_vertex(f, v);
+  mark_dirty(f);
+  decimate_dirty();
+  return true;
+}
+
+void Builder::compact_heap() {
+  std::vector<Candidate> kept;
+  kept.reserve(heap_.size() / 2);
+  for (const Candidate& c : heap_)
+    if (!stale(c)) kept.push_back(c);
+  heap_.swap(kept);
+  std::make_heap(heap_.begin(), heap_.end(), CandidateAfter());
+  heap_live_estimate_ = heap_.size();
+}
+
+// Debug (SimplifyOptions::verify_greedy_order): every valid operation is re-evaluated from
+// scratch; the committed one must have the minimum priority.
+void Builder::verify_greedy(const Candidate& committed) {
+  double best = INFINITY;
+  std::vector<std::vector<uint32_t>> loops;
+  for (uint32_t f = 0; f < fs_.faces.size(); ++f) {
+    if (!fs_.faces[f].alive) continue;
+    for (const auto& loop : fs_.faces[f].loops)
+      for (size_t i = 0; i < loop.size(); ++i) {
+        const uint32_t g = fs_.face_of_halfedge(loop[(i + 1) % loop.size()], loop[i]);
+        if (g == kNoFace || g < f) continue;
+        double e;
+        if (!evaluate_merge(f, g, e) || e >= best) continue;
+        uint64_t shared;
+        if (!fs_.splice(f, g, loops, shared)) continue;
+        const WorkFace &F = fs_.faces[f], &G = fs_.faces[g];
+        const Vec3 n = normalized(F.normal * F.area + G.normal * G.area);
+        const Vec3 c = (F.centroid * F.area + G.centroid * G.area) * (1.0 / (F.area + G.area));
+        PolygonLoops poly;
+        project(loops, frame_of(c, n), poly);
+        classify_outer(poly, loops);
+        if (check_polygon_loops(poly).ok()) best = e;
+      }
+    for (const auto& loop : fs_.faces[f].loops)
+      for (size_t i = 0; i < loop.size(); ++i) {
+        const uint32_t v = loop[i], m = static_cast<uint32_t>(loop.size());
+        if (fs_.star_size(v) != 1) continue;
+        const uint32_t u = loop[(i + m - 1) % m], w = loop[(i + 1) % m];
+        const double e = quantize_priority(1.0 + boundary_vertex_l2(pos_[u], pos_[v], pos_[w]));
+        if (e < best && !fs_.edge_exists(u, w) && removal_valid(f, v)) best = e;
+      }
+  }
+  if (committed.key > best)
+    fail(Status::internal_error, "greedy order violated: committed priority " + std::to_string(committed.key) +
+                                     " > minimum valid " + std::to_string(best));
+}
+
+void Builder::run() {
+  const size_t nf = mesh_.num_faces(), nv = mesh_.num_vertices();
+  // Normalisation: bounding box of the referenced vertices.
+  BoundingBox box;
+  std::vector<uint32_t> capacity(nv, 0);
+  for (const uint32_t v : mesh_.face_vertices) {
+    box.extend(mesh_.positions[v]);
+    ++capacity[v];
+  }
+  impl_.diag = box.empty || !(box.diagonal() > 0) ? 1.0 : box.diagonal();
+  impl_.inv_diag = 1.0 / impl_.diag;
+  impl_.center = box.empty ? Vec3() : (box.min + box.max) * 0.5;
+  pos_.resize(nv);
+  for (size_t v = 0; v < nv; ++v) pos_[v] = impl_.normalised(mesh_.positions[v]);
+
+  fs_.faces.resize(nf);
+  fs_.init_stars(capacity);
+  dirty_flag_.assign(nf, 0);
+  slot_stamp_.assign(nf, 0);
+  impl_.hier.parent.assign(nf, kNoRecord);
+  impl_.hier.current.assign(nf, kNoRecord);
+  for (uint32_t f = 0; f < nf; ++f) {
+    WorkFace& face = fs_.faces[f];
+    const uint32_t* v = mesh_.face_begin(f);
+    const uint32_t n = mesh_.face_size(f);
+    face.loops.assign(1, std::vector<uint32_t>(v, v + n));
+    // Proxy (3.1) of an input face: area-weighted normal and centroid of its vertex fan
+    // (for triangles: the triangle's own normal, centroid and area).
+    Vec3 nsum, csum;
+    double area = 0;
+    for (uint32_t i = 1; i + 1 < n; ++i) {
+      const Vec3 &a = mesh_.positions[v[0]], &b = mesh_.positions[v[i]], &c = mesh_.positions[v[i + 1]];
+      const Vec3 cr = cross(b - a, c - a);
+      const double t = 0.5 * norm(cr);
+      nsum += cr;
+      csum += (a + b + c) * (t / 3.0);
+      area += t;
+    }
+    face.normal = normalized(nsum);
+    face.area = area;
+    face.centroid = area > 0 ? csum * (1.0 / area) : mesh_.positions[v[0]];
+    fs_.add_star(f);
+  }
+  for (uint32_t f = 0; f < nf; ++f) {
+    rebuild_cdt(f);
+    impl_.hier.add_record(f, true, fs_.faces[f].loops, fs_.faces[f].normal, fs_.faces[f].centroid, fs_.faces[f].area);
+  }
+  impl_.stats.push_back({nf, fs_.used_vertices(), 0.0});
+  // Interior valence-2 vertices of a polygonal input are removed right away (one step).
+  for (uint32_t f = 0; f < nf; ++f) mark_dirty(f);
+  decimate_dirty();
+  bool changed = false;
+  for (const uint32_t f : dirty_)
+    if (fs_.faces[f].num_loop_vertices() != mesh_.face_size(f)) changed = true;
+  if (changed) {
+    std::vector<uint32_t> all;
+    all.swap(dirty_);
+    for (const uint32_t f : all) {
+      dirty_flag_[f] = 0;
+      if (fs_.faces[f].num_loop_vertices() != mesh_.face_size(f)) mark_dirty(f);
+    }
+    finish_step(1.0, kNoRecord, kNoRecord);
+  } else {
+    for (const uint32_t f : dirty_) dirty_flag_[f] = 0;
+    dirty_.clear();
+  }
+  for (uint32_t f = 0; f < nf; ++f) {
+    push_candidates(f);
+    push_boundary_candidates(f);
+  }
+
+  uint64_t ops = 0, merges = 0;
+  const double denom = nf > 1 ? static_cast<double>(nf - 1) : 1.0;
+  while (!heap_.empty()) {
+    std::pop_heap(heap_.begin(), heap_.end(), CandidateAfter());
+    const Candidate c = heap_.back();
+    heap_.pop_back();
+    if (stale(c)) continue;
+    bool done;
+    if (c.kind == 0) {
+      if (options_.verify_greedy_order) {
+        std::vector<std::vector<uint32_t>> loops;
+        uint64_t shared;
+        bool ok = fs_.splice(c.a, c.b, loops, shared);
+        if (ok) {
+          const WorkFace &F = fs_.faces[c.a], &G = fs_.faces[c.b];
+          const Vec3 n = normalized(F.normal * F.area + G.normal * G.area);
+          const Vec3 ce = (F.centroid * F.area + G.centroid * G.area) * (1.0 / (F.area + G.area));
+          PolygonLoops poly;
+          project(loops, frame_of(ce, n), poly);
+          classify_outer(poly, loops);
+          ok = check_polygon_loops(poly).ok();
+        }
+        if (ok) verify_greedy(c);
+      }
+      done = try_merge(c.a, c.b, c.key);
+      if (done) ++merges;
+    } else {
+      if (options_.verify_greedy_order) {
+        const StarEntry e = fs_.star_begin(c.a)[0];
+        if (!fs_.edge_exists(e.prev, e.next) && removal_valid(c.b, c.a)) verify_greedy(c);
+      }
+      done = try_boundary_removal(c.a, c.b);
+      if (done) finish_step(c.key, kNoRecord, kNoRecord);
+    }
+    if (!done) continue;
+    if (++ops % 1024 == 0) monitor_.report("simplify", std::min(1.0, static_cast<double>(merges) / denom));
+    if (heap_.size() > 4 * heap_live_estimate_ / 3 + (1u << 16) && heap_.size() > 2 * nf + (1u << 16)) compact_heap();
+  }
+  monitor_.report("simplify", 1.0);
+  impl_.hier.level = impl_.hier.steps.size();
+}
+
+}  // namespace
+
+SimplificationHierarchy::SimplificationHierarchy(const PolygonMesh& input, const SimplifyOptions& options,
+                                                 const TaskMonitor& monitor)
+    : impl_(std::make_unique<Impl>()) {
+  const ValidationReport report = validate_mesh(input);
+  if (!report.ok()) fail(Status::invalid_mesh, "simplify: invalid input mesh: " + report.summary());
+  if (!(options.tie_break_epsilon >= 0) || !std::isfinite(options.tie_break_epsilon))
+    fail(Status::invalid_argument, "simplify: tie_break_epsilon must be finite and >= 0");
+  impl_->input = input;
+  Builder(*impl_, options, monitor).run();
+  impl_->error_prefix_max.resize(impl_->stats.size());
+  double m = 0;
+  for (size_t i = 0; i < impl_->stats.size(); ++i) impl_->error_prefix_max[i] = m = std::max(m, impl_->stats[i].error);
+}
+
+SimplificationHierarchy::~SimplificationHierarchy() = default;
+SimplificationHierarchy::SimplificationHierarchy(SimplificationHierarchy&&) noexcept = default;
+SimplificationHierarchy& SimplificationHierarchy::operator=(SimplificationHierarchy&&) noexcept = default;
+
+size_t SimplificationHierarchy::num_levels() const { return impl_->stats.size(); }
+size_t SimplificationHierarchy::current_level() const { return impl_->hier.level; }
+
+void SimplificationHierarchy::go_to_level(size_t level) {
+  if (level >= num_levels()) fail(Status::invalid_argument, "simplify: level out of range");
+  HierarchyRecords& h = impl_->hier;
+  while (h.level < level) h.apply(h.level++);
+  while (h.level > level) h.undo(--h.level);
+}
+
+uint64_t SimplificationHierarchy::face_count(size_t level) const {
+  if (level >= num_levels()) fail(Status::invalid_argument, "simplify: level out of range");
+  return impl_->stats[level].faces;
+}
+uint64_t SimplificationHierarchy::vertex_count(size_t level) const {
+  if (level >= num_levels()) fail(Status::invalid_argument, "simplify: level out of range");
+  return impl_->stats[level].vertices;
+}
+double SimplificationHierarchy::error(size_t level) const {
+  if (level >= num_levels()) fail(Status::invalid_argument, "simplify: level out of range");
+  return impl_->stats[level].error;
+}
+
+size_t SimplificationHierarchy::level_for_face_count(uint64_t faces) const {
+  const auto& s = impl_->stats;  // face counts are non-increasing
+  size_t lo = 0, hi = s.size() - 1;
+  if (s[hi].faces > faces) return hi;
+  while (lo < hi) {
+    const size_t mid = (lo + hi) / 2;
+    if (s[mid].faces <= faces) hi = mid; else lo = mid + 1;
+  }
+  return lo;
+}
+size_t SimplificationHierarchy::level_for_vertex_count(uint64_t vertices) const {
+  const auto& s = impl_->stats;  // vertex counts are non-increasing
+  size_t lo = 0, hi = s.size() - 1;
+  if (s[hi].vertices > vertices) return hi;
+  while (lo < hi) {
+    const size_t mid = (lo + hi) / 2;
+    if (s[mid].vertices <= vertices) hi = mid; else lo = mid + 1;
+  }
+  return lo;
+}
+size_t SimplificationHierarchy::level_for_error(double max_error) const {
+  // The coarsest level reached before any operation with priority above max_error.
+  const auto& m = impl_->error_prefix_max;  // non-decreasing, m[0] = 0
+  const size_t first_above = static_cast<size_t>(std::upper_bound(m.begin(), m.end(), max_error) - m.begin());
+  return first_above == 0 ? 0 : first_above - 1;
+}
+
+PolygonalLevel SimplificationHierarchy::extract() const {
+  const Impl& im = *impl_;
+  const HierarchyRecords& h = im.hier;
+  PolygonalLevel out;
+  const size_t nf = im.input.num_faces();
+  std::vector<uint32_t> index(nf, kNoRecord);
+  std::vector<uint8_t> used(im.input.num_vertices(), 0);
+  for (uint32_t f = 0; f < nf; ++f) {
+    const FaceRecord& r = h.records[h.current[f]];
+    if (!r.alive) continue;
+    index[f] = static_cast<uint32_t>(out.faces.size());
+    PolygonalFace face;
+    h.loops_of(r, face.loops);
+    face.normal = r.normal;
+    face.centroid = r.centroid;
+    face.area = r.area;
+    for (const auto& l : face.loops)
+      for (const uint32_t v : l)
+        if (!used[v]) {
+          used[v] = 1;
+          ++out.num_vertices;
+        }
+    out.faces.push_back(std::move(face));
+  }
+  out.cluster_of_input_face.resize(nf);
+  const double inv_d2 = im.inv_diag * im.inv_diag;
+  for (uint32_t t = 0; t < nf; ++t) {
+    uint32_t x = t;
+    while (h.parent[x] != kNoRecord) x = h.parent[x];
+    const uint32_t c = index[x];
+    out.cluster_of_input_face[t] = c;
+    // Exact L2 / L2,1 of the input face against its cluster's proxy (normalised units).
+    const PolygonalFace& face = out.faces[c];
+    const Vec3 o = im.normalised(face.centroid);
+    const uint32_t* v = im.input.face_begin(t);
+    for (uint32_t i = 1; i + 1 < im.input.face_size(t); ++i) {
+      const Vec3 &a = im.input.positions[v[0]], &b = im.input.positions[v[i]], &cc = im.input.positions[v[i + 1]];
+      out.l2_error += triangle_l2(im.normalised(a), im.normalised(b), im.normalised(cc), o, face.normal);
+      const Vec3 cr = cross(b - a, cc - a);
+      const double area = 0.5 * norm(cr) * inv_d2;
+      const Vec3 d = normalized(cr) - face.normal;
+      out.l21_error += area * dot(d, d);
+    }
+  }
+  return out;
+}
+
+const PolygonMesh& SimplificationHierarchy::input() const { return impl_->input; }
+
+CAGEKIT_NAMESPACE_END

@@ -1,0 +1,134 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "layout/polygonal_face_set.h"
+
+#include <algorithm>
+#include <cstddef>
+
+CAGEKIT_NAMESPACE_BEGIN
+namespace detail {
+
+void PolygonalFaceSet::init_stars(const std::vector<uint32_t>& capacity) {
+  const size_t n = capacity.size();
+  star_offset_.assign(n + 1, 0);
+  for (size_t v = 0; v < n; ++v) star_offset_[v + 1] = star_offset_[v] + capacity[v];
+  star_count_.assign(n, 0);
+  star_.assign(star_offset_[n], StarEntry{kNoFace, 0, 0});
+  stamp_.assign(n, 0);
+  next_.assign(n, 0);
+  visited_.assign(n, 0);
+  used_vertices_ = 0;
+}
+
+void PolygonalFaceSet::add_star(uint32_t f) {
+  for (const auto& loop : faces[f].loops) {
+    const size_t m = loop.size();
+    for (size_t i = 0; i < m; ++i) {
+      const uint32_t v = loop[i];
+      const uint32_t c = star_count_[v]++;
+      if (c == 0) ++used_vertices_;
+      star_[star_offset_[v] + c] = {f, loop[(i + m - 1) % m], loop[(i + 1) % m]};
+    }
+  }
+}
+
+void PolygonalFaceSet::remove_star(uint32_t f) {
+  for (const auto& loop : faces[f].loops)
+    for (const uint32_t v : loop) {
+      StarEntry* s = star_.data() + star_offset_[v];
+      const uint32_t n = star_count_[v];
+      for (uint32_t i = 0; i < n; ++i)
+        if (s[i].face == f) {
+          s[i] = s[n - 1];
+          if (--star_count_[v] == 0) --used_vertices_;
+          break;
+        }
+    }
+}
+
+const StarEntry* PolygonalFaceSet::star_entry(uint32_t v, uint32_t face) const {
+  const StarEntry* s = star_begin(v);
+  for (uint32_t i = 0; i < star_count_[v]; ++i)
+    if (s[i].face == face) return s + i;
+  return nullptr;
+}
+
+uint32_t PolygonalFaceSet::face_of_halfedge(uint32_t a, uint32_t b) const {
+  const StarEntry* s = star_begin(a);
+  for (uint32_t i = 0; i < star_count_[a]; ++i)
+    if (s[i].next == b) return s[i].face;
+  return kNoFace;
+}
+
+void PolygonalFaceSet::remove_loop_vertex(uint32_t f, uint32_t v) {
+  const StarEntry* e = star_entry(v, f);
+  if (e == nullptr) return;
+  const uint32_t u = e->prev, w = e->next;
+  for (auto& loop : faces[f].loops)
+    for (size_t i = 0; i < loop.size(); ++i)
+      if (loop[i] == v) {
+        loop.erase(loop.begin() + static_cast<std::ptrdiff_t>(i));
+        break;
+      }
+  StarEntry* s = star_.data() + star_offset_[u];
+  for (uint32_t i = 0; i < star_count_[u]; ++i)
+    if (s[i].face == f) s[i].next = w;
+  s = star_.data() + star_offset_[w];
+  for (uint32_t i = 0; i < star_count_[w]; ++i)
+    if (s[i].face == f) s[i].prev = u;
+  s = star_.data() + star_offset_[v];
+  const uint32_t n = star_count_[v];
+  for (uint32_t i = 0; i < n; ++i)
+    if (s[i].face == f) {
+      s[i] = s[n - 1];
+      if (--star_count_[v] == 0) --used_vertices_;
+      break;
+    }
+}
+
+bool PolygonalFaceSet::splice(uint32_t f, uint32_t g, std::vector<std::vector<uint32_t>>& loops,
+                              uint64_t& shared_edges) {
+  loops.clear();
+  shared_edges = 0;
+  if (++current_stamp_ == 0) {  // wrapped: clear the stamps
+    std::fill(stamp_.begin(), stamp_.end(), 0);
+    current_stamp_ = 1;
+  }
+  const uint32_t stamp = current_stamp_;
+  starts_.clear();
+  const uint32_t pair[2] = {f, g};
+  for (int k = 0; k < 2; ++k) {
+    const uint32_t self = pair[k], other = pair[1 - k];
+    for (const auto& loop : faces[self].loops) {
+      const size_t m = loop.size();
+      for (size_t i = 0; i < m; ++i) {
+        const uint32_t a = loop[i], b = loop[(i + 1) % m];
+        if (face_of_halfedge(b, a) == other) {
+          if (k == 0) ++shared_edges;
+          continue;
+        }
+        if (stamp_[a] == stamp) return false;  // two outgoing half-edges: repeated vertex
+        stamp_[a] = stamp;
+        next_[a] = b;
+        visited_[a] = 0;
+        starts_.push_back(a);
+      }
+    }
+  }
+  if (starts_.empty()) return false;
+  for (const uint32_t s : starts_) {
+    if (visited_[s]) continue;
+    std::vector<uint32_t> loop;
+    uint32_t cur = s;
+    do {
+      if (stamp_[cur] != stamp || visited_[cur]) return false;  // broken or pinched cycle
+      visited_[cur] = 1;
+      loop.push_back(cur);
+      cur = next_[cur];
+    } while (cur != s);
+    loops.push_back(std::move(loop));
+  }
+  return true;
+}
+
+}  // namespace detail
+CAGEKIT_NAMESPACE_END

@@ -1,0 +1,80 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// Working face structure of the face-merge simplifier (thesis §3.3.1): faces with holes as
+// loops of input vertex indices plus a per-vertex "star" (for every face whose loops pass
+// through the vertex: that face, the loop predecessor and the loop successor). Since a valid
+// face passes through a vertex at most once, a contour half-edge a->b is identified by the
+// star entry of a with next == b; its twin b->a by the star entry of b with next == a.
+// A vertex's star never grows beyond the number of input faces around it, so the stars live
+// in one flat array with fixed per-vertex capacity. Private to sdk/layout.
+#include <cstdint>
+#include <vector>
+
+#include "core/polygon_mesh.h"
+#include "layout/merge_priority.h"
+
+CAGEKIT_NAMESPACE_BEGIN
+namespace detail {
+
+constexpr uint32_t kNoFace = 0xffffffffu;
+
+struct WorkFace {
+  std::vector<std::vector<uint32_t>> loops;  // loops[0] outer (CCW about normal), others holes
+  Vec3 normal, centroid;                     // proxy (3.1), input units
+  double area = 0;                           // sigma, input units
+  AreaMoments cdt;                           // moments of the lifted CDT, normalised units
+  uint32_t version = 0;                      // bumped whenever loops or proxy change
+  uint32_t cluster_size = 1;                 // number of input faces in the cluster
+  bool alive = true;
+  uint64_t num_loop_vertices() const {
+    uint64_t n = 0;
+    for (const auto& l : loops) n += l.size();
+    return n;
+  }
+};
+
+struct StarEntry {
+  uint32_t face, prev, next;
+};
+
+class PolygonalFaceSet {
+ public:
+  std::vector<WorkFace> faces;
+
+  // capacity[v] = number of input faces around v.
+  void init_stars(const std::vector<uint32_t>& capacity);
+  void add_star(uint32_t f);     // registers the loops of face f in the stars
+  void remove_star(uint32_t f);  // unregisters them
+
+  uint32_t star_size(uint32_t v) const { return star_count_[v]; }
+  const StarEntry* star_begin(uint32_t v) const { return star_.data() + star_offset_[v]; }
+  const StarEntry* star_entry(uint32_t v, uint32_t face) const;
+  // Face owning the contour half-edge a->b, or kNoFace.
+  uint32_t face_of_halfedge(uint32_t a, uint32_t b) const;
+  bool edge_exists(uint32_t a, uint32_t b) const {
+    return face_of_halfedge(a, b) != kNoFace || face_of_halfedge(b, a) != kNoFace;
+  }
+  uint64_t used_vertices() const { return used_vertices_; }
+  // Removes v from the loops of face f (contour decimation), relinking its loop neighbours.
+  void remove_loop_vertex(uint32_t f, uint32_t v);
+
+  // The loops of f and g merged along their common contour (shared half-edge pairs removed,
+  // the rest linked into cycles). False when the result would repeat a vertex (shared
+  // segments touching) or no loop is left (f and g close a surface): both fail criterion (a).
+  // `shared_edges` receives the number of removed half-edge pairs. Loops are unclassified.
+  bool splice(uint32_t f, uint32_t g, std::vector<std::vector<uint32_t>>& loops, uint64_t& shared_edges);
+
+ private:
+  std::vector<uint64_t> star_offset_;
+  std::vector<uint32_t> star_count_;
+  std::vector<StarEntry> star_;
+  uint64_t used_vertices_ = 0;
+  // Scratch for splice, indexed by vertex, valid where stamp_ matches.
+  std::vector<uint32_t> stamp_, next_;
+  std::vector<uint8_t> visited_;
+  uint32_t current_stamp_ = 0;
+  std::vector<uint32_t> starts_;
+};
+
+}  // namespace detail
+CAGEKIT_NAMESPACE_END
