@@ -11,8 +11,9 @@
 // ../shared/README.md); it is written to a temporary OBJ with CageKit for the read benchmark.
 // Method (as in ../shared/spec/peer-measurements.md §5): steady_clock around the library call
 // only (the input already in each library's structure; files in the page cache), 1 warm-up run
-// (its peak RSS above the RSS before it is reported; VmHWM reset through /proc/self/clear_refs)
-// + median of 5 runs (3 for the 1.1M mesh). Never fails on timing.
+// of each variant (its peak RSS above the RSS before it is reported; VmHWM reset through
+// /proc/self/clear_refs), then 5 rounds (3 for the 1.1M mesh) running CageKit and the peer in
+// turn, median of each. Never fails on timing.
 #include <draco/compression/decode.h>
 #include <draco/compression/encode.h>
 #include <draco/core/draco_version.h>
@@ -31,6 +32,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <random>
 #include <string>
@@ -69,24 +71,28 @@ struct Timing {
   double peak_mib = 0;
 };
 
-// One warm-up run (its peak RSS above the RSS before it, after malloc_trim and a VmHWM reset),
-// then the median of `runs` timed runs.
-template <typename F>
-Timing measure(int runs, F&& run) {
-  Timing t;
-  malloc_trim(0);
-  std::ofstream("/proc/self/clear_refs") << "5";
-  const long start_kib = status_kib("VmRSS");
-  run();
-  t.peak_mib = (status_kib("VmHWM") - start_kib) / 1024.0;
-  std::vector<double> times;
-  for (int i = 0; i < runs; ++i) {
-    const auto start = Clock::now();
-    run();
-    times.push_back(seconds_since(start));
+// Each variant once as a warm-up (its peak RSS above the RSS before it, after malloc_trim and a
+// VmHWM reset), then `runs` rounds that run every variant once in turn; the median per variant.
+std::vector<Timing> measure_interleaved(int runs, const std::vector<std::function<void()>>& variants) {
+  std::vector<Timing> t(variants.size());
+  for (size_t i = 0; i < variants.size(); ++i) {
+    malloc_trim(0);
+    std::ofstream("/proc/self/clear_refs") << "5";
+    const long start_kib = status_kib("VmRSS");
+    variants[i]();
+    t[i].peak_mib = (status_kib("VmHWM") - start_kib) / 1024.0;
   }
-  std::sort(times.begin(), times.end());
-  t.median_s = times[times.size() / 2];
+  std::vector<std::vector<double>> times(variants.size());
+  for (int round = 0; round < runs; ++round)
+    for (size_t i = 0; i < variants.size(); ++i) {
+      const auto start = Clock::now();
+      variants[i]();
+      times[i].push_back(seconds_since(start));
+    }
+  for (size_t i = 0; i < variants.size(); ++i) {
+    std::sort(times[i].begin(), times[i].end());
+    t[i].median_s = times[i][times[i].size() / 2];
+  }
   return t;
 }
 
@@ -208,29 +214,37 @@ Rows run(const Input& in, const std::string& tmp) {
   std::fflush(stdout);
 
   // OBJ read.
-  r.ck_read = measure(in.runs, [&] {
-    const cagekit::Cage c = cagekit::read_cage_from_file(in.obj_path, cagekit::FileFormat::obj);
-    r.ck_read_v = c.mesh.num_vertices();
-    r.ck_read_f = c.mesh.num_faces();
+  std::vector<Timing> t = measure_interleaved(in.runs, {
+      [&] {
+        const cagekit::Cage c = cagekit::read_cage_from_file(in.obj_path, cagekit::FileFormat::obj);
+        r.ck_read_v = c.mesh.num_vertices();
+        r.ck_read_f = c.mesh.num_faces();
+      },
+      [&] {
+        OmMesh m;
+        OpenMesh::IO::Options options;
+        if (!OpenMesh::IO::read_mesh(m, in.obj_path, options)) die("OpenMesh could not read " + in.obj_path);
+        r.om_read_v = m.n_vertices();
+        r.om_read_f = m.n_faces();
+      },
   });
-  r.om_read = measure(in.runs, [&] {
-    OmMesh om;
-    OpenMesh::IO::Options options;
-    if (!OpenMesh::IO::read_mesh(om, in.obj_path, options)) die("OpenMesh could not read " + in.obj_path);
-    r.om_read_v = om.n_vertices();
-    r.om_read_f = om.n_faces();
-  });
+  r.ck_read = t[0];
+  r.om_read = t[1];
 
   // OBJ write (same mesh, 9 significant digits for both).
   const std::string ck_obj = tmp + "/cagekit.obj", om_obj = tmp + "/openmesh.obj";
   cagekit::WriteOptions obj_options;
   obj_options.format = cagekit::FileFormat::obj;
   obj_options.obj_precision = 9;
-  r.ck_write = measure(in.runs, [&] { cagekit::write_cage_to_file(ck_obj, in.cage, obj_options); });
   const OmMesh om = to_openmesh(in.cage.mesh);
-  r.om_write = measure(in.runs, [&] {
-    if (!OpenMesh::IO::write_mesh(om, om_obj, OpenMesh::IO::Options::Default, 9)) die("OpenMesh could not write");
+  t = measure_interleaved(in.runs, {
+      [&] { cagekit::write_cage_to_file(ck_obj, in.cage, obj_options); },
+      [&] {
+        if (!OpenMesh::IO::write_mesh(om, om_obj, OpenMesh::IO::Options::Default, 9)) die("OpenMesh could not write");
+      },
   });
+  r.ck_write = t[0];
+  r.om_write = t[1];
   r.ck_obj_out = std::filesystem::file_size(ck_obj);
   r.om_obj_out = std::filesystem::file_size(om_obj);
   std::filesystem::remove(ck_obj);
@@ -245,37 +259,44 @@ Rows run(const Input& in, const std::string& tmp) {
   drc_options.draco_speed = 5;
   std::vector<uint8_t> ck_bytes;
   cagekit::WriteReport report;
-  r.ck_drc_write = measure(in.runs, [&] { ck_bytes = cagekit::write_cage_to_memory(in.cage, drc_options, &report); });
-  r.ck_drc_bytes = ck_bytes.size();
-  r.ck_drc_error = report.max_position_error;
-  size_t back_f = 0;
-  r.ck_drc_read = measure(in.runs, [&] {
-    const cagekit::Cage c = cagekit::read_cage_from_memory(ck_bytes.data(), ck_bytes.size(), cagekit::FileFormat::draco,
-                                                           "<memory>");
-    back_f = c.mesh.num_faces();
-  });
-  if (back_f != r.f) die(in.label + ": CageKit's Draco stream came back with another face count");
-
   const std::unique_ptr<draco::Mesh> dmesh = to_draco(in.cage.mesh);
   draco::Encoder encoder;
   encoder.SetAttributeQuantization(draco::GeometryAttribute::POSITION, 14);
   encoder.SetSpeedOptions(5, 5);
   draco::EncoderBuffer encoded;
-  r.drc_encode = measure(in.runs, [&] {
-    encoded.Clear();
-    const draco::Status s = encoder.EncodeMeshToBuffer(*dmesh, &encoded);
-    if (!s.ok()) die("draco encode: " + s.error_msg_string());
+  t = measure_interleaved(in.runs, {
+      [&] { ck_bytes = cagekit::write_cage_to_memory(in.cage, drc_options, &report); },
+      [&] {
+        encoded.Clear();
+        const draco::Status s = encoder.EncodeMeshToBuffer(*dmesh, &encoded);
+        if (!s.ok()) die("draco encode: " + s.error_msg_string());
+      },
   });
+  r.ck_drc_write = t[0];
+  r.drc_encode = t[1];
+  r.ck_drc_bytes = ck_bytes.size();
+  r.ck_drc_error = report.max_position_error;
   r.drc_bytes = encoded.size();
-  size_t decoded_f = 0;
-  r.drc_decode = measure(in.runs, [&] {
-    draco::DecoderBuffer buffer;
-    buffer.Init(encoded.data(), encoded.size());
-    draco::Decoder decoder;
-    auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
-    if (!decoded.ok()) die("draco decode: " + decoded.status().error_msg_string());
-    decoded_f = decoded.value()->num_faces();
+
+  size_t back_f = 0, decoded_f = 0;
+  t = measure_interleaved(in.runs, {
+      [&] {
+        const cagekit::Cage c = cagekit::read_cage_from_memory(ck_bytes.data(), ck_bytes.size(),
+                                                               cagekit::FileFormat::draco, "<memory>");
+        back_f = c.mesh.num_faces();
+      },
+      [&] {
+        draco::DecoderBuffer buffer;
+        buffer.Init(encoded.data(), encoded.size());
+        draco::Decoder decoder;
+        auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
+        if (!decoded.ok()) die("draco decode: " + decoded.status().error_msg_string());
+        decoded_f = decoded.value()->num_faces();
+      },
   });
+  r.ck_drc_read = t[0];
+  r.drc_decode = t[1];
+  if (back_f != r.f) die(in.label + ": CageKit's Draco stream came back with another face count");
   if (decoded_f != r.f) die(in.label + ": plain Draco came back with another face count");
   std::printf("  Draco done\n");
   std::fflush(stdout);
@@ -375,7 +396,7 @@ int main() {
                 r.drc_bytes, double(r.ck_drc_bytes) / r.drc_bytes, 100.0 * (double(r.ck_drc_bytes) / r.drc_bytes - 1),
                 r.ck_drc_error / r.diag, r.ck_drc_write.peak_mib, r.drc_encode.peak_mib);
 
-  std::printf("\nTimes: median of %d runs (%d for bunny-1.1M) after 1 warm-up run; peak RSS: the warm-up run, above the "
+  std::printf("\nTimes: median of %d interleaved rounds (%d for bunny-1.1M) after 1 warm-up run of each; peak RSS: the warm-up run, above the "
               "RSS before it. CageKit's Draco stream also restores the exact vertex order, face order, polygons and "
               "first corners (plain Draco reorders vertices and triangles).\n",
               5, 3);

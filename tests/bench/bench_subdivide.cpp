@@ -6,11 +6,15 @@
 //   * peer          raw OpenSubdiv 3.5: Far::TopologyRefinerFactory<TopologyDescriptor>::Create +
 //                   RefineUniform + PrimvarRefinerReal<double>::Interpolate level by level into
 //                   a caller-owned double xyz vertex buffer (the OpenSubdiv tutorial pattern)
+//   * the peer again with UniformOptions::fullTopologyInLastLevel, which CageKit sets (it reads the
+//     last level's edges for the crease tags): the same work as CageKit inside OpenSubdiv
 // Method (as in ../shared/spec/peer-measurements.md): in-process steady_clock around the library
-// call only (the input is already in each library's own structure), 1 warm-up run + median of 5;
-// peak RSS of the warm-up run above the RSS just before it (VmHWM after resetting it through
-// /proc/self/clear_refs). Output face counts of the three must be equal (exit 1 otherwise);
-// positions of CageKit and OpenSubdiv are compared (same vertex order). Never fails on timing.
+// call only (the input is already in each library's own structure; the result is freed inside
+// the timed call for every variant), 1 warm-up run of each variant, then 5 rounds that run every
+// variant once in turn, median per variant; peak RSS of the warm-up run above the RSS just before
+// it (VmHWM after resetting it through /proc/self/clear_refs). Output face counts must be equal
+// (exit 1 otherwise); positions of CageKit and OpenSubdiv are compared (same vertex order).
+// Never fails on timing.
 #include <cagekit/cagekit.h>
 #include <malloc.h>
 #include <opensubdiv/far/primvarRefiner.h>
@@ -24,6 +28,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -73,27 +78,33 @@ struct PeakRss {
   double mib_above_start() const { return (status_kib("VmHWM") - start_kib) / 1024.0; }
 };
 
-// One warm-up run (whose peak RSS is measured) then the median of kRuns timed runs.
 struct Timing {
   double median_s = 0;
   double peak_mib = 0;
 };
 
-template <typename F>
-Timing measure(F&& run) {
-  Timing t;
-  PeakRss rss;
-  rss.begin();
-  run();
-  t.peak_mib = rss.mib_above_start();
-  std::vector<double> times;
-  for (int i = 0; i < kRuns; ++i) {
-    const auto start = Clock::now();
-    run();
-    times.push_back(seconds_since(start));
+// Each variant once as a warm-up (its peak RSS measured alone), then kRuns rounds that run every
+// variant once in turn (so machine load and heap state drift hit all of them alike); the
+// median per variant. Each run's result is destroyed inside its own run.
+std::vector<Timing> measure_interleaved(const std::vector<std::function<void()>>& variants) {
+  std::vector<Timing> t(variants.size());
+  for (size_t i = 0; i < variants.size(); ++i) {
+    PeakRss rss;
+    rss.begin();
+    variants[i]();
+    t[i].peak_mib = rss.mib_above_start();
   }
-  std::sort(times.begin(), times.end());
-  t.median_s = times[times.size() / 2];
+  std::vector<std::vector<double>> times(variants.size());
+  for (int round = 0; round < kRuns; ++round)
+    for (size_t i = 0; i < variants.size(); ++i) {
+      const auto start = Clock::now();
+      variants[i]();
+      times[i].push_back(seconds_since(start));
+    }
+  for (size_t i = 0; i < variants.size(); ++i) {
+    std::sort(times[i].begin(), times[i].end());
+    t[i].median_s = times[i][times[i].size() / 2];
+  }
   return t;
 }
 
@@ -134,7 +145,7 @@ struct OsdResult {
   size_t last_level_offset = 0;
 };
 
-OsdResult osd_refine(const OsdInput& in, int levels) {
+OsdResult osd_refine(const OsdInput& in, int levels, bool full_topology_in_last_level = false) {
   Far::TopologyDescriptor desc;
   desc.numVertices = static_cast<int>(in.points.size());
   desc.numFaces = static_cast<int>(in.sizes.size());
@@ -147,7 +158,9 @@ OsdResult osd_refine(const OsdInput& in, int levels) {
   using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
   OsdResult r;
   r.refiner.reset(Factory::Create(desc, Factory::Options(Sdc::SCHEME_CATMARK, sdc)));
-  r.refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(levels));
+  Far::TopologyRefiner::UniformOptions uniform(levels);
+  uniform.fullTopologyInLastLevel = full_topology_in_last_level;
+  r.refiner->RefineUniform(uniform);
   r.vertices.resize(static_cast<size_t>(r.refiner->GetNumVerticesTotal()));
   std::copy(in.points.begin(), in.points.end(), r.vertices.begin());
   Far::PrimvarRefinerReal<double> primvar(*r.refiner);
@@ -205,7 +218,7 @@ struct Row {
   std::string mesh;
   int level = 0;
   size_t faces = 0;
-  Timing ck, capi, osd;
+  Timing ck, capi, osd, osd_full;
   double max_diff = 0, diag = 0;
 };
 
@@ -272,22 +285,23 @@ int main() {
       row.level = level;
       cagekit::RefineOptions options;
       options.levels = level;
-      cagekit::Cage ck_out;
-      row.ck = measure([&] { ck_out = cagekit::refine_uniform(cage, options); });
-      ck_out = cagekit::Cage();  // the next runs' allocations must not overlap this result
-
       cagekit_subdivide_options capi_options = CAGEKIT_SUBDIVIDE_OPTIONS_INIT;
       capi_options.levels = static_cast<uint32_t>(level);
-      row.capi = measure([&] {
-        cagekit_cage out = nullptr;
-        const cagekit_status s = cagekit_cage_subdivide(handle, &capi_options, &out);
-        if (CAGEKIT_FAILED(s)) capi_fail(ctx, "cagekit_cage_subdivide", s);
-        cagekit_cage_release(out);
+      const std::vector<Timing> t = measure_interleaved({
+          [&] { cagekit::refine_uniform(cage, options); },
+          [&] {
+            cagekit_cage out = nullptr;
+            const cagekit_status s = cagekit_cage_subdivide(handle, &capi_options, &out);
+            if (CAGEKIT_FAILED(s)) capi_fail(ctx, "cagekit_cage_subdivide", s);
+            cagekit_cage_release(out);
+          },
+          [&] { osd_refine(osd_in, level); },
+          [&] { osd_refine(osd_in, level, true); },
       });
-
-      OsdResult osd_out;
-      row.osd = measure([&] { osd_out = osd_refine(osd_in, level); });
-      osd_out = OsdResult();
+      row.ck = t[0];
+      row.capi = t[1];
+      row.osd = t[2];
+      row.osd_full = t[3];
 
       // Correctness, outside the timed runs: one more run of each, compared.
       uint32_t capi_faces = 0;
@@ -298,8 +312,8 @@ int main() {
         capi_faces = capi_face_count(ctx, out);
         cagekit_cage_release(out);
       }
-      ck_out = cagekit::refine_uniform(cage, options);
-      osd_out = osd_refine(osd_in, level);
+      const cagekit::Cage ck_out = cagekit::refine_uniform(cage, options);
+      const OsdResult osd_out = osd_refine(osd_in, level);
       const size_t osd_faces = static_cast<size_t>(osd_out.refiner->GetLevel(level).GetNumFaces());
       row.faces = ck_out.mesh.num_faces();
       if (row.faces != osd_faces || row.faces != capi_faces) {
@@ -323,16 +337,21 @@ int main() {
   }
   cagekit_context_release(ctx);
 
-  std::printf("\n| mesh | level | output quads (all three equal) | CageKit C++ `refine_uniform` ms | C API "
-              "`cagekit_cage_subdivide` ms | OpenSubdiv ms | C++ / OSD | C API / OSD | peak RSS MiB C++ / C API / OSD | "
-              "max abs position diff vs OSD |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("\n| mesh | level | output quads (all equal) | CageKit C++ `refine_uniform` ms | C API "
+              "`cagekit_cage_subdivide` ms | OpenSubdiv ms | C++ / OSD | C API / OSD | OSD with "
+              "`fullTopologyInLastLevel` ms | C++ / that | peak RSS MiB C++ / C API / OSD / OSD full | max abs position "
+              "diff vs OSD |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Row& r : rows)
-    std::printf("| %s | %d | %zu | %s | %s | %s | %.2f | %.2f | %.0f / %.0f / %.0f | %.1e |\n", r.mesh.c_str(), r.level,
-                r.faces, ms(r.ck.median_s).c_str(), ms(r.capi.median_s).c_str(), ms(r.osd.median_s).c_str(),
-                r.ck.median_s / r.osd.median_s, r.capi.median_s / r.osd.median_s, r.ck.peak_mib, r.capi.peak_mib,
-                r.osd.peak_mib, r.max_diff);
-  std::printf("\nTimes: median of %d runs after 1 warm-up run; peak RSS: the warm-up run, above the RSS before it.\n",
+    std::printf("| %s | %d | %zu | %s | %s | %s | %.2f | %.2f | %s | %.2f | %.0f / %.0f / %.0f / %.0f | %.1e |\n",
+                r.mesh.c_str(), r.level, r.faces, ms(r.ck.median_s).c_str(), ms(r.capi.median_s).c_str(),
+                ms(r.osd.median_s).c_str(), r.ck.median_s / r.osd.median_s, r.capi.median_s / r.osd.median_s,
+                ms(r.osd_full.median_s).c_str(), r.ck.median_s / r.osd_full.median_s, r.ck.peak_mib, r.capi.peak_mib,
+                r.osd.peak_mib, r.osd_full.peak_mib, r.max_diff);
+  std::printf("\nTimes: median of %d interleaved rounds (every variant once per round) after 1 warm-up run of each; "
+              "peak RSS: the warm-up run, above the RSS before it. OSD = TopologyRefinerFactory + RefineUniform + "
+              "PrimvarRefiner::Interpolate (double); \"OSD with fullTopologyInLastLevel\" is the same with the "
+              "UniformOptions flag that CageKit sets (it needs the last level's edges for crease tags).\n",
               kRuns);
   for (const std::string& note : notes) std::printf("Note: %s.\n", note.c_str());
   std::printf("\n");
