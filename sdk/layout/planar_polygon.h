@@ -49,8 +49,17 @@ struct PolygonValidity {
 };
 
 // The injectivity criterion (a)-(d) plus the orientation guard, with exact predicates.
-// O(m log m) in the total number of loop vertices m.
+// O(m log m) in the total number of loop vertices m (brute-force exact pair tests below ~40
+// vertices, where they are faster and allocation-free; a Shamos-Hoey sweep above).
+// Malformed input (empty loop set, point index out of range, non-finite coordinate) is
+// reported as too_few_vertices (no outer loop) or self_intersection (the loop is no polygon).
+// Defects are reported in this order: too_few_vertices, repeated_vertex, self_intersection /
+// loops_intersect, hole_outside, holes_nested, wrong_orientation.
 PolygonValidity check_polygon_loops(const PolygonLoops& polygon);
+
+// Exact orientation predicate (CGAL Epick, filtered): +1 if a, b, c turn counter-clockwise,
+// -1 if clockwise, 0 if collinear. Coordinates must be finite.
+int orient2d(const Vec2& a, const Vec2& b, const Vec2& c);
 
 // Constrained Delaunay triangulation of a valid polygon with holes, no Steiner points: the
 // triangles cover exactly the polygon's interior, each counter-clockwise, as index triples into

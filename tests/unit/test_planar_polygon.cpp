@@ -1,0 +1,400 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Planar polygons with holes: the exact validity test (thesis §3.4, acceptance item 12) and the
+// constrained Delaunay triangulation. Randomised cases are compared against an independent
+// brute-force checker on an integer grid with exact int64 orientation tests.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <random>
+#include <set>
+
+#include "core/status.h"
+#include "layout/planar_polygon.h"
+
+using namespace cagekit;
+
+namespace {
+
+using IPt = std::array<int64_t, 2>;
+
+PolygonLoops make_polygon(const std::vector<std::vector<IPt>>& loops) {
+  PolygonLoops poly;
+  for (const auto& loop : loops) {
+    std::vector<uint32_t> idx;
+    for (const auto& p : loop) {
+      idx.push_back(static_cast<uint32_t>(poly.points.size()));
+      poly.points.push_back({static_cast<double>(p[0]), static_cast<double>(p[1])});
+    }
+    poly.loops.push_back(idx);
+  }
+  return poly;
+}
+
+// ----------------------------------------------------------- independent exact brute force
+IPt ip(const Vec2& v) { return {static_cast<int64_t>(v.x), static_cast<int64_t>(v.y)}; }
+int iorient(IPt a, IPt b, IPt c) {
+  const int64_t d = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+  return (d > 0) - (d < 0);
+}
+bool on_segment(IPt a, IPt b, IPt p) {  // p on closed segment ab, given collinear
+  return std::min(a[0], b[0]) <= p[0] && p[0] <= std::max(a[0], b[0]) && std::min(a[1], b[1]) <= p[1] &&
+         p[1] <= std::max(a[1], b[1]);
+}
+bool iseg(IPt a, IPt b, IPt c, IPt d) {
+  const int o1 = iorient(a, b, c), o2 = iorient(a, b, d), o3 = iorient(c, d, a), o4 = iorient(c, d, b);
+  if (o1 * o2 < 0 && o3 * o4 < 0) return true;
+  if (o1 == 0 && on_segment(a, b, c)) return true;
+  if (o2 == 0 && on_segment(a, b, d)) return true;
+  if (o3 == 0 && on_segment(c, d, a)) return true;
+  if (o4 == 0 && on_segment(c, d, b)) return true;
+  return false;
+}
+int64_t twice_area(const PolygonLoops& poly, const std::vector<uint32_t>& loop) {
+  int64_t s = 0;
+  for (size_t i = 0; i < loop.size(); ++i) {
+    const IPt a = ip(poly.points[loop[i]]), b = ip(poly.points[loop[(i + 1) % loop.size()]]);
+    s += a[0] * b[1] - a[1] * b[0];
+  }
+  return s;
+}
+// Point strictly inside loop (p not on it): ray casting with exact integer arithmetic.
+bool inside(const PolygonLoops& poly, const std::vector<uint32_t>& loop, IPt p) {
+  bool in = false;
+  for (size_t i = 0; i < loop.size(); ++i) {
+    IPt a = ip(poly.points[loop[i]]), b = ip(poly.points[loop[(i + 1) % loop.size()]]);
+    if ((a[1] > p[1]) != (b[1] > p[1])) {
+      if (a[1] > b[1]) std::swap(a, b);
+      if (iorient(a, b, p) > 0) in = !in;  // p left of the upward edge: crossing to the right
+    }
+  }
+  return in;
+}
+
+PolygonDefect brute_force(const PolygonLoops& poly) {
+  const auto& L = poly.loops;
+  for (const auto& l : L)
+    if (l.size() < 3) return PolygonDefect::too_few_vertices;
+  std::vector<std::pair<uint32_t, IPt>> all;
+  for (const auto& l : L)
+    for (uint32_t v : l) all.push_back({v, ip(poly.points[v])});
+  for (size_t i = 0; i < all.size(); ++i)
+    for (size_t j = i + 1; j < all.size(); ++j)
+      if (all[i].first == all[j].first || all[i].second == all[j].second) return PolygonDefect::repeated_vertex;
+  auto edge = [&](size_t l, size_t i, IPt& a, IPt& b) {
+    a = ip(poly.points[L[l][i]]);
+    b = ip(poly.points[L[l][(i + 1) % L[l].size()]]);
+  };
+  for (size_t l = 0; l < L.size(); ++l) {
+    const size_t n = L[l].size();
+    for (size_t i = 0; i < n; ++i)
+      for (size_t j = i + 1; j < n; ++j) {
+        IPt a, b, c, d;
+        edge(l, i, a, b);
+        edge(l, j, c, d);
+        if (j == i + 1 || (i == 0 && j == n - 1)) {
+          // Adjacent: they share exactly one endpoint; overlap if collinear and pointing back.
+          const IPt shared = (j == i + 1) ? b : a;
+          const IPt p = (j == i + 1) ? a : b, q = (j == i + 1) ? d : c;
+          if (iorient(p, shared, q) == 0 &&
+              (p[0] - shared[0]) * (q[0] - shared[0]) + (p[1] - shared[1]) * (q[1] - shared[1]) > 0)
+            return PolygonDefect::self_intersection;
+        } else if (iseg(a, b, c, d)) {
+          return PolygonDefect::self_intersection;
+        }
+      }
+  }
+  for (size_t l = 0; l < L.size(); ++l)
+    for (size_t k = l + 1; k < L.size(); ++k)
+      for (size_t i = 0; i < L[l].size(); ++i)
+        for (size_t j = 0; j < L[k].size(); ++j) {
+          IPt a, b, c, d;
+          edge(l, i, a, b);
+          edge(k, j, c, d);
+          if (iseg(a, b, c, d)) return PolygonDefect::loops_intersect;
+        }
+  for (size_t h = 1; h < L.size(); ++h)
+    if (!inside(poly, L[0], ip(poly.points[L[h][0]]))) return PolygonDefect::hole_outside;
+  for (size_t h = 1; h < L.size(); ++h)
+    for (size_t g = 1; g < L.size(); ++g)
+      if (g != h && inside(poly, L[g], ip(poly.points[L[h][0]]))) return PolygonDefect::holes_nested;
+  for (size_t l = 0; l < L.size(); ++l) {
+    const int64_t a = twice_area(poly, L[l]);
+    if (l == 0 ? a <= 0 : a >= 0) return PolygonDefect::wrong_orientation;
+  }
+  return PolygonDefect::none;
+}
+
+// Star-shaped loop around (cx, cy) with radii in [r0, r1], on the integer grid.
+std::vector<IPt> star(std::mt19937& rng, int n, double cx, double cy, double r0, double r1, bool ccw) {
+  std::uniform_real_distribution<double> rad(r0, r1), jitter(-0.3, 0.3);
+  std::vector<IPt> pts;
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * M_PI * (i + jitter(rng) + 0.5) / n * (ccw ? 1 : -1);
+    const double r = rad(rng);
+    pts.push_back({static_cast<int64_t>(std::llround(cx + r * std::cos(a))),
+                   static_cast<int64_t>(std::llround(cy + r * std::sin(a)))});
+  }
+  return pts;
+}
+
+PolygonLoops random_polygon(std::mt19937& rng, int n_outer, int holes, int n_hole, double scale) {
+  std::vector<std::vector<IPt>> loops;
+  loops.push_back(star(rng, n_outer, 0, 0, 0.75 * scale, scale, true));
+  for (int h = 0; h < holes; ++h) {
+    const double a = 2 * M_PI * h / std::max(holes, 1);
+    const double off = holes > 1 ? 0.4 * scale : 0.0;
+    loops.push_back(star(rng, n_hole, off * std::cos(a), off * std::sin(a), 0.08 * scale, 0.2 * scale, false));
+  }
+  return make_polygon(loops);
+}
+
+const char* name(PolygonDefect d) {
+  switch (d) {
+    case PolygonDefect::none: return "none";
+    case PolygonDefect::too_few_vertices: return "too_few_vertices";
+    case PolygonDefect::repeated_vertex: return "repeated_vertex";
+    case PolygonDefect::self_intersection: return "self_intersection";
+    case PolygonDefect::loops_intersect: return "loops_intersect";
+    case PolygonDefect::hole_outside: return "hole_outside";
+    case PolygonDefect::holes_nested: return "holes_nested";
+    case PolygonDefect::wrong_orientation: return "wrong_orientation";
+  }
+  return "?";
+}
+
+const std::vector<IPt> kSquare = {{0, 0}, {10, 0}, {10, 10}, {0, 10}};
+
+}  // namespace
+
+// ------------------------------------------------------------------------------ validity
+TEST(PolygonValidity, ValidSquareAndTwoHoles) {
+  EXPECT_TRUE(check_polygon_loops(make_polygon({kSquare})).ok());
+  const auto poly = make_polygon({kSquare, {{1, 1}, {1, 4}, {4, 4}, {4, 1}}, {{6, 6}, {6, 9}, {9, 9}, {9, 6}}});
+  const auto v = check_polygon_loops(poly);
+  EXPECT_TRUE(v.ok()) << v.message;
+}
+
+TEST(PolygonValidity, HandMadeDefects) {
+  struct Case {
+    std::vector<std::vector<IPt>> loops;
+    PolygonDefect expected;
+  };
+  const std::vector<Case> cases = {
+      {{{{0, 0}, {10, 0}}}, PolygonDefect::too_few_vertices},
+      {{{{0, 0}, {10, 0}, {0, 10}, {10, 10}}}, PolygonDefect::self_intersection},  // figure eight
+      {{kSquare, {{0, 5}, {3, 3}, {3, 7}}}, PolygonDefect::loops_intersect},        // hole touches outer
+      {{kSquare, {{2, 2}, {2, 6}, {6, 6}, {6, 2}}, {{6, 4}, {8, 3}, {8, 5}}},
+       PolygonDefect::loops_intersect},                                           // two holes touch
+      {{kSquare, {{20, 20}, {20, 22}, {22, 22}}}, PolygonDefect::hole_outside},   // hole outside
+      {{kSquare, {{1, 1}, {1, 9}, {9, 9}, {9, 1}}, {{3, 3}, {3, 5}, {5, 5}}}, PolygonDefect::holes_nested},
+      {{{{0, 0}, {0, 10}, {10, 10}, {10, 0}}}, PolygonDefect::wrong_orientation},  // clockwise outer
+      {{kSquare, {{2, 2}, {6, 2}, {6, 6}}}, PolygonDefect::wrong_orientation},      // CCW hole
+      {{{{0, 0}, {10, 0}, {10, 10}, {0, 10}, {0, 0}}}, PolygonDefect::repeated_vertex},  // same coordinates
+      {{{{0, 0}, {10, 0}, {5, 0}, {5, 10}}}, PolygonDefect::self_intersection},  // collinear backtracking
+      {{{{0, 0}, {10, 0}, {10, 10}, {5, 10}, {5, 0}, {3, 5}}}, PolygonDefect::self_intersection},  // vertex on edge
+  };
+  for (size_t i = 0; i < cases.size(); ++i) {
+    const auto poly = make_polygon(cases[i].loops);
+    const auto v = check_polygon_loops(poly);
+    EXPECT_EQ(v.defect, cases[i].expected) << "case " << i << ": " << v.message;
+    EXPECT_FALSE(v.message.empty()) << "case " << i;
+    EXPECT_EQ(brute_force(poly), cases[i].expected) << "case " << i << " (test's brute force)";
+  }
+  // Repeated point index (same index twice in the loop set).
+  PolygonLoops poly = make_polygon({kSquare});
+  poly.loops[0] = {0, 1, 2, 0, 3};
+  EXPECT_EQ(check_polygon_loops(poly).defect, PolygonDefect::repeated_vertex);
+  poly = make_polygon({kSquare, {{1, 1}, {1, 4}, {4, 4}}});
+  poly.loops[1][0] = 0;
+  EXPECT_EQ(check_polygon_loops(poly).defect, PolygonDefect::repeated_vertex);
+  // Malformed input never crashes.
+  poly = make_polygon({kSquare});
+  poly.loops[0][2] = 99;
+  EXPECT_FALSE(check_polygon_loops(poly).ok());
+  poly = make_polygon({kSquare});
+  poly.points[1].x = std::nan("");
+  EXPECT_FALSE(check_polygon_loops(poly).ok());
+  EXPECT_EQ(check_polygon_loops(PolygonLoops{}).defect, PolygonDefect::too_few_vertices);
+}
+
+TEST(PolygonValidity, MessagesNameLoopsAndEdges) {
+  const auto v = check_polygon_loops(make_polygon({{{0, 0}, {10, 0}, {0, 10}, {10, 10}}}));
+  EXPECT_NE(v.message.find("loop 0"), std::string::npos) << v.message;
+  EXPECT_NE(v.message.find("edge"), std::string::npos) << v.message;
+}
+
+TEST(PolygonValidity, RandomStarPolygonsAreValid) {
+  std::mt19937 rng(7);
+  for (int it = 0; it < 300; ++it) {
+    const int n = 3 + static_cast<int>(rng() % 200);
+    const int holes = static_cast<int>(rng() % 3);
+    const auto poly = random_polygon(rng, holes >= 2 ? std::max(n, 12) : n, holes, 3 + static_cast<int>(rng() % 20), 1e6);
+    const auto v = check_polygon_loops(poly);
+    EXPECT_TRUE(v.ok()) << "iteration " << it << ": " << v.message;
+  }
+}
+
+// Random perturbations (vertex moved anywhere, onto another vertex, onto an edge, loops reversed,
+// indices swapped) on a coarse grid, so touching and collinear cases are frequent. Both the
+// brute-force path (small m) and the sweep (large m) are compared with the test's checker.
+TEST(PolygonValidity, RandomPerturbationsMatchBruteForce) {
+  std::mt19937 rng(12345);
+  std::map<std::string, int> seen;
+  for (int it = 0; it < 6000; ++it) {
+    const bool large = it % 3 == 0;
+    const int n = large ? 40 + static_cast<int>(rng() % 80) : 3 + static_cast<int>(rng() % 14);
+    const int holes = static_cast<int>(rng() % 3);
+    const double scale = large ? 60 : 12 + static_cast<double>(rng() % 20);
+    PolygonLoops poly = random_polygon(rng, n, holes, 3 + static_cast<int>(rng() % (large ? 10 : 4)), scale);
+    const int moves = static_cast<int>(rng() % 3);
+    for (int k = 0; k < moves; ++k) {
+      const uint32_t v = static_cast<uint32_t>(rng() % poly.points.size());
+      switch (rng() % 5) {
+        case 0: {  // anywhere
+          std::uniform_int_distribution<int> c(static_cast<int>(-scale), static_cast<int>(scale));
+          poly.points[v] = {static_cast<double>(c(rng)), static_cast<double>(c(rng))};
+          break;
+        }
+        case 1:  // onto another vertex
+          poly.points[v] = poly.points[rng() % poly.points.size()];
+          break;
+        case 2: {  // onto an edge point (exact midpoint when representable)
+          const auto& loop = poly.loops[rng() % poly.loops.size()];
+          const size_t e = rng() % loop.size();
+          const Vec2 a = poly.points[loop[e]], b = poly.points[loop[(e + 1) % loop.size()]];
+          poly.points[v] = {std::floor((a.x + b.x) / 2), std::floor((a.y + b.y) / 2)};
+          break;
+        }
+        case 3: {  // reverse a loop
+          auto& loop = poly.loops[rng() % poly.loops.size()];
+          std::reverse(loop.begin(), loop.end());
+          break;
+        }
+        default: {  // swap two entries of a loop
+          auto& loop = poly.loops[rng() % poly.loops.size()];
+          std::swap(loop[rng() % loop.size()], loop[rng() % loop.size()]);
+          break;
+        }
+      }
+    }
+    const PolygonDefect expected = brute_force(poly);
+    const auto got = check_polygon_loops(poly);
+    ++seen[std::string(large ? "large " : "small ") + name(expected)];
+    ASSERT_EQ(got.defect, expected) << "iteration " << it << " (m=" << poly.points.size() << "): got "
+                                    << name(got.defect) << " '" << got.message << "', expected " << name(expected);
+  }
+  for (const auto& [key, count] : seen) std::printf("  %-28s %d\n", key.c_str(), count);
+  EXPECT_GT(seen["large self_intersection"], 0);
+  EXPECT_GT(seen["large loops_intersect"], 0);
+  EXPECT_GT(seen["large none"], 0);
+  EXPECT_GT(seen["small none"], 0);
+}
+
+// ------------------------------------------------------------------------------ triangulation
+namespace {
+
+double angle_at(const Vec2& o, const Vec2& a, const Vec2& b) {
+  return std::fabs(std::atan2((a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x),
+                              (a.x - o.x) * (b.x - o.x) + (a.y - o.y) * (b.y - o.y)));
+}
+
+void check_triangulation(const PolygonLoops& poly) {
+  const auto tris = triangulate_polygon(poly);
+  size_t m = 0;
+  int64_t area2 = 0;
+  for (const auto& l : poly.loops) {
+    m += l.size();
+    area2 += twice_area(poly, l);
+  }
+  const size_t h = poly.loops.size() - 1;
+  ASSERT_EQ(tris.size(), m + 2 * h - 2);
+  int64_t tri_area2 = 0;
+  std::map<std::pair<uint32_t, uint32_t>, std::pair<size_t, int>> directed;  // edge -> (triangle, corner)
+  for (size_t t = 0; t < tris.size(); ++t) {
+    const IPt a = ip(poly.points[tris[t][0]]), b = ip(poly.points[tris[t][1]]), c = ip(poly.points[tris[t][2]]);
+    ASSERT_EQ(iorient(a, b, c), 1) << "triangle " << t << " not CCW";
+    tri_area2 += (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    for (int k = 0; k < 3; ++k) {
+      const auto key = std::make_pair(tris[t][k], tris[t][(k + 1) % 3]);
+      ASSERT_EQ(directed.count(key), 0u) << "directed edge used twice";
+      directed[key] = {t, (k + 2) % 3};
+    }
+  }
+  EXPECT_EQ(tri_area2, area2);
+  std::set<std::pair<uint32_t, uint32_t>> constraints;
+  for (const auto& l : poly.loops)
+    for (size_t i = 0; i < l.size(); ++i) {
+      const auto key = std::make_pair(l[i], l[(i + 1) % l.size()]);
+      EXPECT_EQ(directed.count(key), 1u) << "constraint edge " << key.first << "-" << key.second << " missing";
+      constraints.insert(key);
+      constraints.insert({key.second, key.first});
+    }
+  for (const auto& [key, tc] : directed) {
+    if (constraints.count(key) || key.first > key.second) continue;
+    const auto other = directed.find({key.second, key.first});
+    ASSERT_NE(other, directed.end()) << "interior edge without a twin";
+    const Vec2& a = poly.points[key.first];
+    const Vec2& b = poly.points[key.second];
+    const Vec2& c = poly.points[tris[tc.first][tc.second]];
+    const Vec2& d = poly.points[tris[other->second.first][other->second.second]];
+    EXPECT_LE(angle_at(c, a, b) + angle_at(d, a, b), M_PI + 1e-9) << "non-Delaunay edge";
+  }
+}
+
+}  // namespace
+
+TEST(PolygonTriangulation, HandMadeAndRandom) {
+  check_triangulation(make_polygon({kSquare}));
+  check_triangulation(make_polygon({{{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}}}));
+  check_triangulation(make_polygon({kSquare, {{1, 1}, {1, 4}, {4, 4}, {4, 1}}, {{6, 6}, {6, 9}, {9, 9}, {9, 6}}}));
+  // Collinear boundary vertices.
+  check_triangulation(make_polygon({{{0, 0}, {1, 0}, {2, 0}, {3, 0}, {3, 3}, {0, 3}}}));
+  std::mt19937 rng(99);
+  for (int it = 0; it < 200; ++it) {
+    const int n = 3 + static_cast<int>(rng() % (it % 10 == 0 ? 1000 : 40));
+    const auto poly = random_polygon(rng, n, static_cast<int>(rng() % 4), 3 + static_cast<int>(rng() % 12), 1e6);
+    if (!check_polygon_loops(poly).ok()) continue;  // rounding can rarely make holes touch
+    SCOPED_TRACE("iteration " + std::to_string(it));
+    check_triangulation(poly);
+  }
+}
+
+TEST(PolygonTriangulation, InvalidPolygonThrows) {
+  try {
+    triangulate_polygon(make_polygon({{{0, 0}, {10, 0}, {0, 10}, {10, 10}}}));
+    FAIL() << "no exception";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.status(), Status::invalid_argument);
+  }
+  EXPECT_THROW(triangulate_polygon(PolygonLoops{}), Error);
+}
+
+// Timings (printed; loose bounds only so the sanitizer build passes too).
+TEST(PolygonPerformance, SmallAndLarge) {
+  std::mt19937 rng(5);
+  std::vector<PolygonLoops> small;
+  for (int i = 0; i < 64; ++i) small.push_back(random_polygon(rng, 8 + i % 9, 0, 3, 1e3));
+  const auto large = random_polygon(rng, 1000, 0, 3, 1e6);
+  const auto large_holes = random_polygon(rng, 900, 4, 25, 1e6);
+  using Clock = std::chrono::steady_clock;
+  auto time_it = [](int reps, auto&& fn) {
+    const auto t0 = Clock::now();
+    for (int r = 0; r < reps; ++r) fn(r);
+    return std::chrono::duration<double, std::micro>(Clock::now() - t0).count() / reps;
+  };
+  size_t sink = 0;
+  const int reps = 100000;
+  const double check_small = time_it(reps, [&](int r) { sink += check_polygon_loops(small[r % 64]).ok(); });
+  const double tri_small = time_it(reps / 4, [&](int r) { sink += triangulate_polygon(small[r % 64]).size(); });
+  const double check_large = time_it(200, [&](int) { sink += check_polygon_loops(large).ok(); });
+  const double tri_large = time_it(100, [&](int) { sink += triangulate_polygon(large).size(); });
+  const double check_holes = time_it(200, [&](int) { sink += check_polygon_loops(large_holes).ok(); });
+  std::printf("  check_polygon_loops  8-16 vertices: %.3f us/call; 1000 vertices: %.1f us; 1000 + 4 holes: %.1f us\n",
+              check_small, check_large, check_holes);
+  std::printf("  triangulate_polygon  8-16 vertices: %.3f us/call; 1000 vertices: %.1f us\n", tri_small, tri_large);
+  EXPECT_GT(sink, 0u);
+  EXPECT_LT(check_large, 50000.0);
+}
