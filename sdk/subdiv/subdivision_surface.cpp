@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// SubdivisionSurface on OpenSubdiv Far: feature-adaptive refinement, a double-precision
-// PatchTable (regular B-spline patches, infinitely sharp patches, Gregory end caps) and a
-// PatchMap to find the patch of a (ptex face, u, v). Every patch point (refined vertex or end-cap
-// point) is folded back onto the cage's control vertices through a stencil table, which gives
-// the basis functions phi_j of thesis (2.24)-(2.26). See README.md for the choice and accuracy.
+// SubdivisionSurface on OpenSubdiv Far: feature-adaptive refinement to a low isolation level, a
+// double-precision PatchTable whose regular patches are exact bicubic B-splines and whose
+// irregular faces (bilinear end-cap placeholders) are evaluated exactly with Stam's method when
+// their extraordinary vertex is smooth and interior (stam_patch.h), and with OpenSubdiv's
+// Gregory end caps otherwise (built on a sub-cage around those faces only). Every patch point
+// is folded back onto the cage's control vertices through stencil rows, which gives the basis
+// functions phi_j of thesis (2.24)-(2.26). See README.md for the choices and the accuracy.
 #include "subdiv/subdivision_surface.h"
 
 #include <opensubdiv/far/patchMap.h>
@@ -14,17 +16,21 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <map>
 #include <string>
 
 #include "core/status.h"
-#include "subdiv/patch_basis.h"
 #include "subdiv/opensubdiv_error_handler.h"
+#include "subdiv/patch_basis.h"
+#include "subdiv/stam_patch.h"
 #include "subdiv/topology_refiner_factory.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 namespace {
 
 namespace Far = OpenSubdiv::Far;
+using subdiv_detail::PatchBasis;
 
 // Semi-sharp creases (an extension of the thesis) are exact only once refined until their
 // sharpness has decayed, so sharp features get at least that many levels; smooth
@@ -38,12 +44,49 @@ int sharp_feature_level(const Cage& cage, int isolation_level) {
   return std::min(kMaxIsolationLevel, std::max(isolation_level, static_cast<int>(std::ceil(finite_max))));
 }
 
-// The patch points and basis weights of one evaluation.
-struct PatchWeights {
-  int count = 0;
-  Far::Index points[subdiv_detail::kMaxPatchPoints];
-  subdiv_detail::PatchBasis w;  // w, wu, wv, wuu, wuv, wvv
-};
+// Adaptive refinement and the patch table of a cage (the refiner is refined in place).
+std::unique_ptr<const Far::PatchTable> build_patches(Far::TopologyRefiner& refiner, int sharp_level,
+                                                     int isolation_level,
+                                                     Far::PatchTableFactory::Options::EndCapType end_caps) {
+  Far::TopologyRefiner::AdaptiveOptions adaptive(sharp_level);
+  adaptive.secondaryLevel = static_cast<unsigned>(isolation_level);
+  adaptive.useInfSharpPatch = true;  // crease curves become exact B-spline boundaries
+  adaptive.useSingleCreasePatch = false;
+  subdiv_detail::begin_opensubdiv_call();
+  refiner.RefineAdaptive(adaptive);
+
+  Far::PatchTableFactory::Options patch_options(sharp_level);
+  patch_options.SetEndCapType(end_caps);
+  patch_options.useInfSharpPatch = true;
+  patch_options.useSingleCreasePatch = false;
+  patch_options.generateLegacySharpCornerPatches = false;
+  patch_options.generateVaryingTables = false;
+  patch_options.generateVaryingLocalPoints = false;
+  patch_options.SetPatchPrecision<double>();
+  std::unique_ptr<const Far::PatchTable> patches(Far::PatchTableFactory::Create(refiner, patch_options));
+  if (!patches)
+    fail(Status::invalid_mesh, "OpenSubdiv could not build the patches of the cage: " +
+                                   subdiv_detail::last_opensubdiv_message());
+  return patches;
+}
+
+// Stencils of every refined vertex of levels 1.. over the level-0 vertices (null when there
+// are none).
+std::unique_ptr<const Far::StencilTableReal<double>> refined_stencils(const Far::TopologyRefiner& refiner) {
+  if (refiner.GetMaxLevel() == 0) return nullptr;
+  using StencilFactory = Far::StencilTableFactoryReal<double>;
+  StencilFactory::Options options;
+  options.generateOffsets = true;
+  options.generateControlVerts = false;
+  options.generateIntermediateLevels = true;
+  options.factorizeIntermediateLevels = true;
+  options.maxLevel = static_cast<unsigned>(refiner.GetMaxLevel());
+  std::unique_ptr<const Far::StencilTableReal<double>> table(StencilFactory::Create(refiner, options));
+  if (!table || table->GetNumStencils() != refiner.GetNumVerticesTotal() - refiner.GetLevel(0).GetNumVertices())
+    fail(Status::internal_error, "OpenSubdiv's stencil table does not cover the refined vertices: " +
+                                     subdiv_detail::last_opensubdiv_message());
+  return table;
+}
 
 // Compressed rows of weights over the control vertices, one row per derived patch point.
 struct StencilRows {
@@ -51,15 +94,14 @@ struct StencilRows {
   std::vector<uint32_t> indices;
   std::vector<double> weights;
 
-  void append(const Far::StencilTableReal<double>& table) {
-    for (int i = 0; i < table.GetNumStencils(); ++i) {
-      const auto stencil = table.GetStencil(i);
-      for (int k = 0; k < stencil.GetSize(); ++k) {
-        indices.push_back(static_cast<uint32_t>(stencil.GetVertexIndices()[k]));
-        weights.push_back(stencil.GetWeights()[k]);
-      }
-      offsets.push_back(static_cast<uint32_t>(indices.size()));
+  // One row; `remap` (when given) maps the stencil's vertex indices to control vertices.
+  void append_row(const Far::StencilReal<double>& stencil, const std::vector<uint32_t>* remap) {
+    for (int k = 0; k < stencil.GetSize(); ++k) {
+      const uint32_t j = static_cast<uint32_t>(stencil.GetVertexIndices()[k]);
+      indices.push_back(remap ? (*remap)[j] : j);
+      weights.push_back(stencil.GetWeights()[k]);
     }
+    offsets.push_back(static_cast<uint32_t>(indices.size()));
   }
   size_t size() const { return offsets.size() - 1; }
 };
@@ -115,6 +157,39 @@ class WeightAccumulator {
   size_t used_ = 0;
 };
 
+// The patch points and basis weights of one evaluation; points are unified point ids (see Impl).
+struct PatchWeights {
+  int count = 0;
+  std::vector<uint32_t> points;
+  std::vector<double> w;  // w[k * count + i], k = value, d/du, d/dv, d2/du2, d2/dudv, d2/dv2
+  void resize(int n) {
+    count = n;
+    points.resize(static_cast<size_t>(n));
+    w.assign(6 * static_cast<size_t>(n), 0.0);
+  }
+};
+
+enum class PatchKind : uint8_t { regular, stam, gregory };
+
+struct PatchInfo {
+  PatchKind kind = PatchKind::regular;
+  uint8_t rotation = 0;   // Stam: patch corner of the extraordinary vertex
+  uint32_t matrices = 0;  // Stam: index into Impl::stam
+  uint32_t first = 0;     // regular and Stam: first of its ids in Impl::patch_points
+};
+
+// OpenSubdiv's Gregory end caps for the faces whose irregular patches are not Stam patches,
+// built on the sub-cage of those faces and three rings of faces around them (enough for every
+// refined point of their patches to be computed from complete neighbourhoods, so the patches
+// equal those of the whole cage).
+struct GregoryRegion {
+  std::unique_ptr<const Far::PatchTable> patches;
+  std::unique_ptr<const Far::PatchMap> patch_map;
+  std::vector<int32_t> sub_face;       // per cage face: its face in the sub-cage, or -1
+  std::vector<uint32_t> sub_first_ptex;  // per sub-cage face
+  std::vector<uint32_t> point_id;      // per patch point of the sub-cage: unified point id
+};
+
 }  // namespace
 
 struct SubdivisionSurface::Impl {
@@ -123,8 +198,13 @@ struct SubdivisionSurface::Impl {
   std::vector<uint32_t> ptex_to_face;  // per ptex face
   std::unique_ptr<const Far::PatchTable> patches;
   std::unique_ptr<const Far::PatchMap> patch_map;
-  // Patch point p >= control.size() (a vertex of a refined level or a local end-cap point) is
-  // row p - control.size() of `derived`; derived_points are those rows applied to `control`.
+  std::vector<PatchInfo> info;          // per patch of `patches`
+  std::vector<uint32_t> patch_points;   // unified point ids of the regular and Stam patches
+  std::vector<subdiv_detail::StamMatrices> stam;
+  std::unique_ptr<GregoryRegion> gregory;
+  // Unified point id p: a control vertex for p < control.size(), else row p - control.size() of
+  // `derived` (a refined vertex some patch uses, or a Gregory end-cap point); derived_points
+  // are those rows applied to `control`.
   StencilRows derived;
   std::vector<Vec3> derived_points;
 
@@ -132,12 +212,14 @@ struct SubdivisionSurface::Impl {
   uint32_t num_control() const { return static_cast<uint32_t>(control.size()); }
 
   void build(const Cage& cage, const SurfaceOptions& options);
+  void build_gregory_region(const Cage& cage, const std::vector<uint32_t>& seed_faces, int sharp_level,
+                            int isolation_level);
   void patch_weights(uint32_t ptex, double u, double v, PatchWeights* out) const;
 
-  template <typename Visit>  // visit(control index, weight) for the stencil of one patch point
-  void for_each_control(Far::Index point, double weight, Visit&& visit) const {
-    if (point < static_cast<Far::Index>(control.size())) {
-      visit(static_cast<uint32_t>(point), weight);
+  template <typename Visit>  // visit(control index, weight) for the stencil of one point id
+  void for_each_control(uint32_t point, double weight, Visit&& visit) const {
+    if (point < control.size()) {
+      visit(point, weight);
       return;
     }
     const size_t row = static_cast<size_t>(point) - control.size();
@@ -162,54 +244,222 @@ void SubdivisionSurface::Impl::build(const Cage& cage, const SurfaceOptions& opt
   }
   first_ptex[num_faces] = num_ptex();
 
+  // Irregular faces get bilinear placeholders (their four corner vertices, no local points):
+  // CageKit replaces them by Stam patches or Gregory end caps.
   const int sharp_level = sharp_feature_level(cage, options.isolation_level);
-  Far::TopologyRefiner::AdaptiveOptions adaptive(sharp_level);
-  adaptive.secondaryLevel = static_cast<unsigned>(options.isolation_level);
-  adaptive.useInfSharpPatch = true;  // crease curves become exact B-spline boundaries
-  adaptive.useSingleCreasePatch = false;
-  subdiv_detail::begin_opensubdiv_call();
-  refiner->RefineAdaptive(adaptive);
-
-  Far::PatchTableFactory::Options patch_options(sharp_level);
-  patch_options.SetEndCapType(Far::PatchTableFactory::Options::ENDCAP_GREGORY_BASIS);
-  patch_options.useInfSharpPatch = true;
-  patch_options.useSingleCreasePatch = false;
-  patch_options.generateLegacySharpCornerPatches = false;
-  patch_options.generateVaryingTables = false;
-  patch_options.generateVaryingLocalPoints = false;
-  patch_options.SetPatchPrecision<double>();
-  patches.reset(Far::PatchTableFactory::Create(*refiner, patch_options));
-  if (!patches)
-    fail(Status::invalid_mesh, "OpenSubdiv could not build the patches of the cage: " +
-                                   subdiv_detail::last_opensubdiv_message());
+  patches = build_patches(*refiner, sharp_level, options.isolation_level,
+                          Far::PatchTableFactory::Options::ENDCAP_BILINEAR_BASIS);
+  // OpenSubdiv 3.5 gives bilinear end caps local points (the limit points of their corners).
+  const Far::StencilTableReal<double>* copies = patches->GetLocalPointStencilTable<double>();
   patch_map.reset(new Far::PatchMap(*patches));
 
-  // Stencils of every refined vertex over the control vertices, then of the end-cap points.
-  using StencilFactory = Far::StencilTableFactoryReal<double>;
-  StencilFactory::Options stencil_options;
-  stencil_options.generateOffsets = true;
-  stencil_options.generateControlVerts = false;
-  stencil_options.generateIntermediateLevels = true;
-  stencil_options.factorizeIntermediateLevels = true;
-  stencil_options.maxLevel = static_cast<unsigned>(refiner->GetMaxLevel());
-  std::unique_ptr<const Far::StencilTableReal<double>> refined(StencilFactory::Create(*refiner, stencil_options));
-  const Far::StencilTableReal<double>* local = patches->GetLocalPointStencilTable<double>();
-  std::unique_ptr<const Far::StencilTableReal<double>> all;
-  if (local && local->GetNumStencils() > 0)
-    all.reset(StencilFactory::AppendLocalPointStencilTable(*refiner, refined.get(), local));
-  const Far::StencilTableReal<double>* table = all ? all.get() : refined.get();
-  const size_t expected = static_cast<size_t>(refiner->GetNumVerticesTotal()) - control.size() +
-                          static_cast<size_t>(local ? local->GetNumStencils() : 0);
-  if (!table || static_cast<size_t>(table->GetNumStencils()) != expected)
-    fail(Status::internal_error, "OpenSubdiv's stencil tables do not cover the patch points: " +
-                                     subdiv_detail::last_opensubdiv_message());
+  std::vector<int> level_offset{0};
+  for (int l = 0; l <= refiner->GetMaxLevel(); ++l)
+    level_offset.push_back(level_offset.back() + refiner->GetLevel(l).GetNumVertices());
+  constexpr uint32_t kUnused = std::numeric_limits<uint32_t>::max();
+  std::vector<uint32_t> refined_id(static_cast<size_t>(level_offset.back()), kUnused);
+  std::vector<int> stam_of_valence;
+  std::vector<uint32_t> seed_faces;
+  std::vector<int> local;
+  info.resize(static_cast<size_t>(patches->GetNumPatchesTotal()));
+  size_t patch = 0;
+  for (int a = 0; a < patches->GetNumPatchArrays(); ++a) {
+    const Far::PatchDescriptor::Type type = patches->GetPatchArrayDescriptor(a).GetType();
+    for (int p = 0; p < patches->GetNumPatches(a); ++p, ++patch) {
+      const auto points = patches->GetPatchVertices(a, p);
+      PatchInfo& pi = info[patch];
+      pi.first = static_cast<uint32_t>(patch_points.size());
+      if (type == Far::PatchDescriptor::REGULAR) {
+        for (int i = 0; i < 16; ++i) patch_points.push_back(static_cast<uint32_t>(points[i]));
+        continue;
+      }
+      const Far::PatchParam param = patches->GetPatchParam(a, p);
+      if (type != Far::PatchDescriptor::QUADS || points.size() != 4)
+        fail(Status::internal_error, "unexpected OpenSubdiv patch type " + std::to_string(static_cast<int>(type)));
+      // The irregular face: its level, and its corner vertices in the patch's order.
+      const int level = param.GetDepth();
+      if (level > refiner->GetMaxLevel()) fail(Status::internal_error, "end cap below the refined levels");
+      const Far::TopologyLevel& topology = refiner->GetLevel(level);
+      int v[4];
+      bool same_level = true;
+      for (int i = 0; i < 4; ++i) {
+        v[i] = points[i];
+        if (v[i] >= level_offset.back()) {
+          // A local point: the limit point of the face's corner; its stencil (over the
+          // refined vertices) weighs that corner most.
+          if (!copies || v[i] - level_offset.back() >= copies->GetNumStencils())
+            fail(Status::internal_error, "unexpected bilinear end-cap point");
+          const auto limit = copies->GetStencil(v[i] - level_offset.back());
+          int best = 0;
+          for (int k = 1; k < limit.GetSize(); ++k)
+            if (limit.GetWeights()[k] > limit.GetWeights()[best]) best = k;
+          v[i] = limit.GetSize() > 0 ? limit.GetVertexIndices()[best] : -1;
+        }
+        v[i] -= level_offset[level];
+        same_level = same_level && v[i] >= 0 && v[i] < topology.GetNumVertices();
+      }
+      int face = -1, shift = 0;
+      if (same_level)
+        for (int f : topology.GetVertexFaces(v[0])) {
+          const auto fv = topology.GetFaceVertices(f);
+          if (fv.size() != 4) continue;
+          for (int k = 0; k < 4 && face < 0; ++k)
+            if (fv[k] == v[0] && fv[(k + 1) % 4] == v[1] && fv[(k + 2) % 4] == v[2] && fv[(k + 3) % 4] == v[3])
+              face = f, shift = k;
+        }
+      int corner = 0;
+      if (face >= 0)
+        for (int r = 3; r >= 0; --r)
+          if (topology.GetVertexFaces(v[r]).size() != 4 || topology.IsVertexBoundary(v[r])) corner = r;
+      if (face >= 0 && subdiv_detail::gather_stam_points(topology, face, (corner + shift) % 4, false, &local)) {
+        const int valence = (static_cast<int>(local.size()) - 8) / 2;
+        if (static_cast<int>(stam_of_valence.size()) <= valence) stam_of_valence.resize(valence + 1, -1);
+        if (stam_of_valence[valence] < 0) {
+          stam_of_valence[valence] = static_cast<int>(stam.size());
+          stam.push_back(subdiv_detail::build_stam_matrices(valence));
+        }
+        pi.kind = PatchKind::stam;
+        pi.rotation = static_cast<uint8_t>(corner);
+        pi.matrices = static_cast<uint32_t>(stam_of_valence[valence]);
+        for (int x : local) patch_points.push_back(static_cast<uint32_t>(x + level_offset[level]));
+      } else {
+        pi.kind = PatchKind::gregory;
+        seed_faces.push_back(ptex_to_face.at(static_cast<size_t>(param.GetFaceId())));
+      }
+    }
+  }
+
+  // Unified ids: cage vertices keep theirs, the refined vertices the patches use get rows.
+  std::unique_ptr<const Far::StencilTableReal<double>> table = refined_stencils(*refiner);
+  const uint32_t nc = num_control();
+  for (uint32_t& p : patch_points) {
+    if (p < nc) continue;
+    uint32_t& id = refined_id[p];
+    if (id == kUnused) {
+      id = nc + static_cast<uint32_t>(derived.size());
+      derived.append_row(table->GetStencil(static_cast<Far::Index>(p - nc)), nullptr);
+    }
+    p = id;
+  }
+  table.reset();
+  refiner.reset();
   subdiv_detail::fail_on_opensubdiv_error(Status::invalid_mesh, "OpenSubdiv could not build the limit surface");
-  derived.append(*table);
+
+  if (!seed_faces.empty()) build_gregory_region(cage, seed_faces, sharp_level, options.isolation_level);
 
   derived_points.assign(derived.size(), Vec3());
   for (size_t row = 0; row < derived.size(); ++row)
     for (uint32_t k = derived.offsets[row]; k < derived.offsets[row + 1]; ++k)
       derived_points[row] += control[derived.indices[k]] * derived.weights[k];
+}
+
+void SubdivisionSurface::Impl::build_gregory_region(const Cage& cage, const std::vector<uint32_t>& seed_faces,
+                                                    int sharp_level, int isolation_level) {
+  const PolygonMesh& mesh = cage.mesh;
+  const size_t num_faces = mesh.num_faces();
+  std::vector<uint32_t> vertex_face_offsets(mesh.num_vertices() + 1, 0), vertex_faces;
+  for (uint32_t v : mesh.face_vertices) ++vertex_face_offsets[v + 1];
+  for (size_t v = 0; v < mesh.num_vertices(); ++v) vertex_face_offsets[v + 1] += vertex_face_offsets[v];
+  vertex_faces.resize(mesh.face_vertices.size());
+  {
+    std::vector<uint32_t> fill(vertex_face_offsets.begin(), vertex_face_offsets.end() - 1);
+    for (size_t f = 0; f < num_faces; ++f)
+      for (uint32_t k = 0; k < mesh.face_size(f); ++k) vertex_faces[fill[mesh.face_vertex(f, k)]++] = static_cast<uint32_t>(f);
+  }
+  std::vector<char> in_region(num_faces, 0);
+  std::vector<uint32_t> frontier;
+  for (uint32_t f : seed_faces)
+    if (!in_region[f]) in_region[f] = 1, frontier.push_back(f);
+  for (int ring = 0; ring < 3; ++ring) {
+    std::vector<uint32_t> next;
+    for (uint32_t f : frontier)
+      for (uint32_t k = 0; k < mesh.face_size(f); ++k) {
+        const uint32_t v = mesh.face_vertex(f, k);
+        for (uint32_t i = vertex_face_offsets[v]; i < vertex_face_offsets[v + 1]; ++i)
+          if (!in_region[vertex_faces[i]]) in_region[vertex_faces[i]] = 1, next.push_back(vertex_faces[i]);
+      }
+    frontier.swap(next);
+  }
+
+  GregoryRegion& g = *(gregory = std::make_unique<GregoryRegion>());
+  Cage sub;
+  sub.boundary = cage.boundary;
+  std::vector<int64_t> sub_vertex(mesh.num_vertices(), -1);
+  std::vector<uint32_t> cage_vertex;
+  g.sub_face.assign(num_faces, -1);
+  std::vector<uint32_t> face;
+  for (size_t f = 0; f < num_faces; ++f) {
+    if (!in_region[f]) continue;
+    face.clear();
+    for (uint32_t k = 0; k < mesh.face_size(f); ++k) {
+      const uint32_t v = mesh.face_vertex(f, k);
+      if (sub_vertex[v] < 0) {
+        sub_vertex[v] = static_cast<int64_t>(cage_vertex.size());
+        cage_vertex.push_back(v);
+        sub.mesh.add_vertex(mesh.positions[v]);
+      }
+      face.push_back(static_cast<uint32_t>(sub_vertex[v]));
+    }
+    g.sub_face[f] = static_cast<int32_t>(sub.mesh.num_faces());
+    sub.mesh.add_face(face.data(), face.size());
+  }
+  // Tags inside the region: creases on edges of the sub-cage, corners, holes.
+  std::vector<std::pair<uint32_t, uint32_t>> sub_edges;
+  for (size_t f = 0; f < sub.mesh.num_faces(); ++f)
+    for (uint32_t k = 0, n = sub.mesh.face_size(f); k < n; ++k) {
+      const uint32_t a = sub.mesh.face_vertex(f, k), b = sub.mesh.face_vertex(f, (k + 1) % n);
+      sub_edges.push_back({std::min(a, b), std::max(a, b)});
+    }
+  std::sort(sub_edges.begin(), sub_edges.end());
+  for (const EdgeCrease& c : cage.creases) {
+    if (c.v0 >= sub_vertex.size() || c.v1 >= sub_vertex.size() || sub_vertex[c.v0] < 0 || sub_vertex[c.v1] < 0) continue;
+    const uint32_t a = static_cast<uint32_t>(sub_vertex[c.v0]), b = static_cast<uint32_t>(sub_vertex[c.v1]);
+    if (std::binary_search(sub_edges.begin(), sub_edges.end(), std::make_pair(std::min(a, b), std::max(a, b))))
+      sub.creases.push_back({a, b, c.sharpness});
+  }
+  for (const VertexCorner& c : cage.corners)
+    if (c.vertex < sub_vertex.size() && sub_vertex[c.vertex] >= 0)
+      sub.corners.push_back({static_cast<uint32_t>(sub_vertex[c.vertex]), c.sharpness});
+  for (uint32_t h : cage.holes)
+    if (h < num_faces && g.sub_face[h] >= 0) sub.holes.push_back(static_cast<uint32_t>(g.sub_face[h]));
+
+  auto refiner = subdiv_detail::create_topology_refiner(sub);
+  const Far::PtexIndices ptex(*refiner);
+  for (size_t f = 0; f < sub.mesh.num_faces(); ++f)
+    g.sub_first_ptex.push_back(static_cast<uint32_t>(ptex.GetFaceId(static_cast<Far::Index>(f))));
+  g.patches = build_patches(*refiner, sharp_level, isolation_level,
+                            Far::PatchTableFactory::Options::ENDCAP_GREGORY_BASIS);
+  g.patch_map.reset(new Far::PatchMap(*g.patches));
+
+  // Ids of the sub-cage's patch points: its vertices are cage vertices, its refined vertices
+  // and local end-cap points get rows (over cage vertices) when a patch uses them.
+  std::unique_ptr<const Far::StencilTableReal<double>> table = refined_stencils(*refiner);
+  const Far::StencilTableReal<double>* local_points = g.patches->GetLocalPointStencilTable<double>();
+  std::unique_ptr<const Far::StencilTableReal<double>> local;
+  if (local_points && local_points->GetNumStencils() > 0) {
+    local.reset(Far::StencilTableFactoryReal<double>::AppendLocalPointStencilTable(*refiner, table.get(),
+                                                                                   local_points));
+    if (!local) fail(Status::internal_error, "OpenSubdiv could not fold the end-cap points onto the cage");
+  }
+  const size_t sub_control = cage_vertex.size();
+  const size_t num_refined = static_cast<size_t>(refiner->GetNumVerticesTotal()) - sub_control;
+  const size_t num_local = local_points ? static_cast<size_t>(local_points->GetNumStencils()) : 0;
+  constexpr uint32_t kUnused = std::numeric_limits<uint32_t>::max();
+  g.point_id.assign(sub_control + num_refined + num_local, kUnused);
+  for (size_t v = 0; v < sub_control; ++v) g.point_id[v] = cage_vertex[v];
+  const auto all_points = g.patches->GetPatchControlVerticesTable();
+  for (int p : all_points) {
+    uint32_t& id = g.point_id.at(static_cast<size_t>(p));
+    if (id != kUnused) continue;
+    id = num_control() + static_cast<uint32_t>(derived.size());
+    const size_t row = static_cast<size_t>(p) - sub_control;
+    if (!local && !table) fail(Status::internal_error, "Gregory patch point without a stencil");
+    // AppendLocalPointStencilTable returns the refined rows followed by the local ones.
+    derived.append_row(local ? local->GetStencil(static_cast<Far::Index>(row))
+                             : table->GetStencil(static_cast<Far::Index>(row)),
+                       &cage_vertex);
+  }
+  subdiv_detail::fail_on_opensubdiv_error(Status::invalid_mesh, "OpenSubdiv could not build the limit surface");
 }
 
 void SubdivisionSurface::Impl::patch_weights(uint32_t ptex, double u, double v, PatchWeights* out) const {
@@ -223,12 +473,64 @@ void SubdivisionSurface::Impl::patch_weights(uint32_t ptex, double u, double v, 
   if (!handle)
     fail(Status::invalid_argument, "ptex face " + std::to_string(ptex) + " lies in hole face " +
                                        std::to_string(ptex_to_face[ptex]) + ", which has no limit surface");
-  const auto points = patches->GetPatchVertices(*handle);
-  out->count = subdiv_detail::patch_basis(patches->GetPatchDescriptor(*handle).GetType(),
-                                          patches->GetPatchParam(*handle), u, v, out->w);
-  if (points.size() < out->count)
+  const PatchInfo& pi = info[static_cast<size_t>(handle->patchIndex)];
+  const Far::PatchParam param = patches->GetPatchParam(*handle);
+  const double scale = 1.0 / param.GetParamFraction();  // d(patch) / d(ptex)
+  if (pi.kind == PatchKind::regular) {
+    PatchBasis w;
+    subdiv_detail::patch_basis(Far::PatchDescriptor::REGULAR, param, u, v, w);
+    out->resize(16);
+    for (int i = 0; i < 16; ++i) {
+      out->points[i] = patch_points[pi.first + i];
+      for (int k = 0; k < 6; ++k) out->w[k * 16 + i] = w[k][i];
+    }
+    return;
+  }
+  if (pi.kind == PatchKind::stam) {
+    const subdiv_detail::StamMatrices& m = stam[pi.matrices];
+    const int n = m.size();
+    double x = u, y = v;
+    param.Normalize(x, y);
+    // (s, t): the patch's frame rotated so that the extraordinary corner is at (0, 0);
+    // J = d(s, t) / d(x, y).
+    static constexpr double kJ[4][4] = {{1, 0, 0, 1}, {0, 1, -1, 0}, {-1, 0, 0, -1}, {0, -1, 1, 0}};
+    const double* j = kJ[pi.rotation];  // s_x, s_y, t_x, t_y
+    const double s = pi.rotation == 0 ? x : pi.rotation == 1 ? y : pi.rotation == 2 ? 1 - x : 1 - y;
+    const double t = pi.rotation == 0 ? y : pi.rotation == 1 ? 1 - x : pi.rotation == 2 ? 1 - y : x;
+    std::vector<double> w(6 * static_cast<size_t>(n));
+    subdiv_detail::stam_basis(m, std::clamp(s, 0.0, 1.0), std::clamp(t, 0.0, 1.0), w.data());
+    out->resize(n);
+    for (int i = 0; i < n; ++i) {
+      out->points[i] = patch_points[pi.first + i];
+      const double gs = w[n + i], gt = w[2 * n + i], gss = w[3 * n + i], gst = w[4 * n + i], gtt = w[5 * n + i];
+      out->w[i] = w[i];
+      out->w[n + i] = scale * (gs * j[0] + gt * j[2]);
+      out->w[2 * n + i] = scale * (gs * j[1] + gt * j[3]);
+      out->w[3 * n + i] = scale * scale * (gss * j[0] * j[0] + 2 * gst * j[0] * j[2] + gtt * j[2] * j[2]);
+      out->w[4 * n + i] = scale * scale * (gss * j[0] * j[1] + gst * (j[0] * j[3] + j[1] * j[2]) + gtt * j[2] * j[3]);
+      out->w[5 * n + i] = scale * scale * (gss * j[1] * j[1] + 2 * gst * j[1] * j[3] + gtt * j[3] * j[3]);
+    }
+    return;
+  }
+  // Gregory end cap (or a regular patch) of the sub-cage.
+  const GregoryRegion& g = *gregory;
+  const uint32_t face = ptex_to_face[ptex];
+  const int32_t sub_face = g.sub_face[face];
+  if (sub_face < 0) fail(Status::internal_error, "end-cap face outside the Gregory region");
+  const uint32_t sub_ptex = g.sub_first_ptex[static_cast<size_t>(sub_face)] + (ptex - first_ptex[face]);
+  const Far::PatchMap::Handle* sub_handle = g.patch_map->FindPatch(static_cast<int>(sub_ptex), u, v);
+  if (!sub_handle) fail(Status::internal_error, "no Gregory patch found for an end-cap face");
+  const auto points = g.patches->GetPatchVertices(*sub_handle);
+  PatchBasis w;
+  const int count = subdiv_detail::patch_basis(g.patches->GetPatchDescriptor(*sub_handle).GetType(),
+                                               g.patches->GetPatchParam(*sub_handle), u, v, w);
+  if (points.size() < count)
     fail(Status::internal_error, "OpenSubdiv patch with " + std::to_string(points.size()) + " points");
-  for (int i = 0; i < out->count; ++i) out->points[i] = points[i];
+  out->resize(count);
+  for (int i = 0; i < count; ++i) {
+    out->points[i] = g.point_id[static_cast<size_t>(points[i])];
+    for (int k = 0; k < 6; ++k) out->w[k * count + i] = w[k][i];
+  }
 }
 
 SubdivisionSurface::SubdivisionSurface(const Cage& cage, const SurfaceOptions& options) : impl_(new Impl) {
@@ -268,11 +570,11 @@ SurfacePoint SubdivisionSurface::evaluate(uint32_t ptex_face, double u, double v
   PatchWeights pw;
   impl_->patch_weights(ptex_face, u, v, &pw);
   Vec3 result[6];
-  const Far::Index num_control = static_cast<Far::Index>(impl_->control.size());
+  const uint32_t num_control = impl_->num_control();
   for (int i = 0; i < pw.count; ++i) {
-    const Far::Index p = pw.points[i];
+    const uint32_t p = pw.points[i];
     const Vec3& point = p < num_control ? impl_->control[p] : impl_->derived_points[p - num_control];
-    for (int k = 0; k < 6; ++k) result[k] += point * pw.w[k][i];
+    for (int k = 0; k < 6; ++k) result[k] += point * pw.w[k * pw.count + i];
   }
   return {result[0], result[1], result[2], result[3], result[4], result[5]};
 }
@@ -288,7 +590,7 @@ SurfacePoint SubdivisionSurface::evaluate(uint32_t ptex_face, double u, double v
   for (int i = 0; i < pw.count; ++i) {
     Vec3 point;
     impl_->for_each_control(pw.points[i], 1.0, [&](uint32_t j, double weight) { point += control[j] * weight; });
-    for (int k = 0; k < 6; ++k) result[k] += point * pw.w[k][i];
+    for (int k = 0; k < 6; ++k) result[k] += point * pw.w[k * pw.count + i];
   }
   return {result[0], result[1], result[2], result[3], result[4], result[5]};
 }
@@ -297,13 +599,13 @@ BasisWeights SubdivisionSurface::basis(uint32_t ptex_face, double u, double v) c
   PatchWeights pw;
   impl_->patch_weights(ptex_face, u, v, &pw);
   // phi_j = sum over patch points i of (basis weight of i) * (stencil weight of j in i). Near
-  // extraordinary vertices the patch points' stencils overlap heavily (a thousand terms over
-  // about a hundred control vertices), so terms are summed in a small open-addressing table.
+  // extraordinary vertices the patch points' stencils overlap heavily, so terms are summed in a
+  // small open-addressing table.
   WeightAccumulator sums;
   for (int i = 0; i < pw.count; ++i)
     impl_->for_each_control(pw.points[i], 1.0, [&](uint32_t j, double weight) {
       double* slot = sums.slot(j);
-      for (int k = 0; k < 6; ++k) slot[k] += weight * pw.w[k][i];
+      for (int k = 0; k < 6; ++k) slot[k] += weight * pw.w[k * pw.count + i];
     });
   return sums.sorted_weights();
 }

@@ -9,14 +9,16 @@
 // (u, v) in [0,1]^2; an n-gon (n != 4) is split into n parametric quads, one per corner.
 // ptex_face(base_face, corner) maps between the two.
 //
-// Machinery (see README.md): OpenSubdiv Far feature-adaptive refinement to `isolation_level`,
-// a double-precision PatchTable with infinitely sharp patches (crease curves are exact cubic
-// B-splines) and Gregory end caps at the isolation level around extraordinary vertices, whose
-// patch points are folded back onto the cage's control vertices by stencils. The surface is
-// exact (the Catmull-Clark limit) on every regular patch; inside the end caps, the parameter
-// square [0, 2^-L]^2 at an extraordinary corner (L = isolation level, counted from the base
-// face; n-gon sub-faces start at level 1), it is OpenSubdiv's Gregory approximation, exact at
-// the extraordinary vertex itself. Derivatives are the exact derivatives of what is evaluated.
+// Machinery (see README.md): OpenSubdiv Far feature-adaptive refinement to `isolation_level`
+// and a double-precision PatchTable with infinitely sharp patches (crease curves are exact cubic
+// B-splines); every regular patch is the exact bicubic B-spline. The irregular patches at the
+// isolation level, the parameter square [0, 2^-L]^2 at an extraordinary corner (L = isolation
+// level counted from the base face; n-gon sub-faces start at level 1), are evaluated exactly
+// (Stam's method, by repeated local subdivision) when their extraordinary vertex is interior
+// and smooth; around boundary, crease, corner and dart vertices they are OpenSubdiv's Gregory
+// end caps (an approximation, exact at the vertex itself). All patch points are folded back
+// onto the cage's control vertices by stencils. Derivatives are the exact derivatives of what
+// is evaluated.
 //
 // Thread-safety: everything is precomputed at construction; afterwards every const member may
 // be called concurrently from any number of threads (no caches, no mutable state). Construction
@@ -38,11 +40,13 @@ CAGEKIT_NAMESPACE_BEGIN
 constexpr int kMaxIsolationLevel = 10;
 
 struct SurfaceOptions {
-  // Adaptive isolation level of features (extraordinary vertices, creases) in OpenSubdiv;
-  // higher is closer to the exact limit surface near extraordinary vertices, at more memory.
-  // Range [1, kMaxIsolationLevel]. Semi-sharp creases are isolated to at least ceil(sharpness)
-  // levels so that they are exact too.
-  int isolation_level = 6;
+  // Adaptive isolation level of features (extraordinary vertices, creases) in OpenSubdiv.
+  // Smooth interior extraordinary vertices are exact at any level >= 2 (>= 1 for all-quad
+  // cages); the level only moves the boundary between B-spline and Stam patches, and costs
+  // time and memory. Around boundary/crease/corner/dart extraordinary vertices the Gregory end
+  // caps get closer to the limit surface with a higher level. Range [1, kMaxIsolationLevel].
+  // Semi-sharp creases are isolated to at least ceil(sharpness) levels so that they are exact.
+  int isolation_level = 2;
 };
 
 struct SurfacePoint {

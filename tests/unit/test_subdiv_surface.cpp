@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -385,7 +386,10 @@ std::vector<Cell> child_cells(const Far::TopologyRefiner& r, int level, const Ce
   return cells;
 }
 
-LimitReference limit_reference(const Cage& cage, const SubdivisionSurface& surface, int levels) {
+// With corner_square > 0 only the cells within that ptex-parameter distance of an
+// extraordinary corner are refined (and their vertices sampled).
+LimitReference limit_reference(const Cage& cage, const SubdivisionSurface& surface, int levels,
+                               double corner_square = 0) {
   auto refiner = cagekit::subdiv_detail::create_topology_refiner(cage);
   Far::TopologyRefiner::UniformOptions options(levels);
   options.fullTopologyInLastLevel = true;
@@ -447,7 +451,22 @@ LimitReference limit_reference(const Cage& cage, const SubdivisionSurface& surfa
       for (int level = roots[k].first; level < levels; ++level) {
         std::vector<Cell> next;
         for (const Cell& c : cells)
-          for (const Cell& child : child_cells(r, level, c)) next.push_back(child);
+          for (const Cell& child : child_cells(r, level, c)) {
+            if (corner_square > 0) {
+              const double corners[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+              bool near = false;
+              for (int i = 0; i < 4; ++i) {
+                if (!ev_corner[k][i]) continue;
+                double d = 1e300;  // distance of the cell's nearest vertex from the corner
+                for (int j = 0; j < 4; ++j)
+                  d = std::min(d, std::max(std::abs(child.uv[j][0] - corners[i][0]),
+                                           std::abs(child.uv[j][1] - corners[i][1])));
+                near = near || d < corner_square;
+              }
+              if (!near) continue;
+            }
+            next.push_back(child);
+          }
         cells.swap(next);
       }
       std::map<int, std::array<double, 2>> seen;
@@ -462,6 +481,7 @@ LimitReference limit_reference(const Cage& cage, const SubdivisionSurface& surfa
         for (int i = 0; i < 4; ++i)
           if (ev_corner[k][i])
             d = std::min(d, std::max(std::abs(uv[0] - corners[i][0]), std::abs(uv[1] - corners[i][1])));
+        if (corner_square > 0 && d > corner_square) continue;
         ref.samples.push_back({ptex, uv[0], uv[1]});
         ref.sample_vertex.push_back(vertex);
         ref.ev_distance.push_back(d);
@@ -476,9 +496,10 @@ struct Deviation {
   size_t count = 0, near_count = 0;
 };
 
-Deviation deviation_from_limit(const Cage& cage, const SurfaceOptions& options, int levels) {
+Deviation deviation_from_limit(const Cage& cage, const SurfaceOptions& options, int levels,
+                               double corner_square = 0) {
   const SubdivisionSurface surface(cage, options);
-  const LimitReference ref = limit_reference(cage, surface, levels);
+  const LimitReference ref = limit_reference(cage, surface, levels, corner_square);
   Deviation d;
   for (size_t i = 0; i < ref.samples.size(); ++i) {
     const Sample& s = ref.samples[i];
@@ -512,9 +533,12 @@ std::vector<NamedCage> extraordinary_cages() {
 
 // With refinement depth <= isolation level, every level-K vertex is a corner or an edge point
 // of a regular (B-spline) patch or a corner of an end cap: evaluation must be exact there.
+// Smooth extraordinary vertices are exact at any depth (Stam patches, default isolation);
+// crease/boundary ones are exact at these points with isolation 6 (Gregory end caps below).
 TEST(SubdivisionSurface, agrees_with_deep_refinement_limit_points_near_extraordinary_vertices) {
-  SurfaceOptions options;  // isolation level 6
   for (const NamedCage& c : extraordinary_cages()) {
+    SurfaceOptions options;
+    if (!c.cage.creases.empty() || !c.cage.holes.empty()) options.isolation_level = 6;
     const int levels = c.cage.mesh.all_faces_have_size(4) ? 6 : 5;
     const Deviation d = deviation_from_limit(c.cage, options, levels);
     std::cout << c.name << ": level " << levels << ", " << d.count << " points, max deviation / bbox diagonal "
@@ -529,45 +553,147 @@ TEST(SubdivisionSurface, agrees_with_deep_refinement_limit_points_near_extraordi
   }
 }
 
-// Inside the end caps (the last isolation level around an EV) OpenSubdiv's Gregory patches
-// approximate the surface: measured here, one level deeper than the isolation level.
-TEST(SubdivisionSurface, end_cap_approximation_error_is_small_and_shrinks_with_isolation) {
-  for (const NamedCage& c : extraordinary_cages()) {
-    std::vector<double> errors;
-    for (int isolation : {2, 4}) {
-      SurfaceOptions options;
-      options.isolation_level = isolation;
-      const Deviation d = deviation_from_limit(c.cage, options, isolation + 2);
-      std::cout << c.name << ": isolation " << isolation << ", max deviation / bbox diagonal " << d.all
-                << " (near EVs " << d.near_ev << ")\n";
-      errors.push_back(d.all);
+// Inside the Stam patches of smooth interior extraordinary vertices (valence 3, 5, 6): exact
+// limit points of deep refinement levels at dyadic points within the end-cap squares, and
+// derivatives against central differences and the partition of unity there.
+TEST(SubdivisionSurface, stam_patches_are_exact_near_smooth_extraordinary_vertices) {
+  struct Case {
+    NamedCage cage;
+    int levels;
+  };
+  std::vector<Case> cases;
+  cases.push_back({{"cube (valence 3)", cage_of(cagekit_test::unit_cube_quads())}, 7});
+  cases.push_back({{"pentagonal prism (valence 3, 5)", cage_of(pentagonal_prism())}, 6});
+  cases.push_back({{"triangle sphere (valence 3, 4, 6)", cage_of(cagekit_test::triangle_sphere(1))}, 6});
+  for (const Case& k : cases) {
+    const Cage& cage = k.cage.cage;
+    // The Stam squares: 2^-2 of a quad's ptex face, 2^-1 of an n-gon's sub-face.
+    const double square = cage.mesh.all_faces_have_size(4) ? 0.25 : 0.5;
+    const Deviation d = deviation_from_limit(cage, SurfaceOptions(), k.levels, square);
+    std::cout << k.cage.name << ": level " << k.levels << ", " << d.count << " points in the Stam squares, max "
+              << "deviation / bbox diagonal " << d.all << " (not at EVs " << d.near_ev << ", at EVs " << d.at_ev
+              << ")\n";
+    EXPECT_GT(d.near_count, 500u) << k.cage.name;
+    EXPECT_LT(d.all, 1e-6) << k.cage.name;
+
+    const SubdivisionSurface surface(cage);
+    std::mt19937 rng(21);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    double worst_fd = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+      const uint32_t ptex = static_cast<uint32_t>(rng() % surface.num_ptex_faces());
+      // Near corner (0,0) (a cage vertex), at distances down to 2^-20 of the square.
+      const double scale = square * std::ldexp(1.0, -static_cast<int>(rng() % 20));
+      const double u = scale * (0.05 + 0.9 * unit(rng)), v = scale * (0.05 + 0.9 * unit(rng));
+      const BasisWeights b = surface.basis(ptex, u, v);
+      EXPECT_NEAR(sum(b.w), 1.0, 1e-12);
+      for (const auto* w : {&b.wu, &b.wv, &b.wuu, &b.wuv, &b.wvv})
+        EXPECT_NEAR(sum(*w), 0.0, 1e-11 * (1.0 + abs_sum(*w)));
+      // Central differences lose digits to rounding close to the EV (positions ~1, steps tiny):
+      // they are checked down to 2^-10 of the square, the partition of unity down to 2^-20.
+      if (scale < square * std::ldexp(1.0, -10)) continue;
+      const double h = 2e-4 * std::min(u, v);
+      const SurfacePoint at = surface.evaluate(ptex, u, v);
+      const SurfacePoint up = surface.evaluate(ptex, u + h, v), um = surface.evaluate(ptex, u - h, v);
+      const SurfacePoint vp = surface.evaluate(ptex, u, v + h), vm = surface.evaluate(ptex, u, v - h);
+      const double s1 = cagekit::norm(at.du) + cagekit::norm(at.dv);
+      const double s2 = cagekit::norm(at.duu) + cagekit::norm(at.duv) + cagekit::norm(at.dvv);
+      // A dyadic line between u - h and u + h changes the subdivision level: still C2 there.
+      const double e1 = std::max(cagekit::distance((up.position - um.position) * (0.5 / h), at.du),
+                                 cagekit::distance((vp.position - vm.position) * (0.5 / h), at.dv)) / s1;
+      const double e2 = std::max({cagekit::distance((up.du - um.du) * (0.5 / h), at.duu),
+                                  cagekit::distance((vp.du - vm.du) * (0.5 / h), at.duv),
+                                  cagekit::distance((vp.dv - vm.dv) * (0.5 / h), at.dvv)}) / (s1 / scale + s2);
+      worst_fd = std::max({worst_fd, e1, e2});
+      EXPECT_LT(e1, 1e-6) << k.cage.name << " ptex " << ptex << " at " << u << ", " << v;
+      EXPECT_LT(e2, 1e-5) << k.cage.name << " ptex " << ptex << " at " << u << ", " << v;
     }
-    EXPECT_LT(errors[1], errors[0] + 1e-15) << c.name;
-    EXPECT_LT(errors[1], 3e-3) << c.name;
+    std::cout << k.cage.name << ": worst relative central-difference error of the derivatives " << worst_fd << "\n";
   }
 }
 
-// The end-cap error at the default isolation level 6, for the README (about a minute in a
-// Debug build): run with --gtest_also_run_disabled_tests.
-TEST(SubdivisionSurface, DISABLED_end_cap_error_at_the_default_isolation_level) {
-  for (const NamedCage& c : extraordinary_cages()) {
-    const Deviation d = deviation_from_limit(c.cage, SurfaceOptions(), 7);
-    std::cout << c.name << ": isolation 6, max deviation / bbox diagonal " << d.all << " (near EVs " << d.near_ev
-              << ")\n";
-  }
+// Crease and boundary extraordinary vertices keep OpenSubdiv's Gregory end caps: the deviation
+// inside them is measured (for the README) at the default isolation level, one and two levels
+// below it.
+TEST(SubdivisionSurface, gregory_end_caps_at_crease_and_boundary_extraordinary_vertices_are_measured) {
+  std::vector<NamedCage> cages;
+  cages.push_back({"cube with crease loop (crease valence 3)", cube_with_crease_loop()});
+  Cage grid = cage_of(cagekit_test::quad_grid(3, 3, wavy));
+  grid.holes = {4};
+  cages.push_back({"grid with boundary and hole", grid});
+  Cage open_box = cage_of(cagekit_test::unit_cube_quads());
+  open_box.holes = {0};
+  cages.push_back({"cube with a hole (boundary valence 3)", open_box});
+  for (const NamedCage& c : cages)
+    for (int levels : {3, 4}) {
+      const Deviation d = deviation_from_limit(c.cage, SurfaceOptions(), levels);
+      std::cout << c.name << ": isolation 2, level " << levels << ", max deviation / bbox diagonal " << d.all
+                << "\n";
+      EXPECT_LT(d.all, 1e-2) << c.name;  // a sanity bound only
+    }
 }
 
 // Positions agree with OpenSubdiv's own Bfr evaluation (an independent code path through the
-// same Gregory end caps), which checks CageKit's patch bases against OpenSubdiv's.
+// same B-spline patches and Gregory end caps, at the same approximation levels), which checks
+// CageKit's patch bases against OpenSubdiv's. Inside the Stam patches of smooth interior
+// extraordinary vertices CageKit is exact and Bfr is a Gregory approximation, so samples there
+// (the corner squares of side 2^-L of a quad's ptex face, 2^-(L-1) of an n-gon's sub-face, at
+// such vertices; semi-sharp vertices count as smooth) are left out.
+bool in_smooth_ev_corner(const SubdivisionSurface& s, const Cage& cage, const Sample& p, int isolation) {
+  const uint32_t face = s.base_face_of_ptex(p.ptex);
+  const uint32_t n = cage.mesh.face_size(face);
+  auto smooth_ev = [&](uint32_t vertex) {
+    uint32_t valence = 0;
+    for (size_t f = 0; f < cage.mesh.num_faces(); ++f)
+      for (uint32_t k = 0; k < cage.mesh.face_size(f); ++k) valence += cage.mesh.face_vertex(f, k) == vertex;
+    for (const auto& c : cage.creases)
+      if ((c.v0 == vertex || c.v1 == vertex) && c.sharpness >= cagekit::kSharpnessInfinite) return false;
+    for (const auto& c : cage.corners)
+      if (c.vertex == vertex && c.sharpness >= cagekit::kSharpnessInfinite) return false;
+    // Boundary vertices: some edge of theirs is used by one face only.
+    std::map<std::pair<uint32_t, uint32_t>, int> edges;
+    for (size_t f = 0; f < cage.mesh.num_faces(); ++f)
+      for (uint32_t k = 0, m = cage.mesh.face_size(f); k < m; ++k) {
+        const uint32_t a = cage.mesh.face_vertex(f, k), b = cage.mesh.face_vertex(f, (k + 1) % m);
+        if (a == vertex || b == vertex) ++edges[{std::min(a, b), std::max(a, b)}];
+      }
+    for (const auto& [edge, count] : edges)
+      if (count != 2) return false;
+    return valence != 4;
+  };
+  const double side = std::ldexp(1.0, n == 4 ? -isolation : 1 - isolation);
+  const double corners[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  for (int i = 0; i < 4; ++i) {
+    if (std::max(std::abs(p.u - corners[i][0]), std::abs(p.v - corners[i][1])) >= side) continue;
+    if (n != 4) {
+      if (i == 2) return true;  // the face centre
+      if (i == 0 && smooth_ev(cage.mesh.face_vertex(face, p.ptex - s.ptex_face(face)))) return true;
+      continue;
+    }
+    if (smooth_ev(cage.mesh.face_vertex(face, i))) return true;
+  }
+  return false;
+}
+
 TEST(SubdivisionSurface, positions_agree_with_opensubdiv_bfr) {
   for (const NamedCage& c : test_cages()) {
+    const SurfaceOptions defaults;
     const SubdivisionSurface surface(c.cage);
     auto refiner = cagekit::subdiv_detail::create_topology_refiner(c.cage);
+    float finite_max = 0;  // CageKit isolates semi-sharp features to ceil(sharpness) levels
+    for (const auto& e : c.cage.creases)
+      if (e.sharpness < cagekit::kSharpnessInfinite) finite_max = std::max(finite_max, e.sharpness);
+    for (const auto& e : c.cage.corners)
+      if (e.sharpness < cagekit::kSharpnessInfinite) finite_max = std::max(finite_max, e.sharpness);
     OpenSubdiv::Bfr::RefinerSurfaceFactory<>::Options options;
-    options.SetApproxLevelSmooth(6).SetApproxLevelSharp(6);
+    options.SetApproxLevelSmooth(defaults.isolation_level)
+        .SetApproxLevelSharp(std::max(defaults.isolation_level, static_cast<int>(std::ceil(finite_max))));
     const OpenSubdiv::Bfr::RefinerSurfaceFactory<> factory(*refiner, options);
     double max_gap = 0;
+    int compared = 0;
     for (const Sample& p : random_samples(surface, c.cage, 300, 13)) {
+      if (in_smooth_ev_corner(surface, c.cage, p, defaults.isolation_level)) continue;
+      ++compared;
       const uint32_t face = surface.base_face_of_ptex(p.ptex);
       OpenSubdiv::Bfr::Surface<double> bfr;
       ASSERT_TRUE(factory.InitVertexSurface(static_cast<int>(face), &bfr));
@@ -585,6 +711,7 @@ TEST(SubdivisionSurface, positions_agree_with_opensubdiv_bfr) {
                                                     Vec3(position[0], position[1], position[2])));
     }
     EXPECT_LT(max_gap, 1e-12) << c.name;
+    EXPECT_GT(compared, 100) << c.name;
   }
 }
 
@@ -808,6 +935,36 @@ TEST(SubdivisionSurface, degenerate_but_valid_cages) {
           EXPECT_NEAR(sum(surface.basis(ptex, t, t).w), 1.0, 1e-12);
         }
     }
+}
+
+// A dense cage (8,192 triangles, 24,576 ptex faces, every vertex extraordinary after one
+// step; triangle_sphere(6), 32,768 triangles, takes ~4x longer): builds (time printed; timing itself belongs in benchmarks) and agrees with the limit
+// positions of its vertices and with a coarse-isolation build.
+TEST(SubdivisionSurface, dense_cage_builds_and_agrees_with_vertex_limits) {
+  const Cage cage = cage_of(cagekit_test::triangle_sphere(5));
+  const auto start = std::chrono::steady_clock::now();
+  const SubdivisionSurface surface(cage);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::cout << "triangle sphere, " << cage.mesh.num_faces() << " triangles: SubdivisionSurface built in " << seconds
+            << " s (this build type)\n";
+  ASSERT_EQ(surface.num_ptex_faces(), 3u * cage.mesh.num_faces());
+  EXPECT_EQ(surface.num_control_vertices(), cage.mesh.num_vertices());
+  std::vector<Vec3> limit;
+  cagekit::limit_positions_and_normals(cage, &limit, nullptr);
+  double max_gap = 0, max_centre_gap = 0;
+  for (uint32_t f = 0; f < cage.mesh.num_faces(); f += 7)
+    for (uint32_t k = 0; k < 3; ++k) {
+      const uint32_t ptex = surface.ptex_face(f, k);
+      max_gap = std::max(max_gap, cagekit::distance(surface.evaluate(ptex, 0, 0).position,
+                                                    limit[cage.mesh.face_vertex(f, k)]));
+      // The face centre from all three sub-faces.
+      max_centre_gap = std::max(max_centre_gap, cagekit::distance(surface.evaluate(ptex, 1, 1).position,
+                                                                  surface.evaluate(surface.ptex_face(f, 0), 1, 1).position));
+      const BasisWeights b = surface.basis(ptex, 0.1, 0.3);
+      EXPECT_NEAR(sum(b.w), 1.0, 1e-12);
+    }
+  EXPECT_LT(max_gap, 1e-13);
+  EXPECT_LT(max_centre_gap, 1e-13);
 }
 
 TEST(SubdivisionSurface, const_evaluation_is_thread_safe_and_movable) {
