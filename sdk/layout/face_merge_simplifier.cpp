@@ -74,7 +74,7 @@ class Builder {
   PolygonalFaceSet fs_;
   std::vector<Vec3> pos_;  // normalised positions
   std::vector<Candidate> heap_;
-  size_t heap_live_estimate_ = 0;
+  size_t next_compaction_ = 4096;
   // Scratch.
   std::vector<uint8_t> dirty_flag_;
   std::vector<uint32_t> dirty_;
@@ -231,7 +231,6 @@ void Builder::push_candidates(uint32_t f) {
     if (!evaluate_merge(f, g, e)) continue;
     const uint32_t a = std::min(f, g), b = std::max(f, g);
     push({e, a, b, fs_.faces[a].version, fs_.faces[b].version, 0});
-    ++heap_live_estimate_;
   }
 }
 
@@ -243,8 +242,7 @@ void Builder::push_boundary_candidates(uint32_t f) {
       if (fs_.star_size(v) != 1) continue;
       const double l2 = boundary_vertex_l2(pos_[loop[(i + m - 1) % m]], pos_[v], pos_[loop[(i + 1) % m]]);
       push({quantize_priority(1.0 + l2), v, f, 0, fs_.faces[f].version, 1});
-      ++heap_live_estimate_;
-    }
+      }
   }
 }
 
@@ -389,7 +387,7 @@ void Builder::compact_heap() {
     if (!stale(c)) kept.push_back(c);
   heap_.swap(kept);
   std::make_heap(heap_.begin(), heap_.end(), CandidateAfter());
-  heap_live_estimate_ = heap_.size();
+  next_compaction_ = std::max<size_t>(2 * heap_.size(), 4096);
 }
 
 // Debug (SimplifyOptions::verify_greedy_order): every valid operation is re-evaluated from
@@ -536,7 +534,7 @@ void Builder::run() {
     }
     if (!done) continue;
     if (++ops % 1024 == 0) monitor_.report("simplify", std::min(1.0, static_cast<double>(merges) / denom));
-    if (heap_.size() > 4 * heap_live_estimate_ / 3 + (1u << 16) && heap_.size() > 2 * nf + (1u << 16)) compact_heap();
+    if (heap_.size() > next_compaction_) compact_heap();
   }
   monitor_.report("simplify", 1.0);
   impl_.hier.level = impl_.hier.steps.size();
