@@ -54,6 +54,40 @@ constexpr int kPasses = 5;
 
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
+// Process CPU time: robust to other processes competing for the cores (everything timed here is
+// single-threaded, so on an idle machine it equals the wall time).
+double cpu_seconds() {
+  timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+struct Seconds {
+  double wall = 0, cpu = 0;
+  Seconds operator/(double d) const { return {wall / d, cpu / d}; }
+  Seconds operator+(const Seconds& o) const { return {wall + o.wall, cpu + o.cpu}; }
+};
+
+struct Stopwatch {
+  Clock::time_point wall0 = Clock::now();
+  double cpu0 = cpu_seconds();
+  Seconds elapsed() const { return {seconds_since(wall0), cpu_seconds() - cpu0}; }
+};
+
+std::string load_average() {
+  std::ifstream in("/proc/loadavg");
+  std::string one, five, fifteen;
+  in >> one >> five >> fifteen;
+  return one + " " + five + " " + fifteen;
+}
+
+// "wall ratio (CPU-time ratio)"
+std::string ratio(const Seconds& a, const Seconds& b) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.2f (%.2f)", a.wall / b.wall, a.cpu / b.cpu);
+  return buf;
+}
+
 long status_kib(const char* field) {
   std::ifstream in("/proc/self/status");
   std::string line;
@@ -74,16 +108,20 @@ struct PeakRss {
   double mib_above_start() const { return (status_kib("VmHWM") - start_kib) / 1024.0; }
 };
 
+// Median of the wall times and median of the CPU times of `runs` runs.
 template <typename F>
-double median_seconds(int runs, F&& f) {
-  std::vector<double> t;
+Seconds median_seconds(int runs, F&& f) {
+  std::vector<double> wall, cpu;
   for (int i = 0; i < runs; ++i) {
-    const auto start = Clock::now();
+    const Stopwatch sw;
     f();
-    t.push_back(seconds_since(start));
+    const Seconds e = sw.elapsed();
+    wall.push_back(e.wall);
+    cpu.push_back(e.cpu);
   }
-  std::sort(t.begin(), t.end());
-  return t[t.size() / 2];
+  std::sort(wall.begin(), wall.end());
+  std::sort(cpu.begin(), cpu.end());
+  return {wall[wall.size() / 2], cpu[cpu.size() / 2]};
 }
 
 std::string shared_mesh(const char* name) {
@@ -142,10 +180,10 @@ struct Location {
 struct Result {
   std::string cage;
   size_t faces = 0, ptex = 0;
-  double ck_setup = 0, ck_setup_mib = 0, ck_eval = 0, ck_eval_control = 0;
-  double peer_setup = 0, peer_setup_mib = 0, peer_stencils = 0, peer_eval = 0;
+  Seconds ck_setup, ck_eval, ck_eval_control, ck_basis, ck_basis_apply, peer_setup, peer_stencils, peer_eval;
+  double ck_setup_mib = 0, peer_setup_mib = 0;
   size_t peer_weights = 0;
-  double ck_basis = 0, ck_basis_apply = 0, fd_ck_median = 0, fd_osd_median = 0, basis_max_diff = 0;
+  double fd_ck_median = 0, fd_osd_median = 0, basis_max_diff = 0;
   size_t ck_basis_weights = 0;
   double max_pos_diff = 0, diag = 0, max_deriv_rel = 0, deriv_scale_median = 0, deriv_differing = 0;
   bool ran = false;
@@ -171,12 +209,12 @@ Result run(const std::string& label, const cagekit::Cage& cage, int n, int isola
   options.isolation_level = isolation;
   PeakRss rss;
   rss.begin();
-  auto start = Clock::now();
+  Stopwatch sw;
   auto surface = std::make_unique<cagekit::SubdivisionSurface>(cage, options);
-  r.ck_setup = seconds_since(start);
+  r.ck_setup = sw.elapsed();
   r.ck_setup_mib = rss.mib_above_start();
   r.ptex = surface->num_ptex_faces();
-  std::printf("  CageKit SubdivisionSurface: %.2f s, %.0f MiB\n", r.ck_setup, r.ck_setup_mib);
+  std::printf("  CageKit SubdivisionSurface: %.2f s, %.0f MiB\n", r.ck_setup.wall, r.ck_setup_mib);
   std::fflush(stdout);
 
   // The same random points for both.
@@ -207,7 +245,7 @@ Result run(const std::string& label, const cagekit::Cage& cage, int n, int isola
   // kept as a CSR table, then applied to the control points by a plain loop (this file's code).
   std::vector<uint32_t> offsets{0}, indices;
   std::vector<double> w, wu, wv;
-  auto start_basis = Clock::now();
+  sw = Stopwatch();
   for (const Location& l : where) {
     const cagekit::BasisWeights b = surface->basis(l.face, l.u, l.v);
     indices.insert(indices.end(), b.indices.begin(), b.indices.end());
@@ -216,7 +254,7 @@ Result run(const std::string& label, const cagekit::Cage& cage, int n, int isola
     wv.insert(wv.end(), b.wv.begin(), b.wv.end());
     offsets.push_back(static_cast<uint32_t>(indices.size()));
   }
-  r.ck_basis = seconds_since(start_basis) / n;
+  r.ck_basis = sw.elapsed() / n;
   r.ck_basis_weights = indices.size();
   std::vector<cagekit::Vec3> basis_p(where.size()), basis_du(where.size()), basis_dv(where.size());
   r.ck_basis_apply = median_seconds(kPasses, [&] {
@@ -269,7 +307,7 @@ Result run(const std::string& label, const cagekit::Cage& cage, int n, int isola
   // Fixed part (independent of the points): refiner, adaptive refinement, patch table (Gregory
   // end caps, double), stencils of the refined vertices over the control vertices.
   rss.begin();
-  start = Clock::now();
+  sw = Stopwatch();
   auto refiner = peer_refiner(in, isolation);
   Far::PatchTableFactory::Options patch_options(isolation);
   patch_options.SetEndCapType(Far::PatchTableFactory::Options::ENDCAP_GREGORY_BASIS);
@@ -285,12 +323,12 @@ Result run(const std::string& label, const cagekit::Cage& cage, int n, int isola
       Far::StencilTableFactoryReal<double>::Create(*refiner, stencil_options));
   if (const Far::StencilTableReal<double>* local = patches->GetLocalPointStencilTable<double>())
     refined.reset(Far::StencilTableFactoryReal<double>::AppendLocalPointStencilTable(*refiner, refined.get(), local));
-  r.peer_setup = seconds_since(start);
+  r.peer_setup = sw.elapsed();
   // Per point set: the limit stencils of the N locations.
-  start = Clock::now();
+  sw = Stopwatch();
   std::unique_ptr<const Far::LimitStencilTableReal<double>> table(
       Far::LimitStencilTableFactoryReal<double>::Create(*refiner, arrays, refined.get(), patches.get()));
-  r.peer_stencils = seconds_since(start) / n;
+  r.peer_stencils = sw.elapsed() / n;
   r.peer_setup_mib = rss.mib_above_start();
   if (!table || table->GetNumStencils() != n) {
     std::fprintf(stderr, "bench_evaluate: OpenSubdiv made %d stencils for %d locations\n",
@@ -304,7 +342,7 @@ Result run(const std::string& label, const cagekit::Cage& cage, int n, int isola
     std::exit(2);
   }
   std::printf("  OpenSubdiv refiner + patch table + stencils: %.2f s; limit stencils: %.2f s; %.0f MiB, %zu weights\n",
-              r.peer_setup, r.peer_stencils * n, r.peer_setup_mib, r.peer_weights);
+              r.peer_setup.wall, r.peer_stencils.wall * n, r.peer_setup_mib, r.peer_weights);
   std::fflush(stdout);
   {  // OpenSubdiv's du at the central-difference points (outside the timings)
     std::vector<double> fs(fd_where.size()), ft(fd_where.size());
@@ -363,7 +401,8 @@ Result run(const std::string& label, const cagekit::Cage& cage, int n, int isola
   return r;
 }
 
-std::string si_time(double seconds) {
+std::string si_time(const Seconds& t) {
+  const double seconds = t.wall;
   char b[32];
   if (seconds < 1e-6)
     std::snprintf(b, sizeof b, "%.0f ns", seconds * 1e9);
@@ -388,6 +427,7 @@ int main(int argc, char** argv) {
   std::printf("## bench_evaluate: limit-surface evaluation, CageKit SubdivisionSurface vs OpenSubdiv %d.%d.%d "
               "LimitStencilTable\n\n",
               OPENSUBDIV_VERSION_MAJOR, OPENSUBDIV_VERSION_MINOR, OPENSUBDIV_VERSION_PATCH);
+  std::printf("load average at start: %s\n", load_average().c_str());
   const std::string path = shared_mesh("fandisk.obj");
   if (path.empty()) {
     std::printf("skipped: %s/fandisk.obj not found\n", CAGEKIT_SHARED_MESHES);
@@ -405,32 +445,34 @@ int main(int argc, char** argv) {
 
   std::printf("\nSetup (once per cage):\n\n");
   std::printf("| cage | faces | ptex faces | CageKit `SubdivisionSurface` | OSD refiner + `RefineAdaptive` + patch table + "
-              "stencil table (+ end-cap points) | ratio CageKit / OSD | peak RSS MiB CageKit / OSD (incl. the N limit stencils) |\n");
+              "stencil table (+ end-cap points) | ratio CageKit / OSD (by CPU time) | peak RSS MiB CageKit / OSD (incl. the N limit stencils) |\n");
   std::printf("|---|---|---|---|---|---|---|\n");
   for (const Result& r : results)
-    std::printf("| %s | %zu | %zu | %s | %s | %.2f | %.0f / %.0f |\n", r.cage.c_str(), r.faces, r.ptex,
-                si_time(r.ck_setup).c_str(), si_time(r.peer_setup).c_str(), r.ck_setup / r.peer_setup, r.ck_setup_mib,
+    std::printf("| %s | %zu | %zu | %s | %s | %s | %.0f / %.0f |\n", r.cage.c_str(), r.faces, r.ptex,
+                si_time(r.ck_setup).c_str(), si_time(r.peer_setup).c_str(), ratio(r.ck_setup, r.peer_setup).c_str(),
+                r.ck_setup_mib,
                 r.peer_setup_mib);
   std::printf("\nPer point, new points each time (N = %d):\n\n", n);
   std::printf("| cage | CageKit `evaluate` (P, 1st + 2nd derivs) | OSD: limit stencil creation + `UpdateValues` + "
-              "`UpdateDerivs` (P, 1st derivs) | ratio CageKit / OSD | CageKit `basis()` (weights, to build stencils) | "
+              "`UpdateDerivs` (P, 1st derivs) | ratio CageKit / OSD (by CPU time) | CageKit `basis()` (weights, to build stencils) | "
               "max abs position diff CageKit vs OSD (/ bbox diagonal) |\n");
   std::printf("|---|---|---|---|---|---|\n");
   for (const Result& r : results) {
-    const double osd_new = r.peer_stencils + r.peer_eval;
-    std::printf("| %s | %s | %s | %.2f | %s | %.1e (%.1e) |\n", r.cage.c_str(), si_time(r.ck_eval).c_str(),
-                si_time(osd_new).c_str(), r.ck_eval / osd_new, si_time(r.ck_basis).c_str(), r.max_pos_diff,
+    const Seconds osd_new = r.peer_stencils + r.peer_eval;
+    std::printf("| %s | %s | %s | %s | %s | %.1e (%.1e) |\n", r.cage.c_str(), si_time(r.ck_eval).c_str(),
+                si_time(osd_new).c_str(), ratio(r.ck_eval, osd_new).c_str(), si_time(r.ck_basis).c_str(), r.max_pos_diff,
                 r.max_pos_diff / r.diag);
   }
   std::printf("\nPer point, fixed points, moved control points (a deformation frame; N = %d):\n\n", n);
   std::printf("| cage | CageKit `evaluate(control)` | CageKit `basis()` weights applied (plain loop, P + 1st derivs) | "
-              "OSD `UpdateValues` + `UpdateDerivs` (P, 1st derivs) | ratio evaluate(control) / OSD | ratio basis loop "
-              "/ OSD | weights / point CageKit basis / OSD stencil |\n");
+              "OSD `UpdateValues` + `UpdateDerivs` (P, 1st derivs) | ratio evaluate(control) / OSD (by CPU time) | ratio "
+              "basis loop / OSD (by CPU time) | weights / point CageKit basis / OSD stencil |\n");
   std::printf("|---|---|---|---|---|---|---|\n");
   for (const Result& r : results)
-    std::printf("| %s | %s | %s | %s | %.2f | %.2f | %.1f / %.1f |\n", r.cage.c_str(),
+    std::printf("| %s | %s | %s | %s | %s | %s | %.1f / %.1f |\n", r.cage.c_str(),
                 si_time(r.ck_eval_control).c_str(), si_time(r.ck_basis_apply).c_str(), si_time(r.peer_eval).c_str(),
-                r.ck_eval_control / r.peer_eval, r.ck_basis_apply / r.peer_eval, double(r.ck_basis_weights) / n,
+                ratio(r.ck_eval_control, r.peer_eval).c_str(), ratio(r.ck_basis_apply, r.peer_eval).c_str(),
+                double(r.ck_basis_weights) / n,
                 double(r.peer_weights) / n);
   std::printf("\nFirst derivatives (agreement):\n\n");
   std::printf("| cage | max rel du/dv diff CageKit vs OSD | points with rel diff > 1e-6 | median abs(du_OSD) / "
@@ -443,7 +485,8 @@ int main(int argc, char** argv) {
   std::printf("\nN random points (uniform ptex face, uniform u, v; seeded), isolation level %d for both, double precision "
               "for both. Setup timed once; per-point times: median of %d passes over all N points / N (the OSD limit "
               "stencil creation for the N points is timed once / N). CageKit's `evaluate` always computes the 2nd "
-              "derivatives too.\n\n",
-              isolation, kPasses);
+              "derivatives too. Ratios: wall-time ratio, in parentheses the ratio of process CPU times (the same on an "
+              "idle machine; closer to the truth under load). Load average at the end: %s.\n\n",
+              isolation, kPasses, load_average().c_str());
   return 0;
 }

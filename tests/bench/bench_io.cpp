@@ -57,6 +57,21 @@ using OmMesh = OpenMesh::TriMesh_ArrayKernelT<OmTraits>;
 
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
+// Process CPU time: robust to other processes competing for the cores (everything timed here is
+// single-threaded, so on an idle machine it equals the wall time).
+double cpu_seconds() {
+  timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+std::string load_average() {
+  std::ifstream in("/proc/loadavg");
+  std::string one, five, fifteen;
+  in >> one >> five >> fifteen;
+  return one + " " + five + " " + fifteen;
+}
+
 long status_kib(const char* field) {
   std::ifstream in("/proc/self/status");
   std::string line;
@@ -67,9 +82,17 @@ long status_kib(const char* field) {
 }
 
 struct Timing {
-  double median_s = 0;
+  double median_s = 0;    // wall
+  double median_cpu = 0;  // process CPU time
   double peak_mib = 0;
 };
+
+// "wall ratio (CPU-time ratio)"
+std::string ratio(const Timing& a, const Timing& b) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.2f (%.2f)", a.median_s / b.median_s, a.median_cpu / b.median_cpu);
+  return buf;
+}
 
 // Each variant once as a warm-up (its peak RSS above the RSS before it, after malloc_trim and a
 // VmHWM reset), then `runs` rounds that run every variant once in turn; the median per variant.
@@ -82,16 +105,20 @@ std::vector<Timing> measure_interleaved(int runs, const std::vector<std::functio
     variants[i]();
     t[i].peak_mib = (status_kib("VmHWM") - start_kib) / 1024.0;
   }
-  std::vector<std::vector<double>> times(variants.size());
+  std::vector<std::vector<double>> times(variants.size()), cpu(variants.size());
   for (int round = 0; round < runs; ++round)
     for (size_t i = 0; i < variants.size(); ++i) {
       const auto start = Clock::now();
+      const double cpu0 = cpu_seconds();
       variants[i]();
       times[i].push_back(seconds_since(start));
+      cpu[i].push_back(cpu_seconds() - cpu0);
     }
   for (size_t i = 0; i < variants.size(); ++i) {
     std::sort(times[i].begin(), times[i].end());
+    std::sort(cpu[i].begin(), cpu[i].end());
     t[i].median_s = times[i][times[i].size() / 2];
+    t[i].median_cpu = cpu[i][cpu[i].size() / 2];
   }
   return t;
 }
@@ -315,6 +342,7 @@ int main() {
   omlog().disable();  // OpenMesh's OBJ writer logs every file it writes
   std::printf("## bench_io: OBJ and Draco I/O, CageKit vs OpenMesh %d.%d and Draco %s\n\n", OM_GET_VER, OM_GET_MAJ,
               draco::kDracoVersion);
+  std::printf("load average at start: %s\n", load_average().c_str());
   const std::filesystem::path tmp =
       std::filesystem::temp_directory_path() / ("cagekit-bench-io-" + std::to_string(::getpid()));
   std::filesystem::create_directories(tmp);
@@ -367,32 +395,33 @@ int main() {
 
   std::printf("\nOBJ read (from the page cache into each library's own structure):\n\n");
   std::printf("| mesh | OBJ MB | V / F read: CageKit | V / F read: OpenMesh | CageKit ms | OpenMesh ms | ratio CageKit / "
-              "OpenMesh | CageKit MB/s | peak RSS MiB CageKit / OpenMesh |\n");
+              "OpenMesh (by CPU time) | CageKit MB/s | peak RSS MiB CageKit / OpenMesh |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|\n");
   for (const Rows& r : rows)
-    std::printf("| %s | %.1f | %zu / %zu | %zu / %zu | %s | %s | %.2f | %.0f | %.0f / %.0f |\n", r.label.c_str(),
+    std::printf("| %s | %.1f | %zu / %zu | %zu / %zu | %s | %s | %s | %.0f | %.0f / %.0f |\n", r.label.c_str(),
                 r.obj_bytes / 1e6, r.ck_read_v, r.ck_read_f, r.om_read_v, r.om_read_f, ms(r.ck_read.median_s).c_str(),
-                ms(r.om_read.median_s).c_str(), r.ck_read.median_s / r.om_read.median_s,
+                ms(r.om_read.median_s).c_str(), ratio(r.ck_read, r.om_read).c_str(),
                 r.obj_bytes / 1e6 / r.ck_read.median_s, r.ck_read.peak_mib, r.om_read.peak_mib);
 
   std::printf("\nOBJ write (9 significant digits, to a file):\n\n");
-  std::printf("| mesh | V / F | CageKit ms | OpenMesh ms | ratio CageKit / OpenMesh | bytes CageKit / OpenMesh |\n");
+  std::printf("| mesh | V / F | CageKit ms | OpenMesh ms | ratio CageKit / OpenMesh (by CPU time) | bytes CageKit / OpenMesh |\n");
   std::printf("|---|---|---|---|---|---|\n");
   for (const Rows& r : rows)
-    std::printf("| %s | %zu / %zu | %s | %s | %.2f | %zu / %zu |\n", r.label.c_str(), r.v, r.f,
-                ms(r.ck_write.median_s).c_str(), ms(r.om_write.median_s).c_str(),
-                r.ck_write.median_s / r.om_write.median_s, r.ck_obj_out, r.om_obj_out);
+    std::printf("| %s | %zu / %zu | %s | %s | %s | %zu / %zu |\n", r.label.c_str(), r.v, r.f,
+                ms(r.ck_write.median_s).c_str(), ms(r.om_write.median_s).c_str(), ratio(r.ck_write, r.om_write).c_str(),
+                r.ck_obj_out, r.om_obj_out);
 
   std::printf("\nDraco, 14 bits, speed 5 (in memory):\n\n");
-  std::printf("| mesh | V / F | CageKit write ms | Draco encode ms | ratio | CageKit read ms | Draco decode ms | ratio | "
+  std::printf("| mesh | V / F | CageKit write ms | Draco encode ms | ratio (by CPU time) | CageKit read ms | Draco decode ms | ratio (by "
+              "CPU time) | "
               "CageKit bytes | Draco bytes | CageKit / Draco size | CageKit max position error / diag | peak RSS "
               "MiB write CageKit / Draco |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Rows& r : rows)
-    std::printf("| %s | %zu / %zu | %s | %s | %.2f | %s | %s | %.2f | %zu | %zu | %.2f (+%.0f%%) | %.1e | %.0f / %.0f |\n",
+    std::printf("| %s | %zu / %zu | %s | %s | %s | %s | %s | %s | %zu | %zu | %.2f (+%.0f%%) | %.1e | %.0f / %.0f |\n",
                 r.label.c_str(), r.v, r.f, ms(r.ck_drc_write.median_s).c_str(), ms(r.drc_encode.median_s).c_str(),
-                r.ck_drc_write.median_s / r.drc_encode.median_s, ms(r.ck_drc_read.median_s).c_str(),
-                ms(r.drc_decode.median_s).c_str(), r.ck_drc_read.median_s / r.drc_decode.median_s, r.ck_drc_bytes,
+                ratio(r.ck_drc_write, r.drc_encode).c_str(), ms(r.ck_drc_read.median_s).c_str(),
+                ms(r.drc_decode.median_s).c_str(), ratio(r.ck_drc_read, r.drc_decode).c_str(), r.ck_drc_bytes,
                 r.drc_bytes, double(r.ck_drc_bytes) / r.drc_bytes, 100.0 * (double(r.ck_drc_bytes) / r.drc_bytes - 1),
                 r.ck_drc_error / r.diag, r.ck_drc_write.peak_mib, r.drc_encode.peak_mib);
 
@@ -400,6 +429,9 @@ int main() {
               "RSS before it. CageKit's Draco stream also restores the exact vertex order, face order, polygons and "
               "first corners (plain Draco reorders vertices and triangles).\n",
               5, 3);
+  std::printf("Ratios: wall-time ratio, in parentheses the ratio of process CPU times (the same on an idle machine; "
+              "closer to the truth under load). Load average at the end: %s.\n",
+              load_average().c_str());
   for (const std::string& note : notes) std::printf("Note: %s.\n", note.c_str());
   std::printf("\n");
   return 0;

@@ -52,6 +52,21 @@ constexpr int kRuns = 5;
 
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
+// Process CPU time: robust to other processes competing for the cores (everything timed here is
+// single-threaded, so on an idle machine it equals the wall time).
+double cpu_seconds() {
+  timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+std::string load_average() {
+  std::ifstream in("/proc/loadavg");
+  std::string one, five, fifteen;
+  in >> one >> five >> fifteen;
+  return one + " " + five + " " + fifteen;
+}
+
 // /proc/self/status field in KiB ("VmHWM", "VmRSS"), -1 if unavailable.
 long status_kib(const char* field) {
   std::ifstream in("/proc/self/status");
@@ -79,9 +94,17 @@ struct PeakRss {
 };
 
 struct Timing {
-  double median_s = 0;
+  double median_s = 0;    // wall
+  double median_cpu = 0;  // process CPU time
   double peak_mib = 0;
 };
+
+// "wall ratio (CPU-time ratio)"
+std::string ratio(const Timing& a, const Timing& b) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.2f (%.2f)", a.median_s / b.median_s, a.median_cpu / b.median_cpu);
+  return buf;
+}
 
 // Each variant once as a warm-up (its peak RSS measured alone), then kRuns rounds that run every
 // variant once in turn (so machine load and heap state drift hit all of them alike); the
@@ -94,16 +117,20 @@ std::vector<Timing> measure_interleaved(const std::vector<std::function<void()>>
     variants[i]();
     t[i].peak_mib = rss.mib_above_start();
   }
-  std::vector<std::vector<double>> times(variants.size());
+  std::vector<std::vector<double>> times(variants.size()), cpu(variants.size());
   for (int round = 0; round < kRuns; ++round)
     for (size_t i = 0; i < variants.size(); ++i) {
       const auto start = Clock::now();
+      const double cpu0 = cpu_seconds();
       variants[i]();
       times[i].push_back(seconds_since(start));
+      cpu[i].push_back(cpu_seconds() - cpu0);
     }
   for (size_t i = 0; i < variants.size(); ++i) {
     std::sort(times[i].begin(), times[i].end());
+    std::sort(cpu[i].begin(), cpu[i].end());
     t[i].median_s = times[i][times[i].size() / 2];
+    t[i].median_cpu = cpu[i][cpu[i].size() / 2];
   }
   return t;
 }
@@ -233,6 +260,7 @@ std::string ms(double seconds) {
 int main() {
   std::printf("## bench_subdivide: uniform Catmull-Clark refinement, CageKit %s vs raw OpenSubdiv %d.%d.%d\n\n",
               cagekit_version_string(), OPENSUBDIV_VERSION_MAJOR, OPENSUBDIV_VERSION_MINOR, OPENSUBDIV_VERSION_PATCH);
+  std::printf("load average at start: %s\n", load_average().c_str());
   cagekit_context ctx = nullptr;
   if (CAGEKIT_FAILED(cagekit_context_create(nullptr, &ctx))) return 2;
 
@@ -338,21 +366,24 @@ int main() {
   cagekit_context_release(ctx);
 
   std::printf("\n| mesh | level | output quads (all equal) | CageKit C++ `refine_uniform` ms | C API "
-              "`cagekit_cage_subdivide` ms | OpenSubdiv ms | C++ / OSD | C API / OSD | OSD with "
-              "`fullTopologyInLastLevel` ms | C++ / that | peak RSS MiB C++ / C API / OSD / OSD full | max abs position "
+              "`cagekit_cage_subdivide` ms | OpenSubdiv ms | C++ / OSD (by CPU time) | C API / OSD (by CPU time) | OSD "
+              "with `fullTopologyInLastLevel` ms | C++ / that (by CPU time) | peak RSS MiB C++ / C API / OSD / OSD full | max abs position "
               "diff vs OSD |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Row& r : rows)
-    std::printf("| %s | %d | %zu | %s | %s | %s | %.2f | %.2f | %s | %.2f | %.0f / %.0f / %.0f / %.0f | %.1e |\n",
+    std::printf("| %s | %d | %zu | %s | %s | %s | %s | %s | %s | %s | %.0f / %.0f / %.0f / %.0f | %.1e |\n",
                 r.mesh.c_str(), r.level, r.faces, ms(r.ck.median_s).c_str(), ms(r.capi.median_s).c_str(),
-                ms(r.osd.median_s).c_str(), r.ck.median_s / r.osd.median_s, r.capi.median_s / r.osd.median_s,
-                ms(r.osd_full.median_s).c_str(), r.ck.median_s / r.osd_full.median_s, r.ck.peak_mib, r.capi.peak_mib,
+                ms(r.osd.median_s).c_str(), ratio(r.ck, r.osd).c_str(), ratio(r.capi, r.osd).c_str(),
+                ms(r.osd_full.median_s).c_str(), ratio(r.ck, r.osd_full).c_str(), r.ck.peak_mib, r.capi.peak_mib,
                 r.osd.peak_mib, r.osd_full.peak_mib, r.max_diff);
   std::printf("\nTimes: median of %d interleaved rounds (every variant once per round) after 1 warm-up run of each; "
               "peak RSS: the warm-up run, above the RSS before it. OSD = TopologyRefinerFactory + RefineUniform + "
               "PrimvarRefiner::Interpolate (double); \"OSD with fullTopologyInLastLevel\" is the same with the "
               "UniformOptions flag that CageKit sets (it needs the last level's edges for crease tags).\n",
               kRuns);
+  std::printf("Ratios: wall-time ratio, in parentheses the ratio of process CPU times (the same on an idle machine; "
+              "closer to the truth under load). Load average at the end: %s.\n",
+              load_average().c_str());
   for (const std::string& note : notes) std::printf("Note: %s.\n", note.c_str());
   std::printf("\n");
   if (!counts_ok) {
