@@ -254,23 +254,31 @@ class Partitioner {
       std::vector<Cell> options;
     };
     std::vector<DualEdge> dual;
+    // Options (convex cells through a dual edge) only steer which edges are cut; a dual graph
+    // without cycles (a simple polygon, the hot path) needs none of them.
+    int ndual = 0;
+    for (int t = 0; t < T; ++t)
+      for (int k = 0; k < 3; ++k) ndual += nbr_[t][k] > t;
+    const bool has_cycles = ndual > T - 1;
+    dual.reserve(ndual);
+    auto options_of = [&](int t, int u) {
+      std::vector<Cell> options;
+      Cell cell;
+      int pair[2] = {t, u};
+      if (make_cell(pair, 2, cell)) options.push_back(cell);
+      for (int s = 0; s < 2; ++s)
+        for (int q = 0; q < 3; ++q) {
+          const int w = nbr_[pair[s]][q];
+          if (w < 0 || w == t || w == u) continue;
+          int tri3[3] = {t, u, w};
+          if (make_cell(tri3, 3, cell)) options.push_back(cell);
+        }
+      return options;
+    };
     for (int t = 0; t < T; ++t)
       for (int k = 0; k < 3; ++k) {
         const int u = nbr_[t][k];
-        if (u > t) {
-          DualEdge d{t, u, {}};
-          Cell cell;
-          int pair[2] = {t, u};
-          if (make_cell(pair, 2, cell)) d.options.push_back(cell);
-          for (int s = 0; s < 2; ++s)
-            for (int q = 0; q < 3; ++q) {
-              const int w = nbr_[pair[s]][q];
-              if (w < 0 || w == t || w == u) continue;
-              int tri3[3] = {t, u, w};
-              if (make_cell(tri3, 3, cell)) d.options.push_back(cell);
-            }
-          dual.push_back(std::move(d));
-        }
+        if (u > t) dual.push_back({t, u, has_cycles ? options_of(t, u) : std::vector<Cell>{}});
       }
     std::vector<int> order(dual.size());
     std::iota(order.begin(), order.end(), 0);
@@ -299,7 +307,8 @@ class Partitioner {
             break;
           }
       } else {
-        cuts_.push_back({d.t1, d.t2, std::move(d.options)});
+        // (A dual graph with several components can have cycles although ndual <= T - 1.)
+        cuts_.push_back({d.t1, d.t2, has_cycles ? std::move(d.options) : options_of(d.t1, d.t2)});
       }
     }
     parent_.assign(T, -1);

@@ -220,6 +220,41 @@ TEST(PolygonValidity, HandMadeDefects) {
   EXPECT_EQ(check_polygon_loops(PolygonLoops{}).defect, PolygonDefect::too_few_vertices);
 }
 
+// The same containment / orientation defects on loop sets large enough for the sweep path.
+TEST(PolygonValidity, LargeContainmentDefects) {
+  auto circle = [](int n, double cx, double cy, double r, bool ccw) {
+    std::vector<IPt> pts;
+    for (int i = 0; i < n; ++i) {
+      const double a = 2 * M_PI * i / n * (ccw ? 1 : -1);
+      pts.push_back({std::llround(cx + r * std::cos(a)), std::llround(cy + r * std::sin(a))});
+    }
+    return pts;
+  };
+  struct Case {
+    std::vector<std::vector<IPt>> loops;
+    PolygonDefect expected;
+  };
+  const std::vector<Case> cases = {
+      {{circle(60, 0, 0, 1000, true), circle(20, -300, 0, 200, false), circle(20, 300, 0, 200, false)},
+       PolygonDefect::none},
+      {{circle(60, 0, 0, 1000, true), circle(20, 3000, 0, 200, false)}, PolygonDefect::hole_outside},
+      {{circle(60, 0, 0, 1000, true), circle(40, 0, 0, 500, false), circle(20, 0, 0, 100, false)},
+       PolygonDefect::holes_nested},
+      {{circle(60, 0, 0, 1000, true), circle(20, 0, 0, 100, false), circle(40, 0, 0, 500, false)},
+       PolygonDefect::holes_nested},
+      {{circle(60, 0, 0, 1000, true), circle(40, 0, 0, 5000, false)}, PolygonDefect::hole_outside},
+      {{circle(60, 0, 0, 1000, false)}, PolygonDefect::wrong_orientation},
+      {{circle(60, 0, 0, 1000, true), circle(20, 300, 0, 200, true)}, PolygonDefect::wrong_orientation},
+      {{circle(60, 0, 0, 1000, true), circle(20, 900, 3, 200, false)}, PolygonDefect::loops_intersect},
+  };
+  for (size_t i = 0; i < cases.size(); ++i) {
+    const auto poly = make_polygon(cases[i].loops);
+    ASSERT_EQ(brute_force(poly), cases[i].expected) << "case " << i << " (test's brute force)";
+    const auto v = check_polygon_loops(poly);
+    EXPECT_EQ(v.defect, cases[i].expected) << "case " << i << ": " << v.message;
+  }
+}
+
 TEST(PolygonValidity, MessagesNameLoopsAndEdges) {
   const auto v = check_polygon_loops(make_polygon({{{0, 0}, {10, 0}, {0, 10}, {10, 10}}}));
   EXPECT_NE(v.message.find("loop 0"), std::string::npos) << v.message;
