@@ -535,6 +535,131 @@ CAGEKIT_API cagekit_status cagekit_surface_evaluate_basis(cagekit_surface surfac
                                                           uint32_t* indices, double* w, double* wu, double* wv,
                                                           double* wuu, double* wuv, double* wvv);
 
+
+/* ------------------------------------------------------------------------------------------ */
+/* Structure-preserving simplification (thesis chapter 3)                                     */
+/* ------------------------------------------------------------------------------------------ */
+
+/* A progressive hierarchy of polygonal meshes made by greedy face merging (L2/L2,1 priority,
+ * every face injectively projectable to its proxy plane, valence-2 contour decimation), from
+ * the input (level 0) to the coarsest level where no valid operation is left. Faces are
+ * general polygons, possibly with holes; their vertices are always input vertices. */
+typedef struct cagekit_hierarchy_t* cagekit_hierarchy;
+
+typedef struct cagekit_simplify_options {
+  size_t struct_size;           /* sizeof(cagekit_simplify_options) */
+  double tie_break_epsilon;     /* weight of the valence/angle tie-break (3.8), >= 0 (default 0.01) */
+} cagekit_simplify_options;
+
+#define CAGEKIT_SIMPLIFY_OPTIONS_INIT { sizeof(cagekit_simplify_options), 0.01 }
+
+/* Simplifies `mesh` to its coarsest level, recording every operation. The mesh must be valid
+ * apart from unreferenced vertices (else INVALID_MESH naming the problem; cagekit_mesh_repair
+ * fixes most). The hierarchy starts at its coarsest level. Long operation (progress, cancel).
+ * Reads `mesh`; the hierarchy keeps its own copy. */
+CAGEKIT_API cagekit_status cagekit_hierarchy_create(cagekit_mesh mesh, const cagekit_simplify_options* options,
+                                                    cagekit_hierarchy* out);
+CAGEKIT_API void cagekit_hierarchy_retain(cagekit_hierarchy hierarchy);
+CAGEKIT_API void cagekit_hierarchy_release(cagekit_hierarchy hierarchy);
+
+/* Number of levels (level 0 = the input). Reads. */
+CAGEKIT_API cagekit_status cagekit_hierarchy_get_level_count(cagekit_hierarchy hierarchy, uint32_t* count);
+
+typedef struct cagekit_level_info {
+  size_t struct_size;           /* sizeof(cagekit_level_info) */
+  uint64_t faces;               /* polygonal faces of the level */
+  uint64_t vertices;            /* input vertices the level uses */
+  double error;                 /* normalised priority of the operation that made the level (0 for level 0) */
+} cagekit_level_info;
+
+/* Counts of any level, without moving there. Reads. */
+CAGEKIT_API cagekit_status cagekit_hierarchy_get_level_info(cagekit_hierarchy hierarchy, uint32_t level,
+                                                            cagekit_level_info* info);
+
+typedef enum cagekit_level_query {
+  CAGEKIT_LEVEL_BY_FACES = 0,    /* the finest level with at most `value` faces */
+  CAGEKIT_LEVEL_BY_VERTICES = 1, /* the finest level with at most `value` vertices */
+  CAGEKIT_LEVEL_BY_ERROR = 2,    /* the coarsest level whose error is <= `value` */
+  CAGEKIT_LEVEL_QUERY_MAX_ENUM = 0x7fffffff
+} cagekit_level_query;
+
+/* Finds a level (the coarsest level when none has so few faces/vertices). Reads. */
+CAGEKIT_API cagekit_status cagekit_hierarchy_find_level(cagekit_hierarchy hierarchy, cagekit_level_query query,
+                                                        double value, uint32_t* level);
+
+/* Moves to `level`, applying or undoing recorded operations (constant time per level stepped,
+ * plus one pass to refresh the current level's faces). Modifies. */
+CAGEKIT_API cagekit_status cagekit_hierarchy_set_level(cagekit_hierarchy hierarchy, uint32_t level);
+/* The current level. Reads. */
+CAGEKIT_API cagekit_status cagekit_hierarchy_get_current_level(cagekit_hierarchy hierarchy, uint32_t* level);
+
+typedef struct cagekit_polygonal_level_info {
+  size_t struct_size;           /* sizeof(cagekit_polygonal_level_info) */
+  uint32_t level;
+  uint64_t faces, vertices, faces_with_holes;
+  uint64_t invalid_faces;       /* faces failing the injectivity test, re-checked independently (0 expected) */
+  double l2_error;              /* sum of the faces' (3.3) terms, normalised (see sdk/layout/README.md) */
+  double l21_error;             /* sum of the faces' (3.4) terms, normalised */
+} cagekit_polygonal_level_info;
+
+/* Summary of the current level. Reads. */
+CAGEKIT_API cagekit_status cagekit_hierarchy_get_current_info(cagekit_hierarchy hierarchy,
+                                                              cagekit_polygonal_level_info* info);
+
+/* The current level's faces: for face f, loops_per_face[f] loops (the first is the outer loop,
+ * counter-clockwise seen from outside; the others are holes); for each loop in order,
+ * loop_sizes[l] INPUT vertex indices in loop_vertices. Two-call idiom on the three arrays
+ * (each may be NULL with capacity 0). Reads. */
+CAGEKIT_API cagekit_status cagekit_hierarchy_get_faces(cagekit_hierarchy hierarchy, uint32_t face_capacity,
+                                                       uint32_t* face_count_out, uint32_t* loops_per_face,
+                                                       uint32_t loop_capacity, uint32_t* loop_count_out,
+                                                       uint32_t* loop_sizes, uint64_t index_capacity,
+                                                       uint64_t* index_count_out, uint32_t* loop_vertices);
+
+/* The cluster map of the current level: for each input face, the index of the level face that
+ * contains it. Two-call idiom over input faces. Reads. */
+CAGEKIT_API cagekit_status cagekit_hierarchy_get_clusters(cagekit_hierarchy hierarchy, uint32_t capacity,
+                                                          uint32_t* count_out, uint32_t* cluster_of_input_face);
+
+/* The current level as a polygon mesh over the input vertices it uses (renumbered densely):
+ * faces without holes as they are, faces with holes split into their constrained Delaunay
+ * triangles (a polygon mesh cannot hold holes). Reads. */
+CAGEKIT_API cagekit_status cagekit_hierarchy_get_polygon_mesh(cagekit_hierarchy hierarchy, cagekit_mesh* out);
+
+typedef struct cagekit_cage_options {
+  size_t struct_size;           /* sizeof(cagekit_cage_options) */
+  double crease_angle_degrees;  /* tag cage edges between clusters whose normals differ more (default 30; < 0: never) */
+  int tag_boundary_edges;       /* 1: tag the mesh-boundary edges as creases (default 1) */
+  uint32_t exact_partition_limit; /* faces up to this many vertices are partitioned optimally (default 20) */
+} cagekit_cage_options;
+
+#define CAGEKIT_CAGE_OPTIONS_INIT { sizeof(cagekit_cage_options), 30.0, 1, 20 }
+
+typedef struct cagekit_cage_report {
+  size_t struct_size;           /* sizeof(cagekit_cage_report) */
+  uint64_t quads, triangles, pentagons, other_polygons;
+  uint64_t creases;
+  uint64_t non_optimal_faces;   /* level faces whose partition is not proven optimal */
+} cagekit_cage_report;
+
+/* Partitions every face of the current level into convex quad-dominant cells (only diagonals
+ * of its constrained Delaunay triangulation, no new vertices; thesis §3.4) and returns the
+ * control cage with crease tags. report may be NULL. Reads. */
+CAGEKIT_API cagekit_status cagekit_hierarchy_build_cage(cagekit_hierarchy hierarchy, const cagekit_cage_options* options,
+                                                        cagekit_cage* out, cagekit_cage_report* report);
+
+typedef struct cagekit_approximation_error {
+  size_t struct_size;           /* sizeof(cagekit_approximation_error) */
+  double hausdorff_rel;         /* max distance input vertex -> approximation (fan-triangulated) / input bbox diagonal */
+  double hausdorff_sym_rel;     /* symmetric: also approximation samples -> input surface */
+  double mean_rel;              /* mean input-vertex distance / diagonal */
+} cagekit_approximation_error;
+
+/* Distances between `input` and `approximation` (e.g. a simplified level or a cage's control
+ * mesh), relative to the input's bounding-box diagonal. Long operation. Reads both. */
+CAGEKIT_API cagekit_status cagekit_mesh_measure_error(cagekit_mesh input, cagekit_mesh approximation,
+                                                      cagekit_approximation_error* error);
+
 #ifdef __cplusplus
 }
 #endif

@@ -43,6 +43,22 @@ int Args::integer(const std::string& name, int fallback, int min, int max) {
   return static_cast<int>(value);
 }
 
+double Args::real(const std::string& name, double fallback, double min, double max) {
+  const std::string text = option(name, "");
+  if (text.empty()) return fallback;
+  size_t used = 0;
+  double value = min - 1.0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || !(value >= min && value <= max))
+    throw Failure(kExitUsage, name + " must be a number in [" + std::to_string(min) + ", " + std::to_string(max) +
+                                  "], not '" + text + "'");
+  return value;
+}
+
 std::vector<std::string> Args::positional(size_t min_count, size_t max_count, const char* usage) {
   for (const std::string& a : args_)
     if (a.size() > 1 && a[0] == '-' && a[1] == '-') throw Failure(kExitUsage, "unknown option " + a + "\nusage: " + usage);

@@ -29,6 +29,8 @@ class Args {
   std::string option(const std::string& name, const std::string& fallback);
   // Removes --name N; N must be an integer in [min, max]; fallback when absent.
   int integer(const std::string& name, int fallback, int min, int max);
+  // Removes --name X; X must be a finite number in [min, max]; fallback when absent.
+  double real(const std::string& name, double fallback, double min, double max);
   // Remaining positional arguments; fails on leftover --options.
   std::vector<std::string> positional(size_t min_count, size_t max_count, const char* usage);
 
@@ -74,6 +76,7 @@ cagekit_file_format format_from_extension(const std::string& path);
 int command_info(Args& args);
 int command_convert(Args& args);
 int command_subdivide(Args& args);
+int command_simplify(Args& args);
 int command_demo(Args& args);
 
 }  // namespace cli

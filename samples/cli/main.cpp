@@ -15,6 +15,8 @@ const char* kUsage =
     "  info IN [--json]                         statistics of a mesh or cage file\n"
     "  convert IN OUT [--bits N] [--ascii]      convert between .obj .ply .off .drc (keeps cage tags in .obj/.drc)\n"
     "  subdivide IN OUT --levels N [--limit]    uniform Catmull-Clark refinement with creases\n"
+    "  simplify IN OUT (--faces N | --vertices N) [--cage] [--clusters FILE.ply] [--json] [--crease-angle DEG]\n"
+    "                                           structure-preserving simplification (thesis ch. 3); --cage: quad-dominant cage\n"
     "  demo [OUTDIR]                            run the pipeline on a generated noisy scan of a CAD-like part\n"
     "  version                                  print the library version\n"
     "options: --quiet (no progress on stderr)\n"
@@ -33,6 +35,7 @@ int main(int argc, char** argv) {
     if (command == "info") return cli::command_info(args);
     if (command == "convert") return cli::command_convert(args);
     if (command == "subdivide") return cli::command_subdivide(args);
+    if (command == "simplify") return cli::command_simplify(args);
     if (command == "demo") return cli::command_demo(args);
     if (command == "version") {
       std::printf("cagekit %s (ABI %u)\n", cagekit_version_string(), cagekit_abi_version());

@@ -16,6 +16,7 @@
 
 #include "core/cage.h"
 #include "core/task_monitor.h"
+#include "layout/face_merge_simplifier.h"
 #include "subdiv/subdivision_surface.h"
 
 namespace cagekit_capi {
@@ -26,6 +27,7 @@ enum class HandleType : uint32_t {
   cage = 0x43474531,     // "CGE1"
   surface = 0x53524631,  // "SRF1"
   blob = 0x424c4231,     // "BLB1"
+  hierarchy = 0x48524331, // "HRC1"
   dead = 0xdeadbeef,
 };
 
@@ -81,6 +83,14 @@ struct cagekit_surface_t : ContextBound {
   cagekit_surface_t(cagekit_context c, cagekit::SubdivisionSurface s)
       : ContextBound(kType, c), surface(std::move(s)) {}
   cagekit::SubdivisionSurface surface;
+};
+
+struct cagekit_hierarchy_t : ContextBound {
+  static constexpr cagekit_capi::HandleType kType = cagekit_capi::HandleType::hierarchy;
+  cagekit_hierarchy_t(cagekit_context c, cagekit::SimplificationHierarchy h)
+      : ContextBound(kType, c), hierarchy(std::move(h)), level(hierarchy.extract()) {}
+  cagekit::SimplificationHierarchy hierarchy;
+  cagekit::PolygonalLevel level;  // extract() of the current level, refreshed by set_level
 };
 
 struct cagekit_blob_t : cagekit_capi::Handle {

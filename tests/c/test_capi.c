@@ -424,6 +424,76 @@ static void objects_outlive_their_context_reference(void) {
   cagekit_mesh_release(NULL);
 }
 
+static void simplification_hierarchy_browses_levels_and_builds_a_cage(void) {
+  cagekit_context context = new_context();
+  /* the unit cube, each side split into two triangles */
+  static const uint32_t triangles[36] = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
+                                         2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5};
+  cagekit_mesh_desc desc = CAGEKIT_MESH_DESC_INIT;
+  cagekit_mesh mesh = NULL, level_mesh = NULL;
+  cagekit_hierarchy hierarchy = NULL;
+  cagekit_cage cage = NULL;
+  cagekit_level_info info;
+  cagekit_polygonal_level_info current;
+  cagekit_cage_report report;
+  cagekit_approximation_error error;
+  uint32_t levels = 0, level = 0, faces = 0, loops = 0, clusters[12], count = 0, i, six = 0;
+  uint64_t indices = 0;
+  uint32_t loops_per_face[12], loop_sizes[24], loop_vertices[64];
+  desc.vertex_count = 8;
+  desc.positions = kCubeD;
+  desc.face_count = 12;
+  desc.face_indices = triangles;
+  CHECK_OK(cagekit_mesh_create(context, &desc, &mesh));
+  CHECK_OK(cagekit_hierarchy_create(mesh, NULL, &hierarchy));
+  CHECK_OK(cagekit_hierarchy_get_level_count(hierarchy, &levels));
+  CHECK(levels >= 7); /* at least the six coplanar pair merges */
+  info.struct_size = sizeof(info);
+  CHECK_OK(cagekit_hierarchy_get_level_info(hierarchy, 0, &info));
+  CHECK(info.faces == 12 && info.vertices == 8);
+  CHECK_OK(cagekit_hierarchy_get_level_info(hierarchy, levels - 1, &info));
+  CHECK(info.faces <= 6);
+  CHECK_STATUS(cagekit_hierarchy_get_level_info(hierarchy, levels, &info), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_OK(cagekit_hierarchy_get_current_level(hierarchy, &level));
+  CHECK(level == levels - 1);
+
+  /* the level with the six sides: merging coplanar triangles is free, so it comes first */
+  CHECK_OK(cagekit_hierarchy_find_level(hierarchy, CAGEKIT_LEVEL_BY_FACES, 6, &level));
+  CHECK_OK(cagekit_hierarchy_set_level(hierarchy, level));
+  current.struct_size = sizeof(current);
+  CHECK_OK(cagekit_hierarchy_get_current_info(hierarchy, &current));
+  CHECK(current.faces == 6 && current.vertices == 8 && current.invalid_faces == 0 && current.faces_with_holes == 0);
+  CHECK_OK(cagekit_hierarchy_get_faces(hierarchy, 0, &faces, NULL, 0, &loops, NULL, 0, &indices, NULL));
+  CHECK(faces == 6 && loops == 6 && indices == 24);
+  CHECK_OK(cagekit_hierarchy_get_faces(hierarchy, 12, &faces, loops_per_face, 24, &loops, loop_sizes, 64, &indices,
+                                       loop_vertices));
+  for (i = 0; i < 6; ++i) six += loops_per_face[i] == 1 && loop_sizes[i] == 4;
+  CHECK(six == 6);
+  CHECK_OK(cagekit_hierarchy_get_clusters(hierarchy, 12, &count, clusters));
+  CHECK(count == 12);
+  for (i = 0; i < 12; ++i) CHECK(clusters[i] < 6);
+  for (i = 0; i < 12; i += 2) CHECK(clusters[i] == clusters[i + 1]); /* the two triangles of a side */
+
+  report.struct_size = sizeof(report);
+  CHECK_OK(cagekit_hierarchy_build_cage(hierarchy, NULL, &cage, &report));
+  CHECK(report.quads == 6 && report.triangles == 0 && report.creases == 12);
+  CHECK_OK(cagekit_hierarchy_get_polygon_mesh(hierarchy, &level_mesh));
+  error.struct_size = sizeof(error);
+  CHECK_OK(cagekit_mesh_measure_error(mesh, level_mesh, &error));
+  CHECK(error.hausdorff_rel < 1e-12 && error.hausdorff_sym_rel < 1e-12);
+
+  /* level 0 is the input again */
+  CHECK_OK(cagekit_hierarchy_set_level(hierarchy, 0));
+  CHECK_OK(cagekit_hierarchy_get_current_info(hierarchy, &current));
+  CHECK(current.faces == 12);
+  CHECK_STATUS(cagekit_hierarchy_set_level(hierarchy, levels), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  cagekit_mesh_release(level_mesh);
+  cagekit_cage_release(cage);
+  cagekit_hierarchy_release(hierarchy);
+  cagekit_mesh_release(mesh);
+  cagekit_context_release(context);
+}
+
 int main(void) {
   static const c_test_case tests[] = {
       {"version_is_consistent", version_is_consistent},
@@ -441,6 +511,8 @@ int main(void) {
       {"surface_basis_is_a_partition_of_unity", surface_basis_is_a_partition_of_unity},
       {"last_error_is_per_thread", last_error_is_per_thread},
       {"objects_outlive_their_context_reference", objects_outlive_their_context_reference},
+      {"simplification_hierarchy_browses_levels_and_builds_a_cage",
+       simplification_hierarchy_browses_levels_and_builds_a_cage},
   };
   return run_tests(tests, (int)(sizeof(tests) / sizeof(tests[0])));
 }

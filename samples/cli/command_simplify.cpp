@@ -1,0 +1,157 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// cagekit simplify IN OUT (--faces N | --vertices N) [--cage] [--clusters FILE.ply] [--json]
+//                 [--crease-angle DEG] [--epsilon E]
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "cli_context.h"
+
+namespace cli {
+
+namespace {
+
+using Hierarchy = Handle<cagekit_hierarchy, cagekit_hierarchy_release>;
+
+// The input coloured by cluster, as an ascii PLY with per-face colours (written atomically).
+void write_clusters_ply(const Session& session, cagekit_mesh input, const std::vector<uint32_t>& clusters,
+                        const std::string& path) {
+  uint32_t vertices = 0, faces = 0;
+  uint64_t indices = 0;
+  session.check(cagekit_mesh_get_counts(input, &vertices, &faces, &indices), path);
+  std::vector<double> positions(3 * size_t(vertices));
+  std::vector<uint32_t> sizes(faces), face_indices(indices);
+  session.check(cagekit_mesh_get_positions(input, CAGEKIT_SCALAR_FLOAT64, vertices, &vertices, positions.data()), path);
+  session.check(cagekit_mesh_get_faces(input, faces, &faces, sizes.data(), indices, &indices, face_indices.data()), path);
+  const std::string temporary = path + ".tmp";
+  FILE* out = std::fopen(temporary.c_str(), "w");
+  if (!out) throw Failure(kExitBadInput, path + ": cannot write");
+  std::fprintf(out,
+               "ply\nformat ascii 1.0\ncomment CageKit clusters: faces coloured by simplification cluster\n"
+               "element vertex %u\nproperty double x\nproperty double y\nproperty double z\n"
+               "element face %u\nproperty list uchar int vertex_indices\nproperty uchar red\n"
+               "property uchar green\nproperty uchar blue\nproperty int cluster\nend_header\n",
+               vertices, faces);
+  for (uint32_t v = 0; v < vertices; ++v)
+    std::fprintf(out, "%.17g %.17g %.17g\n", positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]);
+  size_t at = 0;
+  for (uint32_t f = 0; f < faces; ++f) {
+    std::fprintf(out, "%u", sizes[f]);
+    for (uint32_t k = 0; k < sizes[f]; ++k) std::fprintf(out, " %u", face_indices[at + k]);
+    at += sizes[f];
+    // Golden-ratio hue steps give neighbouring cluster ids well separated colours.
+    const uint32_t c = clusters[f];
+    const double hue = c * 0.6180339887498949 - static_cast<long>(c * 0.6180339887498949);
+    const double r = 0.5 + 0.5 * std::sin(6.283185307179586 * (hue + 0.0 / 3));
+    const double g = 0.5 + 0.5 * std::sin(6.283185307179586 * (hue + 1.0 / 3));
+    const double b = 0.5 + 0.5 * std::sin(6.283185307179586 * (hue + 2.0 / 3));
+    std::fprintf(out, " %d %d %d %u\n", int(r * 255), int(g * 255), int(b * 255), c);
+  }
+  const bool ok = std::fclose(out) == 0;
+  if (!ok || std::rename(temporary.c_str(), path.c_str()) != 0) {
+    std::remove(temporary.c_str());
+    throw Failure(kExitBadInput, path + ": cannot write");
+  }
+}
+
+}  // namespace
+
+int command_simplify(Args& args) {
+  const char* usage =
+      "cagekit simplify IN OUT (--faces N | --vertices N) [--cage] [--clusters FILE.ply] [--json] "
+      "[--crease-angle DEG] [--epsilon E] [--quiet]";
+  const bool quiet = args.flag("--quiet");
+  const bool json = args.flag("--json");
+  const bool want_cage = args.flag("--cage");
+  const int faces_target = args.integer("--faces", -1, 1, 2000000000);
+  const int vertices_target = args.integer("--vertices", -1, 1, 2000000000);
+  const std::string clusters_path = args.option("--clusters", "");
+  const double crease_angle = args.real("--crease-angle", 30.0, -1.0, 180.0);
+  const double epsilon = args.real("--epsilon", 0.01, 0.0, 1e6);
+  const auto files = args.positional(2, 2, usage);
+  if ((faces_target < 0) == (vertices_target < 0)) throw Failure(kExitUsage, std::string("usage: ") + usage);
+  const cagekit_file_format out_format = format_from_extension(files[1]);
+  const auto start = std::chrono::steady_clock::now();
+
+  Session session(quiet);
+  Mesh input;
+  session.check(cagekit_mesh_read_file(session.context(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, input.out()), files[0]);
+  cagekit_simplify_options options = CAGEKIT_SIMPLIFY_OPTIONS_INIT;
+  options.tie_break_epsilon = epsilon;
+  Hierarchy hierarchy;
+  session.check(cagekit_hierarchy_create(input.get(), &options, hierarchy.out()), files[0]);
+  uint32_t level = 0;
+  if (faces_target > 0)
+    session.check(cagekit_hierarchy_find_level(hierarchy.get(), CAGEKIT_LEVEL_BY_FACES, faces_target, &level), files[0]);
+  else
+    session.check(cagekit_hierarchy_find_level(hierarchy.get(), CAGEKIT_LEVEL_BY_VERTICES, vertices_target, &level),
+                  files[0]);
+  session.check(cagekit_hierarchy_set_level(hierarchy.get(), level), files[0]);
+  const double simplify_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  cagekit_polygonal_level_info info = {};
+  info.struct_size = sizeof(info);
+  session.check(cagekit_hierarchy_get_current_info(hierarchy.get(), &info), files[0]);
+
+  cagekit_cage_report cage_report = {};
+  cage_report.struct_size = sizeof(cage_report);
+  Mesh output_mesh;
+  cagekit_write_options write = CAGEKIT_WRITE_OPTIONS_INIT;
+  write.format = out_format;
+  if (want_cage) {
+    cagekit_cage_options cage_options = CAGEKIT_CAGE_OPTIONS_INIT;
+    cage_options.crease_angle_degrees = crease_angle;
+    Cage cage;
+    session.check(cagekit_hierarchy_build_cage(hierarchy.get(), &cage_options, cage.out(), &cage_report), files[0]);
+    session.check(cagekit_cage_write_file(cage.get(), files[1].c_str(), &write, nullptr), files[1]);
+    session.check(cagekit_cage_get_mesh(cage.get(), output_mesh.out()), files[1]);
+  } else {
+    session.check(cagekit_hierarchy_get_polygon_mesh(hierarchy.get(), output_mesh.out()), files[0]);
+    session.check(cagekit_mesh_write_file(output_mesh.get(), files[1].c_str(), &write, nullptr), files[1]);
+  }
+  if (!clusters_path.empty()) {
+    uint32_t count = 0;
+    session.check(cagekit_hierarchy_get_clusters(hierarchy.get(), 0, &count, nullptr), files[0]);
+    std::vector<uint32_t> clusters(count);
+    session.check(cagekit_hierarchy_get_clusters(hierarchy.get(), count, &count, clusters.data()), files[0]);
+    write_clusters_ply(session, input.get(), clusters, clusters_path);
+  }
+  cagekit_approximation_error error = {};
+  error.struct_size = sizeof(error);
+  session.check(cagekit_mesh_measure_error(input.get(), output_mesh.get(), &error), files[0]);
+  cagekit_mesh_info out_info = {};
+  out_info.struct_size = sizeof(out_info);
+  session.check(cagekit_mesh_get_info(output_mesh.get(), &out_info), files[1]);
+  session.finish_progress();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  const unsigned long long quads = want_cage ? cage_report.quads : out_info.quads;
+  const unsigned long long triangles = want_cage ? cage_report.triangles : out_info.triangles;
+  const unsigned long long pentagons = want_cage ? cage_report.pentagons : 0ull;
+  if (json) {
+    std::printf(
+        "{\"level\": %u, \"polygons\": %llu, \"faces\": %llu, \"vertices\": %llu, \"quads\": %llu, "
+        "\"triangles\": %llu, \"pentagons\": %llu, \"other_polygons\": %llu, \"faces_with_holes\": %llu, "
+        "\"invalid_faces\": %llu, \"creases\": %llu, \"l2_error\": %.9g, \"l21_error\": %.9g, "
+        "\"hausdorff_rel\": %.9g, \"hausdorff_sym_rel\": %.9g, \"mean_rel\": %.9g, "
+        "\"simplify_seconds\": %.3f, \"seconds\": %.3f}\n",
+        level, (unsigned long long)info.faces, (unsigned long long)out_info.faces,
+        (unsigned long long)out_info.vertices, quads, triangles, pentagons,
+        (unsigned long long)(want_cage ? cage_report.other_polygons : out_info.other_polygons),
+        (unsigned long long)info.faces_with_holes,
+        (unsigned long long)(info.invalid_faces + (want_cage ? cage_report.other_polygons : 0)),
+        (unsigned long long)(want_cage ? cage_report.creases : 0), info.l2_error, info.l21_error, error.hausdorff_rel,
+        error.hausdorff_sym_rel, error.mean_rel, simplify_seconds, seconds);
+  } else if (!quiet) {
+    std::printf("%s -> %s: level %u, %llu polygons (%llu with holes) -> %llu faces (%llu quads, %llu triangles, "
+                "%llu pentagons), %llu creases, Hausdorff %.3g of the diagonal, %.2f s\n",
+                files[0].c_str(), files[1].c_str(), level, (unsigned long long)info.faces,
+                (unsigned long long)info.faces_with_holes, (unsigned long long)out_info.faces, quads, triangles,
+                pentagons, (unsigned long long)(want_cage ? cage_report.creases : 0), error.hausdorff_rel, seconds);
+  }
+  return kExitOk;
+}
+
+}  // namespace cli

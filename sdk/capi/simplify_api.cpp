@@ -1,0 +1,231 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Structure-preserving simplification (thesis ch. 3): hierarchy handles, level browsing,
+// polygonal faces, cluster maps, quad-dominant cages, approximation error.
+#include <cmath>
+
+#include "capi/api_guard.h"
+#include "capi/mesh_conversion.h"
+#include "layout/approximation_error.h"
+#include "layout/cage_builder.h"
+
+using namespace cagekit_capi;
+
+namespace {
+
+uint32_t checked_level(const cagekit_hierarchy_t& h, uint32_t level) {
+  if (level >= h.hierarchy.num_levels())
+    fail(Status::invalid_argument, "level " + std::to_string(level) + " is not below the level count " +
+                                       std::to_string(h.hierarchy.num_levels()));
+  return level;
+}
+
+}  // namespace
+
+extern "C" {
+
+CAGEKIT_API cagekit_status cagekit_hierarchy_create(cagekit_mesh mesh, const cagekit_simplify_options* options,
+                                                    cagekit_hierarchy* out) {
+  return guarded(context_of(mesh), [&] {
+    require_not_null(out, "out");
+    *out = nullptr;
+    cagekit_mesh_t& m = checked(mesh, "mesh");
+    cagekit_simplify_options defaults = CAGEKIT_SIMPLIFY_OPTIONS_INIT;
+    const cagekit_simplify_options o = read_versioned(options, defaults, "cagekit_simplify_options");
+    if (!std::isfinite(o.tie_break_epsilon) || o.tie_break_epsilon < 0)
+      fail(Status::invalid_argument, "tie_break_epsilon must be finite and >= 0");
+    cagekit::SimplifyOptions so;
+    so.tie_break_epsilon = o.tie_break_epsilon;
+    cagekit::SimplificationHierarchy hierarchy(m.mesh, so, m.context->monitor());
+    *out = std::make_unique<cagekit_hierarchy_t>(m.context, std::move(hierarchy)).release();
+  });
+}
+
+CAGEKIT_API void cagekit_hierarchy_retain(cagekit_hierarchy hierarchy) { retain_handle(hierarchy); }
+CAGEKIT_API void cagekit_hierarchy_release(cagekit_hierarchy hierarchy) { release_handle(hierarchy); }
+
+CAGEKIT_API cagekit_status cagekit_hierarchy_get_level_count(cagekit_hierarchy hierarchy, uint32_t* count) {
+  return guarded(context_of(hierarchy), [&] {
+    require_not_null(count, "count");
+    *count = static_cast<uint32_t>(checked(hierarchy, "hierarchy").hierarchy.num_levels());
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_hierarchy_get_level_info(cagekit_hierarchy hierarchy, uint32_t level,
+                                                            cagekit_level_info* info) {
+  return guarded(context_of(hierarchy), [&] {
+    const cagekit_hierarchy_t& h = checked(hierarchy, "hierarchy");
+    require_not_null(info, "info");
+    checked_level(h, level);
+    cagekit_level_info out{};
+    out.struct_size = sizeof(out);
+    out.faces = h.hierarchy.face_count(level);
+    out.vertices = h.hierarchy.vertex_count(level);
+    out.error = h.hierarchy.error(level);
+    write_versioned(info, out, "cagekit_level_info");
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_hierarchy_find_level(cagekit_hierarchy hierarchy, cagekit_level_query query,
+                                                        double value, uint32_t* level) {
+  return guarded(context_of(hierarchy), [&] {
+    const cagekit_hierarchy_t& h = checked(hierarchy, "hierarchy");
+    require_not_null(level, "level");
+    if (!(value >= 0)) fail(Status::invalid_argument, "value must be >= 0 (and not NaN)");
+    const double capped = std::min(value, 1.8e19);
+    switch (query) {
+      case CAGEKIT_LEVEL_BY_FACES:
+        *level = static_cast<uint32_t>(h.hierarchy.level_for_face_count(static_cast<uint64_t>(capped)));
+        break;
+      case CAGEKIT_LEVEL_BY_VERTICES:
+        *level = static_cast<uint32_t>(h.hierarchy.level_for_vertex_count(static_cast<uint64_t>(capped)));
+        break;
+      case CAGEKIT_LEVEL_BY_ERROR:
+        *level = static_cast<uint32_t>(h.hierarchy.level_for_error(value));
+        break;
+      default:
+        fail(Status::invalid_argument, "query is not a cagekit_level_query");
+    }
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_hierarchy_set_level(cagekit_hierarchy hierarchy, uint32_t level) {
+  return guarded(context_of(hierarchy), [&] {
+    cagekit_hierarchy_t& h = checked(hierarchy, "hierarchy");
+    checked_level(h, level);
+    if (level == h.hierarchy.current_level()) return;
+    h.hierarchy.go_to_level(level);
+    h.level = h.hierarchy.extract();
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_hierarchy_get_current_level(cagekit_hierarchy hierarchy, uint32_t* level) {
+  return guarded(context_of(hierarchy), [&] {
+    require_not_null(level, "level");
+    *level = static_cast<uint32_t>(checked(hierarchy, "hierarchy").hierarchy.current_level());
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_hierarchy_get_current_info(cagekit_hierarchy hierarchy,
+                                                              cagekit_polygonal_level_info* info) {
+  return guarded(context_of(hierarchy), [&] {
+    const cagekit_hierarchy_t& h = checked(hierarchy, "hierarchy");
+    require_not_null(info, "info");
+    cagekit_polygonal_level_info out{};
+    out.struct_size = sizeof(out);
+    out.level = static_cast<uint32_t>(h.hierarchy.current_level());
+    out.faces = h.level.faces.size();
+    out.vertices = h.level.num_vertices;
+    std::vector<uint32_t> point_to_input;
+    for (const auto& f : h.level.faces) {
+      out.faces_with_holes += f.loops.size() > 1;
+      out.invalid_faces += !cagekit::check_polygon_loops(cagekit::project_face(h.hierarchy.input(), f, &point_to_input)).ok();
+    }
+    out.l2_error = h.level.l2_error;
+    out.l21_error = h.level.l21_error;
+    write_versioned(info, out, "cagekit_polygonal_level_info");
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_hierarchy_get_faces(cagekit_hierarchy hierarchy, uint32_t face_capacity,
+                                                       uint32_t* face_count_out, uint32_t* loops_per_face,
+                                                       uint32_t loop_capacity, uint32_t* loop_count_out,
+                                                       uint32_t* loop_sizes, uint64_t index_capacity,
+                                                       uint64_t* index_count_out, uint32_t* loop_vertices) {
+  return guarded(context_of(hierarchy), [&] {
+    const auto& faces = checked(hierarchy, "hierarchy").level.faces;
+    uint32_t loops = 0;
+    uint64_t indices = 0;
+    for (const auto& f : faces) {
+      loops += static_cast<uint32_t>(f.loops.size());
+      for (const auto& l : f.loops) indices += l.size();
+    }
+    const auto face_count = static_cast<uint32_t>(faces.size());
+    if (face_count_out) *face_count_out = face_count;
+    if (loop_count_out) *loop_count_out = loops;
+    if (index_count_out) *index_count_out = indices;
+    const bool fill_faces = two_call_check<uint32_t>(face_count, face_capacity, nullptr, loops_per_face, "faces");
+    const bool fill_loops = two_call_check<uint32_t>(loops, loop_capacity, nullptr, loop_sizes, "loops");
+    const bool fill_indices = two_call_check<uint64_t>(indices, index_capacity, nullptr, loop_vertices, "indices");
+    uint32_t l = 0;
+    uint64_t i = 0;
+    for (uint32_t f = 0; f < face_count; ++f) {
+      if (fill_faces) loops_per_face[f] = static_cast<uint32_t>(faces[f].loops.size());
+      for (const auto& loop : faces[f].loops) {
+        if (fill_loops) loop_sizes[l] = static_cast<uint32_t>(loop.size());
+        ++l;
+        if (fill_indices) std::copy(loop.begin(), loop.end(), loop_vertices + i);
+        i += loop.size();
+      }
+    }
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_hierarchy_get_clusters(cagekit_hierarchy hierarchy, uint32_t capacity,
+                                                          uint32_t* count_out, uint32_t* cluster_of_input_face) {
+  return guarded(context_of(hierarchy), [&] {
+    const auto& clusters = checked(hierarchy, "hierarchy").level.cluster_of_input_face;
+    if (two_call_check(static_cast<uint32_t>(clusters.size()), capacity, count_out, cluster_of_input_face != nullptr,
+                       "clusters"))
+      std::copy(clusters.begin(), clusters.end(), cluster_of_input_face);
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_hierarchy_get_polygon_mesh(cagekit_hierarchy hierarchy, cagekit_mesh* out) {
+  return guarded(context_of(hierarchy), [&] {
+    require_not_null(out, "out");
+    *out = nullptr;
+    const cagekit_hierarchy_t& h = checked(hierarchy, "hierarchy");
+    *out = make_mesh_handle(h.context, cagekit::polygonal_level_mesh(h.hierarchy.input(), h.level));
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_hierarchy_build_cage(cagekit_hierarchy hierarchy, const cagekit_cage_options* options,
+                                                        cagekit_cage* out, cagekit_cage_report* report) {
+  return guarded(context_of(hierarchy), [&] {
+    require_not_null(out, "out");
+    *out = nullptr;
+    const cagekit_hierarchy_t& h = checked(hierarchy, "hierarchy");
+    cagekit_cage_options defaults = CAGEKIT_CAGE_OPTIONS_INIT;
+    const cagekit_cage_options o = read_versioned(options, defaults, "cagekit_cage_options");
+    if (!std::isfinite(o.crease_angle_degrees)) fail(Status::invalid_argument, "crease_angle_degrees must be finite");
+    if (o.exact_partition_limit < 3 || o.exact_partition_limit > 64)
+      fail(Status::invalid_argument, "exact_partition_limit must be in 3..64");
+    cagekit::CageBuildOptions bo;
+    bo.crease_angle_degrees = o.crease_angle_degrees;
+    bo.tag_boundary_edges = o.tag_boundary_edges != 0;
+    bo.partition.exact_vertex_limit = static_cast<int>(o.exact_partition_limit);
+    cagekit::CageBuildReport br;
+    cagekit::Cage cage = cagekit::build_quad_dominant_cage(h.hierarchy.input(), h.level, bo, &br);
+    if (report) {
+      cagekit_cage_report r{};
+      r.struct_size = sizeof(r);
+      r.quads = br.quads;
+      r.triangles = br.triangles;
+      r.pentagons = br.pentagons;
+      r.other_polygons = br.other;
+      r.creases = br.creases;
+      r.non_optimal_faces = br.non_optimal_faces;
+      write_versioned(report, r, "cagekit_cage_report");
+    }
+    *out = std::make_unique<cagekit_cage_t>(h.context, std::move(cage)).release();
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_mesh_measure_error(cagekit_mesh input, cagekit_mesh approximation,
+                                                      cagekit_approximation_error* error) {
+  return guarded(context_of(input), [&] {
+    cagekit_mesh_t& in = checked(input, "input");
+    const cagekit_mesh_t& approx = checked(approximation, "approximation");
+    require_not_null(error, "error");
+    const cagekit::ApproximationError e =
+        cagekit::measure_approximation_error(in.mesh, approx.mesh, 4, in.context->monitor());
+    cagekit_approximation_error out{};
+    out.struct_size = sizeof(out);
+    out.hausdorff_rel = e.hausdorff_rel;
+    out.hausdorff_sym_rel = e.hausdorff_sym_rel;
+    out.mean_rel = e.mean_rel;
+    write_versioned(error, out, "cagekit_approximation_error");
+  });
+}
+
+}  // extern "C"
