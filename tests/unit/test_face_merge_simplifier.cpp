@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <map>
 #include <numeric>
@@ -497,3 +498,43 @@ void run_real(const char* file, size_t check_every) {
 TEST(FaceMergeSimplifier, Fandisk) { run_real("fandisk.obj", 97); }
 TEST(FaceMergeSimplifier, RockerArm) { run_real("rocker-arm.obj", 2003); }
 TEST(FaceMergeSimplifier, Bunny) { run_real("stanford-bunny.obj", 20011); }
+
+// 1.1M triangles (the bunny, midpoint-subdivided twice) to 100 faces. Set CAGEKIT_LARGE_TESTS=1.
+TEST(FaceMergeSimplifier, MillionTrianglesTiming) {
+  if (std::getenv("CAGEKIT_LARGE_TESTS") == nullptr) GTEST_SKIP() << "set CAGEKIT_LARGE_TESTS=1";
+  const std::string path = cagekit_test::shared_mesh_path("stanford-bunny.obj");
+  if (path.empty()) GTEST_SKIP() << "bunny not present";
+  PolygonMesh m = cagekit_test::load_mesh(path);
+  for (int level = 0; level < 2; ++level) {
+    PolygonMesh next;
+    next.positions = m.positions;
+    std::map<std::pair<uint32_t, uint32_t>, uint32_t> mid;
+    auto midpoint = [&](uint32_t a, uint32_t b) {
+      const auto key = std::minmax(a, b);
+      auto it = mid.find(key);
+      if (it != mid.end()) return it->second;
+      const uint32_t id = next.add_vertex((next.positions[a] + next.positions[b]) * 0.5);
+      mid.emplace(key, id);
+      return id;
+    };
+    for (size_t t = 0; t < m.num_faces(); ++t) {
+      const uint32_t a = m.face_vertex(t, 0), b = m.face_vertex(t, 1), c = m.face_vertex(t, 2);
+      const uint32_t ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
+      next.add_face({a, ab, ca});
+      next.add_face({ab, b, bc});
+      next.add_face({ca, bc, c});
+      next.add_face({ab, bc, ca});
+    }
+    m = std::move(next);
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::clock_t c0 = std::clock();
+  SimplificationHierarchy h(m);
+  const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+  const size_t l = h.level_for_face_count(100);
+  std::printf("[bunny x16] %zu triangles to the coarsest level (%llu faces) in %.2f s wall, %.2f s CPU; 100 faces at "
+              "level %zu\n",
+              m.num_faces(), static_cast<unsigned long long>(h.face_count(h.num_levels() - 1)), seconds_since(t0), cpu, l);
+  h.go_to_level(l);
+  check_level(m, h.extract(), "bunny x16 at 100 faces");
+}
