@@ -170,14 +170,14 @@ const std::vector<IPt> kSquare = {{0, 0}, {10, 0}, {10, 10}, {0, 10}};
 }  // namespace
 
 // ------------------------------------------------------------------------------ validity
-TEST(PolygonValidity, ValidSquareAndTwoHoles) {
+TEST(PlanarPolygonValidity, ValidSquareAndTwoHoles) {
   EXPECT_TRUE(check_polygon_loops(make_polygon({kSquare})).ok());
   const auto poly = make_polygon({kSquare, {{1, 1}, {1, 4}, {4, 4}, {4, 1}}, {{6, 6}, {6, 9}, {9, 9}, {9, 6}}});
   const auto v = check_polygon_loops(poly);
   EXPECT_TRUE(v.ok()) << v.message;
 }
 
-TEST(PolygonValidity, HandMadeDefects) {
+TEST(PlanarPolygonValidity, HandMadeDefects) {
   struct Case {
     std::vector<std::vector<IPt>> loops;
     PolygonDefect expected;
@@ -221,7 +221,7 @@ TEST(PolygonValidity, HandMadeDefects) {
 }
 
 // The same containment / orientation defects on loop sets large enough for the sweep path.
-TEST(PolygonValidity, LargeContainmentDefects) {
+TEST(PlanarPolygonValidity, LargeContainmentDefects) {
   auto circle = [](int n, double cx, double cy, double r, bool ccw) {
     std::vector<IPt> pts;
     for (int i = 0; i < n; ++i) {
@@ -255,13 +255,13 @@ TEST(PolygonValidity, LargeContainmentDefects) {
   }
 }
 
-TEST(PolygonValidity, MessagesNameLoopsAndEdges) {
+TEST(PlanarPolygonValidity, MessagesNameLoopsAndEdges) {
   const auto v = check_polygon_loops(make_polygon({{{0, 0}, {10, 0}, {0, 10}, {10, 10}}}));
   EXPECT_NE(v.message.find("loop 0"), std::string::npos) << v.message;
   EXPECT_NE(v.message.find("edge"), std::string::npos) << v.message;
 }
 
-TEST(PolygonValidity, RandomStarPolygonsAreValid) {
+TEST(PlanarPolygonValidity, RandomStarPolygonsAreValid) {
   std::mt19937 rng(7);
   for (int it = 0; it < 300; ++it) {
     const int n = 3 + static_cast<int>(rng() % 200);
@@ -275,7 +275,7 @@ TEST(PolygonValidity, RandomStarPolygonsAreValid) {
 // Random perturbations (vertex moved anywhere, onto another vertex, onto an edge, loops reversed,
 // indices swapped) on a coarse grid, so touching and collinear cases are frequent. Both the
 // brute-force path (small m) and the sweep (large m) are compared with the test's checker.
-TEST(PolygonValidity, RandomPerturbationsMatchBruteForce) {
+TEST(PlanarPolygonValidity, RandomPerturbationsMatchBruteForce) {
   std::mt19937 rng(12345);
   std::map<std::string, int> seen;
   for (int it = 0; it < 6000; ++it) {
@@ -381,7 +381,7 @@ void check_triangulation(const PolygonLoops& poly) {
 
 }  // namespace
 
-TEST(PolygonTriangulation, HandMadeAndRandom) {
+TEST(PlanarPolygonTriangulation, HandMadeAndRandom) {
   check_triangulation(make_polygon({kSquare}));
   check_triangulation(make_polygon({{{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}}}));
   check_triangulation(make_polygon({kSquare, {{1, 1}, {1, 4}, {4, 4}, {4, 1}}, {{6, 6}, {6, 9}, {9, 9}, {9, 6}}}));
@@ -397,7 +397,7 @@ TEST(PolygonTriangulation, HandMadeAndRandom) {
   }
 }
 
-TEST(PolygonTriangulation, InvalidPolygonThrows) {
+TEST(PlanarPolygonTriangulation, InvalidPolygonThrows) {
   try {
     triangulate_polygon(make_polygon({{{0, 0}, {10, 0}, {0, 10}, {10, 10}}}));
     FAIL() << "no exception";
@@ -408,7 +408,7 @@ TEST(PolygonTriangulation, InvalidPolygonThrows) {
 }
 
 // Timings (printed; loose bounds only so the sanitizer build passes too).
-TEST(PolygonPerformance, SmallAndLarge) {
+TEST(PlanarPolygonPerformance, SmallAndLarge) {
   std::mt19937 rng(5);
   std::vector<PolygonLoops> small;
   for (int i = 0; i < 64; ++i) small.push_back(random_polygon(rng, 8 + i % 9, 0, 3, 1e3));
