@@ -45,13 +45,13 @@ namespace detail {
 struct HierarchyData {
   PolygonMesh input;
   Vec3 center;
-  double diag = 1, inv_diag = 1;
+  double unit = 1, inv_unit = 1;  // unit length of the error terms (input resolution)
   HierarchyRecords hier;
   std::vector<LevelStats> stats;
   std::vector<double> error_prefix_max;
   std::vector<uint32_t> input_alive;  // input faces (all faces of the validated input)
 
-  Vec3 normalised(const Vec3& p) const { return (p - center) * inv_diag; }
+  Vec3 normalised(const Vec3& p) const { return (p - center) * inv_unit; }
 };
 }  // namespace detail
 
@@ -176,7 +176,7 @@ bool Builder::evaluate_merge(uint32_t f, uint32_t g, double& e) const {
   const WorkFace &F = fs_.faces[f], &G = fs_.faces[g];
   uint64_t shared = 0;
   double angle_sum = 0;
-  const double inv_d2 = impl_.inv_diag * impl_.inv_diag;
+  const double inv_d2 = impl_.inv_unit * impl_.inv_unit;
   const double sf = F.area * inv_d2, sg = G.area * inv_d2;
   const Vec3 nsum = F.normal * sf + G.normal * sg;
   if (!(norm(nsum) > 0)) return false;
@@ -429,15 +429,24 @@ void Builder::verify_greedy(const Candidate& committed) {
 
 void Builder::run() {
   const size_t nf = mesh_.num_faces(), nv = mesh_.num_vertices();
-  // Normalisation: bounding box of the referenced vertices.
+  // Normalisation: centre of the referenced vertices' bounding box, unit = input resolution
+  // sqrt(mean input face area) (see README: with the bbox diagonal as unit every error term is
+  // << 1 and the tie-break dominates the priority).
   BoundingBox box;
   std::vector<uint32_t> capacity(nv, 0);
   for (const uint32_t v : mesh_.face_vertices) {
     box.extend(mesh_.positions[v]);
     ++capacity[v];
   }
-  impl_.diag = box.empty || !(box.diagonal() > 0) ? 1.0 : box.diagonal();
-  impl_.inv_diag = 1.0 / impl_.diag;
+  double total_area = 0;
+  for (size_t f = 0; f < nf; ++f) {
+    const uint32_t* fv = mesh_.face_begin(f);
+    for (uint32_t k = 1; k + 1 < mesh_.face_size(f); ++k)
+      total_area += 0.5 * norm(cross(mesh_.positions[fv[k]] - mesh_.positions[fv[0]], mesh_.positions[fv[k + 1]] - mesh_.positions[fv[0]]));
+  }
+  const double unit = std::sqrt(total_area / double(nf > 0 ? nf : 1));
+  impl_.unit = !(unit > 0) ? 1.0 : unit;
+  impl_.inv_unit = 1.0 / impl_.unit;
   impl_.center = box.empty ? Vec3() : (box.min + box.max) * 0.5;
   pos_.resize(nv);
   for (size_t v = 0; v < nv; ++v) pos_[v] = impl_.normalised(mesh_.positions[v]);
@@ -635,7 +644,7 @@ PolygonalLevel SimplificationHierarchy::extract() const {
     out.faces.push_back(std::move(face));
   }
   out.cluster_of_input_face.resize(nf);
-  const double inv_d2 = im.inv_diag * im.inv_diag;
+  const double inv_d2 = im.inv_unit * im.inv_unit;
   for (uint32_t t = 0; t < nf; ++t) {
     uint32_t x = t;
     while (h.parent[x] != kNoRecord) x = h.parent[x];

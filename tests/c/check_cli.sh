@@ -115,6 +115,19 @@ expect_bad "missing file" "$cli" info "$tmp/does-not-exist.obj"
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\nf 2 1 3\nf 1 2 3\n' >"$tmp/nonmanifold.obj"
 expect_bad "invalid cage for subdivide" "$cli" subdivide "$tmp/nonmanifold.obj" "$tmp/out.obj" --levels 1 --quiet
 
+# 8. structure-preserving simplification to a cage with creases
+rocker="$meshes/rocker-arm.obj"
+if [ -f "$rocker" ]; then
+  if "$cli" simplify "$rocker" "$tmp/rocker6.obj" --faces 6 --cage --json --quiet --clusters "$tmp/rocker-clusters.ply" >"$tmp/rocker.json" &&
+     [ "$(json "$tmp/rocker.json" "d['invalid_faces'] == 0 and d['polygons'] <= 12 and d['faces'] == d['quads'] + d['triangles'] + d['pentagons'] and d['other_polygons'] == 0 and all(k in d for k in 'polygons faces vertices quads triangles pentagons invalid_faces creases l2_error l21_error hausdorff_rel hausdorff_sym_rel seconds'.split())")" = True ] &&
+     [ "$(grep -c '^element face 20088' "$tmp/rocker-clusters.ply")" = 1 ] && "$cli" info "$tmp/rocker6.obj" --json >"$tmp/r6.json" &&
+     [ "$(json "$tmp/r6.json" "d['valid'] and d['genus'] == 1")" = True ]
+  then pass "simplify rocker-arm to a coarse cage (valid, genus kept, clusters file)"; else cat "$tmp/rocker.json" "$tmp/r6.json"; fail "simplify rocker-arm"; fi
+else
+  echo "[ SKIP ] simplify checks: $rocker not present"
+fi
+expect_bad "simplify of a corrupt file" "$cli" simplify "$tmp/badindex.obj" "$tmp/out.obj" --faces 10 --quiet
+
 # 7. the C host sample
 if "$host" "$tmp/demo/scan.drc" "$tmp/host.obj" 1 >"$tmp/host.out" 2>&1 && [ -s "$tmp/host.obj" ] && grep -q 'level 1' "$tmp/host.out"
 then pass "c_host runs on the demo scan"; else cat "$tmp/host.out"; fail "c_host"; fi
