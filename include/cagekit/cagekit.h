@@ -640,6 +640,7 @@ typedef struct cagekit_cage_report {
   uint64_t quads, triangles, pentagons, other_polygons;
   uint64_t creases;
   uint64_t non_optimal_faces;   /* level faces whose partition is not proven optimal */
+  uint64_t non_manifold_edges;  /* cage edges used by more than two faces (0 expected) */
 } cagekit_cage_report;
 
 /* Partitions every face of the current level into convex quad-dominant cells (only diagonals

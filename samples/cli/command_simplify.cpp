@@ -134,7 +134,7 @@ int command_simplify(Args& args) {
     std::printf(
         "{\"level\": %u, \"polygons\": %llu, \"faces\": %llu, \"vertices\": %llu, \"quads\": %llu, "
         "\"triangles\": %llu, \"pentagons\": %llu, \"other_polygons\": %llu, \"faces_with_holes\": %llu, "
-        "\"invalid_faces\": %llu, \"creases\": %llu, \"l2_error\": %.9g, \"l21_error\": %.9g, "
+        "\"invalid_faces\": %llu, \"non_manifold_edges\": %llu, \"creases\": %llu, \"l2_error\": %.9g, \"l21_error\": %.9g, "
         "\"hausdorff_rel\": %.9g, \"hausdorff_sym_rel\": %.9g, \"mean_rel\": %.9g, "
         "\"simplify_seconds\": %.3f, \"seconds\": %.3f}\n",
         level, (unsigned long long)info.faces, (unsigned long long)out_info.faces,
@@ -142,6 +142,7 @@ int command_simplify(Args& args) {
         (unsigned long long)(want_cage ? cage_report.other_polygons : out_info.other_polygons),
         (unsigned long long)info.faces_with_holes,
         (unsigned long long)(info.invalid_faces + (want_cage ? cage_report.other_polygons : 0)),
+        (unsigned long long)(want_cage ? cage_report.non_manifold_edges : 0),
         (unsigned long long)(want_cage ? cage_report.creases : 0), info.l2_error, info.l21_error, error.hausdorff_rel,
         error.hausdorff_sym_rel, error.mean_rel, simplify_seconds, seconds);
   } else if (!quiet) {

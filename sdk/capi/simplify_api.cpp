@@ -205,6 +205,7 @@ CAGEKIT_API cagekit_status cagekit_hierarchy_build_cage(cagekit_hierarchy hierar
       r.other_polygons = br.other;
       r.creases = br.creases;
       r.non_optimal_faces = br.non_optimal_faces;
+      r.non_manifold_edges = br.non_manifold_edges;
       write_versioned(report, r, "cagekit_cage_report");
     }
     *out = std::make_unique<cagekit_cage_t>(h.context, std::move(cage)).release();

@@ -108,6 +108,7 @@ Cage build_quad_dominant_cage(const PolygonMesh& input, const PolygonalLevel& le
   }
   const double cos_threshold = std::cos(options.crease_angle_degrees * kPi / 180.0);
   for (const auto& [key, use] : uses) {
+    if (use.count > 2) ++r.non_manifold_edges;
     bool sharp = false;
     if (use.count == 1) {
       sharp = options.tag_boundary_edges;

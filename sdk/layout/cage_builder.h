@@ -28,6 +28,9 @@ struct CageBuildReport {
   uint64_t quads = 0, triangles = 0, pentagons = 0, other = 0;
   uint64_t creases = 0;
   uint64_t non_optimal_faces = 0;              // level faces whose partition is not proven optimal
+  // Cage edges used by more than two cage faces: a diagonal chosen inside one level face that
+  // joins the same two vertices as an edge elsewhere (0 expected; reported, not hidden).
+  uint64_t non_manifold_edges = 0;
   std::vector<uint32_t> input_vertex_of;       // cage vertex -> input vertex
   std::vector<uint32_t> cluster_of_cage_face;  // cage face -> level face (cluster)
 };

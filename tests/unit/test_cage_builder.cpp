@@ -2,10 +2,13 @@
 // The cage builder on hand-made polygonal levels (independent of the simplifier).
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <map>
 #include <set>
 
 #include "core/mesh_validation.h"
 #include "layout/cage_builder.h"
+#include "layout/face_merge_simplifier.h"
 #include "test_support.h"
 
 using namespace cagekit;
@@ -102,4 +105,51 @@ TEST(CageBuilder, face_with_a_hole_is_partitioned_into_convex_cells_without_new_
   EXPECT_EQ(triangulated, 1u);
   EXPECT_EQ(level_mesh.num_faces(), 8u);
   EXPECT_TRUE(level_mesh.all_faces_have_size(3));
+}
+
+// Thesis Fig. 2.2: the fandisk as a cage of at most 60 faces whose crease tags carry every sharp
+// feature line: each input edge with a dihedral angle above 50 degrees separates two clusters
+// whose proxy normals differ by more than the 30-degree crease threshold, so the cage edges on
+// that cluster border are tagged.
+TEST(CageBuilder, fandisk_cage_of_at_most_60_faces_tags_every_sharp_feature) {
+  const std::string path = cagekit_test::shared_mesh_path("fandisk.obj");
+  if (path.empty()) GTEST_SKIP() << "../shared/meshes/fandisk.obj not present";
+  const PolygonMesh input = cagekit_test::load_mesh(path);
+  SimplificationHierarchy hierarchy(input);
+  size_t level = hierarchy.level_for_face_count(60);
+  Cage cage;
+  CageBuildReport report;
+  // The coarsest level whose cage still has at most 60 faces is searched from 60 polygons down.
+  for (;; level = hierarchy.level_for_face_count(hierarchy.face_count(level) - 1)) {
+    hierarchy.go_to_level(level);
+    cage = build_quad_dominant_cage(input, hierarchy.extract(), {}, &report);
+    if (cage.mesh.num_faces() <= 60) break;
+    ASSERT_GT(hierarchy.face_count(level), 4u);
+  }
+  const PolygonalLevel clusters = hierarchy.extract();
+  EXPECT_LE(cage.mesh.num_faces(), 60u);
+  EXPECT_EQ(report.non_manifold_edges, 0u);
+  EXPECT_TRUE(validate_cage(cage).ok());
+  EXPECT_GT(report.creases, 0u);
+
+  // Input face normals and edge -> faces.
+  std::vector<Vec3> normal(input.num_faces());
+  std::map<std::pair<uint32_t, uint32_t>, std::vector<uint32_t>> edge_faces;
+  for (size_t f = 0; f < input.num_faces(); ++f) {
+    const Vec3 &a = input.positions[input.face_vertex(f, 0)], &b = input.positions[input.face_vertex(f, 1)],
+               &c = input.positions[input.face_vertex(f, 2)];
+    normal[f] = normalized(cross(b - a, c - a));
+    for (uint32_t k = 0; k < 3; ++k)
+      edge_faces[std::minmax(input.face_vertex(f, k), input.face_vertex(f, (k + 1) % 3))].push_back(uint32_t(f));
+  }
+  const double cos50 = std::cos(50.0 * 3.14159265358979 / 180.0), cos30 = std::cos(30.0 * 3.14159265358979 / 180.0);
+  size_t sharp_edges = 0, untagged = 0;
+  for (const auto& [edge, faces] : edge_faces) {
+    if (faces.size() != 2 || dot(normal[faces[0]], normal[faces[1]]) > cos50) continue;
+    ++sharp_edges;
+    const uint32_t ca = clusters.cluster_of_input_face[faces[0]], cb = clusters.cluster_of_input_face[faces[1]];
+    if (ca == cb || dot(clusters.faces[ca].normal, clusters.faces[cb].normal) > cos30) ++untagged;
+  }
+  EXPECT_GT(sharp_edges, 100u);
+  EXPECT_EQ(untagged, 0u) << untagged << " of " << sharp_edges << " sharp input edges are not on a tagged cluster border";
 }
