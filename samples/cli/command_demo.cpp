@@ -27,26 +27,6 @@ void make_directory(const std::string& path) {
     throw Failure(kExitBadInput, path + ": cannot create directory: " + std::strerror(errno));
 }
 
-// The structure of the part as a Catmull-Clark cage: the block's 8 corners, 6 quads, and its
-// 12 feature edges tagged infinitely sharp, so the limit surface is the block itself.
-void make_block_cage(const Session& session, const double size[3], Cage* cage) {
-  double p[8 * 3];
-  for (int i = 0; i < 8; ++i)
-    for (int k = 0; k < 3; ++k) p[3 * i + k] = ((i >> k) & 1) ? size[k] : 0.0;
-  const uint32_t quads[24] = {0, 2, 3, 1, 4, 5, 7, 6, 0, 1, 5, 4, 2, 6, 7, 3, 0, 4, 6, 2, 1, 3, 7, 5};
-  cagekit_mesh_desc desc = CAGEKIT_MESH_DESC_INIT;
-  desc.vertex_count = 8;
-  desc.positions = p;
-  desc.face_count = 6;
-  desc.uniform_face_size = 4;
-  desc.face_indices = quads;
-  Mesh mesh;
-  session.check(cagekit_mesh_create(session.context(), &desc, mesh.out()), "block cage");
-  session.check(cagekit_cage_create(mesh.get(), cage->out()), "block cage");
-  const uint32_t edges[24] = {0, 1, 2, 3, 4, 5, 6, 7, 0, 2, 1, 3, 4, 6, 5, 7, 0, 4, 1, 5, 2, 6, 3, 7};
-  session.check(cagekit_cage_set_creases(cage->get(), 12, edges, nullptr), "block cage");
-}
-
 }  // namespace
 
 int command_demo(Args& args) {
@@ -81,25 +61,46 @@ int command_demo(Args& args) {
   session.check(cagekit_mesh_write_file(scan.get(), (dir + "/scan.ply").c_str(), &write, nullptr), "scan.ply");
   session.check(cagekit_mesh_write_file(scan.get(), (dir + "/scan.drc").c_str(), &write, &drc_report), "scan.drc");
 
-  // 3. The cage. Until simplification lands (thesis ch. 3), the demo uses the part's known
-  //    structure: the block with its 12 feature edges tagged as creases.
+  // 3. Structure-preserving simplification (thesis ch. 3): the hierarchy down to the level of
+  //    6 polygons (the block's sides), partitioned into a quad-dominant cage whose edges on
+  //    sharp cluster borders are tagged as creases.
+  using Hierarchy = Handle<cagekit_hierarchy, cagekit_hierarchy_release>;
+  const auto simplify_start = std::chrono::steady_clock::now();
+  Hierarchy hierarchy;
+  session.check(cagekit_hierarchy_create(scan.get(), nullptr, hierarchy.out()), "demo scan");
+  uint32_t level = 0, level_count = 0;
+  session.check(cagekit_hierarchy_get_level_count(hierarchy.get(), &level_count), "demo scan");
+  session.check(cagekit_hierarchy_find_level(hierarchy.get(), CAGEKIT_LEVEL_BY_FACES, 6, &level), "demo scan");
+  session.check(cagekit_hierarchy_set_level(hierarchy.get(), level), "demo scan");
   Cage cage;
-  make_block_cage(session, size, &cage);
+  cagekit_cage_report cage_report = {};
+  cage_report.struct_size = sizeof(cage_report);
+  session.check(cagekit_hierarchy_build_cage(hierarchy.get(), nullptr, cage.out(), &cage_report), "demo scan");
+  const double simplify_seconds = seconds_since(simplify_start);
   session.check(cagekit_cage_write_file(cage.get(), (dir + "/cage.obj").c_str(), &write, nullptr), "cage.obj");
   session.check(cagekit_cage_write_file(cage.get(), (dir + "/cage.drc").c_str(), &write, nullptr), "cage.drc");
+  Mesh polygons;
+  session.check(cagekit_hierarchy_get_polygon_mesh(hierarchy.get(), polygons.out()), "demo scan");
+  session.check(cagekit_mesh_write_file(polygons.get(), (dir + "/polygons.obj").c_str(), &write, nullptr),
+                "polygons.obj");
 
-  // 4. Subdivision: the creased cage at level 3 (its limit is the block), and the scan used
-  //    directly as a cage at level 1 pushed to its limit surface.
+  // 4. Subdivision: the creased cage at level 3 (its limit surface is the block), compared with
+  //    the scan; and the scan itself used as a cage, level 1 pushed to its limit surface.
   cagekit_subdivide_options subdivide = CAGEKIT_SUBDIVIDE_OPTIONS_INIT;
   subdivide.levels = 3;
+  subdivide.limit_positions = 1;
   Cage cage_level3;
   session.check(cagekit_cage_subdivide(cage.get(), &subdivide, cage_level3.out()), "cage");
   session.check(cagekit_cage_write_file(cage_level3.get(), (dir + "/cage_level3.obj").c_str(), &write, nullptr),
                 "cage_level3.obj");
+  Mesh level3_mesh;
+  session.check(cagekit_cage_get_mesh(cage_level3.get(), level3_mesh.out()), "cage level 3");
+  cagekit_approximation_error limit_error = {};
+  limit_error.struct_size = sizeof(limit_error);
+  session.check(cagekit_mesh_measure_error(scan.get(), level3_mesh.get(), &limit_error), "cage level 3");
   Cage scan_cage, scan_level1;
   session.check(cagekit_cage_create(scan.get(), scan_cage.out()), "demo scan");
   subdivide.levels = 1;
-  subdivide.limit_positions = 1;
   const auto subdivide_start = std::chrono::steady_clock::now();
   session.check(cagekit_cage_subdivide(scan_cage.get(), &subdivide, scan_level1.out()), "demo scan");
   const double subdivide_seconds = seconds_since(subdivide_start);
@@ -121,16 +122,21 @@ int command_demo(Args& args) {
                "\"valid\": %s, \"bbox_diagonal\": %.9g},\n"
                "  \"exchange\": {\"obj_bytes\": %llu, \"drc_bytes\": %llu, \"drc_ratio\": %.2f, "
                "\"drc_max_error_rel\": %.3g},\n"
-               "  \"cage\": {\"faces\": 6, \"creases\": 12, \"level3_quads\": %llu, \"level3_creases\": %llu},\n"
+               "  \"simplification\": {\"levels\": %u, \"level\": %u, \"seconds\": %.3f},\n"
+               "  \"cage\": {\"quads\": %llu, \"triangles\": %llu, \"pentagons\": %llu, \"creases\": %llu, "
+               "\"level3_quads\": %llu, \"level3_creases\": %llu, \"level3_limit_hausdorff_rel\": %.3g},\n"
                "  \"scan_as_cage_level1\": {\"quads\": %llu, \"seconds\": %.3f},\n"
                "  \"seconds\": %.3f,\n"
-               "  \"not_yet\": [\"simplification (ch. 3)\", \"fitting (ch. 7)\", \"multiresolution editing (ch. 8)\"]\n}\n",
+               "  \"not_yet\": [\"fitting (ch. 7)\", \"multiresolution editing (ch. 8)\"]\n}\n",
                (unsigned long long)scan_info.vertices, (unsigned long long)scan_info.triangles,
                (long long)scan_info.genus, scan_info.manifold ? "true" : "false", validation.valid ? "true" : "false",
                scan_info.bbox_diagonal, (unsigned long long)obj_report.bytes, (unsigned long long)drc_report.bytes,
                drc_report.bytes ? double(obj_report.bytes) / double(drc_report.bytes) : 0.0,
-               drc_report.max_position_error / scan_info.bbox_diagonal, (unsigned long long)level3_info.quads,
-               (unsigned long long)level3_info.creases, (unsigned long long)level1_info.quads, subdivide_seconds,
+               drc_report.max_position_error / scan_info.bbox_diagonal, level_count, level, simplify_seconds,
+               (unsigned long long)cage_report.quads, (unsigned long long)cage_report.triangles,
+               (unsigned long long)cage_report.pentagons, (unsigned long long)cage_report.creases,
+               (unsigned long long)level3_info.quads, (unsigned long long)level3_info.creases,
+               limit_error.hausdorff_sym_rel, (unsigned long long)level1_info.quads, subdivide_seconds,
                seconds_since(start));
   std::fclose(summary);
 
@@ -142,9 +148,15 @@ int command_demo(Args& args) {
               (unsigned long long)drc_report.bytes, (unsigned long long)obj_report.bytes,
               drc_report.bytes ? double(obj_report.bytes) / double(drc_report.bytes) : 0.0,
               drc_report.max_position_error / scan_info.bbox_diagonal);
-  std::printf("  cage.obj/.drc          block cage: 6 quads, 12 crease edges\n");
-  std::printf("  cage_level3.obj        level 3: %llu quads, %llu crease edges\n",
-              (unsigned long long)level3_info.quads, (unsigned long long)level3_info.creases);
+  std::printf("  polygons.obj           simplified to level %u of %u (6 polygons) in %.2f s\n", level, level_count,
+              simplify_seconds);
+  std::printf("  cage.obj/.drc          quad-dominant cage: %llu quads, %llu triangles, %llu pentagons, %llu creases\n",
+              (unsigned long long)cage_report.quads, (unsigned long long)cage_report.triangles,
+              (unsigned long long)cage_report.pentagons, (unsigned long long)cage_report.creases);
+  std::printf("  cage_level3.obj        level 3 on the limit: %llu quads, %llu crease edges, %.2g of the diagonal "
+              "from the scan\n",
+              (unsigned long long)level3_info.quads, (unsigned long long)level3_info.creases,
+              limit_error.hausdorff_sym_rel);
   std::printf("  scan_level1_limit.obj  scan as cage, level 1 on the limit: %llu quads in %.3f s\n",
               (unsigned long long)level1_info.quads, subdivide_seconds);
   std::printf("  summary.json           these numbers\n");

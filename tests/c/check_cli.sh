@@ -16,6 +16,9 @@ if "$cli" demo "$tmp/demo" --quiet >"$tmp/demo.out" 2>&1 &&
    for f in scan.obj scan.ply scan.drc cage.obj cage.drc cage_level3.obj scan_level1_limit.obj summary.json; do
      [ -s "$tmp/demo/$f" ] || exit 1; done; then pass "demo writes its outputs"; else cat "$tmp/demo.out"; fail "demo"; fi
 
+if [ "$(json "$tmp/demo/summary.json" "d['cage']['quads'] == 6 and d['cage']['creases'] == 12 and d['cage']['triangles'] == 0 and d['cage']['level3_limit_hausdorff_rel'] < 1e-3 and d['scan']['valid']")" = True ]
+then pass "demo: the scan of a block simplifies to a 6-quad cage with 12 creases whose limit is within 0.1% of the scan"; else cat "$tmp/demo/summary.json"; fail "demo pipeline"; fi
+
 # 2. info --json on the demo scan
 "$cli" info "$tmp/demo/scan.obj" --json >"$tmp/info.json" 2>/dev/null
 if [ "$(json "$tmp/info.json" "all(k in d for k in 'vertices faces quads triangles boundary_loops genus manifold bbox_diagonal creases corners'.split()) and d['genus'] == 0 and d['boundary_loops'] == 0 and d['manifold'] and d['triangles'] == d['faces']")" = True ]
