@@ -345,7 +345,10 @@ void SubdivisionSurface::Impl::build(const Cage& cage, const SurfaceOptions& opt
   refiner.reset();
   subdiv_detail::fail_on_opensubdiv_error(Status::invalid_mesh, "OpenSubdiv could not build the limit surface");
 
-  if (!seed_faces.empty()) build_gregory_region(cage, seed_faces, sharp_level, options.isolation_level);
+  if (!seed_faces.empty()) {
+    const int region_level = std::max(options.isolation_level, options.sharp_extraordinary_isolation_level);
+    build_gregory_region(cage, seed_faces, std::max(sharp_level, region_level), region_level);
+  }
 
   derived_points.assign(derived.size(), Vec3());
   for (size_t row = 0; row < derived.size(); ++row)
@@ -534,6 +537,10 @@ void SubdivisionSurface::Impl::patch_weights(uint32_t ptex, double u, double v, 
 }
 
 SubdivisionSurface::SubdivisionSurface(const Cage& cage, const SurfaceOptions& options) : impl_(new Impl) {
+  if (options.sharp_extraordinary_isolation_level < 1 ||
+      options.sharp_extraordinary_isolation_level > kMaxIsolationLevel)
+    fail(Status::invalid_argument, "sharp_extraordinary_isolation_level must be in [1, " +
+                                       std::to_string(kMaxIsolationLevel) + "]");
   if (options.isolation_level < 1 || options.isolation_level > kMaxIsolationLevel)
     fail(Status::invalid_argument, "isolation_level must be in [1, " + std::to_string(kMaxIsolationLevel) +
                                        "], got " + std::to_string(options.isolation_level));

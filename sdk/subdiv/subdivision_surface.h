@@ -47,6 +47,12 @@ struct SurfaceOptions {
   // caps get closer to the limit surface with a higher level. Range [1, kMaxIsolationLevel].
   // Semi-sharp creases are isolated to at least ceil(sharpness) levels so that they are exact.
   int isolation_level = 2;
+  // Isolation level of the region around boundary/crease/corner/dart extraordinary vertices,
+  // which have no exact evaluation here and use Gregory end caps instead: every parametric
+  // location farther than 2^-level (in ptex units) from such a vertex is on an exact B-spline
+  // patch. Feature-adaptive refinement makes the cost grow linearly with the level and only
+  // around those vertices. Range [isolation_level, kMaxIsolationLevel].
+  int sharp_extraordinary_isolation_level = kMaxIsolationLevel;
 };
 
 struct SurfacePoint {
