@@ -25,13 +25,183 @@ struct Candidate {
   uint8_t kind;     // 0 merge, 1 boundary vertex removal
 };
 // Min-heap order: priority, then merges before removals, then ids (deterministic ties).
-struct CandidateAfter {
-  bool operator()(const Candidate& x, const Candidate& y) const {
-    if (x.key != y.key) return x.key > y.key;
-    if (x.kind != y.kind) return x.kind > y.kind;
-    if (x.a != y.a) return x.a > y.a;
-    return x.b > y.b;
+inline bool after(const Candidate& x, const Candidate& y) {
+  if (x.key != y.key) return x.key > y.key;
+  if (x.kind != y.kind) return x.kind > y.kind;
+  if (x.a != y.a) return x.a > y.a;
+  return x.b > y.b;
+}
+
+// Indexed 4-ary min-heap with at most one entry per operation: per face pair (merges) and per
+// vertex (boundary removals). A push for an operation that already has an entry replaces it in
+// place (decrease/increase-key), so the heap never holds more than the number of operations.
+// This pops the same sequence of non-stale candidates as a lazy heap with one entry per push:
+// a push replaces an entry only after one of its faces changed (the old entry is stale), except
+// for the duplicate a step produces when both faces of a pair changed, where the lazy heap
+// would pop the smaller of the two keys first, and the second would repeat its result.
+class CandidateHeap {
+ public:
+  void init(size_t num_vertices) {
+    vertex_handle_.assign(num_vertices, kNone);
+    pairs_.assign(1024, Slot{kEmptyKey, 0});
+    pair_count_ = 0;
   }
+  bool empty() const { return heap_.empty(); }
+  size_t size() const { return heap_.size(); }
+  const Candidate& top() const { return heap_[0].c; }
+  // Same step (a pair pushed from both of its changed faces): keep the smaller key.
+  void push(const Candidate& c, uint32_t step) {
+    uint32_t* handle;
+    if (c.kind == 0) {
+      handle = &pair_handle(key_of(c.a, c.b));
+    } else {
+      handle = &vertex_handle_[c.a];
+    }
+    if (*handle == kNone) {
+      const uint32_t id = new_id();
+      *handle = id;
+      owner_[id] = c.kind == 0 ? key_of(c.a, c.b) : (uint64_t(1) << 63 | c.a);
+      pos_[id] = static_cast<uint32_t>(heap_.size());
+      heap_.push_back({c, id, step});
+      sift_up(heap_.size() - 1);
+      return;
+    }
+    const uint32_t i = pos_[*handle];
+    Node& n = heap_[i];
+    if (n.step == step && c.kind == 0 && n.c.va == c.va && n.c.vb == c.vb && !(c.key < n.c.key)) return;
+    const bool up = after(n.c, c);
+    n.c = c;
+    n.step = step;
+    if (up)
+      sift_up(i);
+    else
+      sift_down(i);
+  }
+  void pop() {
+    const uint32_t id = heap_[0].id;
+    release(id);
+    const Node last = heap_.back();
+    heap_.pop_back();
+    if (!heap_.empty()) {
+      heap_[0] = last;
+      pos_[last.id] = 0;
+      sift_down(0);
+    }
+  }
+
+ private:
+  static constexpr uint32_t kNone = 0xffffffffu;
+  static constexpr uint64_t kEmptyKey = ~uint64_t(0);
+  struct Node {
+    Candidate c;
+    uint32_t id, step;
+  };
+  struct Slot {
+    uint64_t key;
+    uint32_t handle;
+  };
+  static uint64_t key_of(uint32_t a, uint32_t b) { return uint64_t(a) << 32 | b; }
+  static size_t hash(uint64_t k) { return static_cast<size_t>((k * 0x9E3779B97F4A7C15ull) >> 20); }
+
+  uint32_t new_id() {
+    if (!free_.empty()) {
+      const uint32_t id = free_.back();
+      free_.pop_back();
+      return id;
+    }
+    pos_.push_back(0);
+    owner_.push_back(0);
+    return static_cast<uint32_t>(pos_.size() - 1);
+  }
+  void release(uint32_t id) {
+    const uint64_t o = owner_[id];
+    if (o >> 63)
+      vertex_handle_[static_cast<uint32_t>(o)] = kNone;
+    else
+      erase_pair(o);
+    free_.push_back(id);
+  }
+  // Open addressing, linear probing, backward-shift deletion.
+  uint32_t& pair_handle(uint64_t k) {
+    if (2 * (pair_count_ + 1) > pairs_.size()) grow();
+    const size_t mask = pairs_.size() - 1;
+    size_t i = hash(k) & mask;
+    while (pairs_[i].key != kEmptyKey) {
+      if (pairs_[i].key == k) return pairs_[i].handle;
+      i = (i + 1) & mask;
+    }
+    pairs_[i] = {k, kNone};
+    ++pair_count_;
+    return pairs_[i].handle;
+  }
+  void erase_pair(uint64_t k) {
+    const size_t mask = pairs_.size() - 1;
+    size_t i = hash(k) & mask;
+    while (pairs_[i].key != k) i = (i + 1) & mask;
+    size_t j = i;
+    for (;;) {
+      j = (j + 1) & mask;
+      if (pairs_[j].key == kEmptyKey) break;
+      const size_t home = hash(pairs_[j].key) & mask;
+      // Move j to i if its home is not cyclically in (i, j].
+      if ((j > i && (home <= i || home > j)) || (j < i && (home <= i && home > j))) {
+        pairs_[i] = pairs_[j];
+        i = j;
+      }
+    }
+    pairs_[i].key = kEmptyKey;
+    --pair_count_;
+  }
+  void grow() {
+    std::vector<Slot> old;
+    old.swap(pairs_);
+    pairs_.assign(old.size() * 2, Slot{kEmptyKey, 0});
+    const size_t mask = pairs_.size() - 1;
+    for (const Slot& s : old) {
+      if (s.key == kEmptyKey) continue;
+      size_t i = hash(s.key) & mask;
+      while (pairs_[i].key != kEmptyKey) i = (i + 1) & mask;
+      pairs_[i] = s;
+    }
+  }
+  void sift_up(size_t i) {
+    const Node n = heap_[i];
+    while (i > 0) {
+      const size_t p = (i - 1) / 4;
+      if (!after(heap_[p].c, n.c)) break;
+      heap_[i] = heap_[p];
+      pos_[heap_[i].id] = static_cast<uint32_t>(i);
+      i = p;
+    }
+    heap_[i] = n;
+    pos_[n.id] = static_cast<uint32_t>(i);
+  }
+  void sift_down(size_t i) {
+    const Node n = heap_[i];
+    const size_t size = heap_.size();
+    for (;;) {
+      const size_t first = 4 * i + 1;
+      if (first >= size) break;
+      size_t best = first;
+      const size_t end = std::min(first + 4, size);
+      for (size_t k = first + 1; k < end; ++k)
+        if (after(heap_[best].c, heap_[k].c)) best = k;
+      if (!after(n.c, heap_[best].c)) break;
+      heap_[i] = heap_[best];
+      pos_[heap_[i].id] = static_cast<uint32_t>(i);
+      i = best;
+    }
+    heap_[i] = n;
+    pos_[n.id] = static_cast<uint32_t>(i);
+  }
+
+  std::vector<Node> heap_;
+  std::vector<uint32_t> pos_;     // id -> heap position
+  std::vector<uint64_t> owner_;   // id -> pair key, or bit 63 | vertex
+  std::vector<uint32_t> free_;
+  std::vector<uint32_t> vertex_handle_;
+  std::vector<Slot> pairs_;
+  size_t pair_count_ = 0;
 };
 
 struct LevelStats {
@@ -73,8 +243,8 @@ class Builder {
   const TaskMonitor& monitor_;
   PolygonalFaceSet fs_;
   std::vector<Vec3> pos_;  // normalised positions
-  std::vector<Candidate> heap_;
-  size_t next_compaction_ = 4096;
+  CandidateHeap heap_;
+  uint32_t step_ = 0;  // finish_step calls so far (duplicate pushes of one step keep the minimum)
   // Scratch.
   std::vector<uint8_t> dirty_flag_;
   std::vector<uint32_t> dirty_;
@@ -89,10 +259,7 @@ class Builder {
   void project(const std::vector<std::vector<uint32_t>>& loops, const PlaneFrame& frame, PolygonLoops& out) const;
   static void classify_outer(PolygonLoops& poly, std::vector<std::vector<uint32_t>>& loops);
   void rebuild_cdt(uint32_t f);
-  void push(const Candidate& c) {
-    heap_.push_back(c);
-    std::push_heap(heap_.begin(), heap_.end(), CandidateAfter());
-  }
+  void push(const Candidate& c) { heap_.push(c, step_); }
   void push_candidates(uint32_t f);
   void push_boundary_candidates(uint32_t f);
   bool evaluate_merge(uint32_t f, uint32_t g, double& e) const;
@@ -110,7 +277,6 @@ class Builder {
   bool try_boundary_removal(uint32_t v, uint32_t f);
   bool stale(const Candidate& c) const;
   void verify_greedy(const Candidate& committed);
-  void compact_heap();
 };
 
 void Builder::project(const std::vector<std::vector<uint32_t>>& loops, const PlaneFrame& frame,
@@ -317,6 +483,7 @@ void Builder::finish_step(double error, uint32_t merged_from, uint32_t merged_in
   const LevelStats& last = impl_.stats.back();
   const uint64_t faces = last.faces - (merged_from != kNoRecord ? 1 : 0);
   impl_.stats.push_back({faces, fs_.used_vertices(), error});
+  ++step_;
   for (const uint32_t f : dirty_) {
     dirty_flag_[f] = 0;
     if (!fs_.faces[f].alive) continue;
@@ -380,16 +547,6 @@ bool Builder::try_boundary_removal(uint32_t v, uint32_t f) {
   return true;
 }
 
-void Builder::compact_heap() {
-  std::vector<Candidate> kept;
-  kept.reserve(heap_.size() / 2);
-  for (const Candidate& c : heap_)
-    if (!stale(c)) kept.push_back(c);
-  heap_.swap(kept);
-  std::make_heap(heap_.begin(), heap_.end(), CandidateAfter());
-  next_compaction_ = std::max<size_t>(2 * heap_.size(), 4096);
-}
-
 // Debug (SimplifyOptions::verify_greedy_order): every valid operation is re-evaluated from
 // scratch; the committed one must have the minimum priority.
 void Builder::verify_greedy(const Candidate& committed) {
@@ -451,8 +608,10 @@ void Builder::run() {
   pos_.resize(nv);
   for (size_t v = 0; v < nv; ++v) pos_[v] = impl_.normalised(mesh_.positions[v]);
 
+  if (nf >= 0x7fffffffu || nv >= 0x7fffffffu) fail(Status::invalid_argument, "simplify: mesh too large");
   fs_.faces.resize(nf);
   fs_.init_stars(capacity);
+  heap_.init(nv);
   dirty_flag_.assign(nf, 0);
   slot_stamp_.assign(nf, 0);
   impl_.hier.parent.assign(nf, kNoRecord);
@@ -510,9 +669,8 @@ void Builder::run() {
   uint64_t ops = 0, merges = 0;
   const double denom = nf > 1 ? static_cast<double>(nf - 1) : 1.0;
   while (!heap_.empty()) {
-    std::pop_heap(heap_.begin(), heap_.end(), CandidateAfter());
-    const Candidate c = heap_.back();
-    heap_.pop_back();
+    const Candidate c = heap_.top();
+    heap_.pop();
     if (stale(c)) continue;
     bool done;
     if (c.kind == 0) {
@@ -543,7 +701,6 @@ void Builder::run() {
     }
     if (!done) continue;
     if (++ops % 1024 == 0) monitor_.report("simplify", std::min(1.0, static_cast<double>(merges) / denom));
-    if (heap_.size() > next_compaction_) compact_heap();
   }
   monitor_.report("simplify", 1.0);
   impl_.hier.level = impl_.hier.steps.size();
