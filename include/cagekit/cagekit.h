@@ -483,10 +483,13 @@ CAGEKIT_API cagekit_status cagekit_cage_get_limit_points(cagekit_cage cage, uint
 
 typedef struct cagekit_surface_options {
   size_t struct_size;       /* sizeof(cagekit_surface_options) */
-  uint32_t isolation_level; /* adaptive isolation of extraordinary features, 1..10 (default 6) */
+  uint32_t isolation_level; /* adaptive isolation level, 1..10 (default 2). Smooth interior extraordinary
+                               vertices are evaluated exactly (Stam) at any level. */
+  uint32_t sharp_isolation_level; /* isolation around extraordinary vertices on creases/boundaries, which use
+                                     Gregory end caps: exact patches beyond 2^-level of them, 1..10 (default 10) */
 } cagekit_surface_options;
 
-#define CAGEKIT_SURFACE_OPTIONS_INIT { sizeof(cagekit_surface_options), 6 }
+#define CAGEKIT_SURFACE_OPTIONS_INIT { sizeof(cagekit_surface_options), 2, 10 }
 
 /* A parametric location on the limit surface. Faces are "ptex" faces: a quad of the cage is one
  * face with (u, v) in [0,1]^2, any other n-gon is n faces, one per corner (see

@@ -76,9 +76,12 @@ CAGEKIT_API cagekit_status cagekit_surface_create(cagekit_cage cage, const cagek
     const cagekit_surface_options o = read_versioned(options, defaults, "cagekit_surface_options");
     if (o.isolation_level < 1 || o.isolation_level > 10)
       fail(Status::invalid_argument, "isolation_level must be in 1..10, not " + std::to_string(o.isolation_level));
+    if (o.sharp_isolation_level < 1 || o.sharp_isolation_level > 10)
+      fail(Status::invalid_argument, "sharp_isolation_level must be in 1..10, not " + std::to_string(o.sharp_isolation_level));
     c.context->monitor().report("surface", 0.0);
     cagekit::SurfaceOptions so;
     so.isolation_level = static_cast<int>(o.isolation_level);
+    so.sharp_extraordinary_isolation_level = static_cast<int>(o.sharp_isolation_level);
     cagekit::SubdivisionSurface surface(c.cage, so);
     c.context->monitor().report("surface", 1.0);
     *out = std::make_unique<cagekit_surface_t>(c.context, std::move(surface)).release();
