@@ -482,6 +482,15 @@ static void simplification_hierarchy_browses_levels_and_builds_a_cage(void) {
   CHECK_OK(cagekit_mesh_measure_error(mesh, level_mesh, &error));
   CHECK(error.hausdorff_rel < 1e-12 && error.hausdorff_sym_rel < 1e-12);
 
+  /* a cancelling progress callback stops the simplification with no handle made */
+  {
+    cagekit_hierarchy cancelled = (cagekit_hierarchy)1;
+    CHECK_OK(cagekit_context_set_progress(context, cancel_after_first, NULL));
+    CHECK_STATUS(cagekit_hierarchy_create(mesh, NULL, &cancelled), CAGEKIT_ERROR_CANCELLED);
+    CHECK(cancelled == NULL);
+    CHECK_OK(cagekit_context_set_progress(context, NULL, NULL));
+  }
+
   /* level 0 is the input again */
   CHECK_OK(cagekit_hierarchy_set_level(hierarchy, 0));
   CHECK_OK(cagekit_hierarchy_get_current_info(hierarchy, &current));
