@@ -1,0 +1,691 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// bench_simplify: structure-preserving face-merge simplification (thesis ch. 3) against the peers,
+// in one run on the same meshes:
+//   * CageKit   SimplificationHierarchy (the whole run to the coarsest level = the algorithm) +
+//               level_for_face_count / go_to_level / extract; every level face is CDT-triangulated
+//               (project_face + triangulate_polygon) -> "our triangles" T
+//   * CGAL VSA  Variational_shape_approximation, L21_metric_plane_proxy, HIERARCHICAL seeding with
+//               max_number_of_proxies = our face count, run(30), extract_mesh(subdivision_ratio 5)
+//               (as ../shared/spec/peer-measurements.md §1)
+//   * QEM       OpenMesh DecimaterT + ModQuadricT + ModNormalFlippingT, decimate_to_faces(0, |T|), and
+//               CGAL Surface_mesh_simplification::edge_collapse (Lindstrom-Turk, CGAL's default) until
+//               number_of_faces() <= |T| (as peer-measurements.md §2)
+// Meshes: fandisk, rocker-arm, the Stanford bunny (unreferenced vertices dropped) and a ~1.1M-triangle
+// mesh generated here: the bunny Loop-subdivided twice (OpenMesh LoopT) with seeded Gaussian noise
+// along the vertex normals, sigma = 1e-4 of the bbox diagonal (the same generator as bench_io).
+//
+// Method: every tool runs in its own fork()ed child process; the child converts the input into the
+// tool's own structure, then malloc_trim(0), resets VmHWM (/proc/self/clear_refs = 5) and reads
+// VmRSS ("before"), times the library call only (steady_clock, and process CPU time), reads VmHWM
+// right after it ("peak", before any quality evaluation), then evaluates the output and sends the
+// numbers back through a pipe. Times: median of 3 children (1 for the 1.1M mesh); peak: the first
+// child. Errors: cagekit::measure_approximation_error (CGAL AABB; input vertices -> output
+// triangles, / input bbox diagonal) for every tool. Manifold / self-intersections: CGAL PMP on the
+// output triangles (is_polygon_soup_a_polygon_mesh; self_intersections on the Surface_mesh, after
+// repair_polygon_soup + orient_polygon_soup if the soup is not a polygon mesh). "Flipped": output
+// triangles whose normal points against the normal of the input triangle closest to their centroid
+// (a fold-over indicator; thin parts can give false positives for very coarse outputs). Never fails
+// on timing.
+//
+// Usage: bench_simplify [--quick]   (--quick: 1 child per tool, and no 1.1M mesh)
+#include <malloc.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
+#include <CGAL/Polygon_mesh_processing/polygon_mesh_to_polygon_soup.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/Surface_mesh_simplification/edge_collapse.h>
+#include <CGAL/Variational_shape_approximation.h>
+#include <CGAL/version.h>
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Core/System/omstream.hh>
+#include <OpenMesh/Tools/Decimater/DecimaterT.hh>
+#include <OpenMesh/Tools/Decimater/ModNormalFlippingT.hh>
+#include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
+#include <OpenMesh/Tools/Subdivider/Uniform/LoopT.hh>
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <fstream>
+#include <functional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "core/cage.h"
+#include "core/io/mesh_io.h"
+#include "core/mesh_repair.h"
+#include "layout/approximation_error.h"
+#include "layout/cage_builder.h"
+#include "layout/face_merge_simplifier.h"
+#include "layout/planar_polygon.h"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point3 = Kernel::Point_3;
+using SurfaceMesh = CGAL::Surface_mesh<Point3>;
+namespace PMP = CGAL::Polygon_mesh_processing;
+namespace SMS = CGAL::Surface_mesh_simplification;
+namespace VSA = CGAL::Surface_mesh_approximation;
+using Triangles = std::vector<std::array<size_t, 3>>;
+
+struct OmTraits : OpenMesh::DefaultTraits {
+  typedef OpenMesh::Vec3d Point;
+  typedef OpenMesh::Vec3d Normal;
+};
+using OmMesh = OpenMesh::TriMesh_ArrayKernelT<OmTraits>;
+
+// --- measurement helpers (each benchmark is self-contained) ---
+
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+double cpu_seconds() {
+  timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+std::string load_average() {
+  std::ifstream in("/proc/loadavg");
+  std::string one, five, fifteen;
+  in >> one >> five >> fifteen;
+  return one + " " + five + " " + fifteen;
+}
+
+long status_kib(const char* field) {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  const std::string key = std::string(field) + ":";
+  while (std::getline(in, line))
+    if (line.compare(0, key.size(), key) == 0) return std::atol(line.c_str() + key.size());
+  return -1;
+}
+
+// Brackets the timed library call in a child: RSS before (after malloc_trim + VmHWM reset), wall
+// and CPU time, VmHWM right after.
+struct Meter {
+  long before_kib = 0, peak_kib = 0;
+  Clock::time_point start;
+  double cpu0 = 0, wall = 0, cpu = 0;
+  void begin() {
+    malloc_trim(0);
+    std::ofstream("/proc/self/clear_refs") << "5";
+    before_kib = status_kib("VmRSS");
+    cpu0 = cpu_seconds();
+    start = Clock::now();
+  }
+  void end() {
+    wall = seconds_since(start);
+    cpu = cpu_seconds() - cpu0;
+    peak_kib = status_kib("VmHWM");
+  }
+};
+
+// Everything a child reports about one output (trivially copyable: it goes through a pipe).
+struct Result {
+  bool ok = false;
+  double wall = 0, cpu = 0;        // the timed call (ours: build + level query)
+  double part[3] = {0, 0, 0};      // ours: build / query; VSA: seed / iterate / mesh
+  double peak_mib = 0, before_mib = 0;
+  uint64_t out_faces = 0;          // ours: level faces; VSA: proxies; QEM: triangles
+  uint64_t out_triangles = 0;
+  uint64_t invalid_faces = 0;      // ours: level faces failing check_polygon_loops
+  uint64_t holes = 0;              // ours: level faces with holes
+  double hausdorff = 0, hausdorff_sym = 0, mean = 0;
+  int polygon_mesh = -1;           // output soup is a polygon mesh (manifold, oriented)
+  int library_manifold = -1;       // VSA: extract_mesh's return value
+  int self_intersecting = -1;
+  uint64_t si_pairs = 0;
+  uint64_t degenerate = 0, flipped = 0;
+  char error[96] = {0};
+};
+
+// Runs `f` in a forked child; the child fills `n` Results that come back through a pipe.
+std::vector<Result> in_child(size_t n, const std::function<void(std::vector<Result>&)>& f) {
+  std::vector<Result> results(n);
+  int fd[2];
+  if (pipe(fd) != 0) std::abort();
+  std::fflush(stdout);
+  std::fflush(stderr);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    close(fd[0]);
+    try {
+      f(results);
+    } catch (const std::exception& e) {
+      for (Result& r : results) {
+        r.ok = false;
+        std::snprintf(r.error, sizeof r.error, "%s", e.what());
+      }
+    }
+    const char* p = reinterpret_cast<const char*>(results.data());
+    size_t left = n * sizeof(Result);
+    while (left > 0) {
+      const ssize_t w = write(fd[1], p, left);
+      if (w <= 0) break;
+      p += w;
+      left -= size_t(w);
+    }
+    close(fd[1]);
+    std::fflush(stdout);
+    _exit(0);
+  }
+  close(fd[1]);
+  char* p = reinterpret_cast<char*>(results.data());
+  size_t got = 0;
+  while (got < n * sizeof(Result)) {
+    const ssize_t r = read(fd[0], p + got, n * sizeof(Result) - got);
+    if (r <= 0) break;
+    got += size_t(r);
+  }
+  close(fd[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  if (got != n * sizeof(Result)) {
+    results.assign(n, Result{});
+    for (Result& r : results)
+      std::snprintf(r.error, sizeof r.error, "child died (status %d)", status);
+  }
+  return results;
+}
+
+// `runs` children; per output: the median wall / CPU time, everything else from the first child.
+std::vector<Result> measure(int runs, size_t n, const std::function<void(std::vector<Result>&)>& f) {
+  std::vector<std::vector<Result>> all;
+  for (int i = 0; i < runs; ++i) all.push_back(in_child(n, f));
+  std::vector<Result> out = all[0];
+  for (size_t k = 0; k < n; ++k) {
+    std::vector<double> wall, cpu;
+    for (const auto& r : all)
+      if (r[k].ok) {
+        wall.push_back(r[k].wall);
+        cpu.push_back(r[k].cpu);
+      }
+    if (wall.empty()) continue;
+    std::sort(wall.begin(), wall.end());
+    std::sort(cpu.begin(), cpu.end());
+    out[k].wall = wall[wall.size() / 2];
+    out[k].cpu = cpu[cpu.size() / 2];
+  }
+  return out;
+}
+
+std::string shared_mesh(const char* name) {
+  const std::string path = std::string(CAGEKIT_SHARED_MESHES) + "/" + name;
+  return std::ifstream(path).good() ? path : std::string();
+}
+
+// --- conversions (outside the timed regions) ---
+
+SurfaceMesh to_surface_mesh(const cagekit::PolygonMesh& mesh) {
+  SurfaceMesh sm;
+  sm.reserve(SurfaceMesh::size_type(mesh.num_vertices()), SurfaceMesh::size_type(3 * mesh.num_faces() / 2),
+             SurfaceMesh::size_type(mesh.num_faces()));
+  for (const cagekit::Vec3& p : mesh.positions) sm.add_vertex(Point3(p.x, p.y, p.z));
+  for (size_t f = 0; f < mesh.num_faces(); ++f) {
+    std::vector<SurfaceMesh::Vertex_index> face;
+    for (uint32_t k = 0; k < mesh.face_size(f); ++k) face.push_back(SurfaceMesh::Vertex_index(mesh.face_vertex(f, k)));
+    if (sm.add_face(face) == SurfaceMesh::null_face()) throw std::runtime_error("Surface_mesh rejected a face");
+  }
+  return sm;
+}
+
+OmMesh to_openmesh(const cagekit::PolygonMesh& mesh) {
+  OmMesh om;
+  std::vector<OmMesh::VertexHandle> vh;
+  for (const cagekit::Vec3& p : mesh.positions) vh.push_back(om.add_vertex(OmMesh::Point(p.x, p.y, p.z)));
+  std::vector<OmMesh::VertexHandle> face;
+  for (size_t f = 0; f < mesh.num_faces(); ++f) {
+    face.clear();
+    for (uint32_t k = 0; k < mesh.face_size(f); ++k) face.push_back(vh[mesh.face_vertex(f, k)]);
+    if (!om.add_face(face).is_valid()) throw std::runtime_error("OpenMesh rejected a face");
+  }
+  return om;
+}
+
+cagekit::PolygonMesh from_openmesh(const OmMesh& om) {
+  cagekit::PolygonMesh mesh;
+  for (const auto v : om.vertices()) {
+    const OmMesh::Point& p = om.point(v);
+    mesh.add_vertex({p[0], p[1], p[2]});
+  }
+  for (const auto f : om.faces()) {
+    uint32_t tri[3];
+    int k = 0;
+    for (const auto v : om.fv_range(f)) tri[k++] = static_cast<uint32_t>(v.idx());
+    mesh.add_face(tri, 3);
+  }
+  return mesh;
+}
+
+cagekit::PolygonMesh from_soup(const std::vector<Point3>& points, const Triangles& tris) {
+  cagekit::PolygonMesh mesh;
+  for (const Point3& p : points) mesh.add_vertex({p.x(), p.y(), p.z()});
+  for (const auto& t : tris) mesh.add_face({uint32_t(t[0]), uint32_t(t[1]), uint32_t(t[2])});
+  return mesh;
+}
+
+void to_soup(const cagekit::PolygonMesh& mesh, std::vector<Point3>& points, Triangles& tris) {
+  for (const cagekit::Vec3& p : mesh.positions) points.emplace_back(p.x, p.y, p.z);
+  for (size_t f = 0; f < mesh.num_faces(); ++f)
+    for (uint32_t k = 1; k + 1 < mesh.face_size(f); ++k)
+      tris.push_back({mesh.face_vertex(f, 0), mesh.face_vertex(f, k), mesh.face_vertex(f, k + 1)});
+}
+
+// The bunny Loop-subdivided twice (OpenMesh LoopT) + seeded Gaussian noise along the vertex
+// normals, sigma = 1e-4 of the bounding-box diagonal (as bench_io).
+cagekit::PolygonMesh dense_bunny(const cagekit::PolygonMesh& bunny) {
+  OmMesh om = to_openmesh(bunny);
+  OpenMesh::Subdivider::Uniform::LoopT<OmMesh, double> loop;
+  loop.attach(om);
+  loop(2);
+  loop.detach();
+  om.request_face_normals();
+  om.request_vertex_normals();
+  om.update_normals();
+  const double sigma = 1e-4 * bunny.bounding_box().diagonal();
+  std::mt19937_64 rng(20261123);
+  std::normal_distribution<double> noise(0.0, sigma);
+  for (const auto v : om.vertices()) om.set_point(v, om.point(v) + om.normal(v) * noise(rng));
+  return from_openmesh(om);
+}
+
+// --- output quality (after the timed call and after the peak RSS was read) ---
+
+struct InputTree {
+  using Primitive = CGAL::AABB_face_graph_triangle_primitive<SurfaceMesh>;
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+  const SurfaceMesh* mesh;
+  Tree tree;
+  explicit InputTree(const SurfaceMesh& m) : mesh(&m), tree(faces(m).first, faces(m).second, m) {
+    tree.accelerate_distance_queries();
+  }
+};
+
+// Errors, manifoldness, self-intersections, degenerate and flipped triangles of a triangle output.
+void evaluate(const cagekit::PolygonMesh& input, const SurfaceMesh& input_sm, const cagekit::PolygonMesh& output,
+              Result& r) {
+  const cagekit::ApproximationError e = cagekit::measure_approximation_error(input, output);
+  r.hausdorff = e.hausdorff_rel;
+  r.hausdorff_sym = e.hausdorff_sym_rel;
+  r.mean = e.mean_rel;
+
+  std::vector<Point3> points;
+  Triangles tris;
+  to_soup(output, points, tris);
+  r.out_triangles = tris.size();
+  InputTree tree(input_sm);
+  for (const auto& t : tris) {
+    const Kernel::Vector_3 n = CGAL::cross_product(points[t[1]] - points[t[0]], points[t[2]] - points[t[0]]);
+    if (n.squared_length() == 0) {
+      ++r.degenerate;
+      continue;
+    }
+    const Point3 c = CGAL::centroid(points[t[0]], points[t[1]], points[t[2]]);
+    const auto hit = tree.tree.closest_point_and_primitive(c);
+    const auto h = halfedge(hit.second, input_sm);
+    const Point3& a = input_sm.point(source(h, input_sm));
+    const Point3& b = input_sm.point(target(h, input_sm));
+    const Point3& d = input_sm.point(target(next(h, input_sm), input_sm));
+    if (n * CGAL::cross_product(b - a, d - a) < 0) ++r.flipped;
+  }
+
+  r.polygon_mesh = PMP::is_polygon_soup_a_polygon_mesh(tris) ? 1 : 0;
+  if (!r.polygon_mesh) {
+    PMP::repair_polygon_soup(points, tris);
+    PMP::orient_polygon_soup(points, tris);
+  }
+  SurfaceMesh sm;
+  PMP::polygon_soup_to_polygon_mesh(points, tris, sm);
+  std::vector<std::pair<SurfaceMesh::Face_index, SurfaceMesh::Face_index>> pairs;
+  PMP::self_intersections(sm, std::back_inserter(pairs));
+  r.si_pairs = pairs.size();
+  r.self_intersecting = pairs.empty() ? 0 : 1;
+  r.ok = true;
+}
+
+// --- the tools (each runs inside a child) ---
+
+struct Target {
+  uint64_t faces = 0;       // requested level face count
+  uint64_t our_faces = 0;   // what CageKit gave (= VSA proxies)
+  uint64_t triangles = 0;   // |T| (= QEM target)
+};
+
+// CageKit: the hierarchy once, then every target's level; each level face CDT-triangulated.
+void run_cagekit(const cagekit::PolygonMesh& input, const std::vector<Target>& targets, std::vector<Result>& out) {
+  Meter m;
+  m.begin();
+  cagekit::SimplificationHierarchy hierarchy(input);
+  const double build_wall = seconds_since(m.start), build_cpu = cpu_seconds() - m.cpu0;
+  std::vector<cagekit::PolygonalLevel> levels;
+  std::vector<double> query_wall, query_cpu;
+  for (const Target& t : targets) {
+    const auto q0 = Clock::now();
+    const double c0 = cpu_seconds();
+    hierarchy.go_to_level(hierarchy.level_for_face_count(t.faces));
+    levels.push_back(hierarchy.extract());
+    query_wall.push_back(seconds_since(q0));
+    query_cpu.push_back(cpu_seconds() - c0);
+  }
+  m.end();
+
+  const SurfaceMesh input_sm = to_surface_mesh(input);
+  for (size_t i = 0; i < targets.size(); ++i) {
+    Result& r = out[i];
+    r.wall = build_wall + query_wall[i];
+    r.cpu = build_cpu + query_cpu[i];
+    r.part[0] = build_wall;
+    r.part[1] = query_wall[i];
+    r.peak_mib = m.peak_kib / 1024.0;
+    r.before_mib = m.before_kib / 1024.0;
+    r.out_faces = levels[i].faces.size();
+    // CDT of every face, over compacted input vertices.
+    cagekit::PolygonMesh tri;
+    std::vector<uint32_t> new_index(input.num_vertices(), UINT32_MAX);
+    auto vertex = [&](uint32_t v) {
+      if (new_index[v] == UINT32_MAX) new_index[v] = tri.add_vertex(input.positions[v]);
+      return new_index[v];
+    };
+    for (const cagekit::PolygonalFace& face : levels[i].faces) {
+      if (face.loops.size() > 1) ++r.holes;
+      std::vector<uint32_t> input_vertex_of_point;
+      const cagekit::PolygonLoops poly = cagekit::project_face(input, face, &input_vertex_of_point);
+      if (!cagekit::check_polygon_loops(poly).ok()) {
+        ++r.invalid_faces;  // fan of the outer loop, so that its area still counts
+        const auto& loop = face.loops[0];
+        for (size_t k = 1; k + 1 < loop.size(); ++k)
+          tri.add_face({vertex(loop[0]), vertex(loop[k]), vertex(loop[k + 1])});
+        continue;
+      }
+      for (const auto& t : cagekit::triangulate_polygon(poly))
+        tri.add_face({vertex(input_vertex_of_point[t[0]]), vertex(input_vertex_of_point[t[1]]),
+                      vertex(input_vertex_of_point[t[2]])});
+    }
+    evaluate(input, input_sm, tri, r);
+  }
+}
+
+void run_vsa(const cagekit::PolygonMesh& input, uint64_t proxies, Result& r) {
+  const SurfaceMesh sm = to_surface_mesh(input);
+  using Vpm = boost::property_map<SurfaceMesh, CGAL::vertex_point_t>::const_type;
+  using L21 = VSA::L21_metric_plane_proxy<SurfaceMesh, Vpm>;
+  using Approximation = CGAL::Variational_shape_approximation<SurfaceMesh, Vpm, L21>;
+  const Vpm vpm = get(boost::vertex_point, sm);
+  const L21 metric(sm, vpm);
+  Meter m;
+  m.begin();
+  Approximation approx(sm, vpm, metric);
+  approx.initialize_seeds(
+      CGAL::parameters::seeding_method(VSA::HIERARCHICAL).max_number_of_proxies(std::size_t(proxies)));
+  r.part[0] = seconds_since(m.start);
+  approx.run(30);
+  r.part[1] = seconds_since(m.start) - r.part[0];
+  const bool manifold = approx.extract_mesh(CGAL::parameters::subdivision_ratio(5.0));
+  r.part[2] = seconds_since(m.start) - r.part[0] - r.part[1];
+  m.end();
+  r.wall = m.wall;
+  r.cpu = m.cpu;
+  r.peak_mib = m.peak_kib / 1024.0;
+  r.before_mib = m.before_kib / 1024.0;
+  r.library_manifold = manifold ? 1 : 0;
+  r.out_faces = approx.number_of_proxies();
+  std::vector<Point3> anchors;
+  Triangles tris;
+  approx.output(CGAL::parameters::anchors(std::back_inserter(anchors)).triangles(std::back_inserter(tris)));
+  evaluate(input, sm, from_soup(anchors, tris), r);
+}
+
+void run_openmesh(const cagekit::PolygonMesh& input, uint64_t triangles, Result& r) {
+  OmMesh om = to_openmesh(input);
+  om.request_face_normals();
+  om.update_face_normals();
+  Meter m;
+  m.begin();
+  {  // the decimater (and its modules' mesh properties) must go before the mesh does
+    OpenMesh::Decimater::DecimaterT<OmMesh> decimater(om);
+    OpenMesh::Decimater::ModQuadricT<OmMesh>::Handle quadric;
+    OpenMesh::Decimater::ModNormalFlippingT<OmMesh>::Handle flipping;
+    decimater.add(quadric);
+    decimater.add(flipping);
+    decimater.module(quadric).unset_max_err();
+    if (!decimater.initialize()) throw std::runtime_error("Decimater::initialize failed");
+    decimater.decimate_to_faces(0, size_t(triangles));
+  }
+  om.garbage_collection();
+  m.end();
+  r.wall = m.wall;
+  r.cpu = m.cpu;
+  r.peak_mib = m.peak_kib / 1024.0;
+  r.before_mib = m.before_kib / 1024.0;
+  r.out_faces = om.n_faces();
+  const cagekit::PolygonMesh out = from_openmesh(om);
+  om = OmMesh();
+  evaluate(input, to_surface_mesh(input), out, r);
+}
+
+struct FaceCountStop {  // CGAL 5.5 has no Face_count_stop_predicate yet
+  std::size_t target;
+  template <class F, class Profile>
+  bool operator()(const F&, const Profile& profile, std::size_t, std::size_t) const {
+    return profile.surface_mesh().number_of_faces() <= target;
+  }
+};
+
+void run_cgal_sms(const cagekit::PolygonMesh& input, uint64_t triangles, Result& r) {
+  SurfaceMesh sm = to_surface_mesh(input);
+  Meter m;
+  m.begin();
+  SMS::edge_collapse(sm, FaceCountStop{std::size_t(triangles)});
+  m.end();
+  r.wall = m.wall;
+  r.cpu = m.cpu;
+  r.peak_mib = m.peak_kib / 1024.0;
+  r.before_mib = m.before_kib / 1024.0;
+  r.out_faces = sm.number_of_faces();
+  sm.collect_garbage();
+  std::vector<Point3> points;
+  Triangles tris;
+  PMP::polygon_mesh_to_polygon_soup(sm, points, tris);
+  sm = SurfaceMesh();
+  evaluate(input, to_surface_mesh(input), from_soup(points, tris), r);
+}
+
+// --- printing ---
+
+std::string fmt_time(double s) {
+  char b[32];
+  if (s < 1)
+    std::snprintf(b, sizeof b, "%.0f ms", s * 1e3);
+  else
+    std::snprintf(b, sizeof b, "%.2f s", s);
+  return b;
+}
+
+std::string pct(double x) {
+  char b[32];
+  std::snprintf(b, sizeof b, x < 0.001 ? "%.4f%%" : x < 0.01 ? "%.3f%%" : "%.2f%%", 100 * x);
+  return b;
+}
+
+std::string yes_no(int v) { return v < 0 ? "–" : v ? "yes" : "**no**"; }
+
+struct Row {
+  std::string mesh, tool;
+  uint64_t target = 0;  // requested level faces
+  Result r;
+  std::string time_detail;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  omlog().disable();
+  omerr().disable();
+  omout().disable();
+  bool quick = false;
+  for (int i = 1; i < argc; ++i)
+    if (std::strcmp(argv[i], "--quick") == 0) quick = true;
+  std::printf("## bench_simplify: CageKit face-merge simplification vs CGAL %s VSA and QEM (OpenMesh %d.%d, CGAL SMS)\n\n",
+              CGAL_VERSION_STR, OM_GET_VER, OM_GET_MAJ);
+  std::printf("load average at start: %s\n", load_average().c_str());
+  const auto bench_start = Clock::now();
+
+  struct Input {
+    std::string label;
+    cagekit::PolygonMesh mesh;
+    std::vector<uint64_t> targets;
+    int runs;
+  };
+  cagekit::RepairOptions drop_unused;
+  drop_unused.weld_tolerance = -1;
+  drop_unused.drop_invalid_faces = drop_unused.drop_degenerate_faces = drop_unused.drop_duplicate_faces = false;
+  drop_unused.split_non_manifold = drop_unused.orient_consistently = false;
+  drop_unused.remove_unreferenced_vertices = true;
+
+  std::vector<std::string> names = {"fandisk", "rocker-arm", "bunny", "bunny-1.1M"};
+  std::vector<Row> rows;
+  std::vector<std::string> notes;
+  cagekit::PolygonMesh bunny;
+  for (const std::string& name : names) {
+    Input in{name, {}, {200, 50}, quick ? 1 : 3};
+    if (name == "rocker-arm") in.targets.push_back(6);
+    if (name == "bunny-1.1M") {
+      if (quick || bunny.num_faces() == 0) {
+        std::printf("skipped bunny-1.1M (%s)\n", quick ? "--quick" : "no bunny");
+        continue;
+      }
+      const auto start = Clock::now();
+      in.mesh = dense_bunny(bunny);
+      in.targets = {100};
+      in.runs = 1;
+      std::printf("generated bunny-1.1M (Loop x2 + noise): %zu vertices, %zu triangles in %.1f s\n",
+                  in.mesh.num_vertices(), in.mesh.num_faces(), seconds_since(start));
+    } else {
+      const std::string file = name == "bunny" ? "stanford-bunny.obj" : name + ".obj";
+      const std::string path = shared_mesh(file.c_str());
+      if (path.empty()) {
+        std::printf("skipped %s: %s/%s not found\n", name.c_str(), CAGEKIT_SHARED_MESHES, file.c_str());
+        continue;
+      }
+      in.mesh = cagekit::repair_mesh(cagekit::read_cage_from_file(path).mesh, drop_unused);
+      if (name == "bunny") bunny = in.mesh;
+    }
+    if (!in.mesh.all_faces_have_size(3)) {
+      std::printf("skipped %s: not a triangle mesh\n", name.c_str());
+      continue;
+    }
+    std::printf("%s: %zu vertices, %zu triangles, bbox diagonal %g; %d child run(s) per tool\n", name.c_str(),
+                in.mesh.num_vertices(), in.mesh.num_faces(), in.mesh.bounding_box().diagonal(), in.runs);
+    std::fflush(stdout);
+
+    std::vector<Target> targets;
+    for (uint64_t t : in.targets) targets.push_back({t, 0, 0});
+    const std::vector<Result> ours =
+        measure(in.runs, targets.size(), [&](std::vector<Result>& out) { run_cagekit(in.mesh, targets, out); });
+    for (size_t i = 0; i < targets.size(); ++i) {
+      Row row{name, "CageKit", targets[i].faces, ours[i], ""};
+      row.time_detail = "build " + fmt_time(ours[i].part[0]) + " + query " + fmt_time(ours[i].part[1]);
+      rows.push_back(row);
+      if (!ours[i].ok) {
+        std::printf("  CageKit failed: %s\n", ours[i].error);
+        continue;
+      }
+      targets[i].our_faces = ours[i].out_faces;
+      targets[i].triangles = ours[i].out_triangles;
+      std::printf("  CageKit %s: %llu faces -> %llu triangles\n", fmt_time(ours[i].wall).c_str(),
+                  (unsigned long long)ours[i].out_faces, (unsigned long long)ours[i].out_triangles);
+      std::fflush(stdout);
+    }
+    for (const Target& t : targets) {
+      if (t.our_faces == 0) continue;
+      Row vsa{name, "CGAL VSA", t.faces,
+              measure(in.runs, 1, [&](std::vector<Result>& out) { run_vsa(in.mesh, t.our_faces, out[0]); })[0], ""};
+      vsa.time_detail = fmt_time(vsa.r.part[0]) + " / " + fmt_time(vsa.r.part[1]) + " / " + fmt_time(vsa.r.part[2]);
+      rows.push_back(vsa);
+      rows.push_back({name, "OpenMesh Decimater", t.faces,
+                      measure(in.runs, 1, [&](std::vector<Result>& out) { run_openmesh(in.mesh, t.triangles, out[0]); })[0],
+                      ""});
+      rows.push_back({name, "CGAL SMS (LT)", t.faces,
+                      measure(in.runs, 1, [&](std::vector<Result>& out) { run_cgal_sms(in.mesh, t.triangles, out[0]); })[0],
+                      ""});
+      std::printf("  peers for %llu faces done (VSA %s)\n", (unsigned long long)t.faces, fmt_time(vsa.r.wall).c_str());
+      std::fflush(stdout);
+    }
+  }
+
+  std::printf("\n| mesh | target | tool | time (CPU) | detail | peak RSS MiB (before) | faces | triangles | invalid faces | "
+              "Hausdorff | Hausdorff sym | mean | polygon mesh | self-intersecting (pairs) | degenerate / flipped tris |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const Row& w : rows) {
+    const Result& r = w.r;
+    if (!r.ok) {
+      std::printf("| %s | %llu | %s | failed: %s |||||||||||\n", w.mesh.c_str(), (unsigned long long)w.target,
+                  w.tool.c_str(), r.error);
+      continue;
+    }
+    std::string invalid = w.tool == "CageKit" ? std::to_string(r.invalid_faces) + (r.holes ? " (" + std::to_string(r.holes) + " with holes)" : "")
+                                              : "–";
+    std::string pm = yes_no(r.polygon_mesh);
+    if (r.library_manifold >= 0) pm += " (CGAL: " + std::string(r.library_manifold ? "yes" : "no") + ")";
+    std::string si = r.self_intersecting ? "yes (" + std::to_string(r.si_pairs) + ")" : "no";
+    if (r.self_intersecting && !r.polygon_mesh) si += " *after repair*";
+    std::printf("| %s | %llu | %s | %s (%s) | %s | %.0f (%.0f) | %llu | %llu | %s | %s | %s | %s | %s | %s | %llu / %llu |\n",
+                w.mesh.c_str(), (unsigned long long)w.target, w.tool.c_str(), fmt_time(r.wall).c_str(),
+                fmt_time(r.cpu).c_str(), w.time_detail.c_str(), r.peak_mib, r.before_mib,
+                (unsigned long long)r.out_faces, (unsigned long long)r.out_triangles, invalid.c_str(),
+                pct(r.hausdorff).c_str(), pct(r.hausdorff_sym).c_str(), pct(r.mean).c_str(), pm.c_str(), si.c_str(),
+                (unsigned long long)r.degenerate, (unsigned long long)r.flipped);
+  }
+
+  std::printf("\nRatios CageKit / peer (time: wall (CPU); error: Hausdorff input->output, and mean):\n\n");
+  std::printf("| mesh | target | our faces / triangles | time / VSA | Hausdorff / VSA | mean / VSA | time / OpenMesh | "
+              "Hausdorff / OpenMesh | time / CGAL SMS | Hausdorff / CGAL SMS |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+  for (size_t i = 0; i < rows.size(); ++i) {
+    if (rows[i].tool != "CageKit" || !rows[i].r.ok) continue;
+    const Result& o = rows[i].r;
+    std::string cells;
+    for (const char* peer : {"CGAL VSA", "OpenMesh Decimater", "CGAL SMS (LT)"}) {
+      const Row* p = nullptr;
+      for (const Row& w : rows)
+        if (w.mesh == rows[i].mesh && w.target == rows[i].target && w.tool == peer) p = &w;
+      char b[160];
+      if (!p || !p->r.ok)
+        std::snprintf(b, sizeof b, std::strcmp(peer, "CGAL VSA") == 0 ? " – | – | – |" : " – | – |");
+      else if (std::strcmp(peer, "CGAL VSA") == 0)
+        std::snprintf(b, sizeof b, " %.2f (%.2f) | %.2f | %.2f |", o.wall / p->r.wall, o.cpu / p->r.cpu,
+                      o.hausdorff / p->r.hausdorff, o.mean / p->r.mean);
+      else
+        std::snprintf(b, sizeof b, " %.2f (%.2f) | %.2f |", o.wall / p->r.wall, o.cpu / p->r.cpu,
+                      o.hausdorff / p->r.hausdorff);
+      cells += b;
+    }
+    std::printf("| %s | %llu | %llu / %llu |%s\n", rows[i].mesh.c_str(), (unsigned long long)rows[i].target,
+                (unsigned long long)o.out_faces, (unsigned long long)o.out_triangles, cells.c_str());
+  }
+  std::printf("\nTimes: median of %d child processes per tool (1 for bunny-1.1M); CageKit's time is the hierarchy build "
+              "(the whole run to the coarsest level, the same for every target of a mesh) + the level query/extract. "
+              "Peak RSS: VmHWM of the tool's child right after the call; 'before' = VmRSS after the input was put "
+              "into the tool's structure (and inherited from the parent), after malloc_trim.\n",
+              quick ? 1 : 3);
+  std::printf("VSA detail: seeding / 30 iterations / extract_mesh. Load average at the end: %s. Total %.0f s.\n\n",
+              load_average().c_str(), seconds_since(bench_start));
+  for (const std::string& n : notes) std::printf("Note: %s\n", n.c_str());
+  return 0;
+}
