@@ -251,6 +251,9 @@ class Builder {
   std::vector<uint32_t> slot_stamp_, slot_index_;
   uint32_t slot_clock_ = 0;
   PolygonLoops scratch_poly_;
+  std::vector<uint32_t> scratch_flat_;
+  std::vector<std::array<uint32_t, 3>> scratch_tris_;
+  bool loops_validated_ = false;  // all faces changed from here on have validated loops
   std::vector<std::vector<uint32_t>> scratch_loops_;
 
   PlaneFrame frame_of(const Vec3& centroid_input, const Vec3& normal) const {
@@ -324,11 +327,28 @@ void Builder::rebuild_cdt(uint32_t f) {
     return;
   }
   project(face.loops, frame_of(face.centroid, face.normal), scratch_poly_);
-  std::vector<uint32_t> flat;
+  std::vector<uint32_t>& flat = scratch_flat_;
+  flat.clear();
   for (const auto& l : face.loops) flat.insert(flat.end(), l.begin(), l.end());
   try {
-    for (const auto& t : triangulate_polygon(scratch_poly_))
-      face.cdt.add_triangle(pos_[flat[t[0]]], pos_[flat[t[1]]], pos_[flat[t[2]]]);
+    // After the initial input faces, every face's loops were validated in this same frame
+    // (try_merge, removal_valid), so the validity check is skipped.
+    if (loops_validated_)
+      triangulate_valid_polygon(scratch_poly_, scratch_tris_);
+    else
+      scratch_tris_ = triangulate_polygon(scratch_poly_);
+    // Canonical order (each triangle rotated to start at its smallest vertex id, triangles
+    // sorted), so that the rounding of the moments does not depend on the triangulator's
+    // output order (the fast path and CGAL list the same triangles in different orders).
+    for (auto& t : scratch_tris_) {
+      t = {flat[t[0]], flat[t[1]], flat[t[2]]};
+      if (t[1] < t[0] && t[1] < t[2])
+        t = {t[1], t[2], t[0]};
+      else if (t[2] < t[0] && t[2] < t[1])
+        t = {t[2], t[0], t[1]};
+    }
+    std::sort(scratch_tris_.begin(), scratch_tris_.end());
+    for (const auto& t : scratch_tris_) face.cdt.add_triangle(pos_[t[0]], pos_[t[1]], pos_[t[2]]);
   } catch (const Error&) {
     // Only input polygons that are not valid in their own plane get here: use a fan.
     for (const auto& l : face.loops)
@@ -665,6 +685,7 @@ void Builder::run() {
     push_candidates(f);
     push_boundary_candidates(f);
   }
+  loops_validated_ = true;
 
   uint64_t ops = 0, merges = 0;
   const double denom = nf > 1 ? static_cast<double>(nf - 1) : 1.0;

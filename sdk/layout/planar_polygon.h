@@ -66,4 +66,15 @@ int orient2d(const Vec2& a, const Vec2& b, const Vec2& c);
 // polygon.points. Throws Error(invalid_argument) if the polygon is not valid.
 std::vector<std::array<uint32_t, 3>> triangulate_polygon(const PolygonLoops& polygon);
 
+// As triangulate_polygon, for a polygon already known to be valid (check_polygon_loops ok):
+// skips the validity check and reuses `triangles`' storage. Simple polygons of up to 64
+// vertices take a fast path (ear clipping + exact Lawson flips, falling back to CGAL when four
+// vertices are cocircular), so the result is always the same triangle set as CGAL's CDT.
+void triangulate_valid_polygon(const PolygonLoops& polygon, std::vector<std::array<uint32_t, 3>>& triangles);
+
+namespace detail {
+// The CGAL constrained Delaunay triangulation behind triangulate_polygon (reference for tests).
+std::vector<std::array<uint32_t, 3>> triangulate_polygon_cgal(const PolygonLoops& polygon);
+}  // namespace detail
+
 CAGEKIT_NAMESPACE_END
