@@ -251,6 +251,15 @@ class Builder {
   std::vector<uint32_t> slot_stamp_, slot_index_;
   uint32_t slot_clock_ = 0;
   PolygonLoops scratch_poly_;
+  struct Neighbour {
+    uint32_t g;
+    uint64_t shared;
+    double angle_sum;
+    Vec3 n;
+    bool ok;
+  };
+  std::vector<Neighbour> nbs_;
+  std::vector<uint32_t> twin_;
   std::vector<uint32_t> scratch_flat_;
   std::vector<std::array<uint32_t, 3>> scratch_tris_;
   bool loops_validated_ = false;  // all faces changed from here on have validated loops
@@ -266,6 +275,8 @@ class Builder {
   void push_candidates(uint32_t f);
   void push_boundary_candidates(uint32_t f);
   bool evaluate_merge(uint32_t f, uint32_t g, double& e) const;
+  double merge_key(const WorkFace& F, const WorkFace& G, double sf, double sg, const Vec3& n, uint64_t shared,
+                   double angle_sum) const;
   bool removal_valid(uint32_t f, uint32_t v);
   bool try_remove_interior(uint32_t v);
   void mark_dirty(uint32_t f) {
@@ -386,36 +397,78 @@ bool Builder::evaluate_merge(uint32_t f, uint32_t g, double& e) const {
     }
   }
   if (shared == 0) return false;
+  e = merge_key(F, G, sf, sg, n, shared, angle_sum);
+  return true;
+}
+
+double Builder::merge_key(const WorkFace& F, const WorkFace& G, double sf, double sg, const Vec3& n, uint64_t shared,
+                          double angle_sum) const {
   const Vec3 b = (impl_.normalised(F.centroid) * sf + impl_.normalised(G.centroid) * sg) * (1.0 / (sf + sg));
   AreaMoments mo = F.cdt;
   mo += G.cdt;
   const double l2 = mo.squared_distance_integral(b, n);
   const double l21 = l21_term(sf, F.normal, sg, G.normal, n);
   const uint64_t m = F.num_loop_vertices() + G.num_loop_vertices() - 2 * shared;
-  e = quantize_priority(merge_priority(l2, l21, m, angle_sum, options_.tie_break_epsilon));
-  return true;
+  return quantize_priority(merge_priority(l2, l21, m, angle_sum, options_.tie_break_epsilon));
 }
 
 void Builder::push_candidates(uint32_t f) {
-  // Neighbours of f through its contour half-edges' twins.
+  // evaluate_merge(f, g) for all neighbours g of f in two passes over f's loops (same
+  // arithmetic in the same order, so the same keys).
   if (++slot_clock_ == 0) {
     std::fill(slot_stamp_.begin(), slot_stamp_.end(), 0);
     slot_clock_ = 1;
   }
-  std::vector<uint32_t> neighbours;
-  for (const auto& loop : fs_.faces[f].loops) {
+  const WorkFace& F = fs_.faces[f];
+  twin_.clear();
+  nbs_.clear();
+  for (const auto& loop : F.loops) {
     const size_t m = loop.size();
     for (size_t i = 0; i < m; ++i) {
       const uint32_t g = fs_.face_of_halfedge(loop[(i + 1) % m], loop[i]);
+      twin_.push_back(g);
       if (g == kNoFace || slot_stamp_[g] == slot_clock_) continue;
       slot_stamp_[g] = slot_clock_;
-      neighbours.push_back(g);
+      slot_index_[g] = static_cast<uint32_t>(nbs_.size());
+      nbs_.push_back({g, 0, 0.0, Vec3(), false});
     }
   }
-  for (const uint32_t g : neighbours) {
-    double e;
-    if (!evaluate_merge(f, g, e)) continue;
-    const uint32_t a = std::min(f, g), b = std::max(f, g);
+  const double inv_d2 = impl_.inv_unit * impl_.inv_unit;
+  const double sf = F.area * inv_d2;
+  for (Neighbour& x : nbs_) {
+    const WorkFace& G = fs_.faces[x.g];
+    const Vec3 nsum = F.normal * sf + G.normal * (G.area * inv_d2);
+    x.ok = norm(nsum) > 0;
+    if (x.ok) x.n = normalized(nsum);
+  }
+  size_t base = 0;
+  for (const auto& loop : F.loops) {
+    const size_t m = loop.size();
+    for (size_t i = 0; i < m; ++i) {
+      const uint32_t g = twin_[base + i];
+      if (g == kNoFace) continue;
+      Neighbour& x = nbs_[slot_index_[g]];
+      if (!x.ok) continue;
+      ++x.shared;
+      const uint32_t a = loop[i], b = loop[(i + 1) % m];
+      if (twin_[base + (i + m - 1) % m] != g) {
+        const StarEntry* h = fs_.star_entry(a, g);
+        const double d = inner_angle(pos_[loop[(i + m - 1) % m]], pos_[a], pos_[h->next], x.n) - M_PI / 2;
+        x.angle_sum += d * d;
+      }
+      if (twin_[base + (i + 1) % m] != g) {
+        const StarEntry* h = fs_.star_entry(b, g);
+        const double d = inner_angle(pos_[h->prev], pos_[b], pos_[loop[(i + 2) % m]], x.n) - M_PI / 2;
+        x.angle_sum += d * d;
+      }
+    }
+    base += m;
+  }
+  for (const Neighbour& x : nbs_) {
+    if (!x.ok || x.shared == 0) continue;
+    const WorkFace& G = fs_.faces[x.g];
+    const double e = merge_key(F, G, sf, G.area * inv_d2, x.n, x.shared, x.angle_sum);
+    const uint32_t a = std::min(f, x.g), b = std::max(f, x.g);
     push({e, a, b, fs_.faces[a].version, fs_.faces[b].version, 0});
   }
 }
@@ -634,6 +687,7 @@ void Builder::run() {
   heap_.init(nv);
   dirty_flag_.assign(nf, 0);
   slot_stamp_.assign(nf, 0);
+  slot_index_.assign(nf, 0);
   impl_.hier.parent.assign(nf, kNoRecord);
   impl_.hier.current.assign(nf, kNoRecord);
   for (uint32_t f = 0; f < nf; ++f) {
