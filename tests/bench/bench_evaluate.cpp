@@ -1,23 +1,30 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // bench_evaluate: limit-surface evaluation at N random (ptex face, u, v) points of a cage, in one
 // process on the same points:
-//   * CageKit  cagekit::SubdivisionSurface (sdk/subdiv/subdivision_surface.h): construction, then
-//              evaluate(face, u, v) per point (position, du, dv and 2nd derivatives, with the
-//              cage's own control points), and evaluate(face, u, v, control) (any control array,
-//              the deformation case)
-//   * peer     OpenSubdiv 3.5 Far: TopologyRefinerFactory<TopologyDescriptor> + RefineAdaptive
-//              (same isolation level, useInfSharpPatch as CageKit) + LimitStencilTableFactoryReal
-//              <double>::Create for the N locations (1st derivatives on), then per frame
-//              LimitStencilTable::UpdateValues + UpdateDerivs (position, du, dv) over all N
+//   * CageKit  cagekit::SubdivisionSurface (sdk/subdiv/subdivision_surface.h) with its default
+//              options (exact Stam evaluation around smooth extraordinary vertices): construction,
+//              then evaluate(face, u, v) per point (position, du, dv and 2nd derivatives),
+//              evaluate(face, u, v, control) (any control array: the deformation case), and
+//              basis() rows applied to the control points by a plain loop
+//   * peer     OpenSubdiv 3.5 Far at isolation levels 3 and 6 (Gregory end caps): setup =
+//              TopologyRefinerFactory<TopologyDescriptor> + RefineAdaptive (useInfSharpPatch) +
+//              PatchTableFactory (ENDCAP_GREGORY_BASIS, double) + StencilTableFactoryReal<double> +
+//              AppendLocalPointStencilTable; per point set = LimitStencilTableFactoryReal<double>::
+//              Create for the N locations (1st derivatives); per frame = LimitStencilTable::
+//              UpdateValues + UpdateDerivs (position, du, dv) over all N
 // Cages: fandisk as a cage (12,946 triangles, no tags) and a quad-only cage, fandisk refined once
-// by CageKit (38,838 quads). Usage: bench_evaluate [N=100000] [isolation=6].
-// Method (as in ../shared/spec/peer-measurements.md §4): steady_clock around the library calls
-// only; setup timed once (it takes seconds); per-point times: median of 5 passes over all N
-// points; peak RSS of each setup above the RSS before it (VmHWM reset by /proc/self/clear_refs).
-// Agreement: max |CageKit - OpenSubdiv| of the positions, and of du/dv relative to their size.
-// Never fails on timing.
+// by CageKit (38,838 quads). Both are closed and untagged: every extraordinary vertex is smooth
+// and interior, so CageKit is exact everywhere and OpenSubdiv approximates inside its Gregory end
+// caps ([0, 2^-L]^2 at each extraordinary corner). The position difference is therefore
+// OpenSubdiv's end-cap error; it shrinks as the peer's isolation level L grows.
+// Usage: bench_evaluate [N=100000] [CageKit isolation=default] [peer isolation levels=3,6].
+// Method (as in ../shared/spec/peer-measurements.md §4): steady_clock (and process CPU time)
+// around the library calls only; setups timed once (they take seconds); per-point times: median
+// of 5 passes over all N points; peak RSS of each setup above the RSS before it (VmHWM reset by
+// /proc/self/clear_refs). Never fails on timing.
 #include <malloc.h>
 #include <opensubdiv/far/patchTable.h>
+#include <opensubdiv/far/patchMap.h>
 #include <opensubdiv/far/patchTableFactory.h>
 #include <opensubdiv/far/ptexIndices.h>
 #include <opensubdiv/far/stencilTable.h>
@@ -177,76 +184,107 @@ struct Location {
   double u, v;
 };
 
-struct Result {
-  std::string cage;
-  size_t faces = 0, ptex = 0;
-  Seconds ck_setup, ck_eval, ck_eval_control, ck_basis, ck_basis_apply, peer_setup, peer_stencils, peer_eval;
-  double ck_setup_mib = 0, peer_setup_mib = 0;
-  size_t peer_weights = 0;
-  double fd_ck_median = 0, fd_osd_median = 0, basis_max_diff = 0;
-  size_t ck_basis_weights = 0;
-  double max_pos_diff = 0, diag = 0, max_deriv_rel = 0, deriv_scale_median = 0, deriv_differing = 0;
-  bool ran = false;
-};
-
-double rel(const cagekit::Vec3& a, const Point3& b) {
-  const double d = std::max({std::abs(a.x - b.x), std::abs(a.y - b.y), std::abs(a.z - b.z)});
-  const double m = std::max({std::abs(a.x), std::abs(a.y), std::abs(a.z), 1e-300});
-  return d / m;
-}
-
-Result run(const std::string& label, const cagekit::Cage& cage, int n, int isolation) {
-  Result r;
-  r.cage = label;
-  r.faces = cage.mesh.num_faces();
-  r.diag = cage.mesh.bounding_box().diagonal();
-  std::printf("%s: %zu vertices, %zu faces, isolation %d, %d points\n", label.c_str(), cage.mesh.num_vertices(),
-              cage.mesh.num_faces(), isolation, n);
-  std::fflush(stdout);
-
-  // CageKit setup.
-  cagekit::SurfaceOptions options;
-  options.isolation_level = isolation;
-  PeakRss rss;
-  rss.begin();
-  Stopwatch sw;
-  auto surface = std::make_unique<cagekit::SubdivisionSurface>(cage, options);
-  r.ck_setup = sw.elapsed();
-  r.ck_setup_mib = rss.mib_above_start();
-  r.ptex = surface->num_ptex_faces();
-  std::printf("  CageKit SubdivisionSurface: %.2f s, %.0f MiB\n", r.ck_setup.wall, r.ck_setup_mib);
-  std::fflush(stdout);
-
-  // The same random points for both.
+std::vector<Location> random_locations(size_t n, uint32_t ptex_faces) {
   std::mt19937_64 rng(20261123);
-  std::uniform_int_distribution<uint32_t> face(0, static_cast<uint32_t>(r.ptex - 1));
+  std::uniform_int_distribution<uint32_t> face(0, ptex_faces - 1);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::vector<Location> where(static_cast<size_t>(n));
+  std::vector<Location> where(n);
   for (Location& l : where) {
     l.face = face(rng);
     l.u = unit(rng);
     l.v = unit(rng);
   }
+  return where;
+}
 
-  std::vector<cagekit::Vec3> fd_du;  // central differences of the positions
-  std::vector<Location> fd_where;
-  std::vector<cagekit::SurfacePoint> ck(where.size());
-  r.ck_eval = median_seconds(kPasses, [&] {
-                for (size_t i = 0; i < where.size(); ++i) ck[i] = surface->evaluate(where[i].face, where[i].u, where[i].v);
-              }) / n;
-  std::vector<cagekit::SurfacePoint> ck_control(where.size());
+// Points for the derivative referee: (u - h, u, u + h) at the first points, u kept inside.
+constexpr double kStep = 1e-5;
+constexpr size_t kRefereePoints = 2000;
+
+std::vector<Location> referee_locations(const std::vector<Location>& where) {
+  std::vector<Location> out;
+  for (size_t i = 0; i < where.size() && i < kRefereePoints; ++i) {
+    const double u = std::min(std::max(where[i].u, 2 * kStep), 1 - 2 * kStep);
+    for (double d : {-kStep, 0.0, kStep}) out.push_back({where[i].face, u + d, where[i].v});
+  }
+  return out;
+}
+
+// Median of |du - central difference of the positions| / |central difference| over the triples.
+template <typename P, typename D>
+double referee_median(const std::vector<P>& position, const std::vector<D>& du) {
+  std::vector<double> err;
+  for (size_t i = 0; i + 2 < position.size(); i += 3) {
+    const cagekit::Vec3 fd = (position[i + 2] - position[i]) * (1 / (2 * kStep));
+    err.push_back(cagekit::norm(du[i + 1] - fd) / std::max(cagekit::norm(fd), 1e-300));
+  }
+  std::sort(err.begin(), err.end());
+  return err.empty() ? 0 : err[err.size() / 2];
+}
+
+cagekit::Vec3 vec(const Point3& p) { return {p.x, p.y, p.z}; }
+
+struct CageKitResult {
+  Seconds setup, eval, eval_control, basis, basis_apply;
+  double setup_mib = 0;
+  uint32_t ptex = 0;
+  size_t basis_weights = 0;
+  double referee = 0, basis_max_diff = 0;
+  std::vector<cagekit::SurfacePoint> points;
+};
+
+struct PeerResult {
+  int isolation = 0;
+  Seconds setup, stencils, eval;
+  double setup_mib = 0;
+  size_t weights = 0;
+  double max_pos_diff = 0, max_deriv_rel = 0, deriv_scale_median = 0, deriv_differing = 0, referee = 0;
+  double max_pos_diff_bspline = 0, max_pos_diff_end_caps = 0;
+  size_t end_cap_points = 0;
+};
+
+struct CageRun {
+  std::string cage;
+  size_t faces = 0;
+  double diag = 0;
+  CageKitResult ck;
+  std::vector<PeerResult> peers;
+};
+
+CageKitResult run_cagekit(const cagekit::Cage& cage, const cagekit::SurfaceOptions& options,
+                          std::vector<Location>* where, size_t n) {
+  CageKitResult r;
+  PeakRss rss;
+  rss.begin();
+  Stopwatch sw;
+  auto surface = std::make_unique<cagekit::SubdivisionSurface>(cage, options);
+  r.setup = sw.elapsed();
+  r.setup_mib = rss.mib_above_start();
+  r.ptex = surface->num_ptex_faces();
+  std::printf("  CageKit SubdivisionSurface (isolation %d, sharp EV isolation %d): %.2f s, %.0f MiB\n",
+              options.isolation_level, options.sharp_extraordinary_isolation_level, r.setup.wall, r.setup_mib);
+  std::fflush(stdout);
+  *where = random_locations(n, r.ptex);
+
+  r.points.resize(n);
+  r.eval = median_seconds(kPasses, [&] {
+             for (size_t i = 0; i < n; ++i) r.points[i] = surface->evaluate((*where)[i].face, (*where)[i].u, (*where)[i].v);
+           }) / double(n);
+  std::vector<cagekit::SurfacePoint> with_control(n);
   const std::vector<cagekit::Vec3>& control = cage.mesh.positions;
-  r.ck_eval_control = median_seconds(kPasses, [&] {
-                        for (size_t i = 0; i < where.size(); ++i)
-                          ck_control[i] = surface->evaluate(where[i].face, where[i].u, where[i].v, control);
-                      }) / n;
+  r.eval_control = median_seconds(kPasses, [&] {
+                     for (size_t i = 0; i < n; ++i)
+                       with_control[i] = surface->evaluate((*where)[i].face, (*where)[i].u, (*where)[i].v, control);
+                   }) / double(n);
+  for (size_t i = 0; i < n; ++i)
+    r.basis_max_diff = std::max(r.basis_max_diff, cagekit::norm(with_control[i].position - r.points[i].position));
 
-  // CageKit's stencil path: basis() per point (phi_j, phi_j,u, phi_j,v over the cage vertices),
-  // kept as a CSR table, then applied to the control points by a plain loop (this file's code).
+  // The stencil path: basis() per point (phi_j, phi_j,u, phi_j,v over the cage vertices) kept as
+  // a CSR table, then applied to the control points by a plain loop (this file's code).
   std::vector<uint32_t> offsets{0}, indices;
   std::vector<double> w, wu, wv;
   sw = Stopwatch();
-  for (const Location& l : where) {
+  for (const Location& l : *where) {
     const cagekit::BasisWeights b = surface->basis(l.face, l.u, l.v);
     indices.insert(indices.end(), b.indices.begin(), b.indices.end());
     w.insert(w.end(), b.w.begin(), b.w.end());
@@ -254,60 +292,75 @@ Result run(const std::string& label, const cagekit::Cage& cage, int n, int isola
     wv.insert(wv.end(), b.wv.begin(), b.wv.end());
     offsets.push_back(static_cast<uint32_t>(indices.size()));
   }
-  r.ck_basis = sw.elapsed() / n;
-  r.ck_basis_weights = indices.size();
-  std::vector<cagekit::Vec3> basis_p(where.size()), basis_du(where.size()), basis_dv(where.size());
-  r.ck_basis_apply = median_seconds(kPasses, [&] {
-                       for (size_t i = 0; i < where.size(); ++i) {
-                         cagekit::Vec3 p, pu, pv;
-                         for (uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
-                           const cagekit::Vec3& c = control[indices[k]];
-                           p += c * w[k];
-                           pu += c * wu[k];
-                           pv += c * wv[k];
-                         }
-                         basis_p[i] = p;
-                         basis_du[i] = pu;
-                         basis_dv[i] = pv;
-                       }
-                     }) / n;
+  r.basis = sw.elapsed() / double(n);
+  r.basis_weights = indices.size();
+  std::vector<cagekit::Vec3> p(n), pu(n), pv(n);
+  r.basis_apply = median_seconds(kPasses, [&] {
+                    for (size_t i = 0; i < n; ++i) {
+                      cagekit::Vec3 a, au, av;
+                      for (uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+                        const cagekit::Vec3& c = control[indices[k]];
+                        a += c * w[k];
+                        au += c * wu[k];
+                        av += c * wv[k];
+                      }
+                      p[i] = a;
+                      pu[i] = au;
+                      pv[i] = av;
+                    }
+                  }) / double(n);
+  for (size_t i = 0; i < n; ++i)
+    r.basis_max_diff = std::max({r.basis_max_diff, cagekit::norm(p[i] - r.points[i].position),
+                                 cagekit::norm(pu[i] - r.points[i].du), cagekit::norm(pv[i] - r.points[i].dv)});
 
-  // A neutral referee for the first derivatives: central differences of the positions (CageKit's
-  // and OpenSubdiv's positions agree to rounding, see below), step 1e-5 in u.
-  {
-    const double h = 1e-5;
-    std::vector<double> err_ck;
-    for (size_t i = 0; i < where.size() && i < 2000; ++i) {
-      const double u = std::min(std::max(where[i].u, 2 * h), 1 - 2 * h);
-      const cagekit::Vec3 a = surface->evaluate(where[i].face, u + h, where[i].v).position;
-      const cagekit::Vec3 b = surface->evaluate(where[i].face, u - h, where[i].v).position;
-      const cagekit::Vec3 fd = (a - b) * (1 / (2 * h));
-      const cagekit::Vec3 du_ck = surface->evaluate(where[i].face, u, where[i].v).du;
-      fd_du.push_back(fd);
-      fd_where.push_back({where[i].face, u, where[i].v});
-      err_ck.push_back(cagekit::norm(du_ck - fd) / std::max(cagekit::norm(fd), 1e-300));
-    }
-    std::sort(err_ck.begin(), err_ck.end());
-    r.fd_ck_median = err_ck.empty() ? 0 : err_ck[err_ck.size() / 2];
+  const std::vector<Location> ref = referee_locations(*where);
+  std::vector<cagekit::Vec3> ref_p, ref_du;
+  for (const Location& l : ref) {
+    const cagekit::SurfacePoint sp = surface->evaluate(l.face, l.u, l.v);
+    ref_p.push_back(sp.position);
+    ref_du.push_back(sp.du);
   }
-  surface.reset();
+  r.referee = referee_median(ref_p, ref_du);
+  return r;
+}
 
-  // Peer setup: refiner + adaptive refinement + limit stencil table for the N locations.
-  const PeerInput in = peer_input(cage.mesh);
-  std::vector<double> s(where.size()), t(where.size());
-  Far::LimitStencilTableFactoryReal<double>::LocationArrayVec arrays(where.size());
+double rel(const cagekit::Vec3& a, const cagekit::Vec3& b) {
+  const double d = std::max({std::abs(a.x - b.x), std::abs(a.y - b.y), std::abs(a.z - b.z)});
+  const double m = std::max({std::abs(a.x), std::abs(a.y), std::abs(a.z), 1e-300});
+  return d / m;
+}
+
+using LocationArrays = Far::LimitStencilTableFactoryReal<double>::LocationArrayVec;
+
+// One LocationArray per point (each point has its own ptex face); s, t must outlive the arrays.
+LocationArrays location_arrays(const std::vector<Location>& where, std::vector<double>* s, std::vector<double>* t) {
+  s->resize(where.size());
+  t->resize(where.size());
+  LocationArrays arrays(where.size());
   for (size_t i = 0; i < where.size(); ++i) {
-    s[i] = where[i].u;
-    t[i] = where[i].v;
+    (*s)[i] = where[i].u;
+    (*t)[i] = where[i].v;
     arrays[i].ptexIdx = static_cast<int>(where[i].face);
     arrays[i].numLocations = 1;
-    arrays[i].s = &s[i];
-    arrays[i].t = &t[i];
+    arrays[i].s = &(*s)[i];
+    arrays[i].t = &(*t)[i];
   }
-  // Fixed part (independent of the points): refiner, adaptive refinement, patch table (Gregory
-  // end caps, double), stencils of the refined vertices over the control vertices.
+  return arrays;
+}
+
+PeerResult run_peer(const cagekit::Cage& cage, int isolation, const std::vector<Location>& where,
+                    const CageKitResult& ck) {
+  PeerResult r;
+  r.isolation = isolation;
+  const size_t n = where.size();
+  const PeerInput in = peer_input(cage.mesh);
+  std::vector<double> s, t;
+  const LocationArrays arrays = location_arrays(where, &s, &t);
+
+  // Fixed part (independent of the points).
+  PeakRss rss;
   rss.begin();
-  sw = Stopwatch();
+  Stopwatch sw;
   auto refiner = peer_refiner(in, isolation);
   Far::PatchTableFactory::Options patch_options(isolation);
   patch_options.SetEndCapType(Far::PatchTableFactory::Options::ENDCAP_GREGORY_BASIS);
@@ -323,81 +376,84 @@ Result run(const std::string& label, const cagekit::Cage& cage, int n, int isola
       Far::StencilTableFactoryReal<double>::Create(*refiner, stencil_options));
   if (const Far::StencilTableReal<double>* local = patches->GetLocalPointStencilTable<double>())
     refined.reset(Far::StencilTableFactoryReal<double>::AppendLocalPointStencilTable(*refiner, refined.get(), local));
-  r.peer_setup = sw.elapsed();
+  r.setup = sw.elapsed();
   // Per point set: the limit stencils of the N locations.
   sw = Stopwatch();
   std::unique_ptr<const Far::LimitStencilTableReal<double>> table(
       Far::LimitStencilTableFactoryReal<double>::Create(*refiner, arrays, refined.get(), patches.get()));
-  r.peer_stencils = sw.elapsed() / n;
-  r.peer_setup_mib = rss.mib_above_start();
-  if (!table || table->GetNumStencils() != n) {
-    std::fprintf(stderr, "bench_evaluate: OpenSubdiv made %d stencils for %d locations\n",
+  r.stencils = sw.elapsed() / double(n);
+  r.setup_mib = rss.mib_above_start();
+  if (!table || static_cast<size_t>(table->GetNumStencils()) != n) {
+    std::fprintf(stderr, "bench_evaluate: OpenSubdiv made %d stencils for %zu locations\n",
                  table ? table->GetNumStencils() : -1, n);
     std::exit(2);
   }
-  r.peer_weights = table->GetWeights().size();
+  r.weights = table->GetWeights().size();
   const int peer_ptex = Far::PtexIndices(*refiner).GetNumFaces();
-  if (static_cast<size_t>(peer_ptex) != r.ptex) {
-    std::fprintf(stderr, "bench_evaluate: ptex face counts differ: CageKit %zu, OpenSubdiv %d\n", r.ptex, peer_ptex);
+  if (static_cast<uint32_t>(peer_ptex) != ck.ptex) {
+    std::fprintf(stderr, "bench_evaluate: ptex face counts differ: CageKit %u, OpenSubdiv %d\n", ck.ptex, peer_ptex);
     std::exit(2);
   }
-  std::printf("  OpenSubdiv refiner + patch table + stencils: %.2f s; limit stencils: %.2f s; %.0f MiB, %zu weights\n",
-              r.peer_setup.wall, r.peer_stencils.wall * n, r.peer_setup_mib, r.peer_weights);
+  std::printf("  OpenSubdiv isolation %d: refiner + patch table + stencils %.2f s; limit stencils %.2f s; %.0f MiB\n",
+              isolation, r.setup.wall, r.stencils.wall * double(n), r.setup_mib);
   std::fflush(stdout);
-  {  // OpenSubdiv's du at the central-difference points (outside the timings)
-    std::vector<double> fs(fd_where.size()), ft(fd_where.size());
-    Far::LimitStencilTableFactoryReal<double>::LocationArrayVec fd_arrays(fd_where.size());
-    for (size_t i = 0; i < fd_where.size(); ++i) {
-      fs[i] = fd_where[i].u;
-      ft[i] = fd_where[i].v;
-      fd_arrays[i].ptexIdx = static_cast<int>(fd_where[i].face);
-      fd_arrays[i].numLocations = 1;
-      fd_arrays[i].s = &fs[i];
-      fd_arrays[i].t = &ft[i];
+
+  // The derivative referee's points (outside the timings).
+  {
+    const std::vector<Location> ref = referee_locations(where);
+    std::vector<double> rs, rt;
+    const LocationArrays ref_arrays = location_arrays(ref, &rs, &rt);
+    std::unique_ptr<const Far::LimitStencilTableReal<double>> ref_table(
+        Far::LimitStencilTableFactoryReal<double>::Create(*refiner, ref_arrays, refined.get(), patches.get()));
+    std::vector<Point3> p(ref.size()), du(ref.size()), dv(ref.size());
+    ref_table->UpdateValues(in.control.data(), p.data());
+    ref_table->UpdateDerivs(in.control.data(), du.data(), dv.data());
+    std::vector<cagekit::Vec3> pv, duv;
+    for (size_t i = 0; i < ref.size(); ++i) {
+      pv.push_back(vec(p[i]));
+      duv.push_back(vec(du[i]));
     }
-    std::unique_ptr<const Far::LimitStencilTableReal<double>> fd_table(
-        Far::LimitStencilTableFactoryReal<double>::Create(*refiner, fd_arrays, refined.get(), patches.get()));
-    std::vector<Point3> fp(fd_where.size()), fdu(fd_where.size()), fdv(fd_where.size());
-    fd_table->UpdateDerivs(in.control.data(), fdu.data(), fdv.data());
-    std::vector<double> err;
-    for (size_t i = 0; i < fd_where.size(); ++i) {
-      const cagekit::Vec3 du_osd(fdu[i].x, fdu[i].y, fdu[i].z);
-      err.push_back(cagekit::norm(du_osd - fd_du[i]) / std::max(cagekit::norm(fd_du[i]), 1e-300));
+    r.referee = referee_median(pv, duv);
+  }
+  // Which points lie on OpenSubdiv's Gregory end caps (the rest are on its B-spline patches).
+  std::vector<char> in_end_cap(n, 0);
+  {
+    const Far::PatchMap map(*patches);
+    for (size_t i = 0; i < n; ++i) {
+      const Far::PatchMap::Handle* h = map.FindPatch(static_cast<int>(where[i].face), where[i].u, where[i].v);
+      in_end_cap[i] = h && patches->GetPatchDescriptor(*h).GetType() == Far::PatchDescriptor::GREGORY_BASIS;
     }
-    std::sort(err.begin(), err.end());
-    r.fd_osd_median = err.empty() ? 0 : err[err.size() / 2];
   }
   refined.reset();
   patches.reset();
   refiner.reset();
 
-  std::vector<Point3> pos(where.size()), du(where.size()), dv(where.size());
-  r.peer_eval = median_seconds(kPasses, [&] {
-                  table->UpdateValues(in.control.data(), pos.data());
-                  table->UpdateDerivs(in.control.data(), du.data(), dv.data());
-                }) / n;
+  std::vector<Point3> pos(n), du(n), dv(n);
+  r.eval = median_seconds(kPasses, [&] {
+             table->UpdateValues(in.control.data(), pos.data());
+             table->UpdateDerivs(in.control.data(), du.data(), dv.data());
+           }) / double(n);
 
   std::vector<double> scale;  // |du_OSD| / |du_CageKit|
   size_t differing = 0;
-  for (size_t i = 0; i < where.size(); ++i) {
-    const cagekit::Vec3& a = ck[i].position;
-    r.max_pos_diff = std::max({r.max_pos_diff, std::abs(a.x - pos[i].x), std::abs(a.y - pos[i].y), std::abs(a.z - pos[i].z)});
-    const cagekit::Vec3& b = ck_control[i].position;
-    r.max_pos_diff = std::max({r.max_pos_diff, std::abs(b.x - pos[i].x), std::abs(b.y - pos[i].y), std::abs(b.z - pos[i].z)});
-    const double d = std::max(rel(ck[i].du, du[i]), rel(ck[i].dv, dv[i]));
+  for (size_t i = 0; i < n; ++i) {
+    const cagekit::SurfacePoint& c = ck.points[i];
+    const double pd = cagekit::norm(c.position - vec(pos[i]));
+    r.max_pos_diff = std::max(r.max_pos_diff, pd);
+    if (in_end_cap[i]) {
+      r.end_cap_points += 1;
+      r.max_pos_diff_end_caps = std::max(r.max_pos_diff_end_caps, pd);
+    } else {
+      r.max_pos_diff_bspline = std::max(r.max_pos_diff_bspline, pd);
+    }
+    const double d = std::max(rel(c.du, vec(du[i])), rel(c.dv, vec(dv[i])));
     r.max_deriv_rel = std::max(r.max_deriv_rel, d);
     if (d > 1e-6) ++differing;
-    const double n_ck = std::sqrt(ck[i].du.x * ck[i].du.x + ck[i].du.y * ck[i].du.y + ck[i].du.z * ck[i].du.z);
-    const double n_osd = std::sqrt(du[i].x * du[i].x + du[i].y * du[i].y + du[i].z * du[i].z);
-    if (n_ck > 0) scale.push_back(n_osd / n_ck);
+    if (cagekit::norm(c.du) > 0) scale.push_back(cagekit::norm(vec(du[i])) / cagekit::norm(c.du));
   }
   std::sort(scale.begin(), scale.end());
   r.deriv_scale_median = scale.empty() ? 0 : scale[scale.size() / 2];
-  r.deriv_differing = double(differing) / n;
-  for (size_t i = 0; i < where.size(); ++i)
-    r.basis_max_diff = std::max({r.basis_max_diff, cagekit::norm(basis_p[i] - ck[i].position),
-                                 cagekit::norm(basis_du[i] - ck[i].du), cagekit::norm(basis_dv[i] - ck[i].dv)});
-  r.ran = true;
+  r.deriv_differing = double(differing) / double(n);
   return r;
 }
 
@@ -415,15 +471,37 @@ std::string si_time(const Seconds& t) {
   return b;
 }
 
+std::vector<int> parse_levels(const char* text) {
+  std::vector<int> levels;
+  std::string item;
+  for (const char* c = text;; ++c) {
+    if (*c == ',' || *c == 0) {
+      if (!item.empty()) levels.push_back(std::atoi(item.c_str()));
+      item.clear();
+      if (*c == 0) break;
+    } else {
+      item += *c;
+    }
+  }
+  return levels;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  const int n = argc > 1 ? std::atoi(argv[1]) : 100000;
-  const int isolation = argc > 2 ? std::atoi(argv[2]) : 6;
-  if (n < 1 || isolation < 1 || isolation > cagekit::kMaxIsolationLevel) {
-    std::fprintf(stderr, "usage: bench_evaluate [points >= 1] [isolation 1..%d]\n", cagekit::kMaxIsolationLevel);
+  const long n_arg = argc > 1 ? std::atol(argv[1]) : 100000;
+  cagekit::SurfaceOptions ck_options;
+  if (argc > 2) ck_options.isolation_level = std::atoi(argv[2]);
+  const std::vector<int> peer_levels = parse_levels(argc > 3 ? argv[3] : "3,6");
+  bool ok = n_arg >= 1 && ck_options.isolation_level >= 1 && ck_options.isolation_level <= cagekit::kMaxIsolationLevel &&
+            !peer_levels.empty();
+  for (int level : peer_levels) ok = ok && level >= 1 && level <= 10;
+  if (!ok) {
+    std::fprintf(stderr, "usage: bench_evaluate [points >= 1] [CageKit isolation 1..%d] [peer levels, e.g. 3,6]\n",
+                 cagekit::kMaxIsolationLevel);
     return 2;
   }
+  const size_t n = static_cast<size_t>(n_arg);
   std::printf("## bench_evaluate: limit-surface evaluation, CageKit SubdivisionSurface vs OpenSubdiv %d.%d.%d "
               "LimitStencilTable\n\n",
               OPENSUBDIV_VERSION_MAJOR, OPENSUBDIV_VERSION_MINOR, OPENSUBDIV_VERSION_PATCH);
@@ -439,54 +517,80 @@ int main(int argc, char** argv) {
   once.levels = 1;
   const cagekit::Cage quads = cagekit::refine_uniform(fandisk, once);
 
-  std::vector<Result> results;
-  results.push_back(run("fandisk (triangles)", fandisk, n, isolation));
-  results.push_back(run("fandisk refined once (quads)", quads, n, isolation));
-
-  std::printf("\nSetup (once per cage):\n\n");
-  std::printf("| cage | faces | ptex faces | CageKit `SubdivisionSurface` | OSD refiner + `RefineAdaptive` + patch table + "
-              "stencil table (+ end-cap points) | ratio CageKit / OSD (by CPU time) | peak RSS MiB CageKit / OSD (incl. the N limit stencils) |\n");
-  std::printf("|---|---|---|---|---|---|---|\n");
-  for (const Result& r : results)
-    std::printf("| %s | %zu | %zu | %s | %s | %s | %.0f / %.0f |\n", r.cage.c_str(), r.faces, r.ptex,
-                si_time(r.ck_setup).c_str(), si_time(r.peer_setup).c_str(), ratio(r.ck_setup, r.peer_setup).c_str(),
-                r.ck_setup_mib,
-                r.peer_setup_mib);
-  std::printf("\nPer point, new points each time (N = %d):\n\n", n);
-  std::printf("| cage | CageKit `evaluate` (P, 1st + 2nd derivs) | OSD: limit stencil creation + `UpdateValues` + "
-              "`UpdateDerivs` (P, 1st derivs) | ratio CageKit / OSD (by CPU time) | CageKit `basis()` (weights, to build stencils) | "
-              "max abs position diff CageKit vs OSD (/ bbox diagonal) |\n");
-  std::printf("|---|---|---|---|---|---|\n");
-  for (const Result& r : results) {
-    const Seconds osd_new = r.peer_stencils + r.peer_eval;
-    std::printf("| %s | %s | %s | %s | %s | %.1e (%.1e) |\n", r.cage.c_str(), si_time(r.ck_eval).c_str(),
-                si_time(osd_new).c_str(), ratio(r.ck_eval, osd_new).c_str(), si_time(r.ck_basis).c_str(), r.max_pos_diff,
-                r.max_pos_diff / r.diag);
+  std::vector<CageRun> runs;
+  const std::pair<const char*, const cagekit::Cage*> cages[] = {{"fandisk (triangles)", &fandisk},
+                                                                 {"fandisk refined once (quads)", &quads}};
+  for (const auto& [label, cage] : cages) {
+    CageRun run;
+    run.cage = label;
+    run.faces = cage->mesh.num_faces();
+    run.diag = cage->mesh.bounding_box().diagonal();
+    std::printf("%s: %zu vertices, %zu faces, %zu points\n", label, cage->mesh.num_vertices(), run.faces, n);
+    std::fflush(stdout);
+    std::vector<Location> where;
+    run.ck = run_cagekit(*cage, ck_options, &where, n);
+    for (int level : peer_levels) run.peers.push_back(run_peer(*cage, level, where, run.ck));
+    runs.push_back(std::move(run));
   }
-  std::printf("\nPer point, fixed points, moved control points (a deformation frame; N = %d):\n\n", n);
+
+  std::printf("\nSetup (once per cage; OSD's limit stencils for the N points are in the per-point table):\n\n");
+  std::printf("| cage | faces | ptex faces | CageKit `SubdivisionSurface` (isolation %d) | OSD isolation | OSD refiner + "
+              "`RefineAdaptive` + patch table + stencil table (+ end-cap points) | ratio CageKit / OSD (by CPU time) | "
+              "peak RSS MiB CageKit / OSD (incl. the N limit stencils) |\n",
+              ck_options.isolation_level);
+  std::printf("|---|---|---|---|---|---|---|---|\n");
+  for (const CageRun& c : runs)
+    for (const PeerResult& p : c.peers)
+      std::printf("| %s | %zu | %u | %s | %d | %s | %s | %.0f / %.0f |\n", c.cage.c_str(), c.faces, c.ck.ptex,
+                  si_time(c.ck.setup).c_str(), p.isolation, si_time(p.setup).c_str(), ratio(c.ck.setup, p.setup).c_str(),
+                  c.ck.setup_mib, p.setup_mib);
+
+  std::printf("\nPer point, new points each time (N = %zu), and agreement of the positions:\n\n", n);
+  std::printf("| cage | CageKit `evaluate` (P, 1st + 2nd derivs) | OSD isolation | OSD limit stencil creation + "
+              "`UpdateValues` + `UpdateDerivs` (P, 1st derivs) | ratio CageKit / OSD (by CPU time) | CageKit `basis()` "
+              "(weights, to build stencils) | points on OSD end caps | max abs position diff CageKit vs OSD: on OSD's "
+              "B-spline patches; on its Gregory end caps (/ bbox diagonal) |\n");
+  std::printf("|---|---|---|---|---|---|---|---|\n");
+  for (const CageRun& c : runs)
+    for (const PeerResult& p : c.peers) {
+      const Seconds osd_new = p.stencils + p.eval;
+      std::printf("| %s | %s | %d | %s | %s | %s | %.1f%% | %.1e; %.1e (%.1e) |\n", c.cage.c_str(),
+                  si_time(c.ck.eval).c_str(), p.isolation, si_time(osd_new).c_str(), ratio(c.ck.eval, osd_new).c_str(),
+                  si_time(c.ck.basis).c_str(), 100.0 * double(p.end_cap_points) / double(n), p.max_pos_diff_bspline,
+                  p.max_pos_diff_end_caps, p.max_pos_diff_end_caps / c.diag);
+    }
+
+  std::printf("\nPer point, fixed points, moved control points (a deformation frame; N = %zu):\n\n", n);
   std::printf("| cage | CageKit `evaluate(control)` | CageKit `basis()` weights applied (plain loop, P + 1st derivs) | "
-              "OSD `UpdateValues` + `UpdateDerivs` (P, 1st derivs) | ratio evaluate(control) / OSD (by CPU time) | ratio "
-              "basis loop / OSD (by CPU time) | weights / point CageKit basis / OSD stencil |\n");
+              "OSD isolation | OSD `UpdateValues` + `UpdateDerivs` (P, 1st derivs) | ratio evaluate(control) / OSD (by "
+              "CPU time) | ratio basis loop / OSD (by CPU time) | weights / point CageKit basis / OSD stencil |\n");
+  std::printf("|---|---|---|---|---|---|---|---|\n");
+  for (const CageRun& c : runs)
+    for (const PeerResult& p : c.peers)
+      std::printf("| %s | %s | %s | %d | %s | %s | %s | %.1f / %.1f |\n", c.cage.c_str(),
+                  si_time(c.ck.eval_control).c_str(), si_time(c.ck.basis_apply).c_str(), p.isolation,
+                  si_time(p.eval).c_str(), ratio(c.ck.eval_control, p.eval).c_str(),
+                  ratio(c.ck.basis_apply, p.eval).c_str(), double(c.ck.basis_weights) / double(n),
+                  double(p.weights) / double(n));
+
+  std::printf("\nFirst derivatives:\n\n");
+  std::printf("| cage | OSD isolation | max rel du/dv diff CageKit vs OSD | points with rel diff > 1e-6 | median "
+              "abs(du_OSD) / abs(du_CageKit) | median rel error of du vs central differences of the library's own "
+              "positions: CageKit / OSD | max diff of CageKit's basis loop and evaluate(control) vs evaluate |\n");
   std::printf("|---|---|---|---|---|---|---|\n");
-  for (const Result& r : results)
-    std::printf("| %s | %s | %s | %s | %s | %s | %.1f / %.1f |\n", r.cage.c_str(),
-                si_time(r.ck_eval_control).c_str(), si_time(r.ck_basis_apply).c_str(), si_time(r.peer_eval).c_str(),
-                ratio(r.ck_eval_control, r.peer_eval).c_str(), ratio(r.ck_basis_apply, r.peer_eval).c_str(),
-                double(r.ck_basis_weights) / n,
-                double(r.peer_weights) / n);
-  std::printf("\nFirst derivatives (agreement):\n\n");
-  std::printf("| cage | max rel du/dv diff CageKit vs OSD | points with rel diff > 1e-6 | median abs(du_OSD) / "
-              "abs(du_CageKit) | median rel error of du vs central difference of the positions: CageKit / OSD | "
-              "max diff of CageKit basis-loop P/du/dv vs `evaluate` |\n");
-  std::printf("|---|---|---|---|---|---|\n");
-  for (const Result& r : results)
-    std::printf("| %s | %.1e | %.1f%% | %.3f | %.1e / %.1e | %.1e |\n", r.cage.c_str(), r.max_deriv_rel,
-                100.0 * r.deriv_differing, r.deriv_scale_median, r.fd_ck_median, r.fd_osd_median, r.basis_max_diff);
-  std::printf("\nN random points (uniform ptex face, uniform u, v; seeded), isolation level %d for both, double precision "
-              "for both. Setup timed once; per-point times: median of %d passes over all N points / N (the OSD limit "
-              "stencil creation for the N points is timed once / N). CageKit's `evaluate` always computes the 2nd "
-              "derivatives too. Ratios: wall-time ratio, in parentheses the ratio of process CPU times (the same on an "
-              "idle machine; closer to the truth under load). Load average at the end: %s.\n\n",
-              isolation, kPasses, load_average().c_str());
+  for (const CageRun& c : runs)
+    for (const PeerResult& p : c.peers)
+      std::printf("| %s | %d | %.1e | %.1f%% | %.3f | %.1e / %.1e | %.1e |\n", c.cage.c_str(), p.isolation,
+                  p.max_deriv_rel, 100.0 * p.deriv_differing, p.deriv_scale_median, c.ck.referee, p.referee,
+                  c.ck.basis_max_diff);
+
+  std::printf("\nN random points (uniform ptex face, uniform u, v; seeded); double precision for both. CageKit: "
+              "SurfaceOptions isolation %d, sharp-EV isolation %d. Setups timed once; per-point times: median of %d "
+              "passes over all N points / N (OSD's limit stencil creation for the N points timed once / N). CageKit's "
+              "`evaluate` always computes the 2nd derivatives too. Ratios: wall-time ratio, in parentheses the ratio of "
+              "process CPU times (the same on an idle machine; closer to the truth under load). Load average at the "
+              "end: %s.\n\n",
+              ck_options.isolation_level, ck_options.sharp_extraordinary_isolation_level, kPasses,
+              load_average().c_str());
   return 0;
 }
