@@ -48,7 +48,7 @@ class CandidateHeap {
   }
   bool empty() const { return heap_.empty(); }
   size_t size() const { return heap_.size(); }
-  const Candidate& top() const { return heap_[0].c; }
+  const Candidate& top() const { return cand_[heap_[0].id]; }
   // Same step (a pair pushed from both of its changed faces): keep the smaller key.
   void push(const Candidate& c, uint32_t step) {
     uint32_t* handle;
@@ -62,16 +62,20 @@ class CandidateHeap {
       *handle = id;
       owner_[id] = c.kind == 0 ? key_of(c.a, c.b) : (uint64_t(1) << 63 | c.a);
       pos_[id] = static_cast<uint32_t>(heap_.size());
-      heap_.push_back({c, id, step});
+      cand_[id] = c;
+      step_of_[id] = step;
+      heap_.push_back({c.key, id});
       sift_up(heap_.size() - 1);
       return;
     }
-    const uint32_t i = pos_[*handle];
-    Node& n = heap_[i];
-    if (n.step == step && c.kind == 0 && n.c.va == c.va && n.c.vb == c.vb && !(c.key < n.c.key)) return;
-    const bool up = after(n.c, c);
-    n.c = c;
-    n.step = step;
+    const uint32_t id = *handle;
+    const uint32_t i = pos_[id];
+    Candidate& old = cand_[id];
+    if (step_of_[id] == step && c.kind == 0 && old.va == c.va && old.vb == c.vb && !(c.key < old.key)) return;
+    const bool up = after(old, c);
+    old = c;
+    step_of_[id] = step;
+    heap_[i].key = c.key;
     if (up)
       sift_up(i);
     else
@@ -92,10 +96,14 @@ class CandidateHeap {
  private:
   static constexpr uint32_t kNone = 0xffffffffu;
   static constexpr uint64_t kEmptyKey = ~uint64_t(0);
-  struct Node {
-    Candidate c;
-    uint32_t id, step;
+  struct Node {  // 16 bytes: four children share one or two cache lines
+    double key;
+    uint32_t id, pad = 0;
   };
+  bool node_after(const Node& x, const Node& y) const {
+    if (x.key != y.key) return x.key > y.key;
+    return after(cand_[x.id], cand_[y.id]);
+  }
   struct Slot {
     uint64_t key;
     uint32_t handle;
@@ -111,6 +119,8 @@ class CandidateHeap {
     }
     pos_.push_back(0);
     owner_.push_back(0);
+    cand_.push_back(Candidate());
+    step_of_.push_back(0);
     return static_cast<uint32_t>(pos_.size() - 1);
   }
   void release(uint32_t id) {
@@ -168,7 +178,7 @@ class CandidateHeap {
     const Node n = heap_[i];
     while (i > 0) {
       const size_t p = (i - 1) / 4;
-      if (!after(heap_[p].c, n.c)) break;
+      if (!node_after(heap_[p], n)) break;
       heap_[i] = heap_[p];
       pos_[heap_[i].id] = static_cast<uint32_t>(i);
       i = p;
@@ -185,8 +195,8 @@ class CandidateHeap {
       size_t best = first;
       const size_t end = std::min(first + 4, size);
       for (size_t k = first + 1; k < end; ++k)
-        if (after(heap_[best].c, heap_[k].c)) best = k;
-      if (!after(n.c, heap_[best].c)) break;
+        if (node_after(heap_[best], heap_[k])) best = k;
+      if (!node_after(n, heap_[best])) break;
       heap_[i] = heap_[best];
       pos_[heap_[i].id] = static_cast<uint32_t>(i);
       i = best;
@@ -199,6 +209,8 @@ class CandidateHeap {
   std::vector<uint32_t> pos_;     // id -> heap position
   std::vector<uint64_t> owner_;   // id -> pair key, or bit 63 | vertex
   std::vector<uint32_t> free_;
+  std::vector<Candidate> cand_;     // id -> candidate
+  std::vector<uint32_t> step_of_;   // id -> step of its last push
   std::vector<uint32_t> vertex_handle_;
   std::vector<Slot> pairs_;
   size_t pair_count_ = 0;
@@ -744,7 +756,7 @@ void Builder::run() {
   uint64_t ops = 0, merges = 0;
   const double denom = nf > 1 ? static_cast<double>(nf - 1) : 1.0;
   while (!heap_.empty()) {
-    const Candidate c = heap_.top();
+    const Candidate c = heap_.top();  // copy: pop() may reuse its slot
     heap_.pop();
     if (stale(c)) continue;
     bool done;
