@@ -165,6 +165,7 @@ std::vector<Result> in_child(size_t n, const std::function<void(std::vector<Resu
   const pid_t pid = fork();
   if (pid == 0) {
     close(fd[0]);
+    alarm(600);  // a hung tool ends as 'child died', not as a hung benchmark
     try {
       f(results);
     } catch (const std::exception& e) {
@@ -457,7 +458,7 @@ void run_openmesh(const cagekit::PolygonMesh& input, uint64_t triangles, Result&
   om.update_face_normals();
   Meter m;
   m.begin();
-  {  // the decimater (and its modules' mesh properties) must go before the mesh does
+  {  // the decimater (and its modules' mesh properties) must go before the mesh is reset
     OpenMesh::Decimater::DecimaterT<OmMesh> decimater(om);
     OpenMesh::Decimater::ModQuadricT<OmMesh>::Handle quadric;
     OpenMesh::Decimater::ModNormalFlippingT<OmMesh>::Handle flipping;
@@ -466,8 +467,8 @@ void run_openmesh(const cagekit::PolygonMesh& input, uint64_t triangles, Result&
     decimater.module(quadric).unset_max_err();
     if (!decimater.initialize()) throw std::runtime_error("Decimater::initialize failed");
     decimater.decimate_to_faces(0, size_t(triangles));
+    om.garbage_collection();  // needs the status flags, which the decimater releases when it goes
   }
-  om.garbage_collection();
   m.end();
   r.wall = m.wall;
   r.cpu = m.cpu;
