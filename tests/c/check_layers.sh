@@ -3,7 +3,7 @@
 # Order, lowest first: core -> subdiv -> capi. Fails on any include that goes upward.
 set -u
 sdk="$1"
-order="core subdiv layout capi"
+order="core subdiv layout fit capi"
 status=0
 rank() { i=0; for l in $order; do [ "$l" = "$1" ] && { echo $i; return; }; i=$((i + 1)); done; echo 99; }
 for layer in $order; do
