@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <new>
 #include <string>
 
 #include "core/mesh_validation.h"
@@ -32,6 +34,45 @@ inline bool after(const Candidate& x, const Candidate& y) {
   return x.b > y.b;
 }
 
+// Growable array of trivially copyable T on 64-byte aligned storage (cache-line placement of
+// heap nodes and entries is part of the layout, see CandidateHeap).
+template <class T>
+class AlignedArray {
+ public:
+  AlignedArray() = default;
+  AlignedArray(const AlignedArray&) = delete;
+  AlignedArray& operator=(const AlignedArray&) = delete;
+  ~AlignedArray() { release(); }
+  size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  T& operator[](size_t i) { return data_[i]; }
+  const T& operator[](size_t i) const { return data_[i]; }
+  T& back() { return data_[size_ - 1]; }
+  void clear() { size_ = 0; }
+  void pop_back() { --size_; }
+  void push_back(const T& x) {
+    if (size_ == cap_) grow();
+    data_[size_++] = x;
+  }
+  const T* data() const { return data_; }
+
+ private:
+  void grow() {
+    const size_t cap = cap_ ? 2 * cap_ : 1024;
+    T* d = static_cast<T*>(::operator new(cap * sizeof(T), std::align_val_t(64)));
+    if (size_) std::memcpy(static_cast<void*>(d), data_, size_ * sizeof(T));
+    release();
+    data_ = d;
+    cap_ = cap;
+  }
+  void release() {
+    if (data_) ::operator delete(static_cast<void*>(data_), std::align_val_t(64));
+    data_ = nullptr;
+  }
+  T* data_ = nullptr;
+  size_t size_ = 0, cap_ = 0;
+};
+
 // Indexed 4-ary min-heap with at most one entry per operation: per face pair (merges) and per
 // vertex (boundary removals). A push for an operation that already has an entry replaces it in
 // place (decrease/increase-key), so the heap never holds more than the number of operations.
@@ -39,16 +80,38 @@ inline bool after(const Candidate& x, const Candidate& y) {
 // a push replaces an entry only after one of its faces changed (the old entry is stale), except
 // for the duplicate a step produces when both faces of a pair changed, where the lazy heap
 // would pop the smaller of the two keys first, and the second would repeat its result.
+//
+// Layout: 16-byte nodes (key, entry id) on 64-byte aligned storage with the root at index 3, so
+// the four children of a node (4i+1..4i+4, stored at 4i+4..4i+7) are exactly one cache line;
+// one 32-byte entry per id (candidate, step of its last push, kind) so that a push touches one
+// line per entry instead of one per side array; the heap positions stay a dense side array
+// (every sift move writes one).
 class CandidateHeap {
  public:
   void init(size_t num_vertices) {
     vertex_handle_.assign(num_vertices, kNone);
     pairs_.assign(1024, Slot{kEmptyKey, 0});
     pair_count_ = 0;
+    heap_.clear();
+    for (size_t k = 0; k < kBase; ++k) heap_.push_back(Node{0, 0, 0});
   }
-  bool empty() const { return heap_.empty(); }
-  size_t size() const { return heap_.size(); }
-  const Candidate& top() const { return cand_[heap_[0].id]; }
+  bool empty() const { return heap_.size() == kBase; }
+  size_t size() const { return heap_.size() - kBase; }
+  Candidate top() const { return candidate(ent_[heap_[kBase].id]); }
+  // Hint: a push for the face pair (a, b) follows soon.
+  void prefetch_pair(uint32_t a, uint32_t b) const {
+    __builtin_prefetch(&pairs_[hash(key_of(a, b)) & (pairs_.size() - 1)]);
+  }
+  // Hint, after prefetch_pair: prefetches the pair's entry if it has one.
+  void prefetch_entry(uint32_t a, uint32_t b) const {
+    const uint64_t k = key_of(a, b);
+    const size_t mask = pairs_.size() - 1;
+    for (size_t i = hash(k) & mask; pairs_[i].key != kEmptyKey; i = (i + 1) & mask)
+      if (pairs_[i].key == k) {
+        __builtin_prefetch(&ent_[pairs_[i].handle]);
+        return;
+      }
+  }
   // Same step (a pair pushed from both of its changed faces): keep the smaller key.
   void push(const Candidate& c, uint32_t step) {
     uint32_t* handle;
@@ -60,21 +123,19 @@ class CandidateHeap {
     if (*handle == kNone) {
       const uint32_t id = new_id();
       *handle = id;
-      owner_[id] = c.kind == 0 ? key_of(c.a, c.b) : (uint64_t(1) << 63 | c.a);
+      Entry& e = ent_[id];
+      set(e, c, step);
       pos_[id] = static_cast<uint32_t>(heap_.size());
-      cand_[id] = c;
-      step_of_[id] = step;
       heap_.push_back({c.key, id});
       sift_up(heap_.size() - 1);
       return;
     }
     const uint32_t id = *handle;
+    Entry& e = ent_[id];
     const uint32_t i = pos_[id];
-    Candidate& old = cand_[id];
-    if (step_of_[id] == step && c.kind == 0 && old.va == c.va && old.vb == c.vb && !(c.key < old.key)) return;
-    const bool up = after(old, c);
-    old = c;
-    step_of_[id] = step;
+    if (e.step == step && c.kind == 0 && e.va == c.va && e.vb == c.vb && !(c.key < e.key)) return;
+    const bool up = after(candidate(e), c);
+    set(e, c, step);
     heap_[i].key = c.key;
     if (up)
       sift_up(i);
@@ -82,27 +143,53 @@ class CandidateHeap {
       sift_down(i);
   }
   void pop() {
-    const uint32_t id = heap_[0].id;
+    const uint32_t id = heap_[kBase].id;
     release(id);
     const Node last = heap_.back();
     heap_.pop_back();
-    if (!heap_.empty()) {
-      heap_[0] = last;
-      pos_[last.id] = 0;
-      sift_down(0);
+    if (heap_.size() > kBase) {
+      heap_[kBase] = last;
+      pos_[last.id] = kBase;
+      sift_down(kBase);
     }
   }
 
  private:
   static constexpr uint32_t kNone = 0xffffffffu;
   static constexpr uint64_t kEmptyKey = ~uint64_t(0);
-  struct Node {  // 16 bytes: four children share one or two cache lines
+  static constexpr size_t kBase = 3;  // heap index i is stored at i + kBase
+  struct Node {  // 16 bytes: the four children of a node share one cache line
     double key;
     uint32_t id, pad = 0;
   };
+  struct Entry {  // 32 bytes
+    double key;
+    uint32_t a, b, va, vb;
+    uint32_t step;  // step of the last push
+    uint32_t kind;
+    uint32_t pad[2];
+  };
+  static Candidate candidate(const Entry& e) {
+    return Candidate{e.key, e.a, e.b, e.va, e.vb, static_cast<uint8_t>(e.kind)};
+  }
+  static void set(Entry& e, const Candidate& c, uint32_t step) {
+    e.key = c.key;
+    e.a = c.a;
+    e.b = c.b;
+    e.va = c.va;
+    e.vb = c.vb;
+    e.kind = c.kind;
+    e.step = step;
+  }
+  static bool entry_after(const Entry& x, const Entry& y) {
+    if (x.key != y.key) return x.key > y.key;
+    if (x.kind != y.kind) return x.kind > y.kind;
+    if (x.a != y.a) return x.a > y.a;
+    return x.b > y.b;
+  }
   bool node_after(const Node& x, const Node& y) const {
     if (x.key != y.key) return x.key > y.key;
-    return after(cand_[x.id], cand_[y.id]);
+    return entry_after(ent_[x.id], ent_[y.id]);
   }
   struct Slot {
     uint64_t key;
@@ -117,18 +204,16 @@ class CandidateHeap {
       free_.pop_back();
       return id;
     }
+    ent_.push_back(Entry());
     pos_.push_back(0);
-    owner_.push_back(0);
-    cand_.push_back(Candidate());
-    step_of_.push_back(0);
-    return static_cast<uint32_t>(pos_.size() - 1);
+    return static_cast<uint32_t>(ent_.size() - 1);
   }
   void release(uint32_t id) {
-    const uint64_t o = owner_[id];
-    if (o >> 63)
-      vertex_handle_[static_cast<uint32_t>(o)] = kNone;
+    const Entry& e = ent_[id];
+    if (e.kind != 0)
+      vertex_handle_[e.a] = kNone;
     else
-      erase_pair(o);
+      erase_pair(key_of(e.a, e.b));
     free_.push_back(id);
   }
   // Open addressing, linear probing, backward-shift deletion.
@@ -176,8 +261,8 @@ class CandidateHeap {
   }
   void sift_up(size_t i) {
     const Node n = heap_[i];
-    while (i > 0) {
-      const size_t p = (i - 1) / 4;
+    while (i > kBase) {
+      const size_t p = (i - kBase - 1) / 4 + kBase;
       if (!node_after(heap_[p], n)) break;
       heap_[i] = heap_[p];
       pos_[heap_[i].id] = static_cast<uint32_t>(i);
@@ -190,7 +275,7 @@ class CandidateHeap {
     const Node n = heap_[i];
     const size_t size = heap_.size();
     for (;;) {
-      const size_t first = 4 * i + 1;
+      const size_t first = 4 * (i - kBase) + 1 + kBase;
       if (first >= size) break;
       size_t best = first;
       const size_t end = std::min(first + 4, size);
@@ -205,12 +290,10 @@ class CandidateHeap {
     pos_[n.id] = static_cast<uint32_t>(i);
   }
 
-  std::vector<Node> heap_;
-  std::vector<uint32_t> pos_;     // id -> heap position
-  std::vector<uint64_t> owner_;   // id -> pair key, or bit 63 | vertex
+  AlignedArray<Node> heap_;
+  AlignedArray<Entry> ent_;  // id -> entry
+  std::vector<uint32_t> pos_;  // id -> storage index in heap_ (dense: written on every sift move)
   std::vector<uint32_t> free_;
-  std::vector<Candidate> cand_;     // id -> candidate
-  std::vector<uint32_t> step_of_;   // id -> step of its last push
   std::vector<uint32_t> vertex_handle_;
   std::vector<Slot> pairs_;
   size_t pair_count_ = 0;
@@ -276,6 +359,12 @@ class Builder {
   std::vector<std::array<uint32_t, 3>> scratch_tris_;
   bool loops_validated_ = false;  // all faces changed from here on have validated loops
   std::vector<std::vector<uint32_t>> scratch_loops_;
+  std::vector<std::vector<uint32_t>> merge_loops_;
+  std::vector<uint32_t> scratch_verts_;
+  // face -> version while alive, kDeadVersion once merged away (compact copy of WorkFace's
+  // version/alive for the staleness test of every popped candidate).
+  static constexpr uint32_t kDeadVersion = 0xffffffffu;
+  std::vector<uint32_t> ver_;
 
   PlaneFrame frame_of(const Vec3& centroid_input, const Vec3& normal) const {
     return PlaneFrame::from_normal(impl_.normalised(centroid_input), normal);
@@ -441,6 +530,9 @@ void Builder::push_candidates(uint32_t f) {
       twin_.push_back(g);
       if (g == kNoFace || slot_stamp_[g] == slot_clock_) continue;
       slot_stamp_[g] = slot_clock_;
+      heap_.prefetch_pair(std::min(f, g), std::max(f, g));
+      __builtin_prefetch(&fs_.faces[g].normal);
+      __builtin_prefetch(&fs_.faces[g].cdt.second[2]);
       slot_index_[g] = static_cast<uint32_t>(nbs_.size());
       nbs_.push_back({g, 0, 0.0, Vec3(), false});
     }
@@ -476,6 +568,8 @@ void Builder::push_candidates(uint32_t f) {
     }
     base += m;
   }
+  for (const Neighbour& x : nbs_)
+    if (x.ok && x.shared != 0) heap_.prefetch_entry(std::min(f, x.g), std::max(f, x.g));
   for (const Neighbour& x : nbs_) {
     if (!x.ok || x.shared == 0) continue;
     const WorkFace& G = fs_.faces[x.g];
@@ -535,7 +629,8 @@ void Builder::decimate_dirty() {
     for (int pass = 0; again && pass < 8 && fs_.faces[f].alive; ++pass) {
       again = false;
       bool blocked = false, removed = false;
-      std::vector<uint32_t> verts;
+      std::vector<uint32_t>& verts = scratch_verts_;
+      verts.clear();
       for (const auto& l : fs_.faces[f].loops) verts.insert(verts.end(), l.begin(), l.end());
       for (const uint32_t v : verts) {
         if (fs_.star_size(v) != 2) continue;
@@ -557,6 +652,7 @@ void Builder::finish_step(double error, uint32_t merged_from, uint32_t merged_in
   for (const uint32_t f : dirty_) {
     WorkFace& face = fs_.faces[f];
     ++face.version;
+    ver_[f] = face.alive ? face.version : kDeadVersion;
     if (face.alive) rebuild_cdt(f);
     impl_.hier.add_record(f, face.alive, face.loops, face.normal, face.centroid, face.area);
   }
@@ -580,15 +676,13 @@ void Builder::finish_step(double error, uint32_t merged_from, uint32_t merged_in
 
 bool Builder::stale(const Candidate& c) const {
   if (c.kind == 0) {
-    const WorkFace &a = fs_.faces[c.a], &b = fs_.faces[c.b];
-    return !a.alive || !b.alive || a.version != c.va || b.version != c.vb;
+    return ver_[c.a] != c.va || ver_[c.b] != c.vb;
   }
-  const WorkFace& f = fs_.faces[c.b];
-  return !f.alive || f.version != c.vb || fs_.star_size(c.a) != 1 || fs_.star_begin(c.a)[0].face != c.b;
+  return ver_[c.b] != c.vb || fs_.star_size(c.a) != 1 || fs_.star_begin(c.a)[0].face != c.b;
 }
 
 bool Builder::try_merge(uint32_t f, uint32_t g, double e) {
-  std::vector<std::vector<uint32_t>> loops;
+  std::vector<std::vector<uint32_t>>& loops = merge_loops_;  // reused buffers
   uint64_t shared = 0;
   if (!fs_.splice(f, g, loops, shared)) return false;
   const WorkFace &F = fs_.faces[f], &G = fs_.faces[g];
@@ -607,7 +701,7 @@ bool Builder::try_merge(uint32_t f, uint32_t g, double e) {
   fs_.remove_star(g);
   WorkFace& K = fs_.faces[keep];
   WorkFace& D = fs_.faces[gone];
-  K.loops = std::move(loops);
+  K.loops.swap(loops);
   K.normal = normal;
   K.centroid = centroid;
   K.area = area;
@@ -698,6 +792,7 @@ void Builder::run() {
   fs_.init_stars(capacity);
   heap_.init(nv);
   dirty_flag_.assign(nf, 0);
+  ver_.assign(nf, 0);
   slot_stamp_.assign(nf, 0);
   slot_index_.assign(nf, 0);
   impl_.hier.parent.assign(nf, kNoRecord);

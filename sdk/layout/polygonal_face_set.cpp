@@ -87,7 +87,8 @@ void PolygonalFaceSet::remove_loop_vertex(uint32_t f, uint32_t v) {
 
 bool PolygonalFaceSet::splice(uint32_t f, uint32_t g, std::vector<std::vector<uint32_t>>& loops,
                               uint64_t& shared_edges) {
-  loops.clear();
+  // The inner vectors of `loops` are reused (no allocation once their capacity suffices); on
+  // failure the contents of `loops` are unspecified.
   shared_edges = 0;
   if (++current_stamp_ == 0) {  // wrapped: clear the stamps
     std::fill(stamp_.begin(), stamp_.end(), 0);
@@ -115,9 +116,12 @@ bool PolygonalFaceSet::splice(uint32_t f, uint32_t g, std::vector<std::vector<ui
     }
   }
   if (starts_.empty()) return false;
+  size_t count = 0;
   for (const uint32_t s : starts_) {
     if (visited_[s]) continue;
-    std::vector<uint32_t> loop;
+    if (count == loops.size()) loops.emplace_back();
+    std::vector<uint32_t>& loop = loops[count++];
+    loop.clear();
     uint32_t cur = s;
     do {
       if (stamp_[cur] != stamp || visited_[cur]) return false;  // broken or pinched cycle
@@ -125,8 +129,8 @@ bool PolygonalFaceSet::splice(uint32_t f, uint32_t g, std::vector<std::vector<ui
       loop.push_back(cur);
       cur = next_[cur];
     } while (cur != s);
-    loops.push_back(std::move(loop));
   }
+  loops.resize(count);
   return true;
 }
 

@@ -62,6 +62,7 @@ class PolygonalFaceSet {
   // the rest linked into cycles). False when the result would repeat a vertex (shared
   // segments touching) or no loop is left (f and g close a surface): both fail criterion (a).
   // `shared_edges` receives the number of removed half-edge pairs. Loops are unclassified.
+  // The inner vectors of `loops` are reused; on failure its contents are unspecified.
   bool splice(uint32_t f, uint32_t g, std::vector<std::vector<uint32_t>>& loops, uint64_t& shared_edges);
 
  private:

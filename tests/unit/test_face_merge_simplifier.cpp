@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <cstdlib>
 #include <ctime>
 #include <map>
@@ -460,6 +461,24 @@ TEST(FaceMergeSimplifier, LevelQueriesAndProgress) {
 }
 
 namespace {
+// FNV-1a digest of every level's face count, vertex count and error bits: identical digests
+// before/after an optimisation mean identical hierarchies (level by level).
+uint64_t level_digest(const SimplificationHierarchy& h) {
+  uint64_t digest = 1469598103934665603ull;
+  const auto mix = [&](uint64_t x) {
+    for (int k = 0; k < 8; ++k) digest = (digest ^ ((x >> (8 * k)) & 0xff)) * 1099511628211ull;
+  };
+  for (size_t l = 0; l < h.num_levels(); ++l) {
+    uint64_t bits;
+    const double e = h.error(l);
+    std::memcpy(&bits, &e, sizeof bits);
+    mix(h.face_count(l));
+    mix(h.vertex_count(l));
+    mix(bits);
+  }
+  return digest;
+}
+
 void run_real(const char* file, size_t check_every) {
   const std::string path = cagekit_test::shared_mesh_path(file);
   if (path.empty()) GTEST_SKIP() << file << " not present";
@@ -477,6 +496,8 @@ void run_real(const char* file, size_t check_every) {
   std::printf("[%s] %zu faces: simplified to the coarsest level in %.3f s wall, %.3f s CPU; %zu levels; coarsest %zu faces, %llu "
               "vertices, %zu holes\n",
               file, mesh.num_faces(), build, cpu, n, c.faces.size(), static_cast<unsigned long long>(c.num_vertices), holes);
+  std::printf("   level digest (faces, vertices, error of all %zu levels): %016llx\n", n,
+              static_cast<unsigned long long>(level_digest(h)));
   for (const uint64_t target : {270u, 50u, 32u, 17u, 14u}) {
     const size_t l = h.level_for_face_count(target);
     std::printf("   level for <= %llu faces: %zu (%llu faces, %llu vertices)\n", static_cast<unsigned long long>(target),
@@ -610,6 +631,8 @@ TEST(FaceMergeSimplifier, MillionTrianglesTiming) {
   SimplificationHierarchy h(m, {}, monitor);
   const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
   const size_t l = h.level_for_face_count(100);
+  std::printf("[bunny loop x2 + noise] level digest (faces, vertices, error of all %zu levels): %016llx\n",
+              h.num_levels(), static_cast<unsigned long long>(level_digest(h)));
   std::printf("[bunny loop x2 + noise] %zu triangles: 100 faces in %.2f s wall, %.2f s CPU; the coarsest level (%llu "
               "faces) in %.2f s wall, %.2f s CPU; 100 faces at level %zu\n",
               m.num_faces(), wall100, cpu100, static_cast<unsigned long long>(h.face_count(h.num_levels() - 1)),
