@@ -34,7 +34,7 @@ struct FootPoint {
 
 struct ClosestPointOptions {
   int grid_resolution = 6;   // seeds per ptex face side
-  int seeds = 3;             // ptex faces tried per query
+  int seeds = 2;             // ptex faces tried per query
   int max_newton_steps = 60;
   double step_tolerance = 1e-14;  // stop when the (u,v) step is shorter
 };

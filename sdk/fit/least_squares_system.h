@@ -9,6 +9,12 @@
 // in their support keep their position (A rank-deficient). Sparse normal equations solved with
 // Eigen's SimplicialLDLT; x, y, z share the factorisation. `fixed` vertices keep their position
 // (their columns move to the right-hand side).
+//
+// tangential_weight w in [0, 1]: w = 1 is the thesis's point distance (7.8). w < 1 weights the
+// residual A_i c - p_i by W_i = n_i n_i^T + w (I - n_i n_i^T), n_i the unit normal of the current
+// surface (current_control) at t_i: the tangential part of the residual, which the following
+// re-projection removes anyway, counts less (a tangent/squared-distance-minimisation variant,
+// [J], not in the thesis). The coordinates then couple (3n unknowns, one factorisation).
 #include <cstdint>
 #include <vector>
 
@@ -22,6 +28,6 @@ std::vector<Vec3> solve_control_points(const SubdivisionSurface& surface, const 
                                        const std::vector<Vec3>& current_control,
                                        const std::vector<Vec3>& samples,
                                        const std::vector<FootPoint>& foot_points, double smoothness,
-                                       const std::vector<bool>& fixed);
+                                       const std::vector<bool>& fixed, double tangential_weight = 1.0);
 
 CAGEKIT_NAMESPACE_END

@@ -67,6 +67,8 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
   if (samples.empty()) fail(Status::invalid_argument, "fit: no samples");
   if (options.iterations < 0) fail(Status::invalid_argument, "fit: iterations must be >= 0");
   if (!(options.smoothness >= 0)) fail(Status::invalid_argument, "fit: smoothness must be >= 0");
+  if (!(options.tangential_weight >= 0 && options.tangential_weight <= 1))
+    fail(Status::invalid_argument, "fit: tangential_weight must be in [0, 1]");
   BoundingBox box;
   for (const Vec3& p : samples) {
     if (!is_finite(p)) fail(Status::invalid_argument, "fit: non-finite sample");
@@ -99,7 +101,8 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
   }
   for (int it = 1; it <= options.iterations; ++it) {
     const auto t0 = Clock::now();
-    control = solve_control_points(surface, initial, control, samples, feet, options.smoothness, fixed);
+    control = solve_control_points(surface, initial, control, samples, feet, options.smoothness, fixed,
+                                   options.tangential_weight);
     const LimitSurfaceProjector projector(surface, control, options.closest_point);
     project_all(projector, samples, feet, true, threads, monitor, it / passes, (it + 1) / passes);
     record(feet, report.bbox_diagonal, report);

@@ -23,6 +23,10 @@ struct FitOptions {
   // Keep the vertices on infinitely sharp crease edges and the corner-tagged vertices at their
   // input positions (for cages built on the scan, where those vertices are scan samples).
   bool keep_crease_vertices_on_samples = false;
+  // 1 = the thesis's point-distance least squares. < 1 down-weights the tangential part of each
+  // residual in the control-vertex step (see least_squares_system.h): far faster convergence of
+  // the control points (tangent-distance-like), not in the thesis. Range [0, 1].
+  double tangential_weight = 1.0;
   ClosestPointOptions closest_point;
   // Worker threads of the projection step; 0 = std::thread::hardware_concurrency().
   int threads = 0;

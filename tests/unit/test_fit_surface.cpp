@@ -126,6 +126,26 @@ double worst_control_error(const Cage& a, const Cage& b) {
   return worst;
 }
 
+// (a) With the tangential part of the residuals dropped (tangential_weight = 0: tangent-distance
+// steps, Gauss-Newton-like), the fit recovers the control points (quadratic convergence measured:
+// 1.8e-11 after 6 steps; weight 1e-4: 2.8e-5 after 10, weight 0.01: 0.019 after 10).
+TEST(FitSurface, tangent_weighted_fit_recovers_the_control_points_of_a_known_surface) {
+  const KnownSurface k = known_surface();
+  FitOptions options;
+  options.smoothness = 0;
+  options.tangential_weight = 0.0;
+  options.iterations = 6;
+  FitReport report;
+  const Cage fitted = fit_cage_to_points(k.initial, k.samples, options, &report);
+  for (size_t i = 0; i < report.max_relative.size(); ++i)
+    std::printf("known surface, tangent-weighted: iteration %zu rms %.3g max %.3g (relative)\n", i,
+                report.rms_relative[i], report.max_relative[i]);
+  const double worst = worst_control_error(fitted, k.truth);
+  std::printf("known surface, tangent-weighted: worst control-point error %.3g, %.2f s\n", worst, report.seconds);
+  EXPECT_LT(worst, 1e-6);
+  EXPECT_LT(report.max_relative.back(), 1e-7);
+}
+
 // The control-vertex step alone, at the true foot points, is exact.
 TEST(FitSurface, least_squares_step_at_the_true_parameters_recovers_the_control_points) {
   const KnownSurface k = known_surface();
@@ -179,21 +199,25 @@ TEST(FitSurface, sphere_from_a_cube_cage) {
     std::printf("sphere (%zu samples): iteration %zu rms %.4g%% max %.4g%% of the bbox diagonal\n",
                 samples.size(), k, 100 * report.rms_relative[k], 100 * report.max_relative[k]);
   std::printf("sphere: %.2f s\n", report.seconds);
+  // Measured: 14.33% -> 0.5202% -> 0.4948% and then flat (to 4 digits) with the default options.
   for (size_t k = 1; k < report.max_relative.size(); ++k) {
-    EXPECT_LT(report.max_relative[k], report.max_relative[k - 1]);
-    EXPECT_LT(report.rms_relative[k], report.rms_relative[k - 1]);
+    EXPECT_LE(report.max_relative[k], report.max_relative[k - 1] * (1 + 1e-9));
+    EXPECT_LE(report.rms_relative[k], report.rms_relative[k - 1] * (1 + 1e-9));
   }
-  EXPECT_LT(report.max_relative.back(), 1.0);
+  EXPECT_LT(report.max_relative[1], 0.1 * report.max_relative[0]);
+  EXPECT_LT(report.max_relative.back(), 0.006);
   EXPECT_EQ(fitted.mesh.num_faces(), 6u);
 }
 
-// (c) A real scan: a cage from the simplifier fitted to the scan's vertices.
+// (c) A real scan: a cage from the simplifier fitted to the scan's vertices. Face budget 310 gives
+// a 562-face / 616-vertex cage (the thesis: 612 vertices, 5 steps, 0.81% max deviation; measured
+// here 0.67% max, 0.123% rms of the bbox diagonal).
 TEST(FitSurface, bunny_cage_from_the_simplifier) {
   const std::string path = cagekit_test::shared_mesh_path("stanford-bunny.obj");
   if (path.empty()) GTEST_SKIP() << "../shared/meshes/stanford-bunny.obj not present";
   const PolygonMesh scan = cagekit_test::load_mesh(path);
   SimplificationHierarchy hierarchy(scan);
-  hierarchy.go_to_level(hierarchy.level_for_face_count(200));
+  hierarchy.go_to_level(hierarchy.level_for_face_count(310));
   const Cage cage = build_quad_dominant_cage(scan, hierarchy.extract());
   FitReport report;
   const Cage fitted = fit_cage_to_points(cage, scan.positions, {}, &report);
@@ -205,7 +229,25 @@ TEST(FitSurface, bunny_cage_from_the_simplifier) {
   for (size_t k = 1; k < report.rms_relative.size(); ++k) EXPECT_LT(report.rms_relative[k], report.rms_relative[k - 1]);
   EXPECT_LT(report.max_relative.back(), report.max_relative.front());
   EXPECT_LT(report.rms_relative.back(), 0.5 * report.rms_relative.front());
+  EXPECT_LT(report.max_relative.back(), 0.0081);
   EXPECT_EQ(fitted.mesh.num_vertices(), cage.mesh.num_vertices());
+}
+
+TEST(FitSurface, crease_vertices_can_be_kept_on_their_samples) {
+  const KnownSurface k = known_surface();
+  Cage initial = k.initial;
+  const uint32_t a = initial.mesh.face_vertex(0, 0), b = initial.mesh.face_vertex(0, 1);
+  initial.creases.push_back({a, b, kSharpnessInfinite});
+  FitOptions options;
+  options.iterations = 2;
+  options.keep_crease_vertices_on_samples = true;
+  const Cage fitted = fit_cage_to_points(initial, k.samples, options);
+  EXPECT_EQ(fitted.mesh.positions[a], initial.mesh.positions[a]);
+  EXPECT_EQ(fitted.mesh.positions[b], initial.mesh.positions[b]);
+  size_t moved = 0;
+  for (size_t i = 0; i < initial.mesh.num_vertices(); ++i) moved += fitted.mesh.positions[i] != initial.mesh.positions[i];
+  EXPECT_EQ(moved, initial.mesh.num_vertices() - 2);
+  EXPECT_EQ(fitted.creases.size(), 1u);
 }
 
 TEST(FitSurface, cancel_and_bad_input) {
@@ -227,4 +269,7 @@ TEST(FitSurface, cancel_and_bad_input) {
   FitOptions bad;
   bad.smoothness = -1;
   EXPECT_THROW(fit_cage_to_points(cube, samples, bad), Error);
+  FitOptions bad_weight;
+  bad_weight.tangential_weight = 2;
+  EXPECT_THROW(fit_cage_to_points(cube, samples, bad_weight), Error);
 }
