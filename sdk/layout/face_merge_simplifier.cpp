@@ -109,6 +109,7 @@ class CandidateHeap {
     for (size_t i = hash(k) & mask; pairs_[i].key != kEmptyKey; i = (i + 1) & mask)
       if (pairs_[i].key == k) {
         __builtin_prefetch(&ent_[pairs_[i].handle]);
+        __builtin_prefetch(&pos_[pairs_[i].handle]);
         return;
       }
   }
@@ -167,7 +168,6 @@ class CandidateHeap {
     uint32_t a, b, va, vb;
     uint32_t step;  // step of the last push
     uint32_t kind;
-    uint32_t pad[2];
   };
   static Candidate candidate(const Entry& e) {
     return Candidate{e.key, e.a, e.b, e.va, e.vb, static_cast<uint8_t>(e.kind)};
@@ -352,9 +352,10 @@ class Builder {
     double angle_sum;
     Vec3 n;
     bool ok;
+    double key;
   };
   std::vector<Neighbour> nbs_;
-  std::vector<uint32_t> twin_;
+  std::vector<uint32_t> twin_, twin_slot_;
   std::vector<uint32_t> scratch_flat_;
   std::vector<std::array<uint32_t, 3>> scratch_tris_;
   bool loops_validated_ = false;  // all faces changed from here on have validated loops
@@ -522,19 +523,49 @@ void Builder::push_candidates(uint32_t f) {
   }
   const WorkFace& F = fs_.faces[f];
   twin_.clear();
+  twin_slot_.clear();
   nbs_.clear();
+  // Neighbours in order of first occurrence; found by a linear search while there are few
+  // (no face-indexed scratch access), through the face-indexed stamps beyond that.
+  constexpr size_t kLinear = 24;
+  bool stamps = false;
   for (const auto& loop : F.loops) {
     const size_t m = loop.size();
     for (size_t i = 0; i < m; ++i) {
       const uint32_t g = fs_.face_of_halfedge(loop[(i + 1) % m], loop[i]);
       twin_.push_back(g);
-      if (g == kNoFace || slot_stamp_[g] == slot_clock_) continue;
-      slot_stamp_[g] = slot_clock_;
-      heap_.prefetch_pair(std::min(f, g), std::max(f, g));
-      __builtin_prefetch(&fs_.faces[g].normal);
-      __builtin_prefetch(&fs_.faces[g].cdt.second[2]);
-      slot_index_[g] = static_cast<uint32_t>(nbs_.size());
-      nbs_.push_back({g, 0, 0.0, Vec3(), false});
+      if (g == kNoFace) {
+        twin_slot_.push_back(kNoFace);
+        continue;
+      }
+      uint32_t slot = kNoFace;
+      if (!stamps) {
+        for (size_t k = 0; k < nbs_.size(); ++k)
+          if (nbs_[k].g == g) {
+            slot = static_cast<uint32_t>(k);
+            break;
+          }
+      } else if (slot_stamp_[g] == slot_clock_) {
+        slot = slot_index_[g];
+      }
+      if (slot == kNoFace) {
+        slot = static_cast<uint32_t>(nbs_.size());
+        heap_.prefetch_pair(std::min(f, g), std::max(f, g));
+        __builtin_prefetch(&fs_.faces[g].normal);
+        __builtin_prefetch(&fs_.faces[g].cdt.second[2]);
+        nbs_.push_back({g, 0, 0.0, Vec3(), false, 0.0});
+        if (stamps) {
+          slot_stamp_[g] = slot_clock_;
+          slot_index_[g] = slot;
+        } else if (nbs_.size() > kLinear) {
+          stamps = true;
+          for (size_t k = 0; k < nbs_.size(); ++k) {
+            slot_stamp_[nbs_[k].g] = slot_clock_;
+            slot_index_[nbs_[k].g] = static_cast<uint32_t>(k);
+          }
+        }
+      }
+      twin_slot_.push_back(slot);
     }
   }
   const double inv_d2 = impl_.inv_unit * impl_.inv_unit;
@@ -551,7 +582,7 @@ void Builder::push_candidates(uint32_t f) {
     for (size_t i = 0; i < m; ++i) {
       const uint32_t g = twin_[base + i];
       if (g == kNoFace) continue;
-      Neighbour& x = nbs_[slot_index_[g]];
+      Neighbour& x = nbs_[twin_slot_[base + i]];
       if (!x.ok) continue;
       ++x.shared;
       const uint32_t a = loop[i], b = loop[(i + 1) % m];
@@ -568,14 +599,18 @@ void Builder::push_candidates(uint32_t f) {
     }
     base += m;
   }
+  // Keys first, then the pushes, so that the prefetched heap entries have arrived.
   for (const Neighbour& x : nbs_)
     if (x.ok && x.shared != 0) heap_.prefetch_entry(std::min(f, x.g), std::max(f, x.g));
-  for (const Neighbour& x : nbs_) {
+  for (Neighbour& x : nbs_) {
     if (!x.ok || x.shared == 0) continue;
     const WorkFace& G = fs_.faces[x.g];
-    const double e = merge_key(F, G, sf, G.area * inv_d2, x.n, x.shared, x.angle_sum);
+    x.key = merge_key(F, G, sf, G.area * inv_d2, x.n, x.shared, x.angle_sum);
+  }
+  for (const Neighbour& x : nbs_) {
+    if (!x.ok || x.shared == 0) continue;
     const uint32_t a = std::min(f, x.g), b = std::max(f, x.g);
-    push({e, a, b, fs_.faces[a].version, fs_.faces[b].version, 0});
+    push({x.key, a, b, fs_.faces[a].version, fs_.faces[b].version, 0});
   }
 }
 

@@ -13,9 +13,7 @@ void PolygonalFaceSet::init_stars(const std::vector<uint32_t>& capacity) {
   for (size_t v = 0; v < n; ++v) star_offset_[v + 1] = star_offset_[v] + capacity[v];
   star_count_.assign(n, 0);
   star_.assign(star_offset_[n], StarEntry{kNoFace, 0, 0});
-  stamp_.assign(n, 0);
-  next_.assign(n, 0);
-  visited_.assign(n, 0);
+  scratch_.assign(n, SpliceScratch{});
   used_vertices_ = 0;
 }
 
@@ -91,26 +89,40 @@ bool PolygonalFaceSet::splice(uint32_t f, uint32_t g, std::vector<std::vector<ui
   // failure the contents of `loops` are unspecified.
   shared_edges = 0;
   if (++current_stamp_ == 0) {  // wrapped: clear the stamps
-    std::fill(stamp_.begin(), stamp_.end(), 0);
+    std::fill(scratch_.begin(), scratch_.end(), SpliceScratch{});
     current_stamp_ = 1;
   }
   const uint32_t stamp = current_stamp_;
   starts_.clear();
   const uint32_t pair[2] = {f, g};
+  // Loop successors of both faces in a vertex-indexed scratch (a valid face passes through a
+  // vertex at most once): the half-edge a->b of one face is shared iff the other face has
+  // b->a, i.e. the same test as face_of_halfedge(b, a) == other (a directed contour half-edge
+  // belongs to at most one face) without scanning the stars.
+  for (int k = 0; k < 2; ++k)
+    for (const auto& loop : faces[pair[k]].loops) {
+      const size_t m = loop.size();
+      for (size_t i = 0; i < m; ++i) {
+        SpliceScratch& x = scratch_[loop[i]];
+        x.stamp[k] = stamp;
+        x.next[k] = loop[i + 1 < m ? i + 1 : 0];
+      }
+    }
   for (int k = 0; k < 2; ++k) {
-    const uint32_t self = pair[k], other = pair[1 - k];
-    for (const auto& loop : faces[self].loops) {
+    for (const auto& loop : faces[pair[k]].loops) {
       const size_t m = loop.size();
       for (size_t i = 0; i < m; ++i) {
         const uint32_t a = loop[i], b = loop[(i + 1) % m];
-        if (face_of_halfedge(b, a) == other) {
+        const SpliceScratch& y = scratch_[b];
+        if (y.stamp[1 - k] == stamp && y.next[1 - k] == a) {
           if (k == 0) ++shared_edges;
           continue;
         }
-        if (stamp_[a] == stamp) return false;  // two outgoing half-edges: repeated vertex
-        stamp_[a] = stamp;
-        next_[a] = b;
-        visited_[a] = 0;
+        SpliceScratch& x = scratch_[a];
+        if (x.out_stamp == stamp) return false;  // two outgoing half-edges: repeated vertex
+        x.out_stamp = stamp;
+        x.out_next = b;
+        x.visited = 0;
         starts_.push_back(a);
       }
     }
@@ -118,16 +130,17 @@ bool PolygonalFaceSet::splice(uint32_t f, uint32_t g, std::vector<std::vector<ui
   if (starts_.empty()) return false;
   size_t count = 0;
   for (const uint32_t s : starts_) {
-    if (visited_[s]) continue;
+    if (scratch_[s].visited) continue;
     if (count == loops.size()) loops.emplace_back();
     std::vector<uint32_t>& loop = loops[count++];
     loop.clear();
     uint32_t cur = s;
     do {
-      if (stamp_[cur] != stamp || visited_[cur]) return false;  // broken or pinched cycle
-      visited_[cur] = 1;
+      SpliceScratch& x = scratch_[cur];
+      if (x.out_stamp != stamp || x.visited) return false;  // broken or pinched cycle
+      x.visited = 1;
       loop.push_back(cur);
-      cur = next_[cur];
+      cur = x.out_next;
     } while (cur != s);
   }
   loops.resize(count);

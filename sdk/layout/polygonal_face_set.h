@@ -70,9 +70,13 @@ class PolygonalFaceSet {
   std::vector<uint32_t> star_count_;
   std::vector<StarEntry> star_;
   uint64_t used_vertices_ = 0;
-  // Scratch for splice, indexed by vertex, valid where stamp_ matches.
-  std::vector<uint32_t> stamp_, next_;
-  std::vector<uint8_t> visited_;
+  // Scratch for splice, indexed by vertex, valid where the stamps match: the loop successor of
+  // the vertex in face f (k = 0) and g (k = 1), and its outgoing half-edge in the spliced loops.
+  struct SpliceScratch {
+    uint32_t stamp[2] = {0, 0}, next[2] = {0, 0};
+    uint32_t out_stamp = 0, out_next = 0, visited = 0, pad = 0;
+  };
+  std::vector<SpliceScratch> scratch_;
   uint32_t current_stamp_ = 0;
   std::vector<uint32_t> starts_;
 };
