@@ -154,6 +154,30 @@ class CandidateHeap {
       sift_down(kBase);
     }
   }
+  // Removes the entry of the face pair (a, b), a < b, if there is one. Only for entries that
+  // are stale (one of the faces is gone): they would be popped and skipped, so removing them
+  // early leaves the sequence of valid pops unchanged, and costs a sift near the leaves
+  // instead of a full-depth sift_down from the root.
+  void erase_pair_entry(uint32_t a, uint32_t b) {
+    const uint64_t k = key_of(a, b);
+    const size_t mask = pairs_.size() - 1;
+    size_t s = hash(k) & mask;
+    while (pairs_[s].key != k) {
+      if (pairs_[s].key == kEmptyKey) return;
+      s = (s + 1) & mask;
+    }
+    const uint32_t id = pairs_[s].handle;
+    const size_t i = pos_[id];
+    release(id);
+    const Node last = heap_.back();
+    heap_.pop_back();
+    if (i < heap_.size()) {
+      heap_[i] = last;
+      pos_[last.id] = static_cast<uint32_t>(i);
+      sift_up(i);
+      sift_down(pos_[last.id]);
+    }
+  }
 
  private:
   static constexpr uint32_t kNone = 0xffffffffu;
@@ -732,6 +756,14 @@ bool Builder::try_merge(uint32_t f, uint32_t g, double e) {
   // Commit: the face with the larger cluster keeps its id (union by size).
   const bool keep_f = F.cluster_size > G.cluster_size || (F.cluster_size == G.cluster_size && f < g);
   const uint32_t keep = keep_f ? f : g, gone = keep_f ? g : f;
+  // The candidates of the absorbed face with its other neighbours are stale from here on.
+  for (const auto& loop : fs_.faces[gone].loops) {
+    const size_t m = loop.size();
+    for (size_t i = 0; i < m; ++i) {
+      const uint32_t x = fs_.face_of_halfedge(loop[i + 1 < m ? i + 1 : 0], loop[i]);
+      if (x != kNoFace && x != keep) heap_.erase_pair_entry(std::min(gone, x), std::max(gone, x));
+    }
+  }
   fs_.remove_star(f);
   fs_.remove_star(g);
   WorkFace& K = fs_.faces[keep];

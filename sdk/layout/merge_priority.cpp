@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 CAGEKIT_NAMESPACE_BEGIN
 namespace detail {
@@ -79,6 +80,17 @@ double merge_priority(double l2, double l21, uint64_t valence, double angle_sum,
 }
 
 double quantize_priority(double e) {
+  uint64_t u;
+  std::memcpy(&u, &e, sizeof u);
+  const uint64_t biased_exponent = (u >> 52) & 0x7ff;
+  if (biased_exponent != 0 && biased_exponent != 0x7ff) {
+    // Normal numbers: keep the top 40 of the 53 significand bits, rounding the magnitude half
+    // away from zero; a carry out of the significand bumps the exponent. Bit-identical to the
+    // frexp/round/ldexp form below (which is kept for zeros, subnormals, inf and NaN).
+    u = (u + (uint64_t(1) << 12)) & ~((uint64_t(1) << 13) - 1);
+    std::memcpy(&e, &u, sizeof e);
+    return e;
+  }
   if (!std::isfinite(e) || e == 0) return e;
   int exp = 0;
   const double m = std::frexp(e, &exp);  // m in [0.5, 1)

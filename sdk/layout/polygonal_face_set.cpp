@@ -9,10 +9,13 @@ namespace detail {
 
 void PolygonalFaceSet::init_stars(const std::vector<uint32_t>& capacity) {
   const size_t n = capacity.size();
-  star_offset_.assign(n + 1, 0);
-  for (size_t v = 0; v < n; ++v) star_offset_[v + 1] = star_offset_[v] + capacity[v];
-  star_count_.assign(n, 0);
-  star_.assign(star_offset_[n], StarEntry{kNoFace, 0, 0});
+  head_.assign(n, StarHead{});
+  uint64_t total = 0;
+  for (size_t v = 0; v < n; ++v) {
+    head_[v].offset = total;
+    total += capacity[v];
+  }
+  star_.assign(total, StarEntry{kNoFace, 0, 0});
   scratch_.assign(n, SpliceScratch{});
   used_vertices_ = 0;
 }
@@ -22,9 +25,9 @@ void PolygonalFaceSet::add_star(uint32_t f) {
     const size_t m = loop.size();
     for (size_t i = 0; i < m; ++i) {
       const uint32_t v = loop[i];
-      const uint32_t c = star_count_[v]++;
+      const uint32_t c = head_[v].count++;
       if (c == 0) ++used_vertices_;
-      star_[star_offset_[v] + c] = {f, loop[(i + m - 1) % m], loop[(i + 1) % m]};
+      star_[head_[v].offset + c] = {f, loop[(i + m - 1) % m], loop[(i + 1) % m]};
     }
   }
 }
@@ -32,12 +35,12 @@ void PolygonalFaceSet::add_star(uint32_t f) {
 void PolygonalFaceSet::remove_star(uint32_t f) {
   for (const auto& loop : faces[f].loops)
     for (const uint32_t v : loop) {
-      StarEntry* s = star_.data() + star_offset_[v];
-      const uint32_t n = star_count_[v];
+      StarEntry* s = star_.data() + head_[v].offset;
+      const uint32_t n = head_[v].count;
       for (uint32_t i = 0; i < n; ++i)
         if (s[i].face == f) {
           s[i] = s[n - 1];
-          if (--star_count_[v] == 0) --used_vertices_;
+          if (--head_[v].count == 0) --used_vertices_;
           break;
         }
     }
@@ -45,14 +48,14 @@ void PolygonalFaceSet::remove_star(uint32_t f) {
 
 const StarEntry* PolygonalFaceSet::star_entry(uint32_t v, uint32_t face) const {
   const StarEntry* s = star_begin(v);
-  for (uint32_t i = 0; i < star_count_[v]; ++i)
+  for (uint32_t i = 0; i < head_[v].count; ++i)
     if (s[i].face == face) return s + i;
   return nullptr;
 }
 
 uint32_t PolygonalFaceSet::face_of_halfedge(uint32_t a, uint32_t b) const {
   const StarEntry* s = star_begin(a);
-  for (uint32_t i = 0; i < star_count_[a]; ++i)
+  for (uint32_t i = 0; i < head_[a].count; ++i)
     if (s[i].next == b) return s[i].face;
   return kNoFace;
 }
@@ -67,18 +70,18 @@ void PolygonalFaceSet::remove_loop_vertex(uint32_t f, uint32_t v) {
         loop.erase(loop.begin() + static_cast<std::ptrdiff_t>(i));
         break;
       }
-  StarEntry* s = star_.data() + star_offset_[u];
-  for (uint32_t i = 0; i < star_count_[u]; ++i)
+  StarEntry* s = star_.data() + head_[u].offset;
+  for (uint32_t i = 0; i < head_[u].count; ++i)
     if (s[i].face == f) s[i].next = w;
-  s = star_.data() + star_offset_[w];
-  for (uint32_t i = 0; i < star_count_[w]; ++i)
+  s = star_.data() + head_[w].offset;
+  for (uint32_t i = 0; i < head_[w].count; ++i)
     if (s[i].face == f) s[i].prev = u;
-  s = star_.data() + star_offset_[v];
-  const uint32_t n = star_count_[v];
+  s = star_.data() + head_[v].offset;
+  const uint32_t n = head_[v].count;
   for (uint32_t i = 0; i < n; ++i)
     if (s[i].face == f) {
       s[i] = s[n - 1];
-      if (--star_count_[v] == 0) --used_vertices_;
+      if (--head_[v].count == 0) --used_vertices_;
       break;
     }
 }

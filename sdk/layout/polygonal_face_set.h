@@ -46,8 +46,8 @@ class PolygonalFaceSet {
   void add_star(uint32_t f);     // registers the loops of face f in the stars
   void remove_star(uint32_t f);  // unregisters them
 
-  uint32_t star_size(uint32_t v) const { return star_count_[v]; }
-  const StarEntry* star_begin(uint32_t v) const { return star_.data() + star_offset_[v]; }
+  uint32_t star_size(uint32_t v) const { return head_[v].count; }
+  const StarEntry* star_begin(uint32_t v) const { return star_.data() + head_[v].offset; }
   const StarEntry* star_entry(uint32_t v, uint32_t face) const;
   // Face owning the contour half-edge a->b, or kNoFace.
   uint32_t face_of_halfedge(uint32_t a, uint32_t b) const;
@@ -66,8 +66,11 @@ class PolygonalFaceSet {
   bool splice(uint32_t f, uint32_t g, std::vector<std::vector<uint32_t>>& loops, uint64_t& shared_edges);
 
  private:
-  std::vector<uint64_t> star_offset_;
-  std::vector<uint32_t> star_count_;
+  struct StarHead {  // offset and size of a vertex's star: one cache line access per vertex
+    uint64_t offset = 0;
+    uint32_t count = 0, pad = 0;
+  };
+  std::vector<StarHead> head_;
   std::vector<StarEntry> star_;
   uint64_t used_vertices_ = 0;
   // Scratch for splice, indexed by vertex, valid where the stamps match: the loop successor of

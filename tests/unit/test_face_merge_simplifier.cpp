@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cfloat>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -19,6 +20,7 @@
 
 #include "core/status.h"
 #include "layout/face_merge_simplifier.h"
+#include "layout/merge_priority.h"
 #include "test_support.h"
 
 using namespace cagekit;
@@ -340,6 +342,39 @@ TEST(FaceMergeSimplifier, PriorityTermsMatchQuadrature) {
   const double d0 = dot(a - o, n), d1 = dot(b - o, n), d2 = dot(c - o, n);
   const double exact = (d0 * d0 + d1 * d1 + d2 * d2 + d0 * d1 + d0 * d2 + d1 * d2) * area / 6;
   EXPECT_NEAR(exact, sum, 1e-4 * exact);
+}
+
+TEST(FaceMergeSimplifier, QuantizePriorityMatchesFrexpRounding) {
+  // The bit-manipulation fast path must equal round(m 2^40) 2^(e-40), m = frexp(x, &e).
+  const auto reference = [](double x) {
+    if (!std::isfinite(x) || x == 0) return x;
+    int e = 0;
+    const double m = std::frexp(x, &e);
+    return std::ldexp(std::round(std::ldexp(m, 40)), e - 40);
+  };
+  std::mt19937_64 rng(7);
+  std::vector<double> xs = {1.0, -1.0, 0.0, -0.0, 1e-310, -1e-310, INFINITY, -INFINITY, DBL_MAX, -DBL_MAX, DBL_MIN,
+                            std::nextafter(1.0, 2.0), std::nextafter(1.0, 0.0), std::nextafter(2.0, 0.0)};
+  for (int i = 0; i < 200000; ++i) {
+    uint64_t u = rng();
+    if (i % 4 == 1) u = (u & ~uint64_t(0x1fff)) | 0x1000;  // exact halves
+    if (i % 4 == 2) u |= 0x1fff;                           // all dropped bits set (carry)
+    if (i % 4 == 3) u = (u & 0x800fffffffffffffull) | (uint64_t(1023 + int(u % 64)) << 52);
+    double x;
+    std::memcpy(&x, &u, sizeof x);
+    xs.push_back(x);
+  }
+  for (const double x : xs) {
+    const double q = detail::quantize_priority(x), r = reference(x);
+    if (std::isnan(x)) {
+      EXPECT_TRUE(std::isnan(q));
+      continue;
+    }
+    uint64_t a, b;
+    std::memcpy(&a, &q, sizeof a);
+    std::memcpy(&b, &r, sizeof b);
+    ASSERT_EQ(a, b) << x;
+  }
 }
 
 TEST(FaceMergeSimplifier, RejectsInvalidInput) {
