@@ -596,6 +596,7 @@ void Builder::push_candidates(uint32_t f) {
   const double sf = F.area * inv_d2;
   for (Neighbour& x : nbs_) {
     const WorkFace& G = fs_.faces[x.g];
+    __builtin_prefetch(G.loops.data());  // loop sizes, read by merge_key
     const Vec3 nsum = F.normal * sf + G.normal * (G.area * inv_d2);
     x.ok = norm(nsum) > 0;
     if (x.ok) x.n = normalized(nsum);

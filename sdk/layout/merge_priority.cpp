@@ -65,15 +65,6 @@ double boundary_vertex_l2(const Vec3& vj, const Vec3& vk, const Vec3& vl) {
   return std::sqrt(len2) * dot(d, d) / 3.0;
 }
 
-double inner_angle(const Vec3& prev, const Vec3& v, const Vec3& next, const Vec3& n) {
-  Vec3 a = prev - v, b = next - v;
-  a -= n * dot(a, n);
-  b -= n * dot(b, n);
-  double theta = std::atan2(dot(n, cross(b, a)), dot(b, a));
-  if (theta < 0) theta += 2.0 * M_PI;
-  return theta;
-}
-
 double merge_priority(double l2, double l21, uint64_t valence, double angle_sum, double epsilon) {
   const double dm = static_cast<double>(valence) - 4.0;
   return (1.0 + l2) * (1.0 + l21) * (1.0 + epsilon * dm * dm) * (1.0 + epsilon * angle_sum);

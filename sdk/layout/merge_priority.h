@@ -4,6 +4,7 @@
 // Private to sdk/layout. All quantities are in NORMALISED units: positions translated to the
 // bounding-box centre and divided by the bounding-box diagonal, so every priority is
 // independent of the model's units (see README.md).
+#include <cmath>
 #include <cstdint>
 
 #include "core/vec3.h"
@@ -38,7 +39,16 @@ double boundary_vertex_l2(const Vec3& vj, const Vec3& vk, const Vec3& vl);
 
 // Inner angle at `v` of a face whose region lies to the left of prev -> v -> next about
 // `unit_normal` (vectors projected into the plane), in [0, 2 pi).
-double inner_angle(const Vec3& prev, const Vec3& v, const Vec3& next, const Vec3& unit_normal);
+// Inline (hot in the simplifier's candidate evaluation); no FMA contraction is enabled, so the
+// result is the same bits as an out-of-line call.
+inline double inner_angle(const Vec3& prev, const Vec3& v, const Vec3& next, const Vec3& n) {
+  Vec3 a = prev - v, b = next - v;
+  a -= n * dot(a, n);
+  b -= n * dot(b, n);
+  double theta = std::atan2(dot(n, cross(b, a)), dot(b, a));
+  if (theta < 0) theta += 2.0 * M_PI;
+  return theta;
+}
 
 // (3.5) with the tie-break factors (3.8):
 // E = (1 + L2)(1 + L2,1)(1 + eps (m - 4)^2)(1 + eps * angle_sum), angle_sum = sum (alpha_q - pi/2)^2.
