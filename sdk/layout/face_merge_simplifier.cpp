@@ -60,6 +60,7 @@ class AlignedArray {
   void grow() {
     const size_t cap = cap_ ? 2 * cap_ : 1024;
     T* d = static_cast<T*>(::operator new(cap * sizeof(T), std::align_val_t(64)));
+    advise_huge_pages(d, cap * sizeof(T));
     if (size_) std::memcpy(static_cast<void*>(d), data_, size_ * sizeof(T));
     release();
     data_ = d;
@@ -90,7 +91,7 @@ class CandidateHeap {
  public:
   void init(size_t num_vertices) {
     vertex_handle_.assign(num_vertices, kNone);
-    pairs_.assign(1024, Slot{kEmptyKey, 0});
+    assign_huge(pairs_, 1024, Slot{kEmptyKey, 0});
     pair_count_ = 0;
     heap_.clear();
     for (size_t k = 0; k < kBase; ++k) heap_.push_back(Node{0, 0, 0});
@@ -274,7 +275,7 @@ class CandidateHeap {
   void grow() {
     std::vector<Slot> old;
     old.swap(pairs_);
-    pairs_.assign(old.size() * 2, Slot{kEmptyKey, 0});
+    assign_huge(pairs_, old.size() * 2, Slot{kEmptyKey, 0});
     const size_t mask = pairs_.size() - 1;
     for (const Slot& s : old) {
       if (s.key == kEmptyKey) continue;
@@ -316,7 +317,7 @@ class CandidateHeap {
 
   AlignedArray<Node> heap_;
   AlignedArray<Entry> ent_;  // id -> entry
-  std::vector<uint32_t> pos_;  // id -> storage index in heap_ (dense: written on every sift move)
+  AlignedArray<uint32_t> pos_;  // id -> storage index in heap_ (dense: written on every sift move)
   std::vector<uint32_t> free_;
   std::vector<uint32_t> vertex_handle_;
   std::vector<Slot> pairs_;
@@ -546,6 +547,7 @@ void Builder::push_candidates(uint32_t f) {
     slot_clock_ = 1;
   }
   const WorkFace& F = fs_.faces[f];
+  fs_.prefetch_stars(F.loops);
   twin_.clear();
   twin_slot_.clear();
   nbs_.clear();
@@ -852,15 +854,19 @@ void Builder::run() {
   impl_.unit = !(unit > 0) ? 1.0 : unit;
   impl_.inv_unit = 1.0 / impl_.unit;
   impl_.center = box.empty ? Vec3() : (box.min + box.max) * 0.5;
+  pos_.reserve(nv);
+  advise_huge_pages(pos_.data(), nv * sizeof(Vec3));
   pos_.resize(nv);
   for (size_t v = 0; v < nv; ++v) pos_[v] = impl_.normalised(mesh_.positions[v]);
 
   if (nf >= 0x7fffffffu || nv >= 0x7fffffffu) fail(Status::invalid_argument, "simplify: mesh too large");
+  fs_.faces.reserve(nf);
+  advise_huge_pages(fs_.faces.data(), nf * sizeof(WorkFace));
   fs_.faces.resize(nf);
   fs_.init_stars(capacity);
   heap_.init(nv);
   dirty_flag_.assign(nf, 0);
-  ver_.assign(nf, 0);
+  assign_huge(ver_, nf, 0u);
   slot_stamp_.assign(nf, 0);
   slot_index_.assign(nf, 0);
   impl_.hier.parent.assign(nf, kNoRecord);

@@ -9,14 +9,14 @@ namespace detail {
 
 void PolygonalFaceSet::init_stars(const std::vector<uint32_t>& capacity) {
   const size_t n = capacity.size();
-  head_.assign(n, StarHead{});
+  assign_huge(head_, n, StarHead{});
   uint64_t total = 0;
   for (size_t v = 0; v < n; ++v) {
     head_[v].offset = total;
     total += capacity[v];
   }
-  star_.assign(total, StarEntry{kNoFace, 0, 0});
-  scratch_.assign(n, SpliceScratch{});
+  assign_huge(star_, total, StarEntry{kNoFace, 0, 0});
+  assign_huge(scratch_, n, SpliceScratch{});
   used_vertices_ = 0;
 }
 
@@ -44,20 +44,6 @@ void PolygonalFaceSet::remove_star(uint32_t f) {
           break;
         }
     }
-}
-
-const StarEntry* PolygonalFaceSet::star_entry(uint32_t v, uint32_t face) const {
-  const StarEntry* s = star_begin(v);
-  for (uint32_t i = 0; i < head_[v].count; ++i)
-    if (s[i].face == face) return s + i;
-  return nullptr;
-}
-
-uint32_t PolygonalFaceSet::face_of_halfedge(uint32_t a, uint32_t b) const {
-  const StarEntry* s = star_begin(a);
-  for (uint32_t i = 0; i < head_[a].count; ++i)
-    if (s[i].next == b) return s[i].face;
-  return kNoFace;
 }
 
 void PolygonalFaceSet::remove_loop_vertex(uint32_t f, uint32_t v) {

@@ -7,14 +7,45 @@
 // star entry of a with next == b; its twin b->a by the star entry of b with next == a.
 // A vertex's star never grows beyond the number of input faces around it, so the stars live
 // in one flat array with fixed per-vertex capacity. Private to sdk/layout.
+#include <cstddef>
 #include <cstdint>
 #include <vector>
+
+#ifdef __linux__
+#include <sys/mman.h>
+#endif
 
 #include "core/polygon_mesh.h"
 #include "layout/merge_priority.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 namespace detail {
+
+// Asks for transparent huge pages on the 2 MiB-aligned interior of [p, p + bytes) (Linux, THP
+// in "madvise" mode): the simplifier's big arrays are accessed at random, so 4 KiB pages cost a
+// TLB miss on nearly every access. Must precede the first touch of the memory. A hint only.
+inline void advise_huge_pages(const void* p, size_t bytes) {
+#ifdef __linux__
+  constexpr uintptr_t kHuge = uintptr_t(1) << 21;
+  if (bytes < 2 * kHuge) return;
+  const uintptr_t begin = (reinterpret_cast<uintptr_t>(p) + kHuge - 1) & ~(kHuge - 1);
+  const uintptr_t end = (reinterpret_cast<uintptr_t>(p) + bytes) & ~(kHuge - 1);
+  if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+#else
+  (void)p;
+  (void)bytes;
+#endif
+}
+// v.assign(n, x) on storage advised for huge pages.
+template <class T>
+void assign_huge(std::vector<T>& v, size_t n, const T& x) {
+  if (v.capacity() < n) {
+    std::vector<T>().swap(v);
+    v.reserve(n);
+    advise_huge_pages(v.data(), n * sizeof(T));
+  }
+  v.assign(n, x);
+}
 
 constexpr uint32_t kNoFace = 0xffffffffu;
 
@@ -48,9 +79,27 @@ class PolygonalFaceSet {
 
   uint32_t star_size(uint32_t v) const { return head_[v].count; }
   const StarEntry* star_begin(uint32_t v) const { return star_.data() + head_[v].offset; }
-  const StarEntry* star_entry(uint32_t v, uint32_t face) const;
+  const StarEntry* star_entry(uint32_t v, uint32_t face) const {
+    const StarEntry* s = star_begin(v);
+    for (uint32_t i = 0, n = head_[v].count; i < n; ++i)
+      if (s[i].face == face) return s + i;
+    return nullptr;
+  }
   // Face owning the contour half-edge a->b, or kNoFace.
-  uint32_t face_of_halfedge(uint32_t a, uint32_t b) const;
+  uint32_t face_of_halfedge(uint32_t a, uint32_t b) const {
+    const StarEntry* s = star_begin(a);
+    for (uint32_t i = 0, n = head_[a].count; i < n; ++i)
+      if (s[i].next == b) return s[i].face;
+    return kNoFace;
+  }
+  // Hint: the stars of all vertices of these loops are read soon (two passes, so that the
+  // cache misses of the heads and then of the entries overlap).
+  void prefetch_stars(const std::vector<std::vector<uint32_t>>& loops) const {
+    for (const auto& l : loops)
+      for (const uint32_t v : l) __builtin_prefetch(&head_[v]);
+    for (const auto& l : loops)
+      for (const uint32_t v : l) __builtin_prefetch(star_.data() + head_[v].offset);
+  }
   bool edge_exists(uint32_t a, uint32_t b) const {
     return face_of_halfedge(a, b) != kNoFace || face_of_halfedge(b, a) != kNoFace;
   }
