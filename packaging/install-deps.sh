@@ -8,6 +8,7 @@ PACKAGES=(
   libcgal-dev libeigen3-dev libopenmesh-dev libosd-dev libdraco-dev
   libegl-dev libgles-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
   libgtest-dev python3 binutils
+  clang libclang-rt-14-dev
 )
 
 missing=()
