@@ -26,8 +26,16 @@ echo "== libFuzzer smoke (clang, ASan + UBSan): each harness over its seed corpu
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCAGEKIT_BUILD_FUZZERS=ON -DCAGEKIT_BUILD_TESTS=ON
 cmake --build build-fuzz -j "$jobs" --target cagekit_fuzzers
-# Known findings (reproducers in tests/fuzz/regressions/) are suppressed until the SDK is fixed.
+# Known findings would be suppressed in tests/fuzz/ubsan.supp (empty: every finding so far is fixed).
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:suppressions=$root/tests/fuzz/ubsan.supp"
+for harness in fuzz_obj fuzz_ply fuzz_off fuzz_draco fuzz_mesh_api; do
+  # Regression inputs of fixed findings must run clean.
+  if [ -d "tests/fuzz/regressions/$harness" ]; then
+    build-fuzz/tests/fuzz/$harness tests/fuzz/regressions/$harness/* >/dev/null 2>&1 ||
+      { build-fuzz/tests/fuzz/$harness tests/fuzz/regressions/$harness/* 2>&1 | tail -n 40;
+        echo "test-all: $harness fails on a regression input" >&2; exit 1; }
+  fi
+done
 for harness in fuzz_obj fuzz_ply fuzz_off fuzz_draco fuzz_mesh_api; do
   scratch=$(mktemp -d)  # new inputs and any crash reproducer go here, not into the repo
   echo "-- $harness"

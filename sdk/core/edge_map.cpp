@@ -201,7 +201,9 @@ void build_edge_map(EdgeMap& map, const PolygonMesh& mesh, const std::vector<uin
     map.vertex_first_edge[v] = static_cast<uint32_t>(map.edge_lo.size());
     uint64_t* b = keys.data() + start[v];
     uint64_t* e = keys.data() + start[v + 1];
-    if (e - b <= 16) {  // insertion sort: buckets are usually a handful of half-edges
+    if (e - b < 2) {
+      // nothing to sort (and b may be null when no face is included: no pointer arithmetic on it)
+    } else if (e - b <= 16) {  // insertion sort: buckets are usually a handful of half-edges
       for (uint64_t* i = b + 1; i < e; ++i) {
         const uint64_t x = *i;
         uint64_t* j = i;

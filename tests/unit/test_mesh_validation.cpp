@@ -446,3 +446,17 @@ TEST(MeshValidation, CleanSharedMeshes) {
 }
 
 }  // namespace
+
+// Found by fuzz_obj/fuzz_mesh_api: when every face is left out of the edge map (here the only
+// face repeats a vertex) the edge map's key array is empty; building it must not offset a null
+// pointer (UBSan: "applying non-zero offset to null pointer"). Reproducers: tests/fuzz/regressions/.
+TEST(MeshValidation, mesh_whose_only_face_is_degenerate_validates_without_undefined_behaviour) {
+  cagekit::PolygonMesh m;
+  m.add_vertex({0, 0, 0});
+  m.add_vertex({1, 0, 0});
+  m.add_vertex({0, 1, 0});
+  m.add_face({0, 1, 1});
+  const cagekit::ValidationReport r = cagekit::validate_mesh(m);
+  EXPECT_FALSE(r.ok());
+  EXPECT_EQ(r.count(cagekit::MeshIssue::degenerate_face), 1u);
+}
