@@ -49,7 +49,14 @@
 #include "subdiv/subdivision_surface.h"
 #include "subdiv/uniform_refinement.h"
 
+#include "bench_support.h"
+
 namespace {
+
+using bench::cpu_seconds;
+using bench::load_average;
+using bench::seconds_since;
+using bench::status_kib;
 
 namespace Far = OpenSubdiv::Far;
 namespace Sdc = OpenSubdiv::Sdc;
@@ -59,15 +66,7 @@ constexpr int kPasses = 5;
 
 // --- measurement helpers (each benchmark is self-contained) ---
 
-double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-// Process CPU time: robust to other processes competing for the cores (everything timed here is
-// single-threaded, so on an idle machine it equals the wall time).
-double cpu_seconds() {
-  timespec ts;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
 
 struct Seconds {
   double wall = 0, cpu = 0;
@@ -81,12 +80,6 @@ struct Stopwatch {
   Seconds elapsed() const { return {seconds_since(wall0), cpu_seconds() - cpu0}; }
 };
 
-std::string load_average() {
-  std::ifstream in("/proc/loadavg");
-  std::string one, five, fifteen;
-  in >> one >> five >> fifteen;
-  return one + " " + five + " " + fifteen;
-}
 
 // "wall ratio (CPU-time ratio)"
 std::string ratio(const Seconds& a, const Seconds& b) {
@@ -95,14 +88,6 @@ std::string ratio(const Seconds& a, const Seconds& b) {
   return buf;
 }
 
-long status_kib(const char* field) {
-  std::ifstream in("/proc/self/status");
-  std::string line;
-  const std::string key = std::string(field) + ":";
-  while (std::getline(in, line))
-    if (line.compare(0, key.size(), key) == 0) return std::atol(line.c_str() + key.size());
-  return -1;
-}
 
 // Peak RSS of a region above the RSS at its start, in MiB (VmHWM reset through clear_refs).
 struct PeakRss {

@@ -43,7 +43,14 @@
 #include "core/mesh_repair.h"
 #include "core/status.h"
 
+#include "bench_support.h"
+
 namespace {
+
+using bench::cpu_seconds;
+using bench::load_average;
+using bench::seconds_since;
+using bench::status_kib;
 
 using Clock = std::chrono::steady_clock;
 
@@ -55,31 +62,9 @@ using OmMesh = OpenMesh::TriMesh_ArrayKernelT<OmTraits>;
 
 // --- measurement helpers (each benchmark is self-contained) ---
 
-double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-// Process CPU time: robust to other processes competing for the cores (everything timed here is
-// single-threaded, so on an idle machine it equals the wall time).
-double cpu_seconds() {
-  timespec ts;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
 
-std::string load_average() {
-  std::ifstream in("/proc/loadavg");
-  std::string one, five, fifteen;
-  in >> one >> five >> fifteen;
-  return one + " " + five + " " + fifteen;
-}
 
-long status_kib(const char* field) {
-  std::ifstream in("/proc/self/status");
-  std::string line;
-  const std::string key = std::string(field) + ":";
-  while (std::getline(in, line))
-    if (line.compare(0, key.size(), key) == 0) return std::atol(line.c_str() + key.size());
-  return -1;
-}
 
 struct Timing {
   double median_s = 0;    // wall
