@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "core/io/io_internal.h"
+#include "core/io/text_writer.h"
 
 #include <algorithm>
 #include <cmath>
@@ -107,6 +108,27 @@ double max_position_distance(const std::vector<Vec3>& a, const std::vector<Vec3>
   const size_t n = std::min(a.size(), b.size());
   for (size_t i = 0; i < n; ++i) worst = std::max(worst, distance(a[i], b[i]));
   return worst;
+}
+
+double write_ascii_vertices_and_faces(const PolygonMesh& mesh, ProgressTicker& progress, TextWriter& w) {
+  const double total = double(mesh.num_vertices() + mesh.num_faces());
+  double error = 0;
+  for (size_t v = 0; v < mesh.num_vertices(); ++v) {
+    error = std::max(error, w.point(mesh.positions[v]));
+    w.ch('\n');
+    progress.tick(double(v) / total);
+  }
+  for (size_t f = 0; f < mesh.num_faces(); ++f) {
+    w.uint(mesh.face_size(f));
+    const uint32_t* corner = mesh.face_begin(f);
+    for (uint32_t k = 0; k < mesh.face_size(f); ++k) {
+      w.ch(' ');
+      w.uint(corner[k]);
+    }
+    w.ch('\n');
+    progress.tick(double(mesh.num_vertices() + f) / total);
+  }
+  return error;
 }
 
 }  // namespace io_detail

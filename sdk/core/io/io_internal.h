@@ -57,6 +57,11 @@ void validate_for_writing(const Cage& cage, const WriteOptions& options);
 // Largest distance between positions of `a` and `b` (same vertex count required).
 double max_position_distance(const std::vector<Vec3>& a, const std::vector<Vec3>& b);
 
+class TextWriter;
+// The vertex lines ("x y z") then the face lines ("n i0 i1 ...") shared by ascii PLY and OFF;
+// returns the largest position change the decimal printing caused.
+double write_ascii_vertices_and_faces(const PolygonMesh& mesh, ProgressTicker& progress, TextWriter& w);
+
 // Readers (data may be null only when size == 0).
 Cage read_obj(const uint8_t* data, size_t size, const ReadContext& context);
 Cage read_ply(const uint8_t* data, size_t size, const ReadContext& context);

@@ -169,30 +169,13 @@ double write_off(const Cage& cage, const WriteOptions& options, const TaskMonito
   const PolygonMesh& mesh = cage.mesh;
   TextWriter w(out, options.obj_precision);
   ProgressTicker progress(monitor, "writing");
-  const double total = double(mesh.num_vertices() + mesh.num_faces());
   out.reserve(mesh.num_vertices() * 40 + mesh.num_face_vertices() * 8 + 64);
   w.text("OFF\n");
   w.uint(mesh.num_vertices());
   w.ch(' ');
   w.uint(mesh.num_faces());
   w.text(" 0\n");
-  double error = 0;
-  for (size_t v = 0; v < mesh.num_vertices(); ++v) {
-    error = std::max(error, w.point(mesh.positions[v]));
-    w.ch('\n');
-    progress.tick(double(v) / total);
-  }
-  for (size_t f = 0; f < mesh.num_faces(); ++f) {
-    w.uint(mesh.face_size(f));
-    const uint32_t* corner = mesh.face_begin(f);
-    for (uint32_t k = 0; k < mesh.face_size(f); ++k) {
-      w.ch(' ');
-      w.uint(corner[k]);
-    }
-    w.ch('\n');
-    progress.tick(double(mesh.num_vertices() + f) / total);
-  }
-  return error;
+  return write_ascii_vertices_and_faces(mesh, progress, w);
 }
 
 }  // namespace io_detail

@@ -61,26 +61,6 @@ void write_binary_body(const PolygonMesh& mesh, int count_bytes, ProgressTicker&
   }
 }
 
-double write_ascii_body(const PolygonMesh& mesh, ProgressTicker& progress, TextWriter& w) {
-  const double total = double(mesh.num_vertices() + mesh.num_faces());
-  double error = 0;
-  for (size_t v = 0; v < mesh.num_vertices(); ++v) {
-    error = std::max(error, w.point(mesh.positions[v]));
-    w.ch('\n');
-    progress.tick(double(v) / total);
-  }
-  for (size_t f = 0; f < mesh.num_faces(); ++f) {
-    w.uint(mesh.face_size(f));
-    const uint32_t* corner = mesh.face_begin(f);
-    for (uint32_t k = 0; k < mesh.face_size(f); ++k) {
-      w.ch(' ');
-      w.uint(corner[k]);
-    }
-    w.ch('\n');
-    progress.tick(double(mesh.num_vertices() + f) / total);
-  }
-  return error;
-}
 
 }  // namespace
 
@@ -96,7 +76,7 @@ double write_ply(const Cage& cage, const WriteOptions& options, const TaskMonito
     write_binary_body(mesh, count_bytes, progress, out);
     return 0.0;  // doubles are written bit for bit
   }
-  return write_ascii_body(mesh, progress, w);
+  return write_ascii_vertices_and_faces(mesh, progress, w);
 }
 
 }  // namespace io_detail
