@@ -887,18 +887,9 @@ TEST(SubdivisionSurface, random_soups_never_crash) {
   int succeeded = 0;
   for (int trial = 0; trial < 60; ++trial) {
     Cage cage;
-    const uint32_t nv = 4 + rng() % 10;
-    for (uint32_t v = 0; v < nv; ++v) cage.mesh.add_vertex(Vec3(rng() % 7, rng() % 5, rng() % 3));
-    const int nf = 1 + static_cast<int>(rng() % 9);
-    for (int f = 0; f < nf; ++f) {
-      std::vector<uint32_t> face;
-      const uint32_t size = 3 + rng() % std::min<uint32_t>(4, nv - 2);
-      while (face.size() < size) {
-        const uint32_t v = rng() % nv;
-        if (std::find(face.begin(), face.end(), v) == face.end()) face.push_back(v);
-      }
-      cage.mesh.add_face(face.data(), face.size());
-    }
+    cage.mesh = cagekit_test::random_polygon_soup(rng);
+    const uint32_t nv = static_cast<uint32_t>(cage.mesh.num_vertices());
+    const int nf = static_cast<int>(cage.mesh.num_faces());
     for (size_t f = 0; f < cage.mesh.num_faces(); ++f)
       if (rng() % 5 == 0) cage.creases.push_back({cage.mesh.face_vertex(f, 0), cage.mesh.face_vertex(f, 1),
                                                   static_cast<float>(rng() % 12)});

@@ -21,6 +21,23 @@ std::string shared_mesh_path(const std::string& name) {
 
 PolygonMesh load_mesh(const std::string& path) { return cagekit::read_cage_from_file(path).mesh; }
 
+PolygonMesh random_polygon_soup(std::mt19937& rng) {
+  PolygonMesh mesh;
+  const uint32_t nv = 4 + rng() % 10;
+  for (uint32_t v = 0; v < nv; ++v) mesh.add_vertex(Vec3(rng() % 7, rng() % 5, rng() % 3));
+  const int nf = 1 + static_cast<int>(rng() % 9);
+  for (int f = 0; f < nf; ++f) {
+    std::vector<uint32_t> face;
+    const uint32_t size = 3 + rng() % std::min<uint32_t>(4, nv - 2);
+    while (face.size() < size) {
+      const uint32_t v = rng() % nv;
+      if (std::find(face.begin(), face.end(), v) == face.end()) face.push_back(v);
+    }
+    mesh.add_face(face.data(), face.size());
+  }
+  return mesh;
+}
+
 PolygonMesh unit_cube_quads() {
   PolygonMesh m;
   for (int i = 0; i < 8; ++i) m.add_vertex(Vec3(i & 1, (i >> 1) & 1, (i >> 2) & 1));

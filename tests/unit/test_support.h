@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Shared helpers for the C++ unit tests: locating the shared meshes, small generated meshes.
+#include <random>
 #include <string>
 
 #include "core/cage.h"
@@ -19,6 +20,10 @@ cagekit::PolygonMesh unit_cube_quads();
 
 // A regular grid of nx * ny quads over [0,nx]x[0,ny] at z = height(x, y); open boundary.
 cagekit::PolygonMesh quad_grid(int nx, int ny, double (*height)(double x, double y) = nullptr);
+
+// A small random polygon soup: 4-13 vertices on an integer grid, 1-9 faces of 3-6 distinct
+// vertices (non-manifold edges and vertices, inconsistent orientation: for crash tests).
+cagekit::PolygonMesh random_polygon_soup(std::mt19937& rng);
 
 // A UV-sphere-like closed mesh of triangles (an octahedron subdivided `levels` times, projected).
 cagekit::PolygonMesh triangle_sphere(int levels);
