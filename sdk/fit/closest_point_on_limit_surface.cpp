@@ -5,114 +5,222 @@
 #include <cmath>
 
 #include "core/status.h"
+#include "fit/piecewise_linear_limit_mesh.h"
+#include "fit/ptex_adjacency.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 
-LimitSurfaceProjector::LimitSurfaceProjector(const SubdivisionSurface& surface,
-                                             const std::vector<Vec3>& control,
-                                             const ClosestPointOptions& options)
-    : surface_(surface), control_(control), options_(options) {
-  if (options.grid_resolution < 1 || options.seeds < 1 || options.max_newton_steps < 0)
-    fail(Status::invalid_argument, "closest point: grid_resolution and seeds must be >= 1");
-  if (control.size() != surface.num_control_vertices())
-    fail(Status::invalid_argument, "closest point: control array of the wrong size");
-  const int g = options.grid_resolution;
-  std::vector<Vec3> points;
-  const uint32_t faces = surface.num_ptex_faces();
-  points.reserve(size_t(faces) * g * g);
-  for (uint32_t f = 0; f < faces; ++f) {
-    for (int i = 0; i < g; ++i)
-      for (int j = 0; j < g; ++j) {
-        const double u = (i + 0.5) / g, v = (j + 0.5) / g;
-        SurfacePoint sp;
-        try {
-          sp = surface.evaluate(f, u, v, control);
-        } catch (const Error&) {
-          continue;  // ptex face of a hole face: not part of the surface
-        }
-        points.push_back(sp.position);
-        grid_face_.push_back(f);
-        grid_u_.push_back(static_cast<float>(u));
-        grid_v_.push_back(static_cast<float>(v));
+namespace {
+
+// Brent's minimisation of phi on [0, b] without derivatives (Brent 1973, ch. 5; the classic
+// golden-section + parabolic interpolation scheme). Returns the best abscissa found.
+template <typename Phi>
+double brent_minimize(Phi&& phi, double b, double f0, double* f_best) {
+  constexpr double kGolden = 0.3819660112501051;
+  double a = 0, x = kGolden * b, w = x, v = x;
+  double fx = phi(x), fw = fx, fv = fx;
+  double d = 0, e = 0;
+  double best_x = 0, best_f = f0;
+  if (fx < best_f) best_x = x, best_f = fx;
+  for (int iter = 0; iter < 60; ++iter) {
+    const double m = 0.5 * (a + b);
+    const double tol = 1e-10 * std::abs(x) + 1e-14, tol2 = 2 * tol;
+    if (std::abs(x - m) <= tol2 - 0.5 * (b - a)) break;
+    bool golden = true;
+    if (std::abs(e) > tol) {
+      double r = (x - w) * (fx - fv), q = (x - v) * (fx - fw), p = (x - v) * q - (x - w) * r;
+      q = 2 * (q - r);
+      if (q > 0) p = -p;
+      q = std::abs(q);
+      const double e_old = e;
+      e = d;
+      if (std::abs(p) < std::abs(0.5 * q * e_old) && p > q * (a - x) && p < q * (b - x)) {
+        d = p / q;
+        const double u = x + d;
+        if (u - a < tol2 || b - u < tol2) d = x < m ? tol : -tol;
+        golden = false;
       }
+    }
+    if (golden) {
+      e = (x < m ? b : a) - x;
+      d = kGolden * e;
+    }
+    const double u = std::abs(d) >= tol ? x + d : x + (d > 0 ? tol : -tol);
+    const double fu = phi(u);
+    if (fu < best_f) best_x = u, best_f = fu;
+    if (fu <= fx) {
+      (u < x ? b : a) = x;
+      v = w, fv = fw, w = x, fw = fx, x = u, fx = fu;
+    } else {
+      (u < x ? a : b) = u;
+      if (fu <= fw || w == x) {
+        v = w, fv = fw, w = u, fw = fu;
+      } else if (fu <= fv || v == x || v == w) {
+        v = u, fv = fu;
+      }
+    }
   }
-  tree_ = PointKdTree(std::move(points));
+  *f_best = best_f;
+  return best_x;
 }
 
-FootPoint LimitSurfaceProjector::refine(const Vec3& p, uint32_t face, double u, double v) const {
-  SurfacePoint s = surface_.evaluate(face, u, v, control_);
+}  // namespace
+
+LimitSurfaceProjector::LimitSurfaceProjector(const SubdivisionSurface& surface, const PtexAdjacency* adjacency,
+                                             const std::vector<Vec3>& control, const ClosestPointOptions& options,
+                                             bool linear_mesh)
+    : surface_(surface), options_(options), points_(surface.patch_points(control)), adjacency_(adjacency) {
+  if (options.max_steps < 0 || options.max_steps > 100000)
+    fail(Status::invalid_argument, "closest point: max_steps must be in [0, 100000]");
+  if (!(options.epsilon > 0) || !std::isfinite(options.epsilon))
+    fail(Status::invalid_argument, "closest point: epsilon must be finite and > 0");
+  if (options.seed_resolution < 1 || options.seed_resolution > 64)
+    fail(Status::invalid_argument, "closest point: seed_resolution must be in [1, 64]");
+  if (linear_mesh) linear_ = std::make_unique<PiecewiseLinearLimitMesh>(surface, points_, options.seed_resolution);
+}
+
+LimitSurfaceProjector::~LimitSurfaceProjector() = default;
+
+double LimitSurfaceProjector::distance2(uint32_t face, double u, double v, const Vec3& p) const {
+  const Vec3 d = surface_.evaluate_position(face, u, v, points_) - p;
+  return dot(d, d);
+}
+
+FootPoint LimitSurfaceProjector::project_piecewise_linear(const Vec3& p) const {
+  if (!linear_) fail(Status::invalid_argument, "closest point: built without the piecewise-linear mesh");
+  const PiecewiseLinearLimitMesh::Hit hit = linear_->closest_point(p);
+  FootPoint out;
+  out.ptex_face = hit.ptex_face;
+  out.u = hit.u;
+  out.v = hit.v;
+  out.distance = hit.distance;
+  out.position = hit.position;
+  return out;
+}
+
+FootPoint LimitSurfaceProjector::project(const Vec3& p, const FootPoint* warm_start) const {
+  if (!warm_start) return refine(p, project_piecewise_linear(p));
+  FootPoint best = refine(p, *warm_start);
+  if (!linear_) return best;
+  // Safeguard against a warm start caught in a local minimum after the surface moved: when the
+  // piecewise-linear mesh has a closer point in another ptex face, search from there too.
+  const PiecewiseLinearLimitMesh::Hit hit = linear_->closest_point(p);
+  if (hit.ptex_face == best.ptex_face || !(hit.distance < best.distance)) return best;
+  FootPoint seed;
+  seed.ptex_face = hit.ptex_face, seed.u = hit.u, seed.v = hit.v;
+  FootPoint other = refine(p, seed);
+  other.steps += best.steps;
+  if (other.distance < best.distance) return other;
+  best.steps = other.steps;
+  return best;
+}
+
+FootPoint LimitSurfaceProjector::refine(const Vec3& p, const FootPoint& start) const {
+  uint32_t face = start.ptex_face;
+  double u = std::clamp(start.u, 0.0, 1.0), v = std::clamp(start.v, 0.0, 1.0);
+  SurfacePoint s = surface_.evaluate_patch_points(face, u, v, points_);
   Vec3 r = s.position - p;
-  double f = 0.5 * dot(r, r);
-  for (int step = 0; step < options_.max_newton_steps; ++step) {
+  double f = dot(r, r);
+  FootPoint best;
+  best.ptex_face = face, best.u = u, best.v = v, best.position = s.position;
+  double best_f = f;
+  int entered_side = -1;  // side of `face` the search came in through by the last transfer
+  bool converged = false;
+  int step = 0;
+  for (; step < options_.max_steps; ++step) {
     const double g0 = dot(r, s.du), g1 = dot(r, s.dv);
     const double a = dot(s.du, s.du), b = dot(s.du, s.dv), c = dot(s.dv, s.dv);
-    // Newton Hessian; fall back to Gauss-Newton (J^T J) when it is not positive definite.
     double h00 = a + dot(r, s.duu), h01 = b + dot(r, s.duv), h11 = c + dot(r, s.dvv);
     double det = h00 * h11 - h01 * h01;
-    if (!(h00 > 0 && det > 1e-12 * (a * c + 1e-300))) {
+    if (!(h00 > 0 && det > 1e-12 * (a * c + 1e-300))) {  // not positive definite: Gauss-Newton
       h00 = a * (1 + 1e-12) + 1e-300;
       h01 = b;
       h11 = c * (1 + 1e-12) + 1e-300;
       det = h00 * h11 - h01 * h01;
-      if (!(det > 0)) break;
+      if (!(det > 0)) break;  // degenerate Jacobian
     }
     double qu = -(h11 * g0 - h01 * g1) / det, qv = -(-h01 * g0 + h00 * g1) / det;
-    // Active bounds: drop the components that push out of the unit square through them.
-    if ((u <= 0 && qu < 0) || (u >= 1 && qu > 0)) qu = 0;
-    if ((v <= 0 && qv < 0) || (v >= 1 && qv > 0)) qv = 0;
-    // Clip to the square (thesis case 2: stop on the border of the face).
+    if (!std::isfinite(qu) || !std::isfinite(qv)) break;
+    const bool last = std::hypot(qu, qv) < options_.epsilon;  // converged: one final step
+    // On the border with q pointing out: transfer (case 3) or drop the outward component.
+    const double out[4] = {v <= 0 ? -qv : 0, u >= 1 ? qu : 0, v >= 1 ? qv : 0, u <= 0 ? -qu : 0};
+    int side = -1;
+    for (int k = 0; k < 4; ++k)
+      if (out[k] > 0 && (side < 0 || out[k] > out[side])) side = k;
+    if (side >= 0) {
+      if (adjacency_ && side != entered_side && !last) {
+        uint32_t nf = face;
+        double nu = u, nv = v;
+        const int arrived = adjacency_->transfer(nf, nu, nv, side);
+        if (arrived >= 0) {
+          face = nf, u = nu, v = nv;
+          s = surface_.evaluate_patch_points(face, u, v, points_);
+          r = s.position - p;
+          f = dot(r, r);
+          entered_side = arrived;
+          continue;
+        }
+      }
+      for (int k = 0; k < 4; ++k)
+        if (out[k] > 0) (k == 0 || k == 2 ? qv : qu) = 0;
+      if (std::hypot(qu, qv) < options_.epsilon) {
+        converged = true;  // a constrained stationary point on the border
+        break;
+      }
+    }
+    // Case 2: scale the step so that it stays in the square.
     double alpha = 1.0;
     if (u + qu < 0) alpha = std::min(alpha, -u / qu);
     if (u + qu > 1) alpha = std::min(alpha, (1 - u) / qu);
     if (v + qv < 0) alpha = std::min(alpha, -v / qv);
     if (v + qv > 1) alpha = std::min(alpha, (1 - v) / qv);
-    bool improved = false;
-    double step_length = 0;
-    for (int halving = 0; halving < 40; ++halving, alpha *= 0.5) {
-      const double nu = std::clamp(u + alpha * qu, 0.0, 1.0), nv = std::clamp(v + alpha * qv, 0.0, 1.0);
-      step_length = std::hypot(nu - u, nv - v);
-      if (step_length == 0) break;
-      const SurfacePoint ns = surface_.evaluate(face, nu, nv, control_);
-      const Vec3 nr = ns.position - p;
-      const double nf = 0.5 * dot(nr, nr);
-      if (nf <= f) {
-        improved = nf < f || step_length > 0;
-        u = nu;
-        v = nv;
-        s = ns;
-        r = nr;
-        f = nf;
+    auto at = [&](double lambda, double& nu, double& nv) {
+      nu = std::clamp(u + lambda * qu, 0.0, 1.0);
+      nv = std::clamp(v + lambda * qv, 0.0, 1.0);
+    };
+    double nu, nv;
+    at(alpha, nu, nv);
+    SurfacePoint ns = surface_.evaluate_patch_points(face, nu, nv, points_);
+    Vec3 nr = ns.position - p;
+    double nf = dot(nr, nr);
+    if (!(nf < f) && last) {
+      converged = true;  // |q| < epsilon and the last small step gains nothing
+      break;
+    }
+    if (!(nf < f)) {
+      // (7.7): Brent along q on (0, alpha].
+      double lambda_f;
+      const double lambda = brent_minimize(
+          [&](double t) {
+            double lu, lv;
+            at(t, lu, lv);
+            return distance2(face, lu, lv, p);
+          },
+          alpha, f, &lambda_f);
+      if (!(lambda > 0 && lambda_f < f)) {
+        converged = true;  // no decrease along a descent direction: stationary to working precision
         break;
       }
-      if (step_length < options_.step_tolerance) break;
+      at(lambda, nu, nv);
+      ns = surface_.evaluate_patch_points(face, nu, nv, points_);
+      nr = ns.position - p;
+      nf = dot(nr, nr);
     }
-    if (!improved || step_length < options_.step_tolerance) break;
+    if (nu != u || nv != v) entered_side = -1;
+    u = nu, v = nv, s = ns, r = nr, f = nf;
+    if (f < best_f) {
+      best_f = f;
+      best.ptex_face = face, best.u = u, best.v = v, best.position = s.position;
+    }
+    if (last) {
+      converged = true;
+      ++step;
+      break;
+    }
   }
-  FootPoint out;
-  out.ptex_face = face;
-  out.u = u;
-  out.v = v;
-  out.position = s.position;
-  out.distance = std::sqrt(2 * f);
-  return out;
-}
-
-FootPoint LimitSurfaceProjector::project(const Vec3& p, const FootPoint* warm_start) const {
-  FootPoint best;
-  best.distance = HUGE_VAL;
-  if (warm_start) best = refine(p, warm_start->ptex_face, warm_start->u, warm_start->v);
-  const size_t k = size_t(options_.seeds) * 4;
-  std::vector<uint32_t> tried;
-  for (const auto& hit : tree_.nearest(p, k)) {
-    const uint32_t index = hit.second;
-    const uint32_t face = grid_face_[index];
-    if (std::find(tried.begin(), tried.end(), face) != tried.end()) continue;
-    if (static_cast<int>(tried.size()) >= options_.seeds) break;
-    tried.push_back(face);
-    const FootPoint candidate = refine(p, face, grid_u_[index], grid_v_[index]);
-    if (candidate.distance < best.distance) best = candidate;
-  }
-  if (!(best.distance < HUGE_VAL)) fail(Status::invalid_argument, "closest point: the surface is empty");
+  best.distance = std::sqrt(best_f);
+  best.steps = uint32_t(step);
+  best.converged = converged;
   return best;
 }
 

@@ -2,61 +2,86 @@
 #pragma once
 // Closest point on a Catmull-Clark limit surface (thesis §7.4, t = argmin |p - S(t)|^2 (7.3)).
 //
-// Seeding (the thesis's "closest point on the piecewise-linear C_k" replaced by a simpler robust
-// variant): the limit surface is evaluated on a grid of grid_resolution^2 parameter points per
-// ptex face, kept in a kd-tree; a query takes its nearest grid points and uses the best points
-// of up to `seeds` different ptex faces as starting parameters (plus an optional warm start,
-// e.g. the previous foot point, as in the thesis's later passes).
+// Start value: the closest point on the piecewise-linear limit mesh (piecewise_linear_limit_mesh.h,
+// a BVH over the limit surface sampled at the level-2 vertices) for a first projection; the
+// previous foot point for later passes (warm start), with the piecewise-linear closest point as
+// a second start when it is in another ptex face and closer (the surface moved between passes;
+// not in the thesis, which warm-starts only: measured on the bunny, max 0.81% -> 0.67%).
 //
-// Refinement from each seed: Newton on f(u,v) = |S(u,v) - p|^2 / 2 with the exact second
-// derivatives when the Hessian is positive definite, Gauss-Newton ((7.5)-(7.6), J^T J q =
-// J^T (p - S)) otherwise; the step is clipped to the unit square (the thesis's case 2), the
-// components pushing out through an active bound are dropped, and the step is halved until f
-// decreases (instead of Brent's line search (7.7)). No patch hopping across ptex edges: a seed
-// that would need to leave its face stops on the face's border, and a seed of the neighbouring
-// face (from the grid) takes over. The best result over all seeds is returned, so the search is
-// monotone with respect to the warm start.
+// Update steps in a ptex face (thesis (7.4)-(7.6)): q solves H q = -J^T (S - p) with the exact
+// Newton Hessian H = J^T J + sum_k r_k Hess(S_k) when it is positive definite and the thesis's
+// Gauss-Newton matrix J^T J otherwise (S, J and the second derivatives are exact). Then, as in
+// the thesis:
+//   1. (u,v) + q inside the unit square: the step is taken;
+//   2. outside: q is scaled so that the point lands on the square's border, and the search
+//      stays in the face (the next step may point back in);
+//   3. already on the border with q pointing out through a side: the point is transferred to
+//      the ptex face across that side (ptex_adjacency.h; at a corner, the side of the larger
+//      outward component; repeated transfers walk around extraordinary vertices). No geometric
+//      move in this step. An open boundary (or a move straight back across the side just
+//      entered through) drops the outward component instead.
+// When a step does not decrease the distance, Brent's one-dimensional minimisation along q
+// ((7.7), lambda in (0, 1]) picks the step length; no decrease along q at all ends the search
+// (a stationary point to working precision). Termination: |q| < epsilon (1e-6) or max_steps
+// (500) update steps; the best point seen (never worse than the start) is returned.
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "core/vec3.h"
-#include "fit/point_kd_tree.h"
 #include "subdiv/subdivision_surface.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 
+class PtexAdjacency;
+class PiecewiseLinearLimitMesh;
+
 struct FootPoint {
   uint32_t ptex_face = 0;
   double u = 0, v = 0;
-  double distance = 0;  // |p - S(t)|
+  double distance = 0;  // |p - S(t)| (or to the piecewise-linear mesh, for project_piecewise_linear)
   Vec3 position;        // S(t)
+  uint32_t steps = 0;   // update steps of the search (transfers and line searches included)
+  bool converged = true;  // false: max_steps reached before |q| < epsilon
 };
 
 struct ClosestPointOptions {
-  int grid_resolution = 6;   // seeds per ptex face side
-  int seeds = 2;             // ptex faces tried per query
-  int max_newton_steps = 60;
-  double step_tolerance = 1e-14;  // stop when the (u,v) step is shorter
+  int max_steps = 500;     // thesis n
+  double epsilon = 1e-6;   // thesis: stop when |q| < epsilon (parameter units of a ptex face)
+  int seed_resolution = 4;  // grid quads per ptex face side of the piecewise-linear limit mesh
 };
 
 class LimitSurfaceProjector {
  public:
   // `control`: the control-vertex positions to evaluate with (size num_control_vertices()).
-  // The surface and control must outlive the projector.
-  LimitSurfaceProjector(const SubdivisionSurface& surface, const std::vector<Vec3>& control,
-                        const ClosestPointOptions& options = {});
+  // `adjacency` (of the same surface's cage; null = no transfers, searches stop on the border
+  // of their ptex face) and the surface must outlive the projector. `linear_mesh`: build the
+  // piecewise-linear limit mesh (needed by project() and project_piecewise_linear(), not by
+  // refine()).
+  LimitSurfaceProjector(const SubdivisionSurface& surface, const PtexAdjacency* adjacency,
+                        const std::vector<Vec3>& control, const ClosestPointOptions& options = {},
+                        bool linear_mesh = true);
+  ~LimitSurfaceProjector();
 
+  // Exact closest point, started from the piecewise-linear closest point or, with a warm start,
+  // from the warm start; then also from the piecewise-linear closest point when that lies in
+  // another ptex face and is closer than the warm search's result (the better result wins).
   FootPoint project(const Vec3& p, const FootPoint* warm_start = nullptr) const;
-  // Local descent from one starting parameter (no seeding).
-  FootPoint refine(const Vec3& p, uint32_t ptex_face, double u, double v) const;
+  // Exact closest point, started from `start` (warm start; its ptex face and (u, v) are used).
+  FootPoint refine(const Vec3& p, const FootPoint& start) const;
+  // Closest point on the piecewise-linear limit mesh only ([HDD+94]); position and distance
+  // are those of the piecewise-linear mesh.
+  FootPoint project_piecewise_linear(const Vec3& p) const;
+
+  const std::vector<Vec3>& patch_points() const { return points_; }
 
  private:
+  double distance2(uint32_t face, double u, double v, const Vec3& p) const;
   const SubdivisionSurface& surface_;
-  const std::vector<Vec3>& control_;
   ClosestPointOptions options_;
-  std::vector<uint32_t> grid_face_;
-  std::vector<float> grid_u_, grid_v_;
-  PointKdTree tree_;
+  std::vector<Vec3> points_;  // surface.patch_points(control)
+  const PtexAdjacency* adjacency_;
+  std::unique_ptr<PiecewiseLinearLimitMesh> linear_;
 };
 
 CAGEKIT_NAMESPACE_END

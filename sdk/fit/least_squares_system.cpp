@@ -2,10 +2,13 @@
 #include "fit/least_squares_system.h"
 
 #include <Eigen/Sparse>
+#include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <string>
+#include <thread>
 
 #include "core/status.h"
 
@@ -130,85 +133,179 @@ std::vector<Vec3> solve_control_points_coupled(const SubdivisionSurface& surface
     if (!fixed[j / 3]) result[j / 3][j % 3] = x(free_index[j]);
   return result;
 }
+
+// The point-distance system (w = 1) as one augmented least-squares problem over the free
+// control vertices: B x = d with B = [A_F; sqrt(lambda) L_F; sqrt(mu) I],
+// d = [P - A_X c_X; -sqrt(lambda) L_X c_X; sqrt(mu) c_F] (X = fixed vertices).
+std::vector<Vec3> solve_point_distance(const SubdivisionSurface& surface, const Cage& cage,
+                                       const std::vector<Vec3>& current_control, const std::vector<Vec3>& samples,
+                                       const std::vector<FootPoint>& foot_points, const std::vector<bool>& fixed,
+                                       const LeastSquaresOptions& options, LeastSquaresReport& report) {
+  const int n = int(surface.num_control_vertices());
+  std::vector<int> free_index(size_t(n), -1);
+  int free_count = 0;
+  for (int j = 0; j < n; ++j)
+    if (!fixed[size_t(j)]) free_index[size_t(j)] = free_count++;
+  std::vector<Vec3> result = current_control;
+  if (free_count == 0) return result;
+
+  // Rows of A (basis weights), assembled in parallel; fixed columns go to the right-hand side.
+  const size_t N = samples.size();
+  const int workers = std::max(1, std::min(options.threads, int((N + 4095) / 4096)));
+  std::vector<std::vector<Triplet>> parts(static_cast<size_t>(workers));
+  Eigen::MatrixXd P(Eigen::Index(N), 3);
+  std::vector<std::exception_ptr> errors(static_cast<size_t>(workers));
+  auto work = [&](int w) {
+    try {
+      const size_t begin = N * size_t(w) / size_t(workers), end = N * size_t(w + 1) / size_t(workers);
+      auto& triplets = parts[size_t(w)];
+      triplets.reserve((end - begin) * 18);
+      for (size_t i = begin; i < end; ++i) {
+        const FootPoint& t = foot_points[i];
+        const BasisWeights basis = surface.basis(t.ptex_face, t.u, t.v);
+        Vec3 rhs = samples[i];
+        for (size_t k = 0; k < basis.indices.size(); ++k) {
+          const double wk = basis.w[k];
+          if (wk == 0) continue;
+          const int col = free_index[basis.indices[k]];
+          if (col >= 0)
+            triplets.emplace_back(int(i), col, wk);
+          else
+            rhs -= current_control[basis.indices[k]] * wk;
+        }
+        P.row(Eigen::Index(i)) << rhs.x, rhs.y, rhs.z;
+      }
+    } catch (...) {
+      errors[size_t(w)] = std::current_exception();
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int w = 1; w < workers; ++w) pool.emplace_back(work, w);
+  work(0);
+  for (auto& t : pool) t.join();
+  for (auto& e : errors)
+    if (e) std::rethrow_exception(e);
+  size_t total = 0;
+  for (auto& part : parts) total += part.size();
+  std::vector<Triplet> triplets;
+  triplets.reserve(total);
+  for (auto& part : parts) triplets.insert(triplets.end(), part.begin(), part.end());
+  SparseMatrix A(Eigen::Index(N), free_count);
+  A.setFromTriplets(triplets.begin(), triplets.end());
+  triplets = {};
+
+  Eigen::VectorXd column_norm2 = Eigen::VectorXd::Zero(free_count);
+  for (int k = 0; k < A.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(A, k); it; ++it) column_norm2(it.col()) += it.value() * it.value();
+  const double scale = std::max(column_norm2.sum() / free_count, 1e-300);
+  for (int k = 0; k < free_count; ++k)
+    if (column_norm2(k) <= 1e-14 * scale) ++report.unsupported_control_vertices;
+  const double mu = 1e-12 * scale, lambda = options.fairing * scale;
+
+  Eigen::MatrixXd C(free_count, 3);
+  for (int j = 0; j < n; ++j)
+    if (free_index[size_t(j)] >= 0) {
+      const Vec3& c = current_control[size_t(j)];
+      C.row(free_index[size_t(j)]) << c.x, c.y, c.z;
+    }
+  // Fairing rows: sqrt(lambda) (L_F c_F + L_X c_X).
+  SparseMatrix LF;
+  Eigen::MatrixXd LX_c;
+  if (lambda > 0) {
+    const SparseMatrix L = umbrella_laplacian(cage.mesh);
+    std::vector<Triplet> lt;
+    LX_c = Eigen::MatrixXd::Zero(n, 3);
+    for (int k = 0; k < L.outerSize(); ++k)
+      for (SparseMatrix::InnerIterator it(L, k); it; ++it) {
+        const int col = free_index[size_t(it.col())];
+        if (col >= 0) {
+          lt.emplace_back(int(it.row()), col, it.value());
+        } else {
+          const Vec3& c = current_control[size_t(it.col())];
+          LX_c.row(it.row()) += it.value() * Eigen::RowVector3d(c.x, c.y, c.z);
+        }
+      }
+    LF = SparseMatrix(n, free_count);
+    LF.setFromTriplets(lt.begin(), lt.end());
+  }
+
+  Eigen::MatrixXd x(free_count, 3);
+  if (options.solver == LeastSquaresSolver::direct) {
+    const SparseMatrix At = A.transpose();
+    SparseMatrix M = At * A;
+    Eigen::MatrixXd b = At * P + mu * C;
+    if (lambda > 0) {
+      M += lambda * SparseMatrix(LF.transpose() * LF);
+      b -= lambda * (LF.transpose() * LX_c);
+    }
+    SparseMatrix I(free_count, free_count);
+    I.setIdentity();
+    M += mu * I;
+    Eigen::SimplicialLDLT<SparseMatrix> solver(M);
+    if (solver.info() != Eigen::Success)
+      fail(Status::internal_error, "least squares: the normal equations could not be factorised");
+    x = solver.solve(b);
+    if (solver.info() != Eigen::Success) fail(Status::internal_error, "least squares: the solve failed");
+  } else {
+    // CGLS on the stacked system, warm-started from the current control points.
+    const Eigen::Index rows = A.rows() + (lambda > 0 ? n : 0) + free_count;
+    std::vector<Triplet> bt;
+    bt.reserve(size_t(A.nonZeros() + (lambda > 0 ? LF.nonZeros() : 0) + free_count));
+    for (int k = 0; k < A.outerSize(); ++k)
+      for (SparseMatrix::InnerIterator it(A, k); it; ++it) bt.emplace_back(int(it.row()), int(it.col()), it.value());
+    Eigen::Index row = A.rows();
+    Eigen::MatrixXd d(rows, 3);
+    d.topRows(A.rows()) = P;
+    if (lambda > 0) {
+      const double sl = std::sqrt(lambda);
+      for (int k = 0; k < LF.outerSize(); ++k)
+        for (SparseMatrix::InnerIterator it(LF, k); it; ++it)
+          bt.emplace_back(int(row + it.row()), int(it.col()), sl * it.value());
+      d.middleRows(row, n) = -sl * LX_c;
+      row += n;
+    }
+    const double sm = std::sqrt(mu);
+    for (int k = 0; k < free_count; ++k) bt.emplace_back(int(row + k), k, sm);
+    d.bottomRows(free_count) = sm * C;
+    SparseMatrix B(rows, free_count);
+    B.setFromTriplets(bt.begin(), bt.end());
+    Eigen::LeastSquaresConjugateGradient<SparseMatrix> cg;
+    cg.setTolerance(1e-10);
+    cg.setMaxIterations(std::max<Eigen::Index>(100, 4 * free_count));
+    cg.compute(B);
+    for (int c = 0; c < 3; ++c) {
+      x.col(c) = cg.solveWithGuess(d.col(c), C.col(c));
+      report.cgls_iterations = std::max(report.cgls_iterations, int(cg.iterations()));
+    }
+  }
+  if (!x.allFinite()) fail(Status::internal_error, "least squares: the solve gave non-finite positions");
+  for (int j = 0; j < n; ++j) {
+    const int k = free_index[size_t(j)];
+    if (k >= 0) result[size_t(j)] = {x(k, 0), x(k, 1), x(k, 2)};
+  }
+  return result;
+}
 }  // namespace
 
 std::vector<Vec3> solve_control_points(const SubdivisionSurface& surface, const Cage& cage,
-                                       const std::vector<Vec3>& current_control,
-                                       const std::vector<Vec3>& samples,
-                                       const std::vector<FootPoint>& foot_points, double smoothness,
-                                       const std::vector<bool>& fixed, double tangential_weight) {
+                                       const std::vector<Vec3>& current_control, const std::vector<Vec3>& samples,
+                                       const std::vector<FootPoint>& foot_points, const std::vector<bool>& fixed,
+                                       const LeastSquaresOptions& options, LeastSquaresReport* report) {
   const int n = int(surface.num_control_vertices());
   if (samples.size() != foot_points.size() || current_control.size() != size_t(n) ||
       fixed.size() != size_t(n) || cage.mesh.num_vertices() != size_t(n))
     fail(Status::invalid_argument, "least squares: inconsistent sizes");
-  if (!(smoothness >= 0)) fail(Status::invalid_argument, "least squares: smoothness must be >= 0");
-  if (!(tangential_weight >= 0 && tangential_weight <= 1))
+  if (!(options.fairing >= 0) || !std::isfinite(options.fairing))
+    fail(Status::invalid_argument, "least squares: fairing must be finite and >= 0");
+  if (!(options.tangential_weight >= 0 && options.tangential_weight <= 1))
     fail(Status::invalid_argument, "least squares: tangential_weight must be in [0, 1]");
-  if (tangential_weight < 1)
-    return solve_control_points_coupled(surface, cage, current_control, samples, foot_points, smoothness, fixed,
-                                         tangential_weight);
-
-  // A (N x n), ~16 non-zeros per row.
-  std::vector<Triplet> triplets;
-  triplets.reserve(samples.size() * 20);
-  for (size_t i = 0; i < samples.size(); ++i) {
-    const FootPoint& t = foot_points[i];
-    const BasisWeights basis = surface.basis(t.ptex_face, t.u, t.v);
-    for (size_t k = 0; k < basis.indices.size(); ++k)
-      if (basis.w[k] != 0) triplets.emplace_back(int(i), int(basis.indices[k]), basis.w[k]);
-  }
-  SparseMatrix A(int(samples.size()), n);
-  A.setFromTriplets(triplets.begin(), triplets.end());
-  Eigen::MatrixXd P(samples.size(), 3), C(n, 3);
-  for (size_t i = 0; i < samples.size(); ++i) P.row(Eigen::Index(i)) << samples[i].x, samples[i].y, samples[i].z;
-  for (int j = 0; j < n; ++j) C.row(j) << current_control[j].x, current_control[j].y, current_control[j].z;
-
-  const SparseMatrix At = A.transpose();
-  SparseMatrix M = At * A;
-  double trace = 0;
-  for (int j = 0; j < n; ++j) trace += M.coeff(j, j);
-  const double scale = n > 0 ? std::max(trace / n, 1e-300) : 1.0;
-  const double mu = 1e-12 * scale;
-  Eigen::MatrixXd b = At * P + mu * C;
-  if (smoothness > 0) {
-    const SparseMatrix L = umbrella_laplacian(cage.mesh);
-    M += (smoothness * scale) * SparseMatrix(L.transpose() * L);
-  }
-  SparseMatrix I(n, n);
-  I.setIdentity();
-  M += mu * I;
-
-  // Eliminate the fixed vertices: M_FF c_F = b_F - M_FX c_X.
-  std::vector<int> free_index(n, -1);
-  int free_count = 0;
-  for (int j = 0; j < n; ++j)
-    if (!fixed[j]) free_index[j] = free_count++;
-  std::vector<Vec3> result = current_control;
-  if (free_count == 0) return result;
-  Eigen::MatrixXd C_fixed = C;
-  for (int j = 0; j < n; ++j)
-    if (!fixed[j]) C_fixed.row(j).setZero();
-  b -= M * C_fixed;
-  std::vector<Triplet> selection;
-  for (int j = 0; j < n; ++j)
-    if (!fixed[j]) selection.emplace_back(j, free_index[j], 1.0);
-  SparseMatrix S(n, free_count);
-  S.setFromTriplets(selection.begin(), selection.end());
-  const SparseMatrix M_ff = SparseMatrix(S.transpose() * M * S);
-  const Eigen::MatrixXd b_f = S.transpose() * b;
-
-  Eigen::SimplicialLDLT<SparseMatrix> solver(M_ff);
-  if (solver.info() != Eigen::Success)
-    fail(Status::internal_error, "least squares: the normal equations could not be factorised");
-  const Eigen::MatrixXd x = solver.solve(b_f);
-  if (solver.info() != Eigen::Success || !x.allFinite())
-    fail(Status::internal_error, "least squares: the solve failed");
-  for (int j = 0; j < n; ++j)
-    if (!fixed[j]) {
-      const int k = free_index[j];
-      result[j] = {x(k, 0), x(k, 1), x(k, 2)};
-    }
-  return result;
+  LeastSquaresReport local;
+  LeastSquaresReport& r = report ? *report : local;
+  r = {};
+  if (options.tangential_weight < 1)
+    return solve_control_points_coupled(surface, cage, current_control, samples, foot_points, options.fairing,
+                                         fixed, options.tangential_weight);
+  return solve_point_distance(surface, cage, current_control, samples, foot_points, fixed, options, r);
 }
 
 CAGEKIT_NAMESPACE_END

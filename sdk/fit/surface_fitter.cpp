@@ -5,10 +5,12 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <string>
 #include <thread>
 
 #include "core/status.h"
 #include "fit/least_squares_system.h"
+#include "fit/ptex_adjacency.h"
 #include "subdiv/subdivision_surface.h"
 
 CAGEKIT_NAMESPACE_BEGIN
@@ -20,21 +22,22 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// Projects all samples (in parallel, in chunks; progress/cancel between chunks on this thread).
-void project_all(const LimitSurfaceProjector& projector, const std::vector<Vec3>& samples,
-                 std::vector<FootPoint>& feet, bool warm, int threads, const TaskMonitor& monitor,
-                 double fraction_begin, double fraction_end) {
-  const size_t n = samples.size();
-  const size_t chunk = 4096;
+// Runs body(i) for i in [0, n) on `threads` workers, in chunks; progress and cancellation
+// between chunks on the calling thread.
+template <typename Body>
+void parallel_for(size_t n, int threads, const TaskMonitor& monitor, double fraction_begin, double fraction_end,
+                  Body&& body) {
+  const size_t chunk = 8192;
   for (size_t begin = 0; begin < n; begin += chunk) {
     monitor.report("fit", fraction_begin + (fraction_end - fraction_begin) * double(begin) / double(n));
     const size_t end = std::min(n, begin + chunk);
-    const size_t workers = std::max<size_t>(1, std::min<size_t>(size_t(threads), end - begin));
+    const size_t workers = std::max<size_t>(1, std::min<size_t>(size_t(threads), (end - begin + 255) / 256));
     std::vector<std::exception_ptr> errors(workers);
     auto work = [&](size_t w) {
       try {
-        for (size_t i = begin + w; i < end; i += workers)
-          feet[i] = projector.project(samples[i], warm ? &feet[i] : nullptr);
+        const size_t per = (end - begin + workers - 1) / workers;
+        const size_t b = begin + w * per, e = std::min(end, b + per);
+        for (size_t i = b; i < e; ++i) body(i);
       } catch (...) {
         errors[w] = std::current_exception();
       }
@@ -48,27 +51,51 @@ void project_all(const LimitSurfaceProjector& projector, const std::vector<Vec3>
   }
 }
 
-void record(const std::vector<FootPoint>& feet, double diagonal, FitReport& report) {
-  double sum = 0, max = 0;
-  for (const FootPoint& f : feet) {
-    sum += f.distance * f.distance;
-    max = std::max(max, f.distance);
+FitPassStatistics statistics(const std::vector<FootPoint>& feet, const std::vector<bool>* near_boundary,
+                             double diagonal) {
+  FitPassStatistics s;
+  double sum2 = 0, sum = 0;
+  size_t steps = 0;
+  for (size_t i = 0; i < feet.size(); ++i) {
+    const FootPoint& f = feet[i];
+    sum2 += f.distance * f.distance;
+    sum += f.distance;
+    s.max_relative = std::max(s.max_relative, f.distance);
+    if (!near_boundary || !(*near_boundary)[i]) s.max_relative_interior = std::max(s.max_relative_interior, f.distance);
+    steps += f.steps;
+    if (!f.converged) ++s.unconverged_projections;
   }
-  const double d = diagonal > 0 ? diagonal : 1.0;
-  report.l2.push_back(std::sqrt(sum));
-  report.rms_relative.push_back(std::sqrt(sum / double(feet.size())) / d);
-  report.max_relative.push_back(max / d);
+  const double d = diagonal > 0 ? diagonal : 1.0, n = double(feet.size());
+  s.l2 = std::sqrt(sum2);
+  s.rms_relative = std::sqrt(sum2 / n) / d;
+  s.mean_relative = sum / n / d;
+  s.max_relative /= d;
+  s.max_relative_interior /= d;
+  s.mean_projection_steps = double(steps) / n;
+  return s;
 }
+
 }  // namespace
 
 Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, const FitOptions& options,
-                        FitReport* report_out, const TaskMonitor& monitor) {
+                        FitReport* report_out, const TaskMonitor& monitor, const std::vector<bool>* near_boundary) {
   const auto start = Clock::now();
   if (samples.empty()) fail(Status::invalid_argument, "fit: no samples");
-  if (options.iterations < 0) fail(Status::invalid_argument, "fit: iterations must be >= 0");
-  if (!(options.smoothness >= 0)) fail(Status::invalid_argument, "fit: smoothness must be >= 0");
+  if (options.max_passes < 0 || options.max_passes > 100000)
+    fail(Status::invalid_argument, "fit: max_passes must be in [0, 100000]");
+  if (!(options.tolerance >= 0) || !std::isfinite(options.tolerance))
+    fail(Status::invalid_argument, "fit: tolerance must be finite and >= 0");
+  if (!(options.fairing >= 0) || !std::isfinite(options.fairing))
+    fail(Status::invalid_argument, "fit: fairing must be finite and >= 0");
   if (!(options.tangential_weight >= 0 && options.tangential_weight <= 1))
     fail(Status::invalid_argument, "fit: tangential_weight must be in [0, 1]");
+  if (options.projection != ProjectionMode::exact && options.projection != ProjectionMode::piecewise_linear)
+    fail(Status::invalid_argument, "fit: unknown projection mode");
+  if (options.solver != LeastSquaresSolver::direct && options.solver != LeastSquaresSolver::cgls)
+    fail(Status::invalid_argument, "fit: unknown least-squares solver");
+  if (options.threads < 0) fail(Status::invalid_argument, "fit: threads must be >= 0");
+  if (near_boundary && near_boundary->size() != samples.size())
+    fail(Status::invalid_argument, "fit: near_boundary must have one flag per sample");
   BoundingBox box;
   for (const Vec3& p : samples) {
     if (!is_finite(p)) fail(Status::invalid_argument, "fit: non-finite sample");
@@ -76,8 +103,10 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
   }
   const int threads = options.threads > 0 ? options.threads
                                           : int(std::max(1u, std::thread::hardware_concurrency()));
+  const bool exact = options.projection == ProjectionMode::exact;
 
   const SubdivisionSurface surface(initial);
+  const PtexAdjacency adjacency(initial.mesh, surface);
   const size_t n = initial.mesh.num_vertices();
   std::vector<bool> fixed(n, false);
   if (options.keep_crease_vertices_on_samples) {
@@ -86,39 +115,123 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
     for (const VertexCorner& c : initial.corners)
       if (c.sharpness >= kSharpnessInfinite && c.vertex < n) fixed[c.vertex] = true;
   }
+  LeastSquaresOptions lsq;
+  lsq.fairing = options.fairing;
+  lsq.tangential_weight = options.tangential_weight;
+  lsq.solver = options.solver;
+  lsq.threads = threads;
 
   FitReport report;
   report.bbox_diagonal = box.diagonal();
+  report.fairing_used = options.fairing > 0;
+  const double passes = double(options.max_passes + 1);
+  double excluded_seconds = 0;  // piecewise-linear mode: exact statistics, not part of the method
+
+  // Foot points used by the method (exact or piecewise linear) and, in piecewise-linear mode,
+  // the exact ones for the statistics.
   std::vector<Vec3> control = initial.mesh.positions;
-  std::vector<FootPoint> feet(samples.size());
-  const double passes = double(options.iterations + 1);
+  std::vector<FootPoint> feet(samples.size()), exact_feet;
+  auto project = [&](const std::vector<Vec3>& ctrl, bool warm, double f0, double f1) {
+    const LimitSurfaceProjector projector(surface, &adjacency, ctrl, options.closest_point, true);
+    if (exact) {
+      parallel_for(samples.size(), threads, monitor, f0, f1, [&](size_t i) {
+        feet[i] = projector.project(samples[i], warm ? &feet[i] : nullptr);
+      });
+      return statistics(feet, near_boundary, report.bbox_diagonal);
+    }
+    parallel_for(samples.size(), threads, monitor, f0, 0.5 * (f0 + f1),
+                 [&](size_t i) { feet[i] = projector.project_piecewise_linear(samples[i]); });
+    const auto t0 = Clock::now();
+    exact_feet.resize(samples.size());
+    parallel_for(samples.size(), threads, monitor, 0.5 * (f0 + f1), f1, [&](size_t i) {
+      exact_feet[i] = projector.project(samples[i], warm ? &exact_feet[i] : nullptr);
+    });
+    FitPassStatistics s = statistics(exact_feet, near_boundary, report.bbox_diagonal);
+    const FitPassStatistics own = statistics(feet, nullptr, report.bbox_diagonal);
+    s.unconverged_projections = own.unconverged_projections;
+    s.mean_projection_steps = own.mean_projection_steps;
+    excluded_seconds += seconds_since(t0);
+    return s;
+  };
+
   {
     const auto t0 = Clock::now();
-    const LimitSurfaceProjector projector(surface, control, options.closest_point);
-    project_all(projector, samples, feet, false, threads, monitor, 0.0, 1.0 / passes);
-    record(feet, report.bbox_diagonal, report);
-    report.iteration_seconds.push_back(seconds_since(t0));
+    const double excluded_before = excluded_seconds;
+    FitPassStatistics s = project(control, false, 0.0, 1.0 / passes);
+    s.seconds = seconds_since(t0) - (excluded_seconds - excluded_before);
+    report.passes.push_back(s);
   }
-  for (int it = 1; it <= options.iterations; ++it) {
+  for (int pass = 1; pass <= options.max_passes; ++pass) {
     const auto t0 = Clock::now();
-    control = solve_control_points(surface, initial, control, samples, feet, options.smoothness, fixed,
-                                   options.tangential_weight);
-    const LimitSurfaceProjector projector(surface, control, options.closest_point);
-    project_all(projector, samples, feet, true, threads, monitor, it / passes, (it + 1) / passes);
-    record(feet, report.bbox_diagonal, report);
-    report.iteration_seconds.push_back(seconds_since(t0));
-    monitor.log(LogLevel::info, "fit iteration " + std::to_string(it) + ": rms " +
-                                    std::to_string(report.rms_relative.back()) + ", max " +
-                                    std::to_string(report.max_relative.back()) + " of the bbox diagonal");
+    const double excluded_before = excluded_seconds;
+    LeastSquaresReport lsq_report;
+    std::vector<Vec3> next =
+        solve_control_points(surface, initial, control, samples, feet, fixed, lsq, &lsq_report);
+    report.unsupported_control_vertices = lsq_report.unsupported_control_vertices;
+    const std::vector<FootPoint> previous_feet = feet, previous_exact = exact_feet;
+    FitPassStatistics s = project(next, true, pass / passes, (pass + 1) / passes);
+    s.seconds = seconds_since(t0) - (excluded_seconds - excluded_before);
+    const double before = report.passes.back().l2;
+    if (s.l2 > before) {  // never let the error grow: undo the step and stop
+      feet = previous_feet;
+      exact_feet = previous_exact;
+      report.rejected_last_step = true;
+      monitor.log(LogLevel::info, "fit pass " + std::to_string(pass) + " would increase L2 (" +
+                                      std::to_string(before) + " -> " + std::to_string(s.l2) + "); stopped");
+      break;
+    }
+    control = std::move(next);
+    report.passes.push_back(s);
+    monitor.log(LogLevel::info, "fit pass " + std::to_string(pass) + ": rms " + std::to_string(s.rms_relative) +
+                                    ", max " + std::to_string(s.max_relative) + " of the bbox diagonal");
+    if (before - s.l2 < options.tolerance * before) {
+      report.stopped_by_tolerance = pass < options.max_passes;
+      break;
+    }
   }
   monitor.report("fit", 1.0);
 
   Cage fitted = initial;
   fitted.mesh.positions = control;
-  report.seconds = seconds_since(start);
-  report.foot_points = std::move(feet);
+  report.seconds = seconds_since(start) - excluded_seconds;
+  report.foot_points = exact ? std::move(feet) : std::move(exact_feet);
   if (report_out) *report_out = std::move(report);
   return fitted;
+}
+
+Cage fit_cage_to_mesh(const Cage& initial, const PolygonMesh& scan, const FitOptions& options, FitReport* report,
+                      const TaskMonitor& monitor) {
+  const size_t n = scan.num_vertices();
+  for (uint32_t v : scan.face_vertices)
+    if (v >= n) fail(Status::invalid_argument, "fit: the scan has a face vertex index out of range");
+  // Boundary edges: undirected edges used by exactly one face.
+  std::vector<std::pair<uint32_t, uint32_t>> edges;
+  edges.reserve(scan.face_vertices.size());
+  for (size_t f = 0; f < scan.num_faces(); ++f) {
+    const uint32_t k = scan.face_size(f);
+    for (uint32_t c = 0; c < k; ++c) {
+      const uint32_t a = scan.face_vertex(f, c), b = scan.face_vertex(f, (c + 1) % k);
+      edges.push_back({std::min(a, b), std::max(a, b)});
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  std::vector<bool> on_boundary(n, false), near;
+  for (size_t i = 0; i < edges.size();) {
+    size_t j = i + 1;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    if (j - i == 1) on_boundary[edges[i].first] = on_boundary[edges[i].second] = true;
+    i = j;
+  }
+  near = on_boundary;
+  for (size_t f = 0; f < scan.num_faces(); ++f) {
+    const uint32_t k = scan.face_size(f);
+    for (uint32_t c = 0; c < k; ++c) {
+      const uint32_t a = scan.face_vertex(f, c), b = scan.face_vertex(f, (c + 1) % k);
+      if (on_boundary[a]) near[b] = true;
+      if (on_boundary[b]) near[a] = true;
+    }
+  }
+  return fit_cage_to_points(initial, scan.positions, options, report, monitor, &near);
 }
 
 CAGEKIT_NAMESPACE_END

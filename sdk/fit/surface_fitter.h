@@ -1,52 +1,94 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
-// fit_cage_to_points: fit a cage's Catmull-Clark limit surface to dense samples (thesis ch. 7).
-// Alternates (§7.2, [Die95]) the parameterisation step (foot points = closest points on the
-// current limit surface, §7.4, closest_point_on_limit_surface.h) and the control-vertex step
-// (linear least squares with the exact basis functions, §7.5, least_squares_system.h). The cage's
-// connectivity and tags are kept; only control-vertex positions change.
+// fit_cage_to_points / fit_cage_to_mesh: fit a cage's Catmull-Clark limit surface to dense
+// samples (thesis ch. 7). Alternates (§7.2, [Die95]) the parameterisation step (foot points =
+// closest points on the current limit surface, §7.4, closest_point_on_limit_surface.h) and the
+// control-vertex step (linear least squares with the exact basis functions, §7.5,
+// least_squares_system.h), until the drop of the thesis's L2 (7.1) falls under `tolerance`
+// (relative, (7.2)) or `max_passes` control-vertex steps are done. The L2 never increases from
+// pass to pass: a step that would increase it is rejected and the fit stops. The cage's
+// connectivity and tags (creases, corners, holes, boundary rule) are kept, so tagged edges stay
+// sharp in the fitted surface; only control-vertex positions change.
+#include <cstddef>
 #include <vector>
 
 #include "core/cage.h"
+#include "core/polygon_mesh.h"
 #include "core/task_monitor.h"
 #include "fit/closest_point_on_limit_surface.h"
+#include "fit/least_squares_system.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 
+enum class ProjectionMode {
+  exact,             // closest points on the exact limit surface (§7.4), the default
+  piecewise_linear,  // closest points on the piecewise-linear level-2 limit mesh ([HDD+94]);
+                     // a reference for the benchmark (thesis Fig. 7.5), not the default
+};
+
 struct FitOptions {
-  // Control-vertex steps; each is followed by a parameter correction (re-projection).
-  int iterations = 5;
-  // Weight of the umbrella-Laplacian regulariser |L c|^2 relative to the mean diagonal of
-  // A^T A (see least_squares_system.h). The thesis has none (§7.5); a small default keeps
-  // control vertices with few samples in their support from drifting. 0 = the thesis's fit.
-  double smoothness = 1e-4;
+  // Control-vertex steps at most; each is followed by a parameter correction (re-projection).
+  int max_passes = 5;
+  // Stop when L2_k - L2_{k+1} < tolerance * L2_k ((7.2), made relative so that it does not
+  // depend on the model's units or sample count). 0 = run max_passes steps.
+  double tolerance = 1e-4;
+  // Weight of the umbrella-Laplacian fairing term |L c|^2 relative to the mean diagonal of
+  // A^T A (see least_squares_system.h). Off by default (the thesis has none, §7.5); control
+  // vertices with no samples in their support then keep their position and are counted in
+  // FitReport::unsupported_control_vertices.
+  double fairing = 0.0;
   // Keep the vertices on infinitely sharp crease edges and the corner-tagged vertices at their
   // input positions (for cages built on the scan, where those vertices are scan samples).
   bool keep_crease_vertices_on_samples = false;
   // 1 = the thesis's point-distance least squares. < 1 down-weights the tangential part of each
-  // residual in the control-vertex step (see least_squares_system.h): far faster convergence of
-  // the control points (tangent-distance-like), not in the thesis. Range [0, 1].
+  // residual in the control-vertex step (see least_squares_system.h), not in the thesis.
   double tangential_weight = 1.0;
+  ProjectionMode projection = ProjectionMode::exact;
+  LeastSquaresSolver solver = LeastSquaresSolver::direct;
   ClosestPointOptions closest_point;
-  // Worker threads of the projection step; 0 = std::thread::hardware_concurrency().
+  // Worker threads of the projection and assembly steps; 0 = std::thread::hardware_concurrency().
   int threads = 0;
+};
+
+// Statistics of one state of the fit. Distances are |p_i - S(t_i)| at the foot points of the
+// exact projection, relative to the samples' bbox diagonal (in piecewise-linear mode too: the
+// samples are then projected exactly for the statistics only, outside `seconds`).
+struct FitPassStatistics {
+  double l2 = 0;                // the thesis's L2 (7.1): sqrt(sum |p_i - S(t_i)|^2), model units
+  double rms_relative = 0;      // L2 / sqrt(N) / diagonal
+  double max_relative = 0;      // max_i |p_i - S(t_i)| / diagonal
+  double mean_relative = 0;     // mean_i |p_i - S(t_i)| / diagonal
+  double max_relative_interior = 0;  // max over samples not on or next to a scan boundary
+  double seconds = 0;           // time of this pass (least squares + projection)
+  size_t unconverged_projections = 0;  // searches that hit max_steps before |q| < epsilon
+  double mean_projection_steps = 0;    // update steps per search (hops and line searches count)
 };
 
 struct FitReport {
   // Entry 0: the initial cage; entry k: after k control-vertex steps and the re-projection.
-  // Distances are |p_i - S(t_i)| at the foot points, relative to the samples' bbox diagonal.
-  std::vector<double> rms_relative, max_relative;
-  std::vector<double> l2;  // the thesis's L2 (7.1): sqrt(sum |p_i - S(t_i)|^2), absolute
-  std::vector<double> iteration_seconds;
+  std::vector<FitPassStatistics> passes;
+  bool stopped_by_tolerance = false;  // (7.2) ended the fit before max_passes
+  bool rejected_last_step = false;    // the last step would have increased L2 and was undone
+  size_t unsupported_control_vertices = 0;  // no sample in their support in the last step
+  bool fairing_used = false;
   double bbox_diagonal = 0;
-  double seconds = 0;
+  double seconds = 0;  // whole fit (setup, all passes; without piecewise-linear mode's statistics)
   std::vector<FootPoint> foot_points;  // final foot points of the samples
 };
 
 // Throws Error(invalid_argument) for no samples, non-finite samples or options out of range,
-// Error(invalid_mesh) for a cage that cannot be subdivided, Error(cancelled) via the monitor
-// (stage "fit", fraction over projection passes).
+// Error(invalid_mesh) for a cage that cannot be subdivided or has no limit surface,
+// Error(cancelled) via the monitor (stage "fit", fraction over passes; reported at least once per
+// pass). `near_boundary` (optional, one flag per sample) marks the samples excluded from
+// max_relative_interior.
 Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, const FitOptions& options = {},
-                        FitReport* report = nullptr, const TaskMonitor& monitor = {});
+                        FitReport* report = nullptr, const TaskMonitor& monitor = {},
+                        const std::vector<bool>* near_boundary = nullptr);
+
+// The samples are all of the scan's vertices (foot_points[i] belongs to vertex i); a vertex is
+// "near the boundary" when it is on a boundary edge of the scan or shares an edge with such a
+// vertex.
+Cage fit_cage_to_mesh(const Cage& initial, const PolygonMesh& scan, const FitOptions& options = {},
+                      FitReport* report = nullptr, const TaskMonitor& monitor = {});
 
 CAGEKIT_NAMESPACE_END

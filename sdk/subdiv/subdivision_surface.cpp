@@ -165,7 +165,7 @@ struct PatchWeights {
   void resize(int n) {
     count = n;
     points.resize(static_cast<size_t>(n));
-    w.assign(6 * static_cast<size_t>(n), 0.0);
+    w.resize(6 * static_cast<size_t>(n));
   }
 };
 
@@ -500,7 +500,8 @@ void SubdivisionSurface::Impl::patch_weights(uint32_t ptex, double u, double v, 
     const double* j = kJ[pi.rotation];  // s_x, s_y, t_x, t_y
     const double s = pi.rotation == 0 ? x : pi.rotation == 1 ? y : pi.rotation == 2 ? 1 - x : 1 - y;
     const double t = pi.rotation == 0 ? y : pi.rotation == 1 ? 1 - x : pi.rotation == 2 ? 1 - y : x;
-    std::vector<double> w(6 * static_cast<size_t>(n));
+    thread_local std::vector<double> w;  // scratch: no allocation per evaluation
+    w.resize(6 * static_cast<size_t>(n));
     subdiv_detail::stam_basis(m, std::clamp(s, 0.0, 1.0), std::clamp(t, 0.0, 1.0), w.data());
     out->resize(n);
     for (int i = 0; i < n; ++i) {
@@ -573,8 +574,14 @@ uint32_t SubdivisionSurface::base_face_of_ptex(uint32_t ptex_face) const {
   return impl_->ptex_to_face[ptex_face];
 }
 
+bool SubdivisionSurface::has_limit_surface(uint32_t ptex_face) const {
+  if (ptex_face >= impl_->num_ptex())
+    fail(Status::invalid_argument, "ptex face " + std::to_string(ptex_face) + " out of range");
+  return impl_->patch_map->FindPatch(static_cast<int>(ptex_face), 0.5, 0.5) != nullptr;
+}
+
 SurfacePoint SubdivisionSurface::evaluate(uint32_t ptex_face, double u, double v) const {
-  PatchWeights pw;
+  thread_local PatchWeights pw;
   impl_->patch_weights(ptex_face, u, v, &pw);
   Vec3 result[6];
   const uint32_t num_control = impl_->num_control();
@@ -591,7 +598,7 @@ SurfacePoint SubdivisionSurface::evaluate(uint32_t ptex_face, double u, double v
   if (control.size() != impl_->control.size())
     fail(Status::invalid_argument, "expected " + std::to_string(impl_->control.size()) +
                                        " control positions, got " + std::to_string(control.size()));
-  PatchWeights pw;
+  thread_local PatchWeights pw;
   impl_->patch_weights(ptex_face, u, v, &pw);
   Vec3 result[6];
   for (int i = 0; i < pw.count; ++i) {
@@ -602,8 +609,49 @@ SurfacePoint SubdivisionSurface::evaluate(uint32_t ptex_face, double u, double v
   return {result[0], result[1], result[2], result[3], result[4], result[5]};
 }
 
+std::vector<Vec3> SubdivisionSurface::patch_points(const std::vector<Vec3>& control) const {
+  const Impl& m = *impl_;
+  if (control.size() != m.control.size())
+    fail(Status::invalid_argument, "expected " + std::to_string(m.control.size()) + " control positions, got " +
+                                       std::to_string(control.size()));
+  std::vector<Vec3> points(control.size() + m.derived.size());
+  std::copy(control.begin(), control.end(), points.begin());
+  for (size_t row = 0; row < m.derived.size(); ++row) {
+    Vec3 p;
+    for (uint32_t k = m.derived.offsets[row]; k < m.derived.offsets[row + 1]; ++k)
+      p += control[m.derived.indices[k]] * m.derived.weights[k];
+    points[control.size() + row] = p;
+  }
+  return points;
+}
+
+SurfacePoint SubdivisionSurface::evaluate_patch_points(uint32_t ptex_face, double u, double v,
+                                                       const std::vector<Vec3>& points) const {
+  if (points.size() != impl_->control.size() + impl_->derived.size())
+    fail(Status::invalid_argument, "patch point array of the wrong size");
+  thread_local PatchWeights pw;
+  impl_->patch_weights(ptex_face, u, v, &pw);
+  Vec3 result[6];
+  for (int i = 0; i < pw.count; ++i) {
+    const Vec3& point = points[pw.points[i]];
+    for (int k = 0; k < 6; ++k) result[k] += point * pw.w[k * pw.count + i];
+  }
+  return {result[0], result[1], result[2], result[3], result[4], result[5]};
+}
+
+Vec3 SubdivisionSurface::evaluate_position(uint32_t ptex_face, double u, double v,
+                                           const std::vector<Vec3>& points) const {
+  if (points.size() != impl_->control.size() + impl_->derived.size())
+    fail(Status::invalid_argument, "patch point array of the wrong size");
+  thread_local PatchWeights pw;
+  impl_->patch_weights(ptex_face, u, v, &pw);
+  Vec3 result;
+  for (int i = 0; i < pw.count; ++i) result += points[pw.points[i]] * pw.w[i];
+  return result;
+}
+
 BasisWeights SubdivisionSurface::basis(uint32_t ptex_face, double u, double v) const {
-  PatchWeights pw;
+  thread_local PatchWeights pw;
   impl_->patch_weights(ptex_face, u, v, &pw);
   // phi_j = sum over patch points i of (basis weight of i) * (stencil weight of j in i). Near
   // extraordinary vertices the patch points' stencils overlap heavily, so terms are summed in a

@@ -1,0 +1,188 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "fit/piecewise_linear_limit_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/status.h"
+
+CAGEKIT_NAMESPACE_BEGIN
+
+namespace {
+
+// Closest point of triangle (a, b, c) to p as barycentric weights (Ericson, Real-Time
+// Collision Detection, 5.1.5).
+void closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, double w[3]) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) { w[0] = 1, w[1] = 0, w[2] = 0; return; }
+  const Vec3 bp = p - b;
+  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) { w[0] = 0, w[1] = 1, w[2] = 0; return; }
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+    const double t = d1 / (d1 - d3);
+    w[0] = 1 - t, w[1] = t, w[2] = 0;
+    return;
+  }
+  const Vec3 cp = p - c;
+  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) { w[0] = 0, w[1] = 0, w[2] = 1; return; }
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+    const double t = d2 / (d2 - d6);
+    w[0] = 1 - t, w[1] = 0, w[2] = t;
+    return;
+  }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    const double t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    w[0] = 0, w[1] = 1 - t, w[2] = t;
+    return;
+  }
+  const double sum = va + vb + vc;
+  if (!(sum > 0)) {  // degenerate triangle: nearest vertex
+    const double da = dot(ap, ap), db = dot(bp, bp), dc = dot(cp, cp);
+    w[0] = da <= db && da <= dc, w[1] = db < da && db <= dc, w[2] = dc < da && dc < db;
+    return;
+  }
+  w[1] = vb / sum, w[2] = vc / sum, w[0] = 1 - w[1] - w[2];
+}
+
+double box_distance2(const Vec3& p, const Vec3& lo, const Vec3& hi) {
+  double d = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double e = p[k] < lo[k] ? lo[k] - p[k] : p[k] > hi[k] ? p[k] - hi[k] : 0.0;
+    d += e * e;
+  }
+  return d;
+}
+
+}  // namespace
+
+PiecewiseLinearLimitMesh::PiecewiseLinearLimitMesh(const SubdivisionSurface& surface,
+                                                   const std::vector<Vec3>& patch_points, int resolution)
+    : resolution_(resolution) {
+  if (resolution < 1 || resolution > 64) fail(Status::invalid_argument, "piecewise-linear mesh: resolution must be in [1, 64]");
+  const int r = resolution, g = r + 1;
+  for (uint32_t f = 0; f < surface.num_ptex_faces(); ++f) {
+    if (!surface.has_limit_surface(f)) continue;
+    const uint32_t block = uint32_t(grid_face_.size());
+    grid_face_.push_back(f);
+    for (int i = 0; i < g; ++i)
+      for (int j = 0; j < g; ++j)
+        grid_.push_back(surface.evaluate_position(f, double(i) / r, double(j) / r, patch_points));
+    for (int i = 0; i < r; ++i)
+      for (int j = 0; j < r; ++j)
+        for (int half = 0; half < 2; ++half) {
+          tri_face_.push_back(block);
+          tri_cell_.push_back(uint16_t(2 * (i * r + j) + half));
+        }
+  }
+  if (tri_face_.empty()) fail(Status::invalid_mesh, "piecewise-linear mesh: the cage has no limit surface");
+  std::vector<Vec3> centroids(tri_face_.size());
+  for (uint32_t t = 0; t < tri_face_.size(); ++t) {
+    Vec3 c[3];
+    double uv[3][2];
+    triangle(t, c, uv);
+    centroids[t] = (c[0] + c[1] + c[2]) * (1.0 / 3.0);
+  }
+  order_.resize(tri_face_.size());
+  for (uint32_t t = 0; t < order_.size(); ++t) order_[t] = t;
+  nodes_.reserve(2 * order_.size() / 4 + 2);
+  build(0, uint32_t(order_.size()), centroids);
+}
+
+void PiecewiseLinearLimitMesh::triangle(uint32_t t, Vec3 corners[3], double uv[3][2]) const {
+  const int r = resolution_, g = r + 1;
+  const uint32_t block = tri_face_[t];
+  const int cell = tri_cell_[t] / 2, half = tri_cell_[t] % 2;
+  const int i = cell / r, j = cell % r;
+  // Cell corners (i, j), (i+1, j), (i+1, j+1), (i, j+1); halves split along (i, j)-(i+1, j+1).
+  const int ci[3] = {i, i + 1, half == 0 ? i + 1 : i};
+  const int cj[3] = {j, half == 0 ? j : j + 1, j + 1};
+  for (int k = 0; k < 3; ++k) {
+    corners[k] = grid_[size_t(block) * g * g + size_t(ci[k]) * g + size_t(cj[k])];
+    uv[k][0] = double(ci[k]) / r;
+    uv[k][1] = double(cj[k]) / r;
+  }
+}
+
+uint32_t PiecewiseLinearLimitMesh::build(uint32_t begin, uint32_t end, std::vector<Vec3>& centroids) {
+  const uint32_t index = uint32_t(nodes_.size());
+  nodes_.push_back({});
+  Vec3 lo(HUGE_VAL, HUGE_VAL, HUGE_VAL), hi(-HUGE_VAL, -HUGE_VAL, -HUGE_VAL), clo = lo, chi = hi;
+  for (uint32_t k = begin; k < end; ++k) {
+    Vec3 c[3];
+    double uv[3][2];
+    triangle(order_[k], c, uv);
+    for (const Vec3& p : c)
+      for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
+    const Vec3& m = centroids[order_[k]];
+    for (int a = 0; a < 3; ++a) clo[a] = std::min(clo[a], m[a]), chi[a] = std::max(chi[a], m[a]);
+  }
+  nodes_[index].lo = lo;
+  nodes_[index].hi = hi;
+  if (end - begin <= 4) {
+    nodes_[index].first = begin;
+    nodes_[index].count = end - begin;
+    return index;
+  }
+  int axis = 0;
+  for (int a = 1; a < 3; ++a)
+    if (chi[a] - clo[a] > chi[axis] - clo[axis]) axis = a;
+  const uint32_t mid = begin + (end - begin) / 2;
+  std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
+                   [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
+  build(begin, mid, centroids);
+  const uint32_t right = build(mid, end, centroids);
+  nodes_[index].first = right;
+  nodes_[index].count = 0;
+  return index;
+}
+
+PiecewiseLinearLimitMesh::Hit PiecewiseLinearLimitMesh::closest_point(const Vec3& p) const {
+  Hit best;
+  double best_d2 = HUGE_VAL;
+  uint32_t stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const uint32_t n = stack[--top];
+    const Node& node = nodes_[n];
+    if (box_distance2(p, node.lo, node.hi) >= best_d2) continue;
+    if (node.count > 0) {
+      for (uint32_t k = node.first; k < node.first + node.count; ++k) {
+        Vec3 c[3];
+        double uv[3][2], w[3];
+        triangle(order_[k], c, uv);
+        closest_on_triangle(p, c[0], c[1], c[2], w);
+        const Vec3 q = c[0] * w[0] + c[1] * w[1] + c[2] * w[2];
+        const double d2 = dot(q - p, q - p);
+        if (d2 < best_d2) {
+          best_d2 = d2;
+          best.ptex_face = grid_face_[tri_face_[order_[k]]];
+          best.u = std::clamp(w[0] * uv[0][0] + w[1] * uv[1][0] + w[2] * uv[2][0], 0.0, 1.0);
+          best.v = std::clamp(w[0] * uv[0][1] + w[1] * uv[1][1] + w[2] * uv[2][1], 0.0, 1.0);
+          best.position = q;
+        }
+      }
+      continue;
+    }
+    // Children: left = n + 1, right = node.first; visit the nearer one first.
+    const uint32_t a = n + 1, b = node.first;
+    const double da = box_distance2(p, nodes_[a].lo, nodes_[a].hi), db = box_distance2(p, nodes_[b].lo, nodes_[b].hi);
+    if (top + 2 > 128) fail(Status::internal_error, "piecewise-linear mesh: BVH too deep");
+    if (da < db) {
+      stack[top++] = b;
+      stack[top++] = a;
+    } else {
+      stack[top++] = a;
+      stack[top++] = b;
+    }
+  }
+  best.distance = std::sqrt(best_d2);
+  return best;
+}
+
+CAGEKIT_NAMESPACE_END

@@ -1,0 +1,54 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// PiecewiseLinearLimitMesh: the limit surface sampled on a regular (u, v) grid of
+// `resolution` x `resolution` quads per ptex face (two triangles each), with a bounding-volume
+// hierarchy for closest-point queries. With resolution 4 its vertices are those of the level-2
+// mesh C_2 of a quad cage pushed to their limit positions (thesis §7.4: the piecewise-linear
+// C_k that seeds the exact search; the piecewise-linear projection of [HDD+94] for the
+// reference mode of the fit). A hit returns the ptex face and the (u, v) interpolated linearly
+// over the triangle.
+//
+// Thread-safety: const queries may run concurrently.
+#include <cstdint>
+#include <vector>
+
+#include "core/vec3.h"
+#include "subdiv/subdivision_surface.h"
+
+CAGEKIT_NAMESPACE_BEGIN
+
+class PiecewiseLinearLimitMesh {
+ public:
+  struct Hit {
+    uint32_t ptex_face = 0;
+    double u = 0, v = 0;
+    double distance = 0;  // to the piecewise-linear mesh
+    Vec3 position;        // on the piecewise-linear mesh
+  };
+
+  // `patch_points` from surface.patch_points(control). Hole faces are left out. Throws
+  // invalid_argument for resolution < 1 and invalid_mesh when no face has a limit surface.
+  PiecewiseLinearLimitMesh(const SubdivisionSurface& surface, const std::vector<Vec3>& patch_points,
+                           int resolution);
+
+  Hit closest_point(const Vec3& p) const;
+  size_t num_triangles() const { return tri_face_.size(); }
+
+ private:
+  struct Node {
+    Vec3 lo, hi;
+    uint32_t first, count;  // leaf: triangles [first, first + count); inner: count = 0, first = right child
+  };
+  uint32_t build(uint32_t begin, uint32_t end, std::vector<Vec3>& centroids);
+
+  int resolution_;
+  std::vector<Vec3> grid_;           // (resolution + 1)^2 points per listed ptex face
+  std::vector<uint32_t> grid_face_;  // ptex face of each block of grid points
+  std::vector<uint32_t> tri_face_;   // per triangle: index into grid_face_ (block)
+  std::vector<uint16_t> tri_cell_;   // per triangle: 2 * (i * resolution + j) + which half
+  std::vector<uint32_t> order_;      // triangles in BVH order
+  std::vector<Node> nodes_;
+  void triangle(uint32_t t, Vec3 corners[3], double uv[3][2]) const;
+};
+
+CAGEKIT_NAMESPACE_END
