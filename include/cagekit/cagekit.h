@@ -664,6 +664,117 @@ typedef struct cagekit_approximation_error {
 CAGEKIT_API cagekit_status cagekit_mesh_measure_error(cagekit_mesh input, cagekit_mesh approximation,
                                                       cagekit_approximation_error* error);
 
+/* ------------------------------------------------------------------------------------------ */
+/* Fitting the limit surface to a scan (thesis chapter 7)                                     */
+/* ------------------------------------------------------------------------------------------ */
+
+/* Where the parameterisation step looks for the samples' foot points. */
+typedef enum cagekit_projection_mode {
+  /* Closest points on the exact limit surface (Newton/Brent search across ptex faces, thesis
+   * §7.4). The default. */
+  CAGEKIT_PROJECTION_EXACT = 0,
+  /* Closest points on the piecewise-linear limit mesh of subdivision level 2 ([HDD+94]):
+   * faster per pass, less accurate; a reference, not the default. */
+  CAGEKIT_PROJECTION_PIECEWISE_LINEAR = 1,
+  CAGEKIT_PROJECTION_MAX_ENUM = 0x7fffffff
+} cagekit_projection_mode;
+
+/* How the control-vertex step solves its linear least-squares problem. */
+typedef enum cagekit_lsq_solver {
+  CAGEKIT_LSQ_DIRECT = 0, /* sparse Cholesky (LDL^T) of the normal equations (the default) */
+  CAGEKIT_LSQ_CGLS = 1,   /* conjugate gradients on the normal equations, warm-started */
+  CAGEKIT_LSQ_MAX_ENUM = 0x7fffffff
+} cagekit_lsq_solver;
+
+typedef struct cagekit_fit_options {
+  size_t struct_size;           /* sizeof(cagekit_fit_options) */
+  uint32_t max_passes;          /* control-vertex steps at most, 0..100000 (default 5); 0 = only measure
+                                   the initial cage */
+  double tolerance;             /* stop when L2 drops by less than tolerance * L2 in a pass (thesis (7.2),
+                                   relative), finite and >= 0 (default 1e-4); 0 = run max_passes steps */
+  double fairing;               /* weight of an umbrella-Laplacian fairing term relative to the mean diagonal
+                                   of A^T A, finite and >= 0 (default 0: none, as in the thesis) */
+  double tangential_weight;     /* weight of the residuals' tangential part in the control-vertex step,
+                                   in [0, 1] (default 1: point-distance least squares, the thesis's) */
+  int32_t keep_crease_vertices; /* 1: vertices on infinitely sharp crease edges and corner-tagged vertices
+                                   keep their positions (cages built on the scan); 0 (default): all move */
+  cagekit_projection_mode projection; /* default CAGEKIT_PROJECTION_EXACT */
+  cagekit_lsq_solver solver;    /* default CAGEKIT_LSQ_DIRECT */
+  uint32_t threads;             /* worker threads of the projection and assembly steps, 0..1024;
+                                   0 (default) = the number of hardware threads */
+  uint32_t max_projection_steps; /* update steps per closest-point search, 0..100000 (default 500) */
+  double projection_epsilon;    /* a search stops when its gradient, in ptex parameter units, is below
+                                   this; finite and > 0 (default 1e-6) */
+  uint32_t projection_seed_resolution; /* grid quads per ptex face side of the piecewise-linear limit
+                                          mesh that seeds the searches, 1..64 (default 4) */
+} cagekit_fit_options;
+
+#define CAGEKIT_FIT_OPTIONS_INIT                                                                \
+  { sizeof(cagekit_fit_options), 5, 1e-4, 0.0, 1.0, 0, CAGEKIT_PROJECTION_EXACT, CAGEKIT_LSQ_DIRECT, 0, \
+    500, 1e-6, 4 }
+
+/* Figures of one state of the fit. Distances are |p_i - S(t_i)| from each scan vertex p_i to
+ * its foot point on the limit surface, found by the exact projection (also in piecewise-linear
+ * mode, where the statistics are measured outside `seconds`). "_rel" values are relative to the
+ * scan's bounding-box diagonal. This struct has no struct_size: it is fixed for ABI version 1
+ * (later figures go into a new struct). */
+typedef struct cagekit_fit_pass {
+  double l2;                    /* the thesis's L2 (7.1): sqrt(sum_i |p_i - S(t_i)|^2), model units */
+  double rms_rel;               /* L2 / sqrt(N) / diagonal */
+  double max_rel;               /* max_i |p_i - S(t_i)| / diagonal */
+  double mean_rel;              /* mean_i |p_i - S(t_i)| / diagonal */
+  double max_rel_interior;      /* max_rel over scan vertices not on or next to a scan boundary */
+  double seconds;               /* time of this state: entry 0 the initial projection, entry k the k-th
+                                   least-squares step and its re-projection */
+  uint64_t unconverged_projections; /* searches that hit max_projection_steps first */
+  double mean_projection_steps; /* update steps per search */
+} cagekit_fit_pass;
+
+typedef struct cagekit_fit_report {
+  size_t struct_size;           /* sizeof(cagekit_fit_report) */
+  uint32_t pass_count;          /* OUT: states measured, including the initial cage (entry 0): 1 + the
+                                   control-vertex steps kept */
+  uint32_t pass_capacity;       /* IN: entries of `passes` */
+  cagekit_fit_pass* passes;     /* IN: caller array of pass_capacity entries, or NULL. OUT: entries
+                                   0 .. min(pass_count, pass_capacity) - 1 are written; a capacity that
+                                   is too small is NOT an error (the fit is not repeated: pass
+                                   max_passes + 1 entries to get them all). Kept by the call. */
+  int32_t stopped_by_tolerance; /* OUT: 1 when (7.2) ended the fit before max_passes */
+  int32_t rejected_last_step;   /* OUT: 1 when the last step would have increased L2 and was undone */
+  int32_t fairing_used;         /* OUT: 1 when the fairing term was active */
+  uint64_t unsupported_control_vertices; /* OUT: control vertices with no scan vertex in their support in
+                                            the last step (without fairing they keep their position) */
+  double bbox_diagonal;         /* OUT: of the scan's vertices */
+  double seconds;               /* OUT: the whole fit */
+  cagekit_fit_pass initial;     /* OUT: the initial cage (= passes[0]) */
+  cagekit_fit_pass final;       /* OUT: the returned cage (= passes[pass_count - 1]) */
+} cagekit_fit_report;
+
+/* Fits the limit surface of `cage` to the vertices of `scan` (thesis ch. 7): alternates the
+ * parameterisation step (foot points on the current limit surface) and the control-vertex
+ * step (linear least squares with the exact basis functions) until the relative drop of L2
+ * falls below options->tolerance or max_passes steps are done. L2 never increases: a step
+ * that would increase it is undone and the fit stops (report->rejected_last_step).
+ *
+ * *out receives a NEW cage with the fitted control-vertex positions and the same connectivity,
+ * tags (creases, corners, holes) and boundary rule as `cage`; `cage` itself is not changed.
+ * Every scan vertex is a sample (faces are used only to find the scan boundary), so the scan
+ * need not be a valid mesh, but its face indices must be in range and its positions finite.
+ * options may be NULL (defaults); report may be NULL. The caller keeps ownership of
+ * report->passes; the library writes it only during the call.
+ *
+ * Errors: INVALID_HANDLE (cage or scan), INVALID_ARGUMENT (out NULL, a bad struct_size, an
+ * option out of range or NaN, naming the field; a scan with no vertices, a face index out of
+ * range or a non-finite position), INVALID_MESH (a cage whose limit surface cannot be built),
+ * CANCELLED (stage "fit"; progress is reported at least once per pass), OUT_OF_MEMORY.
+ * On error *out is NULL and *report is unspecified.
+ *
+ * Long operation (progress, cancel), using up to options->threads worker threads internally;
+ * callbacks still run on the calling thread. Reads `cage` and `scan`: both may be used by
+ * other threads' read-only calls meanwhile, not modified. */
+CAGEKIT_API cagekit_status cagekit_cage_fit(cagekit_cage cage, cagekit_mesh scan, const cagekit_fit_options* options,
+                                            cagekit_cage* out, cagekit_fit_report* report);
+
 #ifdef __cplusplus
 }
 #endif

@@ -1,6 +1,6 @@
 #!/bin/sh
 # The sdk/ folders are layered: each may include only itself and the folders below it.
-# Order, lowest first: core -> subdiv -> capi. Fails on any include that goes upward.
+# Order, lowest first: core -> subdiv -> layout -> fit -> capi. Fails on any include that goes upward.
 set -u
 sdk="$1"
 order="core subdiv layout fit capi"

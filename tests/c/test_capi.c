@@ -503,6 +503,315 @@ static void simplification_hierarchy_browses_levels_and_builds_a_cage(void) {
   cagekit_context_release(context);
 }
 
+/* --- fitting (thesis ch. 7) --- */
+
+/* A lat-long sphere of radius 0.75 around the unit cube's centre: 2 poles + 11 rings of 24. */
+#define SPHERE_RINGS 12
+#define SPHERE_SEGMENTS 24
+#define SPHERE_VERTICES (2 + (SPHERE_RINGS - 1) * SPHERE_SEGMENTS)
+#define SPHERE_TRIANGLES (2 * SPHERE_SEGMENTS * (SPHERE_RINGS - 1))
+static cagekit_mesh new_sphere(cagekit_context context) {
+  static double positions[3 * SPHERE_VERTICES];
+  static uint32_t triangles[3 * SPHERE_TRIANGLES];
+  const double pi = 3.14159265358979323846;
+  cagekit_mesh_desc desc = CAGEKIT_MESH_DESC_INIT;
+  cagekit_mesh mesh = NULL;
+  uint32_t r, k, v = 0, t = 0;
+  positions[0] = 0.5, positions[1] = 0.5, positions[2] = 0.5 + 0.75;
+  v = 1;
+  for (r = 1; r < SPHERE_RINGS; ++r)
+    for (k = 0; k < SPHERE_SEGMENTS; ++k, ++v) {
+      const double theta = pi * r / SPHERE_RINGS, phi = 2 * pi * k / SPHERE_SEGMENTS;
+      positions[3 * v] = 0.5 + 0.75 * sin(theta) * cos(phi);
+      positions[3 * v + 1] = 0.5 + 0.75 * sin(theta) * sin(phi);
+      positions[3 * v + 2] = 0.5 + 0.75 * cos(theta);
+    }
+  positions[3 * v] = 0.5, positions[3 * v + 1] = 0.5, positions[3 * v + 2] = 0.5 - 0.75;
+  for (k = 0; k < SPHERE_SEGMENTS; ++k) { /* north cap */
+    const uint32_t k1 = (k + 1) % SPHERE_SEGMENTS;
+    triangles[t++] = 0, triangles[t++] = 1 + k, triangles[t++] = 1 + k1;
+  }
+  for (r = 1; r + 1 < SPHERE_RINGS; ++r)
+    for (k = 0; k < SPHERE_SEGMENTS; ++k) {
+      const uint32_t k1 = (k + 1) % SPHERE_SEGMENTS;
+      const uint32_t a = 1 + (r - 1) * SPHERE_SEGMENTS + k, b = 1 + (r - 1) * SPHERE_SEGMENTS + k1;
+      const uint32_t c = a + SPHERE_SEGMENTS, d = b + SPHERE_SEGMENTS;
+      triangles[t++] = a, triangles[t++] = c, triangles[t++] = d;
+      triangles[t++] = a, triangles[t++] = d, triangles[t++] = b;
+    }
+  for (k = 0; k < SPHERE_SEGMENTS; ++k) { /* south cap */
+    const uint32_t k1 = (k + 1) % SPHERE_SEGMENTS, base = 1 + (SPHERE_RINGS - 2) * SPHERE_SEGMENTS;
+    triangles[t++] = v, triangles[t++] = base + k1, triangles[t++] = base + k;
+  }
+  desc.vertex_count = SPHERE_VERTICES;
+  desc.positions = positions;
+  desc.face_count = SPHERE_TRIANGLES;
+  desc.face_indices = triangles;
+  CHECK(t == 3 * SPHERE_TRIANGLES);
+  CHECK_OK(cagekit_mesh_create(context, &desc, &mesh));
+  CHECK_OK(cagekit_mesh_validate(mesh, NULL));
+  return mesh;
+}
+
+static void fit_reduces_the_error_every_pass(void) {
+  cagekit_context context = new_context();
+  cagekit_mesh cube_mesh = new_cube(context), sphere = new_sphere(context);
+  cagekit_cage cube = NULL, fitted = NULL, again = NULL;
+  cagekit_fit_options options = CAGEKIT_FIT_OPTIONS_INIT;
+  cagekit_fit_report report;
+  cagekit_fit_pass passes[8];
+  cagekit_mesh_info info;
+  double positions[24];
+  uint32_t count = 0, i;
+  CHECK_OK(cagekit_cage_create(cube_mesh, &cube));
+  options.max_passes = 4;
+  options.tolerance = 0.0;
+  options.threads = 2;
+
+  /* first call: no pass array, only the count */
+  memset(&report, 0, sizeof(report));
+  report.struct_size = sizeof(report);
+  CHECK_OK(cagekit_cage_fit(cube, sphere, &options, &fitted, &report));
+  CHECK(fitted != NULL);
+  CHECK(report.pass_count >= 2 && report.pass_count <= 5);
+  CHECK(report.passes == NULL && report.pass_capacity == 0);
+  CHECK(report.final.l2 < report.initial.l2);
+  CHECK(report.final.max_rel < report.initial.max_rel);
+  CHECK(report.final.rms_rel < 0.5 * report.initial.rms_rel);
+  CHECK(report.bbox_diagonal > 2.5 && report.bbox_diagonal < 2.6); /* 1.5 * sqrt(3) */
+  CHECK(report.seconds > 0 && report.fairing_used == 0 && report.stopped_by_tolerance == 0);
+  count = report.pass_count;
+
+  /* second call: the array, with one spare entry that stays untouched */
+  memset(passes, 0, sizeof(passes));
+  passes[count].l2 = -7;
+  report.pass_capacity = count + 1;
+  report.passes = passes;
+  CHECK_OK(cagekit_cage_fit(cube, sphere, &options, &again, &report));
+  CHECK(report.pass_count == count && report.passes == passes && report.pass_capacity == count + 1);
+  CHECK(passes[0].l2 == report.initial.l2 && passes[count - 1].l2 == report.final.l2);
+  for (i = 1; i < count; ++i) CHECK(passes[i].l2 <= passes[i - 1].l2);
+  for (i = 0; i < count; ++i) CHECK(passes[i].mean_rel <= passes[i].max_rel && passes[i].mean_projection_steps >= 0);
+  CHECK(passes[count].l2 == -7);
+
+  /* a capacity below the count is filled up to the capacity, not an error */
+  memset(passes, 0, sizeof(passes));
+  report.pass_capacity = 1;
+  cagekit_cage_release(again);
+  again = NULL;
+  CHECK_OK(cagekit_cage_fit(cube, sphere, &options, &again, &report));
+  CHECK(report.pass_count == count && passes[0].l2 == report.initial.l2 && passes[1].l2 == 0);
+
+  /* same connectivity, the input cage unchanged, the output moved */
+  info.struct_size = sizeof(info);
+  CHECK_OK(cagekit_cage_get_info(fitted, &info));
+  CHECK(info.vertices == 8 && info.quads == 6 && info.faces == 6);
+  {
+    cagekit_mesh m = NULL;
+    double moved = 0;
+    CHECK_OK(cagekit_cage_get_mesh(cube, &m));
+    CHECK_OK(cagekit_mesh_get_positions(m, CAGEKIT_SCALAR_FLOAT64, 8, &count, positions));
+    for (i = 0; i < 24; ++i) CHECK(positions[i] == kCubeD[i]);
+    cagekit_mesh_release(m);
+    CHECK_OK(cagekit_cage_get_mesh(fitted, &m));
+    CHECK_OK(cagekit_mesh_get_positions(m, CAGEKIT_SCALAR_FLOAT64, 8, &count, positions));
+    for (i = 0; i < 24; ++i) moved += fabs(positions[i] - kCubeD[i]);
+    CHECK(moved > 0.1);
+    cagekit_mesh_release(m);
+  }
+
+  /* piecewise-linear projection and CGLS also reduce the error; report NULL is allowed */
+  options.projection = CAGEKIT_PROJECTION_PIECEWISE_LINEAR;
+  options.solver = CAGEKIT_LSQ_CGLS;
+  options.max_passes = 2;
+  cagekit_cage_release(again);
+  again = NULL;
+  CHECK_OK(cagekit_cage_fit(cube, sphere, &options, &again, NULL));
+  report.pass_capacity = 0;
+  report.passes = NULL;
+  cagekit_cage_release(again);
+  again = NULL;
+  CHECK_OK(cagekit_cage_fit(cube, sphere, &options, &again, &report));
+  CHECK(report.final.l2 < report.initial.l2);
+
+  /* NULL options = defaults */
+  cagekit_cage_release(again);
+  again = NULL;
+  CHECK_OK(cagekit_cage_fit(cube, sphere, NULL, &again, &report));
+  CHECK(report.pass_count >= 2 && report.pass_count <= 6 && report.final.l2 < report.initial.l2);
+
+  cagekit_cage_release(again);
+  cagekit_cage_release(fitted);
+  cagekit_cage_release(cube);
+  cagekit_mesh_release(sphere);
+  cagekit_mesh_release(cube_mesh);
+  cagekit_context_release(context);
+}
+
+static void fit_keeps_tags_and_pinned_crease_vertices(void) {
+  cagekit_context context = new_context();
+  cagekit_mesh sphere = new_sphere(context), m = NULL;
+  cagekit_cage cube = new_creased_cube(context), fitted = NULL;
+  cagekit_fit_options options = CAGEKIT_FIT_OPTIONS_INIT;
+  cagekit_fit_report report;
+  cagekit_mesh_info info;
+  double positions[24];
+  uint32_t count = 0, i;
+  memset(&report, 0, sizeof(report));
+  report.struct_size = sizeof(report);
+  options.max_passes = 2;
+  CHECK_OK(cagekit_cage_fit(cube, sphere, &options, &fitted, &report));
+  info.struct_size = sizeof(info);
+  CHECK_OK(cagekit_cage_get_info(fitted, &info));
+  CHECK(info.creases == 12 && info.quads == 6);
+  CHECK(report.final.l2 <= report.initial.l2);
+  cagekit_cage_release(fitted);
+  fitted = NULL;
+  /* every vertex of the creased cube is on a sharp crease: nothing may move */
+  options.keep_crease_vertices = 1;
+  CHECK_OK(cagekit_cage_fit(cube, sphere, &options, &fitted, &report));
+  CHECK_OK(cagekit_cage_get_mesh(fitted, &m));
+  CHECK_OK(cagekit_mesh_get_positions(m, CAGEKIT_SCALAR_FLOAT64, 8, &count, positions));
+  for (i = 0; i < 24; ++i) CHECK(positions[i] == kCubeD[i]);
+  CHECK(fabs(report.final.l2 - report.initial.l2) <= 1e-9 * report.initial.l2);
+  cagekit_mesh_release(m);
+  cagekit_cage_release(fitted);
+  cagekit_cage_release(cube);
+  cagekit_mesh_release(sphere);
+  cagekit_context_release(context);
+}
+
+static int g_fit_stage_seen;
+static int cancel_in_fit(void* user, const char* stage, double fraction) {
+  (void)user;
+  (void)fraction;
+  if (strcmp(stage, "fit") != 0) return 1;
+  g_fit_stage_seen = 1;
+  return 0;
+}
+
+static int g_fit_progress_calls;
+static double g_fit_last_fraction;
+static int count_fit_progress(void* user, const char* stage, double fraction) {
+  (void)user;
+  if (strcmp(stage, "fit") == 0) {
+    if (fraction < g_fit_last_fraction || fraction > 1) g_fit_last_fraction = 99; /* flags a regression */
+    else g_fit_last_fraction = fraction;
+    ++g_fit_progress_calls;
+  }
+  return 1;
+}
+
+#define EXPECT_BAD_FIT_OPTION(assignment, field)                                                       \
+  do {                                                                                                 \
+    cagekit_fit_options o_ = CAGEKIT_FIT_OPTIONS_INIT;                                                 \
+    cagekit_cage out_ = (cagekit_cage)1;                                                               \
+    assignment;                                                                                        \
+    CHECK_STATUS(cagekit_cage_fit(cube, sphere, &o_, &out_, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);    \
+    CHECK(out_ == NULL);                                                                               \
+    CHECK(strstr(cagekit_last_error_message(context), field) != NULL);                                 \
+  } while (0)
+
+static void fit_rejects_bad_arguments_and_can_be_cancelled(void) {
+  cagekit_context context = new_context();
+  cagekit_mesh sphere = new_sphere(context), cube_mesh = new_cube(context);
+  cagekit_cage cube = new_creased_cube(context), out = (cagekit_cage)1;
+  cagekit_fit_report report;
+  cagekit_fit_options small = CAGEKIT_FIT_OPTIONS_INIT;
+
+  EXPECT_BAD_FIT_OPTION(o_.tolerance = NAN, "tolerance");
+  EXPECT_BAD_FIT_OPTION(o_.tolerance = -1e-3, "tolerance");
+  EXPECT_BAD_FIT_OPTION(o_.fairing = -1, "fairing");
+  EXPECT_BAD_FIT_OPTION(o_.fairing = INFINITY, "fairing");
+  EXPECT_BAD_FIT_OPTION(o_.tangential_weight = 1.5, "tangential_weight");
+  EXPECT_BAD_FIT_OPTION(o_.tangential_weight = NAN, "tangential_weight");
+  EXPECT_BAD_FIT_OPTION(o_.max_passes = 100001, "max_passes");
+  EXPECT_BAD_FIT_OPTION(o_.max_passes = (uint32_t)-1, "max_passes");
+  EXPECT_BAD_FIT_OPTION(o_.keep_crease_vertices = 2, "keep_crease_vertices");
+  EXPECT_BAD_FIT_OPTION(o_.projection = (cagekit_projection_mode)2, "projection");
+  EXPECT_BAD_FIT_OPTION(o_.projection = (cagekit_projection_mode)-1, "projection");
+  EXPECT_BAD_FIT_OPTION(o_.solver = (cagekit_lsq_solver)7, "solver");
+  EXPECT_BAD_FIT_OPTION(o_.threads = 5000, "threads");
+  EXPECT_BAD_FIT_OPTION(o_.max_projection_steps = 100001, "max_projection_steps");
+  EXPECT_BAD_FIT_OPTION(o_.projection_epsilon = 0, "projection_epsilon");
+  EXPECT_BAD_FIT_OPTION(o_.projection_epsilon = NAN, "projection_epsilon");
+  EXPECT_BAD_FIT_OPTION(o_.projection_seed_resolution = 0, "projection_seed_resolution");
+  EXPECT_BAD_FIT_OPTION(o_.struct_size = 0, "struct_size");
+
+  /* an older, smaller options struct: the missing fields take their defaults */
+  small.struct_size = offsetof(cagekit_fit_options, keep_crease_vertices);
+  small.max_passes = 1;
+  small.projection_epsilon = -1; /* beyond struct_size: not read */
+  CHECK_OK(cagekit_cage_fit(cube, sphere, &small, &out, NULL));
+  cagekit_cage_release(out);
+
+  /* bad report structs */
+  memset(&report, 0, sizeof(report));
+  out = (cagekit_cage)1;
+  CHECK_STATUS(cagekit_cage_fit(cube, sphere, NULL, &out, &report), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(out == NULL && strstr(cagekit_last_error_message(context), "struct_size") != NULL);
+  report.struct_size = sizeof(report);
+  report.pass_capacity = 3;
+  CHECK_STATUS(cagekit_cage_fit(cube, sphere, NULL, &out, &report), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context), "passes") != NULL);
+
+  /* NULL and wrong handles */
+  CHECK_STATUS(cagekit_cage_fit(NULL, sphere, NULL, &out, NULL), CAGEKIT_ERROR_INVALID_HANDLE);
+  CHECK(out == NULL);
+  CHECK_STATUS(cagekit_cage_fit(cube, NULL, NULL, &out, NULL), CAGEKIT_ERROR_INVALID_HANDLE);
+  CHECK(strstr(cagekit_last_error_message(context), "scan") != NULL);
+  CHECK_STATUS(cagekit_cage_fit((cagekit_cage)(void*)cube_mesh, sphere, NULL, &out, NULL), CAGEKIT_ERROR_INVALID_HANDLE);
+  CHECK_STATUS(cagekit_cage_fit(cube, (cagekit_mesh)(void*)cube, NULL, &out, NULL), CAGEKIT_ERROR_INVALID_HANDLE);
+  CHECK_STATUS(cagekit_cage_fit(cube, sphere, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+
+  /* a scan with a non-finite position */
+  {
+    static const double bad_positions[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    double copy[9];
+    cagekit_mesh_desc desc = CAGEKIT_MESH_DESC_INIT;
+    static const uint32_t tri[3] = {0, 1, 2};
+    cagekit_mesh bad = NULL;
+    memcpy(copy, bad_positions, sizeof(copy));
+    copy[4] = NAN;
+    desc.vertex_count = 3;
+    desc.positions = copy;
+    desc.face_count = 1;
+    desc.face_indices = tri;
+    CHECK_OK(cagekit_mesh_create(context, &desc, &bad));
+    CHECK_STATUS(cagekit_cage_fit(cube, bad, NULL, &out, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    CHECK(out == NULL);
+    cagekit_mesh_release(bad);
+  }
+
+  /* progress: stage "fit", non-decreasing fractions, reaching 1 */
+  g_fit_progress_calls = 0;
+  g_fit_last_fraction = 0;
+  CHECK_OK(cagekit_context_set_progress(context, count_fit_progress, NULL));
+  CHECK_OK(cagekit_cage_fit(cube, sphere, NULL, &out, NULL));
+  CHECK(g_fit_progress_calls >= 2 && g_fit_last_fraction == 1.0);
+  cagekit_cage_release(out);
+
+  /* cancelled by the progress callback, and by cagekit_context_cancel */
+  g_fit_stage_seen = 0;
+  out = (cagekit_cage)1;
+  CHECK_OK(cagekit_context_set_progress(context, cancel_in_fit, NULL));
+  CHECK_STATUS(cagekit_cage_fit(cube, sphere, NULL, &out, NULL), CAGEKIT_ERROR_CANCELLED);
+  CHECK(out == NULL && g_fit_stage_seen);
+  CHECK_OK(cagekit_context_set_progress(context, NULL, NULL));
+  cagekit_context_cancel(context);
+  out = (cagekit_cage)1;
+  CHECK_STATUS(cagekit_cage_fit(cube, sphere, NULL, &out, NULL), CAGEKIT_ERROR_CANCELLED);
+  CHECK(out == NULL);
+  cagekit_context_reset_cancel(context);
+  CHECK_OK(cagekit_cage_fit(cube, sphere, NULL, &out, NULL));
+  cagekit_cage_release(out);
+
+  cagekit_cage_release(cube);
+  cagekit_mesh_release(cube_mesh);
+  cagekit_mesh_release(sphere);
+  cagekit_context_release(context);
+}
+
 int main(void) {
   static const c_test_case tests[] = {
       {"version_is_consistent", version_is_consistent},
@@ -522,6 +831,9 @@ int main(void) {
       {"objects_outlive_their_context_reference", objects_outlive_their_context_reference},
       {"simplification_hierarchy_browses_levels_and_builds_a_cage",
        simplification_hierarchy_browses_levels_and_builds_a_cage},
+      {"fit_reduces_the_error_every_pass", fit_reduces_the_error_every_pass},
+      {"fit_keeps_tags_and_pinned_crease_vertices", fit_keeps_tags_and_pinned_crease_vertices},
+      {"fit_rejects_bad_arguments_and_can_be_cancelled", fit_rejects_bad_arguments_and_can_be_cancelled},
   };
   return run_tests(tests, (int)(sizeof(tests) / sizeof(tests[0])));
 }
