@@ -12,6 +12,8 @@ CAGEKIT_NAMESPACE_BEGIN
 
 namespace {
 
+constexpr double kSnap = 1e-12;  // parameters this close to 0 or 1 are on the border
+
 // Brent's minimisation of phi on [0, b] without derivatives (Brent 1973, ch. 5; the classic
 // golden-section + parabolic interpolation scheme). Returns the best abscissa found.
 template <typename Phi>
@@ -104,8 +106,8 @@ FootPoint LimitSurfaceProjector::project(const Vec3& p, const FootPoint* warm_st
   if (!linear_) return best;
   // Safeguard against a warm start caught in a local minimum after the surface moved: when the
   // piecewise-linear mesh has a closer point in another ptex face, search from there too.
-  const PiecewiseLinearLimitMesh::Hit hit = linear_->closest_point(p);
-  if (hit.ptex_face == best.ptex_face || !(hit.distance < best.distance)) return best;
+  const PiecewiseLinearLimitMesh::Hit hit = linear_->closest_point(p, best.distance);
+  if (!(hit.distance < best.distance) || hit.ptex_face == best.ptex_face) return best;
   FootPoint seed;
   seed.ptex_face = hit.ptex_face, seed.u = hit.u, seed.v = hit.v;
   FootPoint other = refine(p, seed);
@@ -175,8 +177,13 @@ FootPoint LimitSurfaceProjector::refine(const Vec3& p, const FootPoint& start) c
     if (v + qv < 0) alpha = std::min(alpha, -v / qv);
     if (v + qv > 1) alpha = std::min(alpha, (1 - v) / qv);
     auto at = [&](double lambda, double& nu, double& nv) {
+      // Clamped, and snapped onto the border within rounding so that the border tests hold.
       nu = std::clamp(u + lambda * qu, 0.0, 1.0);
       nv = std::clamp(v + lambda * qv, 0.0, 1.0);
+      if (nu < kSnap) nu = 0;
+      if (nu > 1 - kSnap) nu = 1;
+      if (nv < kSnap) nv = 0;
+      if (nv > 1 - kSnap) nv = 1;
     };
     double nu, nv;
     at(alpha, nu, nv);

@@ -160,18 +160,20 @@ std::vector<Vec3> solve_point_distance(const SubdivisionSurface& surface, const 
       const size_t begin = N * size_t(w) / size_t(workers), end = N * size_t(w + 1) / size_t(workers);
       auto& triplets = parts[size_t(w)];
       triplets.reserve((end - begin) * 18);
+      std::vector<uint32_t> indices;
+      std::vector<double> weights;
       for (size_t i = begin; i < end; ++i) {
         const FootPoint& t = foot_points[i];
-        const BasisWeights basis = surface.basis(t.ptex_face, t.u, t.v);
+        surface.basis_values(t.ptex_face, t.u, t.v, indices, weights);
         Vec3 rhs = samples[i];
-        for (size_t k = 0; k < basis.indices.size(); ++k) {
-          const double wk = basis.w[k];
+        for (size_t k = 0; k < indices.size(); ++k) {
+          const double wk = weights[k];
           if (wk == 0) continue;
-          const int col = free_index[basis.indices[k]];
+          const int col = free_index[indices[k]];
           if (col >= 0)
             triplets.emplace_back(int(i), col, wk);
           else
-            rhs -= current_control[basis.indices[k]] * wk;
+            rhs -= current_control[indices[k]] * wk;
         }
         P.row(Eigen::Index(i)) << rhs.x, rhs.y, rhs.z;
       }

@@ -91,6 +91,11 @@ PiecewiseLinearLimitMesh::PiecewiseLinearLimitMesh(const SubdivisionSurface& sur
   for (uint32_t t = 0; t < order_.size(); ++t) order_[t] = t;
   nodes_.reserve(2 * order_.size() / 4 + 2);
   build(0, uint32_t(order_.size()), centroids);
+  corners_.resize(3 * order_.size());
+  for (size_t k = 0; k < order_.size(); ++k) {
+    double uv[3][2];
+    triangle(order_[k], &corners_[3 * k], uv);
+  }
 }
 
 void PiecewiseLinearLimitMesh::triangle(uint32_t t, Vec3 corners[3], double uv[3][2]) const {
@@ -141,9 +146,11 @@ uint32_t PiecewiseLinearLimitMesh::build(uint32_t begin, uint32_t end, std::vect
   return index;
 }
 
-PiecewiseLinearLimitMesh::Hit PiecewiseLinearLimitMesh::closest_point(const Vec3& p) const {
+PiecewiseLinearLimitMesh::Hit PiecewiseLinearLimitMesh::closest_point(const Vec3& p, double max_distance) const {
   Hit best;
-  double best_d2 = HUGE_VAL;
+  double best_d2 = max_distance < HUGE_VAL ? max_distance * max_distance : HUGE_VAL;
+  uint32_t best_k = ~0u;
+  double best_w[3] = {0, 0, 0};
   uint32_t stack[128];
   int top = 0;
   stack[top++] = 0;
@@ -153,17 +160,15 @@ PiecewiseLinearLimitMesh::Hit PiecewiseLinearLimitMesh::closest_point(const Vec3
     if (box_distance2(p, node.lo, node.hi) >= best_d2) continue;
     if (node.count > 0) {
       for (uint32_t k = node.first; k < node.first + node.count; ++k) {
-        Vec3 c[3];
-        double uv[3][2], w[3];
-        triangle(order_[k], c, uv);
+        const Vec3* c = &corners_[3 * size_t(k)];
+        double w[3];
         closest_on_triangle(p, c[0], c[1], c[2], w);
         const Vec3 q = c[0] * w[0] + c[1] * w[1] + c[2] * w[2];
         const double d2 = dot(q - p, q - p);
         if (d2 < best_d2) {
           best_d2 = d2;
-          best.ptex_face = grid_face_[tri_face_[order_[k]]];
-          best.u = std::clamp(w[0] * uv[0][0] + w[1] * uv[1][0] + w[2] * uv[2][0], 0.0, 1.0);
-          best.v = std::clamp(w[0] * uv[0][1] + w[1] * uv[1][1] + w[2] * uv[2][1], 0.0, 1.0);
+          best_k = k;
+          std::copy_n(w, 3, best_w);
           best.position = q;
         }
       }
@@ -181,6 +186,16 @@ PiecewiseLinearLimitMesh::Hit PiecewiseLinearLimitMesh::closest_point(const Vec3
       stack[top++] = b;
     }
   }
+  if (best_k == ~0u) {
+    best.distance = HUGE_VAL;
+    return best;
+  }
+  Vec3 c[3];
+  double uv[3][2];
+  triangle(order_[best_k], c, uv);
+  best.ptex_face = grid_face_[tri_face_[order_[best_k]]];
+  best.u = std::clamp(best_w[0] * uv[0][0] + best_w[1] * uv[1][0] + best_w[2] * uv[2][0], 0.0, 1.0);
+  best.v = std::clamp(best_w[0] * uv[0][1] + best_w[1] * uv[1][1] + best_w[2] * uv[2][1], 0.0, 1.0);
   best.distance = std::sqrt(best_d2);
   return best;
 }

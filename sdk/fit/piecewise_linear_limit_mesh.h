@@ -9,6 +9,7 @@
 // over the triangle.
 //
 // Thread-safety: const queries may run concurrently.
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -31,7 +32,9 @@ class PiecewiseLinearLimitMesh {
   PiecewiseLinearLimitMesh(const SubdivisionSurface& surface, const std::vector<Vec3>& patch_points,
                            int resolution);
 
-  Hit closest_point(const Vec3& p) const;
+  // The closest point; with `max_distance`, only points closer than that are looked for (a
+  // faster query) and a Hit with distance = +infinity is returned when there is none.
+  Hit closest_point(const Vec3& p, double max_distance = HUGE_VAL) const;
   size_t num_triangles() const { return tri_face_.size(); }
 
  private:
@@ -47,6 +50,7 @@ class PiecewiseLinearLimitMesh {
   std::vector<uint32_t> tri_face_;   // per triangle: index into grid_face_ (block)
   std::vector<uint16_t> tri_cell_;   // per triangle: 2 * (i * resolution + j) + which half
   std::vector<uint32_t> order_;      // triangles in BVH order
+  std::vector<Vec3> corners_;        // 3 per triangle, in BVH order
   std::vector<Node> nodes_;
   void triangle(uint32_t t, Vec3 corners[3], double uv[3][2]) const;
 };

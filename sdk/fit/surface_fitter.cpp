@@ -107,6 +107,7 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
 
   const SubdivisionSurface surface(initial);
   const PtexAdjacency adjacency(initial.mesh, surface);
+  monitor.log(LogLevel::debug, "fit: limit surface built in " + std::to_string(seconds_since(start)) + " s");
   const size_t n = initial.mesh.num_vertices();
   std::vector<bool> fixed(n, false);
   if (options.keep_crease_vertices_on_samples) {
@@ -132,7 +133,10 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
   std::vector<Vec3> control = initial.mesh.positions;
   std::vector<FootPoint> feet(samples.size()), exact_feet;
   auto project = [&](const std::vector<Vec3>& ctrl, bool warm, double f0, double f1) {
+    const auto build_start = Clock::now();
     const LimitSurfaceProjector projector(surface, &adjacency, ctrl, options.closest_point, true);
+    monitor.log(LogLevel::debug, "fit: piecewise-linear limit mesh built in " +
+                                     std::to_string(seconds_since(build_start)) + " s");
     if (exact) {
       parallel_for(samples.size(), threads, monitor, f0, f1, [&](size_t i) {
         feet[i] = projector.project(samples[i], warm ? &feet[i] : nullptr);
@@ -167,6 +171,7 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
     LeastSquaresReport lsq_report;
     std::vector<Vec3> next =
         solve_control_points(surface, initial, control, samples, feet, fixed, lsq, &lsq_report);
+    const double lsq_seconds = seconds_since(t0);
     report.unsupported_control_vertices = lsq_report.unsupported_control_vertices;
     const std::vector<FootPoint> previous_feet = feet, previous_exact = exact_feet;
     FitPassStatistics s = project(next, true, pass / passes, (pass + 1) / passes);
@@ -183,7 +188,9 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
     control = std::move(next);
     report.passes.push_back(s);
     monitor.log(LogLevel::info, "fit pass " + std::to_string(pass) + ": rms " + std::to_string(s.rms_relative) +
-                                    ", max " + std::to_string(s.max_relative) + " of the bbox diagonal");
+                                    ", max " + std::to_string(s.max_relative) + " of the bbox diagonal; " +
+                                    std::to_string(lsq_seconds) + " s least squares, " +
+                                    std::to_string(s.seconds - lsq_seconds) + " s projection");
     if (before - s.l2 < options.tolerance * before) {
       report.stopped_by_tolerance = pass < options.max_passes;
       break;

@@ -650,6 +650,30 @@ Vec3 SubdivisionSurface::evaluate_position(uint32_t ptex_face, double u, double 
   return result;
 }
 
+void SubdivisionSurface::basis_values(uint32_t ptex_face, double u, double v, std::vector<uint32_t>& indices,
+                                      std::vector<double>& weights) const {
+  thread_local PatchWeights pw;
+  impl_->patch_weights(ptex_face, u, v, &pw);
+  // Dense per-thread accumulator over the control vertices; slot[j] = position in the output + 1.
+  thread_local std::vector<uint32_t> slot;
+  if (slot.size() < impl_->control.size()) slot.assign(impl_->control.size(), 0);
+  indices.clear();
+  weights.clear();
+  for (int i = 0; i < pw.count; ++i) {
+    const double wi = pw.w[i];
+    if (wi == 0) continue;
+    impl_->for_each_control(pw.points[i], wi, [&](uint32_t j, double weight) {
+      if (slot[j] == 0) {
+        indices.push_back(j);
+        weights.push_back(0.0);
+        slot[j] = static_cast<uint32_t>(indices.size());
+      }
+      weights[slot[j] - 1] += weight;
+    });
+  }
+  for (uint32_t j : indices) slot[j] = 0;
+}
+
 BasisWeights SubdivisionSurface::basis(uint32_t ptex_face, double u, double v) const {
   thread_local PatchWeights pw;
   impl_->patch_weights(ptex_face, u, v, &pw);

@@ -97,6 +97,10 @@ class SubdivisionSurface {
   // The basis functions phi_j that are non-zero at (ptex_face, u, v) and their derivatives.
   // They sum to 1 (partition of unity) and their derivatives sum to 0.
   BasisWeights basis(uint32_t ptex_face, double u, double v) const;
+  // The values phi_j only (no derivatives), in no particular order, into caller arrays
+  // (cleared first; no allocation once they have grown): the fast path of least squares.
+  void basis_values(uint32_t ptex_face, double u, double v, std::vector<uint32_t>& indices,
+                    std::vector<double>& weights) const;
 
  private:
   struct Impl;

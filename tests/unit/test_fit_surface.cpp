@@ -295,3 +295,216 @@ TEST(FitSurface, cancel_and_bad_input) {
   bad_weight.tangential_weight = 2;
   EXPECT_THROW(fit_cage_to_points(cube, samples, bad_weight), Error);
 }
+
+namespace {
+
+// A hexagonal prism cage: two hexagons (six ptex faces each) and six quads.
+Cage hexagonal_prism() {
+  Cage cage;
+  for (int ring = 0; ring < 2; ++ring)
+    for (int k = 0; k < 6; ++k) {
+      const double a = 2 * 3.141592653589793 * k / 6;
+      cage.mesh.add_vertex({std::cos(a) * (1 + 0.1 * k), std::sin(a), ring * 1.3 + 0.05 * k});
+    }
+  cage.mesh.add_face({5, 4, 3, 2, 1, 0});
+  cage.mesh.add_face({6, 7, 8, 9, 10, 11});
+  for (uint32_t k = 0; k < 6; ++k) cage.mesh.add_face({k, (k + 1) % 6, 6 + (k + 1) % 6, 6 + k});
+  return cage;
+}
+
+// Every side of every ptex face: the point moved across the side is the same surface point.
+double worst_transfer_mismatch(const Cage& cage) {
+  const SubdivisionSurface surface(cage);
+  const PtexAdjacency adjacency(cage.mesh, surface);
+  double worst = 0;
+  for (uint32_t f = 0; f < surface.num_ptex_faces(); ++f)
+    for (int side = 0; side < 4; ++side)
+      for (double sigma : {0.0, 0.13, 0.5, 0.77, 1.0}) {
+        double u = side == 0 || side == 2 ? sigma : (side == 1 ? 1.0 : 0.0);
+        double v = side == 1 || side == 3 ? sigma : (side == 2 ? 1.0 : 0.0);
+        const Vec3 before = surface.evaluate(f, u, v).position;
+        uint32_t g = f;
+        const int arrived = adjacency.transfer(g, u, v, side);
+        EXPECT_GE(arrived, 0) << "closed cage: every side has a neighbour";
+        if (arrived < 0) continue;
+        EXPECT_NE(g, f);
+        worst = std::max(worst, distance(before, surface.evaluate(g, u, v).position));
+      }
+  return worst;
+}
+
+}  // namespace
+
+// Patch hopping (§7.4 case 3): the parameter transfer across ptex sides keeps the surface point,
+// between quads, between the ptex faces of an n-gon and between n-gon halves and quad sides.
+TEST(FitClosestPoint, ptex_side_transfer_keeps_the_surface_point) {
+  const double quads = worst_transfer_mismatch(bumpy_cage());
+  const double prism = worst_transfer_mismatch(hexagonal_prism());
+  std::printf("ptex transfer: worst mismatch %.3g (quads), %.3g (hexagonal prism)\n", quads, prism);
+  EXPECT_LT(quads, 1e-12);
+  EXPECT_LT(prism, 1e-12);
+}
+
+// AC-7.x: projection from perturbed starts in other ptex faces, around extraordinary vertices
+// (the bumpy cage's valence-3 corners, the prism's hexagon centres and valence-3 vertices):
+// the search hops back to the true foot point.
+TEST(FitClosestPoint, searches_started_in_other_ptex_faces_hop_to_the_foot_point) {
+  for (const Cage& cage : {bumpy_cage(), hexagonal_prism()}) {
+    const SubdivisionSurface surface(cage);
+    const PtexAdjacency adjacency(cage.mesh, surface);
+    const LimitSurfaceProjector projector(surface, &adjacency, cage.mesh.positions);
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<double> near_corner(0.0, 0.12), any(0.0, 1.0);
+    double worst = 0;
+    size_t hopped = 0, total = 0;
+    for (const Sample& s : random_parameters(surface, 400, 0.0, 23)) {
+      // Near the (0,0) corner of the ptex face: an extraordinary vertex for the prism's hexagon
+      // faces and the bumpy cage's cube corners.
+      const double u = near_corner(rng), v = near_corner(rng);
+      const SurfacePoint sp = surface.evaluate(s.face, u, v);
+      const Vec3 n = normalized(cross(sp.du, sp.dv));
+      const Vec3 p = sp.position + 2e-3 * n;
+      // Start: the centre of a face two transfers away (across side 3 then side 0 of the result).
+      uint32_t g = s.face;
+      double su = 0.0, sv = 0.5;
+      adjacency.transfer(g, su, sv, 3);
+      su = any(rng), sv = 0.0;
+      adjacency.transfer(g, su, sv, 0);
+      FootPoint start;
+      start.ptex_face = g, start.u = 0.5, start.v = 0.5;
+      const FootPoint foot = projector.refine(p, start);
+      ++total;
+      hopped += foot.ptex_face != g;
+      EXPECT_TRUE(foot.converged);
+      worst = std::max(worst, distance(foot.position, sp.position));
+    }
+    std::printf("hopping searches: %zu of %zu changed ptex face, worst foot-point error %.3g\n", hopped, total, worst);
+    EXPECT_GT(hopped, total / 2);
+    EXPECT_LT(worst, 1e-7);
+  }
+}
+
+// AC-7.x: fewer than 0.01% unconverged projections on >= 200K noisy samples (thesis: "fewer than
+// 0.01 % on more than 200 000 sample points", < 6 steps on average).
+TEST(FitClosestPoint, at_most_one_in_ten_thousand_of_200k_projections_is_unconverged) {
+  const Cage cage = hexagonal_prism();
+  const SubdivisionSurface surface(cage);
+  const PtexAdjacency adjacency(cage.mesh, surface);
+  const LimitSurfaceProjector projector(surface, &adjacency, cage.mesh.positions);
+  std::mt19937 rng(29);
+  std::normal_distribution<double> noise(0.0, 0.01);
+  const auto params = random_parameters(surface, 200000, 0.0, 31);
+  size_t unconverged = 0, steps = 0, farther = 0;
+  for (const Sample& s : params) {
+    const SurfacePoint sp = surface.evaluate(s.face, s.u, s.v);
+    const Vec3 p = sp.position + Vec3{noise(rng), noise(rng), noise(rng)};
+    const FootPoint foot = projector.project(p);
+    unconverged += !foot.converged;
+    steps += foot.steps;
+    // The foot point is never farther than the point the sample came from.
+    farther += foot.distance > distance(p, sp.position) + 1e-12;
+  }
+  std::printf("200K projections: %zu unconverged, %.2f steps on average, %zu farther than their origin\n",
+              unconverged, double(steps) / params.size(), farther);
+  EXPECT_LE(unconverged, 20u);
+  EXPECT_LT(double(steps) / params.size(), 6.0);
+  EXPECT_EQ(farther, 0u);
+}
+
+// AC-7.x: at equal passes, the exact projection ends below the piecewise-linear one ([HDD+94],
+// thesis Fig. 7.5), both measured by the exact distance.
+TEST(FitSurface, exact_projection_ends_below_piecewise_linear_projection) {
+  const KnownSurface k = known_surface();
+  FitOptions exact, linear;
+  exact.tolerance = linear.tolerance = 0;
+  exact.max_passes = linear.max_passes = 8;
+  linear.projection = ProjectionMode::piecewise_linear;
+  FitReport re, rl;
+  fit_cage_to_points(k.initial, k.samples, exact, &re);
+  fit_cage_to_points(k.initial, k.samples, linear, &rl);
+  ASSERT_EQ(re.passes.size(), 9u);
+  std::printf("exact vs piecewise linear after %zu passes: L2 %.4g vs %.4g, max %.4g vs %.4g\n", re.passes.size() - 1,
+              re.passes.back().l2, rl.passes.back().l2, re.passes.back().max_relative, rl.passes.back().max_relative);
+  EXPECT_LT(re.passes.back().l2, rl.passes.back().l2);
+  EXPECT_EQ(re.passes.front().l2, rl.passes.front().l2);  // same initial state, measured the same way
+}
+
+// (7.2) and monotonicity: L2 never increases; a loose tolerance stops the fit early.
+TEST(FitSurface, tolerance_stops_the_passes_and_l2_never_increases) {
+  const KnownSurface k = known_surface();
+  FitOptions options;
+  options.max_passes = 30;
+  options.tolerance = 0.05;  // stop once a pass gains less than 5%
+  FitReport report;
+  fit_cage_to_points(k.initial, k.samples, options, &report);
+  ASSERT_GE(report.passes.size(), 2u);
+  EXPECT_LT(report.passes.size(), 31u);
+  EXPECT_TRUE(report.stopped_by_tolerance || report.rejected_last_step);
+  for (size_t i = 1; i < report.passes.size(); ++i) EXPECT_LE(report.passes[i].l2, report.passes[i - 1].l2);
+  if (report.stopped_by_tolerance) {
+    const double a = report.passes[report.passes.size() - 2].l2, b = report.passes.back().l2;
+    EXPECT_LT(a - b, 0.05 * a);
+  }
+}
+
+// Rank deficiency: samples on one half of the surface leave control vertices without samples in
+// their support; without fairing they stay where they are, and they are counted.
+TEST(FitSurface, control_vertices_without_samples_are_reported_and_kept) {
+  const KnownSurface k = known_surface();
+  std::vector<Vec3> half;
+  for (const Vec3& p : k.samples)
+    if (p.x > 0.25) half.push_back(p);
+  FitOptions options;
+  options.max_passes = 2;
+  FitReport report;
+  const Cage fitted = fit_cage_to_points(k.initial, half, options, &report);
+  std::printf("half samples: %zu control vertices without samples\n", report.unsupported_control_vertices);
+  EXPECT_GT(report.unsupported_control_vertices, 0u);
+  EXPECT_FALSE(report.fairing_used);
+  size_t unmoved = 0;
+  for (size_t i = 0; i < fitted.mesh.num_vertices(); ++i)
+    unmoved += distance(fitted.mesh.positions[i], k.initial.mesh.positions[i]) < 1e-9;
+  EXPECT_GE(unmoved, report.unsupported_control_vertices);
+  for (const Vec3& p : fitted.mesh.positions) EXPECT_TRUE(is_finite(p));
+  options.fairing = 1e-3;
+  FitReport faired;
+  fit_cage_to_points(k.initial, half, options, &faired);
+  EXPECT_TRUE(faired.fairing_used);
+}
+
+// The CGLS solver (thesis §7.5) reaches the direct solver's control points.
+TEST(FitSurface, cgls_and_direct_solvers_agree) {
+  const KnownSurface k = known_surface();
+  FitOptions direct, cgls;
+  direct.max_passes = cgls.max_passes = 3;
+  direct.tolerance = cgls.tolerance = 0;
+  cgls.solver = LeastSquaresSolver::cgls;
+  FitReport rd, rc;
+  const Cage a = fit_cage_to_points(k.initial, k.samples, direct, &rd);
+  const Cage b = fit_cage_to_points(k.initial, k.samples, cgls, &rc);
+  const double worst = worst_control_error(a, b);
+  std::printf("cgls vs direct: worst control-point difference %.3g, L2 %.6g vs %.6g\n", worst, rc.passes.back().l2,
+              rd.passes.back().l2);
+  EXPECT_LT(worst, 1e-6);
+  EXPECT_NEAR(rc.passes.back().l2, rd.passes.back().l2, 1e-6 * rd.passes.back().l2);
+}
+
+// Scan boundaries: max_relative_interior leaves out the vertices on or next to a boundary.
+TEST(FitSurface, interior_statistics_leave_out_the_scan_boundary) {
+  double (*height)(double, double) = [](double x, double y) { return 0.05 * std::sin(0.3 * x) * y; };
+  const PolygonMesh grid = cagekit_test::quad_grid(20, 20, height);
+  Cage cage;
+  cage.mesh = cagekit_test::quad_grid(4, 4);
+  for (Vec3& p : cage.mesh.positions) p = {5 * p.x, 5 * p.y, height(5 * p.x, 5 * p.y)};
+  FitOptions options;
+  options.max_passes = 2;
+  FitReport report;
+  fit_cage_to_mesh(cage, grid, options, &report);
+  for (const FitPassStatistics& s : report.passes) {
+    EXPECT_LE(s.max_relative_interior, s.max_relative);
+    EXPECT_LE(s.mean_relative, s.rms_relative + 1e-15);
+    EXPECT_LE(s.rms_relative, s.max_relative);
+  }
+  // The limit surface of an open grid shrinks away from the boundary: the worst samples are there.
+  EXPECT_LT(report.passes.front().max_relative_interior, report.passes.front().max_relative);
+}
