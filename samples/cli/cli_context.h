@@ -78,6 +78,8 @@ int command_convert(Args& args);
 int command_subdivide(Args& args);
 int command_simplify(Args& args);
 int command_demo(Args& args);
+int command_fit(Args& args);
+int command_pipeline(Args& args);
 
 }  // namespace cli
 

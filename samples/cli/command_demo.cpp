@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // cagekit demo [OUTDIR]: runs what the SDK can do today on a generated noisy scan of a CAD-like
-// part and writes every result to OUTDIR (default ./cagekit-demo). Later stages of the pipeline
-// (simplification, fitting, editing) extend this as they land.
+// part and writes every result to OUTDIR (default ./cagekit-demo): exchange formats, the pipeline
+// of `cagekit pipeline` (simplification -> creased cage -> fit, pipeline.h), subdivision.
+// Multiresolution editing (thesis ch. 8) extends this when it lands.
 #include <sys/stat.h>
 
 #include <cerrno>
@@ -13,6 +14,7 @@
 
 #include "cli_context.h"
 #include "demo_part.h"
+#include "pipeline.h"
 
 namespace cli {
 
@@ -22,18 +24,13 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-void make_directory(const std::string& path) {
-  if (mkdir(path.c_str(), 0755) != 0 && errno != EEXIST)
-    throw Failure(kExitBadInput, path + ": cannot create directory: " + std::strerror(errno));
-}
-
 }  // namespace
 
 int command_demo(Args& args) {
   const bool quiet = args.flag("--quiet");
   const auto rest = args.positional(0, 1, "cagekit demo [OUTDIR] [--quiet]");
   const std::string dir = rest.empty() ? "cagekit-demo" : rest[0];
-  make_directory(dir);
+  make_directories(dir);
   Session session(quiet);
   const auto start = std::chrono::steady_clock::now();
 
@@ -61,27 +58,27 @@ int command_demo(Args& args) {
   session.check(cagekit_mesh_write_file(scan.get(), (dir + "/scan.ply").c_str(), &write, nullptr), "scan.ply");
   session.check(cagekit_mesh_write_file(scan.get(), (dir + "/scan.drc").c_str(), &write, &drc_report), "scan.drc");
 
-  // 3. Structure-preserving simplification (thesis ch. 3): the hierarchy down to the level of
-  //    6 polygons (the block's sides), partitioned into a quad-dominant cage whose edges on
-  //    sharp cluster borders are tagged as creases.
-  using Hierarchy = Handle<cagekit_hierarchy, cagekit_hierarchy_release>;
-  const auto simplify_start = std::chrono::steady_clock::now();
-  Hierarchy hierarchy;
-  session.check(cagekit_hierarchy_create(scan.get(), nullptr, hierarchy.out()), "demo scan");
-  uint32_t level = 0, level_count = 0;
-  session.check(cagekit_hierarchy_get_level_count(hierarchy.get(), &level_count), "demo scan");
-  session.check(cagekit_hierarchy_find_level(hierarchy.get(), CAGEKIT_LEVEL_BY_FACES, 6, &level), "demo scan");
-  session.check(cagekit_hierarchy_set_level(hierarchy.get(), level), "demo scan");
-  Cage cage;
-  cagekit_cage_report cage_report = {};
-  cage_report.struct_size = sizeof(cage_report);
-  session.check(cagekit_hierarchy_build_cage(hierarchy.get(), nullptr, cage.out(), &cage_report), "demo scan");
-  const double simplify_seconds = seconds_since(simplify_start);
-  session.check(cagekit_cage_write_file(cage.get(), (dir + "/cage.obj").c_str(), &write, nullptr), "cage.obj");
-  session.check(cagekit_cage_write_file(cage.get(), (dir + "/cage.drc").c_str(), &write, nullptr), "cage.drc");
-  Mesh polygons;
-  session.check(cagekit_hierarchy_get_polygon_mesh(hierarchy.get(), polygons.out()), "demo scan");
-  session.check(cagekit_mesh_write_file(polygons.get(), (dir + "/polygons.obj").c_str(), &write, nullptr),
+  // 3. The pipeline (pipeline.h): structure-preserving simplification (thesis ch. 3) to the level
+  //    of 6 polygons (the block's sides), partitioned into a quad-dominant cage whose edges on
+  //    sharp cluster borders are tagged as creases; then the cage's limit surface fitted to the
+  //    scan (ch. 7) and refined to level 3 on its limit.
+  PipelineSettings settings;
+  settings.query = CAGEKIT_LEVEL_BY_FACES;
+  settings.target = 6;
+  settings.fit.max_passes = 5;
+  settings.cage_file = "cage_fitted.obj";
+  settings.limit_file = "cage_fitted_limit.obj";
+  settings.report_file = "pipeline.json";
+  PipelineResult pipeline;
+  run_pipeline(session, scan.get(), "demo scan", settings, dir, &pipeline);
+  const uint32_t level = pipeline.level, level_count = pipeline.level_count;
+  const cagekit_cage_report& cage_report = pipeline.cage_report;
+  const double simplify_seconds = pipeline.simplify_seconds;
+  const cagekit_fit_report& fit = pipeline.fit.report;
+  cagekit_cage cage_handle = pipeline.initial_cage.get();
+  session.check(cagekit_cage_write_file(cage_handle, (dir + "/cage.obj").c_str(), &write, nullptr), "cage.obj");
+  session.check(cagekit_cage_write_file(cage_handle, (dir + "/cage.drc").c_str(), &write, nullptr), "cage.drc");
+  session.check(cagekit_mesh_write_file(pipeline.polygons.get(), (dir + "/polygons.obj").c_str(), &write, nullptr),
                 "polygons.obj");
 
   // 4. Subdivision: the creased cage at level 3 (its limit surface is the block), compared with
@@ -90,7 +87,7 @@ int command_demo(Args& args) {
   subdivide.levels = 3;
   subdivide.limit_positions = 1;
   Cage cage_level3;
-  session.check(cagekit_cage_subdivide(cage.get(), &subdivide, cage_level3.out()), "cage");
+  session.check(cagekit_cage_subdivide(cage_handle, &subdivide, cage_level3.out()), "cage");
   session.check(cagekit_cage_write_file(cage_level3.get(), (dir + "/cage_level3.obj").c_str(), &write, nullptr),
                 "cage_level3.obj");
   Mesh level3_mesh;
@@ -126,8 +123,10 @@ int command_demo(Args& args) {
                "  \"cage\": {\"quads\": %llu, \"triangles\": %llu, \"pentagons\": %llu, \"creases\": %llu, "
                "\"level3_quads\": %llu, \"level3_creases\": %llu, \"level3_limit_hausdorff_rel\": %.3g},\n"
                "  \"scan_as_cage_level1\": {\"quads\": %llu, \"seconds\": %.3f},\n"
+               "  \"fit\": %s,\n"
+               "  \"fitted_limit\": {\"levels\": %u, \"quads\": %llu, \"hausdorff_sym_rel\": %.3g},\n"
                "  \"seconds\": %.3f,\n"
-               "  \"not_yet\": [\"fitting (ch. 7)\", \"multiresolution editing (ch. 8)\"]\n}\n",
+               "  \"not_yet\": [\"multiresolution editing (ch. 8)\"]\n}\n",
                (unsigned long long)scan_info.vertices, (unsigned long long)scan_info.triangles,
                (long long)scan_info.genus, scan_info.manifold ? "true" : "false", validation.valid ? "true" : "false",
                scan_info.bbox_diagonal, (unsigned long long)obj_report.bytes, (unsigned long long)drc_report.bytes,
@@ -137,6 +136,8 @@ int command_demo(Args& args) {
                (unsigned long long)cage_report.pentagons, (unsigned long long)cage_report.creases,
                (unsigned long long)level3_info.quads, (unsigned long long)level3_info.creases,
                limit_error.hausdorff_sym_rel, (unsigned long long)level1_info.quads, subdivide_seconds,
+               fit_json(pipeline.fit, settings.fit).c_str(), settings.limit_levels,
+               (unsigned long long)pipeline.limit_info.quads, pipeline.limit_error.hausdorff_sym_rel,
                seconds_since(start));
   std::fclose(summary);
 
@@ -157,9 +158,17 @@ int command_demo(Args& args) {
               "from the scan\n",
               (unsigned long long)level3_info.quads, (unsigned long long)level3_info.creases,
               limit_error.hausdorff_sym_rel);
+  std::printf("  cage_fitted.obj        limit surface fitted to the scan (thesis ch. 7), %u passes in %.2f s:\n"
+              "                         max distance %.3g -> %.3g, rms %.3g -> %.3g of the diagonal%s\n",
+              fit.pass_count - 1, fit.seconds, fit.initial.max_rel, fit.final.max_rel, fit.initial.rms_rel,
+              fit.final.rms_rel, fit.stopped_by_tolerance ? " (converged)" : "");
+  std::printf("  cage_fitted_limit.obj  fitted cage, level %u on the limit: %llu quads, %.2g of the diagonal from the "
+              "scan\n",
+              settings.limit_levels, (unsigned long long)pipeline.limit_info.quads,
+              pipeline.limit_error.hausdorff_sym_rel);
   std::printf("  scan_level1_limit.obj  scan as cage, level 1 on the limit: %llu quads in %.3f s\n",
               (unsigned long long)level1_info.quads, subdivide_seconds);
-  std::printf("  summary.json           these numbers\n");
+  std::printf("  summary.json           these numbers (pipeline.json: the pipeline's report)\n");
   return kExitOk;
 }
 

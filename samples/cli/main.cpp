@@ -17,10 +17,18 @@ const char* kUsage =
     "  subdivide IN OUT --levels N [--limit]    uniform Catmull-Clark refinement with creases\n"
     "  simplify IN OUT (--faces N | --vertices N) [--cage] [--clusters FILE.ply] [--json] [--crease-angle DEG]\n"
     "                                           structure-preserving simplification (thesis ch. 3); --cage: quad-dominant cage\n"
+    "  fit SCAN CAGE OUT [--passes N] [--tolerance T] [--projection exact|linear] [--fairing F] [--keep-creases]\n"
+    "      [--threads N] [--json]               fit the cage's limit surface to the scan's vertices (thesis ch. 7);\n"
+    "                                           OUT keeps the cage's connectivity and crease tags\n"
+    "  pipeline SCAN OUTDIR (--faces N | --vertices N) [--method simplify] [--crease-angle DEG] [--passes N]\n"
+    "      [--tolerance T] [--projection exact|linear] [--fairing F] [--keep-creases] [--limit-levels L] [--json]\n"
+    "                                           simplify -> quad-dominant cage with creases -> fit; writes\n"
+    "                                           OUTDIR/cage.obj (fitted), limit.obj (its limit, L=3 levels), report.json\n"
     "  demo [OUTDIR]                            run the pipeline on a generated noisy scan of a CAD-like part\n"
     "  version                                  print the library version\n"
     "options: --quiet (no progress on stderr)\n"
-    "exit codes: 0 ok, 2 bad input (one line on stderr names the file and the problem), 64 usage\n";
+    "exit codes: 0 ok, 2 bad input (one line on stderr names the file and the problem; for fit and pipeline\n"
+    "            also option values out of range), 64 usage\n";
 
 }  // namespace
 
@@ -36,6 +44,8 @@ int main(int argc, char** argv) {
     if (command == "convert") return cli::command_convert(args);
     if (command == "subdivide") return cli::command_subdivide(args);
     if (command == "simplify") return cli::command_simplify(args);
+    if (command == "fit") return cli::command_fit(args);
+    if (command == "pipeline") return cli::command_pipeline(args);
     if (command == "demo") return cli::command_demo(args);
     if (command == "version") {
       std::printf("cagekit %s (ABI %u)\n", cagekit_version_string(), cagekit_abi_version());

@@ -1,6 +1,7 @@
 #!/bin/sh
 # End-to-end checks of the `cagekit` CLI and the C host sample: demo output, info --json keys,
-# conversions that keep cage tags, fandisk through Draco, and the bad-input convention
+# conversions that keep cage tags, fandisk through Draco, simplification, fit and pipeline, and
+# the bad-input convention
 # (one line on stderr naming the file, exit code 2, no output file left behind).
 # usage: check_cli.sh CAGEKIT C_HOST SHARED_MESHES_DIR
 set -u
@@ -13,7 +14,8 @@ json() { /usr/bin/env python3 -c "import json,sys; d=json.load(open(sys.argv[1])
 
 # 1. demo
 if "$cli" demo "$tmp/demo" --quiet >"$tmp/demo.out" 2>&1 &&
-   for f in scan.obj scan.ply scan.drc cage.obj cage.drc cage_level3.obj scan_level1_limit.obj summary.json; do
+   for f in scan.obj scan.ply scan.drc cage.obj cage.drc cage_level3.obj scan_level1_limit.obj summary.json \
+            cage_fitted.obj cage_fitted_limit.obj pipeline.json; do
      [ -s "$tmp/demo/$f" ] || exit 1; done; then pass "demo writes its outputs"; else cat "$tmp/demo.out"; fail "demo"; fi
 
 if [ "$(json "$tmp/demo/summary.json" "d['cage']['quads'] == 6 and d['cage']['creases'] == 12 and d['cage']['triangles'] == 0 and d['cage']['level3_limit_hausdorff_rel'] < 1e-3 and d['scan']['valid']")" = True ]
@@ -130,6 +132,48 @@ else
   echo "[ SKIP ] simplify checks: $rocker not present"
 fi
 expect_bad "simplify of a corrupt file" "$cli" simplify "$tmp/badindex.obj" "$tmp/out.obj" --faces 10 --quiet
+
+# 9. fitting (thesis ch. 7): a cage from the demo scan, and the creased unit cube, fitted to the scan
+fit_keys="passes l2 rms_rel max_rel mean_rel max_rel_interior seconds per_pass stopped_by_tolerance unconverged_projections"
+pass_keys="l2 rms_rel max_rel mean_rel max_rel_interior seconds unconverged_projections"
+fit_ok="all(k in F for k in '$fit_keys'.split()) and all(k in p for p in F['per_pass'] for k in '$pass_keys'.split()) and len(F['per_pass']) == F['passes'] + 1 and F['per_pass'][-1]['max_rel'] < F['per_pass'][0]['max_rel'] and all(b['l2'] <= a['l2'] for a, b in zip(F['per_pass'], F['per_pass'][1:])) and F['max_rel'] == F['per_pass'][-1]['max_rel']"
+if "$cli" simplify "$tmp/demo/scan.obj" "$tmp/scan6.obj" --faces 6 --cage --quiet &&
+   "$cli" fit "$tmp/demo/scan.obj" "$tmp/scan6.obj" "$tmp/fit6.obj" --passes 3 --json --quiet >"$tmp/fit6.json" &&
+   [ "$(json "$tmp/fit6.json" "[F := d, $fit_ok][1] and d['passes'] >= 1")" = True ] &&
+   "$cli" info "$tmp/fit6.obj" --json >"$tmp/fit6info.json" &&
+   [ "$(json "$tmp/fit6info.json" "d['quads'] == 6 and d['creases'] == 12")" = True ]
+then pass "fit: a creased 6-quad cage to the demo scan (JSON keys, max_rel decreases, tags kept)"; else cat "$tmp/fit6.json" "$tmp/fit6info.json"; fail "fit cage to demo scan"; fi
+if "$cli" fit "$tmp/demo/scan.obj" "$tmp/cube.obj" "$tmp/fitcube.drc" --passes 4 --tolerance 0 --projection linear --json --quiet >"$tmp/fitcube.json" &&
+   [ "$(json "$tmp/fitcube.json" "[F := d, $fit_ok][1] and d['passes'] >= 2 and d['max_rel'] < 0.5 * d['per_pass'][0]['max_rel']")" = True ] &&
+   [ -s "$tmp/fitcube.drc" ]
+then pass "fit: the unit cube to the 4 x 2.5 x 1.5 block (piecewise-linear projection, Draco output)"; else cat "$tmp/fitcube.json"; fail "fit cube to block"; fi
+if "$cli" pipeline "$tmp/demo/scan.obj" "$tmp/pipe/out" --faces 30 --passes 3 --json --quiet >"$tmp/pipe.json" &&
+   [ -s "$tmp/pipe/out/cage.obj" ] && [ -s "$tmp/pipe/out/limit.obj" ] && [ -s "$tmp/pipe/out/report.json" ] &&
+   [ "$(json "$tmp/pipe.json" "[F := d['fit'], $fit_ok][1] and all(k in d['simplify'] for k in 'level polygons quads triangles creases error seconds'.split()) and d['simplify']['polygons'] <= 30 and d['limit']['error']['hausdorff_sym_rel'] < 2e-3")" = True ] &&
+   [ "$(json "$tmp/pipe/out/report.json" "d['fit']['passes'] >= 1")" = True ] &&
+   grep -q '^t crease' "$tmp/pipe/out/cage.obj"
+then pass "pipeline: simplify -> creased cage -> fit -> limit (OUTDIR created, report.json, JSON keys, error decreases)"; else cat "$tmp/pipe.json"; fail "pipeline"; fi
+if [ "$(json "$tmp/demo/summary.json" "d['fit']['per_pass'][-1]['max_rel'] <= d['fit']['per_pass'][0]['max_rel'] and d['fitted_limit']['hausdorff_sym_rel'] < 1e-3")" = True ] &&
+   [ -s "$tmp/demo/cage_fitted.obj" ] && [ -s "$tmp/demo/cage_fitted_limit.obj" ]
+then pass "demo runs the pipeline and reports the fit"; else cat "$tmp/demo/summary.json"; fail "demo fit"; fi
+head -c 3000 "$tmp/demo/scan.drc" >"$tmp/garbage.obj"
+expect_bad "fit: missing scan" "$cli" fit "$tmp/does-not-exist.obj" "$tmp/cube.obj" "$tmp/out.obj" --quiet
+expect_bad "fit: missing cage" "$cli" fit "$tmp/demo/scan.obj" "$tmp/does-not-exist.obj" "$tmp/out.obj" --quiet
+expect_bad "fit: corrupt scan" "$cli" fit "$tmp/badindex.obj" "$tmp/cube.obj" "$tmp/out.obj" --quiet
+expect_bad "fit: corrupt cage" "$cli" fit "$tmp/demo/scan.obj" "$tmp/badindex.obj" "$tmp/out.obj" --quiet
+expect_bad "fit: binary garbage as the cage" "$cli" fit "$tmp/cube.obj" "$tmp/garbage.obj" "$tmp/out.obj" --quiet
+expect_bad "fit: binary garbage as the scan" "$cli" fit "$tmp/garbage.obj" "$tmp/cube.obj" "$tmp/out.obj" --quiet
+expect_bad "fit: a non-manifold mesh as the cage" "$cli" fit "$tmp/cube.obj" "$tmp/nonmanifold.obj" "$tmp/out.obj" --quiet
+expect_bad "fit: NaN in the scan" "$cli" fit "$tmp/nan.obj" "$tmp/cube.obj" "$tmp/out.obj" --quiet
+expect_bad "fit: --passes -1" "$cli" fit "$tmp/demo/scan.obj" "$tmp/cube.obj" "$tmp/out.obj" --passes -1 --quiet
+expect_bad "fit: --tolerance nan" "$cli" fit "$tmp/demo/scan.obj" "$tmp/cube.obj" "$tmp/out.obj" --tolerance nan --quiet
+expect_bad "fit: --projection bogus" "$cli" fit "$tmp/demo/scan.obj" "$tmp/cube.obj" "$tmp/out.obj" --projection bogus --quiet
+expect_bad "pipeline: missing scan" "$cli" pipeline "$tmp/does-not-exist.obj" "$tmp/pipe2" --faces 6 --quiet
+expect_bad "pipeline: corrupt scan" "$cli" pipeline "$tmp/badindex.obj" "$tmp/pipe2" --faces 6 --quiet
+expect_bad "pipeline: invalid scan" "$cli" pipeline "$tmp/nonmanifold.obj" "$tmp/pipe2" --faces 6 --quiet
+expect_bad "pipeline: --passes -1" "$cli" pipeline "$tmp/demo/scan.obj" "$tmp/pipe2" --faces 6 --passes -1 --quiet
+expect_bad "pipeline: --method other" "$cli" pipeline "$tmp/demo/scan.obj" "$tmp/pipe2" --faces 6 --method qem --quiet
+expect_bad "pipeline: OUTDIR under a file" "$cli" pipeline "$tmp/demo/scan.obj" "$tmp/cube.obj/sub" --faces 6 --quiet
 
 # 7. the C host sample
 if "$host" "$tmp/demo/scan.drc" "$tmp/host.obj" 1 >"$tmp/host.out" 2>&1 && [ -s "$tmp/host.obj" ] && grep -q 'level 1' "$tmp/host.out"

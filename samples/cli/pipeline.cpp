@@ -1,0 +1,198 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "pipeline.h"
+
+#include <sys/stat.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+namespace cli {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Option values of fit/pipeline are input: out of range is exit code 2, not a usage error.
+template <class F>
+auto bad_value_is_bad_input(F&& parse) {
+  try {
+    return parse();
+  } catch (const Failure& f) {
+    if (f.code == kExitUsage) throw Failure(kExitBadInput, f.what());
+    throw;
+  }
+}
+
+std::string number(double x) {
+  if (!std::isfinite(x)) return "null";
+  char buffer[64];
+  std::snprintf(buffer, sizeof(buffer), "%.9g", x);
+  return buffer;
+}
+
+std::string pass_fields(const cagekit_fit_pass& p, double seconds) {
+  return "\"l2\": " + number(p.l2) + ", \"rms_rel\": " + number(p.rms_rel) + ", \"max_rel\": " + number(p.max_rel) +
+         ", \"mean_rel\": " + number(p.mean_rel) + ", \"max_rel_interior\": " + number(p.max_rel_interior) +
+         ", \"seconds\": " + number(seconds) +
+         ", \"unconverged_projections\": " + std::to_string((unsigned long long)p.unconverged_projections) +
+         ", \"mean_projection_steps\": " + number(p.mean_projection_steps);
+}
+
+std::string error_json(const cagekit_approximation_error& e) {
+  return "{\"hausdorff_rel\": " + number(e.hausdorff_rel) + ", \"hausdorff_sym_rel\": " + number(e.hausdorff_sym_rel) +
+         ", \"mean_rel\": " + number(e.mean_rel) + "}";
+}
+
+void write_text_file(const std::string& path, const std::string& text) {
+  const std::string temporary = path + ".tmp";
+  FILE* out = std::fopen(temporary.c_str(), "w");
+  if (!out) throw Failure(kExitBadInput, path + ": cannot write: " + std::strerror(errno));
+  const bool written = std::fwrite(text.data(), 1, text.size(), out) == text.size();
+  if (std::fclose(out) != 0 || !written || std::rename(temporary.c_str(), path.c_str()) != 0) {
+    std::remove(temporary.c_str());
+    throw Failure(kExitBadInput, path + ": cannot write");
+  }
+}
+
+}  // namespace
+
+void make_directories(const std::string& path) {
+  if (path.empty()) throw Failure(kExitBadInput, "output folder name is empty");
+  for (size_t at = path.find('/', 1);; at = path.find('/', at + 1)) {
+    const std::string prefix = at == std::string::npos ? path : path.substr(0, at);
+    struct stat info {};
+    if (stat(prefix.c_str(), &info) == 0) {
+      if (!S_ISDIR(info.st_mode)) throw Failure(kExitBadInput, prefix + ": exists and is not a folder");
+    } else if (mkdir(prefix.c_str(), 0755) != 0 && errno != EEXIST) {
+      throw Failure(kExitBadInput, prefix + ": cannot create folder: " + std::strerror(errno));
+    }
+    if (at == std::string::npos) break;
+  }
+}
+
+cagekit_fit_options parse_fit_options(Args& args) {
+  cagekit_fit_options o = CAGEKIT_FIT_OPTIONS_INIT;
+  o.max_passes = static_cast<uint32_t>(bad_value_is_bad_input([&] { return args.integer("--passes", 5, 0, 100000); }));
+  o.tolerance = bad_value_is_bad_input([&] { return args.real("--tolerance", 1e-4, 0.0, 1.0); });
+  o.fairing = bad_value_is_bad_input([&] { return args.real("--fairing", 0.0, 0.0, 1e6); });
+  o.threads = static_cast<uint32_t>(bad_value_is_bad_input([&] { return args.integer("--threads", 0, 0, 1024); }));
+  o.keep_crease_vertices = args.flag("--keep-creases") ? 1 : 0;
+  const std::string projection = bad_value_is_bad_input([&] { return args.option("--projection", "exact"); });
+  if (projection == "exact")
+    o.projection = CAGEKIT_PROJECTION_EXACT;
+  else if (projection == "linear")
+    o.projection = CAGEKIT_PROJECTION_PIECEWISE_LINEAR;
+  else
+    throw Failure(kExitBadInput, "--projection must be 'exact' or 'linear', not '" + projection + "'");
+  return o;
+}
+
+void run_fit(const Session& session, cagekit_cage cage, cagekit_mesh scan, const cagekit_fit_options& options,
+             const std::string& what, Cage* fitted, FitResult* result) {
+  result->passes.assign(size_t(options.max_passes) + 1, cagekit_fit_pass{});
+  result->report = cagekit_fit_report{};
+  result->report.struct_size = sizeof(cagekit_fit_report);
+  result->report.pass_capacity = static_cast<uint32_t>(result->passes.size());
+  result->report.passes = result->passes.data();
+  session.check(cagekit_cage_fit(cage, scan, &options, fitted->out(), &result->report), what);
+  result->passes.resize(std::min<size_t>(result->report.pass_count, result->passes.size()));
+  result->report.passes = result->passes.data();
+}
+
+std::string fit_json(const FitResult& fit, const cagekit_fit_options& options) {
+  const cagekit_fit_report& r = fit.report;
+  std::string json = "{\"passes\": " + std::to_string(r.pass_count > 0 ? r.pass_count - 1 : 0) + ", " +
+                     pass_fields(r.final, r.seconds) +
+                     ", \"stopped_by_tolerance\": " + (r.stopped_by_tolerance ? "true" : "false") +
+                     ", \"rejected_last_step\": " + (r.rejected_last_step ? "true" : "false") +
+                     ", \"unsupported_control_vertices\": " +
+                     std::to_string((unsigned long long)r.unsupported_control_vertices) +
+                     ", \"bbox_diagonal\": " + number(r.bbox_diagonal) + ", \"max_passes\": " +
+                     std::to_string(options.max_passes) + ", \"tolerance\": " + number(options.tolerance) +
+                     ", \"fairing\": " + number(options.fairing) + ", \"projection\": \"" +
+                     (options.projection == CAGEKIT_PROJECTION_EXACT ? "exact" : "linear") + "\", \"per_pass\": [";
+  for (size_t i = 0; i < fit.passes.size(); ++i)
+    json += (i ? ", {" : "{") + std::string("\"pass\": ") + std::to_string(i) + ", " +
+            pass_fields(fit.passes[i], fit.passes[i].seconds) + "}";
+  return json + "]}";
+}
+
+void run_pipeline(const Session& session, cagekit_mesh scan, const std::string& scan_name,
+                  const PipelineSettings& settings, const std::string& dir, PipelineResult* result) {
+  using Hierarchy = Handle<cagekit_hierarchy, cagekit_hierarchy_release>;
+  const auto start = std::chrono::steady_clock::now();
+  make_directories(dir);
+  cagekit_write_options write = CAGEKIT_WRITE_OPTIONS_INIT;
+
+  // 1. Simplification to the requested level and the quad-dominant cage with creases.
+  Hierarchy hierarchy;
+  session.check(cagekit_hierarchy_create(scan, nullptr, hierarchy.out()), scan_name);
+  session.check(cagekit_hierarchy_get_level_count(hierarchy.get(), &result->level_count), scan_name);
+  session.check(cagekit_hierarchy_find_level(hierarchy.get(), settings.query, settings.target, &result->level),
+                scan_name);
+  session.check(cagekit_hierarchy_set_level(hierarchy.get(), result->level), scan_name);
+  result->level_info.struct_size = sizeof(result->level_info);
+  session.check(cagekit_hierarchy_get_current_info(hierarchy.get(), &result->level_info), scan_name);
+  cagekit_cage_options cage_options = CAGEKIT_CAGE_OPTIONS_INIT;
+  cage_options.crease_angle_degrees = settings.crease_angle;
+  result->cage_report.struct_size = sizeof(result->cage_report);
+  session.check(cagekit_hierarchy_build_cage(hierarchy.get(), &cage_options, result->initial_cage.out(),
+                                             &result->cage_report),
+                scan_name);
+  result->simplify_seconds = seconds_since(start);
+  session.check(cagekit_hierarchy_get_polygon_mesh(hierarchy.get(), result->polygons.out()), scan_name);
+  result->level_error.struct_size = sizeof(result->level_error);
+  session.check(cagekit_mesh_measure_error(scan, result->polygons.get(), &result->level_error), scan_name);
+
+  // 2. Fit of the cage's limit surface to the scan.
+  run_fit(session, result->initial_cage.get(), scan, settings.fit, scan_name, &result->fitted_cage, &result->fit);
+  if (!settings.cage_file.empty()) {
+    const std::string path = dir + "/" + settings.cage_file;
+    session.check(cagekit_cage_write_file(result->fitted_cage.get(), path.c_str(), &write, nullptr), path);
+  }
+
+  // 3. The fitted cage refined to (nearly) its limit surface, compared with the scan.
+  cagekit_subdivide_options subdivide = CAGEKIT_SUBDIVIDE_OPTIONS_INIT;
+  subdivide.levels = settings.limit_levels;
+  subdivide.limit_positions = 1;
+  session.check(cagekit_cage_subdivide(result->fitted_cage.get(), &subdivide, result->limit.out()), "fitted cage");
+  if (!settings.limit_file.empty()) {
+    const std::string path = dir + "/" + settings.limit_file;
+    session.check(cagekit_cage_write_file(result->limit.get(), path.c_str(), &write, nullptr), path);
+  }
+  result->limit_info.struct_size = sizeof(result->limit_info);
+  session.check(cagekit_cage_get_info(result->limit.get(), &result->limit_info), "fitted limit");
+  Mesh limit_mesh;
+  session.check(cagekit_cage_get_mesh(result->limit.get(), limit_mesh.out()), "fitted limit");
+  result->limit_error.struct_size = sizeof(result->limit_error);
+  session.check(cagekit_mesh_measure_error(scan, limit_mesh.get(), &result->limit_error), scan_name);
+  result->seconds = seconds_since(start);
+
+  const cagekit_cage_report& c = result->cage_report;
+  char simplify[1024];
+  std::snprintf(simplify, sizeof(simplify),
+                "{\"method\": \"simplify\", \"level\": %u, \"levels\": %u, \"polygons\": %llu, \"faces_with_holes\": %llu, "
+                "\"cage_faces\": %llu, \"quads\": %llu, \"triangles\": %llu, \"pentagons\": %llu, "
+                "\"other_polygons\": %llu, \"creases\": %llu, \"non_manifold_edges\": %llu, ",
+                result->level, result->level_count, (unsigned long long)result->level_info.faces,
+                (unsigned long long)result->level_info.faces_with_holes,
+                (unsigned long long)(c.quads + c.triangles + c.pentagons + c.other_polygons),
+                (unsigned long long)c.quads, (unsigned long long)c.triangles, (unsigned long long)c.pentagons,
+                (unsigned long long)c.other_polygons, (unsigned long long)c.creases,
+                (unsigned long long)c.non_manifold_edges);
+  result->json = std::string("{\"simplify\": ") + simplify + "\"error\": " + error_json(result->level_error) +
+                 ", \"seconds\": " + number(result->simplify_seconds) + "},\n \"fit\": " +
+                 fit_json(result->fit, settings.fit) + ",\n \"limit\": {\"levels\": " +
+                 std::to_string(settings.limit_levels) + ", \"vertices\": " +
+                 std::to_string((unsigned long long)result->limit_info.vertices) + ", \"faces\": " +
+                 std::to_string((unsigned long long)result->limit_info.faces) + ", \"error\": " +
+                 error_json(result->limit_error) + "},\n \"seconds\": " + number(result->seconds) + "}\n";
+  if (!settings.report_file.empty()) write_text_file(dir + "/" + settings.report_file, result->json);
+}
+
+}  // namespace cli

@@ -1,0 +1,67 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// The scan-to-subdivision-surface pipeline shared by `cagekit pipeline` and `cagekit demo`:
+// structure-preserving simplification (thesis ch. 3) -> quad-dominant cage with creases ->
+// fit of the cage's limit surface to the scan (ch. 7) -> the fitted cage refined to its limit.
+// Also the fit options and JSON of `cagekit fit`.
+#include <string>
+#include <vector>
+
+#include "cli_context.h"
+
+namespace cli {
+
+// --passes N --tolerance T --projection exact|linear --fairing F --keep-creases --threads N.
+// Values out of range are bad input (Failure with kExitBadInput naming the option).
+cagekit_fit_options parse_fit_options(Args& args);
+
+// Runs cagekit_cage_fit with a pass array of max_passes + 1 entries (all of them).
+struct FitResult {
+  cagekit_fit_report report{};
+  std::vector<cagekit_fit_pass> passes;  // pass_count entries, 0 = the initial cage
+};
+void run_fit(const Session& session, cagekit_cage cage, cagekit_mesh scan, const cagekit_fit_options& options,
+             const std::string& what, Cage* fitted, FitResult* result);
+
+// {"passes": steps, final figures, "seconds": whole fit, "stopped_by_tolerance", ..., "per_pass": [...]}.
+std::string fit_json(const FitResult& fit, const cagekit_fit_options& options);
+
+struct PipelineSettings {
+  cagekit_level_query query = CAGEKIT_LEVEL_BY_FACES;  // BY_FACES or BY_VERTICES
+  double target = 0;
+  double crease_angle = 30.0;
+  cagekit_fit_options fit = CAGEKIT_FIT_OPTIONS_INIT;
+  uint32_t limit_levels = 3;
+  // Output file names inside the output folder ("" = not written).
+  std::string cage_file = "cage.obj", limit_file = "limit.obj", report_file = "report.json";
+};
+
+struct PipelineResult {
+  // simplification
+  uint32_t level = 0, level_count = 0;
+  cagekit_polygonal_level_info level_info{};
+  cagekit_cage_report cage_report{};
+  cagekit_approximation_error level_error{};  // scan vs the level's polygons
+  double simplify_seconds = 0;
+  Mesh polygons;       // the level as a polygon mesh
+  Cage initial_cage;   // quad-dominant cage with creases, before the fit
+  // fit
+  FitResult fit;
+  Cage fitted_cage;
+  // the fitted cage refined limit_levels times, on its limit surface
+  Cage limit;
+  cagekit_mesh_info limit_info{};
+  cagekit_approximation_error limit_error{};  // scan vs the refined limit mesh
+  double seconds = 0;
+  std::string json;   // what report.json holds
+};
+
+// Runs the pipeline on `scan` (a valid mesh) and writes the outputs named in `settings` into
+// `dir` (created with its parents when missing).
+void run_pipeline(const Session& session, cagekit_mesh scan, const std::string& scan_name,
+                  const PipelineSettings& settings, const std::string& dir, PipelineResult* result);
+
+// mkdir -p; throws Failure(kExitBadInput) when a component cannot be created.
+void make_directories(const std::string& path);
+
+}  // namespace cli
