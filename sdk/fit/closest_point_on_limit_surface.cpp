@@ -103,7 +103,7 @@ FootPoint LimitSurfaceProjector::project_piecewise_linear(const Vec3& p) const {
 FootPoint LimitSurfaceProjector::project(const Vec3& p, const FootPoint* warm_start) const {
   if (!warm_start) return refine(p, project_piecewise_linear(p));
   FootPoint best = refine(p, *warm_start);
-  if (!linear_) return best;
+  if (!linear_ || !options_.reseed_from_linear_mesh) return best;
   // Safeguard against a warm start caught in a local minimum after the surface moved: when the
   // piecewise-linear mesh has a closer point in another ptex face, search from there too.
   const PiecewiseLinearLimitMesh::Hit hit = linear_->closest_point(p, best.distance);

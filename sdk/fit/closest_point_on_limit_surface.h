@@ -49,6 +49,9 @@ struct ClosestPointOptions {
   int max_steps = 500;     // thesis n
   double epsilon = 1e-6;   // thesis: stop when |q| < epsilon (parameter units of a ptex face)
   int seed_resolution = 4;  // grid quads per ptex face side of the piecewise-linear limit mesh
+  // With a warm start, also search from the piecewise-linear closest point when it is in another
+  // ptex face and closer (false = the thesis: warm start only).
+  bool reseed_from_linear_mesh = true;
 };
 
 class LimitSurfaceProjector {

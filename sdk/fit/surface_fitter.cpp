@@ -132,16 +132,22 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
   // the exact ones for the statistics.
   std::vector<Vec3> control = initial.mesh.positions;
   std::vector<FootPoint> feet(samples.size()), exact_feet;
+  // The L2 the method minimises: the exact one, or in piecewise-linear mode the distance to the
+  // piecewise-linear mesh (the statistics report the exact one in both modes).
+  double objective = 0;
   auto project = [&](const std::vector<Vec3>& ctrl, bool warm, double f0, double f1) {
     const auto build_start = Clock::now();
-    const LimitSurfaceProjector projector(surface, &adjacency, ctrl, options.closest_point, true);
+    const bool linear_mesh = !(exact && warm) || options.closest_point.reseed_from_linear_mesh;
+    const LimitSurfaceProjector projector(surface, &adjacency, ctrl, options.closest_point, linear_mesh);
     monitor.log(LogLevel::debug, "fit: piecewise-linear limit mesh built in " +
                                      std::to_string(seconds_since(build_start)) + " s");
     if (exact) {
       parallel_for(samples.size(), threads, monitor, f0, f1, [&](size_t i) {
         feet[i] = projector.project(samples[i], warm ? &feet[i] : nullptr);
       });
-      return statistics(feet, near_boundary, report.bbox_diagonal);
+      const FitPassStatistics st = statistics(feet, near_boundary, report.bbox_diagonal);
+      objective = st.l2;
+      return st;
     }
     parallel_for(samples.size(), threads, monitor, f0, 0.5 * (f0 + f1),
                  [&](size_t i) { feet[i] = projector.project_piecewise_linear(samples[i]); });
@@ -154,6 +160,7 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
     const FitPassStatistics own = statistics(feet, nullptr, report.bbox_diagonal);
     s.unconverged_projections = own.unconverged_projections;
     s.mean_projection_steps = own.mean_projection_steps;
+    objective = own.l2;
     excluded_seconds += seconds_since(t0);
     return s;
   };
@@ -168,6 +175,7 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
   for (int pass = 1; pass <= options.max_passes; ++pass) {
     const auto t0 = Clock::now();
     const double excluded_before = excluded_seconds;
+    const double objective_before = objective;
     LeastSquaresReport lsq_report;
     std::vector<Vec3> next =
         solve_control_points(surface, initial, control, samples, feet, fixed, lsq, &lsq_report);
@@ -176,13 +184,14 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
     const std::vector<FootPoint> previous_feet = feet, previous_exact = exact_feet;
     FitPassStatistics s = project(next, true, pass / passes, (pass + 1) / passes);
     s.seconds = seconds_since(t0) - (excluded_seconds - excluded_before);
-    const double before = report.passes.back().l2;
-    if (s.l2 > before) {  // never let the error grow: undo the step and stop
+    const double before = objective_before;
+    if (objective > before) {  // never let the error grow: undo the step and stop
       feet = previous_feet;
       exact_feet = previous_exact;
       report.rejected_last_step = true;
       monitor.log(LogLevel::info, "fit pass " + std::to_string(pass) + " would increase L2 (" +
-                                      std::to_string(before) + " -> " + std::to_string(s.l2) + "); stopped");
+                                      std::to_string(before) + " -> " + std::to_string(objective) + "); stopped");
+      objective = before;
       break;
     }
     control = std::move(next);
@@ -191,7 +200,7 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
                                     ", max " + std::to_string(s.max_relative) + " of the bbox diagonal; " +
                                     std::to_string(lsq_seconds) + " s least squares, " +
                                     std::to_string(s.seconds - lsq_seconds) + " s projection");
-    if (before - s.l2 < options.tolerance * before) {
+    if (before - objective < options.tolerance * before) {
       report.stopped_by_tolerance = pass < options.max_passes;
       break;
     }

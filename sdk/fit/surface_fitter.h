@@ -5,7 +5,8 @@
 // closest points on the current limit surface, §7.4, closest_point_on_limit_surface.h) and the
 // control-vertex step (linear least squares with the exact basis functions, §7.5,
 // least_squares_system.h), until the drop of the thesis's L2 (7.1) falls under `tolerance`
-// (relative, (7.2)) or `max_passes` control-vertex steps are done. The L2 never increases from
+// (relative, (7.2)) or `max_passes` control-vertex steps are done. The L2 the method minimises
+// (exact; in piecewise-linear mode the distance to the piecewise-linear mesh) never increases from
 // pass to pass: a step that would increase it is rejected and the fit stops. The cage's
 // connectivity and tags (creases, corners, holes, boundary rule) are kept, so tagged edges stay
 // sharp in the fitted surface; only control-vertex positions change.

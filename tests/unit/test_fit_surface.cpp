@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <random>
 
 #include "core/status.h"
@@ -507,4 +508,61 @@ TEST(FitSurface, interior_statistics_leave_out_the_scan_boundary) {
   }
   // The limit surface of an open grid shrinks away from the boundary: the worst samples are there.
   EXPECT_LT(report.passes.front().max_relative_interior, report.passes.front().max_relative);
+}
+
+// Target of the fitting issue: the fitted fandisk keeps its sharp edges. The cage comes from the
+// simplifier with crease tags; after the fit, the largest deviation of the scan vertices on
+// feature lines (edges with a dihedral angle above 50 degrees) is no worse than elsewhere.
+TEST(FitSurface, fitted_fandisk_keeps_its_sharp_edges) {
+  const std::string path = cagekit_test::shared_mesh_path("fandisk.obj");
+  if (path.empty()) GTEST_SKIP() << "../shared/meshes/fandisk.obj not present";
+  const PolygonMesh scan = cagekit_test::load_mesh(path);
+  SimplificationHierarchy hierarchy(scan);
+  for (size_t faces : {60, 150}) {
+    hierarchy.go_to_level(hierarchy.level_for_face_count(faces));
+    CageBuildReport build;
+    const Cage cage = build_quad_dominant_cage(scan, hierarchy.extract(), {}, &build);
+    FitReport report;
+    const Cage fitted = fit_cage_to_mesh(cage, scan, {}, &report);
+    EXPECT_EQ(fitted.creases.size(), cage.creases.size());
+    // Feature vertices: on a scan edge whose two faces' normals differ by more than 50 degrees.
+    std::vector<Vec3> normal(scan.num_faces());
+    std::map<std::pair<uint32_t, uint32_t>, std::vector<uint32_t>> edge_faces;
+    for (size_t f = 0; f < scan.num_faces(); ++f) {
+      const uint32_t k = scan.face_size(f);
+      Vec3 n;
+      for (uint32_t c = 1; c + 1 < k; ++c)
+        n += cross(scan.positions[scan.face_vertex(f, c)] - scan.positions[scan.face_vertex(f, 0)],
+                   scan.positions[scan.face_vertex(f, c + 1)] - scan.positions[scan.face_vertex(f, 0)]);
+      normal[f] = normalized(n);
+      for (uint32_t c = 0; c < k; ++c) {
+        const uint32_t a = scan.face_vertex(f, c), b = scan.face_vertex(f, (c + 1) % k);
+        edge_faces[{std::min(a, b), std::max(a, b)}].push_back(uint32_t(f));
+      }
+    }
+    std::vector<bool> feature(scan.num_vertices(), false);
+    const double cos50 = std::cos(50.0 * 3.141592653589793 / 180.0);
+    for (const auto& [edge, faces_of_edge] : edge_faces)
+      if (faces_of_edge.size() == 2 && dot(normal[faces_of_edge[0]], normal[faces_of_edge[1]]) < cos50)
+        feature[edge.first] = feature[edge.second] = true;
+    double max_feature = 0, max_other = 0;
+    size_t on_features = 0;
+    for (size_t i = 0; i < scan.num_vertices(); ++i) {
+      const double d = report.foot_points[i].distance / report.bbox_diagonal;
+      if (feature[i]) {
+        ++on_features;
+        max_feature = std::max(max_feature, d);
+      } else {
+        max_other = std::max(max_other, d);
+      }
+    }
+    std::printf("fandisk %zu-face level -> cage %zu faces, %zu creases: max deviation %.4g%% -> %.4g%%; on feature "
+                "lines (%zu vertices) %.4g%%, elsewhere %.4g%%, %zu passes, %.2f s\n",
+                faces, cage.mesh.num_faces(), cage.creases.size(), 100 * report.passes.front().max_relative,
+                100 * report.passes.back().max_relative, on_features, 100 * max_feature, 100 * max_other,
+                report.passes.size() - 1, report.seconds);
+    EXPECT_GT(on_features, 100u);
+    EXPECT_LE(max_feature, max_other);
+    EXPECT_LT(report.passes.back().max_relative, report.passes.front().max_relative);
+  }
 }
