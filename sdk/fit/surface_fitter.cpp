@@ -105,7 +105,7 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
                                           : int(std::max(1u, std::thread::hardware_concurrency()));
   const bool exact = options.projection == ProjectionMode::exact;
 
-  const SubdivisionSurface surface(initial);
+  const SubdivisionSurface surface(initial, options.surface);
   const PtexAdjacency adjacency(initial.mesh, surface);
   monitor.log(LogLevel::debug, "fit: limit surface built in " + std::to_string(seconds_since(start)) + " s");
   const size_t n = initial.mesh.num_vertices();

@@ -18,8 +18,15 @@
 #include "core/task_monitor.h"
 #include "fit/closest_point_on_limit_surface.h"
 #include "fit/least_squares_system.h"
+#include "subdiv/subdivision_surface.h"
 
 CAGEKIT_NAMESPACE_BEGIN
+
+inline SurfaceOptions fit_surface_options() {
+  SurfaceOptions options;
+  options.sharp_extraordinary_isolation_level = 6;
+  return options;
+}
 
 enum class ProjectionMode {
   exact,             // closest points on the exact limit surface (§7.4), the default
@@ -47,6 +54,12 @@ struct FitOptions {
   ProjectionMode projection = ProjectionMode::exact;
   LeastSquaresSolver solver = LeastSquaresSolver::direct;
   ClosestPointOptions closest_point;
+  // The limit surface's evaluation (subdivision_surface.h). Fitting uses a lower isolation
+  // level around boundary/crease/corner extraordinary vertices than the surface's default (10):
+  // the Gregory end caps there cover parameter squares of 2^-6 instead of 2^-10 around each such
+  // vertex, which does not change the fit's error (bunny: identical to 4 digits) and builds the
+  // surface several times faster on cages with many tagged vertices.
+  SurfaceOptions surface = fit_surface_options();
   // Worker threads of the projection and assembly steps; 0 = std::thread::hardware_concurrency().
   int threads = 0;
 };
