@@ -2,6 +2,8 @@
 // Fitting a cage's limit surface to a scan (thesis ch. 7): cagekit_cage_fit.
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
+#include <cstring>
 
 #include "capi/api_guard.h"
 #include "fit/surface_fitter.h"
@@ -9,6 +11,16 @@
 using namespace cagekit_capi;
 
 namespace {
+
+// The caller's enum value as an integer, read without loading an enum object (a value outside
+// the enumerators' range, such as -1, would be undefined behaviour in C++).
+template <class E>
+int32_t raw_enum(const E& value) {
+  static_assert(sizeof(E) == sizeof(int32_t), "C API enums are 32-bit");
+  int32_t raw;
+  std::memcpy(&raw, &value, sizeof(raw));
+  return raw;
+}
 
 void check_range(uint32_t value, uint32_t min, uint32_t max, const char* name) {
   if (value < min || value > max)
@@ -36,20 +48,21 @@ cagekit::FitOptions convert_options(const cagekit_fit_options& o) {
     fail(Status::invalid_argument,
          "cagekit_fit_options.keep_crease_vertices must be 0 or 1, not " + std::to_string(o.keep_crease_vertices));
   cagekit::FitOptions f;
-  switch (o.projection) {
-    case CAGEKIT_PROJECTION_EXACT: f.projection = cagekit::ProjectionMode::exact; break;
-    case CAGEKIT_PROJECTION_PIECEWISE_LINEAR: f.projection = cagekit::ProjectionMode::piecewise_linear; break;
-    default:
-      fail(Status::invalid_argument, "cagekit_fit_options.projection (" + std::to_string(int(o.projection)) +
-                                         ") is not a cagekit_projection_mode");
-  }
-  switch (o.solver) {
-    case CAGEKIT_LSQ_DIRECT: f.solver = cagekit::LeastSquaresSolver::direct; break;
-    case CAGEKIT_LSQ_CGLS: f.solver = cagekit::LeastSquaresSolver::cgls; break;
-    default:
-      fail(Status::invalid_argument,
-           "cagekit_fit_options.solver (" + std::to_string(int(o.solver)) + ") is not a cagekit_lsq_solver");
-  }
+  const int32_t projection = raw_enum(o.projection), solver = raw_enum(o.solver);
+  if (projection == CAGEKIT_PROJECTION_EXACT)
+    f.projection = cagekit::ProjectionMode::exact;
+  else if (projection == CAGEKIT_PROJECTION_PIECEWISE_LINEAR)
+    f.projection = cagekit::ProjectionMode::piecewise_linear;
+  else
+    fail(Status::invalid_argument, "cagekit_fit_options.projection (" + std::to_string(projection) +
+                                       ") is not a cagekit_projection_mode");
+  if (solver == CAGEKIT_LSQ_DIRECT)
+    f.solver = cagekit::LeastSquaresSolver::direct;
+  else if (solver == CAGEKIT_LSQ_CGLS)
+    f.solver = cagekit::LeastSquaresSolver::cgls;
+  else
+    fail(Status::invalid_argument,
+         "cagekit_fit_options.solver (" + std::to_string(solver) + ") is not a cagekit_lsq_solver");
   check_range(o.threads, 0, 1024, "threads");
   check_range(o.max_projection_steps, 0, 100000, "max_projection_steps");
   check_real(o.projection_epsilon, 0.0, inf, true, "projection_epsilon");
