@@ -6,6 +6,8 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "layout/planar_polygon.h"
+
 CAGEKIT_NAMESPACE_BEGIN
 
 namespace {
@@ -42,6 +44,94 @@ void copy_positions(const PolygonMesh& input, const std::vector<uint32_t>& input
   for (uint32_t v : input_vertex_of) out->positions.push_back(input.positions[v]);
 }
 
+
+// One level face on its way to cage faces: its projection, triangulation and partition.
+struct FaceWork {
+  PolygonLoops polygon;
+  std::vector<uint32_t> point_to_input;
+  std::vector<std::array<uint32_t, 3>> triangles;
+  QuadDominantPartition partition;
+  std::vector<std::vector<uint32_t>> cycles;  // polygonal_level_mesh: the faces it emits
+};
+
+// Sorted keys of the undirected edges (input vertex pairs) used more than twice by the cycles
+// the faces emit.
+template <typename CyclesOf>
+std::vector<uint64_t> overused_edges(const std::vector<FaceWork>& work, CyclesOf&& cycles_of) {
+  std::unordered_map<uint64_t, uint32_t> uses;
+  for (const FaceWork& w : work)
+    for (const auto& cycle : cycles_of(w))
+      for (size_t k = 0; k < cycle.size(); ++k)
+        ++uses[edge_key(w.point_to_input[cycle[k]], w.point_to_input[cycle[(k + 1) % cycle.size()]])];
+  std::vector<uint64_t> shared;
+  for (const auto& [key, count] : uses)
+    if (count > 2) shared.push_back(key);
+  std::sort(shared.begin(), shared.end());
+  return shared;
+}
+
+// Merges the two cells of a partition on either side of the inner edge (a, b) into one cell (a
+// simple polygon, not necessarily convex). Returns false when the edge is not shared by two cells.
+bool merge_cells_across(std::vector<std::vector<uint32_t>>& cells, uint32_t a, uint32_t b) {
+  size_t ci = cells.size(), cj = cells.size(), ki = 0, kj = 0;
+  for (size_t c = 0; c < cells.size(); ++c)
+    for (size_t k = 0; k < cells[c].size(); ++k) {
+      const uint32_t x = cells[c][k], y = cells[c][(k + 1) % cells[c].size()];
+      if (x == a && y == b) ci = c, ki = k;
+      if (x == b && y == a) cj = c, kj = k;
+    }
+  if (ci == cells.size() || cj == cells.size() || ci == cj) return false;
+  const auto& i = cells[ci];
+  const auto& j = cells[cj];
+  std::vector<uint32_t> merged;
+  for (size_t k = 1; k <= i.size(); ++k) merged.push_back(i[(ki + k) % i.size()]);     // b ... a
+  for (size_t k = 2; k < j.size(); ++k) merged.push_back(j[(kj + k) % j.size()]);      // after a ... before b
+  cells[ci] = std::move(merged);
+  cells.erase(cells.begin() + static_cast<std::ptrdiff_t>(cj));
+  return true;
+}
+
+// Rounds of: count the uses of every undirected edge (input vertex pairs) over the cycles the
+// faces emit; for an edge with more than two uses, flip it out of the triangulation of each face
+// that has it as an inner diagonal (not as a loop edge) and rebuild that face (`rebuild`).
+// Returns the number of diagonals flipped out.
+template <typename Rebuild, typename CyclesOf>
+uint64_t resolve_shared_diagonals(std::vector<FaceWork>& work, Rebuild&& rebuild, CyclesOf&& cycles_of) {
+  uint64_t flipped = 0;
+  for (int round = 0; round < 4; ++round) {
+    const std::vector<uint64_t> shared = overused_edges(work, cycles_of);
+    if (shared.empty()) break;
+    bool changed_any = false;
+    for (size_t f = 0; f < work.size(); ++f) {
+      FaceWork& w = work[f];
+      if (w.polygon.loops.empty()) continue;
+      // Loop edges of the face, and the face's point of each input vertex.
+      std::unordered_map<uint64_t, char> loop_edges;
+      for (const auto& loop : w.polygon.loops)
+        for (size_t k = 0; k < loop.size(); ++k)
+          loop_edges[edge_key(w.point_to_input[loop[k]], w.point_to_input[loop[(k + 1) % loop.size()]])] = 1;
+      bool changed = false;
+      for (const auto& cycle : cycles_of(w))
+        for (size_t k = 0; k < cycle.size(); ++k) {
+          const uint32_t pa = cycle[k], pb = cycle[(k + 1) % cycle.size()];
+          const uint64_t key = edge_key(w.point_to_input[pa], w.point_to_input[pb]);
+          if (loop_edges.count(key) || !std::binary_search(shared.begin(), shared.end(), key)) continue;
+          auto triangles = w.triangles;
+          if (flip_out_edge(w.polygon, triangles, pa, pb) && triangles != w.triangles) {
+            w.triangles = std::move(triangles);
+            changed = true;
+            ++flipped;
+          }
+        }
+      if (changed) {
+        rebuild(f);
+        changed_any = true;
+      }
+    }
+    if (!changed_any) break;
+  }
+  return flipped;
+}
 }  // namespace
 
 PolygonLoops project_face(const PolygonMesh& input, const PolygonalFace& face,
@@ -69,15 +159,54 @@ Cage build_quad_dominant_cage(const PolygonMesh& input, const PolygonalLevel& le
   r = CageBuildReport{};
   VertexNumbering numbering(input.num_vertices());
   Cage cage;
-  std::vector<uint32_t> point_to_input, cell;
-  for (size_t f = 0; f < level.faces.size(); ++f) {
-    const PolygonLoops polygon = project_face(input, level.faces[f], &point_to_input);
-    const auto triangles = triangulate_polygon(polygon);
-    const QuadDominantPartition partition = partition_quad_dominant(polygon, triangles, options.partition);
+  const size_t num_faces = level.faces.size();
+  std::vector<FaceWork> work(num_faces);
+  for (size_t f = 0; f < num_faces; ++f) {
+    FaceWork& w = work[f];
+    w.polygon = project_face(input, level.faces[f], &w.point_to_input);
+    w.triangles = triangulate_polygon(w.polygon);
+    w.partition = partition_quad_dominant(w.polygon, w.triangles, options.partition);
+  }
+  // A diagonal chosen inside one face may join two vertices that another face already joins
+  // (by an edge or its own diagonal): the cage edge would have more than two faces. Such
+  // diagonals are flipped out of their face's triangulation and the face partitioned again.
+  r.diagonals_flipped = resolve_shared_diagonals(work, [&](size_t f) {
+    work[f].partition = partition_quad_dominant(work[f].polygon, work[f].triangles, options.partition);
+  }, [](const FaceWork& w) -> const std::vector<std::vector<uint32_t>>& { return w.partition.cells; });
+  // Diagonals that no flip removes (the CDT forces them): the two cells on them become one
+  // (possibly non-convex) cell, so the cage stays manifold.
+  const auto cells_of = [](const FaceWork& w) -> const std::vector<std::vector<uint32_t>>& {
+    return w.partition.cells;
+  };
+  if (const std::vector<uint64_t> shared = overused_edges(work, cells_of); !shared.empty())
+    for (FaceWork& w : work) {
+      std::unordered_map<uint64_t, char> loop_edges;
+      for (const auto& loop : w.polygon.loops)
+        for (size_t k = 0; k < loop.size(); ++k)
+          loop_edges[edge_key(w.point_to_input[loop[k]], w.point_to_input[loop[(k + 1) % loop.size()]])] = 1;
+      for (bool merged = true; merged;) {
+        merged = false;
+        for (size_t c = 0; c < w.partition.cells.size() && !merged; ++c) {
+          const auto& cycle = w.partition.cells[c];
+          for (size_t k = 0; k < cycle.size() && !merged; ++k) {
+            const uint32_t pa = cycle[k], pb = cycle[(k + 1) % cycle.size()];
+            const uint64_t key = edge_key(w.point_to_input[pa], w.point_to_input[pb]);
+            if (!loop_edges.count(key) && std::binary_search(shared.begin(), shared.end(), key) &&
+                merge_cells_across(w.partition.cells, pa, pb)) {
+              merged = true;
+              ++r.cells_merged;
+            }
+          }
+        }
+      }
+    }
+  std::vector<uint32_t> cell;
+  for (size_t f = 0; f < num_faces; ++f) {
+    const QuadDominantPartition& partition = work[f].partition;
     if (!partition.optimal) ++r.non_optimal_faces;
     for (const auto& points : partition.cells) {
       cell.clear();
-      for (uint32_t p : points) cell.push_back(numbering.index_of(point_to_input[p]));
+      for (uint32_t p : points) cell.push_back(numbering.index_of(work[f].point_to_input[p]));
       cage.mesh.add_face(cell.data(), cell.size());
       r.cluster_of_cage_face.push_back(static_cast<uint32_t>(f));
       switch (cell.size()) {
@@ -128,22 +257,35 @@ PolygonMesh polygonal_level_mesh(const PolygonMesh& input, const PolygonalLevel&
   VertexNumbering numbering(input.num_vertices());
   PolygonMesh mesh;
   uint64_t triangulated = 0;
-  std::vector<uint32_t> face, point_to_input;
-  for (const PolygonalFace& f : level.faces) {
-    if (f.loops.size() == 1) {
-      face.clear();
-      for (uint32_t v : f.loops[0]) face.push_back(numbering.index_of(v));
-      mesh.add_face(face.data(), face.size());
+  // Faces with holes are triangulated (CDT); a triangle edge that joins two vertices some other
+  // face already joins is flipped out (see resolve_shared_diagonals).
+  std::vector<FaceWork> work(level.faces.size());
+  auto triangles_as_cycles = [](FaceWork& w) {
+    w.cycles.clear();
+    for (const auto& t : w.triangles) w.cycles.push_back({t[0], t[1], t[2]});
+  };
+  for (size_t f = 0; f < level.faces.size(); ++f) {
+    FaceWork& w = work[f];
+    if (level.faces[f].loops.size() == 1) {
+      w.point_to_input = level.faces[f].loops[0];
+      w.cycles.emplace_back(w.point_to_input.size());
+      for (uint32_t k = 0; k < w.point_to_input.size(); ++k) w.cycles[0][k] = k;
       continue;
     }
     ++triangulated;
-    const PolygonLoops polygon = project_face(input, f, &point_to_input);
-    for (const auto& t : triangulate_polygon(polygon)) {
-      const uint32_t tri[3] = {numbering.index_of(point_to_input[t[0]]), numbering.index_of(point_to_input[t[1]]),
-                               numbering.index_of(point_to_input[t[2]])};
-      mesh.add_face(tri, 3);
-    }
+    w.polygon = project_face(input, level.faces[f], &w.point_to_input);
+    w.triangles = triangulate_polygon(w.polygon);
+    triangles_as_cycles(w);
   }
+  resolve_shared_diagonals(work, [&](size_t f) { triangles_as_cycles(work[f]); },
+                           [](const FaceWork& w) -> const std::vector<std::vector<uint32_t>>& { return w.cycles; });
+  std::vector<uint32_t> face;
+  for (const FaceWork& w : work)
+    for (const auto& cycle : w.cycles) {
+      face.clear();
+      for (uint32_t p : cycle) face.push_back(numbering.index_of(w.point_to_input[p]));
+      mesh.add_face(face.data(), face.size());
+    }
   copy_positions(input, numbering.input_vertex_of(), &mesh);
   if (faces_triangulated) *faces_triangulated = triangulated;
   if (input_vertex_of) *input_vertex_of = numbering.input_vertex_of();

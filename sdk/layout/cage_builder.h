@@ -31,6 +31,12 @@ struct CageBuildReport {
   // Cage edges used by more than two cage faces: a diagonal chosen inside one level face that
   // joins the same two vertices as an edge elsewhere (0 expected; reported, not hidden).
   uint64_t non_manifold_edges = 0;
+  // Diagonals flipped out of a face's triangulation because another face already joined their
+  // two vertices (the face was then partitioned again on the flipped triangulation).
+  uint64_t diagonals_flipped = 0;
+  // Diagonals no flip could remove: the two cells on them were merged into one cell (possibly
+  // non-convex, counted in quads/pentagons/other by its size).
+  uint64_t cells_merged = 0;
   std::vector<uint32_t> input_vertex_of;       // cage vertex -> input vertex
   std::vector<uint32_t> cluster_of_cage_face;  // cage face -> level face (cluster)
 };

@@ -72,6 +72,17 @@ std::vector<std::array<uint32_t, 3>> triangulate_polygon(const PolygonLoops& pol
 // vertices are cocircular), so the result is always the same triangle set as CGAL's CDT.
 void triangulate_valid_polygon(const PolygonLoops& polygon, std::vector<std::array<uint32_t, 3>>& triangles);
 
+// Removes the edge (a, b) (polygon point indices) from a triangulation of a polygon by flipping
+// it: the two triangles on it, (a, b, c) and (b, a, d), become (a, d, c) and (d, b, c) when they
+// form a strictly convex quadrilateral (exact orient2d); when they do not, one of the four edges
+// around them is flipped first if that makes the flip possible. Used to keep one face's diagonal
+// off a vertex pair that another face already joins. Returns true when (a, b) is no longer an
+// edge of the triangulation (flipped, or never an interior edge), false when it stays (no such
+// flips, or a polygon edge). The result is a triangulation without Steiner points, no longer
+// Delaunay.
+bool flip_out_edge(const PolygonLoops& polygon, std::vector<std::array<uint32_t, 3>>& triangles, uint32_t a,
+                   uint32_t b);
+
 namespace detail {
 // The CGAL constrained Delaunay triangulation behind triangulate_polygon (reference for tests).
 std::vector<std::array<uint32_t, 3>> triangulate_polygon_cgal(const PolygonLoops& polygon);

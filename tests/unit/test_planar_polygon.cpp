@@ -487,3 +487,32 @@ TEST(PlanarPolygonTriangulation, FastPathMatchesCgal) {
   }
   EXPECT_GT(compared, 1500u);
 }
+
+// flip_out_edge: the two triangles on an inner edge of a convex quadrilateral become the two
+// on the other diagonal; a reflex quadrilateral needs a neighbouring flip first or cannot flip;
+// polygon edges stay.
+TEST(PlanarPolygonTriangulation, FlipOutEdge) {
+  PolygonLoops square;
+  square.points = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  square.loops = {{0, 1, 2, 3}};
+  std::vector<std::array<uint32_t, 3>> tris = {{0, 1, 2}, {0, 2, 3}};
+  EXPECT_TRUE(flip_out_edge(square, tris, 0, 2));
+  auto has_edge = [&](uint32_t a, uint32_t b) {
+    for (const auto& t : tris)
+      for (int k = 0; k < 3; ++k)
+        if ((t[k] == a && t[(k + 1) % 3] == b) || (t[k] == b && t[(k + 1) % 3] == a)) return true;
+    return false;
+  };
+  EXPECT_FALSE(has_edge(0, 2));
+  EXPECT_TRUE(has_edge(1, 3));
+  for (const auto& t : tris) EXPECT_GT(orient2d(square.points[t[0]], square.points[t[1]], square.points[t[2]]), 0);
+  EXPECT_TRUE(flip_out_edge(square, tris, 0, 2));   // no longer an edge
+  EXPECT_FALSE(flip_out_edge(square, tris, 0, 1));  // a polygon edge
+  // A dart (reflex at vertex 2): the inner edge 0-2 is forced.
+  PolygonLoops dart;
+  dart.points = {{0, 0}, {2, -1}, {0.5, 0}, {2, 1}};
+  dart.loops = {{0, 1, 2, 3}};
+  std::vector<std::array<uint32_t, 3>> dart_tris = {{0, 1, 2}, {0, 2, 3}};
+  EXPECT_FALSE(flip_out_edge(dart, dart_tris, 0, 2));
+  EXPECT_EQ(dart_tris, (std::vector<std::array<uint32_t, 3>>{{0, 1, 2}, {0, 2, 3}}));
+}
