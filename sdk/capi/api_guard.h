@@ -12,6 +12,18 @@
 
 namespace cagekit_capi {
 
+// A caller's enum value as an integer, read without loading an enum object: a value outside the
+// enumerators' range (such as -1) would be undefined behaviour in C++ (UBSan -fsanitize=enum).
+// Take enum parameters by reference and check raw_enum(param) before using them.
+template <class E>
+int32_t raw_enum(const E& value) {
+  static_assert(sizeof(E) == sizeof(int32_t), "C API enums are 32-bit");
+  int32_t raw;
+  std::memcpy(&raw, &value, sizeof(raw));
+  return raw;
+}
+
+
 using cagekit::Error;
 using cagekit::Status;
 using cagekit::fail;

@@ -160,9 +160,10 @@ CAGEKIT_API cagekit_status cagekit_cage_get_holes(cagekit_cage cage, uint32_t ca
 CAGEKIT_API cagekit_status cagekit_cage_set_boundary_rule(cagekit_cage cage, cagekit_boundary_rule rule) {
   return guarded(context_of(cage), [&] {
     cagekit_cage_t& c = checked(cage, "cage");
-    if (rule != CAGEKIT_BOUNDARY_EDGES_ONLY && rule != CAGEKIT_BOUNDARY_EDGES_AND_CORNERS)
+    const int32_t raw = raw_enum(rule);
+    if (raw != CAGEKIT_BOUNDARY_EDGES_ONLY && raw != CAGEKIT_BOUNDARY_EDGES_AND_CORNERS)
       fail(Status::invalid_argument, "rule is not a cagekit_boundary_rule");
-    c.cage.boundary = static_cast<cagekit::BoundaryRule>(rule);
+    c.cage.boundary = static_cast<cagekit::BoundaryRule>(raw);
   });
 }
 

@@ -99,7 +99,7 @@ CAGEKIT_API cagekit_status cagekit_context_create(const cagekit_context_desc* de
       fail(Status::version_mismatch, "the host was built for CageKit ABI " + std::to_string(d.abi_version) +
                                          " but the loaded libcagekit has ABI " +
                                          std::to_string(CAGEKIT_ABI_VERSION));
-    if (d.log_level < CAGEKIT_LOG_DEBUG || d.log_level > CAGEKIT_LOG_ERROR)
+    if (raw_enum(d.log_level) < CAGEKIT_LOG_DEBUG || raw_enum(d.log_level) > CAGEKIT_LOG_ERROR)
       fail(Status::invalid_argument, "cagekit_context_desc.log_level is out of range");
     auto context = std::make_unique<cagekit_context_t>();
     context->log = d.log;

@@ -12,16 +12,6 @@ using namespace cagekit_capi;
 
 namespace {
 
-// The caller's enum value as an integer, read without loading an enum object (a value outside
-// the enumerators' range, such as -1, would be undefined behaviour in C++).
-template <class E>
-int32_t raw_enum(const E& value) {
-  static_assert(sizeof(E) == sizeof(int32_t), "C API enums are 32-bit");
-  int32_t raw;
-  std::memcpy(&raw, &value, sizeof(raw));
-  return raw;
-}
-
 void check_range(uint32_t value, uint32_t min, uint32_t max, const char* name) {
   if (value < min || value > max)
     fail(Status::invalid_argument, std::string("cagekit_fit_options.") + name + " must be in " + std::to_string(min) +

@@ -11,10 +11,11 @@ using namespace cagekit_capi;
 
 namespace {
 
-cagekit::FileFormat checked_format(cagekit_file_format format) {
-  if (format < CAGEKIT_FORMAT_AUTO || format > CAGEKIT_FORMAT_DRACO)
+cagekit::FileFormat checked_format(const cagekit_file_format& format) {
+  const int32_t raw = raw_enum(format);
+  if (raw < CAGEKIT_FORMAT_AUTO || raw > CAGEKIT_FORMAT_DRACO)
     fail(Status::invalid_argument, "format is not a cagekit_file_format");
-  return static_cast<cagekit::FileFormat>(format);
+  return static_cast<cagekit::FileFormat>(raw);
 }
 
 cagekit::WriteOptions write_options(const cagekit_write_options* options) {
@@ -42,7 +43,7 @@ void write_report(cagekit_write_report* report, const cagekit::WriteReport& r) {
 }
 
 cagekit::Cage read_cage(cagekit_context_t& context, const char* path, const void* data, size_t size,
-                        cagekit_file_format format) {
+                        const cagekit_file_format& format) {
   const cagekit::FileFormat f = checked_format(format);
   if (path) return cagekit::read_cage_from_file(path, f, {}, context.monitor());
   if (size > 0) require_not_null(data, "data");

@@ -17,7 +17,7 @@ cagekit::PolygonMesh mesh_from_desc(const cagekit_mesh_desc& d) {
   if (d.vertex_count > 0 && d.positions == nullptr)
     fail(Status::invalid_argument, "cagekit_mesh_desc.positions is NULL but vertex_count is " +
                                        std::to_string(d.vertex_count));
-  if (d.position_type != CAGEKIT_SCALAR_FLOAT32 && d.position_type != CAGEKIT_SCALAR_FLOAT64)
+  if (raw_enum(d.position_type) != CAGEKIT_SCALAR_FLOAT32 && raw_enum(d.position_type) != CAGEKIT_SCALAR_FLOAT64)
     fail(Status::invalid_argument, "cagekit_mesh_desc.position_type is not a cagekit_scalar_type");
   const size_t scalar = d.position_type == CAGEKIT_SCALAR_FLOAT32 ? sizeof(float) : sizeof(double);
   const size_t stride = d.position_stride == 0 ? 3 * scalar : d.position_stride;
@@ -161,7 +161,7 @@ CAGEKIT_API cagekit_status cagekit_mesh_get_positions(cagekit_mesh mesh, cagekit
                                                       void* positions) {
   return guarded(context_of(mesh), [&] {
     const cagekit::PolygonMesh& m = checked(mesh, "mesh").mesh;
-    if (type != CAGEKIT_SCALAR_FLOAT32 && type != CAGEKIT_SCALAR_FLOAT64)
+    if (raw_enum(type) != CAGEKIT_SCALAR_FLOAT32 && raw_enum(type) != CAGEKIT_SCALAR_FLOAT64)
       fail(Status::invalid_argument, "type is not a cagekit_scalar_type");
     if (two_call_check(static_cast<uint32_t>(m.num_vertices()), vertex_capacity, vertex_count_out,
                        positions != nullptr, "positions"))

@@ -72,7 +72,7 @@ CAGEKIT_API cagekit_status cagekit_hierarchy_find_level(cagekit_hierarchy hierar
     require_not_null(level, "level");
     if (!(value >= 0)) fail(Status::invalid_argument, "value must be >= 0 (and not NaN)");
     const double capped = std::min(value, 1.8e19);
-    switch (query) {
+    switch (raw_enum(query)) {
       case CAGEKIT_LEVEL_BY_FACES:
         *level = static_cast<uint32_t>(h.hierarchy.level_for_face_count(static_cast<uint64_t>(capped)));
         break;

@@ -553,6 +553,55 @@ static cagekit_mesh new_sphere(cagekit_context context) {
   return mesh;
 }
 
+static void out_of_range_enum_values_are_rejected(void) {
+  /* Values outside every enum's range (-1, 99) must give INVALID_ARGUMENT, never undefined
+   * behaviour inside the library (run under UBSan in CI). */
+  static const int32_t bad[2] = {-1, 99};
+  cagekit_context context = new_context();
+  cagekit_context other = NULL;
+  cagekit_cage cage = new_creased_cube(context);
+  cagekit_mesh mesh = new_cube(context), made = NULL;
+  cagekit_cage read = NULL;
+  cagekit_hierarchy hierarchy = NULL;
+  double positions[24];
+  uint32_t level = 0;
+  int i;
+  static const char kObj[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  static const uint32_t tri[3] = {0, 1, 2};
+  cagekit_mesh_desc desc = CAGEKIT_MESH_DESC_INIT;
+  desc.vertex_count = 3;
+  desc.positions = kCubeD;
+  desc.face_count = 1;
+  desc.uniform_face_size = 3;
+  desc.face_indices = tri;
+  CHECK_OK(cagekit_mesh_create(context, &desc, &made));
+  CHECK_OK(cagekit_hierarchy_create(made, NULL, &hierarchy));
+  cagekit_mesh_release(made);
+  made = NULL;
+  for (i = 0; i < 2; ++i) {
+    cagekit_context_desc cdesc = CAGEKIT_CONTEXT_DESC_INIT;
+    cagekit_mesh_desc mdesc = desc;
+    memcpy(&cdesc.log_level, &bad[i], sizeof(bad[i]));
+    CHECK_STATUS(cagekit_context_create(&cdesc, &other), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    CHECK(other == NULL);
+    memcpy(&mdesc.position_type, &bad[i], sizeof(bad[i]));
+    CHECK_STATUS(cagekit_mesh_create(context, &mdesc, &made), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    CHECK(made == NULL);
+    CHECK_STATUS(cagekit_cage_set_boundary_rule(cage, (cagekit_boundary_rule)bad[i]), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    CHECK_STATUS(cagekit_mesh_get_positions(mesh, (cagekit_scalar_type)bad[i], 8, NULL, positions),
+                 CAGEKIT_ERROR_INVALID_ARGUMENT);
+    CHECK_STATUS(cagekit_cage_read_memory(context, kObj, sizeof(kObj) - 1, (cagekit_file_format)bad[i], &read),
+                 CAGEKIT_ERROR_INVALID_ARGUMENT);
+    CHECK(read == NULL);
+    CHECK_STATUS(cagekit_hierarchy_find_level(hierarchy, (cagekit_level_query)bad[i], 1.0, &level),
+                 CAGEKIT_ERROR_INVALID_ARGUMENT);
+  }
+  cagekit_hierarchy_release(hierarchy);
+  cagekit_mesh_release(mesh);
+  cagekit_cage_release(cage);
+  cagekit_context_release(context);
+}
+
 static void fit_reduces_the_error_every_pass(void) {
   cagekit_context context = new_context();
   cagekit_mesh cube_mesh = new_cube(context), sphere = new_sphere(context);
@@ -831,6 +880,7 @@ int main(void) {
       {"objects_outlive_their_context_reference", objects_outlive_their_context_reference},
       {"simplification_hierarchy_browses_levels_and_builds_a_cage",
        simplification_hierarchy_browses_levels_and_builds_a_cage},
+      {"out_of_range_enum_values_are_rejected", out_of_range_enum_values_are_rejected},
       {"fit_reduces_the_error_every_pass", fit_reduces_the_error_every_pass},
       {"fit_keeps_tags_and_pinned_crease_vertices", fit_keeps_tags_and_pinned_crease_vertices},
       {"fit_rejects_bad_arguments_and_can_be_cancelled", fit_rejects_bad_arguments_and_can_be_cancelled},
