@@ -70,7 +70,7 @@ double brent_minimize(Phi&& phi, double b, double f0, double* f_best) {
 
 LimitSurfaceProjector::LimitSurfaceProjector(const SubdivisionSurface& surface, const PtexAdjacency* adjacency,
                                              const std::vector<Vec3>& control, const ClosestPointOptions& options,
-                                             bool linear_mesh)
+                                             bool linear_mesh, int threads)
     : surface_(surface), options_(options), points_(surface.patch_points(control)), adjacency_(adjacency) {
   if (options.max_steps < 0 || options.max_steps > 100000)
     fail(Status::invalid_argument, "closest point: max_steps must be in [0, 100000]");
@@ -78,7 +78,8 @@ LimitSurfaceProjector::LimitSurfaceProjector(const SubdivisionSurface& surface, 
     fail(Status::invalid_argument, "closest point: epsilon must be finite and > 0");
   if (options.seed_resolution < 1 || options.seed_resolution > 64)
     fail(Status::invalid_argument, "closest point: seed_resolution must be in [1, 64]");
-  if (linear_mesh) linear_ = std::make_unique<PiecewiseLinearLimitMesh>(surface, points_, options.seed_resolution);
+  if (linear_mesh)
+    linear_ = std::make_unique<PiecewiseLinearLimitMesh>(surface, points_, options.seed_resolution, threads);
 }
 
 LimitSurfaceProjector::~LimitSurfaceProjector() = default;

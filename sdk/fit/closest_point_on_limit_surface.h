@@ -60,10 +60,10 @@ class LimitSurfaceProjector {
   // `adjacency` (of the same surface's cage; null = no transfers, searches stop on the border
   // of their ptex face) and the surface must outlive the projector. `linear_mesh`: build the
   // piecewise-linear limit mesh (needed by project() and project_piecewise_linear(), not by
-  // refine()).
+  // refine()), evaluated on `threads` threads.
   LimitSurfaceProjector(const SubdivisionSurface& surface, const PtexAdjacency* adjacency,
                         const std::vector<Vec3>& control, const ClosestPointOptions& options = {},
-                        bool linear_mesh = true);
+                        bool linear_mesh = true, int threads = 1);
   ~LimitSurfaceProjector();
 
   // Exact closest point, started from the piecewise-linear closest point or, with a warm start,

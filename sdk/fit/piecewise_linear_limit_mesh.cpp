@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
+#include <thread>
 
 #include "core/status.h"
 
@@ -49,29 +51,45 @@ void closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3
   w[1] = vb / sum, w[2] = vc / sum, w[0] = 1 - w[1] - w[2];
 }
 
-double box_distance2(const Vec3& p, const Vec3& lo, const Vec3& hi) {
-  double d = 0;
-  for (int k = 0; k < 3; ++k) {
-    const double e = p[k] < lo[k] ? lo[k] - p[k] : p[k] > hi[k] ? p[k] - hi[k] : 0.0;
-    d += e * e;
-  }
-  return d;
+inline double axis_gap(double p, double lo, double hi) { return std::max(0.0, std::max(lo - p, p - hi)); }
+
+inline double box_distance2(const Vec3& p, const Vec3& lo, const Vec3& hi) {
+  const double x = axis_gap(p.x, lo.x, hi.x), y = axis_gap(p.y, lo.y, hi.y), z = axis_gap(p.z, lo.z, hi.z);
+  return x * x + y * y + z * z;
 }
 
 }  // namespace
 
 PiecewiseLinearLimitMesh::PiecewiseLinearLimitMesh(const SubdivisionSurface& surface,
-                                                   const std::vector<Vec3>& patch_points, int resolution)
+                                                   const std::vector<Vec3>& patch_points, int resolution, int threads)
     : resolution_(resolution) {
   if (resolution < 1 || resolution > 64) fail(Status::invalid_argument, "piecewise-linear mesh: resolution must be in [1, 64]");
   const int r = resolution, g = r + 1;
-  for (uint32_t f = 0; f < surface.num_ptex_faces(); ++f) {
-    if (!surface.has_limit_surface(f)) continue;
-    const uint32_t block = uint32_t(grid_face_.size());
-    grid_face_.push_back(f);
-    for (int i = 0; i < g; ++i)
-      for (int j = 0; j < g; ++j)
-        grid_.push_back(surface.evaluate_position(f, double(i) / r, double(j) / r, patch_points));
+  for (uint32_t f = 0; f < surface.num_ptex_faces(); ++f)
+    if (surface.has_limit_surface(f)) grid_face_.push_back(f);
+  // Grid points, evaluated on `threads` threads (each writes its own blocks).
+  grid_.resize(grid_face_.size() * size_t(g) * size_t(g));
+  const size_t blocks = grid_face_.size();
+  const int workers = int(std::max<size_t>(1, std::min<size_t>(size_t(std::max(threads, 1)), blocks / 64)));
+  std::vector<std::exception_ptr> errors(static_cast<size_t>(workers));
+  auto work = [&](int w) {
+    try {
+      for (size_t b = blocks * size_t(w) / size_t(workers); b < blocks * size_t(w + 1) / size_t(workers); ++b)
+        for (int i = 0; i < g; ++i)
+          for (int j = 0; j < g; ++j)
+            grid_[(b * size_t(g) + size_t(i)) * size_t(g) + size_t(j)] =
+                surface.evaluate_position(grid_face_[b], double(i) / r, double(j) / r, patch_points);
+    } catch (...) {
+      errors[size_t(w)] = std::current_exception();
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int w = 1; w < workers; ++w) pool.emplace_back(work, w);
+  work(0);
+  for (auto& t : pool) t.join();
+  for (auto& e : errors)
+    if (e) std::rethrow_exception(e);
+  for (uint32_t block = 0; block < blocks; ++block) {
     for (int i = 0; i < r; ++i)
       for (int j = 0; j < r; ++j)
         for (int half = 0; half < 2; ++half) {

@@ -29,8 +29,9 @@ class PiecewiseLinearLimitMesh {
 
   // `patch_points` from surface.patch_points(control). Hole faces are left out. Throws
   // invalid_argument for resolution < 1 and invalid_mesh when no face has a limit surface.
+  // The grid is evaluated on `threads` threads.
   PiecewiseLinearLimitMesh(const SubdivisionSurface& surface, const std::vector<Vec3>& patch_points,
-                           int resolution);
+                           int resolution, int threads = 1);
 
   // The closest point; with `max_distance`, only points closer than that are looked for (a
   // faster query) and a Hit with distance = +infinity is returned when there is none.

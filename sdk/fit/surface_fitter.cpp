@@ -138,7 +138,7 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
   auto project = [&](const std::vector<Vec3>& ctrl, bool warm, double f0, double f1) {
     const auto build_start = Clock::now();
     const bool linear_mesh = !(exact && warm) || options.closest_point.reseed_from_linear_mesh;
-    const LimitSurfaceProjector projector(surface, &adjacency, ctrl, options.closest_point, linear_mesh);
+    const LimitSurfaceProjector projector(surface, &adjacency, ctrl, options.closest_point, linear_mesh, threads);
     monitor.log(LogLevel::debug, "fit: piecewise-linear limit mesh built in " +
                                      std::to_string(seconds_since(build_start)) + " s");
     if (exact) {

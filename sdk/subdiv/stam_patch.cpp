@@ -244,8 +244,9 @@ StamMatrices build_stam_matrices(int valence) {
   return m;
 }
 
-void stam_basis(const StamMatrices& m, double s, double t, double* w) {
+void stam_basis(const StamMatrices& m, double s, double t, double* w, int kinds) {
   const int n = m.valence, size = m.size(), ext = size + 9;
+  kinds = std::clamp(kinds, 1, 6);
   std::fill(w, w + 6 * size, 0.0);
   double largest = std::max(s, t);
   int levels = 0;
@@ -279,11 +280,14 @@ void stam_basis(const StamMatrices& m, double s, double t, double* w) {
   PatchBasis b;
   bspline_patch_basis(x, y, 0, b);
   // Row vectors over the child's extended layout, pushed back through A-bar and A^levels.
-  std::vector<double> row(6 * static_cast<size_t>(ext), 0.0), cur(6 * static_cast<size_t>(size), 0.0),
-      next(6 * static_cast<size_t>(size));
-  for (int k = 0; k < 6; ++k)
+  // Per-thread scratch rows (no allocation per evaluation once grown).
+  thread_local std::vector<double> row, cur, next;
+  row.assign(6 * static_cast<size_t>(ext), 0.0);
+  cur.assign(6 * static_cast<size_t>(size), 0.0);
+  next.resize(6 * static_cast<size_t>(size));
+  for (int k = 0; k < kinds; ++k)
     for (int p = 0; p < 16; ++p) row[k * ext + m.sub_points[sub][p]] += b[k][p];
-  for (int k = 0; k < 6; ++k)
+  for (int k = 0; k < kinds; ++k)
     for (int r = 0; r < ext; ++r) {
       const double x_r = row[k * ext + r];
       if (x_r == 0.0) continue;
@@ -294,7 +298,7 @@ void stam_basis(const StamMatrices& m, double s, double t, double* w) {
     std::fill(next.begin(), next.end(), 0.0);
     for (int r = 0; r < size; ++r) {
       const double* a = &m.extended[static_cast<size_t>(r) * size];
-      for (int k = 0; k < 6; ++k) {
+      for (int k = 0; k < kinds; ++k) {
         const double x_r = cur[k * size + r];
         if (x_r == 0.0) continue;
         double* out = &next[k * size];
@@ -307,14 +311,14 @@ void stam_basis(const StamMatrices& m, double s, double t, double* w) {
   // the derivatives) in exact arithmetic; rounding drifts them along the eigenvalue-1 direction,
   // which the 2^n scaling of derivatives would amplify. The drift is removed exactly along that
   // left eigenvector, the limit mask.
-  for (int k = 0; k < 6; ++k) {
+  for (int k = 0; k < kinds; ++k) {
     double total = 0.0;
     for (int c = 0; c < size; ++c) total += cur[k * size + c];
     const double drift = total - (k == 0 ? 1.0 : 0.0);
     for (int c = 0; c <= 2 * n; ++c) cur[k * size + c] -= drift * m.limit[c];
   }
   const double scale = std::ldexp(1.0, levels + 1);
-  for (int k = 0; k < 6; ++k) {
+  for (int k = 0; k < kinds; ++k) {
     const double f = k == 0 ? 1.0 : k < 3 ? scale : scale * scale;
     for (int c = 0; c < size; ++c) w[k * size + c] = cur[k * size + c] * f;
   }

@@ -52,7 +52,9 @@ bool gather_stam_points(const OpenSubdiv::Far::TopologyLevel& level, int face, i
 // k = value, d/ds, d/dt, d2/ds2, d2/dsdt, d2/dt2. At the EV itself (and within 2^-60 of it)
 // the limit position mask, the limit tangent masks along s and t (scaled as the B-spline
 // derivatives of a regular vertex), and zero second derivatives.
-void stam_basis(const StamMatrices& m, double s, double t, double* w);
+// `kinds`: how many of the six rows (value, d/ds, d/dt, d2/ds2, d2/dsdt, d2/dt2) to compute;
+// the others are left 0 (1 = values only, the fast path of position-only queries).
+void stam_basis(const StamMatrices& m, double s, double t, double* w, int kinds = 6);
 
 }  // namespace subdiv_detail
 CAGEKIT_NAMESPACE_END

@@ -214,7 +214,8 @@ struct SubdivisionSurface::Impl {
   void build(const Cage& cage, const SurfaceOptions& options);
   void build_gregory_region(const Cage& cage, const std::vector<uint32_t>& seed_faces, int sharp_level,
                             int isolation_level);
-  void patch_weights(uint32_t ptex, double u, double v, PatchWeights* out) const;
+  // kinds: 1 = only the values are needed (the derivative weights of Stam patches stay 0).
+  void patch_weights(uint32_t ptex, double u, double v, PatchWeights* out, int kinds = 6) const;
 
   template <typename Visit>  // visit(control index, weight) for the stencil of one point id
   void for_each_control(uint32_t point, double weight, Visit&& visit) const {
@@ -465,7 +466,7 @@ void SubdivisionSurface::Impl::build_gregory_region(const Cage& cage, const std:
   subdiv_detail::fail_on_opensubdiv_error(Status::invalid_mesh, "OpenSubdiv could not build the limit surface");
 }
 
-void SubdivisionSurface::Impl::patch_weights(uint32_t ptex, double u, double v, PatchWeights* out) const {
+void SubdivisionSurface::Impl::patch_weights(uint32_t ptex, double u, double v, PatchWeights* out, int kinds) const {
   if (ptex >= num_ptex())
     fail(Status::invalid_argument, "ptex face " + std::to_string(ptex) + " out of range (the surface has " +
                                        std::to_string(num_ptex()) + ")");
@@ -502,7 +503,7 @@ void SubdivisionSurface::Impl::patch_weights(uint32_t ptex, double u, double v, 
     const double t = pi.rotation == 0 ? y : pi.rotation == 1 ? 1 - x : pi.rotation == 2 ? 1 - y : x;
     thread_local std::vector<double> w;  // scratch: no allocation per evaluation
     w.resize(6 * static_cast<size_t>(n));
-    subdiv_detail::stam_basis(m, std::clamp(s, 0.0, 1.0), std::clamp(t, 0.0, 1.0), w.data());
+    subdiv_detail::stam_basis(m, std::clamp(s, 0.0, 1.0), std::clamp(t, 0.0, 1.0), w.data(), kinds);
     out->resize(n);
     for (int i = 0; i < n; ++i) {
       out->points[i] = patch_points[pi.first + i];
@@ -644,7 +645,7 @@ Vec3 SubdivisionSurface::evaluate_position(uint32_t ptex_face, double u, double 
   if (points.size() != impl_->control.size() + impl_->derived.size())
     fail(Status::invalid_argument, "patch point array of the wrong size");
   thread_local PatchWeights pw;
-  impl_->patch_weights(ptex_face, u, v, &pw);
+  impl_->patch_weights(ptex_face, u, v, &pw, 1);
   Vec3 result;
   for (int i = 0; i < pw.count; ++i) result += points[pw.points[i]] * pw.w[i];
   return result;
@@ -653,7 +654,7 @@ Vec3 SubdivisionSurface::evaluate_position(uint32_t ptex_face, double u, double 
 void SubdivisionSurface::basis_values(uint32_t ptex_face, double u, double v, std::vector<uint32_t>& indices,
                                       std::vector<double>& weights) const {
   thread_local PatchWeights pw;
-  impl_->patch_weights(ptex_face, u, v, &pw);
+  impl_->patch_weights(ptex_face, u, v, &pw, 1);
   // Dense per-thread accumulator over the control vertices; slot[j] = position in the output + 1.
   thread_local std::vector<uint32_t> slot;
   if (slot.size() < impl_->control.size()) slot.assign(impl_->control.size(), 0);
