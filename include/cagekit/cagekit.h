@@ -155,10 +155,19 @@ typedef struct cagekit_context_desc {
   cagekit_log_level log_level;    /* lowest level passed to `log` (default WARNING) */
   cagekit_progress_fn progress;   /* may be NULL */
   void* progress_user_data;
+  /* Memory budget of one call made with this context, in bytes (0 = unlimited, the default).
+   * Before its large allocations and before handing work to a library (OpenSubdiv, CGAL, Draco,
+   * Eigen), each call compares its estimated peak memory with this budget and fails with
+   * CAGEKIT_ERROR_OUT_OF_MEMORY ("... needs about N MiB, more than the context's memory budget
+   * of M MiB") instead of allocating. Estimates cover the dominant arrays of each step (input
+   * and output meshes, refinement levels, patch tables, hierarchies, least-squares systems);
+   * they are not an accounting of every allocation, so keep some headroom. The budget is per
+   * call, not shared between concurrent calls. */
+  uint64_t memory_budget_bytes;
 } cagekit_context_desc;
 
 #define CAGEKIT_CONTEXT_DESC_INIT \
-  { sizeof(cagekit_context_desc), CAGEKIT_ABI_VERSION, NULL, NULL, CAGEKIT_LOG_WARNING, NULL, NULL }
+  { sizeof(cagekit_context_desc), CAGEKIT_ABI_VERSION, NULL, NULL, CAGEKIT_LOG_WARNING, NULL, NULL, 0 }
 
 /* Creates a context, the owner of settings and callbacks for the objects made with it.
  * desc may be NULL (no callbacks). Fails with CAGEKIT_ERROR_VERSION_MISMATCH when

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "capi/handles.h"
+#include "core/memory_budget.h"
 #include "core/status.h"
 
 namespace cagekit_capi {
@@ -32,10 +33,17 @@ using cagekit::fail;
 // slot used when no context is known) and returns `status`. Never throws.
 cagekit_status record_error(cagekit_context context, cagekit_status status, const char* message) noexcept;
 
+template <class H>
+bool is_live(const H* handle) {
+  return handle != nullptr && handle->type.load(std::memory_order_relaxed) == H::kType;
+}
+
 // Runs `body`; translates any exception into a status recorded on `context`. Never throws.
 template <class Body>
 cagekit_status guarded(cagekit_context context, Body&& body) noexcept {
   try {
+    // The context's memory budget applies to everything this call does on this thread.
+    const cagekit::ScopedMemoryBudget budget(context != nullptr && is_live(context) ? context->memory_budget : 0);
     body();
     return CAGEKIT_SUCCESS;
   } catch (const Error& e) {
@@ -51,10 +59,6 @@ cagekit_status guarded(cagekit_context context, Body&& body) noexcept {
   }
 }
 
-template <class H>
-bool is_live(const H* handle) {
-  return handle != nullptr && handle->type.load(std::memory_order_relaxed) == H::kType;
-}
 
 // The context an object reports errors to (nullptr for a dead or null handle).
 template <class H>

@@ -107,6 +107,7 @@ CAGEKIT_API cagekit_status cagekit_context_create(const cagekit_context_desc* de
     context->log_level = d.log_level;
     context->progress = d.progress;
     context->progress_user_data = d.progress_user_data;
+    context->memory_budget = d.memory_budget_bytes;
     *out = context.release();
   });
 }

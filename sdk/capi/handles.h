@@ -50,6 +50,7 @@ struct cagekit_context_t : cagekit_capi::Handle {
   cagekit_progress_fn progress = nullptr;
   void* progress_user_data = nullptr;
   std::atomic<bool> cancel_requested{false};
+  uint64_t memory_budget = 0;  // bytes per call, 0 = unlimited (set at creation, then read-only)
 
   std::mutex error_mutex;
   std::unordered_map<std::thread::id, std::string> last_error;  // nodes are stable: c_str() stays valid

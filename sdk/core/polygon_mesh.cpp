@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include "core/memory_budget.h"
 #include "core/polygon_mesh.h"
 
 #include <algorithm>
@@ -37,6 +38,9 @@ void PolygonMesh::clear() {
 }
 
 void PolygonMesh::reserve(size_t vertices, size_t faces, size_t face_vertex_count) {
+  check_memory_estimate(estimate_sum(estimate_sum(estimate_product(vertices, sizeof(Vec3)), estimate_product(faces, 4)),
+                                     estimate_product(face_vertex_count, 4)),
+                        "a mesh of this size");
   positions.reserve(vertices);
   face_offsets.reserve(faces + 1);
   face_vertices.reserve(face_vertex_count);

@@ -11,6 +11,8 @@
 
 #include "layout/approximation_error.h"
 
+#include "core/memory_budget.h"
+
 CAGEKIT_NAMESPACE_BEGIN
 
 namespace {
@@ -45,6 +47,10 @@ TriangleList fan_triangles(const PolygonMesh& mesh) {
 ApproximationError measure_approximation_error(const PolygonMesh& input, const PolygonMesh& approximation,
                                                int samples_per_edge, const TaskMonitor& monitor) {
   ApproximationError result;
+  // Two triangle lists and two CGAL AABB trees (~250 bytes per triangle with the KD-tree for
+  // distance queries), plus the samples.
+  check_memory_estimate(estimate_product(estimate_sum(input.num_face_vertices(), approximation.num_face_vertices()), 250),
+                        "measuring the approximation error");
   const double diagonal = input.bounding_box().diagonal();
   const TriangleList input_triangles = fan_triangles(input);
   const TriangleList approx_triangles = fan_triangles(approximation);

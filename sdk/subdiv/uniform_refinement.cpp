@@ -2,6 +2,7 @@
 // Uniform Catmull-Clark refinement (thesis §2.2.2-2.2.3) on OpenSubdiv Far: the topology with
 // TopologyRefiner::RefineUniform, the positions with PrimvarRefiner::Interpolate in double
 // precision, the optional limit positions with PrimvarRefiner::Limit.
+#include "core/memory_budget.h"
 #include "subdiv/uniform_refinement.h"
 
 #include <opensubdiv/far/primvarRefiner.h>
@@ -32,6 +33,9 @@ void check_refined_size(const Cage& cage, int levels) {
     fail(Status::limit_exceeded, "refining " + std::to_string(cage.mesh.num_face_vertices()) + " face-vertices " +
                                      std::to_string(levels) + " times gives " + std::to_string(face_vertices) +
                                      " face-vertices, more than 2^31 - 1");
+  // OpenSubdiv's refiner keeps every level (~4/3 of the last) at ~48 bytes per face-vertex
+  // (topology + positions), plus the output mesh.
+  check_memory_estimate(estimate_product(face_vertices, 48 * 4 / 3 + 12), "uniform subdivision");
 }
 
 // Crease tags of the last level: the descendants of the cage's tagged edges that are still

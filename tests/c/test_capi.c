@@ -602,6 +602,54 @@ static void out_of_range_enum_values_are_rejected(void) {
   cagekit_context_release(context);
 }
 
+static void memory_budget_fails_cleanly_before_allocating(void) {
+  /* A 1 MiB budget: small work goes through, big work fails with OUT_OF_MEMORY and a message
+   * that names the budget; the same calls succeed in a context without a budget. */
+  cagekit_context_desc desc = CAGEKIT_CONTEXT_DESC_INIT;
+  cagekit_context small = NULL, unlimited = NULL;
+  cagekit_cage cage = NULL, refined = NULL, read = NULL;
+  cagekit_mesh mesh = NULL, huge = NULL;
+  cagekit_subdivide_options sub = CAGEKIT_SUBDIVIDE_OPTIONS_INIT;
+  cagekit_mesh_desc mdesc = CAGEKIT_MESH_DESC_INIT;
+  static char obj[3 * 1024 * 1024];
+  size_t length = 0;
+  uint32_t i;
+  desc.memory_budget_bytes = 1u << 20;
+  CHECK_OK(cagekit_context_create(&desc, &small));
+  unlimited = new_context();
+  cage = new_creased_cube(small);
+  sub.levels = 2; /* 384 face-vertices: fine */
+  CHECK_OK(cagekit_cage_subdivide(cage, &sub, &refined));
+  cagekit_cage_release(refined);
+  refined = NULL;
+  sub.levels = 7; /* 393K face-vertices: tens of MiB */
+  CHECK_STATUS(cagekit_cage_subdivide(cage, &sub, &refined), CAGEKIT_ERROR_OUT_OF_MEMORY);
+  CHECK(refined == NULL);
+  CHECK(strstr(cagekit_last_error_message(small), "memory budget") != NULL);
+  cagekit_cage_release(cage);
+  /* A 3 MiB OBJ text: refused by the budget, read without it. */
+  for (i = 0; length + 64 < sizeof(obj) && i < 200000; ++i)
+    length += (size_t)sprintf(obj + length, "v %u %u 0\n", i, (i * i) % 13u);
+  length += (size_t)sprintf(obj + length, "f 1 2 3\n");
+  CHECK_STATUS(cagekit_cage_read_memory(small, obj, length, CAGEKIT_FORMAT_OBJ, &read), CAGEKIT_ERROR_OUT_OF_MEMORY);
+  CHECK(read == NULL);
+  CHECK_OK(cagekit_cage_read_memory(unlimited, obj, length, CAGEKIT_FORMAT_OBJ, &read));
+  cagekit_cage_release(read);
+  /* Claimed counts far beyond the budget fail before the buffers are read. */
+  mdesc.vertex_count = 100000000u;
+  mdesc.positions = kCubeD;
+  mdesc.face_count = 1;
+  mdesc.uniform_face_size = 3;
+  mdesc.face_indices = kCubeQuads;
+  CHECK_STATUS(cagekit_mesh_create(small, &mdesc, &huge), CAGEKIT_ERROR_OUT_OF_MEMORY);
+  CHECK(huge == NULL);
+  mesh = new_cube(small); /* small meshes are fine */
+  CHECK(mesh != NULL);
+  cagekit_mesh_release(mesh);
+  cagekit_context_release(small);
+  cagekit_context_release(unlimited);
+}
+
 static void fit_reduces_the_error_every_pass(void) {
   cagekit_context context = new_context();
   cagekit_mesh cube_mesh = new_cube(context), sphere = new_sphere(context);
@@ -881,6 +929,7 @@ int main(void) {
       {"simplification_hierarchy_browses_levels_and_builds_a_cage",
        simplification_hierarchy_browses_levels_and_builds_a_cage},
       {"out_of_range_enum_values_are_rejected", out_of_range_enum_values_are_rejected},
+      {"memory_budget_fails_cleanly_before_allocating", memory_budget_fails_cleanly_before_allocating},
       {"fit_reduces_the_error_every_pass", fit_reduces_the_error_every_pass},
       {"fit_keeps_tags_and_pinned_crease_vertices", fit_keeps_tags_and_pinned_crease_vertices},
       {"fit_rejects_bad_arguments_and_can_be_cancelled", fit_rejects_bad_arguments_and_can_be_cancelled},

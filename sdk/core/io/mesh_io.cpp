@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The public entry points of mesh_io.h: format dispatch, whole-file reading, atomic writing.
+#include "core/memory_budget.h"
 #include "core/io/mesh_io.h"
 
 #include <new>
@@ -43,6 +44,10 @@ Cage read_cage_from_memory(const uint8_t* data, size_t size, FileFormat format, 
   if (format == FileFormat::unknown) format = sniff_file_format(data, size);
   if (format == FileFormat::unknown)
     context.fail_here("cannot tell the file format (not OBJ, PLY, OFF or Draco)", Status::unsupported_format);
+  // Decoded size: text formats expand to at most ~4x their bytes; Draco streams are assumed to
+  // expand at most 32x (position quantisation + edgebreaker connectivity reach ~25x).
+  check_memory_estimate(estimate_product(size, format == FileFormat::draco ? 32 : 4),
+                        ("reading " + source_name).c_str());
   try {
     return dispatch_read(data, size, format, context);
   } catch (const std::bad_alloc&) {
