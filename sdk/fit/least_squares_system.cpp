@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "fit/least_squares_system.h"
 
-#include "fit/eigen_config.h"  // before Eigen
+// eigen_config.h must come before any Eigen header.
+#include "fit/eigen_config.h"
 
 #include <Eigen/Sparse>
 #include <Eigen/IterativeLinearSolvers>

@@ -9,6 +9,7 @@
 #include <string>
 #include <thread>
 
+#include "core/parallel_for.h"
 #include "core/status.h"
 #include "fit/least_squares_system.h"
 #include "fit/ptex_adjacency.h"
@@ -21,35 +22,6 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-// Runs body(i) for i in [0, n) on `threads` workers, in chunks; progress and cancellation
-// between chunks on the calling thread.
-template <typename Body>
-void parallel_for(size_t n, int threads, const TaskMonitor& monitor, double fraction_begin, double fraction_end,
-                  Body&& body) {
-  const size_t chunk = 8192;
-  for (size_t begin = 0; begin < n; begin += chunk) {
-    monitor.report("fit", fraction_begin + (fraction_end - fraction_begin) * double(begin) / double(n));
-    const size_t end = std::min(n, begin + chunk);
-    const size_t workers = std::max<size_t>(1, std::min<size_t>(size_t(threads), (end - begin + 255) / 256));
-    std::vector<std::exception_ptr> errors(workers);
-    auto work = [&](size_t w) {
-      try {
-        const size_t per = (end - begin + workers - 1) / workers;
-        const size_t b = begin + w * per, e = std::min(end, b + per);
-        for (size_t i = b; i < e; ++i) body(i);
-      } catch (...) {
-        errors[w] = std::current_exception();
-      }
-    };
-    std::vector<std::thread> pool;
-    for (size_t w = 1; w < workers; ++w) pool.emplace_back(work, w);
-    work(0);
-    for (auto& t : pool) t.join();
-    for (auto& e : errors)
-      if (e) std::rethrow_exception(e);
-  }
 }
 
 FitPassStatistics statistics(const std::vector<FootPoint>& feet, const std::vector<bool>* near_boundary,
@@ -145,18 +117,18 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
     monitor.log(LogLevel::debug, "fit: piecewise-linear limit mesh built in " +
                                      std::to_string(seconds_since(build_start)) + " s");
     if (exact) {
-      parallel_for(samples.size(), threads, monitor, f0, f1, [&](size_t i) {
+      parallel_for(samples.size(), threads, monitor, "fit", f0, f1, [&](size_t i) {
         feet[i] = projector.project(samples[i], warm ? &feet[i] : nullptr);
       });
       const FitPassStatistics st = statistics(feet, near_boundary, report.bbox_diagonal);
       objective = st.l2;
       return st;
     }
-    parallel_for(samples.size(), threads, monitor, f0, 0.5 * (f0 + f1),
+    parallel_for(samples.size(), threads, monitor, "fit", f0, 0.5 * (f0 + f1),
                  [&](size_t i) { feet[i] = projector.project_piecewise_linear(samples[i]); });
     const auto t0 = Clock::now();
     exact_feet.resize(samples.size());
-    parallel_for(samples.size(), threads, monitor, 0.5 * (f0 + f1), f1, [&](size_t i) {
+    parallel_for(samples.size(), threads, monitor, "fit", 0.5 * (f0 + f1), f1, [&](size_t i) {
       exact_feet[i] = projector.project(samples[i], warm ? &exact_feet[i] : nullptr);
     });
     FitPassStatistics s = statistics(exact_feet, near_boundary, report.bbox_diagonal);

@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// parallel_for: body(i) for i in [0, n) on `threads` worker threads (the calling thread is one of
+// them), in chunks; progress and cancellation between chunks on the calling thread (stage
+// `stage`, fractions from fraction_begin to fraction_end). An exception thrown by a body is
+// rethrown on the calling thread after the chunk's workers joined. Each chunk is split into
+// contiguous ranges, so results written per index do not depend on the thread count.
+#include <algorithm>
+#include <exception>
+#include <thread>
+#include <vector>
+
+#include "core/task_monitor.h"
+
+CAGEKIT_NAMESPACE_BEGIN
+
+template <typename Body>
+void parallel_for(size_t n, int threads, const TaskMonitor& monitor, const char* stage, double fraction_begin,
+                  double fraction_end, Body&& body) {
+  const size_t chunk = 8192;
+  for (size_t begin = 0; begin < n; begin += chunk) {
+    monitor.report(stage, fraction_begin + (fraction_end - fraction_begin) * double(begin) / double(n));
+    const size_t end = std::min(n, begin + chunk);
+    const size_t workers = std::max<size_t>(1, std::min<size_t>(size_t(std::max(threads, 1)), (end - begin + 255) / 256));
+    std::vector<std::exception_ptr> errors(workers);
+    auto work = [&](size_t w) {
+      try {
+        const size_t per = (end - begin + workers - 1) / workers;
+        const size_t b = begin + w * per, e = std::min(end, b + per);
+        for (size_t i = b; i < e; ++i) body(i);
+      } catch (...) {
+        errors[w] = std::current_exception();
+      }
+    };
+    std::vector<std::thread> pool;
+    for (size_t w = 1; w < workers; ++w) pool.emplace_back(work, w);
+    work(0);
+    for (auto& t : pool) t.join();
+    for (auto& e : errors)
+      if (e) std::rethrow_exception(e);
+  }
+}
+
+// Worker count for a `threads` option: 0 = std::thread::hardware_concurrency().
+inline int resolve_threads(int threads) {
+  return threads > 0 ? threads : int(std::max(1u, std::thread::hardware_concurrency()));
+}
+
+CAGEKIT_NAMESPACE_END

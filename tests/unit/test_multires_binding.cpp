@@ -1,0 +1,195 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Multiresolution layer (thesis ch. 8): binding a scan to a cage's limit surface (§8.3) and the
+// CPU deformer (§8.5): reproduction of the undeformed scan, approximate vs exact normals,
+// incremental vs full recompute.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "fit/surface_fitter.h"
+#include "multires/cpu_deformer.h"
+#include "multires/scan_binding.h"
+#include "subdiv/uniform_refinement.h"
+#include "test_support.h"
+
+using namespace cagekit;
+
+namespace {
+
+constexpr double kDegree = 3.141592653589793 / 180.0;
+
+// A bumpy sphere scan (radial noise) and a cube cage fitted to it.
+struct BoundSphere {
+  PolygonMesh scan;
+  Cage cage;
+};
+
+const BoundSphere& sphere_setup() {
+  static const BoundSphere setup = [] {
+    BoundSphere s;
+    s.scan = cagekit_test::triangle_sphere(5);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> bump(-0.01, 0.01);
+    for (Vec3& p : s.scan.positions) p = p * (1.0 + bump(rng) + 0.05 * p.x * p.y);
+    Cage cube;
+    cube.mesh = cagekit_test::unit_cube_quads();
+    for (Vec3& p : cube.mesh.positions) p = (p - Vec3{0.5, 0.5, 0.5}) * 1.2;
+    // The cube refined twice (98 vertices: regular and valence-3 extraordinary ones), fitted.
+    RefineOptions twice;
+    twice.levels = 2;
+    FitOptions options;
+    options.max_passes = 3;
+    s.cage = fit_cage_to_mesh(refine_uniform(cube, twice), s.scan, options);
+    return s;
+  }();
+  return setup;
+}
+
+double angle_between(const Vec3& a, const Vec3& b) {
+  return std::atan2(norm(cross(a, b)), dot(a, b));
+}
+
+}  // namespace
+
+TEST(MultiresBinding, undeformed_cage_reproduces_the_scan) {
+  const BoundSphere& s = sphere_setup();
+  for (DisplacementMode mode : {DisplacementMode::normal, DisplacementMode::local_frame}) {
+    BindOptions options;
+    options.mode = mode;
+    const ScanBinding binding = bind_scan_to_cage(s.cage, s.scan, options);
+    ASSERT_EQ(binding.num_vertices(), s.scan.num_vertices());
+    CpuDeformer deformer(binding);
+    std::vector<Vec3> positions(binding.num_vertices()), normals(binding.num_vertices());
+    deformer.deform(s.cage.mesh.positions, positions.data(), normals.data());
+    double worst = 0, worst_normal = 0;
+    const std::vector<Vec3> scan_normals = vertex_normals(s.scan);
+    for (size_t i = 0; i < positions.size(); ++i) {
+      worst = std::max(worst, distance(positions[i], s.scan.positions[i]) / binding.bbox_diagonal);
+      worst_normal = std::max(worst_normal, angle_between(normals[i], scan_normals[i]));
+    }
+    std::printf("%s mode: %zu vertices, %zu basis entries (%.1f per vertex), worst reproduction %.3g of the diagonal, "
+                "normals %.3g deg off the scan's, max sideways residual %.3g\n",
+                mode == DisplacementMode::normal ? "normal" : "local-frame", binding.num_vertices(),
+                binding.num_entries(), double(binding.num_entries()) / binding.num_vertices(), worst,
+                worst_normal / kDegree, binding.max_sideways_residual);
+    EXPECT_LT(worst, mode == DisplacementMode::normal ? 1e-5 : 1e-12);
+    // Undeformed, the approximate normals are the scan's normals by construction (8.11)-(8.12).
+    EXPECT_LT(worst_normal, 1e-7);
+  }
+}
+
+// An open scan: the limit surface of an open cage stops short of the scan's border, so border
+// vertices have foot points on the surface's border and a sideways offset; normal mode reports
+// it, local-frame mode keeps it.
+TEST(MultiresBinding, sideways_residual_is_reported_and_kept_in_local_frame_mode) {
+  double (*height)(double, double) = [](double x, double y) { return 0.05 * std::sin(0.3 * x) * y; };
+  const PolygonMesh scan = cagekit_test::quad_grid(20, 20, height);
+  Cage cage;
+  cage.mesh = cagekit_test::quad_grid(4, 4);
+  for (Vec3& p : cage.mesh.positions) p = {5 * p.x, 5 * p.y, height(5 * p.x, 5 * p.y)};
+  BindOptions normal_mode, frame_mode;
+  frame_mode.mode = DisplacementMode::local_frame;
+  const ScanBinding a = bind_scan_to_cage(cage, scan, normal_mode), b = bind_scan_to_cage(cage, scan, frame_mode);
+  std::printf("open grid: normal mode loses up to %.3g of the diagonal sideways at %zu vertices\n",
+              a.max_sideways_residual, a.vertices_with_sideways_residual);
+  EXPECT_GT(a.max_sideways_residual, 1e-3);
+  EXPECT_GT(a.vertices_with_sideways_residual, 0u);
+  std::vector<Vec3> pa(scan.num_vertices()), pb(scan.num_vertices());
+  CpuDeformer(a).deform(cage.mesh.positions, pa.data(), nullptr);
+  CpuDeformer(b).deform(cage.mesh.positions, pb.data(), nullptr);
+  double worst_a = 0, worst_b = 0;
+  for (size_t i = 0; i < pa.size(); ++i) {
+    worst_a = std::max(worst_a, distance(pa[i], scan.positions[i]) / a.bbox_diagonal);
+    worst_b = std::max(worst_b, distance(pb[i], scan.positions[i]) / b.bbox_diagonal);
+  }
+  EXPECT_NEAR(worst_a, a.max_sideways_residual, 1e-9);
+  EXPECT_LT(worst_b, 1e-12);
+}
+
+// Issue #5 test: approximate vs exact normals after pulling 4 control vertices by 10% of the
+// bbox diagonal: mean <= 2 degrees, max <= 30 degrees over the moved vertices (thesis Fig. 8.5:
+// mean 1, max 23).
+TEST(MultiresBinding, approximate_normals_stay_close_to_exact_normals) {
+  const BoundSphere& s = sphere_setup();
+  BindOptions options;
+  options.exact_normals = true;
+  const ScanBinding binding = bind_scan_to_cage(s.cage, s.scan, options);
+  CpuDeformer deformer(binding);
+  std::vector<Vec3> control = s.cage.mesh.positions;
+  for (uint32_t j : {0u, 1u, 2u, 3u}) control[j] += normalized(control[j]) * (0.1 * binding.bbox_diagonal);
+  const size_t n = binding.num_vertices();
+  std::vector<Vec3> p0(n), approx(n), exact(n);
+  deformer.deform(s.cage.mesh.positions, p0.data(), nullptr);
+  deformer.deform(control, nullptr, approx.data(), NormalMode::approximate);
+  std::vector<Vec3> p1(n);
+  deformer.deform(control, p1.data(), exact.data(), NormalMode::exact);
+  double sum = 0, worst = 0;
+  size_t moved = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (distance(p0[i], p1[i]) < 1e-9 * binding.bbox_diagonal) continue;
+    const double a = angle_between(approx[i], exact[i]) / kDegree;
+    sum += a;
+    worst = std::max(worst, a);
+    ++moved;
+  }
+  std::printf("approximate vs exact normals over %zu moved vertices: mean %.3f deg, max %.3f deg\n", moved,
+              sum / moved, worst);
+  ASSERT_GT(moved, n / 4);
+  EXPECT_LE(sum / moved, 2.0);
+  EXPECT_LE(worst, 30.0);
+  // Undeformed, exact normals also match the scan's normals.
+  std::vector<Vec3> n0(n);
+  deformer.deform(s.cage.mesh.positions, nullptr, n0.data(), NormalMode::exact);
+  const std::vector<Vec3> scan_normals = vertex_normals(s.scan);
+  double worst0 = 0;
+  for (size_t i = 0; i < n; ++i) worst0 = std::max(worst0, angle_between(n0[i], scan_normals[i]) / kDegree);
+  EXPECT_LT(worst0, 1e-6);
+}
+
+TEST(MultiresBinding, incremental_update_equals_full_recompute) {
+  const BoundSphere& s = sphere_setup();
+  const ScanBinding binding = bind_scan_to_cage(s.cage, s.scan);
+  const size_t n = binding.num_vertices();
+  CpuDeformer incremental(binding, 1), full(binding, 3);
+  std::vector<Vec3> pi(n), ni(n), pf(n), nf(n);
+  std::vector<Vec3> control = s.cage.mesh.positions;
+  incremental.deform(control, pi.data(), ni.data());
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> step(-0.05, 0.05);
+  size_t recomputed = 0;
+  for (int frame = 0; frame < 5; ++frame) {
+    const std::vector<uint32_t> moved = {uint32_t(frame * 7 % 98), uint32_t((frame * 13 + 1) % 98)};
+    for (uint32_t j : moved) control[j] += Vec3{step(rng), step(rng), step(rng)};
+    recomputed += incremental.update(control, moved, pi.data(), ni.data());
+  }
+  full.deform(control, pf.data(), nf.data());
+  double dp = 0, dn = 0;
+  for (size_t i = 0; i < n; ++i) {
+    dp = std::max(dp, distance(pi[i], pf[i]));
+    dn = std::max(dn, angle_between(ni[i], nf[i]));
+  }
+  std::printf("incremental vs full after 5 frames: %zu vertices recomputed, max position difference %.3g, "
+              "normal %.3g rad\n", recomputed, dp, dn);
+  EXPECT_LT(dp, 1e-12 * binding.bbox_diagonal);
+  EXPECT_LT(dn, 1e-10);
+  EXPECT_GT(recomputed, 0u);
+}
+
+TEST(MultiresBinding, bad_input_is_rejected) {
+  const BoundSphere& s = sphere_setup();
+  PolygonMesh bad = s.scan;
+  bad.positions[3].x = std::nan("");
+  EXPECT_THROW(bind_scan_to_cage(s.cage, bad), Error);
+  EXPECT_THROW(bind_scan_to_cage(s.cage, PolygonMesh()), Error);
+  const ScanBinding binding = bind_scan_to_cage(s.cage, s.scan);
+  CpuDeformer deformer(binding);
+  std::vector<Vec3> out(binding.num_vertices());
+  EXPECT_THROW(deformer.deform(std::vector<Vec3>(3), out.data(), nullptr), Error);
+  EXPECT_THROW(deformer.deform(s.cage.mesh.positions, nullptr, out.data(), NormalMode::exact), Error);
+  EXPECT_THROW(deformer.update(s.cage.mesh.positions, {0}, out.data(), nullptr), Error);  // before deform()
+  deformer.deform(s.cage.mesh.positions, out.data(), nullptr);
+  EXPECT_THROW(deformer.update(s.cage.mesh.positions, {999}, out.data(), nullptr), Error);
+}
