@@ -41,6 +41,27 @@ void parallel_for(size_t n, int threads, const TaskMonitor& monitor, const char*
   }
 }
 
+// body(begin, end) over `threads` contiguous ranges of [0, n) at once (one thread start per
+// call, no progress): for short per-frame loops. Exceptions are rethrown on the calling thread.
+template <typename Body>
+void parallel_ranges(size_t n, int threads, Body&& body) {
+  const size_t workers = std::max<size_t>(1, std::min<size_t>(size_t(std::max(threads, 1)), n / 1024));
+  std::vector<std::exception_ptr> errors(workers);
+  auto work = [&](size_t w) {
+    try {
+      body(n * w / workers, n * (w + 1) / workers);
+    } catch (...) {
+      errors[w] = std::current_exception();
+    }
+  };
+  std::vector<std::thread> pool;
+  for (size_t w = 1; w < workers; ++w) pool.emplace_back(work, w);
+  work(0);
+  for (auto& t : pool) t.join();
+  for (auto& e : errors)
+    if (e) std::rethrow_exception(e);
+}
+
 // Worker count for a `threads` option: 0 = std::thread::hardware_concurrency().
 inline int resolve_threads(int threads) {
   return threads > 0 ? threads : int(std::max(1u, std::thread::hardware_concurrency()));

@@ -70,7 +70,8 @@ void CpuDeformer::deform(const std::vector<Vec3>& control, Vec3* positions, Vec3
   s_.resize(n), su_.resize(n), sv_.resize(n);
   if (exact) suu_.resize(n), suv_.resize(n), svv_.resize(n);
   have_second_ = exact;
-  parallel_for(n, threads_, TaskMonitor(), "deform", 0.0, 1.0, [&](size_t i) {
+  parallel_ranges(n, threads_, [&](size_t begin, size_t end) {
+   for (size_t i = begin; i < end; ++i) {
     Vec3 s, su, sv, suu, suv, svv;
     for (uint32_t e = b_.row_offsets[i]; e < b_.row_offsets[i + 1]; ++e) {
       const Vec3& c = control[b_.control_index[e]];
@@ -80,6 +81,7 @@ void CpuDeformer::deform(const std::vector<Vec3>& control, Vec3* positions, Vec3
     s_[i] = s, su_[i] = su, sv_[i] = sv;
     if (exact) suu_[i] = suu, suv_[i] = suv, svv_[i] = svv;
     finish_vertex(i, positions, normals, mode);
+   }
   });
 }
 
@@ -109,8 +111,9 @@ size_t CpuDeformer::update(const std::vector<Vec3>& control, const std::vector<u
       if (touched_stamp_[i] != stamp_) touched_stamp_[i] = stamp_, touched.push_back(i);
     }
   }
-  parallel_for(touched.size(), threads_, TaskMonitor(), "deform", 0.0, 1.0,
-               [&](size_t k) { finish_vertex(touched[k], positions, normals, mode); });
+  parallel_ranges(touched.size(), threads_, [&](size_t begin, size_t end) {
+    for (size_t k = begin; k < end; ++k) finish_vertex(touched[k], positions, normals, mode);
+  });
   return touched.size();
 }
 
