@@ -784,6 +784,95 @@ typedef struct cagekit_fit_report {
 CAGEKIT_API cagekit_status cagekit_cage_fit(cagekit_cage cage, cagekit_mesh scan, const cagekit_fit_options* options,
                                             cagekit_cage* out, cagekit_fit_report* report);
 
+/* ------------------------------------------------------------------------------------------ */
+/* Multiresolution editing (thesis ch. 8): bind a scan to a cage, deform it on the CPU          */
+/* ------------------------------------------------------------------------------------------ */
+
+/* A scan bound to a cage's limit surface: per scan vertex its foot point, displacement, basis
+ * functions and normal-reconstruction coefficients (thesis §8.3, §8.5). Immutable once made;
+ * any number of threads may read it and deformers may share it. */
+typedef struct cagekit_binding_t* cagekit_binding;
+/* Deforms a bound scan for moved control points on the CPU. One thread at a time (it keeps the
+ * last control points and per-vertex surface frames for incremental updates). */
+typedef struct cagekit_cpu_deformer_t* cagekit_cpu_deformer;
+
+typedef enum cagekit_displacement_mode {
+  CAGEKIT_DISPLACEMENT_NORMAL = 0,      /* the thesis: D along the surface normal (8.1) */
+  CAGEKIT_DISPLACEMENT_LOCAL_FRAME = 1, /* the whole offset in the surface's orthonormal frame:
+                                           exact also where the foot point is on a border */
+  CAGEKIT_DISPLACEMENT_MAX_ENUM = 0x7fffffff
+} cagekit_displacement_mode;
+
+typedef struct cagekit_bind_options {
+  size_t struct_size;                  /* sizeof(cagekit_bind_options) */
+  cagekit_displacement_mode mode;      /* default CAGEKIT_DISPLACEMENT_NORMAL */
+  int32_t exact_normals;               /* 1: also store the data of the exact normals (8.4)-(8.7) */
+  uint32_t threads;                    /* 0 = all cores */
+} cagekit_bind_options;
+
+#define CAGEKIT_BIND_OPTIONS_INIT { sizeof(cagekit_bind_options), CAGEKIT_DISPLACEMENT_NORMAL, 0, 0 }
+
+typedef struct cagekit_binding_info {
+  size_t struct_size;                  /* sizeof(cagekit_binding_info) */
+  uint32_t vertex_count;               /* scan vertices */
+  uint32_t control_count;              /* cage vertices */
+  uint64_t basis_entries;              /* stored non-zero basis functions, all vertices */
+  double max_sideways_residual;        /* normal mode: largest offset part not along the normal,
+                                          relative to the scan's bbox diagonal (0 in local-frame mode) */
+  uint64_t vertices_with_sideways_residual; /* normal mode: vertices above 1e-6 of the diagonal */
+  double bbox_diagonal;
+  int32_t has_exact_normals;
+} cagekit_binding_info;
+
+/* Binds every vertex of `scan` to the limit surface of `cage` (exact closest points, §7.4).
+ * Usually the cage was fitted to the scan first (cagekit_cage_fit), so that displacements are
+ * small. *out receives one reference. options may be NULL.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (out NULL, bad struct_size or option, a scan without
+ * vertices or with a non-finite position), INVALID_MESH (no limit surface), CANCELLED (stage
+ * "bind"), OUT_OF_MEMORY. Long operation (progress, cancel). Reads `cage` and `scan`. */
+CAGEKIT_API cagekit_status cagekit_multires_bind(cagekit_cage cage, cagekit_mesh scan,
+                                                 const cagekit_bind_options* options, cagekit_binding* out);
+CAGEKIT_API void cagekit_binding_retain(cagekit_binding binding);
+CAGEKIT_API void cagekit_binding_release(cagekit_binding binding);
+/* Thread-safe. Errors: INVALID_HANDLE, INVALID_ARGUMENT (info NULL or bad struct_size). */
+CAGEKIT_API cagekit_status cagekit_binding_get_info(cagekit_binding binding, cagekit_binding_info* info);
+
+typedef enum cagekit_normal_mode {
+  CAGEKIT_NORMALS_APPROXIMATE = 0, /* (8.11)-(8.12): from S_u, S_v only */
+  CAGEKIT_NORMALS_EXACT = 1,       /* (8.4)-(8.7): needs a binding made with exact_normals */
+  CAGEKIT_NORMALS_MAX_ENUM = 0x7fffffff
+} cagekit_normal_mode;
+
+/* A CPU deformer of `binding` (which it keeps alive). threads: 0 = all cores.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (out NULL), OUT_OF_MEMORY. */
+CAGEKIT_API cagekit_status cagekit_cpu_deformer_create(cagekit_binding binding, uint32_t threads,
+                                                       cagekit_cpu_deformer* out);
+CAGEKIT_API void cagekit_cpu_deformer_retain(cagekit_cpu_deformer deformer);
+CAGEKIT_API void cagekit_cpu_deformer_release(cagekit_cpu_deformer deformer);
+
+/* Full recompute: `control` holds control_count xyz triples (the cage's vertices, moved);
+ * positions and normals (either may be NULL) receive vertex_count xyz triples each (unit
+ * normals), for vertex_capacity >= the binding's vertex count.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (control NULL, control_count not the binding's, a
+ * non-finite control point, exact normals without their data), SIZE_INSUFFICIENT.
+ * Not thread-safe on the same deformer. */
+CAGEKIT_API cagekit_status cagekit_cpu_deformer_deform(cagekit_cpu_deformer deformer, const double* control,
+                                                       uint32_t control_count, cagekit_normal_mode normals_mode,
+                                                       uint32_t vertex_capacity, double* positions, double* normals);
+
+/* Incremental: only the control points listed in `moved` (moved_count indices) changed since the
+ * last deform/update call of this deformer (which must have had the same normals_mode); the
+ * other entries of `control` are not read (they must equal the previous call's). Only the
+ * vertices in their support are recomputed and written — the rest of `positions` / `normals` is
+ * left as the caller had it from the earlier calls. *updated_count (may be NULL) receives the
+ * number of vertices recomputed. Errors as cagekit_cpu_deformer_deform, plus INVALID_ARGUMENT for
+ * a moved index out of range or a call before the first deform. */
+CAGEKIT_API cagekit_status cagekit_cpu_deformer_update(cagekit_cpu_deformer deformer, const double* control,
+                                                       uint32_t control_count, const uint32_t* moved,
+                                                       uint32_t moved_count, cagekit_normal_mode normals_mode,
+                                                       uint32_t vertex_capacity, double* positions, double* normals,
+                                                       uint32_t* updated_count);
+
 #ifdef __cplusplus
 }
 #endif

@@ -18,6 +18,8 @@
 #include "core/task_monitor.h"
 #include "layout/face_merge_simplifier.h"
 #include "subdiv/subdivision_surface.h"
+#include "multires/cpu_deformer.h"
+#include "multires/scan_binding.h"
 
 namespace cagekit_capi {
 
@@ -28,6 +30,8 @@ enum class HandleType : uint32_t {
   surface = 0x53524631,  // "SRF1"
   blob = 0x424c4231,     // "BLB1"
   hierarchy = 0x48524331, // "HRC1"
+  binding = 0x424e4431,   // "BND1"
+  cpu_deformer = 0x43444631, // "CDF1"
   dead = 0xdeadbeef,
 };
 
@@ -92,6 +96,23 @@ struct cagekit_hierarchy_t : ContextBound {
       : ContextBound(kType, c), hierarchy(std::move(h)), level(hierarchy.extract()) {}
   cagekit::SimplificationHierarchy hierarchy;
   cagekit::PolygonalLevel level;  // extract() of the current level, refreshed by set_level
+};
+
+struct cagekit_binding_t : ContextBound {
+  static constexpr cagekit_capi::HandleType kType = cagekit_capi::HandleType::binding;
+  cagekit_binding_t(cagekit_context c, cagekit::ScanBinding b) : ContextBound(kType, c), binding(std::move(b)) {}
+  const cagekit::ScanBinding binding;  // immutable once made: shared by deformers
+};
+
+// Keeps its binding alive (a reference) for as long as it exists.
+struct cagekit_cpu_deformer_t : ContextBound {
+  static constexpr cagekit_capi::HandleType kType = cagekit_capi::HandleType::cpu_deformer;
+  cagekit_cpu_deformer_t(cagekit_context c, cagekit_binding_t* b, int threads);
+  ~cagekit_cpu_deformer_t() override;
+  cagekit_binding_t* binding;
+  cagekit::CpuDeformer deformer;
+  std::vector<cagekit::Vec3> control, positions, normals;
+  bool deformed = false, exact = false;
 };
 
 struct cagekit_blob_t : cagekit_capi::Handle {

@@ -99,7 +99,8 @@ size_t CpuDeformer::update(const std::vector<Vec3>& control, const std::vector<u
     std::fill(touched_stamp_.begin(), touched_stamp_.end(), 0);
     stamp_ = 1;
   }
-  std::vector<uint32_t> touched;
+  std::vector<uint32_t>& touched = touched_;
+  touched.clear();
   for (uint32_t j : moved) {
     const Vec3 delta = control[j] - control_[j];
     control_[j] = control[j];

@@ -37,6 +37,8 @@ class CpuDeformer {
   // left as the caller had it from earlier calls). Returns the number of vertices recomputed.
   size_t update(const std::vector<Vec3>& control, const std::vector<uint32_t>& moved, Vec3* positions,
                 Vec3* normals, NormalMode mode = NormalMode::approximate);
+  // The vertices the last update() recomputed.
+  const std::vector<uint32_t>& last_updated() const { return touched_; }
 
  private:
   void finish_vertex(size_t i, Vec3* positions, Vec3* normals, NormalMode mode) const;
@@ -48,7 +50,7 @@ class CpuDeformer {
   bool have_second_ = false;
   // Inverse rows: the entries of each control vertex (vertex index and entry index).
   std::vector<uint32_t> support_offsets_, support_vertex_, support_entry_;
-  std::vector<uint32_t> touched_stamp_;
+  std::vector<uint32_t> touched_stamp_, touched_;
   uint32_t stamp_ = 0;
 };
 

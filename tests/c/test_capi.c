@@ -650,6 +650,95 @@ static void memory_budget_fails_cleanly_before_allocating(void) {
   cagekit_context_release(unlimited);
 }
 
+static void multires_binding_reproduces_and_deforms_the_scan(void) {
+  cagekit_context context = new_context();
+  cagekit_mesh cube_mesh = new_cube(context), sphere = new_sphere(context);
+  cagekit_cage cube = NULL, fitted = NULL;
+  cagekit_binding binding = NULL;
+  cagekit_cpu_deformer full = NULL, incremental = NULL;
+  cagekit_bind_options options = CAGEKIT_BIND_OPTIONS_INIT;
+  cagekit_binding_info info;
+  double control[24], scan[3 * 300], positions[3 * 300], normals[3 * 300], positions2[3 * 300], normals2[3 * 300];
+  uint32_t count = 0, i, updated = 0, moved[2] = {1, 6};
+  double worst = 0, diff = 0;
+  CHECK_OK(cagekit_cage_create(cube_mesh, &cube));
+  CHECK_OK(cagekit_cage_fit(cube, sphere, NULL, &fitted, NULL));
+  options.mode = CAGEKIT_DISPLACEMENT_LOCAL_FRAME;
+  options.exact_normals = 1;
+  CHECK_OK(cagekit_multires_bind(fitted, sphere, &options, &binding));
+  info.struct_size = sizeof(info);
+  CHECK_OK(cagekit_binding_get_info(binding, &info));
+  CHECK(info.control_count == 8 && info.vertex_count > 200 && info.vertex_count <= 300);
+  CHECK(info.basis_entries >= info.vertex_count && info.has_exact_normals == 1);
+  CHECK_OK(cagekit_mesh_get_positions(sphere, CAGEKIT_SCALAR_FLOAT64, 300, &count, scan));
+  {
+    cagekit_mesh fitted_mesh = NULL;
+    CHECK_OK(cagekit_cage_get_mesh(fitted, &fitted_mesh));
+    CHECK_OK(cagekit_mesh_get_positions(fitted_mesh, CAGEKIT_SCALAR_FLOAT64, 8, NULL, control));
+    cagekit_mesh_release(fitted_mesh);
+  }
+  CHECK_OK(cagekit_cpu_deformer_create(binding, 0, &full));
+  CHECK_OK(cagekit_cpu_deformer_create(binding, 1, &incremental));
+  /* Undeformed: the scan comes back (local-frame mode is exact). */
+  CHECK_OK(cagekit_cpu_deformer_deform(full, control, 8, CAGEKIT_NORMALS_EXACT, 300, positions, normals));
+  for (i = 0; i < 3 * count; ++i) worst = fabs(positions[i] - scan[i]) > worst ? fabs(positions[i] - scan[i]) : worst;
+  CHECK(worst < 1e-9);
+  for (i = 0; i < count; ++i) {
+    const double* n = normals + 3 * i;
+    CHECK(fabs(n[0] * n[0] + n[1] * n[1] + n[2] * n[2] - 1.0) < 1e-9);
+  }
+  /* Incremental equals full. */
+  CHECK_OK(cagekit_cpu_deformer_deform(incremental, control, 8, CAGEKIT_NORMALS_EXACT, 300, positions2, normals2));
+  control[3 * 1 + 0] += 0.1;
+  control[3 * 6 + 2] -= 0.05;
+  CHECK_OK(cagekit_cpu_deformer_update(incremental, control, 8, moved, 2, CAGEKIT_NORMALS_EXACT, 300, positions2,
+                                       normals2, &updated));
+  CHECK(updated > 0 && updated <= count);
+  CHECK_OK(cagekit_cpu_deformer_deform(full, control, 8, CAGEKIT_NORMALS_EXACT, 300, positions, normals));
+  for (i = 0; i < 3 * count; ++i) {
+    diff = fabs(positions[i] - positions2[i]) > diff ? fabs(positions[i] - positions2[i]) : diff;
+    diff = fabs(normals[i] - normals2[i]) > diff ? fabs(normals[i] - normals2[i]) : diff;
+  }
+  CHECK(diff < 1e-12);
+  /* Bad input. */
+  CHECK_STATUS(cagekit_cpu_deformer_deform(full, control, 7, CAGEKIT_NORMALS_EXACT, 300, positions, normals),
+               CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_cpu_deformer_deform(full, control, 8, CAGEKIT_NORMALS_EXACT, 10, positions, normals),
+               CAGEKIT_ERROR_SIZE_INSUFFICIENT);
+  CHECK_STATUS(cagekit_cpu_deformer_deform(full, NULL, 8, CAGEKIT_NORMALS_EXACT, 300, positions, normals),
+               CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_cpu_deformer_deform(full, control, 8, (cagekit_normal_mode)7, 300, positions, normals),
+               CAGEKIT_ERROR_INVALID_ARGUMENT);
+  moved[0] = 99;
+  CHECK_STATUS(cagekit_cpu_deformer_update(incremental, control, 8, moved, 1, CAGEKIT_NORMALS_EXACT, 300, positions2,
+                                           normals2, NULL),
+               CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_cpu_deformer_update(incremental, control, 8, moved, 0, CAGEKIT_NORMALS_APPROXIMATE, 300,
+                                           positions2, normals2, NULL),
+               CAGEKIT_ERROR_INVALID_ARGUMENT); /* mode differs from the last deform's */
+  control[0] = NAN;
+  CHECK_STATUS(cagekit_cpu_deformer_deform(full, control, 8, CAGEKIT_NORMALS_EXACT, 300, positions, normals),
+               CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_cpu_deformer_create((cagekit_binding)sphere, 0, &full), CAGEKIT_ERROR_INVALID_HANDLE);
+  options.mode = (cagekit_displacement_mode)5;
+  {
+    cagekit_binding none = NULL;
+    CHECK_STATUS(cagekit_multires_bind(fitted, sphere, &options, &none), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    CHECK(none == NULL);
+  }
+  /* The deformers keep the binding alive after the host released it. */
+  cagekit_binding_release(binding);
+  control[0] = 0.0;
+  CHECK_OK(cagekit_cpu_deformer_deform(incremental, control, 8, CAGEKIT_NORMALS_EXACT, 300, positions2, NULL));
+  cagekit_cpu_deformer_release(full);
+  cagekit_cpu_deformer_release(incremental);
+  cagekit_cage_release(fitted);
+  cagekit_cage_release(cube);
+  cagekit_mesh_release(sphere);
+  cagekit_mesh_release(cube_mesh);
+  cagekit_context_release(context);
+}
+
 static void fit_reduces_the_error_every_pass(void) {
   cagekit_context context = new_context();
   cagekit_mesh cube_mesh = new_cube(context), sphere = new_sphere(context);
@@ -930,6 +1019,7 @@ int main(void) {
        simplification_hierarchy_browses_levels_and_builds_a_cage},
       {"out_of_range_enum_values_are_rejected", out_of_range_enum_values_are_rejected},
       {"memory_budget_fails_cleanly_before_allocating", memory_budget_fails_cleanly_before_allocating},
+      {"multires_binding_reproduces_and_deforms_the_scan", multires_binding_reproduces_and_deforms_the_scan},
       {"fit_reduces_the_error_every_pass", fit_reduces_the_error_every_pass},
       {"fit_keeps_tags_and_pinned_crease_vertices", fit_keeps_tags_and_pinned_crease_vertices},
       {"fit_rejects_bad_arguments_and_can_be_cancelled", fit_rejects_bad_arguments_and_can_be_cancelled},

@@ -1,0 +1,166 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Multiresolution editing (thesis ch. 8): binding handles and CPU deformers.
+#include <cmath>
+
+#include "capi/api_guard.h"
+
+using namespace cagekit_capi;
+
+cagekit_cpu_deformer_t::cagekit_cpu_deformer_t(cagekit_context c, cagekit_binding_t* b, int threads)
+    : ContextBound(kType, c), binding(b), deformer(b->binding, threads) {
+  retain_handle(binding);
+}
+
+cagekit_cpu_deformer_t::~cagekit_cpu_deformer_t() { release_handle(binding); }
+
+namespace {
+
+cagekit::NormalMode checked_normal_mode(const cagekit_normal_mode& mode) {
+  const int32_t raw = raw_enum(mode);
+  if (raw != CAGEKIT_NORMALS_APPROXIMATE && raw != CAGEKIT_NORMALS_EXACT)
+    fail(Status::invalid_argument, "normals_mode is not a cagekit_normal_mode");
+  return raw == CAGEKIT_NORMALS_EXACT ? cagekit::NormalMode::exact : cagekit::NormalMode::approximate;
+}
+
+// The caller's control points, checked.
+void read_control(cagekit_cpu_deformer_t& d, const double* control, uint32_t control_count) {
+  require_not_null(control, "control");
+  const uint32_t expected = d.binding->binding.num_control_vertices;
+  if (control_count != expected)
+    fail(Status::invalid_argument, "control_count is " + std::to_string(control_count) + " but the binding's cage has " +
+                                       std::to_string(expected) + " vertices");
+  d.control.resize(expected);
+  for (uint32_t j = 0; j < expected; ++j) {
+    const cagekit::Vec3 p{control[3 * size_t(j)], control[3 * size_t(j) + 1], control[3 * size_t(j) + 2]};
+    if (!cagekit::is_finite(p)) fail(Status::invalid_argument, "control point " + std::to_string(j) + " is not finite");
+    d.control[j] = p;
+  }
+}
+
+void check_capacity(const cagekit_cpu_deformer_t& d, uint32_t capacity, const double* positions, const double* normals) {
+  const size_t n = d.binding->binding.num_vertices();
+  if ((positions || normals) && capacity < n)
+    fail(Status::size_insufficient, "vertex_capacity " + std::to_string(capacity) + " is less than the " +
+                                        std::to_string(n) + " bound vertices");
+}
+
+void copy_out(const std::vector<cagekit::Vec3>& from, double* to, uint32_t i) {
+  to[3 * size_t(i)] = from[i].x, to[3 * size_t(i) + 1] = from[i].y, to[3 * size_t(i) + 2] = from[i].z;
+}
+
+}  // namespace
+
+extern "C" {
+
+CAGEKIT_API cagekit_status cagekit_multires_bind(cagekit_cage cage, cagekit_mesh scan,
+                                                 const cagekit_bind_options* options, cagekit_binding* out) {
+  return guarded(context_of(cage), [&] {
+    require_not_null(out, "out");
+    *out = nullptr;
+    cagekit_cage_t& c = checked(cage, "cage");
+    cagekit_mesh_t& m = checked(scan, "scan");
+    cagekit_bind_options defaults = CAGEKIT_BIND_OPTIONS_INIT;
+    const cagekit_bind_options o = read_versioned(options, defaults, "cagekit_bind_options");
+    const int32_t mode = raw_enum(o.mode);
+    if (mode != CAGEKIT_DISPLACEMENT_NORMAL && mode != CAGEKIT_DISPLACEMENT_LOCAL_FRAME)
+      fail(Status::invalid_argument, "cagekit_bind_options.mode is not a cagekit_displacement_mode");
+    if (o.exact_normals != 0 && o.exact_normals != 1)
+      fail(Status::invalid_argument, "cagekit_bind_options.exact_normals must be 0 or 1");
+    if (o.threads > 1024) fail(Status::invalid_argument, "cagekit_bind_options.threads must be <= 1024");
+    for (uint32_t v : m.mesh.face_vertices)
+      if (v >= m.mesh.num_vertices()) fail(Status::invalid_argument, "the scan has a face index out of range");
+    cagekit::BindOptions bo;
+    bo.mode = mode == CAGEKIT_DISPLACEMENT_LOCAL_FRAME ? cagekit::DisplacementMode::local_frame
+                                                       : cagekit::DisplacementMode::normal;
+    bo.exact_normals = o.exact_normals == 1;
+    bo.threads = int(o.threads);
+    cagekit::ScanBinding binding = cagekit::bind_scan_to_cage(c.cage, m.mesh, bo, c.context->monitor());
+    *out = std::make_unique<cagekit_binding_t>(c.context, std::move(binding)).release();
+  });
+}
+
+CAGEKIT_API void cagekit_binding_retain(cagekit_binding binding) { retain_handle(binding); }
+CAGEKIT_API void cagekit_binding_release(cagekit_binding binding) { release_handle(binding); }
+
+CAGEKIT_API cagekit_status cagekit_binding_get_info(cagekit_binding binding, cagekit_binding_info* info) {
+  return guarded(context_of(binding), [&] {
+    const cagekit::ScanBinding& b = checked(binding, "binding").binding;
+    require_not_null(info, "info");
+    cagekit_binding_info out{};
+    out.struct_size = sizeof(out);
+    out.vertex_count = static_cast<uint32_t>(b.num_vertices());
+    out.control_count = b.num_control_vertices;
+    out.basis_entries = b.num_entries();
+    out.max_sideways_residual = b.max_sideways_residual;
+    out.vertices_with_sideways_residual = b.vertices_with_sideways_residual;
+    out.bbox_diagonal = b.bbox_diagonal;
+    out.has_exact_normals = b.phi_uu.size() == b.num_entries() && !b.displacement_gradient.empty();
+    write_versioned(info, out, "cagekit_binding_info");
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_cpu_deformer_create(cagekit_binding binding, uint32_t threads,
+                                                       cagekit_cpu_deformer* out) {
+  return guarded(context_of(binding), [&] {
+    require_not_null(out, "out");
+    *out = nullptr;
+    cagekit_binding_t& b = checked(binding, "binding");
+    if (threads > 1024) fail(Status::invalid_argument, "threads must be <= 1024");
+    *out = std::make_unique<cagekit_cpu_deformer_t>(b.context, &b, int(threads)).release();
+  });
+}
+
+CAGEKIT_API void cagekit_cpu_deformer_retain(cagekit_cpu_deformer deformer) { retain_handle(deformer); }
+CAGEKIT_API void cagekit_cpu_deformer_release(cagekit_cpu_deformer deformer) { release_handle(deformer); }
+
+CAGEKIT_API cagekit_status cagekit_cpu_deformer_deform(cagekit_cpu_deformer deformer, const double* control,
+                                                       uint32_t control_count, cagekit_normal_mode normals_mode,
+                                                       uint32_t vertex_capacity, double* positions, double* normals) {
+  return guarded(context_of(deformer), [&] {
+    cagekit_cpu_deformer_t& d = checked(deformer, "deformer");
+    const cagekit::NormalMode mode = checked_normal_mode(normals_mode);
+    read_control(d, control, control_count);
+    check_capacity(d, vertex_capacity, positions, normals);
+    const size_t n = d.binding->binding.num_vertices();
+    d.positions.resize(n);
+    d.normals.resize(n);
+    d.deformed = false;
+    d.deformer.deform(d.control, d.positions.data(), d.normals.data(), mode);
+    d.deformed = true;
+    d.exact = mode == cagekit::NormalMode::exact;
+    for (uint32_t i = 0; i < n; ++i) {
+      if (positions) copy_out(d.positions, positions, i);
+      if (normals) copy_out(d.normals, normals, i);
+    }
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_cpu_deformer_update(cagekit_cpu_deformer deformer, const double* control,
+                                                       uint32_t control_count, const uint32_t* moved,
+                                                       uint32_t moved_count, cagekit_normal_mode normals_mode,
+                                                       uint32_t vertex_capacity, double* positions, double* normals,
+                                                       uint32_t* updated_count) {
+  return guarded(context_of(deformer), [&] {
+    cagekit_cpu_deformer_t& d = checked(deformer, "deformer");
+    const cagekit::NormalMode mode = checked_normal_mode(normals_mode);
+    if (!d.deformed) fail(Status::invalid_argument, "cagekit_cpu_deformer_update before a first successful deform");
+    if ((mode == cagekit::NormalMode::exact) != d.exact)
+      fail(Status::invalid_argument, "normals_mode differs from the last deform's");
+    if (moved_count > 0) require_not_null(moved, "moved");
+    read_control(d, control, control_count);
+    check_capacity(d, vertex_capacity, positions, normals);
+    const std::vector<uint32_t> moved_list(moved, moved + moved_count);
+    for (uint32_t j : moved_list)
+      if (j >= control_count) fail(Status::invalid_argument, "moved index " + std::to_string(j) + " is out of range");
+    // The deformer's own copy of the control points is the reference for the deltas: only the
+    // listed points are read (the header documents that the others must be unchanged).
+    d.deformer.update(d.control, moved_list, d.positions.data(), d.normals.data(), mode);
+    for (uint32_t i : d.deformer.last_updated()) {
+      if (positions) copy_out(d.positions, positions, i);
+      if (normals) copy_out(d.normals, normals, i);
+    }
+    if (updated_count) *updated_count = static_cast<uint32_t>(d.deformer.last_updated().size());
+  });
+}
+
+}  // extern "C"
