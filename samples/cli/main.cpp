@@ -24,11 +24,16 @@ const char* kUsage =
     "      [--tolerance T] [--projection exact|linear] [--fairing F] [--keep-creases] [--limit-levels L] [--json]\n"
     "                                           simplify -> quad-dominant cage with creases -> fit; writes\n"
     "                                           OUTDIR/cage.obj (fitted), limit.obj (its limit, L=3 levels), report.json\n"
+    "  deform SCAN CAGE EDITED_CAGE OUT [--local-frame] [--json]\n"
+    "                                           bind the scan to the cage's limit surface (thesis ch. 8) and rebuild\n"
+    "                                           it over the edited cage (same connectivity), details kept\n"
+    "  bench-deform SCAN CAGE [--frames N] [--moved K] [--threads N] [--json]\n"
+    "                                           frames per second of the CPU deformer (full and K moved points)\n"
     "  demo [OUTDIR]                            run the pipeline on a generated noisy scan of a CAD-like part\n"
     "  version                                  print the library version\n"
     "options: --quiet (no progress on stderr)\n"
-    "exit codes: 0 ok, 2 bad input (one line on stderr names the file and the problem; for fit and pipeline\n"
-    "            also option values out of range), 64 usage\n";
+    "exit codes: 0 ok, 2 bad input (one line on stderr names the file and the problem; for fit, pipeline and\n"
+    "            bench-deform also option values out of range), 64 usage\n";
 
 }  // namespace
 
@@ -46,6 +51,8 @@ int main(int argc, char** argv) {
     if (command == "simplify") return cli::command_simplify(args);
     if (command == "fit") return cli::command_fit(args);
     if (command == "pipeline") return cli::command_pipeline(args);
+    if (command == "deform") return cli::command_deform(args);
+    if (command == "bench-deform") return cli::command_bench_deform(args);
     if (command == "demo") return cli::command_demo(args);
     if (command == "version") {
       std::printf("cagekit %s (ABI %u)\n", cagekit_version_string(), cagekit_abi_version());

@@ -175,6 +175,38 @@ expect_bad "pipeline: --passes -1" "$cli" pipeline "$tmp/demo/scan.obj" "$tmp/pi
 expect_bad "pipeline: --method other" "$cli" pipeline "$tmp/demo/scan.obj" "$tmp/pipe2" --faces 6 --method qem --quiet
 expect_bad "pipeline: OUTDIR under a file" "$cli" pipeline "$tmp/demo/scan.obj" "$tmp/cube.obj/sub" --faces 6 --quiet
 
+# 6b. multiresolution editing: deform the demo scan over its fitted cage with 3 vertices moved
+python3 - "$tmp/pipe/out/cage.obj" "$tmp/edited.obj" <<'PY'
+import sys
+lines = open(sys.argv[1]).read().splitlines(); out = []; k = 0
+for l in lines:
+    if l.startswith('v '):
+        p = l.split()
+        if k in (0, 3, 5): p[3] = str(float(p[3]) + 0.05)
+        l = ' '.join(p); k += 1
+    out.append(l)
+open(sys.argv[2], 'w').write('\n'.join(out) + '\n')
+PY
+if "$cli" deform "$tmp/demo/scan.obj" "$tmp/pipe/out/cage.obj" "$tmp/pipe/out/cage.obj" "$tmp/same.obj" --local-frame --json --quiet >"$tmp/deform0.json" &&
+   python3 - "$tmp/demo/scan.obj" "$tmp/same.obj" <<'PY'
+import sys
+def verts(p): return [tuple(map(float, l.split()[1:4])) for l in open(p) if l.startswith('v ')]
+a, b = verts(sys.argv[1]), verts(sys.argv[2])
+assert len(a) == len(b) and len(a) > 100
+assert max(max(abs(x - y) for x, y in zip(p, q)) for p, q in zip(a, b)) < 1e-6
+PY
+then pass "deform: the unedited cage gives the scan back (local-frame mode)"; else cat "$tmp/deform0.json"; fail "deform identity"; fi
+if "$cli" deform "$tmp/demo/scan.obj" "$tmp/pipe/out/cage.obj" "$tmp/edited.obj" "$tmp/deformed.ply" --json --quiet >"$tmp/deform.json" &&
+   [ -s "$tmp/deformed.ply" ] && [ "$(json "$tmp/deform.json" 'd["max_control_move_rel"] > 0 and d["vertices"] > 100')" = True ]
+then pass "deform: edited cage -> deformed scan (PLY), JSON report"; else cat "$tmp/deform.json"; fail "deform"; fi
+if "$cli" bench-deform "$tmp/demo/scan.obj" "$tmp/pipe/out/cage.obj" --frames 20 --moved 3 --json --quiet >"$tmp/bench.json" &&
+   [ "$(json "$tmp/bench.json" 'all(k in d for k in ("vertices","triangles","moved","cpu_fps","cpu_incremental_fps","gpu_fps","gpu_renderer","bytes_per_vertex")) and d["cpu_fps"] > 0')" = True ]
+then pass "bench-deform: JSON keys, CPU frame rates"; else cat "$tmp/bench.json"; fail "bench-deform"; fi
+expect_bad "deform: cage with other vertex count" "$cli" deform "$tmp/demo/scan.obj" "$tmp/pipe/out/cage.obj" "$tmp/cube.obj" "$tmp/out.obj" --quiet
+expect_bad "deform: missing edited cage" "$cli" deform "$tmp/demo/scan.obj" "$tmp/pipe/out/cage.obj" "$tmp/does-not-exist.obj" "$tmp/out.obj" --quiet
+expect_bad "deform: NaN in the scan" "$cli" deform "$tmp/nan.obj" "$tmp/cube.obj" "$tmp/cube.obj" "$tmp/out.obj" --quiet
+expect_bad "bench-deform: --frames 0" "$cli" bench-deform "$tmp/demo/scan.obj" "$tmp/pipe/out/cage.obj" --frames 0 --quiet
+
 # 7. the C host sample
 if "$host" "$tmp/demo/scan.drc" "$tmp/host.obj" 1 >"$tmp/host.out" 2>&1 && [ -s "$tmp/host.obj" ] && grep -q 'level 1' "$tmp/host.out"
 then pass "c_host runs on the demo scan"; else cat "$tmp/host.out"; fail "c_host"; fi

@@ -1,0 +1,193 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// cagekit deform SCAN CAGE EDITED_CAGE OUT [--local-frame] [--json]
+// cagekit bench-deform SCAN CAGE [--frames N] [--moved K] [--threads N] [--json]
+// Multiresolution editing (thesis ch. 8) through the C API: bind the scan to the cage's limit
+// surface, then move the cage's control points and rebuild the scan with its details.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "cli_context.h"
+
+namespace cli {
+namespace {
+
+using Binding = Handle<cagekit_binding, cagekit_binding_release>;
+using Deformer = Handle<cagekit_cpu_deformer, cagekit_cpu_deformer_release>;
+
+std::vector<double> cage_positions(const Session& session, cagekit_cage cage, const std::string& what) {
+  Mesh mesh;
+  session.check(cagekit_cage_get_mesh(cage, mesh.out()), what);
+  uint32_t count = 0;
+  session.check(cagekit_mesh_get_positions(mesh.get(), CAGEKIT_SCALAR_FLOAT64, 0, &count, nullptr), what);
+  std::vector<double> xyz(3 * size_t(count));
+  session.check(cagekit_mesh_get_positions(mesh.get(), CAGEKIT_SCALAR_FLOAT64, count, &count, xyz.data()), what);
+  return xyz;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+int command_deform(Args& args) {
+  const char* usage = "cagekit deform SCAN CAGE EDITED_CAGE OUT [--local-frame] [--json] [--quiet]";
+  const bool quiet = args.flag("--quiet");
+  const bool json = args.flag("--json");
+  const bool local_frame = args.flag("--local-frame");
+  const auto files = args.positional(4, 4, usage);
+  const cagekit_file_format out_format = format_from_extension(files[3]);
+
+  Session session(quiet);
+  Mesh scan;
+  session.check(cagekit_mesh_read_file(session.context(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, scan.out()), files[0]);
+  Cage cage, edited;
+  session.check(cagekit_cage_read_file(session.context(), files[1].c_str(), CAGEKIT_FORMAT_AUTO, cage.out()), files[1]);
+  session.check(cagekit_cage_read_file(session.context(), files[2].c_str(), CAGEKIT_FORMAT_AUTO, edited.out()), files[2]);
+  const std::vector<double> before = cage_positions(session, cage.get(), files[1]);
+  const std::vector<double> after = cage_positions(session, edited.get(), files[2]);
+  if (before.size() != after.size())
+    throw Failure(kExitBadInput, files[2] + ": has " + std::to_string(after.size() / 3) + " vertices but " + files[1] +
+                                     " has " + std::to_string(before.size() / 3) + " (the edited cage must be the same cage)");
+
+  const auto t0 = std::chrono::steady_clock::now();
+  cagekit_bind_options options = CAGEKIT_BIND_OPTIONS_INIT;
+  options.mode = local_frame ? CAGEKIT_DISPLACEMENT_LOCAL_FRAME : CAGEKIT_DISPLACEMENT_NORMAL;
+  Binding binding;
+  session.check(cagekit_multires_bind(cage.get(), scan.get(), &options, binding.out()), files[0] + " bound to " + files[1]);
+  const double bind_seconds = seconds_since(t0);
+  cagekit_binding_info info;
+  info.struct_size = sizeof(info);
+  session.check(cagekit_binding_get_info(binding.get(), &info), "binding");
+  Deformer deformer;
+  session.check(cagekit_cpu_deformer_create(binding.get(), 0, deformer.out()), "deformer");
+  std::vector<double> positions(3 * size_t(info.vertex_count));
+  const auto t1 = std::chrono::steady_clock::now();
+  session.check(cagekit_cpu_deformer_deform(deformer.get(), after.data(), uint32_t(after.size() / 3),
+                                            CAGEKIT_NORMALS_APPROXIMATE, info.vertex_count, positions.data(), nullptr),
+                "deform");
+  const double deform_seconds = seconds_since(t1);
+
+  // The scan's connectivity with the deformed positions.
+  uint32_t faces = 0;
+  uint64_t indices = 0;
+  session.check(cagekit_mesh_get_faces(scan.get(), 0, &faces, nullptr, 0, &indices, nullptr), files[0]);
+  std::vector<uint32_t> sizes(faces), corner(indices);
+  session.check(cagekit_mesh_get_faces(scan.get(), faces, &faces, sizes.data(), indices, &indices, corner.data()), files[0]);
+  cagekit_mesh_desc desc = CAGEKIT_MESH_DESC_INIT;
+  desc.vertex_count = info.vertex_count;
+  desc.positions = positions.data();
+  desc.face_count = faces;
+  desc.face_sizes = sizes.data();
+  desc.face_indices = corner.data();
+  Mesh out;
+  session.check(cagekit_mesh_create(session.context(), &desc, out.out()), "deformed scan");
+  cagekit_write_options write = CAGEKIT_WRITE_OPTIONS_INIT;
+  write.format = out_format;
+  session.check(cagekit_mesh_write_file(out.get(), files[3].c_str(), &write, nullptr), files[3]);
+  session.finish_progress();
+
+  double moved = 0;
+  for (size_t k = 0; k + 2 < before.size(); k += 3)
+    moved = std::max(moved, std::hypot(after[k] - before[k], after[k + 1] - before[k + 1], after[k + 2] - before[k + 2]));
+  if (json) {
+    std::printf("{\"vertices\": %u, \"control_points\": %u, \"basis_entries\": %llu, \"max_control_move_rel\": %.6g, "
+                "\"max_sideways_residual_rel\": %.6g, \"mode\": \"%s\", \"bind_seconds\": %.4f, \"deform_seconds\": %.5f}\n",
+                info.vertex_count, info.control_count, (unsigned long long)info.basis_entries,
+                info.bbox_diagonal > 0 ? moved / info.bbox_diagonal : 0.0, info.max_sideways_residual,
+                local_frame ? "local_frame" : "normal", bind_seconds, deform_seconds);
+  } else if (!quiet) {
+    std::printf("%s bound to %s (%u vertices, %.1f basis entries each, %.2f s); deformed by %s -> %s (%.3f s)\n",
+                files[0].c_str(), files[1].c_str(), info.vertex_count, double(info.basis_entries) / info.vertex_count,
+                bind_seconds, files[2].c_str(), files[3].c_str(), deform_seconds);
+    if (!local_frame && info.vertices_with_sideways_residual > 0)
+      std::printf("  normal mode dropped sideways offsets of up to %.3g of the diagonal at %llu vertices "
+                  "(--local-frame keeps them)\n",
+                  info.max_sideways_residual, (unsigned long long)info.vertices_with_sideways_residual);
+  }
+  return kExitOk;
+}
+
+int command_bench_deform(Args& args) {
+  const char* usage = "cagekit bench-deform SCAN CAGE [--frames N] [--moved K] [--threads N] [--json] [--quiet]";
+  const bool quiet = args.flag("--quiet");
+  const bool json = args.flag("--json");
+  int frames = 100, moved_count = 10, threads = 0;
+  try {
+    frames = args.integer("--frames", 100, 1, 1000000);
+    moved_count = args.integer("--moved", 10, 1, 1000000);
+    threads = args.integer("--threads", 0, 0, 1024);
+  } catch (const Failure& f) {
+    throw Failure(f.code == kExitUsage ? kExitBadInput : f.code, f.what());
+  }
+  const auto files = args.positional(2, 2, usage);
+  Session session(quiet);
+  Mesh scan;
+  session.check(cagekit_mesh_read_file(session.context(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, scan.out()), files[0]);
+  Cage cage;
+  session.check(cagekit_cage_read_file(session.context(), files[1].c_str(), CAGEKIT_FORMAT_AUTO, cage.out()), files[1]);
+  std::vector<double> control = cage_positions(session, cage.get(), files[1]);
+  const uint32_t m = uint32_t(control.size() / 3);
+  Binding binding;
+  session.check(cagekit_multires_bind(cage.get(), scan.get(), nullptr, binding.out()), files[0] + " bound to " + files[1]);
+  cagekit_binding_info info;
+  info.struct_size = sizeof(info);
+  session.check(cagekit_binding_get_info(binding.get(), &info), "binding");
+  Deformer deformer;
+  session.check(cagekit_cpu_deformer_create(binding.get(), uint32_t(threads), deformer.out()), "deformer");
+  uint32_t faces = 0;
+  uint64_t indices = 0;
+  session.check(cagekit_mesh_get_faces(scan.get(), 0, &faces, nullptr, 0, &indices, nullptr), files[0]);
+  std::vector<double> positions(3 * size_t(info.vertex_count)), normals(positions.size());
+  const uint32_t n = info.vertex_count;
+  const double step = 1e-4 * info.bbox_diagonal;
+  // Full recompute: every control point moves every frame.
+  session.check(cagekit_cpu_deformer_deform(deformer.get(), control.data(), m, CAGEKIT_NORMALS_APPROXIMATE, n,
+                                            positions.data(), normals.data()), "deform");
+  auto t0 = std::chrono::steady_clock::now();
+  for (int f = 0; f < frames; ++f) {
+    for (double& c : control) c += (f % 2 ? -step : step);
+    session.check(cagekit_cpu_deformer_deform(deformer.get(), control.data(), m, CAGEKIT_NORMALS_APPROXIMATE, n,
+                                              positions.data(), normals.data()), "deform");
+  }
+  const double full_fps = frames / seconds_since(t0);
+  // Incremental: K control points move per frame.
+  std::vector<uint32_t> moved;
+  for (int k = 0; k < moved_count && k < int(m); ++k) moved.push_back(uint32_t((uint64_t(k) * 2654435761u) % m));
+  std::sort(moved.begin(), moved.end());
+  moved.erase(std::unique(moved.begin(), moved.end()), moved.end());
+  uint64_t updated_total = 0;
+  t0 = std::chrono::steady_clock::now();
+  for (int f = 0; f < frames; ++f) {
+    for (uint32_t j : moved) control[3 * size_t(j)] += (f % 2 ? -step : step);
+    uint32_t updated = 0;
+    session.check(cagekit_cpu_deformer_update(deformer.get(), control.data(), m, moved.data(), uint32_t(moved.size()),
+                                              CAGEKIT_NORMALS_APPROXIMATE, n, positions.data(), normals.data(), &updated),
+                  "update");
+    updated_total += updated;
+  }
+  const double incremental_fps = frames / seconds_since(t0);
+  session.finish_progress();
+  // Stored per vertex: foot point + displacement + 6 normal coefficients, and per basis entry an
+  // index and three doubles.
+  const double bytes_per_vertex = (8.0 * 8 + double(info.basis_entries) * 28.0 / n);
+  if (json) {
+    std::printf("{\"vertices\": %u, \"triangles\": %llu, \"control_points\": %u, \"moved\": %zu, \"frames\": %d, "
+                "\"cpu_fps\": %.2f, \"cpu_incremental_fps\": %.2f, \"incremental_vertices_per_frame\": %.1f, "
+                "\"gpu_fps\": null, \"gpu_renderer\": null, \"bytes_per_vertex\": %.1f, "
+                "\"basis_entries_per_vertex\": %.2f}\n",
+                n, (unsigned long long)(indices - 2ull * faces), m, moved.size(), frames, full_fps, incremental_fps,
+                double(updated_total) / frames, bytes_per_vertex, double(info.basis_entries) / n);
+  } else if (!quiet) {
+    std::printf("%u vertices, %u control points: full recompute %.1f frames/s, %zu moved points %.1f frames/s "
+                "(%.0f vertices recomputed per frame), %.0f bytes per vertex; GPU deformer not built (issue #5)\n",
+                n, m, full_fps, moved.size(), incremental_fps, double(updated_total) / frames, bytes_per_vertex);
+  }
+  return kExitOk;
+}
+
+}  // namespace cli
