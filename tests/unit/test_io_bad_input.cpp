@@ -422,3 +422,23 @@ TEST(io_bad_input, UnreadableFilesAreIoErrors) {
     EXPECT_EQ(e.status(), Status::io_error);
   }
 }
+
+// fuzz_draco finding (tests/fuzz/regressions/fuzz_draco/bool-positions-ubsan): a Draco stream
+// whose position attribute is declared bool made Draco load arbitrary bytes as bool (undefined
+// behaviour). Non-numeric positions are now a parse error before Draco converts anything.
+TEST(io_bad_input, DracoBoolPositionsAreRejected) {
+  const std::vector<uint8_t> stream = {
+      68, 82, 65, 67, 79, 2, 2, 1, 1, 0, 128, 1, 1, 1, 4, 110, 97, 109, 101, 17, 0, 8, 0, 3, 7, 1, 64, 1, 0, 14, 8,
+      0, 2, 3, 1, 64, 1, 0, 1, 15, 99, 97, 103, 101, 107, 105, 116, 46, 118, 101, 114, 115, 105, 140, 145, 4, 1, 0,
+      0, 0, 0, 0, 4, 2, 1, 2, 0, 0, 1, 31, 255, 1, 17, 239, 1, 17, 2, 255, 0, 0, 0, 0, 0, 1, 0, 11, 3, 0, 8, 0, 1,
+      4, 6, 1, 9, 1, 1, 1, 1, 1, 0, 0, 246, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 97, 103, 101, 107, 105,
+      116, 46, 98, 111, 117, 110, 100, 97, 114, 121, 4, 0, 0, 0, 0, 24, 99, 97, 103, 101, 107, 105, 116, 46, 99,
+      111, 114, 110, 101, 114, 95, 115, 104, 97, 114, 112, 115, 0, 101, 110, 16, 115, 0, 0, 0, 0, 0, 36, 64, 0, 0,
+      0, 0, 0, 0, 8, 64, 23, 99, 97, 103, 101, 107, 105, 116, 46, 99, 111, 114, 110, 101, 132, 160, 137, 154, 114,
+      116, 105, 99, 101, 115, 8, 0, 0, 0, 0, 7, 0, 0, 0, 24, 99, 97, 103, 101, 107, 105, 116, 46, 99, 114, 101, 97,
+      115, 101, 95, 115, 104, 97, 114, 112, 0, 0, 0, 0, 0, 0, 4, 2, 1, 2, 0, 0, 1, 31, 0, 3, 0, 0, 0};
+  const Outcome out = try_read(stream, FileFormat::draco, "bool.drc");
+  EXPECT_FALSE(out.ok);
+  EXPECT_EQ(out.status, Status::parse_error) << out.message;
+  EXPECT_NE(out.message.find("non-numeric"), std::string::npos) << out.message;
+}

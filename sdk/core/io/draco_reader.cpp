@@ -35,6 +35,16 @@ const draco::PointAttribute& position_attribute(const draco::Mesh& mesh, const R
   const draco::PointAttribute* pos = mesh.GetNamedAttribute(draco::GeometryAttribute::POSITION);
   if (!pos || pos->size() == 0) context.fail_here("Draco mesh has no positions: no vertices");
   if (pos->num_components() < 3) context.fail_here("Draco positions have fewer than 3 components");
+  // Draco converts values by reading them as their declared type: bool data would be loaded
+  // from arbitrary bytes (undefined behaviour; found by fuzz_draco). Positions must be numeric.
+  switch (pos->data_type()) {
+    case draco::DT_INT8: case draco::DT_UINT8: case draco::DT_INT16: case draco::DT_UINT16:
+    case draco::DT_INT32: case draco::DT_UINT32: case draco::DT_INT64: case draco::DT_UINT64:
+    case draco::DT_FLOAT32: case draco::DT_FLOAT64:
+      break;
+    default:
+      context.fail_here("Draco positions have a non-numeric data type (" + std::to_string(int(pos->data_type())) + ")");
+  }
   return *pos;
 }
 
