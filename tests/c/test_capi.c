@@ -719,7 +719,11 @@ static void multires_binding_reproduces_and_deforms_the_scan(void) {
   control[0] = NAN;
   CHECK_STATUS(cagekit_cpu_deformer_deform(full, control, 8, CAGEKIT_NORMALS_EXACT, 300, positions, normals),
                CAGEKIT_ERROR_INVALID_ARGUMENT);
-  CHECK_STATUS(cagekit_cpu_deformer_create((cagekit_binding)sphere, 0, &full), CAGEKIT_ERROR_INVALID_HANDLE);
+  {
+    cagekit_cpu_deformer none = NULL;
+    CHECK_STATUS(cagekit_cpu_deformer_create((cagekit_binding)sphere, 0, &none), CAGEKIT_ERROR_INVALID_HANDLE);
+    CHECK(none == NULL);
+  }
   options.mode = (cagekit_displacement_mode)5;
   {
     cagekit_binding none = NULL;
