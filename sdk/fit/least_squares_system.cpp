@@ -9,10 +9,9 @@
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
-#include <exception>
 #include <string>
-#include <thread>
 
+#include "core/parallel_for.h"
 #include "core/status.h"
 
 CAGEKIT_NAMESPACE_BEGIN
@@ -154,42 +153,30 @@ std::vector<Vec3> solve_point_distance(const SubdivisionSurface& surface, const 
 
   // Rows of A (basis weights), assembled in parallel; fixed columns go to the right-hand side.
   const size_t N = samples.size();
-  const int workers = std::max(1, std::min(options.threads, int((N + 4095) / 4096)));
-  std::vector<std::vector<Triplet>> parts(static_cast<size_t>(workers));
+  const size_t workers = size_t(std::max(1, std::min(options.threads, int((N + 4095) / 4096))));
+  std::vector<std::vector<Triplet>> parts(workers);
   Eigen::MatrixXd P(Eigen::Index(N), 3);
-  std::vector<std::exception_ptr> errors(static_cast<size_t>(workers));
-  auto work = [&](int w) {
-    try {
-      const size_t begin = N * size_t(w) / size_t(workers), end = N * size_t(w + 1) / size_t(workers);
-      auto& triplets = parts[size_t(w)];
-      triplets.reserve((end - begin) * 18);
-      std::vector<uint32_t> indices;
-      std::vector<double> weights;
-      for (size_t i = begin; i < end; ++i) {
-        const FootPoint& t = foot_points[i];
-        surface.basis_values(t.ptex_face, t.u, t.v, indices, weights);
-        Vec3 rhs = samples[i];
-        for (size_t k = 0; k < indices.size(); ++k) {
-          const double wk = weights[k];
-          if (wk == 0) continue;
-          const int col = free_index[indices[k]];
-          if (col >= 0)
-            triplets.emplace_back(int(i), col, wk);
-          else
-            rhs -= current_control[indices[k]] * wk;
-        }
-        P.row(Eigen::Index(i)) << rhs.x, rhs.y, rhs.z;
+  run_ranges(N, workers, [&](size_t begin, size_t end, size_t w) {
+    auto& triplets = parts[w];
+    triplets.reserve((end - begin) * 18);
+    std::vector<uint32_t> indices;
+    std::vector<double> weights;
+    for (size_t i = begin; i < end; ++i) {
+      const FootPoint& t = foot_points[i];
+      surface.basis_values(t.ptex_face, t.u, t.v, indices, weights);
+      Vec3 rhs = samples[i];
+      for (size_t k = 0; k < indices.size(); ++k) {
+        const double wk = weights[k];
+        if (wk == 0) continue;
+        const int col = free_index[indices[k]];
+        if (col >= 0)
+          triplets.emplace_back(int(i), col, wk);
+        else
+          rhs -= current_control[indices[k]] * wk;
       }
-    } catch (...) {
-      errors[size_t(w)] = std::current_exception();
+      P.row(Eigen::Index(i)) << rhs.x, rhs.y, rhs.z;
     }
-  };
-  std::vector<std::thread> pool;
-  for (int w = 1; w < workers; ++w) pool.emplace_back(work, w);
-  work(0);
-  for (auto& t : pool) t.join();
-  for (auto& e : errors)
-    if (e) std::rethrow_exception(e);
+  });
   size_t total = 0;
   for (auto& part : parts) total += part.size();
   std::vector<Triplet> triplets;

@@ -3,9 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <exception>
-#include <thread>
 
+#include "core/parallel_for.h"
 #include "core/status.h"
 
 CAGEKIT_NAMESPACE_BEGIN
@@ -70,25 +69,14 @@ PiecewiseLinearLimitMesh::PiecewiseLinearLimitMesh(const SubdivisionSurface& sur
   // Grid points, evaluated on `threads` threads (each writes its own blocks).
   grid_.resize(grid_face_.size() * size_t(g) * size_t(g));
   const size_t blocks = grid_face_.size();
-  const int workers = int(std::max<size_t>(1, std::min<size_t>(size_t(std::max(threads, 1)), blocks / 64)));
-  std::vector<std::exception_ptr> errors(static_cast<size_t>(workers));
-  auto work = [&](int w) {
-    try {
-      for (size_t b = blocks * size_t(w) / size_t(workers); b < blocks * size_t(w + 1) / size_t(workers); ++b)
-        for (int i = 0; i < g; ++i)
-          for (int j = 0; j < g; ++j)
-            grid_[(b * size_t(g) + size_t(i)) * size_t(g) + size_t(j)] =
-                surface.evaluate_position(grid_face_[b], double(i) / r, double(j) / r, patch_points);
-    } catch (...) {
-      errors[size_t(w)] = std::current_exception();
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int w = 1; w < workers; ++w) pool.emplace_back(work, w);
-  work(0);
-  for (auto& t : pool) t.join();
-  for (auto& e : errors)
-    if (e) std::rethrow_exception(e);
+  const size_t workers = std::max<size_t>(1, std::min<size_t>(size_t(std::max(threads, 1)), blocks / 64));
+  run_ranges(blocks, workers, [&](size_t begin, size_t end, size_t) {
+    for (size_t b = begin; b < end; ++b)
+      for (int i = 0; i < g; ++i)
+        for (int j = 0; j < g; ++j)
+          grid_[(b * size_t(g) + size_t(i)) * size_t(g) + size_t(j)] =
+              surface.evaluate_position(grid_face_[b], double(i) / r, double(j) / r, patch_points);
+  });
   for (uint32_t block = 0; block < blocks; ++block) {
     for (int i = 0; i < r; ++i)
       for (int j = 0; j < r; ++j)

@@ -18,6 +18,7 @@
 #include "test_support.h"
 
 using namespace cagekit;
+using cagekit_test::status_of;
 
 namespace {
 RefineOptions levels(int n) {
@@ -26,14 +27,6 @@ RefineOptions levels(int n) {
   return o;
 }
 
-Status status_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.status();
-  }
-  return Status::success;
-}
 }  // namespace
 
 TEST(MemoryBudget, estimates_above_the_budget_fail_with_out_of_memory) {

@@ -32,6 +32,7 @@
 namespace {
 
 namespace Far = OpenSubdiv::Far;
+using cagekit_test::status_of;
 using cagekit::BasisWeights;
 using cagekit::BoundaryRule;
 using cagekit::Cage;
@@ -830,15 +831,6 @@ TEST(SubdivisionSurface, ptex_faces_split_non_quads_per_corner) {
       EXPECT_NEAR(cagekit::distance(surface.evaluate(ptex, 1, t).position, surface.evaluate(next, t, 1).position), 0,
                   1e-14);
   }
-}
-
-Status status_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.status();
-  }
-  return Status::success;
 }
 
 TEST(SubdivisionSurface, invalid_queries_and_cages_throw) {

@@ -93,4 +93,13 @@ PolygonMesh triangle_sphere(int levels) {
   return m;
 }
 
+cagekit::Status status_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const cagekit::Error& e) {
+    return e.status();
+  }
+  return cagekit::Status::success;
+}
+
 }  // namespace cagekit_test

@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Shared helpers for the C++ unit tests: locating the shared meshes, small generated meshes.
+#include <functional>
 #include <random>
 #include <string>
 
 #include "core/cage.h"
 #include "core/polygon_mesh.h"
+#include "core/status.h"
 
 namespace cagekit_test {
 
@@ -27,5 +29,8 @@ cagekit::PolygonMesh random_polygon_soup(std::mt19937& rng);
 
 // A UV-sphere-like closed mesh of triangles (an octahedron subdivided `levels` times, projected).
 cagekit::PolygonMesh triangle_sphere(int levels);
+
+// The status f() throws as cagekit::Error, or success.
+cagekit::Status status_of(const std::function<void()>& f);
 
 }  // namespace cagekit_test
