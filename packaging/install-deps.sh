@@ -9,6 +9,7 @@ PACKAGES=(
   libegl-dev libgles-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
   libgtest-dev python3 binutils
   clang libclang-rt-14-dev
+  abigail-tools
 )
 
 missing=()

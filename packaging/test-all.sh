@@ -49,3 +49,15 @@ for harness in fuzz_obj fuzz_ply fuzz_off fuzz_draco fuzz_mesh_api; do
   grep -E 'stat::number_of_executed_units|Done [0-9]+ runs' "$scratch/log" | tail -n 2
   rm -rf "$scratch"
 done
+
+echo "== ThreadSanitizer: the concurrency stress test and the C API tests (library + 3 programs only)"
+cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCAGEKIT_SANITIZE_THREAD=ON
+cmake --build build-tsan -j "$jobs" --target stress_concurrency hostile_sizes test_capi
+export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1"
+# Kernels with high mmap randomisation (vm.mmap_rnd_bits > 28) break older TSan runtimes
+# ("unexpected memory mapping"); running without address randomisation avoids that.
+tsan_run() { if setarch "$(uname -m)" -R true 2>/dev/null; then setarch "$(uname -m)" -R "$@"; else "$@"; fi; }
+tsan_run build-tsan/tests/stress/stress_concurrency 3 6
+tsan_run build-tsan/tests/c/test_capi >/dev/null
+tsan_run build-tsan/tests/stress/hostile_sizes >/dev/null
+echo "test-all: ThreadSanitizer pass clean"

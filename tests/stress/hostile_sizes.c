@@ -94,7 +94,7 @@ static void run_case(const char* name, case_fn fn) {
     seconds = now_seconds() - t0;
     rss_after = max_rss_kib();
     printf("%-58s %8.2f ms  peak RSS +%ld KiB%s\n", name, 1e3 * seconds, rss_after - rss_before,
-           seconds > 0.1 ? "  (slower than 100 ms)" : "");
+           seconds > 0.1 ? "  (case total > 100 ms)" : "");
     if (rss_after - rss_before > RSS_BOUND_KIB) {
       fprintf(stderr, "%s: peak RSS grew by %ld KiB, more than %ld KiB\n", name, rss_after - rss_before,
               RSS_BOUND_KIB);
@@ -400,25 +400,57 @@ static cagekit_cage grid_cage(uint32_t w, uint32_t h) {
   return cage;
 }
 
-static int subdivide_huge_levels(void) {
-  cagekit_cage small = grid_cage(2, 2), big = grid_cage(200, 200), out = (cagekit_cage)&small;
+/* One subdivide call, timed on its own (the case's total includes building the cages). */
+static int timed_subdivide(const char* what, cagekit_cage cage, uint32_t levels, cagekit_status expected) {
   cagekit_subdivide_options options = CAGEKIT_SUBDIVIDE_OPTIONS_INIT;
-  int bad = 0;
-  options.levels = 30;
-  bad |= expect("subdivide levels 30", cagekit_cage_subdivide(small, &options, &out), CAGEKIT_ERROR_INVALID_ARGUMENT);
-  options.levels = UINT32_MAX;
-  bad |= expect("subdivide levels UINT32_MAX", cagekit_cage_subdivide(small, &options, &out),
-                CAGEKIT_ERROR_INVALID_ARGUMENT);
-  /* 40000 quads * 4^8 = 2.6e9 faces, 1e10 face-vertices: refused before allocating */
-  options.levels = CAGEKIT_MAX_SUBDIVISION_LEVELS;
-  bad |= expect("subdivide 40000 quads 8 levels", cagekit_cage_subdivide(big, &options, &out),
-                CAGEKIT_ERROR_LIMIT_EXCEEDED);
-  options.levels = 7; /* 6.5e8 faces, 2.6e9 face-vertices */
-  bad |= expect("subdivide 40000 quads 7 levels", cagekit_cage_subdivide(big, &options, &out),
-                CAGEKIT_ERROR_LIMIT_EXCEEDED);
+  cagekit_cage out = (cagekit_cage)&options;
+  cagekit_status s;
+  double t0 = now_seconds();
+  int bad;
+  options.levels = levels;
+  s = cagekit_cage_subdivide(cage, &options, &out);
+  t0 = now_seconds() - t0;
+  printf("  %-40s %8.2f ms\n", what, 1e3 * t0);
+  bad = expect(what, s, expected);
   if (out != NULL) bad = 1;
+  return bad;
+}
+
+static int subdivide_huge_levels(void) {
+  cagekit_cage small = grid_cage(2, 2), big = grid_cage(200, 200);
+  int bad = 0;
+  bad |= timed_subdivide("subdivide levels 30", small, 30, CAGEKIT_ERROR_INVALID_ARGUMENT);
+  bad |= timed_subdivide("subdivide levels UINT32_MAX", small, UINT32_MAX, CAGEKIT_ERROR_INVALID_ARGUMENT);
+  /* 40000 quads * 4^8 = 2.6e9 faces, 1e10 face-vertices: refused before allocating */
+  bad |= timed_subdivide("subdivide 40000 quads 8 levels", big, CAGEKIT_MAX_SUBDIVISION_LEVELS,
+                         CAGEKIT_ERROR_LIMIT_EXCEEDED);
+  /* 6.5e8 faces, 2.6e9 face-vertices */
+  bad |= timed_subdivide("subdivide 40000 quads 7 levels", big, 7, CAGEKIT_ERROR_LIMIT_EXCEEDED);
   cagekit_cage_release(small);
   cagekit_cage_release(big);
+  return bad;
+}
+
+/* Within the 2^31-index limit but far beyond memory: 40000 quads x 6 levels = 6.5e8 face
+ * corners (tens of GiB). With a context memory budget of 64 MiB the call must refuse before
+ * allocating (OUT_OF_MEMORY naming the budget). */
+static int subdivide_beyond_budget(void) {
+  cagekit_context_desc desc = CAGEKIT_CONTEXT_DESC_INIT;
+  cagekit_context saved = g_context, budget = NULL;
+  cagekit_cage big;
+  int bad;
+  desc.memory_budget_bytes = 64ull << 20;
+  if (cagekit_context_create(&desc, &budget) != CAGEKIT_SUCCESS) return 1;
+  g_context = budget; /* grid_cage and expect() use g_context */
+  big = grid_cage(200, 200);
+  bad = timed_subdivide("subdivide 40000 quads 6 levels, budget 64 MiB", big, 6, CAGEKIT_ERROR_OUT_OF_MEMORY);
+  if (strstr(cagekit_last_error_message(budget), "budget") == NULL) {
+    fprintf(stderr, "  message does not name the budget: %s\n", cagekit_last_error_message(budget));
+    bad = 1;
+  }
+  cagekit_cage_release(big);
+  cagekit_context_release(budget);
+  g_context = saved;
   return bad;
 }
 
@@ -508,6 +540,7 @@ int main(int argc, char** argv) {
   run_case("Draco: corrupted header/counts (sequential)", draco_corrupt_counts_sequential);
   run_case("mesh_create: counts near UINT32_MAX, tiny buffers", mesh_create_huge_counts);
   run_case("cage_subdivide: levels 30, 2^32-1; 40000 quads x 7/8 levels", subdivide_huge_levels);
+  run_case("cage_subdivide: 40000 quads x 6 levels, 64 MiB budget", subdivide_beyond_budget);
   run_case("surface: isolation 30, evaluate count UINT32_MAX", surface_huge_counts);
   run_case("cage tags: indices UINT32_MAX", tags_huge_indices);
   cagekit_context_release(g_context);
