@@ -436,7 +436,9 @@ typedef struct cagekit_write_report {
 
 /* Reads a mesh (tags in the file are ignored) or a cage from a file or a memory buffer.
  * Errors: IO (cannot open/read), PARSE (the message names the file and the line or byte offset
- * of the first problem), UNSUPPORTED_FORMAT, LIMIT_EXCEEDED (hostile element counts). Long
+ * of the first problem), UNSUPPORTED_FORMAT, LIMIT_EXCEEDED (hostile element counts),
+ * INVALID_MESH (cages only: crease, corner or hole tags that do not fit the mesh),
+ * OUT_OF_MEMORY (also: the context's memory budget would be exceeded). Long
  * operation (progress, cancel). Thread-safe. `data` is only read during the call. */
 CAGEKIT_API cagekit_status cagekit_mesh_read_file(cagekit_context context, const char* path,
                                                   cagekit_file_format format, cagekit_mesh* out);

@@ -254,6 +254,8 @@ typedef struct reference {
   uint64_t shared_level_fp;         /* of the shared hierarchy at its (fixed) level */
   uint64_t built_cage_fp, polygon_mesh_fp;
   uint64_t cancel_subdiv_fp;
+  uint64_t fit_fp;                  /* the shared cage fitted to the shared mesh (threads = 1) */
+  uint64_t bind_info_fp, deform_fp; /* binding info; positions + normals for moved control points */
 } reference;
 
 static geometry g_tri, g_quad, g_big;
@@ -268,6 +270,7 @@ static cagekit_mesh g_shared_mesh;
 static cagekit_cage g_shared_cage, g_cancel_cage;
 static cagekit_surface g_shared_surface;
 static cagekit_hierarchy g_shared_hierarchy;
+static cagekit_binding g_shared_binding; /* immutable: read by every worker's own deformer */
 static int g_iterations = 4;
 
 static uint64_t blob_fp(cagekit_blob blob) { return fnv(FNV_SEED, cagekit_blob_data(blob), cagekit_blob_size(blob)); }
@@ -393,6 +396,69 @@ static uint64_t repair_fp(int tid, cagekit_mesh mesh, cagekit_repair_report* rep
   return fp;
 }
 
+static uint64_t fit_fp(int tid) {
+  cagekit_fit_options options = CAGEKIT_FIT_OPTIONS_INIT;
+  cagekit_cage fitted = NULL;
+  uint64_t fp = 0;
+  options.max_passes = 2;
+  options.threads = 1;
+  CHECK_OK_T(tid, cagekit_cage_fit(g_shared_cage, g_shared_mesh, &options, &fitted, NULL));
+  if (fitted) fp = cage_fingerprint(fitted);
+  cagekit_cage_release(fitted);
+  return fp;
+}
+
+static uint64_t bind_info_fp(int tid, cagekit_binding binding) {
+  cagekit_binding_info info;
+  memset(&info, 0, sizeof info);
+  info.struct_size = sizeof info;
+  CHECK_OK_T(tid, cagekit_binding_get_info(binding, &info));
+  return fnv(fnv(fnv(FNV_SEED, &info.vertex_count, sizeof info.vertex_count), &info.basis_entries,
+                 sizeof info.basis_entries),
+             &info.max_sideways_residual, sizeof info.max_sideways_residual);
+}
+
+/* A deformer of the shared binding: the cage's control points, every third moved, then positions
+ * and normals fingerprinted (full recompute, then an incremental update of two points). */
+static uint64_t deform_fp(int tid) {
+  cagekit_cpu_deformer deformer = NULL;
+  cagekit_mesh cage_mesh = NULL;
+  uint32_t m = 0, n = 0, k, moved[2] = {0, 3};
+  double* control;
+  double *positions, *normals;
+  uint64_t fp = FNV_SEED;
+  cagekit_binding_info info;
+  memset(&info, 0, sizeof info);
+  info.struct_size = sizeof info;
+  CHECK_OK_T(tid, cagekit_binding_get_info(g_shared_binding, &info));
+  n = info.vertex_count;
+  CHECK_OK_T(tid, cagekit_cage_get_mesh(g_shared_cage, &cage_mesh));
+  CHECK_OK_T(tid, cagekit_mesh_get_positions(cage_mesh, CAGEKIT_SCALAR_FLOAT64, 0, &m, NULL));
+  control = (double*)malloc(3 * (size_t)m * sizeof(double));
+  positions = (double*)malloc(3 * (size_t)n * sizeof(double));
+  normals = (double*)malloc(3 * (size_t)n * sizeof(double));
+  if (!control || !positions || !normals) {
+    record_failure(__FILE__, __LINE__, tid, "out of memory");
+  } else {
+    CHECK_OK_T(tid, cagekit_mesh_get_positions(cage_mesh, CAGEKIT_SCALAR_FLOAT64, m, &m, control));
+    for (k = 0; k < m; k += 3) control[3 * k + 2] += 0.05;
+    CHECK_OK_T(tid, cagekit_cpu_deformer_create(g_shared_binding, 1, &deformer));
+    CHECK_OK_T(tid, cagekit_cpu_deformer_deform(deformer, control, m, CAGEKIT_NORMALS_APPROXIMATE, n, positions,
+                                                normals));
+    control[0] -= 0.03;
+    control[3 * 3 + 1] += 0.02;
+    CHECK_OK_T(tid, cagekit_cpu_deformer_update(deformer, control, m, moved, 2, CAGEKIT_NORMALS_APPROXIMATE, n,
+                                                positions, normals, NULL));
+    fp = fnv(fnv(fp, positions, 3 * (size_t)n * sizeof(double)), normals, 3 * (size_t)n * sizeof(double));
+  }
+  cagekit_cpu_deformer_release(deformer);
+  cagekit_mesh_release(cage_mesh);
+  free(control);
+  free(positions);
+  free(normals);
+  return fp;
+}
+
 static void compute_reference(void) {
   const int tid = -1;
   cagekit_mesh broken = NULL;
@@ -440,6 +506,15 @@ static void compute_reference(void) {
   g_ref.polygon_mesh_fp = polygon_mesh_fp(tid, g_shared_hierarchy);
 
   g_ref.cancel_subdiv_fp = subdivide_fp(tid, g_cancel_cage, 2, CAGEKIT_SUCCESS);
+
+  g_ref.fit_fp = fit_fp(tid);
+  {
+    cagekit_bind_options options = CAGEKIT_BIND_OPTIONS_INIT;
+    options.threads = 1;
+    CHECK_OK_T(tid, cagekit_multires_bind(g_shared_cage, g_shared_mesh, &options, &g_shared_binding));
+  }
+  g_ref.bind_info_fp = bind_info_fp(tid, g_shared_binding);
+  g_ref.deform_fp = deform_fp(tid);
 }
 
 /* ------------------------------------------------------------------------------------------ */
@@ -553,6 +628,21 @@ static void* worker_main(void* arg) {
       CHECK_T(tid, built_cage_fp(tid, g_shared_hierarchy) == g_ref.built_cage_fp);
       CHECK_T(tid, polygon_mesh_fp(tid, g_shared_hierarchy) == g_ref.polygon_mesh_fp);
     }
+
+    /* fitting and multiresolution: fit and bind read the shared cage and mesh; each thread's own
+     * deformer reads the shared (immutable) binding; results equal the single-threaded ones */
+    if (it % 2 == 1) {
+      cagekit_binding own_binding = NULL;
+      cagekit_bind_options bind = CAGEKIT_BIND_OPTIONS_INIT;
+      CHECK_T(tid, fit_fp(tid) == g_ref.fit_fp);
+      bind.threads = 1;
+      CHECK_OK_T(tid, cagekit_multires_bind(g_shared_cage, g_shared_mesh, &bind, &own_binding));
+      if (own_binding) CHECK_T(tid, bind_info_fp(tid, own_binding) == g_ref.bind_info_fp);
+      cagekit_binding_release(own_binding);
+    }
+    CHECK_T(tid, deform_fp(tid) == g_ref.deform_fp);
+    cagekit_binding_retain(g_shared_binding);
+    cagekit_binding_release(g_shared_binding);
 
     /* own hierarchy (from the thread's own mesh): navigate up and down */
     if (it % 2 == 0) {
@@ -720,6 +810,7 @@ int main(int argc, char** argv) {
   cagekit_context_release(g_cancel_ctx);
   CHECK_T(-1, mesh_fingerprint(g_shared_mesh) == g_ref.tri_mesh_fp);
   cagekit_hierarchy_release(g_shared_hierarchy);
+  cagekit_binding_release(g_shared_binding);
   cagekit_surface_release(g_shared_surface);
   cagekit_cage_release(g_shared_cage);
   cagekit_cage_release(g_cancel_cage);
