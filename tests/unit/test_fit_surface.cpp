@@ -492,11 +492,9 @@ TEST(FitSurface, cgls_and_direct_solvers_agree) {
 
 // Scan boundaries: max_relative_interior leaves out the vertices on or next to a boundary.
 TEST(FitSurface, interior_statistics_leave_out_the_scan_boundary) {
-  double (*height)(double, double) = [](double x, double y) { return 0.05 * std::sin(0.3 * x) * y; };
-  const PolygonMesh grid = cagekit_test::quad_grid(20, 20, height);
-  Cage cage;
-  cage.mesh = cagekit_test::quad_grid(4, 4);
-  for (Vec3& p : cage.mesh.positions) p = {5 * p.x, 5 * p.y, height(5 * p.x, 5 * p.y)};
+  const cagekit_test::OpenGrid open = cagekit_test::open_grid_scan_and_cage();
+  const PolygonMesh& grid = open.scan;
+  const Cage& cage = open.cage;
   FitOptions options;
   options.max_passes = 2;
   FitReport report;

@@ -85,11 +85,9 @@ TEST(MultiresBinding, undeformed_cage_reproduces_the_scan) {
 // vertices have foot points on the surface's border and a sideways offset; normal mode reports
 // it, local-frame mode keeps it.
 TEST(MultiresBinding, sideways_residual_is_reported_and_kept_in_local_frame_mode) {
-  double (*height)(double, double) = [](double x, double y) { return 0.05 * std::sin(0.3 * x) * y; };
-  const PolygonMesh scan = cagekit_test::quad_grid(20, 20, height);
-  Cage cage;
-  cage.mesh = cagekit_test::quad_grid(4, 4);
-  for (Vec3& p : cage.mesh.positions) p = {5 * p.x, 5 * p.y, height(5 * p.x, 5 * p.y)};
+  const cagekit_test::OpenGrid open = cagekit_test::open_grid_scan_and_cage();
+  const PolygonMesh& scan = open.scan;
+  const Cage& cage = open.cage;
   BindOptions normal_mode, frame_mode;
   frame_mode.mode = DisplacementMode::local_frame;
   const ScanBinding a = bind_scan_to_cage(cage, scan, normal_mode), b = bind_scan_to_cage(cage, scan, frame_mode);

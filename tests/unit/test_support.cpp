@@ -1,12 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "test_support.h"
 
-#include "core/io/mesh_io.h"
-
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <utility>
+
+#include "core/io/mesh_io.h"
 
 namespace cagekit_test {
 
@@ -91,6 +92,15 @@ PolygonMesh triangle_sphere(int levels) {
     m = std::move(next);
   }
   return m;
+}
+
+OpenGrid open_grid_scan_and_cage() {
+  double (*height)(double, double) = [](double x, double y) { return 0.05 * std::sin(0.3 * x) * y; };
+  OpenGrid g;
+  g.scan = quad_grid(20, 20, height);
+  g.cage.mesh = quad_grid(4, 4);
+  for (Vec3& p : g.cage.mesh.positions) p = {5 * p.x, 5 * p.y, height(5 * p.x, 5 * p.y)};
+  return g;
 }
 
 cagekit::Status status_of(const std::function<void()>& f) {

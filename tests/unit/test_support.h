@@ -30,6 +30,14 @@ cagekit::PolygonMesh random_polygon_soup(std::mt19937& rng);
 // A UV-sphere-like closed mesh of triangles (an octahedron subdivided `levels` times, projected).
 cagekit::PolygonMesh triangle_sphere(int levels);
 
+// An open, gently curved 20x20 quad grid (the scan) and a 4x4 quad cage over the same square
+// with its vertices on the same height field (z = 0.05 sin(0.3 x) y).
+struct OpenGrid {
+  cagekit::PolygonMesh scan;
+  cagekit::Cage cage;
+};
+OpenGrid open_grid_scan_and_cage();
+
 // The status f() throws as cagekit::Error, or success.
 cagekit::Status status_of(const std::function<void()>& f);
 
