@@ -236,13 +236,50 @@ Cage build_quad_dominant_cage(const PolygonMesh& input, const PolygonalLevel& le
     }
   }
   const double cos_threshold = std::cos(options.crease_angle_degrees * kPi / 180.0);
+  // Mean dihedral angle of the input along each pair of clusters' border (length-weighted).
+  std::unordered_map<uint64_t, std::pair<double, double>> border;  // cluster pair -> (sum angle*len, len)
+  if (options.input_crease_angle_degrees >= 0 && options.crease_angle_degrees >= 0 &&
+      level.cluster_of_input_face.size() == input.num_faces()) {
+    std::vector<Vec3> normal(input.num_faces());
+    for (size_t f = 0; f < input.num_faces(); ++f) {
+      const uint32_t k = input.face_size(f);
+      Vec3 n;
+      for (uint32_t c = 0; c < k; ++c)
+        n += cross(input.positions[input.face_vertex(f, c)], input.positions[input.face_vertex(f, (c + 1) % k)]);
+      normal[f] = normalized(n);
+    }
+    std::unordered_map<uint64_t, uint32_t> edge_face;
+    edge_face.reserve(input.num_face_vertices());
+    for (size_t f = 0; f < input.num_faces(); ++f) {
+      const uint32_t k = input.face_size(f);
+      for (uint32_t c = 0; c < k; ++c) {
+        const uint32_t a = input.face_vertex(f, c), b = input.face_vertex(f, (c + 1) % k);
+        const auto [it, inserted] = edge_face.emplace(edge_key(a, b), static_cast<uint32_t>(f));
+        if (inserted) continue;
+        const uint32_t g = it->second, ca = level.cluster_of_input_face[f], cb = level.cluster_of_input_face[g];
+        if (ca == cb) continue;
+        const double angle = std::acos(std::clamp(dot(normal[f], normal[g]), -1.0, 1.0));
+        const double len = distance(input.positions[a], input.positions[b]);
+        auto& acc = border[edge_key(ca, cb)];
+        acc.first += angle * len;
+        acc.second += len;
+      }
+    }
+  }
+  auto input_is_sharp = [&](uint32_t ca, uint32_t cb) {
+    if (options.input_crease_angle_degrees < 0) return true;
+    const auto it = border.find(edge_key(ca, cb));
+    if (it == border.end() || !(it->second.second > 0)) return true;  // no shared input edges: keep the rule
+    return it->second.first / it->second.second > options.input_crease_angle_degrees * kPi / 180.0;
+  };
   for (const auto& [key, use] : uses) {
     if (use.count > 2) ++r.non_manifold_edges;
     bool sharp = false;
     if (use.count == 1) {
       sharp = options.tag_boundary_edges;
     } else if (use.count == 2 && use.cluster[0] != use.cluster[1] && options.crease_angle_degrees >= 0) {
-      sharp = dot(level.faces[use.cluster[0]].normal, level.faces[use.cluster[1]].normal) < cos_threshold;
+      sharp = dot(level.faces[use.cluster[0]].normal, level.faces[use.cluster[1]].normal) < cos_threshold &&
+              input_is_sharp(use.cluster[0], use.cluster[1]);
     }
     if (sharp) cage.creases.push_back({static_cast<uint32_t>(key >> 32), static_cast<uint32_t>(key), kSharpnessInfinite});
   }

@@ -18,6 +18,12 @@ struct CageBuildOptions {
   // A cage edge on the border of two clusters is tagged infinitely sharp when the clusters'
   // proxy normals differ by more than this angle (degrees). Negative: never.
   double crease_angle_degrees = 30.0;
+  // ... and only where the input itself is sharp along the border of the two clusters: the
+  // length-weighted mean angle between the normals of the input faces on either side of the
+  // input edges that separate the clusters exceeds this angle (degrees). Organic scans, whose
+  // cluster borders run over smooth surface, then get smooth cages; CAD parts keep their
+  // creases. Negative: not checked (clusters' proxy normals alone decide).
+  double input_crease_angle_degrees = -1.0;
   // Tag the edges on the mesh boundary (they are creases under the thesis's rule anyway;
   // tagging them keeps them sharp under any boundary rule).
   bool tag_boundary_edges = true;
