@@ -645,9 +645,15 @@ typedef struct cagekit_cage_options {
   double crease_angle_degrees;  /* tag cage edges between clusters whose normals differ more (default 30; < 0: never) */
   int tag_boundary_edges;       /* 1: tag the mesh-boundary edges as creases (default 1) */
   uint32_t exact_partition_limit; /* faces up to this many vertices are partitioned optimally (default 20) */
+  /* Also require the input itself to be sharp along the two clusters' border: the length-weighted
+   * mean angle between the normals of the input faces on either side of the input edges that
+   * separate the clusters must exceed this (degrees). Keeps CAD features, leaves organic scans
+   * smooth (bunny at 300 polygons: 114 instead of 479 creases; fandisk 297 of 299). Default -1:
+   * off (the clusters' normals alone decide). */
+  double input_crease_angle_degrees;
 } cagekit_cage_options;
 
-#define CAGEKIT_CAGE_OPTIONS_INIT { sizeof(cagekit_cage_options), 30.0, 1, 20 }
+#define CAGEKIT_CAGE_OPTIONS_INIT { sizeof(cagekit_cage_options), 30.0, 1, 20, -1.0 }
 
 typedef struct cagekit_cage_report {
   size_t struct_size;           /* sizeof(cagekit_cage_report) */
@@ -655,6 +661,9 @@ typedef struct cagekit_cage_report {
   uint64_t creases;
   uint64_t non_optimal_faces;   /* level faces whose partition is not proven optimal */
   uint64_t non_manifold_edges;  /* cage edges used by more than two faces (0 expected) */
+  uint64_t diagonals_flipped;   /* diagonals flipped out of a face because another face joined
+                                   their two vertices (the face was partitioned again) */
+  uint64_t cells_merged;        /* such diagonals no flip removed: their two cells became one */
 } cagekit_cage_report;
 
 /* Partitions every face of the current level into convex quad-dominant cells (only diagonals

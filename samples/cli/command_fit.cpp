@@ -51,7 +51,7 @@ int command_fit(Args& args) {
 
 int command_pipeline(Args& args) {
   const char* usage =
-      "cagekit pipeline SCAN OUTDIR [--method simplify] (--faces N | --vertices N) [--crease-angle DEG] "
+      "cagekit pipeline SCAN OUTDIR [--method simplify] (--faces N | --vertices N) [--crease-angle DEG] [--input-crease-angle DEG] "
       "[--passes N] [--tolerance T] [--projection exact|linear] [--fairing F] [--keep-creases] [--threads N] "
       "[--limit-levels L] [--json] [--quiet]";
   const bool quiet = args.flag("--quiet");
@@ -64,6 +64,7 @@ int command_pipeline(Args& args) {
     faces = args.integer("--faces", -1, 1, 2000000000);
     vertices = args.integer("--vertices", -1, 1, 2000000000);
     settings.crease_angle = args.real("--crease-angle", 30.0, -1.0, 180.0);
+    settings.input_crease_angle = args.real("--input-crease-angle", -1.0, -1.0, 180.0);
     limit_levels = args.integer("--limit-levels", 3, 0, 5);
   } catch (const Failure& f) {  // option values are input of this command: exit code 2
     throw Failure(f.code == kExitUsage ? kExitBadInput : f.code, f.what());

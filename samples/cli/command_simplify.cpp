@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // cagekit simplify IN OUT (--faces N | --vertices N) [--cage] [--clusters FILE.ply] [--json]
-//                 [--crease-angle DEG] [--epsilon E]
+//                 [--crease-angle DEG] [--input-crease-angle DEG] [--epsilon E]
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -61,7 +61,7 @@ void write_clusters_ply(const Session& session, cagekit_mesh input, const std::v
 int command_simplify(Args& args) {
   const char* usage =
       "cagekit simplify IN OUT (--faces N | --vertices N) [--cage] [--clusters FILE.ply] [--json] "
-      "[--crease-angle DEG] [--epsilon E] [--quiet]";
+      "[--crease-angle DEG] [--input-crease-angle DEG] [--epsilon E] [--quiet]";
   const bool quiet = args.flag("--quiet");
   const bool json = args.flag("--json");
   const bool want_cage = args.flag("--cage");
@@ -69,6 +69,7 @@ int command_simplify(Args& args) {
   const int vertices_target = args.integer("--vertices", -1, 1, 2000000000);
   const std::string clusters_path = args.option("--clusters", "");
   const double crease_angle = args.real("--crease-angle", 30.0, -1.0, 180.0);
+  const double input_crease_angle = args.real("--input-crease-angle", -1.0, -1.0, 180.0);
   const double epsilon = args.real("--epsilon", 0.01, 0.0, 1e6);
   const auto files = args.positional(2, 2, usage);
   if ((faces_target < 0) == (vertices_target < 0)) throw Failure(kExitUsage, std::string("usage: ") + usage);
@@ -103,6 +104,7 @@ int command_simplify(Args& args) {
   if (want_cage) {
     cagekit_cage_options cage_options = CAGEKIT_CAGE_OPTIONS_INIT;
     cage_options.crease_angle_degrees = crease_angle;
+    cage_options.input_crease_angle_degrees = input_crease_angle;
     Cage cage;
     session.check(cagekit_hierarchy_build_cage(hierarchy.get(), &cage_options, cage.out(), &cage_report), files[0]);
     session.check(cagekit_cage_write_file(cage.get(), files[1].c_str(), &write, nullptr), files[1]);

@@ -140,6 +140,7 @@ void run_pipeline(const Session& session, cagekit_mesh scan, const std::string& 
   session.check(cagekit_hierarchy_get_current_info(hierarchy.get(), &result->level_info), scan_name);
   cagekit_cage_options cage_options = CAGEKIT_CAGE_OPTIONS_INIT;
   cage_options.crease_angle_degrees = settings.crease_angle;
+  cage_options.input_crease_angle_degrees = settings.input_crease_angle;
   result->cage_report.struct_size = sizeof(result->cage_report);
   session.check(cagekit_hierarchy_build_cage(hierarchy.get(), &cage_options, result->initial_cage.out(),
                                              &result->cage_report),

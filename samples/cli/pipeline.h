@@ -30,6 +30,7 @@ struct PipelineSettings {
   cagekit_level_query query = CAGEKIT_LEVEL_BY_FACES;  // BY_FACES or BY_VERTICES
   double target = 0;
   double crease_angle = 30.0;
+  double input_crease_angle = -1.0;  // also require the scan to be sharp there (< 0: off)
   cagekit_fit_options fit = CAGEKIT_FIT_OPTIONS_INIT;
   uint32_t limit_levels = 3;
   // Output file names inside the output folder ("" = not written).

@@ -188,10 +188,13 @@ CAGEKIT_API cagekit_status cagekit_hierarchy_build_cage(cagekit_hierarchy hierar
     cagekit_cage_options defaults = CAGEKIT_CAGE_OPTIONS_INIT;
     const cagekit_cage_options o = read_versioned(options, defaults, "cagekit_cage_options");
     if (!std::isfinite(o.crease_angle_degrees)) fail(Status::invalid_argument, "crease_angle_degrees must be finite");
+    if (!std::isfinite(o.input_crease_angle_degrees))
+      fail(Status::invalid_argument, "cagekit_cage_options.input_crease_angle_degrees must be finite");
     if (o.exact_partition_limit < 3 || o.exact_partition_limit > 64)
       fail(Status::invalid_argument, "exact_partition_limit must be in 3..64");
     cagekit::CageBuildOptions bo;
     bo.crease_angle_degrees = o.crease_angle_degrees;
+    bo.input_crease_angle_degrees = o.input_crease_angle_degrees;
     bo.tag_boundary_edges = o.tag_boundary_edges != 0;
     bo.partition.exact_vertex_limit = static_cast<int>(o.exact_partition_limit);
     cagekit::CageBuildReport br;
@@ -206,6 +209,8 @@ CAGEKIT_API cagekit_status cagekit_hierarchy_build_cage(cagekit_hierarchy hierar
       r.creases = br.creases;
       r.non_optimal_faces = br.non_optimal_faces;
       r.non_manifold_edges = br.non_manifold_edges;
+      r.diagonals_flipped = br.diagonals_flipped;
+      r.cells_merged = br.cells_merged;
       write_versioned(report, r, "cagekit_cage_report");
     }
     *out = std::make_unique<cagekit_cage_t>(h.context, std::move(cage)).release();

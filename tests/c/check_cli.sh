@@ -143,6 +143,11 @@ if "$cli" simplify "$tmp/demo/scan.obj" "$tmp/scan6.obj" --faces 6 --cage --quie
    "$cli" info "$tmp/fit6.obj" --json >"$tmp/fit6info.json" &&
    [ "$(json "$tmp/fit6info.json" "d['quads'] == 6 and d['creases'] == 12")" = True ]
 then pass "fit: a creased 6-quad cage to the demo scan (JSON keys, max_rel decreases, tags kept)"; else cat "$tmp/fit6.json" "$tmp/fit6info.json"; fail "fit cage to demo scan"; fi
+if "$cli" simplify "$tmp/demo/scan.obj" "$tmp/scan6s.obj" --faces 6 --cage --input-crease-angle 30 --json --quiet >"$tmp/scan6s.json" &&
+   [ "$(json "$tmp/scan6s.json" "d['creases'] == 12")" = True ] &&
+   "$cli" simplify "$tmp/demo/scan.obj" "$tmp/scan6n.obj" --faces 6 --cage --input-crease-angle 120 --json --quiet >"$tmp/scan6n.json" &&
+   [ "$(json "$tmp/scan6n.json" "d['creases'] == 0")" = True ]
+then pass "simplify --input-crease-angle: the block's 90-degree edges stay creases at 30, not at 120"; else cat "$tmp/scan6s.json" "$tmp/scan6n.json"; fail "simplify --input-crease-angle"; fi
 if "$cli" fit "$tmp/demo/scan.obj" "$tmp/cube.obj" "$tmp/fitcube.drc" --passes 4 --tolerance 0 --projection linear --json --quiet >"$tmp/fitcube.json" &&
    [ "$(json "$tmp/fitcube.json" "[F := d, $fit_ok][1] and d['passes'] >= 2 and d['max_rel'] < 0.5 * d['per_pass'][0]['max_rel']")" = True ] &&
    [ -s "$tmp/fitcube.drc" ]

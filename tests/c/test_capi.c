@@ -477,6 +477,23 @@ static void simplification_hierarchy_browses_levels_and_builds_a_cage(void) {
   report.struct_size = sizeof(report);
   CHECK_OK(cagekit_hierarchy_build_cage(hierarchy, NULL, &cage, &report));
   CHECK(report.quads == 6 && report.triangles == 0 && report.creases == 12);
+  CHECK(report.diagonals_flipped == 0 && report.cells_merged == 0);
+  {
+    /* the cube's sides meet at 90 degrees in the input too: kept at 85, dropped at 95 */
+    cagekit_cage_options cage_options = CAGEKIT_CAGE_OPTIONS_INIT;
+    cagekit_cage other = NULL;
+    cage_options.input_crease_angle_degrees = 85.0;
+    CHECK_OK(cagekit_hierarchy_build_cage(hierarchy, &cage_options, &other, &report));
+    CHECK(report.creases == 12);
+    cagekit_cage_release(other);
+    cage_options.input_crease_angle_degrees = 95.0;
+    CHECK_OK(cagekit_hierarchy_build_cage(hierarchy, &cage_options, &other, &report));
+    CHECK(report.creases == 0);
+    cagekit_cage_release(other);
+    cage_options.input_crease_angle_degrees = NAN;
+    CHECK_STATUS(cagekit_hierarchy_build_cage(hierarchy, &cage_options, &other, &report),
+                 CAGEKIT_ERROR_INVALID_ARGUMENT);
+  }
   CHECK_OK(cagekit_hierarchy_get_polygon_mesh(hierarchy, &level_mesh));
   error.struct_size = sizeof(error);
   CHECK_OK(cagekit_mesh_measure_error(mesh, level_mesh, &error));
