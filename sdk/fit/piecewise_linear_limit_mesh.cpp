@@ -86,22 +86,21 @@ PiecewiseLinearLimitMesh::PiecewiseLinearLimitMesh(const SubdivisionSurface& sur
         }
   }
   if (tri_face_.empty()) fail(Status::invalid_mesh, "piecewise-linear mesh: the cage has no limit surface");
-  std::vector<Vec3> centroids(tri_face_.size());
-  for (uint32_t t = 0; t < tri_face_.size(); ++t) {
-    Vec3 c[3];
+  // Corners of every triangle once (triangle order), then the BVH over them, then the corners
+  // in BVH order for the queries.
+  const size_t T = tri_face_.size();
+  std::vector<Vec3> corners(3 * T), centroids(T);
+  for (uint32_t t = 0; t < T; ++t) {
     double uv[3][2];
-    triangle(t, c, uv);
-    centroids[t] = (c[0] + c[1] + c[2]) * (1.0 / 3.0);
+    triangle(t, &corners[3 * size_t(t)], uv);
+    centroids[t] = (corners[3 * size_t(t)] + corners[3 * size_t(t) + 1] + corners[3 * size_t(t) + 2]) * (1.0 / 3.0);
   }
-  order_.resize(tri_face_.size());
-  for (uint32_t t = 0; t < order_.size(); ++t) order_[t] = t;
-  nodes_.reserve(2 * order_.size() / 4 + 2);
-  build(0, uint32_t(order_.size()), centroids);
-  corners_.resize(3 * order_.size());
-  for (size_t k = 0; k < order_.size(); ++k) {
-    double uv[3][2];
-    triangle(order_[k], &corners_[3 * k], uv);
-  }
+  order_.resize(T);
+  for (uint32_t t = 0; t < T; ++t) order_[t] = t;
+  nodes_.reserve(2 * T / 4 + 2);
+  build(0, uint32_t(T), corners, centroids);
+  corners_.resize(3 * T);
+  for (size_t k = 0; k < T; ++k) std::copy_n(&corners[3 * size_t(order_[k])], 3, &corners_[3 * k]);
 }
 
 void PiecewiseLinearLimitMesh::triangle(uint32_t t, Vec3 corners[3], double uv[3][2]) const {
@@ -119,16 +118,17 @@ void PiecewiseLinearLimitMesh::triangle(uint32_t t, Vec3 corners[3], double uv[3
   }
 }
 
-uint32_t PiecewiseLinearLimitMesh::build(uint32_t begin, uint32_t end, std::vector<Vec3>& centroids) {
+uint32_t PiecewiseLinearLimitMesh::build(uint32_t begin, uint32_t end, const std::vector<Vec3>& corners,
+                                         const std::vector<Vec3>& centroids) {
   const uint32_t index = uint32_t(nodes_.size());
   nodes_.push_back({});
   Vec3 lo(HUGE_VAL, HUGE_VAL, HUGE_VAL), hi(-HUGE_VAL, -HUGE_VAL, -HUGE_VAL), clo = lo, chi = hi;
   for (uint32_t k = begin; k < end; ++k) {
-    Vec3 c[3];
-    double uv[3][2];
-    triangle(order_[k], c, uv);
-    for (const Vec3& p : c)
+    const Vec3* c = &corners[3 * size_t(order_[k])];
+    for (int i = 0; i < 3; ++i) {
+      const Vec3& p = c[i];
       for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
+    }
     const Vec3& m = centroids[order_[k]];
     for (int a = 0; a < 3; ++a) clo[a] = std::min(clo[a], m[a]), chi[a] = std::max(chi[a], m[a]);
   }
@@ -145,8 +145,8 @@ uint32_t PiecewiseLinearLimitMesh::build(uint32_t begin, uint32_t end, std::vect
   const uint32_t mid = begin + (end - begin) / 2;
   std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
                    [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
-  build(begin, mid, centroids);
-  const uint32_t right = build(mid, end, centroids);
+  build(begin, mid, corners, centroids);
+  const uint32_t right = build(mid, end, corners, centroids);
   nodes_[index].first = right;
   nodes_[index].count = 0;
   return index;

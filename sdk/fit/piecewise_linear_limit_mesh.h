@@ -43,7 +43,7 @@ class PiecewiseLinearLimitMesh {
     Vec3 lo, hi;
     uint32_t first, count;  // leaf: triangles [first, first + count); inner: count = 0, first = right child
   };
-  uint32_t build(uint32_t begin, uint32_t end, std::vector<Vec3>& centroids);
+  uint32_t build(uint32_t begin, uint32_t end, const std::vector<Vec3>& corners, const std::vector<Vec3>& centroids);
 
   int resolution_;
   std::vector<Vec3> grid_;           // (resolution + 1)^2 points per listed ptex face
