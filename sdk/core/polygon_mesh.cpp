@@ -46,6 +46,14 @@ void PolygonMesh::reserve(size_t vertices, size_t faces, size_t face_vertex_coun
   face_vertices.reserve(face_vertex_count);
 }
 
+Vec3 PolygonMesh::face_vector_area(size_t f) const {
+  const uint32_t k = face_size(f);
+  const uint32_t* v = face_begin(f);
+  Vec3 area;
+  for (uint32_t c = 0; c < k; ++c) area += cross(positions[v[c]], positions[v[(c + 1) % k]]);
+  return area * 0.5;
+}
+
 BoundingBox PolygonMesh::bounding_box() const {
   BoundingBox box;
   for (const Vec3& p : positions) box.extend(p);

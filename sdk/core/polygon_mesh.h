@@ -43,6 +43,9 @@ class PolygonMesh {
   void reserve(size_t vertices, size_t faces, size_t face_vertex_count);
 
   BoundingBox bounding_box() const;
+  // Vector area of face f (1/2 sum of p_i x p_{i+1}, Newell): its direction is the face normal,
+  // its length the area for planar faces. Indices must be in range.
+  Vec3 face_vector_area(size_t f) const;
   bool all_faces_have_size(uint32_t n) const;
 };
 

@@ -241,13 +241,7 @@ Cage build_quad_dominant_cage(const PolygonMesh& input, const PolygonalLevel& le
   if (options.input_crease_angle_degrees >= 0 && options.crease_angle_degrees >= 0 &&
       level.cluster_of_input_face.size() == input.num_faces()) {
     std::vector<Vec3> normal(input.num_faces());
-    for (size_t f = 0; f < input.num_faces(); ++f) {
-      const uint32_t k = input.face_size(f);
-      Vec3 n;
-      for (uint32_t c = 0; c < k; ++c)
-        n += cross(input.positions[input.face_vertex(f, c)], input.positions[input.face_vertex(f, (c + 1) % k)]);
-      normal[f] = normalized(n);
-    }
+    for (size_t f = 0; f < input.num_faces(); ++f) normal[f] = normalized(input.face_vector_area(f));
     std::unordered_map<uint64_t, uint32_t> edge_face;
     edge_face.reserve(input.num_face_vertices());
     for (size_t f = 0; f < input.num_faces(); ++f) {

@@ -37,15 +37,13 @@ std::vector<Vec3> vertex_normals(const PolygonMesh& mesh) {
   for (size_t f = 0; f < mesh.num_faces(); ++f) {
     const uint32_t k = mesh.face_size(f);
     if (k < 3) continue;
-    Vec3 area;  // twice the vector area (Newell)
-    for (uint32_t c = 0; c < k; ++c) {
-      const uint32_t a = mesh.face_vertex(f, c), b = mesh.face_vertex(f, (c + 1) % k);
-      if (a >= mesh.num_vertices() || b >= mesh.num_vertices()) continue;
-      area += cross(mesh.positions[a], mesh.positions[b]);
-    }
+    bool in_range = true;
+    for (uint32_t c = 0; c < k; ++c) in_range = in_range && mesh.face_vertex(f, c) < mesh.num_vertices();
+    if (!in_range) continue;
+    const Vec3 area = mesh.face_vector_area(f);
     for (uint32_t c = 0; c < k; ++c) {
       const uint32_t a = mesh.face_vertex(f, c);
-      if (a < mesh.num_vertices()) normals[a] += area;
+      normals[a] += area;
     }
   }
   for (Vec3& n : normals) {
