@@ -5,7 +5,7 @@ set -euo pipefail
 
 PACKAGES=(
   build-essential cmake ninja-build pkg-config
-  libcgal-dev libeigen3-dev libopenmesh-dev libosd-dev libdraco-dev
+  libcgal-dev libeigen3-dev libopenmesh-dev libosd-dev libdraco-dev libmeshoptimizer-dev
   libegl-dev libgles-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
   libgtest-dev python3 binutils
   clang libclang-rt-14-dev

@@ -1,0 +1,165 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// GPU deformer in the host's GL context (thesis §8.6): the C shim over gpu/GlDeformer.
+#include <cmath>
+#include <memory>
+
+#include "capi/api_guard.h"
+#include "gpu/gl_deformer.h"
+
+using namespace cagekit_capi;
+
+// Keeps its binding alive (a reference). Defined here rather than in handles.h: only this file
+// uses it. The destructor deletes the GL objects (the host's context must be current).
+struct cagekit_gl_deformer_t : ContextBound {
+  static constexpr HandleType kType = static_cast<HandleType>(0x474c4431);  // "GLD1"
+  cagekit_gl_deformer_t(cagekit_context c, cagekit_binding_t* b, std::unique_ptr<cagekit::GlDeformer> d)
+      : ContextBound(kType, c), binding(b), deformer(std::move(d)) {
+    retain_handle(binding);
+  }
+  ~cagekit_gl_deformer_t() override {
+    deformer.reset();
+    release_handle(binding);
+  }
+  cagekit_binding_t* binding;
+  std::unique_ptr<cagekit::GlDeformer> deformer;
+  std::vector<float> control, read_back;
+};
+
+namespace {
+
+static_assert(GL_FLOAT == 0x1406 && GL_UNSIGNED_INT == 0x1405, "the header documents these values");
+
+// The polygons of `mesh`, fan-triangulated.
+std::vector<uint32_t> triangles_of(const cagekit::PolygonMesh& mesh) {
+  std::vector<uint32_t> out;
+  size_t count = 0;
+  for (size_t f = 0; f < mesh.num_faces(); ++f) count += mesh.face_size(f) >= 3 ? 3 * (mesh.face_size(f) - 2) : 0;
+  out.reserve(count);
+  for (size_t f = 0; f < mesh.num_faces(); ++f) {
+    const uint32_t* v = mesh.face_begin(f);
+    for (uint32_t k = 2; k < mesh.face_size(f); ++k) out.insert(out.end(), {v[0], v[k - 1], v[k]});
+  }
+  return out;
+}
+
+}  // namespace
+
+extern "C" {
+
+CAGEKIT_API cagekit_status cagekit_gl_deformer_create(cagekit_binding binding, cagekit_mesh scan,
+                                                      cagekit_gl_get_proc_address_fn get_proc_address,
+                                                      void* user_data, const cagekit_gl_deformer_options* options,
+                                                      cagekit_gl_deformer* out) {
+  return guarded(context_of(binding), [&] {
+    require_not_null(out, "out");
+    *out = nullptr;
+    cagekit_binding_t& b = checked(binding, "binding");
+    if (get_proc_address == nullptr) fail(Status::invalid_argument, "get_proc_address must not be NULL");
+    cagekit_gl_deformer_options defaults = CAGEKIT_GL_DEFORMER_OPTIONS_INIT;
+    const cagekit_gl_deformer_options o = read_versioned(options, defaults, "cagekit_gl_deformer_options");
+    if (o.optimize_vertex_cache != 0 && o.optimize_vertex_cache != 1)
+      fail(Status::invalid_argument, "cagekit_gl_deformer_options.optimize_vertex_cache must be 0 or 1");
+    std::vector<uint32_t> triangles;
+    if (scan != nullptr) {
+      const cagekit_mesh_t& m = checked(scan, "scan");
+      if (m.mesh.num_vertices() != b.binding.num_vertices())
+        fail(Status::invalid_argument, "scan has " + std::to_string(m.mesh.num_vertices()) + " vertices but the binding " +
+                                           std::to_string(b.binding.num_vertices()));
+      for (uint32_t v : m.mesh.face_vertices)
+        if (v >= m.mesh.num_vertices()) fail(Status::invalid_argument, "the scan has a face index out of range");
+      triangles = triangles_of(m.mesh);
+    }
+    cagekit::GlDeformerOptions go;
+    go.optimize_vertex_cache = o.optimize_vertex_cache == 1;
+    auto deformer = std::make_unique<cagekit::GlDeformer>(
+        b.binding, triangles, reinterpret_cast<cagekit::GlGetProcAddress>(get_proc_address), user_data, go);
+    *out = std::make_unique<cagekit_gl_deformer_t>(b.context, &b, std::move(deformer)).release();
+  });
+}
+
+CAGEKIT_API void cagekit_gl_deformer_retain(cagekit_gl_deformer deformer) { retain_handle(deformer); }
+CAGEKIT_API void cagekit_gl_deformer_release(cagekit_gl_deformer deformer) { release_handle(deformer); }
+
+CAGEKIT_API cagekit_status cagekit_gl_deformer_deform(cagekit_gl_deformer deformer, const double* control,
+                                                      uint32_t control_count, cagekit_normal_mode normals_mode) {
+  return guarded(context_of(deformer), [&] {
+    cagekit_gl_deformer_t& d = checked(deformer, "deformer");
+    const int32_t mode = raw_enum(normals_mode);
+    if (mode == CAGEKIT_NORMALS_EXACT)
+      fail(Status::unsupported_format, "the GL deformer computes approximate normals only (exact normals: use the CPU "
+                                       "deformer)");
+    if (mode != CAGEKIT_NORMALS_APPROXIMATE) fail(Status::invalid_argument, "normals_mode is not a cagekit_normal_mode");
+    require_not_null(control, "control");
+    const uint32_t expected = d.deformer->control_count();
+    if (control_count != expected)
+      fail(Status::invalid_argument, "control_count is " + std::to_string(control_count) +
+                                         " but the binding's cage has " + std::to_string(expected) + " vertices");
+    d.control.resize(3 * size_t(expected));
+    for (size_t k = 0; k < 3 * size_t(expected); ++k) {
+      if (!std::isfinite(control[k]))
+        fail(Status::invalid_argument, "control point " + std::to_string(k / 3) + " is not finite");
+      d.control[k] = static_cast<float>(control[k]);
+    }
+    d.deformer->deform(d.control.data());
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_gl_deformer_get_buffers(cagekit_gl_deformer deformer,
+                                                           cagekit_gl_deformer_buffers* buffers) {
+  return guarded(context_of(deformer), [&] {
+    const cagekit::GlDeformer& d = *checked(deformer, "deformer").deformer;
+    require_not_null(buffers, "buffers");
+    cagekit_gl_deformer_buffers out{};
+    out.struct_size = sizeof(out);
+    out.position_buffer = out.normal_buffer = d.output_buffer();
+    out.position_offset = cagekit::GlDeformer::kPositionOffset;
+    out.normal_offset = cagekit::GlDeformer::kNormalOffset;
+    out.position_stride = out.normal_stride = cagekit::GlDeformer::kStride;
+    out.component_type = GL_FLOAT;
+    out.vertex_count = d.vertex_count();
+    out.index_buffer = d.index_buffer();
+    out.index_count = d.index_count();
+    out.index_type = GL_UNSIGNED_INT;
+    write_versioned(buffers, out, "cagekit_gl_deformer_buffers");
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_gl_deformer_get_info(cagekit_gl_deformer deformer, cagekit_gl_deformer_info* info) {
+  return guarded(context_of(deformer), [&] {
+    const cagekit::GlDeformer& d = *checked(deformer, "deformer").deformer;
+    require_not_null(info, "info");
+    cagekit_gl_deformer_info out{};
+    out.struct_size = sizeof(out);
+    out.renderer = d.renderer().c_str();
+    out.version = d.version().c_str();
+    out.is_es = d.is_es() ? 1 : 0;
+    out.vertex_count = d.vertex_count();
+    out.control_count = d.control_count();
+    out.index_count = d.index_count();
+    out.acmr_before = d.acmr_before();
+    out.acmr_after = d.acmr_after();
+    out.gpu_bytes = d.gpu_bytes();
+    write_versioned(info, out, "cagekit_gl_deformer_info");
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_gl_deformer_read_back(cagekit_gl_deformer deformer, uint32_t vertex_capacity,
+                                                         double* positions, double* normals) {
+  return guarded(context_of(deformer), [&] {
+    cagekit_gl_deformer_t& d = checked(deformer, "deformer");
+    const uint32_t n = d.deformer->vertex_count();
+    if ((positions || normals) && vertex_capacity < n)
+      fail(Status::size_insufficient, "vertex_capacity " + std::to_string(vertex_capacity) + " is less than the " +
+                                          std::to_string(n) + " bound vertices");
+    if (!positions && !normals) return;
+    d.read_back.resize(6 * size_t(n));
+    d.deformer->read_back(d.read_back.data());
+    for (size_t i = 0; i < n; ++i)
+      for (int k = 0; k < 3; ++k) {
+        if (positions) positions[3 * i + k] = d.read_back[6 * i + k];
+        if (normals) normals[3 * i + k] = d.read_back[6 * i + 3 + k];
+      }
+  });
+}
+
+}  // extern "C"
