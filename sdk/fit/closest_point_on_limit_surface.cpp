@@ -72,14 +72,29 @@ LimitSurfaceProjector::LimitSurfaceProjector(const SubdivisionSurface& surface, 
                                              const std::vector<Vec3>& control, const ClosestPointOptions& options,
                                              bool linear_mesh, int threads)
     : surface_(surface), options_(options), points_(surface.patch_points(control)), adjacency_(adjacency) {
-  if (options.max_steps < 0 || options.max_steps > 100000)
+  check_options();
+  if (linear_mesh) {
+    own_linear_ = std::make_unique<PiecewiseLinearLimitMesh>(surface, points_, options.seed_resolution, threads);
+    linear_ = own_linear_.get();
+  }
+}
+
+LimitSurfaceProjector::LimitSurfaceProjector(const SubdivisionSurface& surface, const PtexAdjacency* adjacency,
+                                             std::vector<Vec3> patch_points,
+                                             const PiecewiseLinearLimitMesh* linear_mesh,
+                                             const ClosestPointOptions& options)
+    : surface_(surface), options_(options), points_(std::move(patch_points)), adjacency_(adjacency),
+      linear_(linear_mesh) {
+  check_options();  // a patch point array of the wrong size throws at the first evaluation
+}
+
+void LimitSurfaceProjector::check_options() const {
+  if (options_.max_steps < 0 || options_.max_steps > 100000)
     fail(Status::invalid_argument, "closest point: max_steps must be in [0, 100000]");
-  if (!(options.epsilon > 0) || !std::isfinite(options.epsilon))
+  if (!(options_.epsilon > 0) || !std::isfinite(options_.epsilon))
     fail(Status::invalid_argument, "closest point: epsilon must be finite and > 0");
-  if (options.seed_resolution < 1 || options.seed_resolution > 64)
+  if (options_.seed_resolution < 1 || options_.seed_resolution > 64)
     fail(Status::invalid_argument, "closest point: seed_resolution must be in [1, 64]");
-  if (linear_mesh)
-    linear_ = std::make_unique<PiecewiseLinearLimitMesh>(surface, points_, options.seed_resolution, threads);
 }
 
 LimitSurfaceProjector::~LimitSurfaceProjector() = default;
@@ -107,7 +122,7 @@ FootPoint LimitSurfaceProjector::project(const Vec3& p, const FootPoint* warm_st
   if (!linear_ || !options_.reseed_from_linear_mesh) return best;
   // Safeguard against a warm start caught in a local minimum after the surface moved: when the
   // piecewise-linear mesh has a closer point in another ptex face, search from there too.
-  const PiecewiseLinearLimitMesh::Hit hit = linear_->closest_point(p, best.distance);
+  const PiecewiseLinearLimitMesh::Hit hit = linear_->closest_point(p, best.distance, best.ptex_face);
   if (!(hit.distance < best.distance) || hit.ptex_face == best.ptex_face) return best;
   FootPoint seed;
   seed.ptex_face = hit.ptex_face, seed.u = hit.u, seed.v = hit.v;

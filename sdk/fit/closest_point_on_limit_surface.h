@@ -64,6 +64,14 @@ class LimitSurfaceProjector {
   LimitSurfaceProjector(const SubdivisionSurface& surface, const PtexAdjacency* adjacency,
                         const std::vector<Vec3>& control, const ClosestPointOptions& options = {},
                         bool linear_mesh = true, int threads = 1);
+  // With the patch points already applied (surface.patch_points(control)) and a piecewise-linear
+  // mesh owned by the caller (null: project() needs a warm start and never reseeds;
+  // project_piecewise_linear() throws), which must match the patch points and outlive the
+  // projector: repeated projections (the passes of a fit) then update one mesh
+  // (PiecewiseLinearLimitMesh::update) instead of building one per pass.
+  LimitSurfaceProjector(const SubdivisionSurface& surface, const PtexAdjacency* adjacency,
+                        std::vector<Vec3> patch_points, const PiecewiseLinearLimitMesh* linear_mesh,
+                        const ClosestPointOptions& options = {});
   ~LimitSurfaceProjector();
 
   // Exact closest point, started from the piecewise-linear closest point or, with a warm start,
@@ -84,7 +92,9 @@ class LimitSurfaceProjector {
   ClosestPointOptions options_;
   std::vector<Vec3> points_;  // surface.patch_points(control)
   const PtexAdjacency* adjacency_;
-  std::unique_ptr<PiecewiseLinearLimitMesh> linear_;
+  std::unique_ptr<PiecewiseLinearLimitMesh> own_linear_;
+  const PiecewiseLinearLimitMesh* linear_ = nullptr;  // own_linear_ or the caller's
+  void check_options() const;
 };
 
 CAGEKIT_NAMESPACE_END

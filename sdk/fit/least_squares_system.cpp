@@ -11,6 +11,7 @@
 #include <cmath>
 #include <string>
 
+#include "core/memory_budget.h"
 #include "core/parallel_for.h"
 #include "core/status.h"
 
@@ -18,6 +19,9 @@ CAGEKIT_NAMESPACE_BEGIN
 
 namespace {
 using SparseMatrix = Eigen::SparseMatrix<double>;
+// Largest number of free control vertices for the dense per-thread normal-equation
+// accumulators (8 MB each at the limit).
+constexpr size_t kDenseNormalEquationsLimit = 1024;
 using Triplet = Eigen::Triplet<double>;
 
 // Umbrella Laplacian over the cage's edges (duplicates from the two faces of an edge removed).
@@ -151,44 +155,104 @@ std::vector<Vec3> solve_point_distance(const SubdivisionSurface& surface, const 
   std::vector<Vec3> result = current_control;
   if (free_count == 0) return result;
 
-  // Rows of A (basis weights), assembled in parallel; fixed columns go to the right-hand side.
+  // The direct solver with a small cage assembles the normal equations A^T A and A^T P at once,
+  // per thread into dense accumulators (k^2 updates per sample with k basis functions; no
+  // N-row matrix, no sparse product); otherwise the rows of A are assembled (in parallel) and
+  // multiplied out. Fixed columns go to the right-hand side either way.
   const size_t N = samples.size();
   const size_t workers = size_t(std::max(1, std::min(options.threads, int((N + 4095) / 4096))));
-  std::vector<std::vector<Triplet>> parts(workers);
-  Eigen::MatrixXd P(Eigen::Index(N), 3);
-  run_ranges(N, workers, [&](size_t begin, size_t end, size_t w) {
-    auto& triplets = parts[w];
-    triplets.reserve((end - begin) * 18);
-    std::vector<uint32_t> indices;
-    std::vector<double> weights;
-    for (size_t i = begin; i < end; ++i) {
-      const FootPoint& t = foot_points[i];
-      surface.basis_values(t.ptex_face, t.u, t.v, indices, weights);
-      Vec3 rhs = samples[i];
-      for (size_t k = 0; k < indices.size(); ++k) {
-        const double wk = weights[k];
-        if (wk == 0) continue;
-        const int col = free_index[indices[k]];
-        if (col >= 0)
-          triplets.emplace_back(int(i), col, wk);
-        else
-          rhs -= current_control[indices[k]] * wk;
-      }
-      P.row(Eigen::Index(i)) << rhs.x, rhs.y, rhs.z;
-    }
-  });
-  size_t total = 0;
-  for (auto& part : parts) total += part.size();
-  std::vector<Triplet> triplets;
-  triplets.reserve(total);
-  for (auto& part : parts) triplets.insert(triplets.end(), part.begin(), part.end());
-  SparseMatrix A(Eigen::Index(N), free_count);
-  A.setFromTriplets(triplets.begin(), triplets.end());
-  triplets = {};
-
+  const size_t F = size_t(free_count);
+  const bool dense_normal_equations = options.solver == LeastSquaresSolver::direct && F <= kDenseNormalEquationsLimit;
+  SparseMatrix A, M;
+  Eigen::MatrixXd P, AtP;
   Eigen::VectorXd column_norm2 = Eigen::VectorXd::Zero(free_count);
-  for (int k = 0; k < A.outerSize(); ++k)
-    for (SparseMatrix::InnerIterator it(A, k); it; ++it) column_norm2(it.col()) += it.value() * it.value();
+  if (dense_normal_equations) {
+    check_memory_estimate(estimate_sum(estimate_product(workers, F * F * sizeof(double)),
+                                       estimate_product(F * F, 2 * sizeof(Triplet))),
+                          "least squares");
+    std::vector<std::vector<double>> gram(workers), rhs(workers);
+    run_ranges(N, workers, [&](size_t begin, size_t end, size_t w) {
+      std::vector<double>& G = gram[w];
+      std::vector<double>& R = rhs[w];
+      G.assign(F * F, 0.0);
+      R.assign(3 * F, 0.0);
+      std::vector<uint32_t> indices, cols;
+      std::vector<double> weights, vals;
+      for (size_t i = begin; i < end; ++i) {
+        const FootPoint& t = foot_points[i];
+        surface.basis_values(t.ptex_face, t.u, t.v, indices, weights);
+        Vec3 r = samples[i];
+        cols.clear();
+        vals.clear();
+        for (size_t k = 0; k < indices.size(); ++k) {
+          const double wk = weights[k];
+          if (wk == 0) continue;
+          const int col = free_index[indices[k]];
+          if (col >= 0)
+            cols.push_back(uint32_t(col)), vals.push_back(wk);
+          else
+            r -= current_control[indices[k]] * wk;
+        }
+        for (size_t x = 0; x < cols.size(); ++x) {
+          double* row = &G[size_t(cols[x]) * F];
+          const double wx = vals[x];
+          for (size_t y = 0; y < cols.size(); ++y) row[cols[y]] += wx * vals[y];
+          for (int c = 0; c < 3; ++c) R[3 * size_t(cols[x]) + size_t(c)] += wx * r[c];
+        }
+      }
+    });
+    for (size_t w = 1; w < workers; ++w) {
+      for (size_t k = 0; k < F * F; ++k) gram[0][k] += gram[w][k];
+      for (size_t k = 0; k < 3 * F; ++k) rhs[0][k] += rhs[w][k];
+      gram[w] = {}, rhs[w] = {};
+    }
+    // The lower triangle is all SimplicialLDLT reads.
+    std::vector<Triplet> triplets;
+    for (size_t j = 0; j < F; ++j)
+      for (size_t i = j; i < F; ++i)
+        if (gram[0][i * F + j] != 0) triplets.emplace_back(int(i), int(j), gram[0][i * F + j]);
+    M = SparseMatrix(free_count, free_count);
+    M.setFromTriplets(triplets.begin(), triplets.end());
+    AtP.resize(free_count, 3);
+    for (size_t k = 0; k < F; ++k) {
+      column_norm2(Eigen::Index(k)) = gram[0][k * F + k];
+      AtP.row(Eigen::Index(k)) << rhs[0][3 * k], rhs[0][3 * k + 1], rhs[0][3 * k + 2];
+    }
+  } else {
+    std::vector<std::vector<Triplet>> parts(workers);
+    P.resize(Eigen::Index(N), 3);
+    run_ranges(N, workers, [&](size_t begin, size_t end, size_t w) {
+      auto& triplets = parts[w];
+      triplets.reserve((end - begin) * 18);
+      std::vector<uint32_t> indices;
+      std::vector<double> weights;
+      for (size_t i = begin; i < end; ++i) {
+        const FootPoint& t = foot_points[i];
+        surface.basis_values(t.ptex_face, t.u, t.v, indices, weights);
+        Vec3 rhs = samples[i];
+        for (size_t k = 0; k < indices.size(); ++k) {
+          const double wk = weights[k];
+          if (wk == 0) continue;
+          const int col = free_index[indices[k]];
+          if (col >= 0)
+            triplets.emplace_back(int(i), col, wk);
+          else
+            rhs -= current_control[indices[k]] * wk;
+        }
+        P.row(Eigen::Index(i)) << rhs.x, rhs.y, rhs.z;
+      }
+    });
+    size_t total = 0;
+    for (auto& part : parts) total += part.size();
+    std::vector<Triplet> triplets;
+    triplets.reserve(total);
+    for (auto& part : parts) triplets.insert(triplets.end(), part.begin(), part.end());
+    A = SparseMatrix(Eigen::Index(N), free_count);
+    A.setFromTriplets(triplets.begin(), triplets.end());
+    triplets = {};
+    for (int k = 0; k < A.outerSize(); ++k)
+      for (SparseMatrix::InnerIterator it(A, k); it; ++it) column_norm2(it.col()) += it.value() * it.value();
+  }
   const double scale = std::max(column_norm2.sum() / free_count, 1e-300);
   for (int k = 0; k < free_count; ++k)
     if (column_norm2(k) <= 1e-14 * scale) ++report.unsupported_control_vertices;
@@ -223,9 +287,12 @@ std::vector<Vec3> solve_point_distance(const SubdivisionSurface& surface, const 
 
   Eigen::MatrixXd x(free_count, 3);
   if (options.solver == LeastSquaresSolver::direct) {
-    const SparseMatrix At = A.transpose();
-    SparseMatrix M = At * A;
-    Eigen::MatrixXd b = At * P + mu * C;
+    if (!dense_normal_equations) {
+      const SparseMatrix At = A.transpose();
+      M = At * A;
+      AtP = At * P;
+    }
+    Eigen::MatrixXd b = AtP + mu * C;
     if (lambda > 0) {
       M += lambda * SparseMatrix(LF.transpose() * LF);
       b -= lambda * (LF.transpose() * LX_c);

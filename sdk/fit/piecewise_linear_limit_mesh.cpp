@@ -66,17 +66,41 @@ PiecewiseLinearLimitMesh::PiecewiseLinearLimitMesh(const SubdivisionSurface& sur
   const int r = resolution, g = r + 1;
   for (uint32_t f = 0; f < surface.num_ptex_faces(); ++f)
     if (surface.has_limit_surface(f)) grid_face_.push_back(f);
-  // Grid points, evaluated on `threads` threads (each writes its own blocks).
-  grid_.resize(grid_face_.size() * size_t(g) * size_t(g));
-  const size_t blocks = grid_face_.size();
+  if (grid_face_.empty()) fail(Status::invalid_mesh, "piecewise-linear mesh: the cage has no limit surface");
+  // Stencils of the grid points over the patch points, on `threads` threads (each fills its own
+  // blocks), then joined in block order.
+  const size_t blocks = grid_face_.size(), per_block = size_t(g) * size_t(g);
   const size_t workers = std::max<size_t>(1, std::min<size_t>(size_t(std::max(threads, 1)), blocks / 64));
-  run_ranges(blocks, workers, [&](size_t begin, size_t end, size_t) {
+  struct Part {
+    std::vector<uint32_t> counts, points;
+    std::vector<double> weights;
+  };
+  std::vector<Part> parts(workers);
+  std::vector<size_t> part_begin(workers + 1, 0);
+  run_ranges(blocks, workers, [&](size_t begin, size_t end, size_t w) {
+    Part& part = parts[w];
+    std::vector<uint32_t> points;
+    std::vector<double> weights;
     for (size_t b = begin; b < end; ++b)
       for (int i = 0; i < g; ++i)
-        for (int j = 0; j < g; ++j)
-          grid_[(b * size_t(g) + size_t(i)) * size_t(g) + size_t(j)] =
-              surface.evaluate_position(grid_face_[b], double(i) / r, double(j) / r, patch_points);
+        for (int j = 0; j < g; ++j) {
+          surface.patch_point_weights(grid_face_[b], double(i) / r, double(j) / r, points, weights);
+          part.counts.push_back(uint32_t(points.size()));
+          part.points.insert(part.points.end(), points.begin(), points.end());
+          part.weights.insert(part.weights.end(), weights.begin(), weights.end());
+        }
   });
+  stencil_offsets_.reserve(blocks * per_block + 1);
+  stencil_offsets_.push_back(0);
+  for (Part& part : parts) {
+    for (uint32_t c : part.counts) stencil_offsets_.push_back(stencil_offsets_.back() + c);
+    stencil_points_.insert(stencil_points_.end(), part.points.begin(), part.points.end());
+    stencil_weights_.insert(stencil_weights_.end(), part.weights.begin(), part.weights.end());
+    part = Part();
+  }
+  if (stencil_offsets_.size() != blocks * per_block + 1)
+    fail(Status::internal_error, "piecewise-linear mesh: grid stencils incomplete");
+  evaluate_grid(patch_points, threads);
   for (uint32_t block = 0; block < blocks; ++block) {
     for (int i = 0; i < r; ++i)
       for (int j = 0; j < r; ++j)
@@ -85,7 +109,6 @@ PiecewiseLinearLimitMesh::PiecewiseLinearLimitMesh(const SubdivisionSurface& sur
           tri_cell_.push_back(uint16_t(2 * (i * r + j) + half));
         }
   }
-  if (tri_face_.empty()) fail(Status::invalid_mesh, "piecewise-linear mesh: the cage has no limit surface");
   // Corners of every triangle once (triangle order), then the BVH over them, then the corners
   // in BVH order for the queries.
   const size_t T = tri_face_.size();
@@ -97,10 +120,75 @@ PiecewiseLinearLimitMesh::PiecewiseLinearLimitMesh(const SubdivisionSurface& sur
   }
   order_.resize(T);
   for (uint32_t t = 0; t < T; ++t) order_[t] = t;
+  // Ptex-face centroids: the hierarchy keeps each ptex face's triangles in one subtree (see build).
+  std::vector<Vec3> face_centroids(blocks);
+  for (size_t b = 0; b < blocks; ++b) {
+    Vec3 sum;
+    for (size_t k = 0; k < per_block; ++k) sum += grid_[b * per_block + k];
+    face_centroids[b] = sum * (1.0 / double(per_block));
+  }
   nodes_.reserve(2 * T / 4 + 2);
-  build(0, uint32_t(T), corners, centroids);
+  build(0, uint32_t(T), corners, centroids, face_centroids);
   corners_.resize(3 * T);
-  for (size_t k = 0; k < T; ++k) std::copy_n(&corners[3 * size_t(order_[k])], 3, &corners_[3 * k]);
+  sorted_ptex_.resize(T);
+  for (size_t k = 0; k < T; ++k) {
+    std::copy_n(&corners[3 * size_t(order_[k])], 3, &corners_[3 * k]);
+    sorted_ptex_[k] = grid_face_[tri_face_[order_[k]]];
+  }
+  // Which subtrees lie in one ptex face (children follow their parent in the node array).
+  for (size_t n = nodes_.size(); n-- > 0;) {
+    Node& node = nodes_[n];
+    if (node.count > 0) {
+      node.ptex_face = sorted_ptex_[node.first];
+      for (uint32_t k = node.first + 1; k < node.first + node.count; ++k)
+        if (sorted_ptex_[k] != node.ptex_face) node.ptex_face = kNoFace;
+    } else {
+      const uint32_t a = nodes_[n + 1].ptex_face, b = nodes_[node.first].ptex_face;
+      node.ptex_face = a == b ? a : kNoFace;
+    }
+  }
+}
+
+void PiecewiseLinearLimitMesh::evaluate_grid(const std::vector<Vec3>& patch_points, int threads) {
+  const size_t count = stencil_offsets_.size() - 1;
+  grid_.resize(count);
+  for (uint32_t p : stencil_points_)
+    if (p >= patch_points.size()) fail(Status::invalid_argument, "piecewise-linear mesh: patch point array too small");
+  const size_t workers = std::max<size_t>(1, std::min<size_t>(size_t(std::max(threads, 1)), count / 4096));
+  run_ranges(count, workers, [&](size_t begin, size_t end, size_t) {
+    for (size_t k = begin; k < end; ++k) {
+      Vec3 q;
+      for (uint32_t e = stencil_offsets_[k]; e < stencil_offsets_[k + 1]; ++e)
+        q += patch_points[stencil_points_[e]] * stencil_weights_[e];
+      grid_[k] = q;
+    }
+  });
+}
+
+void PiecewiseLinearLimitMesh::update(const std::vector<Vec3>& patch_points, int threads) {
+  evaluate_grid(patch_points, threads);
+  const size_t T = order_.size();
+  for (size_t k = 0; k < T; ++k) {
+    double uv[3][2];
+    triangle(order_[k], &corners_[3 * k], uv);
+  }
+  refit();
+}
+
+void PiecewiseLinearLimitMesh::refit() {
+  for (size_t n = nodes_.size(); n-- > 0;) {
+    Node& node = nodes_[n];
+    Vec3 lo(HUGE_VAL, HUGE_VAL, HUGE_VAL), hi(-HUGE_VAL, -HUGE_VAL, -HUGE_VAL);
+    if (node.count > 0) {
+      for (size_t k = 3 * size_t(node.first); k < 3 * size_t(node.first + node.count); ++k)
+        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], corners_[k][a]), hi[a] = std::max(hi[a], corners_[k][a]);
+    } else {
+      const Node &l = nodes_[n + 1], &r = nodes_[node.first];
+      for (int a = 0; a < 3; ++a) lo[a] = std::min(l.lo[a], r.lo[a]), hi[a] = std::max(l.hi[a], r.hi[a]);
+    }
+    node.lo = lo;
+    node.hi = hi;
+  }
 }
 
 void PiecewiseLinearLimitMesh::triangle(uint32_t t, Vec3 corners[3], double uv[3][2]) const {
@@ -119,17 +207,25 @@ void PiecewiseLinearLimitMesh::triangle(uint32_t t, Vec3 corners[3], double uv[3
 }
 
 uint32_t PiecewiseLinearLimitMesh::build(uint32_t begin, uint32_t end, const std::vector<Vec3>& corners,
-                                         const std::vector<Vec3>& centroids) {
+                                         const std::vector<Vec3>& centroids, const std::vector<Vec3>& face_centroids) {
   const uint32_t index = uint32_t(nodes_.size());
   nodes_.push_back({});
   Vec3 lo(HUGE_VAL, HUGE_VAL, HUGE_VAL), hi(-HUGE_VAL, -HUGE_VAL, -HUGE_VAL), clo = lo, chi = hi;
+  bool one_face = true;
   for (uint32_t k = begin; k < end; ++k) {
     const Vec3* c = &corners[3 * size_t(order_[k])];
     for (int i = 0; i < 3; ++i) {
       const Vec3& p = c[i];
       for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
     }
-    const Vec3& m = centroids[order_[k]];
+    one_face = one_face && tri_face_[order_[k]] == tri_face_[order_[begin]];
+  }
+  // Split key: the triangle's centroid inside one ptex face; above that the ptex face's
+  // centroid, so that every ptex face ends up in one subtree (a query that ignores a face skips
+  // it at the subtree's root).
+  auto key = [&](uint32_t t) -> const Vec3& { return one_face ? centroids[t] : face_centroids[tri_face_[t]]; };
+  for (uint32_t k = begin; k < end; ++k) {
+    const Vec3& m = key(order_[k]);
     for (int a = 0; a < 3; ++a) clo[a] = std::min(clo[a], m[a]), chi[a] = std::max(chi[a], m[a]);
   }
   nodes_[index].lo = lo;
@@ -142,17 +238,35 @@ uint32_t PiecewiseLinearLimitMesh::build(uint32_t begin, uint32_t end, const std
   int axis = 0;
   for (int a = 1; a < 3; ++a)
     if (chi[a] - clo[a] > chi[axis] - clo[axis]) axis = a;
-  const uint32_t mid = begin + (end - begin) / 2;
-  std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
-                   [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
-  build(begin, mid, corners, centroids);
-  const uint32_t right = build(mid, end, corners, centroids);
+  uint32_t mid = begin + (end - begin) / 2;
+  if (one_face) {
+    std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
+                     [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
+  } else {
+    // Order by (face centroid, face); then move the split to the nearer end of the middle
+    // face's run of triangles, which the two partitions make contiguous.
+    auto less = [&](uint32_t a, uint32_t b) {
+      const double ka = face_centroids[tri_face_[a]][axis], kb = face_centroids[tri_face_[b]][axis];
+      return ka < kb || (ka == kb && tri_face_[a] < tri_face_[b]);
+    };
+    std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end, less);
+    const uint32_t face = tri_face_[order_[mid]];
+    const auto run_begin = std::partition(order_.begin() + begin, order_.begin() + mid,
+                                          [&](uint32_t t) { return tri_face_[t] != face; });
+    const auto run_end = std::partition(order_.begin() + mid, order_.begin() + end,
+                                        [&](uint32_t t) { return tri_face_[t] == face; });
+    const uint32_t first = uint32_t(run_begin - order_.begin()), last = uint32_t(run_end - order_.begin());
+    mid = (mid - first <= last - mid && first > begin) || last == end ? first : last;
+  }
+  build(begin, mid, corners, centroids, face_centroids);
+  const uint32_t right = build(mid, end, corners, centroids, face_centroids);
   nodes_[index].first = right;
   nodes_[index].count = 0;
   return index;
 }
 
-PiecewiseLinearLimitMesh::Hit PiecewiseLinearLimitMesh::closest_point(const Vec3& p, double max_distance) const {
+PiecewiseLinearLimitMesh::Hit PiecewiseLinearLimitMesh::closest_point(const Vec3& p, double max_distance,
+                                                                       uint32_t exclude_ptex_face) const {
   Hit best;
   double best_d2 = max_distance < HUGE_VAL ? max_distance * max_distance : HUGE_VAL;
   uint32_t best_k = ~0u;
@@ -164,8 +278,10 @@ PiecewiseLinearLimitMesh::Hit PiecewiseLinearLimitMesh::closest_point(const Vec3
     const uint32_t n = stack[--top];
     const Node& node = nodes_[n];
     if (box_distance2(p, node.lo, node.hi) >= best_d2) continue;
+    if (exclude_ptex_face != kNoFace && node.ptex_face == exclude_ptex_face) continue;
     if (node.count > 0) {
       for (uint32_t k = node.first; k < node.first + node.count; ++k) {
+        if (sorted_ptex_[k] == exclude_ptex_face) continue;
         const Vec3* c = &corners_[3 * size_t(k)];
         double w[3];
         closest_on_triangle(p, c[0], c[1], c[2], w);

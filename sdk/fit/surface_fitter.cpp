@@ -6,12 +6,14 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <memory>
 #include <string>
 #include <thread>
 
 #include "core/parallel_for.h"
 #include "core/status.h"
 #include "fit/least_squares_system.h"
+#include "fit/piecewise_linear_limit_mesh.h"
 #include "fit/ptex_adjacency.h"
 #include "subdiv/subdivision_surface.h"
 
@@ -110,12 +112,24 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
   // The L2 the method minimises: the exact one, or in piecewise-linear mode the distance to the
   // piecewise-linear mesh (the statistics report the exact one in both modes).
   double objective = 0;
+  // One piecewise-linear limit mesh for all passes: built for the first projection, updated
+  // (stored grid stencils, refitted hierarchy) when a pass needs it again.
+  std::unique_ptr<PiecewiseLinearLimitMesh> linear;
   auto project = [&](const std::vector<Vec3>& ctrl, bool warm, double f0, double f1) {
     const auto build_start = Clock::now();
     const bool linear_mesh = !(exact && warm) || options.closest_point.reseed_from_linear_mesh;
-    const LimitSurfaceProjector projector(surface, &adjacency, ctrl, options.closest_point, linear_mesh, threads);
-    monitor.log(LogLevel::debug, "fit: piecewise-linear limit mesh built in " +
-                                     std::to_string(seconds_since(build_start)) + " s");
+    std::vector<Vec3> points = surface.patch_points(ctrl);
+    if (linear_mesh) {
+      if (!linear)
+        linear = std::make_unique<PiecewiseLinearLimitMesh>(surface, points, options.closest_point.seed_resolution,
+                                                            threads);
+      else
+        linear->update(points, threads);
+      monitor.log(LogLevel::debug, "fit: piecewise-linear limit mesh ready in " +
+                                       std::to_string(seconds_since(build_start)) + " s");
+    }
+    const LimitSurfaceProjector projector(surface, &adjacency, std::move(points), linear_mesh ? linear.get() : nullptr,
+                                          options.closest_point);
     if (exact) {
       parallel_for(samples.size(), threads, monitor, "fit", f0, f1, [&](size_t i) {
         feet[i] = projector.project(samples[i], warm ? &feet[i] : nullptr);

@@ -24,7 +24,7 @@ CAGEKIT_NAMESPACE_BEGIN
 
 inline SurfaceOptions fit_surface_options() {
   SurfaceOptions options;
-  options.sharp_extraordinary_isolation_level = 6;
+  options.sharp_extraordinary_isolation_level = 4;
   return options;
 }
 

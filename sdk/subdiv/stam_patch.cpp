@@ -241,6 +241,21 @@ StamMatrices build_stam_matrices(int valence) {
         if (idx < 0) fail(Status::internal_error, "Stam sub-patch point outside the layout");
         m.sub_points[sub][4 * row + col] = idx;
       }
+  // E_0 = extended, E_(l+1) = E_l * A (A: the first `cols` rows of extended).
+  const size_t block = static_cast<size_t>(rows) * cols;
+  m.powers.assign(block * (StamMatrices::kStoredLevels + 1), 0.0);
+  std::copy(m.extended.begin(), m.extended.end(), m.powers.begin());
+  for (int l = 0; l < StamMatrices::kStoredLevels; ++l) {
+    const double* e = &m.powers[block * l];
+    double* out = &m.powers[block * (l + 1)];
+    for (int r = 0; r < rows; ++r)
+      for (int j = 0; j < cols; ++j) {
+        const double x = e[static_cast<size_t>(r) * cols + j];
+        if (x == 0.0) continue;
+        const double* a = &m.extended[static_cast<size_t>(j) * cols];
+        for (int c = 0; c < cols; ++c) out[static_cast<size_t>(r) * cols + c] += x * a[c];
+      }
+  }
   return m;
 }
 
@@ -279,22 +294,24 @@ void stam_basis(const StamMatrices& m, double s, double t, double* w, int kinds)
   }
   PatchBasis b;
   bspline_patch_basis(x, y, 0, b);
-  // Row vectors over the child's extended layout, pushed back through A-bar and A^levels.
+  // Row vectors over the child's extended layout (16 non-zero entries), pushed back through
+  // A-bar * A^levels: one product with the stored power, then any levels beyond it one by one.
   // Per-thread scratch rows (no allocation per evaluation once grown).
-  thread_local std::vector<double> row, cur, next;
-  row.assign(6 * static_cast<size_t>(ext), 0.0);
+  thread_local std::vector<double> cur, next;
   cur.assign(6 * static_cast<size_t>(size), 0.0);
   next.resize(6 * static_cast<size_t>(size));
-  for (int k = 0; k < kinds; ++k)
-    for (int p = 0; p < 16; ++p) row[k * ext + m.sub_points[sub][p]] += b[k][p];
-  for (int k = 0; k < kinds; ++k)
-    for (int r = 0; r < ext; ++r) {
-      const double x_r = row[k * ext + r];
+  const int stored = std::min(levels, StamMatrices::kStoredLevels);
+  const double* e = &m.powers[static_cast<size_t>(stored) * ext * size];
+  for (int k = 0; k < kinds; ++k) {
+    double* out = &cur[static_cast<size_t>(k) * size];
+    for (int p = 0; p < 16; ++p) {
+      const double x_r = b[k][p];
       if (x_r == 0.0) continue;
-      const double* a = &m.extended[static_cast<size_t>(r) * size];
-      for (int c = 0; c < size; ++c) cur[k * size + c] += x_r * a[c];
+      const double* a = &e[static_cast<size_t>(m.sub_points[sub][p]) * size];
+      for (int c = 0; c < size; ++c) out[c] += x_r * a[c];
     }
-  for (int l = 0; l < levels; ++l) {
+  }
+  for (int l = stored; l < levels; ++l) {
     std::fill(next.begin(), next.end(), 0.0);
     for (int r = 0; r < size; ++r) {
       const double* a = &m.extended[static_cast<size_t>(r) * size];

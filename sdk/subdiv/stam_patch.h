@@ -34,6 +34,11 @@ struct StamMatrices {
   // sub-patches: [1,2]x[0,1], [1,2]x[1,2], [0,1]x[1,2] of the child's grid.
   int sub_points[3][16] = {};
   std::vector<double> limit;  // limit position mask over the 2N+1 ring points
+  // extended * A^l for l = 0..kStoredLevels, each (2N+17) x (2N+8) row-major, one after the
+  // other: an evaluation l levels below the patch costs one 16-row product instead of l
+  // matrix-vector products (deeper levels continue from the last stored one).
+  static constexpr int kStoredLevels = 16;
+  std::vector<double> powers;
   int size() const { return 2 * valence + 8; }
 };
 

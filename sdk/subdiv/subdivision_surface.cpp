@@ -661,6 +661,14 @@ Vec3 SubdivisionSurface::evaluate_position(uint32_t ptex_face, double u, double 
   return result;
 }
 
+void SubdivisionSurface::patch_point_weights(uint32_t ptex_face, double u, double v, std::vector<uint32_t>& points,
+                                             std::vector<double>& weights) const {
+  thread_local PatchWeights pw;
+  impl_->patch_weights(ptex_face, u, v, &pw, 1);
+  points.assign(pw.points.begin(), pw.points.begin() + pw.count);
+  weights.assign(pw.w.begin(), pw.w.begin() + pw.count);
+}
+
 void SubdivisionSurface::basis_values(uint32_t ptex_face, double u, double v, std::vector<uint32_t>& indices,
                                       std::vector<double>& weights) const {
   thread_local PatchWeights pw;

@@ -93,6 +93,12 @@ class SubdivisionSurface {
                                      const std::vector<Vec3>& patch_points) const;
   // Position only (no derivatives), with patch points.
   Vec3 evaluate_position(uint32_t ptex_face, double u, double v, const std::vector<Vec3>& patch_points) const;
+  // The position weights of evaluate_position at (ptex_face, u, v) over the patch points
+  // (indices into the patch_points() array), into caller arrays (cleared first): a stencil that
+  // stays valid for every set of control positions, so a fixed (u, v) is evaluated for new
+  // control points by one weighted sum.
+  void patch_point_weights(uint32_t ptex_face, double u, double v, std::vector<uint32_t>& points,
+                           std::vector<double>& weights) const;
 
   // The basis functions phi_j that are non-zero at (ptex_face, u, v) and their derivatives.
   // They sum to 1 (partition of unity) and their derivatives sum to 0.

@@ -201,10 +201,14 @@ TEST(FitSurface, sphere_from_a_cube_cage) {
   FitOptions options;
   options.tolerance = 0;
   const Cage fitted = fit_cage_to_points(centred_cube(0.6), samples, options, &report);
-  ASSERT_EQ(report.passes.size(), 6u);
   for (size_t k = 0; k < report.passes.size(); ++k)
-    std::printf("sphere (%zu samples): iteration %zu rms %.4g%% max %.4g%% of the bbox diagonal\n",
-                samples.size(), k, 100 * report.passes[k].rms_relative, 100 * report.passes[k].max_relative);
+    std::printf("sphere (%zu samples): iteration %zu rms %.4g%% max %.4g%% of the bbox diagonal, L2 %.17g\n",
+                samples.size(), k, 100 * report.passes[k].rms_relative, 100 * report.passes[k].max_relative,
+                report.passes[k].l2);
+  // All 5 passes, unless the fit reached its fixed point first and stopped because the next
+  // step would have raised L2 (by rounding, at the plateau).
+  ASSERT_GE(report.passes.size(), 4u);
+  if (report.passes.size() < 6u) EXPECT_TRUE(report.rejected_last_step);
   std::printf("sphere: %.2f s\n", report.seconds);
   // Measured: 14.33% -> 0.5202% -> 0.4948% and then flat (to 4 digits) with the default options.
   for (size_t k = 1; k < report.passes.size(); ++k) {
