@@ -10,11 +10,11 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "core/io/io_internal.h"
+#include "core/io/file_io.h"
+
+#include "core/status.h"
 
 CAGEKIT_NAMESPACE_BEGIN
-namespace io_detail {
-
 namespace {
 
 [[noreturn]] void fail_os(const std::string& what, const std::string& path, int error) {
@@ -99,5 +99,4 @@ void write_file_atomically(const std::string& path, const std::vector<uint8_t>& 
   }
 }
 
-}  // namespace io_detail
 CAGEKIT_NAMESPACE_END

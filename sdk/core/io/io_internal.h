@@ -78,9 +78,5 @@ double write_off(const Cage& cage, const WriteOptions& options, const TaskMonito
 double write_draco(const Cage& cage, const WriteOptions& options, const TaskMonitor& monitor,
                    std::vector<uint8_t>& out);
 
-// Whole-file helpers (Status::io_error with the OS reason on failure).
-std::vector<uint8_t> read_whole_file(const std::string& path);
-void write_file_atomically(const std::string& path, const std::vector<uint8_t>& bytes);
-
 }  // namespace io_detail
 CAGEKIT_NAMESPACE_END

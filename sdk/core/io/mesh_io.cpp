@@ -5,6 +5,7 @@
 
 #include <new>
 
+#include "core/io/file_io.h"
 #include "core/io/io_internal.h"
 
 CAGEKIT_NAMESPACE_BEGIN
@@ -57,7 +58,7 @@ Cage read_cage_from_memory(const uint8_t* data, size_t size, FileFormat format, 
 
 Cage read_cage_from_file(const std::string& path, FileFormat format, const ReadOptions& options,
                          const TaskMonitor& monitor) {
-  const std::vector<uint8_t> bytes = io_detail::read_whole_file(path);
+  const std::vector<uint8_t> bytes = read_whole_file(path);
   if (format == FileFormat::unknown) format = file_format_from_path(path);
   return read_cage_from_memory(bytes.data(), bytes.size(), format, path, options, monitor);
 }
@@ -86,7 +87,7 @@ void write_cage_to_file(const std::string& path, const Cage& cage, const WriteOp
   if (resolved.format == FileFormat::unknown)
     fail(Status::unsupported_format, path + ": cannot tell the format from the extension (use .obj .ply .off .drc)");
   const std::vector<uint8_t> bytes = write_cage_to_memory(cage, resolved, report, monitor);
-  io_detail::write_file_atomically(path, bytes);
+  write_file_atomically(path, bytes);
 }
 
 CAGEKIT_NAMESPACE_END
