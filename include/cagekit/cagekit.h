@@ -955,6 +955,8 @@ typedef struct cagekit_gl_deformer_info {
   double acmr_before;                  /* average cache miss ratio (16-entry FIFO) of the scan's */
   double acmr_after;                   /* triangles as given and as uploaded */
   uint64_t gpu_bytes;                  /* bytes of GL buffer memory the deformer holds */
+  uint32_t reference_floats_per_vertex; /* reference mode: 16 + 3|Q| once a set is given, else 0 */
+  uint32_t reference_max_edited;       /* reference mode: the largest |Q| (GL_MAX_VERTEX_ATTRIBS - 5) */
 } cagekit_gl_deformer_info;
 
 /* Creates a GPU deformer of `binding` in the host's current GL context. `scan` (may be NULL:
@@ -995,6 +997,29 @@ CAGEKIT_API cagekit_status cagekit_gl_deformer_get_buffers(cagekit_gl_deformer d
                                                            cagekit_gl_deformer_buffers* buffers);
 /* Errors: INVALID_HANDLE, INVALID_ARGUMENT (info NULL or bad struct_size). Makes no GL call. */
 CAGEKIT_API cagekit_status cagekit_gl_deformer_get_info(cagekit_gl_deformer deformer, cagekit_gl_deformer_info* info);
+
+/* The thesis's own GPU path (§8.6 (a)-(c)), kept as a reference mode for benchmarks: all data
+ * as vertex attributes — 16 + 3|Q| floats per vertex for the set Q of edited control points (the
+ * 7 displacement / normal coefficients, the part of S, S_u, S_v of the points outside Q, and
+ * phi, phi_u, phi_v of each point of Q) — and a vertex program generated for |Q|, whose
+ * output goes through transform feedback into the same buffer as cagekit_gl_deformer_deform's.
+ * set_reference_set defines Q (`edited`, edited_count distinct indices, 1 ..
+ * info.reference_max_edited: 11 with the GL minimum of 16 attributes) and the positions of the
+ * other control points (`control`, control_count xyz triples); it rebuilds the attribute
+ * buffer (as the thesis does whenever Q changes). deform_reference then reads only the points
+ * of Q from `control` (3|Q| floats uploaded as uniforms per frame); the others must still equal
+ * those given to set_reference_set. Normal displacement mode only (a binding made with
+ * CAGEKIT_DISPLACEMENT_NORMAL); approximate normals.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (NULL arrays, counts, an index out of range or
+ * repeated, a non-finite point, a local-frame binding, deform_reference before a set),
+ * UNSUPPORTED_FORMAT (the program does not build), OUT_OF_MEMORY. GL thread only; they change
+ * no GL state of the host (also restored: vertex array, GL_ARRAY_BUFFER, transform feedback
+ * object and buffer binding, GL_RASTERIZER_DISCARD). */
+CAGEKIT_API cagekit_status cagekit_gl_deformer_set_reference_set(cagekit_gl_deformer deformer, const uint32_t* edited,
+                                                                 uint32_t edited_count, const double* control,
+                                                                 uint32_t control_count);
+CAGEKIT_API cagekit_status cagekit_gl_deformer_deform_reference(cagekit_gl_deformer deformer, const double* control,
+                                                                uint32_t control_count);
 
 /* Copies the last deform's result to the CPU (waits for the GPU; for tests and tools, not for
  * drawing): positions and normals (either may be NULL) receive vertex_count xyz triples, for

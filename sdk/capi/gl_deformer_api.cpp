@@ -42,6 +42,21 @@ std::vector<uint32_t> triangles_of(const cagekit::PolygonMesh& mesh) {
   return out;
 }
 
+// The caller's control points as floats, checked.
+void read_control(cagekit_gl_deformer_t& d, const double* control, uint32_t control_count) {
+  require_not_null(control, "control");
+  const uint32_t expected = d.deformer->control_count();
+  if (control_count != expected)
+    fail(Status::invalid_argument, "control_count is " + std::to_string(control_count) +
+                                       " but the binding's cage has " + std::to_string(expected) + " vertices");
+  d.control.resize(3 * size_t(expected));
+  for (size_t k = 0; k < 3 * size_t(expected); ++k) {
+    if (!std::isfinite(control[k]))
+      fail(Status::invalid_argument, "control point " + std::to_string(k / 3) + " is not finite");
+    d.control[k] = static_cast<float>(control[k]);
+  }
+}
+
 }  // namespace
 
 extern "C" {
@@ -89,18 +104,28 @@ CAGEKIT_API cagekit_status cagekit_gl_deformer_deform(cagekit_gl_deformer deform
       fail(Status::unsupported_format, "the GL deformer computes approximate normals only (exact normals: use the CPU "
                                        "deformer)");
     if (mode != CAGEKIT_NORMALS_APPROXIMATE) fail(Status::invalid_argument, "normals_mode is not a cagekit_normal_mode");
-    require_not_null(control, "control");
-    const uint32_t expected = d.deformer->control_count();
-    if (control_count != expected)
-      fail(Status::invalid_argument, "control_count is " + std::to_string(control_count) +
-                                         " but the binding's cage has " + std::to_string(expected) + " vertices");
-    d.control.resize(3 * size_t(expected));
-    for (size_t k = 0; k < 3 * size_t(expected); ++k) {
-      if (!std::isfinite(control[k]))
-        fail(Status::invalid_argument, "control point " + std::to_string(k / 3) + " is not finite");
-      d.control[k] = static_cast<float>(control[k]);
-    }
+    read_control(d, control, control_count);
     d.deformer->deform(d.control.data());
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_gl_deformer_set_reference_set(cagekit_gl_deformer deformer, const uint32_t* edited,
+                                                                 uint32_t edited_count, const double* control,
+                                                                 uint32_t control_count) {
+  return guarded(context_of(deformer), [&] {
+    cagekit_gl_deformer_t& d = checked(deformer, "deformer");
+    if (edited_count > 0) require_not_null(edited, "edited");
+    read_control(d, control, control_count);
+    d.deformer->set_reference_set(std::vector<uint32_t>(edited, edited + edited_count), d.control.data());
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_gl_deformer_deform_reference(cagekit_gl_deformer deformer, const double* control,
+                                                                uint32_t control_count) {
+  return guarded(context_of(deformer), [&] {
+    cagekit_gl_deformer_t& d = checked(deformer, "deformer");
+    read_control(d, control, control_count);
+    d.deformer->deform_reference(d.control.data());
   });
 }
 
@@ -139,6 +164,8 @@ CAGEKIT_API cagekit_status cagekit_gl_deformer_get_info(cagekit_gl_deformer defo
     out.acmr_before = d.acmr_before();
     out.acmr_after = d.acmr_after();
     out.gpu_bytes = d.gpu_bytes();
+    out.reference_floats_per_vertex = d.reference_floats_per_vertex();
+    out.reference_max_edited = d.reference_max_edited();
     write_versioned(info, out, "cagekit_gl_deformer_info");
   });
 }

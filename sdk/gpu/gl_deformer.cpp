@@ -34,7 +34,8 @@ std::string join(const std::vector<std::string>& names) {
 }  // namespace
 
 GlDeformer::GlDeformer(const ScanBinding& b, const std::vector<uint32_t>& triangles, GlGetProcAddress get_proc_address,
-                       void* user_data, const GlDeformerOptions& options) {
+                       void* user_data, const GlDeformerOptions& options)
+    : binding_(b) {
   if (get_proc_address == nullptr) fail(Status::invalid_argument, "gl deformer: get_proc_address must not be NULL");
   const size_t n = b.num_vertices(), entries = b.num_entries();
   if (n == 0) fail(Status::invalid_argument, "gl deformer: the binding has no vertices");
@@ -77,6 +78,7 @@ GlDeformer::GlDeformer(const ScanBinding& b, const std::vector<uint32_t>& triang
   gl_.GetIntegerv(GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS, &bindings);
   gl_.GetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &groups_x);
   gl_.GetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 1, &groups_y);
+  gl_.GetIntegerv(GL_MAX_VERTEX_ATTRIBS, &max_vertex_attributes_);
   {
     // GL_MAX_SHADER_STORAGE_BLOCK_SIZE is a 64-bit value; glGetInteger64v is not in the table,
     // the int query clamps (fine: the GLES minimum is 2^24, desktop 2^27).
@@ -153,10 +155,17 @@ GlDeformer::GlDeformer(const ScanBinding& b, const std::vector<uint32_t>& triang
 GlDeformer::~GlDeformer() { release(); }
 
 void GlDeformer::release() noexcept {
-  const GLuint buffers[] = {control_, entries_, vertices_, output_, index_};
-  if (gl_.DeleteBuffers != nullptr) gl_.DeleteBuffers(5, buffers);  // 0 names are ignored
+  const GLuint buffers[] = {control_, entries_, vertices_, output_, index_, reference_attributes_};
+  if (gl_.DeleteBuffers != nullptr) gl_.DeleteBuffers(6, buffers);  // 0 names are ignored
   if (program_ != 0 && gl_.DeleteProgram != nullptr) gl_.DeleteProgram(program_);
+  if (reference_program_ != 0 && gl_.DeleteProgram != nullptr) gl_.DeleteProgram(reference_program_);
+  if (reference_vao_ != 0 && gl_.DeleteVertexArrays != nullptr) gl_.DeleteVertexArrays(1, &reference_vao_);
+  if (reference_feedback_ != 0 && gl_.DeleteTransformFeedbacks != nullptr)
+    gl_.DeleteTransformFeedbacks(1, &reference_feedback_);
+  if (reference_framebuffer_ != 0 && gl_.DeleteFramebuffers != nullptr)
+    gl_.DeleteFramebuffers(1, &reference_framebuffer_);
   control_ = entries_ = vertices_ = output_ = index_ = program_ = 0;
+  reference_attributes_ = reference_program_ = reference_vao_ = reference_feedback_ = reference_framebuffer_ = 0;
 }
 
 uint32_t GlDeformer::make_buffer(const void* data, size_t bytes, uint32_t usage) {
@@ -235,6 +244,157 @@ void GlDeformer::read_back(float* interleaved) const {
   std::memcpy(interleaved, mapped, size_t(bytes));
   if (gl_.UnmapBuffer(GL_COPY_READ_BUFFER) == GL_FALSE)
     fail(Status::internal_error, "gl deformer: the output buffer's contents were lost while mapped; deform again");
+}
+
+// ---- the thesis's reference mode (vertex attributes + a vertex program generated for |Q|) ----
+
+uint32_t GlDeformer::reference_max_edited() const {
+  return max_vertex_attributes_ > 5 ? uint32_t(max_vertex_attributes_ - 5) : 0;
+}
+
+namespace {
+
+// shaders/reference.vert specialised for |Q| = q (thesis §8.6 (c): generated whenever Q is defined).
+std::string reference_prefix(bool es, size_t q) {
+  std::string s = es ? "#version 310 es\nprecision highp float;\n" : "#version 430 core\n";
+  s += "#define REFERENCE_Q " + std::to_string(q) + "\n#define REFERENCE_INPUTS";
+  for (size_t k = 0; k < q; ++k)
+    s += " layout(location = " + std::to_string(5 + k) + ") in vec3 a_w" + std::to_string(k) + ";";
+  s += "\n#define REFERENCE_SUM";
+  for (size_t k = 0; k < q; ++k) {
+    const std::string w = "a_w" + std::to_string(k), c = "u_q[" + std::to_string(k) + "]";
+    s += " s += " + w + ".x * " + c + "; su += " + w + ".y * " + c + "; sv += " + w + ".z * " + c + ";";
+  }
+  return s + "\n#line 1\n";
+}
+
+}  // namespace
+
+void GlDeformer::set_reference_set(const std::vector<uint32_t>& edited, const float* control) {
+  const ScanBinding& b = binding_;
+  if (b.mode != DisplacementMode::normal)
+    fail(Status::invalid_argument, "gl deformer: the reference mode is the thesis's normal-displacement mode; the "
+                                   "binding uses local-frame displacement");
+  const uint32_t max_q = reference_max_edited();
+  if (edited.empty() || edited.size() > max_q)
+    fail(Status::invalid_argument, "gl deformer: the reference mode takes 1.." + std::to_string(max_q) +
+                                       " edited control points (vertex attributes), got " + std::to_string(edited.size()));
+  std::vector<int> slot(control_count_, -1);
+  for (size_t k = 0; k < edited.size(); ++k) {
+    if (edited[k] >= control_count_)
+      fail(Status::invalid_argument, "gl deformer: edited control point " + std::to_string(edited[k]) + " is out of range");
+    if (slot[edited[k]] >= 0)
+      fail(Status::invalid_argument, "gl deformer: edited control point " + std::to_string(edited[k]) + " is listed twice");
+    slot[edited[k]] = int(k);
+  }
+  const size_t q = edited.size(), floats = 16 + 3 * q, n = vertex_count_;
+  if (uint64_t(floats) * 4 * n > uint64_t(PTRDIFF_MAX)) fail(Status::limit_exceeded, "gl deformer: reference data too large");
+  std::vector<float> data(floats * n, 0.0f);
+  for (size_t i = 0; i < n; ++i) {
+    float* v = &data[floats * i];
+    const double* k = &b.normal_coefficients[6 * i];
+    v[0] = float(b.displacement[i]), v[1] = float(k[0]), v[2] = float(k[1]), v[3] = float(k[2]);
+    v[4] = float(k[3]), v[5] = float(k[4]), v[6] = float(k[5]);
+    double fixed[9] = {};
+    for (uint32_t e = b.row_offsets[i]; e < b.row_offsets[i + 1]; ++e) {
+      const uint32_t j = b.control_index[e];
+      if (slot[j] >= 0) {
+        float* w = &v[16 + 3 * size_t(slot[j])];
+        w[0] += float(b.phi[e]), w[1] += float(b.phi_u[e]), w[2] += float(b.phi_v[e]);
+        continue;
+      }
+      for (int c = 0; c < 3; ++c) {
+        const double x = control[3 * size_t(j) + c];
+        fixed[c] += b.phi[e] * x, fixed[3 + c] += b.phi_u[e] * x, fixed[6 + c] += b.phi_v[e] * x;
+      }
+    }
+    for (int c = 0; c < 9; ++c) v[7 + c] = float(fixed[c]);
+  }
+
+  const GlStateGuard guard(gl_, true);
+  // The vertex program for this |Q| (recompiled when |Q| changes; one program per deformer).
+  if (reference_program_ == 0 || reference_q_.size() != q) {
+    if (reference_program_ != 0) gl_.DeleteProgram(reference_program_), reference_program_ = 0;
+    reference_q_.clear();
+    const std::string vs_prefix = reference_prefix(version_.es, q);
+    const std::string fs_prefix = version_.es ? "#version 310 es\nprecision highp float;\n#line 1\n" : "#version 430 core\n#line 1\n";
+    GLuint shaders[2] = {gl_.CreateShader(GL_VERTEX_SHADER), gl_.CreateShader(GL_FRAGMENT_SHADER)};
+    const char* sources[2][2] = {{vs_prefix.c_str(), kShaderReferenceVert}, {fs_prefix.c_str(), kShaderReferenceFrag}};
+    std::string log;
+    for (int k = 0; k < 2; ++k) {
+      gl_.ShaderSource(shaders[k], 2, sources[k], nullptr);
+      gl_.CompileShader(shaders[k]);
+      GLint ok = 0;
+      gl_.GetShaderiv(shaders[k], GL_COMPILE_STATUS, &ok);
+      if (!ok) {
+        char buffer[2048] = {};
+        gl_.GetShaderInfoLog(shaders[k], sizeof(buffer), nullptr, buffer);
+        log += buffer;
+      }
+    }
+    const GLuint program = gl_.CreateProgram();
+    gl_.AttachShader(program, shaders[0]), gl_.AttachShader(program, shaders[1]);
+    const char* varyings[2] = {"v_position", "v_normal"};
+    gl_.TransformFeedbackVaryings(program, 2, varyings, GL_INTERLEAVED_ATTRIBS);  // = the output layout
+    gl_.LinkProgram(program);
+    gl_.DeleteShader(shaders[0]), gl_.DeleteShader(shaders[1]);
+    GLint linked = 0;
+    gl_.GetProgramiv(program, GL_LINK_STATUS, &linked);
+    if (!linked || !log.empty()) {
+      char buffer[2048] = {};
+      gl_.GetProgramInfoLog(program, sizeof(buffer), nullptr, buffer);
+      gl_.DeleteProgram(program);
+      fail(Status::unsupported_format, "gl deformer: the reference vertex program does not build on \"" + renderer_ +
+                                           "\": " + log + buffer);
+    }
+    reference_program_ = program;
+    reference_q_location_ = gl_.GetUniformLocation(program, "u_q");
+  }
+  if (reference_vao_ == 0) gl_.GenVertexArrays(1, &reference_vao_);
+  if (reference_feedback_ == 0) gl_.GenTransformFeedbacks(1, &reference_feedback_);
+  if (reference_attributes_ == 0) gl_.GenBuffers(1, &reference_attributes_);
+  if (reference_framebuffer_ == 0) {
+    // The transform-feedback draw needs a complete draw framebuffer even with rasterisation
+    // discarded (a surfaceless host has none): one without attachments, 1x1 (GL 4.3 / GLES 3.1).
+    gl_.GenFramebuffers(1, &reference_framebuffer_);
+    gl_.BindFramebuffer(GL_DRAW_FRAMEBUFFER, reference_framebuffer_);
+    gl_.FramebufferParameteri(GL_DRAW_FRAMEBUFFER, GL_FRAMEBUFFER_DEFAULT_WIDTH, 1);
+    gl_.FramebufferParameteri(GL_DRAW_FRAMEBUFFER, GL_FRAMEBUFFER_DEFAULT_HEIGHT, 1);
+  }
+  gl_.BindVertexArray(reference_vao_);
+  gl_.BindBuffer(GL_ARRAY_BUFFER, reference_attributes_);
+  gl_.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(4 * data.size()), data.data(), GL_STATIC_DRAW);
+  gpu_bytes_ += 4 * data.size() - reference_bytes_;
+  reference_bytes_ = 4 * data.size();
+  const GLsizei stride = GLsizei(4 * floats);
+  auto attribute = [&](GLuint location, GLint size, size_t offset) {
+    gl_.VertexAttribPointer(location, size, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(4 * offset));
+    gl_.EnableVertexAttribArray(location);
+  };
+  attribute(0, 4, 0), attribute(1, 3, 4), attribute(2, 3, 7), attribute(3, 3, 10), attribute(4, 3, 13);
+  for (size_t k = 0; k < q; ++k) attribute(GLuint(5 + k), 3, 16 + 3 * k);
+  reference_q_ = edited;
+  reference_uniforms_.assign(3 * q, 0.0f);
+}
+
+void GlDeformer::deform_reference(const float* control) {
+  if (reference_q_.empty()) fail(Status::invalid_argument, "gl deformer: deform_reference before set_reference_set");
+  for (size_t k = 0; k < reference_q_.size(); ++k)
+    for (int c = 0; c < 3; ++c) reference_uniforms_[3 * k + c] = control[3 * size_t(reference_q_[k]) + c];
+  const GlStateGuard guard(gl_, true);
+  gl_.UseProgram(reference_program_);
+  gl_.Uniform3fv(reference_q_location_, GLsizei(reference_q_.size()), reference_uniforms_.data());
+  gl_.BindVertexArray(reference_vao_);
+  gl_.BindFramebuffer(GL_DRAW_FRAMEBUFFER, reference_framebuffer_);
+  gl_.BindTransformFeedback(GL_TRANSFORM_FEEDBACK, reference_feedback_);
+  gl_.BindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, output_);
+  gl_.Enable(GL_RASTERIZER_DISCARD);
+  gl_.BeginTransformFeedback(GL_POINTS);
+  gl_.DrawArrays(GL_POINTS, 0, GLsizei(vertex_count_));
+  gl_.EndTransformFeedback();
+  // Unbind the output from our transform feedback object so that the host may use it freely.
+  gl_.BindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, 0);
+  gl_.MemoryBarrier(GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 
 CAGEKIT_NAMESPACE_END

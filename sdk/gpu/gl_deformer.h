@@ -34,6 +34,7 @@ class GlDeformer {
   // entry point, a limit, or the shader does not compile), limit_exceeded (a buffer larger than
   // the context's GL_MAX_SHADER_STORAGE_BLOCK_SIZE), out_of_memory (GL_OUT_OF_MEMORY),
   // invalid_argument (bad binding / triangles). No GL object is left behind on failure.
+  // The binding must outlive the deformer (the reference mode reads it again).
   GlDeformer(const ScanBinding& binding, const std::vector<uint32_t>& triangles, GlGetProcAddress get_proc_address,
              void* user_data, const GlDeformerOptions& options = {});
   ~GlDeformer();
@@ -43,6 +44,22 @@ class GlDeformer {
   // `control`: 3 * control_count() floats. Writes the output buffer (visible to vertex
   // attribute fetches, shader storage reads and buffer mapping after the call).
   void deform(const float* control);
+  // The thesis's reference mode (§8.6 (a), spec §2.6): per vertex 16 + 3|Q| floats of vertex
+  // attributes — D and the six normal coefficients (7), the part of S, S_u, S_v of the control
+  // points outside Q (9, computed here in double from `control`), and (phi, phi_u, phi_v) of
+  // each point of Q (3|Q|, zero where a vertex does not depend on it) — and a vertex program
+  // generated for |Q| that rebuilds position and approximate normal; its output goes through
+  // transform feedback into the same output buffer as deform()'s. `edited` = Q, 1..max
+  // distinct control indices (max: GL_MAX_VERTEX_ATTRIBS - 5, 11 with the minimum 16). Normal
+  // displacement mode only (the thesis's). Throws invalid_argument, unsupported_format.
+  void set_reference_set(const std::vector<uint32_t>& edited, const float* control);
+  // Per frame: uploads the |Q| points of `control` (3 * control_count() floats; the others must
+  // equal those given to set_reference_set) as uniforms and draws. Throws invalid_argument
+  // before a set_reference_set.
+  void deform_reference(const float* control);
+  uint32_t reference_floats_per_vertex() const { return reference_q_.empty() ? 0 : 16 + 3 * uint32_t(reference_q_.size()); }
+  uint32_t reference_max_edited() const;
+
   // Copies the output buffer (6 floats per vertex) into `interleaved` (maps it for reading).
   void read_back(float* interleaved) const;
 
@@ -66,7 +83,15 @@ class GlDeformer {
   uint32_t make_buffer(const void* data, size_t bytes, uint32_t usage);
   void compile_program();
 
+  const ScanBinding& binding_;
   GlFunctions gl_;
+  // Reference mode.
+  std::vector<uint32_t> reference_q_;
+  uint32_t reference_program_ = 0, reference_vao_ = 0, reference_attributes_ = 0, reference_feedback_ = 0;
+  uint32_t reference_framebuffer_ = 0;  // 1x1, no attachments: draws need a complete framebuffer
+  int32_t reference_q_location_ = -1, max_vertex_attributes_ = 0;
+  uint64_t reference_bytes_ = 0;
+  std::vector<float> reference_uniforms_;
   GlVersion version_;
   std::string renderer_, version_string_;
   bool local_frame_ = false;

@@ -49,7 +49,27 @@ using GlGetProcAddress = GlProc (*)(const char* name, void* user_data);
   X(PFNGLMAPBUFFERRANGEPROC, MapBufferRange)                                                           \
   X(PFNGLUNMAPBUFFERPROC, UnmapBuffer)                                                                 \
   X(PFNGLDISPATCHCOMPUTEPROC, DispatchCompute)                                                         \
-  X(PFNGLMEMORYBARRIERPROC, MemoryBarrier)
+  X(PFNGLMEMORYBARRIERPROC, MemoryBarrier)                                                             \
+  X(PFNGLGENVERTEXARRAYSPROC, GenVertexArrays)                                                         \
+  X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray)                                                         \
+  X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays)                                                   \
+  X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer)                                                 \
+  X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray)                                         \
+  X(PFNGLGENTRANSFORMFEEDBACKSPROC, GenTransformFeedbacks)                                             \
+  X(PFNGLBINDTRANSFORMFEEDBACKPROC, BindTransformFeedback)                                             \
+  X(PFNGLDELETETRANSFORMFEEDBACKSPROC, DeleteTransformFeedbacks)                                       \
+  X(PFNGLTRANSFORMFEEDBACKVARYINGSPROC, TransformFeedbackVaryings)                                     \
+  X(PFNGLBEGINTRANSFORMFEEDBACKPROC, BeginTransformFeedback)                                           \
+  X(PFNGLENDTRANSFORMFEEDBACKPROC, EndTransformFeedback)                                               \
+  X(PFNGLDRAWARRAYSPROC, DrawArrays)                                                                   \
+  X(PFNGLENABLEPROC, Enable)                                                                           \
+  X(PFNGLDISABLEPROC, Disable)                                                                         \
+  X(PFNGLISENABLEDPROC, IsEnabled)                                                                     \
+  X(PFNGLUNIFORM3FVPROC, Uniform3fv)                                                                   \
+  X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                                                         \
+  X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                                                         \
+  X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)                                                   \
+  X(PFNGLFRAMEBUFFERPARAMETERIPROC, FramebufferParameteri)
 
 struct GlFunctions {
 #define CAGEKIT_GL_MEMBER(type, name) type name = nullptr;

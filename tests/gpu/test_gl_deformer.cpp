@@ -170,6 +170,91 @@ TEST(GlDeformer, gpu_equals_cpu_in_both_apis_and_displacement_modes) {
   }
 }
 
+// The thesis's reference mode (vertex attributes, 16 + 3|Q| floats, transform feedback) gives
+// the CPU's result too, for |Q| = 1, 6 and the largest |Q|.
+TEST(GlDeformer, reference_mode_equals_cpu) {
+  const Scene& s = scene();
+  const uint32_t m = uint32_t(s.cage_positions.size() / 3);
+  for (const ApiCase& api : kApis) {
+    EglContext ctx(api.api, api.major, api.minor);
+    SKIP_WITHOUT(ctx);
+    cagekit_binding binding = s.bind(CAGEKIT_DISPLACEMENT_NORMAL);
+    cagekit_binding_info info{};
+    info.struct_size = sizeof(info);
+    ASSERT_EQ(cagekit_binding_get_info(binding, &info), CAGEKIT_SUCCESS);
+    const uint32_t n = info.vertex_count;
+    cagekit_cpu_deformer cpu = nullptr;
+    ASSERT_EQ(cagekit_cpu_deformer_create(binding, 1, &cpu), CAGEKIT_SUCCESS);
+    cagekit_gl_deformer gpu = nullptr;
+    ASSERT_EQ(cagekit_gl_deformer_create(binding, s.scan, EglContext::get_proc_address, nullptr, nullptr, &gpu),
+              CAGEKIT_SUCCESS);
+    cagekit_gl_deformer_info gi{};
+    gi.struct_size = sizeof(gi);
+    ASSERT_EQ(cagekit_gl_deformer_get_info(gpu, &gi), CAGEKIT_SUCCESS);
+    EXPECT_EQ(gi.reference_floats_per_vertex, 0u);
+    ASSERT_GE(gi.reference_max_edited, 11u);
+    for (uint32_t q : {1u, 6u, gi.reference_max_edited}) {
+      std::vector<uint32_t> edited;
+      for (uint32_t k = 0; k < q; ++k) edited.push_back((k * 37u) % m);
+      ASSERT_EQ(cagekit_gl_deformer_set_reference_set(gpu, edited.data(), q, s.cage_positions.data(), m), CAGEKIT_SUCCESS)
+          << cagekit_last_error_message(s.context);
+      ASSERT_EQ(cagekit_gl_deformer_get_info(gpu, &gi), CAGEKIT_SUCCESS);
+      EXPECT_EQ(gi.reference_floats_per_vertex, 16 + 3 * q);  // AC-8.6
+      double worst_p = 0, worst_n = 0;
+      for (int frame = 1; frame <= 2; ++frame) {
+        std::vector<double> control = s.cage_positions;
+        for (uint32_t j : edited)
+          for (int k = 0; k < 3; ++k) control[3 * j + k] *= 1.0 + 0.1 * frame;
+        std::vector<double> cp(3 * size_t(n)), cn(3 * size_t(n)), gp(3 * size_t(n)), gn(3 * size_t(n));
+        ASSERT_EQ(cagekit_cpu_deformer_deform(cpu, control.data(), m, CAGEKIT_NORMALS_APPROXIMATE, n, cp.data(), cn.data()),
+                  CAGEKIT_SUCCESS);
+        ASSERT_EQ(cagekit_gl_deformer_deform_reference(gpu, control.data(), m), CAGEKIT_SUCCESS)
+            << cagekit_last_error_message(s.context);
+        ASSERT_EQ(cagekit_gl_deformer_read_back(gpu, n, gp.data(), gn.data()), CAGEKIT_SUCCESS);
+        for (uint32_t i = 0; i < n; ++i) {
+          double d2 = 0;
+          for (int k = 0; k < 3; ++k) d2 += (cp[3 * i + k] - gp[3 * i + k]) * (cp[3 * i + k] - gp[3 * i + k]);
+          worst_p = std::max(worst_p, std::sqrt(d2) / info.bbox_diagonal);
+          worst_n = std::max(worst_n, angle(&cn[3 * i], &gn[3 * i]) / kDegree);
+        }
+      }
+      std::printf("%s reference mode |Q| = %u (%u floats per vertex): GPU vs CPU positions %.3g of the diagonal, "
+                  "normals %.3g deg\n", api.name, q, gi.reference_floats_per_vertex, worst_p, worst_n);
+      EXPECT_LT(worst_p, 1e-5);
+      EXPECT_LT(worst_n, 0.05);
+    }
+    // Bad sets.
+    std::vector<uint32_t> too_many(gi.reference_max_edited + 1);
+    for (uint32_t k = 0; k < too_many.size(); ++k) too_many[k] = k;
+    EXPECT_EQ(cagekit_gl_deformer_set_reference_set(gpu, too_many.data(), uint32_t(too_many.size()),
+                                                    s.cage_positions.data(), m),
+              CAGEKIT_ERROR_INVALID_ARGUMENT);
+    const uint32_t twice[2] = {3, 3}, out_of_range[1] = {m};
+    EXPECT_EQ(cagekit_gl_deformer_set_reference_set(gpu, twice, 2, s.cage_positions.data(), m),
+              CAGEKIT_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(cagekit_gl_deformer_set_reference_set(gpu, out_of_range, 1, s.cage_positions.data(), m),
+              CAGEKIT_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(cagekit_gl_deformer_set_reference_set(gpu, nullptr, 0, s.cage_positions.data(), m),
+              CAGEKIT_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(cagekit_gl_deformer_set_reference_set(gpu, nullptr, 2, s.cage_positions.data(), m),
+              CAGEKIT_ERROR_INVALID_ARGUMENT);
+    cagekit_gl_deformer_release(gpu);
+    cagekit_cpu_deformer_release(cpu);
+    cagekit_binding_release(binding);
+    // The reference mode is the thesis's normal-displacement mode; and needs a set first.
+    binding = s.bind(CAGEKIT_DISPLACEMENT_LOCAL_FRAME);
+    ASSERT_EQ(cagekit_gl_deformer_create(binding, nullptr, EglContext::get_proc_address, nullptr, nullptr, &gpu),
+              CAGEKIT_SUCCESS);
+    EXPECT_EQ(cagekit_gl_deformer_deform_reference(gpu, s.cage_positions.data(), m), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    const uint32_t one[1] = {0};
+    EXPECT_EQ(cagekit_gl_deformer_set_reference_set(gpu, one, 1, s.cage_positions.data(), m),
+              CAGEKIT_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(cagekit_last_error_message(s.context)).find("local-frame"), std::string::npos);
+    cagekit_gl_deformer_release(gpu);
+    cagekit_binding_release(binding);
+  }
+}
+
 // The host's state as the GL deformer could touch it, and more.
 struct HostState {
   std::vector<GLint64> values;
@@ -186,10 +271,18 @@ HostState query_state() {
                    GL_COPY_WRITE_BUFFER_BINDING, GL_UNIFORM_BUFFER_BINDING, GL_PIXEL_PACK_BUFFER_BINDING,
                    GL_PIXEL_UNPACK_BUFFER_BINDING, GL_DISPATCH_INDIRECT_BUFFER_BINDING, GL_DRAW_INDIRECT_BUFFER_BINDING,
                    GL_ATOMIC_COUNTER_BUFFER_BINDING, GL_TRANSFORM_FEEDBACK_BUFFER_BINDING, GL_ACTIVE_TEXTURE,
-                   GL_TEXTURE_BINDING_2D, GL_FRAMEBUFFER_BINDING, GL_READ_FRAMEBUFFER_BINDING}) {
+                   GL_TEXTURE_BINDING_2D, GL_FRAMEBUFFER_BINDING, GL_READ_FRAMEBUFFER_BINDING,
+                   GL_TRANSFORM_FEEDBACK_BINDING, GL_DRAW_FRAMEBUFFER_BINDING, GL_RENDERBUFFER_BINDING}) {
     GLint v = -7;
     get(e, &v);
     s.values.push_back(v);
+  }
+  s.values.push_back(EglContext::load<PFNGLISENABLEDPROC>("glIsEnabled")(GL_RASTERIZER_DISCARD));
+  s.values.push_back(EglContext::load<PFNGLISENABLEDPROC>("glIsEnabled")(GL_DEPTH_TEST));
+  {
+    GLint b = -7;
+    get_i(GL_TRANSFORM_FEEDBACK_BUFFER_BINDING, 0, &b);
+    s.values.push_back(b);
   }
   GLint max_bindings = 0;
   get(GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS, &max_bindings);
@@ -248,6 +341,13 @@ TEST(GlDeformer, host_gl_state_is_unchanged) {
     bind_base(GL_SHADER_STORAGE_BUFFER, 2, buffers[5]);
     bind_range(GL_SHADER_STORAGE_BUFFER, 3, buffers[6], 0, 1024);
     bind_buffer(GL_SHADER_STORAGE_BUFFER, buffers[7]);
+    // ... and its own transform feedback object with a buffer, depth test on.
+    GLuint feedback = 0;
+    EglContext::load<PFNGLGENTRANSFORMFEEDBACKSPROC>("glGenTransformFeedbacks")(1, &feedback);
+    EglContext::load<PFNGLBINDTRANSFORMFEEDBACKPROC>("glBindTransformFeedback")(GL_TRANSFORM_FEEDBACK, feedback);
+    bind_base(GL_TRANSFORM_FEEDBACK_BUFFER, 0, buffers[5]);
+    bind_buffer(GL_TRANSFORM_FEEDBACK_BUFFER, buffers[6]);
+    EglContext::load<PFNGLENABLEPROC>("glEnable")(GL_DEPTH_TEST);
     const char* source = api.api == EglContext::Api::es
                              ? "#version 310 es\nlayout(local_size_x = 1) in;\nvoid main() {}\n"
                              : "#version 430 core\nlayout(local_size_x = 1) in;\nvoid main() {}\n";
@@ -275,6 +375,21 @@ TEST(GlDeformer, host_gl_state_is_unchanged) {
     std::vector<double> p(3 * 4098);
     ASSERT_EQ(cagekit_gl_deformer_read_back(gpu, 4098, p.data(), nullptr), CAGEKIT_SUCCESS);
     EXPECT_TRUE(query_state() == before) << api.name << ": read_back changed the host's state";
+    cagekit_binding normal_binding = s.bind(CAGEKIT_DISPLACEMENT_NORMAL);
+    cagekit_gl_deformer reference = nullptr;
+    ASSERT_EQ(cagekit_gl_deformer_create(normal_binding, s.scan, EglContext::get_proc_address, nullptr, nullptr, &reference),
+              CAGEKIT_SUCCESS);
+    const uint32_t edited[4] = {0, 5, 9, 17};
+    ASSERT_EQ(cagekit_gl_deformer_set_reference_set(reference, edited, 4, s.cage_positions.data(),
+                                                    uint32_t(s.cage_positions.size() / 3)),
+              CAGEKIT_SUCCESS) << cagekit_last_error_message(s.context);
+    EXPECT_TRUE(query_state() == before) << api.name << ": set_reference_set changed the host's state";
+    ASSERT_EQ(cagekit_gl_deformer_deform_reference(reference, s.cage_positions.data(),
+                                                   uint32_t(s.cage_positions.size() / 3)),
+              CAGEKIT_SUCCESS);
+    EXPECT_TRUE(query_state() == before) << api.name << ": deform_reference changed the host's state";
+    cagekit_gl_deformer_release(reference);
+    cagekit_binding_release(normal_binding);
     cagekit_gl_deformer_release(gpu);
     EXPECT_TRUE(query_state() == before) << api.name << ": release changed the host's state";
     EXPECT_EQ(get_error(), GLenum(GL_NO_ERROR));
@@ -284,6 +399,8 @@ TEST(GlDeformer, host_gl_state_is_unchanged) {
     delete_shader(shader);
     bind_vao(0);
     delete_vao(1, &vao);
+    EglContext::load<PFNGLBINDTRANSFORMFEEDBACKPROC>("glBindTransformFeedback")(GL_TRANSFORM_FEEDBACK, 0);
+    EglContext::load<PFNGLDELETETRANSFORMFEEDBACKSPROC>("glDeleteTransformFeedbacks")(1, &feedback);
     delete_buffers(8, buffers);
   }
 }
