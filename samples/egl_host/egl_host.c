@@ -4,8 +4,9 @@
  * API only. It makes an EGL context (Mesa's surfaceless platform, or with --device the first
  * EGL device, which is a real GPU where there is one), binds a scan to its cage, drags control
  * points over N frames, renders the shaded scan into an offscreen framebuffer, writes the last
- * frame to a PNG, and prints frames per second of the CPU path (cagekit_cpu_deformer + upload)
- * and of the GPU path (cagekit_gl_deformer: the vertices never leave the GPU).
+ * frame to a PNG, and prints frames per second of the CPU path (cagekit_cpu_deformer + upload),
+ * of the GPU path (cagekit_gl_deformer: the vertices never leave the GPU) and of the thesis's
+ * vertex-attribute path (the deformer's reference mode, |Q| = the 4 dragged points).
  *
  *   cagekit_egl_host [--scan SCAN --cage CAGE] [--frames N] [--size PIXELS] [--es] [--device]
  *                    [--out IMAGE.png]
@@ -357,7 +358,7 @@ int main(int argc, char** argv) {
     cagekit_mesh cage_mesh = NULL;
     uint32_t m = 0, n, k, j;
     double *rest = NULL, *control = NULL, *cpu_p = NULL, *cpu_n = NULL, lo[3] = {1e300, 1e300, 1e300},
-           hi[3] = {-1e300, -1e300, -1e300}, center[3], radius = 0, t0, cpu_seconds, gpu_seconds, cpu_deform_seconds = 0;
+           hi[3] = {-1e300, -1e300, -1e300}, center[3], radius = 0, t0, cpu_seconds = 0, gpu_seconds = 0, reference_seconds = 0, cpu_deform_seconds = 0;
     float *interleaved = NULL, mvp[16], rotation[9], scale;
     unsigned char *pixels = NULL, *rgb = NULL;
     GLuint fbo = 0, color_rb = 0, depth_rb = 0, program = 0, vs, fs, vao_gpu = 0, vao_cpu = 0, cpu_vbo = 0;
@@ -478,8 +479,14 @@ int main(int argc, char** argv) {
     glEnableVertexAttribArray(0), glEnableVertexAttribArray(1);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buffers.index_buffer);
 
-    /* Two passes of the same drag: CPU path, then GPU path. */
-    for (k = 0; k < 2; ++k) {
+    /* Three passes of the same drag: CPU path, GPU path (compute), GPU reference mode of the
+     * thesis (vertex attributes for the 4 dragged points, transform feedback). */
+    {
+      uint32_t edited[4];
+      for (j = 0; j < 4; ++j) edited[j] = (uint32_t)drag[j];
+      if (!check(cagekit_gl_deformer_set_reference_set(gpu, edited, 4, rest, m), "reference mode")) goto gl_done;
+    }
+    for (k = 0; k < 3; ++k) {
       int frame;
       t0 = now_seconds();
       for (frame = 1; frame <= frames; ++frame) {
@@ -500,8 +507,11 @@ int main(int argc, char** argv) {
           glBindVertexArray(vao_cpu);
           glBindBuffer(GL_ARRAY_BUFFER, cpu_vbo);
           glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)(24 * (size_t)n), interleaved);
-        } else {
+        } else if (k == 1) {
           if (!check(cagekit_gl_deformer_deform(gpu, control, m, CAGEKIT_NORMALS_APPROXIMATE), "GPU deform")) goto gl_done;
+          glBindVertexArray(vao_gpu);
+        } else {
+          if (!check(cagekit_gl_deformer_deform_reference(gpu, control, m), "GPU reference deform")) goto gl_done;
           glBindVertexArray(vao_gpu);
         }
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -509,10 +519,13 @@ int main(int argc, char** argv) {
         glFinish();
       }
       if (k == 0) cpu_seconds = now_seconds() - t0;
-      else gpu_seconds = now_seconds() - t0;
+      else if (k == 1) gpu_seconds = now_seconds() - t0;
+      else reference_seconds = now_seconds() - t0;
     }
-    printf("egl_host: %d frames of %u vertices: CPU path %.1f fps (deform alone %.1f fps), GPU path %.1f fps (%s)\n",
-           frames, n, frames / cpu_seconds, frames / cpu_deform_seconds, frames / gpu_seconds, gi.renderer);
+    printf("egl_host: %d frames of %u vertices: CPU path %.1f fps (deform alone %.1f fps), GPU path %.1f fps, "
+           "GPU reference mode (|Q| = 4, 28 floats per vertex) %.1f fps (%s)\n",
+           frames, n, frames / cpu_seconds, frames / cpu_deform_seconds, frames / gpu_seconds, frames / reference_seconds,
+           gi.renderer);
 
     /* The last GPU frame to PNG (rows bottom-up in GL). */
     pixels = (unsigned char*)checked_malloc(4 * (size_t)size * size);
