@@ -1,88 +1,305 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "multires/cpu_deformer.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "core/parallel_for.h"
 #include "core/status.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 
-CpuDeformer::CpuDeformer(const ScanBinding& binding, int threads)
-    : b_(binding), threads_(resolve_threads(threads)) {
-  const size_t n = b_.num_vertices(), m = b_.num_control_vertices;
-  support_offsets_.assign(m + 1, 0);
-  for (uint32_t j : b_.control_index) {
-    if (j >= m) fail(Status::invalid_argument, "deformer: binding refers to a control vertex out of range");
-    ++support_offsets_[j + 1];
+namespace {
+
+// GCC function multiversioning: an AVX2+FMA clone of the block kernels next to the baseline
+// x86-64 (SSE2) one, picked once at load time by the CPU (ifunc). Elsewhere: one plain version.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+#define CAGEKIT_KERNEL_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define CAGEKIT_KERNEL_CLONES
+#endif
+
+constexpr size_t kBlock = 64;  // vertices evaluated at once (the float outputs stay in L1)
+
+// One cell's polynomial, relative to its corner S(0, 0): coefficient of s^a t^b at a + 4 b.
+struct CellPolynomial {
+  float x[16], y[16], z[16];
+};
+
+struct BlockIn {
+  const float *s, *t, *d, *k[6], *ta, *tb;
+};
+
+struct BlockOut {
+  float px[kBlock], py[kBlock], pz[kBlock], nx[kBlock], ny[kBlock], nz[kBlock];
+};
+
+// p(s, t), dp/ds, dp/dt of one coordinate (Horner in s per power of t, then in t).
+#define CAGEKIT_BICUBIC(C, v, vs, vt)                                                          \
+  {                                                                                            \
+    const float r0 = ((C[3] * s + C[2]) * s + C[1]) * s + C[0];                                \
+    const float r1 = ((C[7] * s + C[6]) * s + C[5]) * s + C[4];                                \
+    const float r2 = ((C[11] * s + C[10]) * s + C[9]) * s + C[8];                              \
+    const float r3 = ((C[15] * s + C[14]) * s + C[13]) * s + C[12];                            \
+    const float q0 = (3.0f * C[3] * s + 2.0f * C[2]) * s + C[1];                               \
+    const float q1 = (3.0f * C[7] * s + 2.0f * C[6]) * s + C[5];                               \
+    const float q2 = (3.0f * C[11] * s + 2.0f * C[10]) * s + C[9];                             \
+    const float q3 = (3.0f * C[15] * s + 2.0f * C[14]) * s + C[13];                            \
+    v = ((r3 * t + r2) * t + r1) * t + r0;                                                     \
+    vt = (3.0f * r3 * t + 2.0f * r2) * t + r1;                                                 \
+    vs = ((q3 * t + q2) * t + q1) * t + q0;                                                    \
   }
-  for (size_t j = 0; j < m; ++j) support_offsets_[j + 1] += support_offsets_[j];
-  support_vertex_.resize(b_.num_entries());
-  support_entry_.resize(b_.num_entries());
-  std::vector<uint32_t> fill(support_offsets_.begin(), support_offsets_.end() - 1);
-  for (size_t i = 0; i < n; ++i)
-    for (uint32_t e = b_.row_offsets[i]; e < b_.row_offsets[i + 1]; ++e) {
-      const uint32_t slot = fill[b_.control_index[e]]++;
-      support_vertex_[slot] = uint32_t(i);
-      support_entry_[slot] = e;
+
+template <bool kLocal>
+inline __attribute__((always_inline)) void block_kernel(const CellPolynomial& poly, const BlockIn& in, size_t n,
+                                                        BlockOut& out) {
+  // Local copies: the compiler then knows the outputs do not alias the coefficients.
+  float cx[16], cy[16], cz[16];
+  std::memcpy(cx, poly.x, sizeof cx), std::memcpy(cy, poly.y, sizeof cy), std::memcpy(cz, poly.z, sizeof cz);
+  const float* __restrict S = in.s;
+  const float* __restrict T = in.t;
+  const float* __restrict D = in.d;
+  const float* __restrict K0 = in.k[0];
+  const float* __restrict K1 = in.k[1];
+  const float* __restrict K2 = in.k[2];
+  const float* __restrict K3 = in.k[3];
+  const float* __restrict K4 = in.k[4];
+  const float* __restrict K5 = in.k[5];
+  const float* __restrict TA = in.ta;
+  const float* __restrict TB = in.tb;
+  float* __restrict PX = out.px;
+  float* __restrict PY = out.py;
+  float* __restrict PZ = out.pz;
+  float* __restrict NX = out.nx;
+  float* __restrict NY = out.ny;
+  float* __restrict NZ = out.nz;
+  // Whole groups of 8 lanes (the inner loop has a constant trip count, so it becomes one AVX2
+  // or two SSE vectors without scalar peeling); the lanes past n read the next cell's data
+  // (the table's arrays are padded at the end) and are never written out.
+  for (size_t g = 0; g < (n + 7) / 8; ++g)
+#pragma GCC unroll 8
+  for (size_t l = 0; l < 8; ++l) {
+    const size_t i = 8 * g + l;
+    const float s = S[i], t = T[i];
+    float x, xs, xt, y, ys, yt, z, zs, zt;
+    CAGEKIT_BICUBIC(cx, x, xs, xt)
+    CAGEKIT_BICUBIC(cy, y, ys, yt)
+    CAGEKIT_BICUBIC(cz, z, zs, zt)
+    // N_S = normalize(S_s x S_t) ((0, 0, 1) where the derivatives are parallel, as the reference).
+    const float crx = ys * zt - zs * yt, cry = zs * xt - xs * zt, crz = xs * yt - ys * xt;
+    const float l2 = crx * crx + cry * cry + crz * crz;
+    const float inv = 1.0f / std::sqrt(std::max(l2, 1e-30f));
+    const bool ok = l2 > 0.0f;
+    const float nsx = ok ? crx * inv : 0.0f, nsy = ok ? cry * inv : 0.0f, nsz = ok ? crz * inv : 1.0f;
+    const float d = D[i];
+    float px = x + d * nsx, py = y + d * nsy, pz = z + d * nsz;
+    if (kLocal) {
+      // T1 = S_s / |S_s| (= S_u / |S_u|), T2 = N_S x T1.
+      const float li = 1.0f / std::sqrt(std::max(xs * xs + ys * ys + zs * zs, 1e-30f));
+      const float t1x = xs * li, t1y = ys * li, t1z = zs * li;
+      const float t2x = nsy * t1z - nsz * t1y, t2y = nsz * t1x - nsx * t1z, t2z = nsx * t1y - nsy * t1x;
+      const float a = TA[i], b = TB[i];
+      px += a * t1x + b * t2x, py += a * t1y + b * t2y, pz += a * t1z + b * t2z;
     }
-  touched_stamp_.assign(n, 0);
+    PX[i] = px, PY[i] = py, PZ[i] = pz;
+    // G_u = k0 S_s + k1 S_t + k2 N_S, G_v = k3 S_s + k4 S_t + k5 N_S (k0, k1, k3, k4 prescaled).
+    const float gux = K0[i] * xs + K1[i] * xt + K2[i] * nsx, guy = K0[i] * ys + K1[i] * yt + K2[i] * nsy,
+                guz = K0[i] * zs + K1[i] * zt + K2[i] * nsz;
+    const float gvx = K3[i] * xs + K4[i] * xt + K5[i] * nsx, gvy = K3[i] * ys + K4[i] * yt + K5[i] * nsy,
+                gvz = K3[i] * zs + K4[i] * zt + K5[i] * nsz;
+    const float mx = guy * gvz - guz * gvy, my = guz * gvx - gux * gvz, mz = gux * gvy - guy * gvx;
+    const float m2 = mx * mx + my * my + mz * mz;
+    const float minv = m2 > 0.0f ? 1.0f / std::sqrt(std::max(m2, 1e-30f)) : 0.0f;
+    NX[i] = mx * minv, NY[i] = my * minv, NZ[i] = mz * minv;
+  }
 }
 
-void CpuDeformer::finish_vertex(size_t i, Vec3* positions, Vec3* normals, NormalMode mode) const {
-  const Vec3 &s = s_[i], &su = su_[i], &sv = sv_[i];
-  const Vec3 cr = cross(su, sv);
-  const double cl = norm(cr);
-  const Vec3 ns = cl > 0 ? cr * (1.0 / cl) : Vec3{0, 0, 1};
-  const double D = b_.displacement[i];
-  if (positions) {
-    if (b_.mode == DisplacementMode::normal) {
-      positions[i] = s + D * ns;
-    } else {
-      const Vec3 t1 = normalized(su), t2 = cross(ns, t1);
-      positions[i] = s + b_.tangent_offset[2 * i] * t1 + b_.tangent_offset[2 * i + 1] * t2 + D * ns;
-    }
+CAGEKIT_KERNEL_CLONES void block_normal(const CellPolynomial& poly, const BlockIn& in, size_t n, BlockOut& out) {
+  block_kernel<false>(poly, in, n, out);
+}
+
+CAGEKIT_KERNEL_CLONES void block_local_frame(const CellPolynomial& poly, const BlockIn& in, size_t n, BlockOut& out) {
+  block_kernel<true>(poly, in, n, out);
+}
+
+// poly = sum over the cell's terms of coefficients[16 k ..] * (control[j_k] - ref): 16 floats
+// per term = two 8-wide vectors per coordinate (GCC vector extensions; two SSE halves each in
+// the baseline clone).
+typedef float Float8 __attribute__((vector_size(32)));
+
+CAGEKIT_KERNEL_CLONES void gather_cell(const float* coefficients, const uint32_t* controls, size_t terms,
+                                       const Vec3* control, const Vec3& ref, CellPolynomial& poly) {
+  Float8 x0 = {}, x1 = {}, y0 = {}, y1 = {}, z0 = {}, z1 = {};
+  for (size_t k = 0; k < terms; ++k) {
+    const Vec3& p = control[controls[k]];
+    const float dx = float(p.x - ref.x), dy = float(p.y - ref.y), dz = float(p.z - ref.z);
+    Float8 m0, m1;
+    std::memcpy(&m0, coefficients + 16 * k, sizeof m0);
+    std::memcpy(&m1, coefficients + 16 * k + 8, sizeof m1);
+    x0 += m0 * dx, x1 += m1 * dx, y0 += m0 * dy, y1 += m1 * dy, z0 += m0 * dz, z1 += m1 * dz;
   }
-  if (!normals) return;
-  if (mode == NormalMode::exact) {
-    auto dn = [&](const Vec3& d) { return cl > 0 ? (d - dot(d, ns) * ns) * (1.0 / cl) : Vec3(); };
-    const Vec3 nu = dn(cross(suu_[i], sv) + cross(su, suv_[i])), nv = dn(cross(suv_[i], sv) + cross(su, svv_[i]));
-    const Vec3 gu = su + D * nu + b_.displacement_gradient[2 * i] * ns;
-    const Vec3 gv = sv + D * nv + b_.displacement_gradient[2 * i + 1] * ns;
-    normals[i] = normalized(cross(gu, gv));
+  std::memcpy(poly.x, &x0, sizeof x0), std::memcpy(poly.x + 8, &x1, sizeof x1);
+  std::memcpy(poly.y, &y0, sizeof y0), std::memcpy(poly.y + 8, &y1, sizeof y1);
+  std::memcpy(poly.z, &z0, sizeof z0), std::memcpy(poly.z + 8, &z1, sizeof z1);
+}
+
+// Splits `count` work items with prefix weights `weight(i)` into `workers` ranges of about equal
+// total weight and runs body(begin, end) on each.
+template <typename Weight, typename Body>
+void run_balanced(size_t count, size_t total, int threads, size_t min_per_worker, Weight&& weight, Body&& body) {
+  const size_t workers = std::max<size_t>(1, std::min<size_t>(size_t(std::max(threads, 1)), total / min_per_worker));
+  if (workers == 1 || count < 2) {
+    body(size_t(0), count);
     return;
   }
-  const double* k = &b_.normal_coefficients[6 * i];
-  const Vec3 gu = k[0] * su + k[1] * sv + k[2] * ns, gv = k[3] * su + k[4] * sv + k[5] * ns;
-  normals[i] = normalized(cross(gu, gv));
+  std::vector<size_t> split(workers + 1, count);
+  split[0] = 0;
+  size_t acc = 0, w = 1;
+  for (size_t i = 0; i < count && w < workers; ++i) {
+    acc += weight(i);
+    if (acc * workers >= total * w) split[w++] = i + 1;
+  }
+  run_ranges(workers, workers, [&](size_t begin, size_t, size_t) { body(split[begin], split[begin + 1]); });
 }
 
-void CpuDeformer::deform(const std::vector<Vec3>& control, Vec3* positions, Vec3* normals, NormalMode mode) {
+}  // namespace
+
+CpuDeformer::CpuDeformer(const ScanBinding& binding, int threads) : b_(binding), threads_(resolve_threads(threads)) {
+  const PatchDeformerTable& c = b_.compact;
+  if (c.empty()) return;
+  const uint32_t m = b_.num_control_vertices;
+  for (uint32_t j : c.term_control)
+    if (j >= m) fail(Status::invalid_argument, "deformer: binding refers to a control vertex out of range");
+  for (uint32_t j : c.irregular_control)
+    if (j >= m) fail(Status::invalid_argument, "deformer: binding refers to a control vertex out of range");
+  all_cells_.resize(c.num_cells());
+  for (size_t i = 0; i < all_cells_.size(); ++i) all_cells_[i] = uint32_t(i);
+  all_irregular_.resize(c.num_irregular_vertices());
+  for (size_t i = 0; i < all_irregular_.size(); ++i) all_irregular_[i] = uint32_t(i);
+  cell_stamp_.assign(c.num_cells(), 0);
+  irregular_stamp_.assign(c.num_irregular_vertices(), 0);
+}
+
+CpuDeformer::~CpuDeformer() = default;
+
+SparseRowDeformer& CpuDeformer::reference() {
+  if (!reference_) reference_ = std::make_unique<SparseRowDeformer>(b_, threads_);
+  return *reference_;
+}
+
+const std::vector<uint32_t>& CpuDeformer::last_updated() const {
+  return last_from_reference_ && reference_ ? reference_->last_updated() : touched_;
+}
+
+double CpuDeformer::bytes_per_vertex() const {
+  if (compact()) return b_.compact.bytes_per_vertex(b_.num_control_vertices);
+  const size_t n = b_.num_vertices();
+  if (n == 0) return 0;
+  // Sparse rows: per entry an index and 3 doubles; per vertex row offset, D, 6 coefficients
+  // (+ a, b); S, S_u, S_v kept per vertex (written) and the outputs.
+  const double per_vertex = 4 + 8 * (7 + (b_.mode == DisplacementMode::local_frame ? 2 : 0)) + 3 * 24 + 2 * 24;
+  return per_vertex + double(b_.num_entries()) * 28 / double(n);
+}
+
+void CpuDeformer::check_control(const std::vector<Vec3>& control) const {
   if (control.size() != b_.num_control_vertices)
     fail(Status::invalid_argument, "deformer: expected " + std::to_string(b_.num_control_vertices) +
                                        " control points, got " + std::to_string(control.size()));
-  const bool exact = mode == NormalMode::exact;
-  if (exact && (b_.phi_uu.size() != b_.num_entries() || b_.displacement_gradient.size() != 2 * b_.num_vertices()))
-    fail(Status::invalid_argument, "deformer: exact normals need a binding made with exact_normals");
-  if (mode != NormalMode::approximate && !exact) fail(Status::invalid_argument, "deformer: unknown normal mode");
-  const size_t n = b_.num_vertices();
-  control_ = control;
-  s_.resize(n), su_.resize(n), sv_.resize(n);
-  if (exact) suu_.resize(n), suv_.resize(n), svv_.resize(n);
-  have_second_ = exact;
-  parallel_ranges(n, threads_, [&](size_t begin, size_t end) {
-   for (size_t i = begin; i < end; ++i) {
-    Vec3 s, su, sv, suu, suv, svv;
-    for (uint32_t e = b_.row_offsets[i]; e < b_.row_offsets[i + 1]; ++e) {
-      const Vec3& c = control[b_.control_index[e]];
-      s += b_.phi[e] * c, su += b_.phi_u[e] * c, sv += b_.phi_v[e] * c;
-      if (exact) suu += b_.phi_uu[e] * c, suv += b_.phi_uv[e] * c, svv += b_.phi_vv[e] * c;
+}
+
+void CpuDeformer::run_cells(const uint32_t* cells, size_t count, Vec3* positions, Vec3* normals) {
+  const PatchDeformerTable& c = b_.compact;
+  const std::vector<Vec3>& control = control_;
+  size_t total = 0;
+  for (size_t k = 0; k < count; ++k) total += c.cell_vertex_offsets[cells[k] + 1] - c.cell_vertex_offsets[cells[k]];
+  auto weight = [&](size_t k) { return size_t(c.cell_vertex_offsets[cells[k] + 1] - c.cell_vertex_offsets[cells[k]]); };
+  run_balanced(count, total, threads_, 8192, weight, [&](size_t begin, size_t end) {
+    BlockOut out;
+    for (size_t k = begin; k < end; ++k) {
+      const uint32_t cell = cells[k];
+      // The cell's coefficients from its control points, relative to its first control point
+      // (the coefficients of s^a t^b, (a, b) != (0, 0), sum to 0 over the terms, those of 1 to 1).
+      const uint32_t e0 = c.cell_term_offsets[cell], e1 = c.cell_term_offsets[cell + 1];
+      const Vec3 ref = e1 > e0 ? control[c.term_control[e0]] : Vec3();
+      CellPolynomial poly;
+      gather_cell(c.term_coefficients.data() + 16 * size_t(e0), c.term_control.data() + e0, e1 - e0, control.data(),
+                  ref, poly);
+      // Vertices relative to S(0, 0).
+      const Vec3 origin{ref.x + poly.x[0], ref.y + poly.y[0], ref.z + poly.z[0]};
+      poly.x[0] = poly.y[0] = poly.z[0] = 0.0f;
+      for (uint32_t first = c.cell_vertex_offsets[cell]; first < c.cell_vertex_offsets[cell + 1]; first += kBlock) {
+        const size_t n = std::min<size_t>(kBlock, c.cell_vertex_offsets[cell + 1] - first);
+        BlockIn in{c.s.data() + first, c.t.data() + first, c.displacement.data() + first, {}, nullptr, nullptr};
+        for (int q = 0; q < 6; ++q) in.k[q] = c.k[q].data() + first;
+        if (c.local_frame) {
+          in.ta = c.tangent_a.data() + first, in.tb = c.tangent_b.data() + first;
+          block_local_frame(poly, in, n, out);
+        } else {
+          block_normal(poly, in, n, out);
+        }
+        const uint32_t* vertex = c.vertex.data() + first;
+        if (positions)
+          for (size_t i = 0; i < n; ++i)
+            positions[vertex[i]] = Vec3{origin.x + out.px[i], origin.y + out.py[i], origin.z + out.pz[i]};
+        if (normals)
+          for (size_t i = 0; i < n; ++i) normals[vertex[i]] = Vec3{out.nx[i], out.ny[i], out.nz[i]};
+      }
     }
-    s_[i] = s, su_[i] = su, sv_[i] = sv;
-    if (exact) suu_[i] = suu, suv_[i] = suv, svv_[i] = svv;
-    finish_vertex(i, positions, normals, mode);
-   }
   });
+}
+
+void CpuDeformer::run_irregular(const uint32_t* items, size_t count, Vec3* positions, Vec3* normals) {
+  const PatchDeformerTable& c = b_.compact;
+  const std::vector<Vec3>& control = control_;
+  const bool local = c.local_frame;
+  parallel_ranges(count, threads_, [&](size_t begin, size_t end) {
+    for (size_t k = begin; k < end; ++k) {
+      const uint32_t item = items[k], i = c.irregular_vertex[item];
+      const uint32_t e0 = c.irregular_offsets[item], e1 = c.irregular_offsets[item + 1];
+      // Relative to the first control point (the weights sum to 1, their derivatives to 0).
+      const Vec3 ref = e1 > e0 ? control[c.irregular_control[e0]] : Vec3();
+      Vec3 s, su, sv;
+      for (uint32_t e = e0; e < e1; ++e) {
+        const Vec3 d = control[c.irregular_control[e]] - ref;
+        s += c.irregular_w[e] * d, su += c.irregular_wu[e] * d, sv += c.irregular_wv[e] * d;
+      }
+      s += ref;
+      const Vec3 cr = cross(su, sv);
+      const double cl = norm(cr);
+      const Vec3 ns = cl > 0 ? cr * (1.0 / cl) : Vec3{0, 0, 1};
+      const double D = b_.displacement[i];
+      if (positions) {
+        if (!local) {
+          positions[i] = s + D * ns;
+        } else {
+          const Vec3 t1 = normalized(su), t2 = cross(ns, t1);
+          positions[i] = s + b_.tangent_offset[2 * size_t(i)] * t1 + b_.tangent_offset[2 * size_t(i) + 1] * t2 + D * ns;
+        }
+      }
+      if (normals) {
+        const double* q = &b_.normal_coefficients[6 * size_t(i)];
+        const Vec3 gu = q[0] * su + q[1] * sv + q[2] * ns, gv = q[3] * su + q[4] * sv + q[5] * ns;
+        normals[i] = normalized(cross(gu, gv));
+      }
+    }
+  });
+}
+
+void CpuDeformer::deform(const std::vector<Vec3>& control, Vec3* positions, Vec3* normals, NormalMode mode) {
+  check_control(control);
+  if (mode != NormalMode::approximate && mode != NormalMode::exact)
+    fail(Status::invalid_argument, "deformer: unknown normal mode");
+  if (mode == NormalMode::exact || !compact()) {
+    reference().deform(control, positions, normals, mode);
+    control_ = control;
+    reference_synced_ = true;
+    return;
+  }
+  control_ = control;
+  reference_synced_ = false;
+  run_cells(all_cells_.data(), all_cells_.size(), positions, normals);
+  run_irregular(all_irregular_.data(), all_irregular_.size(), positions, normals);
 }
 
 size_t CpuDeformer::update(const std::vector<Vec3>& control, const std::vector<uint32_t>& moved, Vec3* positions,
@@ -91,31 +308,48 @@ size_t CpuDeformer::update(const std::vector<Vec3>& control, const std::vector<u
     fail(Status::invalid_argument, "deformer: update() before a first deform()");
   if (control.size() != control_.size())
     fail(Status::invalid_argument, "deformer: expected " + std::to_string(control_.size()) + " control points");
-  const bool exact = mode == NormalMode::exact;
-  if (exact && !have_second_) fail(Status::invalid_argument, "deformer: exact normals need a deform() in exact mode first");
+  if (mode != NormalMode::approximate && mode != NormalMode::exact)
+    fail(Status::invalid_argument, "deformer: unknown normal mode");
   for (uint32_t j : moved)
     if (j >= control.size()) fail(Status::invalid_argument, "deformer: moved control vertex out of range");
-  if (++stamp_ == 0) {  // wrapped: reset the stamps
-    std::fill(touched_stamp_.begin(), touched_stamp_.end(), 0);
+  if (mode == NormalMode::exact || !compact()) {
+    SparseRowDeformer& r = reference();
+    // Bring the reference to the last frame first (its S, S_u, ... are updated by deltas).
+    if (!reference_synced_) r.deform(control_, nullptr, nullptr, mode);
+    reference_synced_ = true;
+    last_from_reference_ = true;
+    const size_t count = r.update(control, moved, positions, normals, mode);
+    for (uint32_t j : moved) control_[j] = control[j];
+    return count;
+  }
+  last_from_reference_ = false;
+  reference_synced_ = false;
+  const PatchDeformerTable& c = b_.compact;
+  if (++stamp_ == 0) {
+    std::fill(cell_stamp_.begin(), cell_stamp_.end(), 0);
+    std::fill(irregular_stamp_.begin(), irregular_stamp_.end(), 0);
     stamp_ = 1;
   }
-  std::vector<uint32_t>& touched = touched_;
-  touched.clear();
+  cells_.clear(), irregular_.clear(), touched_.clear();
   for (uint32_t j : moved) {
-    const Vec3 delta = control[j] - control_[j];
+    if (control[j] == control_[j]) continue;
     control_[j] = control[j];
-    if (delta == Vec3()) continue;
-    for (uint32_t k = support_offsets_[j]; k < support_offsets_[j + 1]; ++k) {
-      const uint32_t i = support_vertex_[k], e = support_entry_[k];
-      s_[i] += b_.phi[e] * delta, su_[i] += b_.phi_u[e] * delta, sv_[i] += b_.phi_v[e] * delta;
-      if (exact) suu_[i] += b_.phi_uu[e] * delta, suv_[i] += b_.phi_uv[e] * delta, svv_[i] += b_.phi_vv[e] * delta;
-      if (touched_stamp_[i] != stamp_) touched_stamp_[i] = stamp_, touched.push_back(i);
+    for (uint32_t k = c.control_cell_offsets[j]; k < c.control_cell_offsets[j + 1]; ++k) {
+      const uint32_t cell = c.control_cells[k];
+      if (cell_stamp_[cell] != stamp_) cell_stamp_[cell] = stamp_, cells_.push_back(cell);
+    }
+    for (uint32_t k = c.control_irregular_offsets[j]; k < c.control_irregular_offsets[j + 1]; ++k) {
+      const uint32_t item = c.control_irregular[k];
+      if (irregular_stamp_[item] != stamp_) irregular_stamp_[item] = stamp_, irregular_.push_back(item);
     }
   }
-  parallel_ranges(touched.size(), threads_, [&](size_t begin, size_t end) {
-    for (size_t k = begin; k < end; ++k) finish_vertex(touched[k], positions, normals, mode);
-  });
-  return touched.size();
+  for (uint32_t cell : cells_)
+    touched_.insert(touched_.end(), c.vertex.begin() + c.cell_vertex_offsets[cell],
+                    c.vertex.begin() + c.cell_vertex_offsets[cell + 1]);
+  for (uint32_t item : irregular_) touched_.push_back(c.irregular_vertex[item]);
+  run_cells(cells_.data(), cells_.size(), positions, normals);
+  run_irregular(irregular_.data(), irregular_.size(), positions, normals);
+  return touched_.size();
 }
 
 CAGEKIT_NAMESPACE_END

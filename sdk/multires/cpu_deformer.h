@@ -1,31 +1,39 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // CpuDeformer: positions and normals of a bound scan for moved control points (thesis §8.5, the
-// CPU reference path): S, S_u, S_v from the stored basis rows (8.3), P = S + D N_S (8.1) (or the
-// local-frame offset), approximate normals N = normalize(G_u x G_v) with
-// G_u = alpha_u S_u + beta_u S_v + gamma_u N_S (8.11)-(8.12), or exact normals (8.4)-(8.7) when
-// the binding has them. Full recompute on `threads` threads, or incremental: only the vertices
-// in the support of the control points that moved since the last call are recomputed (their
-// S, S_u, S_v are updated by the moved points' deltas).
+// CPU path; issue #5): P = S + D N_S (8.1) (or the local-frame offset) and approximate normals
+// N = normalize(G_u x G_v), G_u = alpha_u S_u + beta_u S_v + gamma_u N_S (8.11)-(8.12).
 //
-// This is the straightforward sparse-row representation (an index and 3 doubles per non-zero
-// basis function, ~20-40 per vertex); the compact per-patch representation the frame-rate
-// targets need is not done yet.
+// Fast path (binding.compact, patch_deformer_table.h): per frame, every cell's bicubic
+// power-basis coefficients are gathered once from the control points (double), then S, S_s, S_t,
+// the offset and the normal of each of the cell's vertices are evaluated in float32 from its
+// cell-local (s, t), structure-of-arrays, in blocks the compiler vectorises (with a runtime
+// AVX2+FMA clone next to the baseline x86-64 one, GCC function multiversioning); the few
+// irregular vertices (near extraordinary vertices, where no cell is one polynomial) use float
+// copies of their sparse rows. Full recompute on `threads` threads (cells split by vertex
+// count), or incremental: only the cells and irregular vertices in the support of the control
+// points that moved since the last call are recomputed, with the same code as a full frame, so
+// incremental results equal full ones bit for bit.
 //
-// Thread-safety: one deformer per thread (it keeps the last control points and per-vertex
-// S, S_u, S_v); the binding must outlive it and stay unchanged.
+// Exact normals (8.4)-(8.7), and bindings made without the compact table, go through the
+// double-precision SparseRowDeformer (sparse_row_deformer.h), which is also the reference the
+// fast path is tested against (positions within ~1e-7 of the bbox diagonal).
+//
+// Thread-safety: one deformer per thread (it keeps the last control points); the binding must
+// outlive it and stay unchanged.
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "multires/scan_binding.h"
+#include "multires/sparse_row_deformer.h"
 
 CAGEKIT_NAMESPACE_BEGIN
-
-enum class NormalMode { approximate, exact };
 
 class CpuDeformer {
  public:
   explicit CpuDeformer(const ScanBinding& binding, int threads = 0);
+  ~CpuDeformer();
 
   // Full recompute. `control` has binding.num_control_vertices entries; positions and normals
   // (either may be null) receive binding.num_vertices() entries. Throws invalid_argument for a
@@ -38,19 +46,28 @@ class CpuDeformer {
   size_t update(const std::vector<Vec3>& control, const std::vector<uint32_t>& moved, Vec3* positions,
                 Vec3* normals, NormalMode mode = NormalMode::approximate);
   // The vertices the last update() recomputed.
-  const std::vector<uint32_t>& last_updated() const { return touched_; }
+  const std::vector<uint32_t>& last_updated() const;
+
+  // True when approximate normals use the compact table (else the sparse rows).
+  bool compact() const { return !b_.compact.empty(); }
+  // Bytes read + written per vertex in one full frame of positions + approximate normals (the
+  // compact table's figure, or the sparse rows' when there is no table).
+  double bytes_per_vertex() const;
 
  private:
-  void finish_vertex(size_t i, Vec3* positions, Vec3* normals, NormalMode mode) const;
+  void run_cells(const uint32_t* cells, size_t count, Vec3* positions, Vec3* normals);
+  void run_irregular(const uint32_t* items, size_t count, Vec3* positions, Vec3* normals);
+  void check_control(const std::vector<Vec3>& control) const;
+  SparseRowDeformer& reference();
+
   const ScanBinding& b_;
   int threads_;
-  std::vector<Vec3> control_;       // the control points of the last call
-  std::vector<Vec3> s_, su_, sv_;   // per vertex, for the last control points
-  std::vector<Vec3> suu_, suv_, svv_;  // exact normals only
-  bool have_second_ = false;
-  // Inverse rows: the entries of each control vertex (vertex index and entry index).
-  std::vector<uint32_t> support_offsets_, support_vertex_, support_entry_;
-  std::vector<uint32_t> touched_stamp_, touched_;
+  std::vector<Vec3> control_;  // the control points of the last call
+  std::unique_ptr<SparseRowDeformer> reference_;
+  bool reference_synced_ = false;  // reference_ holds the frame of control_ (exact mode)
+  bool last_from_reference_ = false;
+  std::vector<uint32_t> all_cells_, all_irregular_;
+  std::vector<uint32_t> cell_stamp_, irregular_stamp_, cells_, irregular_, touched_;
   uint32_t stamp_ = 0;
 };
 

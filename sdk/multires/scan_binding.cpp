@@ -152,6 +152,7 @@ ScanBinding bind_scan_to_cage(const Cage& cage, const PolygonMesh& scan, const B
     b.max_sideways_residual = std::max(b.max_sideways_residual, r / d);
     if (r > 1e-6 * d) ++b.vertices_with_sideways_residual;
   }
+  if (options.compact_table) b.compact = build_patch_deformer_table(b, surface, options.patch_table, threads, monitor);
   monitor.report("bind", 1.0);
   return b;
 }

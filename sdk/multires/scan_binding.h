@@ -14,8 +14,9 @@
 // the normal) are reproduced exactly too; the thesis's normal mode loses that sideways part and
 // the binding reports the largest such residual.
 //
-// Not done yet (issue #5): one normal per smooth sector at sharp features; the compact per-patch
-// representation for the frame rates of the issue; GPU deformer; saved binding files; C API.
+// The compact per-cell representation the fast CPU deformer streams is built with the binding
+// (`compact`, patch_deformer_table.h); the sparse rows stay (reference, exact normals, GPU).
+// Not done yet (issue #5): one normal per smooth sector at sharp features; saved binding files.
 #include <cstdint>
 #include <vector>
 
@@ -23,6 +24,7 @@
 #include "core/polygon_mesh.h"
 #include "core/task_monitor.h"
 #include "fit/closest_point_on_limit_surface.h"
+#include "multires/patch_deformer_table.h"
 #include "subdiv/subdivision_surface.h"
 
 CAGEKIT_NAMESPACE_BEGIN
@@ -40,6 +42,9 @@ struct BindOptions {
   ClosestPointOptions closest_point;
   SurfaceOptions surface;
   int threads = 0;  // 0 = all cores
+  // Also build the compact per-cell table the fast CpuDeformer streams (patch_deformer_table.h).
+  bool compact_table = true;
+  PatchTableOptions patch_table;
 };
 
 struct ScanBinding {
@@ -61,6 +66,9 @@ struct ScanBinding {
   double max_sideways_residual = 0;
   size_t vertices_with_sideways_residual = 0;
   double bbox_diagonal = 0;
+  // The compact representation for the CPU deformer (empty when BindOptions::compact_table is
+  // off; the deformer then uses the sparse rows above).
+  PatchDeformerTable compact;
 
   size_t num_vertices() const { return foot_points.size(); }
   size_t num_entries() const { return control_index.size(); }

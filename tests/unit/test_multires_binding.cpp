@@ -12,6 +12,7 @@
 #include "fit/surface_fitter.h"
 #include "multires/cpu_deformer.h"
 #include "multires/scan_binding.h"
+#include "multires/sparse_row_deformer.h"
 #include "subdiv/uniform_refinement.h"
 #include "test_support.h"
 
@@ -61,23 +62,32 @@ TEST(MultiresBinding, undeformed_cage_reproduces_the_scan) {
     options.mode = mode;
     const ScanBinding binding = bind_scan_to_cage(s.cage, s.scan, options);
     ASSERT_EQ(binding.num_vertices(), s.scan.num_vertices());
-    CpuDeformer deformer(binding);
-    std::vector<Vec3> positions(binding.num_vertices()), normals(binding.num_vertices());
-    deformer.deform(s.cage.mesh.positions, positions.data(), normals.data());
-    double worst = 0, worst_normal = 0;
     const std::vector<Vec3> scan_normals = vertex_normals(s.scan);
-    for (size_t i = 0; i < positions.size(); ++i) {
-      worst = std::max(worst, distance(positions[i], s.scan.positions[i]) / binding.bbox_diagonal);
-      worst_normal = std::max(worst_normal, angle_between(normals[i], scan_normals[i]));
+    // The double sparse-row reference reproduces to rounding; the compact float32 deformer to
+    // float rounding relative to each cell's size (issue #5's bar: 1e-5 of the diagonal).
+    for (bool compact : {false, true}) {
+      std::vector<Vec3> positions(binding.num_vertices()), normals(binding.num_vertices());
+      if (compact) {
+        CpuDeformer deformer(binding);
+        ASSERT_TRUE(deformer.compact());
+        deformer.deform(s.cage.mesh.positions, positions.data(), normals.data());
+      } else {
+        SparseRowDeformer(binding).deform(s.cage.mesh.positions, positions.data(), normals.data());
+      }
+      double worst = 0, worst_normal = 0;
+      for (size_t i = 0; i < positions.size(); ++i) {
+        worst = std::max(worst, distance(positions[i], s.scan.positions[i]) / binding.bbox_diagonal);
+        worst_normal = std::max(worst_normal, angle_between(normals[i], scan_normals[i]));
+      }
+      std::printf("%s mode, %s: %zu vertices, %zu basis entries (%.1f per vertex), worst reproduction %.3g of the "
+                  "diagonal, normals %.3g deg off the scan's, max sideways residual %.3g\n",
+                  mode == DisplacementMode::normal ? "normal" : "local-frame", compact ? "compact" : "sparse rows",
+                  binding.num_vertices(), binding.num_entries(), double(binding.num_entries()) / binding.num_vertices(),
+                  worst, worst_normal / kDegree, binding.max_sideways_residual);
+      EXPECT_LT(worst, mode == DisplacementMode::normal ? 1e-5 : compact ? 1e-6 : 1e-12);
+      // Undeformed, the approximate normals are the scan's normals by construction (8.11)-(8.12).
+      EXPECT_LT(worst_normal, compact ? 2e-6 : 1e-7);
     }
-    std::printf("%s mode: %zu vertices, %zu basis entries (%.1f per vertex), worst reproduction %.3g of the diagonal, "
-                "normals %.3g deg off the scan's, max sideways residual %.3g\n",
-                mode == DisplacementMode::normal ? "normal" : "local-frame", binding.num_vertices(),
-                binding.num_entries(), double(binding.num_entries()) / binding.num_vertices(), worst,
-                worst_normal / kDegree, binding.max_sideways_residual);
-    EXPECT_LT(worst, mode == DisplacementMode::normal ? 1e-5 : 1e-12);
-    // Undeformed, the approximate normals are the scan's normals by construction (8.11)-(8.12).
-    EXPECT_LT(worst_normal, 1e-7);
   }
 }
 
@@ -95,16 +105,25 @@ TEST(MultiresBinding, sideways_residual_is_reported_and_kept_in_local_frame_mode
               a.max_sideways_residual, a.vertices_with_sideways_residual);
   EXPECT_GT(a.max_sideways_residual, 1e-3);
   EXPECT_GT(a.vertices_with_sideways_residual, 0u);
-  std::vector<Vec3> pa(scan.num_vertices()), pb(scan.num_vertices());
-  CpuDeformer(a).deform(cage.mesh.positions, pa.data(), nullptr);
-  CpuDeformer(b).deform(cage.mesh.positions, pb.data(), nullptr);
-  double worst_a = 0, worst_b = 0;
-  for (size_t i = 0; i < pa.size(); ++i) {
-    worst_a = std::max(worst_a, distance(pa[i], scan.positions[i]) / a.bbox_diagonal);
-    worst_b = std::max(worst_b, distance(pb[i], scan.positions[i]) / b.bbox_diagonal);
+  for (bool compact : {false, true}) {
+    std::vector<Vec3> pa(scan.num_vertices()), pb(scan.num_vertices());
+    if (compact) {
+      CpuDeformer(a).deform(cage.mesh.positions, pa.data(), nullptr);
+      CpuDeformer(b).deform(cage.mesh.positions, pb.data(), nullptr);
+    } else {
+      SparseRowDeformer(a).deform(cage.mesh.positions, pa.data(), nullptr);
+      SparseRowDeformer(b).deform(cage.mesh.positions, pb.data(), nullptr);
+    }
+    double worst_a = 0, worst_b = 0;
+    for (size_t i = 0; i < pa.size(); ++i) {
+      worst_a = std::max(worst_a, distance(pa[i], scan.positions[i]) / a.bbox_diagonal);
+      worst_b = std::max(worst_b, distance(pb[i], scan.positions[i]) / b.bbox_diagonal);
+    }
+    std::printf("open grid, %s: local frame reproduces to %.3g of the diagonal (%zu irregular vertices)\n",
+                compact ? "compact" : "sparse rows", worst_b, b.compact.num_irregular_vertices());
+    EXPECT_NEAR(worst_a, a.max_sideways_residual, compact ? 1e-6 : 1e-9);
+    EXPECT_LT(worst_b, compact ? 1e-6 : 1e-12);
   }
-  EXPECT_NEAR(worst_a, a.max_sideways_residual, 1e-9);
-  EXPECT_LT(worst_b, 1e-12);
 }
 
 // Issue #5 test: approximate vs exact normals after pulling 4 control vertices by 10% of the
@@ -190,4 +209,81 @@ TEST(MultiresBinding, bad_input_is_rejected) {
   EXPECT_THROW(deformer.update(s.cage.mesh.positions, {0}, out.data(), nullptr), Error);  // before deform()
   deformer.deform(s.cage.mesh.positions, out.data(), nullptr);
   EXPECT_THROW(deformer.update(s.cage.mesh.positions, {999}, out.data(), nullptr), Error);
+}
+
+
+// The compact per-cell table (patch_deformer_table.h) against the double sparse rows it
+// replaces, after a deformation: every cell's polynomial was verified at its vertices, so the
+// two differ by float32 rounding only; most vertices are in cells.
+TEST(MultiresBinding, compact_table_matches_the_sparse_rows) {
+  const BoundSphere& s = sphere_setup();
+  for (DisplacementMode mode : {DisplacementMode::normal, DisplacementMode::local_frame}) {
+    BindOptions options;
+    options.mode = mode;
+    const ScanBinding binding = bind_scan_to_cage(s.cage, s.scan, options);
+    const PatchDeformerTable& table = binding.compact;
+    const size_t n = binding.num_vertices();
+    ASSERT_EQ(table.num_cell_vertices() + table.num_irregular_vertices(), n);
+    std::vector<char> seen(n, 0);
+    for (uint32_t i : table.vertex) seen[i] += 1;
+    for (uint32_t i : table.irregular_vertex) seen[i] += 1;
+    EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), std::ptrdiff_t(n));
+    EXPECT_GT(table.num_irregular_vertices(), 0u);  // the valence-3 corners: the row path is tested too
+    EXPECT_LT(table.num_irregular_vertices(), n / 10);
+    std::vector<Vec3> control = s.cage.mesh.positions;
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> step(-0.05, 0.05);
+    for (Vec3& c : control) c += Vec3{step(rng), step(rng), step(rng)} * binding.bbox_diagonal;
+    std::vector<Vec3> pc(n), nc(n), pr(n), nr(n);
+    CpuDeformer fast(binding, 2);
+    fast.deform(control, pc.data(), nc.data());
+    SparseRowDeformer(binding, 2).deform(control, pr.data(), nr.data());
+    double dp = 0, dn = 0;
+    for (size_t i = 0; i < n; ++i) {
+      dp = std::max(dp, distance(pc[i], pr[i]) / binding.bbox_diagonal);
+      dn = std::max(dn, angle_between(nc[i], nr[i]));
+    }
+    std::printf("%s mode: %zu cells, %zu irregular vertices, %.1f bytes per vertex; compact vs sparse rows: "
+                "positions %.3g of the diagonal, normals %.3g rad\n",
+                mode == DisplacementMode::normal ? "normal" : "local-frame", table.num_cells(),
+                table.num_irregular_vertices(), fast.bytes_per_vertex(), dp, dn);
+    EXPECT_LT(dp, 2e-6);
+    EXPECT_LT(dn, 1e-4);
+    // Exact normals and bindings without the table go through the sparse rows.
+    options.compact_table = false;
+    const ScanBinding plain = bind_scan_to_cage(s.cage, s.scan, options);
+    EXPECT_TRUE(plain.compact.empty());
+    CpuDeformer slow(plain);
+    EXPECT_FALSE(slow.compact());
+    // Per-cell coefficients dominate on this small scan (28 vertices per cell); still < 1/2.
+    EXPECT_LT(fast.bytes_per_vertex(), 0.5 * slow.bytes_per_vertex());
+    std::vector<Vec3> ps(n);
+    slow.deform(control, ps.data(), nullptr);
+    for (size_t i = 0; i < n; ++i) ASSERT_EQ(ps[i], pr[i]);
+  }
+}
+
+// Incremental updates after exact-normal frames and back: the deformer keeps both paths on the
+// same control points.
+TEST(MultiresBinding, incremental_update_across_normal_modes) {
+  const BoundSphere& s = sphere_setup();
+  BindOptions options;
+  options.exact_normals = true;
+  const ScanBinding binding = bind_scan_to_cage(s.cage, s.scan, options);
+  const size_t n = binding.num_vertices();
+  CpuDeformer deformer(binding), full(binding);
+  std::vector<Vec3> control = s.cage.mesh.positions, p(n), nn(n), pf(n), nf(n);
+  deformer.deform(control, p.data(), nn.data(), NormalMode::exact);
+  control[5] += Vec3{0.01, 0.02, -0.01};
+  deformer.update(control, {5}, p.data(), nn.data(), NormalMode::approximate);
+  control[40] += Vec3{-0.02, 0.01, 0.01};
+  deformer.update(control, {40}, p.data(), nn.data(), NormalMode::exact);
+  full.deform(control, pf.data(), nf.data(), NormalMode::exact);
+  // Vertices recomputed by the exact update match a full exact frame; all positions agree to
+  // float rounding (the approximate update wrote the compact path's).
+  for (uint32_t i : deformer.last_updated()) {
+    ASSERT_LT(distance(p[i], pf[i]), 1e-12 * binding.bbox_diagonal);
+    ASSERT_LT(angle_between(nn[i], nf[i]), 1e-10);
+  }
+  for (size_t i = 0; i < n; ++i) ASSERT_LT(distance(p[i], pf[i]), 2e-6 * binding.bbox_diagonal);
 }
