@@ -11,7 +11,7 @@
 
 class EglContext {
  public:
-  enum class Api { desktop_core, es };
+  enum class Api { desktop_core, desktop_compatibility, es };
   // Makes a context of `api` and version major.minor current on this thread; ok() is false
   // (and error() says why) when the platform or the version is not available.
   EglContext(Api api, int major, int minor) {
@@ -31,10 +31,15 @@ class EglContext {
     }
     EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION, major, EGL_CONTEXT_MINOR_VERSION, minor,
                            EGL_NONE, EGL_NONE, EGL_NONE};
-    if (api == Api::desktop_core) attributes[4] = EGL_CONTEXT_OPENGL_PROFILE_MASK, attributes[5] = EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT;
+    if (api != Api::es)
+      attributes[4] = EGL_CONTEXT_OPENGL_PROFILE_MASK,
+      attributes[5] = api == Api::desktop_core ? EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT
+                                               : EGL_CONTEXT_OPENGL_COMPATIBILITY_PROFILE_BIT;
     context_ = eglCreateContext(display_, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attributes);
     if (context_ == EGL_NO_CONTEXT) {
-      error_ = "eglCreateContext(" + std::string(api == Api::es ? "GLES " : "GL core ") + std::to_string(major) + "." +
+      error_ = "eglCreateContext(" +
+               std::string(api == Api::es ? "GLES " : api == Api::desktop_core ? "GL core " : "GL compatibility ") +
+               std::to_string(major) + "." +
                std::to_string(minor) + ") failed: " + hex(eglGetError());
       return;
     }

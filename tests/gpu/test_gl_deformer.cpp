@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // GPU deformer (thesis §8.6) through the public C API, in headless EGL contexts (Mesa llvmpipe
 // under CI): GPU equals CPU (positions 1e-5 of the diagonal, normals 0.05 deg) in both
-// displacement modes on desktop GL 4.3+ core and GLES 3.1+; the host's GL state is unchanged by
-// every call; contexts or loaders lacking features fail with UNSUPPORTED_FORMAT and a message.
+// displacement modes on desktop GL 4.3+ (core and compatibility profiles) and GLES 3.1+; the
+// host's GL state is unchanged by every call; contexts or loaders lacking features fail with
+// UNSUPPORTED_FORMAT and a message.
 // Skips (with the reason) when no EGL display or context can be made.
 #include <gtest/gtest.h>
 
@@ -108,7 +109,9 @@ struct ApiCase {
   EglContext::Api api;
   int major, minor;
 };
-const ApiCase kApis[] = {{"GL 4.3 core", EglContext::Api::desktop_core, 4, 3}, {"GLES 3.1", EglContext::Api::es, 3, 1}};
+const ApiCase kApis[] = {{"GL 4.3 core", EglContext::Api::desktop_core, 4, 3},
+                         {"GL 4.3 compatibility", EglContext::Api::desktop_compatibility, 4, 3},
+                         {"GLES 3.1", EglContext::Api::es, 3, 1}};
 
 double angle(const double* a, const double* b) {
   const double c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
@@ -157,9 +160,9 @@ TEST(GlDeformer, gpu_equals_cpu_in_both_apis_and_displacement_modes) {
           worst_n = std::max(worst_n, angle(&cn[3 * i], &gn[3 * i]) / kDegree);
         }
       }
-      std::printf("%s (%s), %s mode: %u vertices, GPU vs CPU: positions %.3g of the diagonal, normals %.3g deg; "
+      std::printf("%s (%s, %s), %s mode: %u vertices, GPU vs CPU: positions %.3g of the diagonal, normals %.3g deg; "
                   "ACMR %.3f -> %.3f\n",
-                  api.name, gi.renderer, mode == CAGEKIT_DISPLACEMENT_NORMAL ? "normal" : "local-frame", n, worst_p,
+                  api.name, gi.renderer, gi.version, mode == CAGEKIT_DISPLACEMENT_NORMAL ? "normal" : "local-frame", n, worst_p,
                   worst_n, gi.acmr_before, gi.acmr_after);
       EXPECT_LT(worst_p, 1e-5);
       EXPECT_LT(worst_n, 0.05);
