@@ -115,12 +115,22 @@ inline __attribute__((always_inline)) void block_kernel(const CellPolynomial& po
   }
 }
 
-CAGEKIT_KERNEL_CLONES void block_normal(const CellPolynomial& poly, const BlockIn& in, size_t n, BlockOut& out) {
-  block_kernel<false>(poly, in, n, out);
+// Evaluates cells[begin, end): per cell the coefficients from the control points, then its
+// vertices in blocks, written to the caller's arrays (one function per clone, so that the
+// coefficients stay in registers and L1 across the cell's blocks).
+template <bool kLocal>
+inline __attribute__((always_inline)) void cells_kernel(const PatchDeformerTable& c, const uint32_t* cells,
+                                                        size_t begin, size_t end, const Vec3* control,
+                                                        Vec3* positions, Vec3* normals);
+
+CAGEKIT_KERNEL_CLONES void cells_normal(const PatchDeformerTable& c, const uint32_t* cells, size_t begin, size_t end,
+                                        const Vec3* control, Vec3* positions, Vec3* normals) {
+  cells_kernel<false>(c, cells, begin, end, control, positions, normals);
 }
 
-CAGEKIT_KERNEL_CLONES void block_local_frame(const CellPolynomial& poly, const BlockIn& in, size_t n, BlockOut& out) {
-  block_kernel<true>(poly, in, n, out);
+CAGEKIT_KERNEL_CLONES void cells_local_frame(const PatchDeformerTable& c, const uint32_t* cells, size_t begin,
+                                             size_t end, const Vec3* control, Vec3* positions, Vec3* normals) {
+  cells_kernel<true>(c, cells, begin, end, control, positions, normals);
 }
 
 // poly = sum over the cell's terms of coefficients[16 k ..] * (control[j_k] - ref): 16 floats
@@ -128,7 +138,7 @@ CAGEKIT_KERNEL_CLONES void block_local_frame(const CellPolynomial& poly, const B
 // the baseline clone).
 typedef float Float8 __attribute__((vector_size(32)));
 
-CAGEKIT_KERNEL_CLONES void gather_cell(const float* coefficients, const uint32_t* controls, size_t terms,
+inline __attribute__((always_inline)) void gather_cell(const float* coefficients, const uint32_t* controls, size_t terms,
                                        const Vec3* control, const Vec3& ref, CellPolynomial& poly) {
   Float8 x0 = {}, x1 = {}, y0 = {}, y1 = {}, z0 = {}, z1 = {};
   for (size_t k = 0; k < terms; ++k) {
@@ -142,6 +152,38 @@ CAGEKIT_KERNEL_CLONES void gather_cell(const float* coefficients, const uint32_t
   std::memcpy(poly.x, &x0, sizeof x0), std::memcpy(poly.x + 8, &x1, sizeof x1);
   std::memcpy(poly.y, &y0, sizeof y0), std::memcpy(poly.y + 8, &y1, sizeof y1);
   std::memcpy(poly.z, &z0, sizeof z0), std::memcpy(poly.z + 8, &z1, sizeof z1);
+}
+
+template <bool kLocal>
+inline __attribute__((always_inline)) void cells_kernel(const PatchDeformerTable& c, const uint32_t* cells,
+                                                        size_t begin, size_t end, const Vec3* control,
+                                                        Vec3* positions, Vec3* normals) {
+  BlockOut out;
+  for (size_t k = begin; k < end; ++k) {
+    const uint32_t cell = cells[k];
+    // The cell's coefficients from its control points, relative to its first control point
+    // (the coefficients of s^a t^b, (a, b) != (0, 0), sum to 0 over the terms, those of 1 to 1).
+    const uint32_t e0 = c.cell_term_offsets[cell], e1 = c.cell_term_offsets[cell + 1];
+    const Vec3 ref = e1 > e0 ? control[c.term_control[e0]] : Vec3();
+    CellPolynomial poly;
+    gather_cell(c.term_coefficients.data() + 16 * size_t(e0), c.term_control.data() + e0, e1 - e0, control, ref, poly);
+    // Vertices relative to S(0, 0).
+    const Vec3 origin{ref.x + poly.x[0], ref.y + poly.y[0], ref.z + poly.z[0]};
+    poly.x[0] = poly.y[0] = poly.z[0] = 0.0f;
+    for (uint32_t first = c.cell_vertex_offsets[cell]; first < c.cell_vertex_offsets[cell + 1]; first += kBlock) {
+      const size_t n = std::min<size_t>(kBlock, c.cell_vertex_offsets[cell + 1] - first);
+      BlockIn in{c.s.data() + first, c.t.data() + first, c.displacement.data() + first, {}, nullptr, nullptr};
+      for (int q = 0; q < 6; ++q) in.k[q] = c.k[q].data() + first;
+      if (kLocal) in.ta = c.tangent_a.data() + first, in.tb = c.tangent_b.data() + first;
+      block_kernel<kLocal>(poly, in, n, out);
+      const uint32_t* vertex = c.vertex.data() + first;
+      if (positions)
+        for (size_t i = 0; i < n; ++i)
+          positions[vertex[i]] = Vec3{origin.x + out.px[i], origin.y + out.py[i], origin.z + out.pz[i]};
+      if (normals)
+        for (size_t i = 0; i < n; ++i) normals[vertex[i]] = Vec3{out.nx[i], out.ny[i], out.nz[i]};
+    }
+  }
 }
 
 // Splits `count` work items with prefix weights `weight(i)` into `workers` ranges of about equal
@@ -215,37 +257,10 @@ void CpuDeformer::run_cells(const uint32_t* cells, size_t count, Vec3* positions
   for (size_t k = 0; k < count; ++k) total += c.cell_vertex_offsets[cells[k] + 1] - c.cell_vertex_offsets[cells[k]];
   auto weight = [&](size_t k) { return size_t(c.cell_vertex_offsets[cells[k] + 1] - c.cell_vertex_offsets[cells[k]]); };
   run_balanced(count, total, threads_, 8192, weight, [&](size_t begin, size_t end) {
-    BlockOut out;
-    for (size_t k = begin; k < end; ++k) {
-      const uint32_t cell = cells[k];
-      // The cell's coefficients from its control points, relative to its first control point
-      // (the coefficients of s^a t^b, (a, b) != (0, 0), sum to 0 over the terms, those of 1 to 1).
-      const uint32_t e0 = c.cell_term_offsets[cell], e1 = c.cell_term_offsets[cell + 1];
-      const Vec3 ref = e1 > e0 ? control[c.term_control[e0]] : Vec3();
-      CellPolynomial poly;
-      gather_cell(c.term_coefficients.data() + 16 * size_t(e0), c.term_control.data() + e0, e1 - e0, control.data(),
-                  ref, poly);
-      // Vertices relative to S(0, 0).
-      const Vec3 origin{ref.x + poly.x[0], ref.y + poly.y[0], ref.z + poly.z[0]};
-      poly.x[0] = poly.y[0] = poly.z[0] = 0.0f;
-      for (uint32_t first = c.cell_vertex_offsets[cell]; first < c.cell_vertex_offsets[cell + 1]; first += kBlock) {
-        const size_t n = std::min<size_t>(kBlock, c.cell_vertex_offsets[cell + 1] - first);
-        BlockIn in{c.s.data() + first, c.t.data() + first, c.displacement.data() + first, {}, nullptr, nullptr};
-        for (int q = 0; q < 6; ++q) in.k[q] = c.k[q].data() + first;
-        if (c.local_frame) {
-          in.ta = c.tangent_a.data() + first, in.tb = c.tangent_b.data() + first;
-          block_local_frame(poly, in, n, out);
-        } else {
-          block_normal(poly, in, n, out);
-        }
-        const uint32_t* vertex = c.vertex.data() + first;
-        if (positions)
-          for (size_t i = 0; i < n; ++i)
-            positions[vertex[i]] = Vec3{origin.x + out.px[i], origin.y + out.py[i], origin.z + out.pz[i]};
-        if (normals)
-          for (size_t i = 0; i < n; ++i) normals[vertex[i]] = Vec3{out.nx[i], out.ny[i], out.nz[i]};
-      }
-    }
+    if (c.local_frame)
+      cells_local_frame(c, cells, begin, end, control.data(), positions, normals);
+    else
+      cells_normal(c, cells, begin, end, control.data(), positions, normals);
   });
 }
 
