@@ -165,6 +165,12 @@ inline __attribute__((always_inline)) void cells_kernel(const PatchDeformerTable
     // (the coefficients of s^a t^b, (a, b) != (0, 0), sum to 0 over the terms, those of 1 to 1).
     const uint32_t e0 = c.cell_term_offsets[cell], e1 = c.cell_term_offsets[cell + 1];
     const Vec3 ref = e1 > e0 ? control[c.term_control[e0]] : Vec3();
+    if (k + 1 < end) {  // the next cell's coefficients (~1 KB) while this one is evaluated
+      const uint32_t next = cells[k + 1];
+      const char* from = reinterpret_cast<const char*>(c.term_coefficients.data() + 16 * size_t(c.cell_term_offsets[next]));
+      const char* to = reinterpret_cast<const char*>(c.term_coefficients.data() + 16 * size_t(c.cell_term_offsets[next + 1]));
+      for (const char* p = from; p < to; p += 64) __builtin_prefetch(p);
+    }
     CellPolynomial poly;
     gather_cell(c.term_coefficients.data() + 16 * size_t(e0), c.term_control.data() + e0, e1 - e0, control, ref, poly);
     // Vertices relative to S(0, 0).
