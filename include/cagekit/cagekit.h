@@ -833,6 +833,11 @@ typedef struct cagekit_binding_info {
   uint64_t vertices_with_sideways_residual; /* normal mode: vertices above 1e-6 of the diagonal */
   double bbox_diagonal;
   int32_t has_exact_normals;
+  /* Appended (issue #5): the CPU deformer's compact table (sdk/multires/patch_deformer_table.h). */
+  double deform_bytes_per_vertex;      /* bytes read + written per vertex in one full CPU frame of
+                                          positions + approximate normals (table, outputs, control) */
+  uint32_t compact_cells;              /* bicubic cells of the table (0: no table, sparse rows used) */
+  uint32_t irregular_vertices;         /* vertices the table evaluates from their sparse rows */
 } cagekit_binding_info;
 
 /* Binds every vertex of `scan` to the limit surface of `cage` (exact closest points, §7.4).

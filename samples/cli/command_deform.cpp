@@ -191,9 +191,9 @@ int command_bench_deform(Args& args) {
     gpu_renderer = json_string(gpu.renderer);
     gpu_version = json_string(gpu.version);
   }
-  // Stored per vertex: foot point + displacement + 6 normal coefficients, and per basis entry an
-  // index and three doubles.
-  const double bytes_per_vertex = (8.0 * 8 + double(info.basis_entries) * 28.0 / n);
+  // Bytes read + written per vertex in one full CPU frame (the library's own count for the table
+  // the deformer streams; sdk/multires/patch_deformer_table.h).
+  const double bytes_per_vertex = info.deform_bytes_per_vertex;
   if (json) {
     std::printf("{\"vertices\": %u, \"triangles\": %llu, \"control_points\": %u, \"moved\": %zu, \"frames\": %d, "
                 "\"cpu_fps\": %.2f, \"cpu_incremental_fps\": %.2f, \"incremental_vertices_per_frame\": %.1f, "

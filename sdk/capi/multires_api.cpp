@@ -95,6 +95,9 @@ CAGEKIT_API cagekit_status cagekit_binding_get_info(cagekit_binding binding, cag
     out.vertices_with_sideways_residual = b.vertices_with_sideways_residual;
     out.bbox_diagonal = b.bbox_diagonal;
     out.has_exact_normals = b.phi_uu.size() == b.num_entries() && !b.displacement_gradient.empty();
+    out.deform_bytes_per_vertex = cagekit::deform_bytes_per_vertex(b);
+    out.compact_cells = static_cast<uint32_t>(b.compact.num_cells());
+    out.irregular_vertices = static_cast<uint32_t>(b.compact.num_irregular_vertices());
     write_versioned(info, out, "cagekit_binding_info");
   });
 }

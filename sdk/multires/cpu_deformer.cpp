@@ -240,15 +240,17 @@ const std::vector<uint32_t>& CpuDeformer::last_updated() const {
   return last_from_reference_ && reference_ ? reference_->last_updated() : touched_;
 }
 
-double CpuDeformer::bytes_per_vertex() const {
-  if (compact()) return b_.compact.bytes_per_vertex(b_.num_control_vertices);
-  const size_t n = b_.num_vertices();
+double deform_bytes_per_vertex(const ScanBinding& b) {
+  if (!b.compact.empty()) return b.compact.bytes_per_vertex(b.num_control_vertices);
+  const size_t n = b.num_vertices();
   if (n == 0) return 0;
   // Sparse rows: per entry an index and 3 doubles; per vertex row offset, D, 6 coefficients
   // (+ a, b); S, S_u, S_v kept per vertex (written) and the outputs.
-  const double per_vertex = 4 + 8 * (7 + (b_.mode == DisplacementMode::local_frame ? 2 : 0)) + 3 * 24 + 2 * 24;
-  return per_vertex + double(b_.num_entries()) * 28 / double(n);
+  const double per_vertex = 4 + 8 * (7 + (b.mode == DisplacementMode::local_frame ? 2 : 0)) + 3 * 24 + 2 * 24;
+  return per_vertex + double(b.num_entries()) * 28 / double(n);
 }
+
+double CpuDeformer::bytes_per_vertex() const { return deform_bytes_per_vertex(b_); }
 
 void CpuDeformer::check_control(const std::vector<Vec3>& control) const {
   if (control.size() != b_.num_control_vertices)

@@ -30,6 +30,11 @@
 
 CAGEKIT_NAMESPACE_BEGIN
 
+// Bytes read + written per vertex in one full frame of positions + approximate normals: the
+// compact table's figure (PatchDeformerTable::bytes_per_vertex), or the sparse rows' when the
+// binding has no table.
+double deform_bytes_per_vertex(const ScanBinding& binding);
+
 class CpuDeformer {
  public:
   explicit CpuDeformer(const ScanBinding& binding, int threads = 0);
