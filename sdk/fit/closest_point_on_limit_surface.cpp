@@ -203,7 +203,12 @@ FootPoint LimitSurfaceProjector::refine(const Vec3& p, const FootPoint& start) c
     };
     double nu, nv;
     at(alpha, nu, nv);
-    SurfacePoint ns = surface_.evaluate_patch_points(face, nu, nv, points_);
+    // The final step only needs the position (the search ends after it): no derivatives.
+    SurfacePoint ns;
+    if (last)
+      ns.position = surface_.evaluate_position(face, nu, nv, points_);
+    else
+      ns = surface_.evaluate_patch_points(face, nu, nv, points_);
     Vec3 nr = ns.position - p;
     double nf = dot(nr, nr);
     if (!(nf < f) && last) {

@@ -50,6 +50,8 @@ void closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3
   w[1] = vb / sum, w[2] = vc / sum, w[0] = 1 - w[1] - w[2];
 }
 
+constexpr uint32_t kLeafSize = 4;  // triangles per BVH leaf
+
 inline double axis_gap(double p, double lo, double hi) { return std::max(0.0, std::max(lo - p, p - hi)); }
 
 inline double box_distance2(const Vec3& p, const Vec3& lo, const Vec3& hi) {
@@ -127,7 +129,7 @@ PiecewiseLinearLimitMesh::PiecewiseLinearLimitMesh(const SubdivisionSurface& sur
     for (size_t k = 0; k < per_block; ++k) sum += grid_[b * per_block + k];
     face_centroids[b] = sum * (1.0 / double(per_block));
   }
-  nodes_.reserve(2 * T / 4 + 2);
+  nodes_.reserve(2 * T / kLeafSize + 2);
   build(0, uint32_t(T), corners, centroids, face_centroids);
   corners_.resize(3 * T);
   sorted_ptex_.resize(T);
@@ -230,7 +232,7 @@ uint32_t PiecewiseLinearLimitMesh::build(uint32_t begin, uint32_t end, const std
   }
   nodes_[index].lo = lo;
   nodes_[index].hi = hi;
-  if (end - begin <= 4) {
+  if (end - begin <= kLeafSize) {
     nodes_[index].first = begin;
     nodes_[index].count = end - begin;
     return index;
@@ -271,14 +273,19 @@ PiecewiseLinearLimitMesh::Hit PiecewiseLinearLimitMesh::closest_point(const Vec3
   double best_d2 = max_distance < HUGE_VAL ? max_distance * max_distance : HUGE_VAL;
   uint32_t best_k = ~0u;
   double best_w[3] = {0, 0, 0};
-  uint32_t stack[128];
+  // Depth-first, nearer child first; each node's box distance is computed once, by its parent,
+  // and kept on the stack (the bound may have shrunk by the time it is popped).
+  struct Entry {
+    uint32_t node;
+    double d2;
+  };
+  Entry stack[128];
   int top = 0;
-  stack[top++] = 0;
+  stack[top++] = {0, box_distance2(p, nodes_[0].lo, nodes_[0].hi)};
   while (top > 0) {
-    const uint32_t n = stack[--top];
-    const Node& node = nodes_[n];
-    if (box_distance2(p, node.lo, node.hi) >= best_d2) continue;
-    if (exclude_ptex_face != kNoFace && node.ptex_face == exclude_ptex_face) continue;
+    const Entry e = stack[--top];
+    if (e.d2 >= best_d2) continue;
+    const Node& node = nodes_[e.node];
     if (node.count > 0) {
       for (uint32_t k = node.first; k < node.first + node.count; ++k) {
         if (sorted_ptex_[k] == exclude_ptex_face) continue;
@@ -296,17 +303,16 @@ PiecewiseLinearLimitMesh::Hit PiecewiseLinearLimitMesh::closest_point(const Vec3
       }
       continue;
     }
-    // Children: left = n + 1, right = node.first; visit the nearer one first.
-    const uint32_t a = n + 1, b = node.first;
-    const double da = box_distance2(p, nodes_[a].lo, nodes_[a].hi), db = box_distance2(p, nodes_[b].lo, nodes_[b].hi);
+    // Children: left = n + 1, right = node.first.
+    const uint32_t a = e.node + 1, b = node.first;
+    const bool use_a = exclude_ptex_face == kNoFace || nodes_[a].ptex_face != exclude_ptex_face;
+    const bool use_b = exclude_ptex_face == kNoFace || nodes_[b].ptex_face != exclude_ptex_face;
+    const double da = use_a ? box_distance2(p, nodes_[a].lo, nodes_[a].hi) : HUGE_VAL;
+    const double db = use_b ? box_distance2(p, nodes_[b].lo, nodes_[b].hi) : HUGE_VAL;
     if (top + 2 > 128) fail(Status::internal_error, "piecewise-linear mesh: BVH too deep");
-    if (da < db) {
-      stack[top++] = b;
-      stack[top++] = a;
-    } else {
-      stack[top++] = a;
-      stack[top++] = b;
-    }
+    const Entry near = da < db ? Entry{a, da} : Entry{b, db}, far = da < db ? Entry{b, db} : Entry{a, da};
+    if (far.d2 < best_d2) stack[top++] = far;
+    if (near.d2 < best_d2) stack[top++] = near;
   }
   if (best_k == ~0u) {
     best.distance = HUGE_VAL;
