@@ -853,6 +853,32 @@ CAGEKIT_API void cagekit_binding_release(cagekit_binding binding);
 /* Thread-safe. Errors: INVALID_HANDLE, INVALID_ARGUMENT (info NULL or bad struct_size). */
 CAGEKIT_API cagekit_status cagekit_binding_get_info(cagekit_binding binding, cagekit_binding_info* info);
 
+/* Saved bindings (`.ckb`): binding is the slow part (one exact closest-point search per scan
+ * vertex); a saved binding keeps the cage it was made from, the options and per vertex the foot
+ * point, displacement and normal coefficients, and reading it rebuilds the limit surface, the
+ * basis rows and the deformer's compact table from them: the result equals the binding that was
+ * saved, bit for bit. Format: little-endian sections, documented in sdk/multires/binding_file.h;
+ * ~118 bytes per scan vertex (normal mode), ~134 (local frame or exact normals).
+ * Writing: to a file atomically (a failed write never leaves a partial file) or into a new
+ * blob. Reads the binding; thread-safe. Errors: INVALID_HANDLE, INVALID_ARGUMENT (path or out
+ * NULL), IO. */
+CAGEKIT_API cagekit_status cagekit_binding_write_file(cagekit_binding binding, const char* path);
+CAGEKIT_API cagekit_status cagekit_binding_write_memory(cagekit_binding binding, cagekit_blob* out);
+/* Reading: `threads` (0 = all cores) for the rebuild. *out receives one reference. The bytes are
+ * treated as hostile. Errors: IO, PARSE (the message names the source and the byte offset or the
+ * field: truncation, bad magic, non-finite numbers, a foot point off the limit surface, a cage
+ * the OBJ reader refuses), UNSUPPORTED_FORMAT (another format version), LIMIT_EXCEEDED (hostile
+ * counts), INVALID_MESH (the saved cage has no limit surface), OUT_OF_MEMORY, CANCELLED (stage
+ * "bind"). Long operation (progress, cancel). Thread-safe. `data` is only read during the call. */
+CAGEKIT_API cagekit_status cagekit_binding_read_file(cagekit_context context, const char* path, uint32_t threads,
+                                                     cagekit_binding* out);
+CAGEKIT_API cagekit_status cagekit_binding_read_memory(cagekit_context context, const void* data, size_t size,
+                                                       uint32_t threads, cagekit_binding* out);
+/* The cage the binding was made on (a new cage handle, one reference: a copy the caller may
+ * edit and pass its positions to a deformer). Thread-safe.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (out NULL), OUT_OF_MEMORY. */
+CAGEKIT_API cagekit_status cagekit_binding_get_cage(cagekit_binding binding, cagekit_cage* out);
+
 typedef enum cagekit_normal_mode {
   CAGEKIT_NORMALS_APPROXIMATE = 0, /* (8.11)-(8.12): from S_u, S_v only */
   CAGEKIT_NORMALS_EXACT = 1,       /* (8.4)-(8.7): needs a binding made with exact_normals */

@@ -80,6 +80,7 @@ int command_simplify(Args& args);
 int command_demo(Args& args);
 int command_fit(Args& args);
 int command_pipeline(Args& args);
+int command_bind(Args& args);
 int command_deform(Args& args);
 int command_bench_deform(Args& args);
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// cagekit deform SCAN CAGE EDITED_CAGE OUT [--local-frame] [--json]
+// cagekit deform SCAN (CAGE | BINDING.ckb) EDITED_CAGE OUT [--local-frame] [--json]
 // cagekit bench-deform SCAN CAGE [--frames N] [--moved K] [--threads N] [--json]
 // Multiresolution editing (thesis ch. 8) through the C API: bind the scan to the cage's limit
 // surface, then move the cage's control points and rebuild the scan with its details.
@@ -36,7 +36,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 int command_deform(Args& args) {
-  const char* usage = "cagekit deform SCAN CAGE EDITED_CAGE OUT [--local-frame] [--json] [--quiet]";
+  const char* usage = "cagekit deform SCAN (CAGE | BINDING.ckb) EDITED_CAGE OUT [--local-frame] [--json] [--quiet]";
   const bool quiet = args.flag("--quiet");
   const bool json = args.flag("--json");
   const bool local_frame = args.flag("--local-frame");
@@ -46,8 +46,16 @@ int command_deform(Args& args) {
   Session session(quiet);
   Mesh scan;
   session.check(cagekit_mesh_read_file(session.context(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, scan.out()), files[0]);
+  // CAGE is a cage file, or a binding saved by `cagekit bind` (.ckb: the cage is in it).
+  const bool saved = files[1].size() > 4 && files[1].compare(files[1].size() - 4, 4, ".ckb") == 0;
+  Binding binding;
   Cage cage, edited;
-  session.check(cagekit_cage_read_file(session.context(), files[1].c_str(), CAGEKIT_FORMAT_AUTO, cage.out()), files[1]);
+  if (saved) {
+    session.check(cagekit_binding_read_file(session.context(), files[1].c_str(), 0, binding.out()), files[1]);
+    session.check(cagekit_binding_get_cage(binding.get(), cage.out()), files[1]);
+  } else {
+    session.check(cagekit_cage_read_file(session.context(), files[1].c_str(), CAGEKIT_FORMAT_AUTO, cage.out()), files[1]);
+  }
   session.check(cagekit_cage_read_file(session.context(), files[2].c_str(), CAGEKIT_FORMAT_AUTO, edited.out()), files[2]);
   const std::vector<double> before = cage_positions(session, cage.get(), files[1]);
   const std::vector<double> after = cage_positions(session, edited.get(), files[2]);
@@ -58,12 +66,17 @@ int command_deform(Args& args) {
   const auto t0 = std::chrono::steady_clock::now();
   cagekit_bind_options options = CAGEKIT_BIND_OPTIONS_INIT;
   options.mode = local_frame ? CAGEKIT_DISPLACEMENT_LOCAL_FRAME : CAGEKIT_DISPLACEMENT_NORMAL;
-  Binding binding;
-  session.check(cagekit_multires_bind(cage.get(), scan.get(), &options, binding.out()), files[0] + " bound to " + files[1]);
+  if (!saved)
+    session.check(cagekit_multires_bind(cage.get(), scan.get(), &options, binding.out()), files[0] + " bound to " + files[1]);
   const double bind_seconds = seconds_since(t0);
   cagekit_binding_info info;
   info.struct_size = sizeof(info);
   session.check(cagekit_binding_get_info(binding.get(), &info), "binding");
+  uint32_t scan_vertices = 0;
+  session.check(cagekit_mesh_get_positions(scan.get(), CAGEKIT_SCALAR_FLOAT64, 0, &scan_vertices, nullptr), files[0]);
+  if (scan_vertices != info.vertex_count)
+    throw Failure(kExitBadInput, files[1] + ": binds " + std::to_string(info.vertex_count) + " vertices but " + files[0] +
+                                     " has " + std::to_string(scan_vertices) + " (not the scan it was made from)");
   Deformer deformer;
   session.check(cagekit_cpu_deformer_create(binding.get(), 0, deformer.out()), "deformer");
   std::vector<double> positions(3 * size_t(info.vertex_count));
@@ -100,7 +113,7 @@ int command_deform(Args& args) {
                 "\"max_sideways_residual_rel\": %.6g, \"mode\": \"%s\", \"bind_seconds\": %.4f, \"deform_seconds\": %.5f}\n",
                 info.vertex_count, info.control_count, (unsigned long long)info.basis_entries,
                 info.bbox_diagonal > 0 ? moved / info.bbox_diagonal : 0.0, info.max_sideways_residual,
-                local_frame ? "local_frame" : "normal", bind_seconds, deform_seconds);
+                saved ? "saved" : local_frame ? "local_frame" : "normal", bind_seconds, deform_seconds);
   } else if (!quiet) {
     std::printf("%s bound to %s (%u vertices, %.1f basis entries each, %.2f s); deformed by %s -> %s (%.3f s)\n",
                 files[0].c_str(), files[1].c_str(), info.vertex_count, double(info.basis_entries) / info.vertex_count,

@@ -26,9 +26,11 @@ const char* kUsage =
     "      [--tolerance T] [--projection exact|linear] [--fairing F] [--keep-creases] [--limit-levels L] [--json]\n"
     "                                           simplify -> quad-dominant cage with creases -> fit; writes\n"
     "                                           OUTDIR/cage.obj (fitted), limit.obj (its limit, L=3 levels), report.json\n"
-    "  deform SCAN CAGE EDITED_CAGE OUT [--local-frame] [--json]\n"
-    "                                           bind the scan to the cage's limit surface (thesis ch. 8) and rebuild\n"
-    "                                           it over the edited cage (same connectivity), details kept\n"
+    "  bind SCAN CAGE OUT.ckb [--local-frame] [--exact-normals] [--threads N] [--json]\n"
+    "                                           bind the scan to the cage's limit surface (thesis ch. 8), save it\n"
+    "  deform SCAN (CAGE | BINDING.ckb) EDITED_CAGE OUT [--local-frame] [--json]\n"
+    "                                           bind the scan (or load its saved binding) and rebuild it over the\n"
+    "                                           edited cage (same connectivity), details kept\n"
     "  bench-deform SCAN CAGE [--frames N] [--moved K] [--threads N] [--json]\n"
     "                                           frames per second of the CPU deformer (full and K moved points)\n"
     "  demo [OUTDIR]                            run the pipeline on a generated noisy scan of a CAD-like part\n"
@@ -53,6 +55,7 @@ int main(int argc, char** argv) {
     if (command == "simplify") return cli::command_simplify(args);
     if (command == "fit") return cli::command_fit(args);
     if (command == "pipeline") return cli::command_pipeline(args);
+    if (command == "bind") return cli::command_bind(args);
     if (command == "deform") return cli::command_deform(args);
     if (command == "bench-deform") return cli::command_bench_deform(args);
     if (command == "demo") return cli::command_demo(args);

@@ -100,8 +100,12 @@ struct cagekit_hierarchy_t : ContextBound {
 
 struct cagekit_binding_t : ContextBound {
   static constexpr cagekit_capi::HandleType kType = cagekit_capi::HandleType::binding;
-  cagekit_binding_t(cagekit_context c, cagekit::ScanBinding b) : ContextBound(kType, c), binding(std::move(b)) {}
-  const cagekit::ScanBinding binding;  // immutable once made: shared by deformers
+  cagekit_binding_t(cagekit_context c, cagekit::ScanBinding b, cagekit::Cage g, cagekit::BindOptions o)
+      : ContextBound(kType, c), binding(std::move(b)), cage(std::move(g)), options(std::move(o)) {}
+  // Immutable once made: shared by deformers.
+  const cagekit::ScanBinding binding;
+  const cagekit::Cage cage;            // the cage it was bound to (saved with it)
+  const cagekit::BindOptions options;  // the options it was made with (saved with it)
 };
 
 // Keeps its binding alive (a reference) for as long as it exists.

@@ -75,7 +75,7 @@ CAGEKIT_API cagekit_status cagekit_multires_bind(cagekit_cage cage, cagekit_mesh
     bo.exact_normals = o.exact_normals == 1;
     bo.threads = int(o.threads);
     cagekit::ScanBinding binding = cagekit::bind_scan_to_cage(c.cage, m.mesh, bo, c.context->monitor());
-    *out = std::make_unique<cagekit_binding_t>(c.context, std::move(binding)).release();
+    *out = std::make_unique<cagekit_binding_t>(c.context, std::move(binding), c.cage, bo).release();
   });
 }
 

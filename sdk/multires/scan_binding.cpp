@@ -8,6 +8,7 @@
 #include "core/parallel_for.h"
 #include "core/status.h"
 #include "fit/ptex_adjacency.h"
+#include "multires/basis_rows.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 
@@ -130,23 +131,7 @@ ScanBinding bind_scan_to_cage(const Cage& cage, const PolygonMesh& scan, const B
     }
   });
   monitor.report("bind", 0.95);
-  b.row_offsets.resize(n + 1, 0);
-  for (size_t i = 0; i < n; ++i) b.row_offsets[i + 1] = b.row_offsets[i] + uint32_t(rows[i].indices.size());
-  const size_t entries = b.row_offsets[n];
-  b.control_index.reserve(entries);
-  b.phi.reserve(entries), b.phi_u.reserve(entries), b.phi_v.reserve(entries);
-  for (size_t i = 0; i < n; ++i) {
-    const BasisWeights& w = rows[i];
-    b.control_index.insert(b.control_index.end(), w.indices.begin(), w.indices.end());
-    b.phi.insert(b.phi.end(), w.w.begin(), w.w.end());
-    b.phi_u.insert(b.phi_u.end(), w.wu.begin(), w.wu.end());
-    b.phi_v.insert(b.phi_v.end(), w.wv.begin(), w.wv.end());
-    if (options.exact_normals) {
-      b.phi_uu.insert(b.phi_uu.end(), w.wuu.begin(), w.wuu.end());
-      b.phi_uv.insert(b.phi_uv.end(), w.wuv.begin(), w.wuv.end());
-      b.phi_vv.insert(b.phi_vv.end(), w.wvv.begin(), w.wvv.end());
-    }
-  }
+  store_basis_rows(b, rows, options.exact_normals);
   const double d = b.bbox_diagonal > 0 ? b.bbox_diagonal : 1.0;
   for (double r : sideways) {
     b.max_sideways_residual = std::max(b.max_sideways_residual, r / d);

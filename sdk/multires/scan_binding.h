@@ -16,7 +16,8 @@
 //
 // The compact per-cell representation the fast CPU deformer streams is built with the binding
 // (`compact`, patch_deformer_table.h); the sparse rows stay (reference, exact normals, GPU).
-// Not done yet (issue #5): one normal per smooth sector at sharp features; saved binding files.
+// Saved to and read from files by binding_file.h. Not done yet (issue #5): one normal per smooth
+// sector at sharp features.
 #include <cstdint>
 #include <vector>
 

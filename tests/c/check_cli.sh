@@ -211,6 +211,18 @@ expect_bad "deform: cage with other vertex count" "$cli" deform "$tmp/demo/scan.
 expect_bad "deform: missing edited cage" "$cli" deform "$tmp/demo/scan.obj" "$tmp/pipe/out/cage.obj" "$tmp/does-not-exist.obj" "$tmp/out.obj" --quiet
 expect_bad "deform: NaN in the scan" "$cli" deform "$tmp/nan.obj" "$tmp/cube.obj" "$tmp/cube.obj" "$tmp/out.obj" --quiet
 expect_bad "bench-deform: --frames 0" "$cli" bench-deform "$tmp/demo/scan.obj" "$tmp/pipe/out/cage.obj" --frames 0 --quiet
+# Saved bindings: bind once, deform from the .ckb = deform with binding anew (same bytes).
+if "$cli" bind "$tmp/demo/scan.obj" "$tmp/pipe/out/cage.obj" "$tmp/scan.ckb" --local-frame --json --quiet >"$tmp/bind.json" &&
+   [ "$(json "$tmp/bind.json" 'all(k in d for k in ("vertices","control_points","mode","bytes","bind_seconds")) and d["mode"] == "local_frame" and d["bytes"] > 100 * d["vertices"]')" = True ] &&
+   "$cli" deform "$tmp/demo/scan.obj" "$tmp/scan.ckb" "$tmp/edited.obj" "$tmp/from_saved.obj" --quiet &&
+   "$cli" deform "$tmp/demo/scan.obj" "$tmp/pipe/out/cage.obj" "$tmp/edited.obj" "$tmp/from_bind.obj" --local-frame --quiet &&
+   cmp -s "$tmp/from_saved.obj" "$tmp/from_bind.obj"
+then pass "bind: saved binding (.ckb) deforms exactly like binding anew"; else cat "$tmp/bind.json"; fail "bind/deform from .ckb"; fi
+head -c 1000 "$tmp/scan.ckb" >"$tmp/truncated.ckb"
+expect_bad "deform: truncated .ckb" "$cli" deform "$tmp/demo/scan.obj" "$tmp/truncated.ckb" "$tmp/edited.obj" "$tmp/out.obj" --quiet
+expect_bad "deform: .ckb of another scan" "$cli" deform "$tmp/cube.obj" "$tmp/scan.ckb" "$tmp/edited.obj" "$tmp/out.obj" --quiet
+expect_bad "bind: --threads -1" "$cli" bind "$tmp/demo/scan.obj" "$tmp/pipe/out/cage.obj" "$tmp/x.ckb" --threads -1 --quiet
+expect_bad "bind: NaN in the scan" "$cli" bind "$tmp/nan.obj" "$tmp/cube.obj" "$tmp/x.ckb" --quiet
 
 # 7. the C host sample
 if "$host" "$tmp/demo/scan.drc" "$tmp/host.obj" 1 >"$tmp/host.out" 2>&1 && [ -s "$tmp/host.obj" ] && grep -q 'level 1' "$tmp/host.out"

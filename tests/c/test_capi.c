@@ -760,6 +760,74 @@ static void multires_binding_reproduces_and_deforms_the_scan(void) {
   cagekit_context_release(context);
 }
 
+static void saved_binding_round_trips_and_bad_bytes_fail(void) {
+  cagekit_context context = new_context();
+  cagekit_mesh cube_mesh = new_cube(context), sphere = new_sphere(context), cage_mesh = NULL;
+  cagekit_cage cube = NULL, fitted = NULL, saved_cage = NULL;
+  cagekit_binding binding = NULL, loaded = NULL, none = NULL;
+  cagekit_cpu_deformer d0 = NULL, d1 = NULL;
+  cagekit_blob blob = NULL, again = NULL;
+  cagekit_binding_info a, b;
+  double control[24], p0[3 * 300], p1[3 * 300];
+  unsigned char bad[64];
+  uint32_t i;
+  CHECK_OK(cagekit_cage_create(cube_mesh, &cube));
+  CHECK_OK(cagekit_cage_fit(cube, sphere, NULL, &fitted, NULL));
+  CHECK_OK(cagekit_multires_bind(fitted, sphere, NULL, &binding));
+  CHECK_OK(cagekit_binding_write_memory(binding, &blob));
+  CHECK(cagekit_blob_size(blob) > 100);
+  CHECK_OK(cagekit_binding_read_memory(context, cagekit_blob_data(blob), cagekit_blob_size(blob), 1, &loaded));
+  a.struct_size = b.struct_size = sizeof(a);
+  CHECK_OK(cagekit_binding_get_info(binding, &a));
+  CHECK_OK(cagekit_binding_get_info(loaded, &b));
+  CHECK(a.vertex_count == b.vertex_count && a.control_count == b.control_count && a.basis_entries == b.basis_entries &&
+        a.bbox_diagonal == b.bbox_diagonal && a.max_sideways_residual == b.max_sideways_residual);
+  /* The saved cage is the fitted one; both bindings deform alike, and re-saving gives the same bytes. */
+  CHECK_OK(cagekit_binding_get_cage(loaded, &saved_cage));
+  CHECK_OK(cagekit_cage_get_mesh(saved_cage, &cage_mesh));
+  CHECK_OK(cagekit_mesh_get_positions(cage_mesh, CAGEKIT_SCALAR_FLOAT64, 8, NULL, control));
+  control[0] += 0.05;
+  CHECK_OK(cagekit_cpu_deformer_create(binding, 1, &d0));
+  CHECK_OK(cagekit_cpu_deformer_create(loaded, 1, &d1));
+  CHECK_OK(cagekit_cpu_deformer_deform(d0, control, 8, CAGEKIT_NORMALS_APPROXIMATE, 300, p0, NULL));
+  CHECK_OK(cagekit_cpu_deformer_deform(d1, control, 8, CAGEKIT_NORMALS_APPROXIMATE, 300, p1, NULL));
+  for (i = 0; i < 3 * a.vertex_count; ++i) CHECK(p0[i] == p1[i]);
+  CHECK_OK(cagekit_binding_write_memory(loaded, &again));
+  CHECK(cagekit_blob_size(again) == cagekit_blob_size(blob) &&
+        memcmp(cagekit_blob_data(again), cagekit_blob_data(blob), cagekit_blob_size(blob)) == 0);
+  /* Damaged bytes: a precise error, no handle. */
+  CHECK_STATUS(cagekit_binding_read_memory(context, cagekit_blob_data(blob), cagekit_blob_size(blob) / 2, 1, &none),
+               CAGEKIT_ERROR_PARSE);
+  CHECK(none == NULL);
+  memcpy(bad, cagekit_blob_data(blob), sizeof(bad));
+  bad[0] = 'X';
+  CHECK_STATUS(cagekit_binding_read_memory(context, bad, sizeof(bad), 1, &none), CAGEKIT_ERROR_PARSE);
+  CHECK(strstr(cagekit_last_error_message(context), "CAGEKITB") != NULL);
+  CHECK_STATUS(cagekit_binding_read_memory(context, NULL, 10, 1, &none), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_binding_read_memory(context, bad, sizeof(bad), 1, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_binding_read_file(context, "/nonexistent/x.ckb", 0, &none), CAGEKIT_ERROR_IO);
+  CHECK_STATUS(cagekit_binding_read_file(context, NULL, 0, &none), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_binding_write_file(binding, "/nonexistent/x.ckb"), CAGEKIT_ERROR_IO);
+  {
+    cagekit_blob none_blob = NULL;
+    CHECK_STATUS(cagekit_binding_write_memory((cagekit_binding)sphere, &none_blob), CAGEKIT_ERROR_INVALID_HANDLE);
+    CHECK(none_blob == NULL);
+  }
+  cagekit_blob_release(again);
+  cagekit_blob_release(blob);
+  cagekit_cpu_deformer_release(d1);
+  cagekit_cpu_deformer_release(d0);
+  cagekit_mesh_release(cage_mesh);
+  cagekit_cage_release(saved_cage);
+  cagekit_binding_release(loaded);
+  cagekit_binding_release(binding);
+  cagekit_cage_release(fitted);
+  cagekit_cage_release(cube);
+  cagekit_mesh_release(sphere);
+  cagekit_mesh_release(cube_mesh);
+  cagekit_context_release(context);
+}
+
 static void fit_reduces_the_error_every_pass(void) {
   cagekit_context context = new_context();
   cagekit_mesh cube_mesh = new_cube(context), sphere = new_sphere(context);
@@ -1041,6 +1109,7 @@ int main(void) {
       {"out_of_range_enum_values_are_rejected", out_of_range_enum_values_are_rejected},
       {"memory_budget_fails_cleanly_before_allocating", memory_budget_fails_cleanly_before_allocating},
       {"multires_binding_reproduces_and_deforms_the_scan", multires_binding_reproduces_and_deforms_the_scan},
+      {"saved_binding_round_trips_and_bad_bytes_fail", saved_binding_round_trips_and_bad_bytes_fail},
       {"fit_reduces_the_error_every_pass", fit_reduces_the_error_every_pass},
       {"fit_keeps_tags_and_pinned_crease_vertices", fit_keeps_tags_and_pinned_crease_vertices},
       {"fit_rejects_bad_arguments_and_can_be_cancelled", fit_rejects_bad_arguments_and_can_be_cancelled},
