@@ -819,13 +819,20 @@ typedef struct cagekit_bind_options {
   cagekit_displacement_mode mode;      /* default CAGEKIT_DISPLACEMENT_NORMAL */
   int32_t exact_normals;               /* 1: also store the data of the exact normals (8.4)-(8.7) */
   uint32_t threads;                    /* 0 = all cores */
+  double sharp_angle_degrees;          /* sharp features (thesis §8.5.2): >= 0 binds every scan
+                                          vertex once per smooth sector (sectors split by edges
+                                          whose faces' normals differ by more than this angle, and
+                                          by boundary / non-manifold edges), so each copy keeps its
+                                          sector's normal; the bound vertices are then the copies
+                                          (cagekit_binding_get_vertex_sources, _get_faces).
+                                          Default -1: one bound vertex per scan vertex. */
 } cagekit_bind_options;
 
-#define CAGEKIT_BIND_OPTIONS_INIT { sizeof(cagekit_bind_options), CAGEKIT_DISPLACEMENT_NORMAL, 0, 0 }
+#define CAGEKIT_BIND_OPTIONS_INIT { sizeof(cagekit_bind_options), CAGEKIT_DISPLACEMENT_NORMAL, 0, 0, -1.0 }
 
 typedef struct cagekit_binding_info {
   size_t struct_size;                  /* sizeof(cagekit_binding_info) */
-  uint32_t vertex_count;               /* scan vertices */
+  uint32_t vertex_count;               /* bound vertices (the scan's, plus copies per smooth sector) */
   uint32_t control_count;              /* cage vertices */
   uint64_t basis_entries;              /* stored non-zero basis functions, all vertices */
   double max_sideways_residual;        /* normal mode: largest offset part not along the normal,
@@ -838,6 +845,10 @@ typedef struct cagekit_binding_info {
                                           positions + approximate normals (table, outputs, control) */
   uint32_t compact_cells;              /* bicubic cells of the table (0: no table, sparse rows used) */
   uint32_t irregular_vertices;         /* vertices the table evaluates from their sparse rows */
+  /* Appended: sector split (cagekit_bind_options.sharp_angle_degrees >= 0). */
+  uint32_t scan_vertex_count;          /* the scan's vertices; vertex_count - scan_vertex_count
+                                          are copies made at sharp features (equal without split) */
+  int32_t has_sector_split;            /* 1: bound vertices are per smooth sector (see below) */
 } cagekit_binding_info;
 
 /* Binds every vertex of `scan` to the limit surface of `cage` (exact closest points, §7.4).
@@ -874,6 +885,19 @@ CAGEKIT_API cagekit_status cagekit_binding_read_file(cagekit_context context, co
                                                      cagekit_binding* out);
 CAGEKIT_API cagekit_status cagekit_binding_read_memory(cagekit_context context, const void* data, size_t size,
                                                        uint32_t threads, cagekit_binding* out);
+/* With a sector split: bound vertex i copies scan vertex sources[i] (the first
+ * info.scan_vertex_count are the scan's own, in order; copies follow), and the scan's faces
+ * over the bound vertices (same faces, same order; draw these, and give a mesh made of them to
+ * cagekit_gl_deformer_create). Without a split, sources[i] = i and *face_count = 0 (the scan's
+ * own faces apply). Two-call sizing: with capacity 0 (arrays may be NULL) only the counts are
+ * written; with a smaller nonzero capacity SIZE_INSUFFICIENT. Thread-safe.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (a count pointer NULL), SIZE_INSUFFICIENT. */
+CAGEKIT_API cagekit_status cagekit_binding_get_vertex_sources(cagekit_binding binding, uint32_t capacity,
+                                                              uint32_t* count, uint32_t* sources);
+CAGEKIT_API cagekit_status cagekit_binding_get_faces(cagekit_binding binding, uint32_t face_capacity,
+                                                     uint32_t* face_count, uint32_t* face_sizes,
+                                                     uint64_t index_capacity, uint64_t* index_count,
+                                                     uint32_t* face_indices);
 /* The cage the binding was made on (a new cage handle, one reference: a copy the caller may
  * edit and pass its positions to a deformer). Thread-safe.
  * Errors: INVALID_HANDLE, INVALID_ARGUMENT (out NULL), OUT_OF_MEMORY. */

@@ -81,6 +81,8 @@ int command_demo(Args& args);
 int command_fit(Args& args);
 int command_pipeline(Args& args);
 int command_bind(Args& args);
+// --sharp-angle DEG of bind/deform: one bound vertex per smooth sector (-1 when absent).
+double parse_sharp_angle(Args& args);
 int command_deform(Args& args);
 int command_bench_deform(Args& args);
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// cagekit bind SCAN CAGE OUT.ckb [--local-frame] [--exact-normals] [--threads N] [--json]
+// cagekit bind SCAN CAGE OUT.ckb [--local-frame] [--exact-normals] [--sharp-angle DEG] [--threads N] [--json]
 // Binds the scan to the cage's limit surface (thesis §8.3) once and saves the binding with its
 // cage (cagekit_binding_write_file); `cagekit deform SCAN OUT.ckb EDITED_CAGE OUT` then skips the
 // binding step.
@@ -12,12 +12,23 @@
 
 namespace cli {
 
+double parse_sharp_angle(Args& args) {
+  const std::string text = args.option("--sharp-angle", "");
+  if (text.empty()) return -1.0;
+  char* end = nullptr;
+  const double angle = std::strtod(text.c_str(), &end);
+  if (*end != '\0' || !(angle >= 0 && angle <= 180))
+    throw Failure(kExitBadInput, "--sharp-angle must be a number of degrees in [0, 180], got '" + text + "'");
+  return angle;
+}
+
 int command_bind(Args& args) {
-  const char* usage = "cagekit bind SCAN CAGE OUT.ckb [--local-frame] [--exact-normals] [--threads N] [--json] [--quiet]";
+  const char* usage = "cagekit bind SCAN CAGE OUT.ckb [--local-frame] [--exact-normals] [--sharp-angle DEG] [--threads N] [--json] [--quiet]";
   const bool quiet = args.flag("--quiet");
   const bool json = args.flag("--json");
   const bool local_frame = args.flag("--local-frame");
   const bool exact = args.flag("--exact-normals");
+  const double sharp_angle = parse_sharp_angle(args);
   const std::string threads_text = args.option("--threads", "0");
   const auto files = args.positional(3, 3, usage);
   char* end = nullptr;
@@ -35,6 +46,7 @@ int command_bind(Args& args) {
   options.mode = local_frame ? CAGEKIT_DISPLACEMENT_LOCAL_FRAME : CAGEKIT_DISPLACEMENT_NORMAL;
   options.exact_normals = exact ? 1 : 0;
   options.threads = uint32_t(threads);
+  options.sharp_angle_degrees = sharp_angle;
   Handle<cagekit_binding, cagekit_binding_release> binding;
   session.check(cagekit_multires_bind(cage.get(), scan.get(), &options, binding.out()), files[0] + " bound to " + files[1]);
   const double bind_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -50,9 +62,10 @@ int command_bind(Args& args) {
     std::fclose(f);
   }
   if (json) {
-    std::printf("{\"vertices\": %u, \"control_points\": %u, \"mode\": \"%s\", \"exact_normals\": %s, "
+    std::printf("{\"vertices\": %u, \"scan_vertices\": %u, \"control_points\": %u, \"mode\": \"%s\", \"exact_normals\": %s, "
                 "\"max_sideways_residual_rel\": %.6g, \"bytes\": %lld, \"bind_seconds\": %.4f}\n",
-                info.vertex_count, info.control_count, local_frame ? "local_frame" : "normal", exact ? "true" : "false",
+                info.vertex_count, info.scan_vertex_count, info.control_count, local_frame ? "local_frame" : "normal",
+                exact ? "true" : "false",
                 info.max_sideways_residual, bytes, bind_seconds);
   } else if (!quiet) {
     std::printf("%s bound to %s (%u vertices, %.2f s) -> %s (%lld bytes)\n", files[0].c_str(), files[1].c_str(),

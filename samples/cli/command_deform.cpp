@@ -36,10 +36,12 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 int command_deform(Args& args) {
-  const char* usage = "cagekit deform SCAN (CAGE | BINDING.ckb) EDITED_CAGE OUT [--local-frame] [--json] [--quiet]";
+  const char* usage =
+      "cagekit deform SCAN (CAGE | BINDING.ckb) EDITED_CAGE OUT [--local-frame] [--sharp-angle DEG] [--json] [--quiet]";
   const bool quiet = args.flag("--quiet");
   const bool json = args.flag("--json");
   const bool local_frame = args.flag("--local-frame");
+  const double sharp_angle = parse_sharp_angle(args);
   const auto files = args.positional(4, 4, usage);
   const cagekit_file_format out_format = format_from_extension(files[3]);
 
@@ -66,6 +68,7 @@ int command_deform(Args& args) {
   const auto t0 = std::chrono::steady_clock::now();
   cagekit_bind_options options = CAGEKIT_BIND_OPTIONS_INIT;
   options.mode = local_frame ? CAGEKIT_DISPLACEMENT_LOCAL_FRAME : CAGEKIT_DISPLACEMENT_NORMAL;
+  options.sharp_angle_degrees = sharp_angle;
   if (!saved)
     session.check(cagekit_multires_bind(cage.get(), scan.get(), &options, binding.out()), files[0] + " bound to " + files[1]);
   const double bind_seconds = seconds_since(t0);
@@ -74,7 +77,7 @@ int command_deform(Args& args) {
   session.check(cagekit_binding_get_info(binding.get(), &info), "binding");
   uint32_t scan_vertices = 0;
   session.check(cagekit_mesh_get_positions(scan.get(), CAGEKIT_SCALAR_FLOAT64, 0, &scan_vertices, nullptr), files[0]);
-  if (scan_vertices != info.vertex_count)
+  if (scan_vertices != info.scan_vertex_count)
     throw Failure(kExitBadInput, files[1] + ": binds " + std::to_string(info.vertex_count) + " vertices but " + files[0] +
                                      " has " + std::to_string(scan_vertices) + " (not the scan it was made from)");
   Deformer deformer;
@@ -86,12 +89,22 @@ int command_deform(Args& args) {
                 "deform");
   const double deform_seconds = seconds_since(t1);
 
-  // The scan's connectivity with the deformed positions.
+  // The scan's connectivity with the deformed positions (with a sector split: the faces over
+  // the bound vertices, one copy per smooth sector at sharp features).
   uint32_t faces = 0;
   uint64_t indices = 0;
-  session.check(cagekit_mesh_get_faces(scan.get(), 0, &faces, nullptr, 0, &indices, nullptr), files[0]);
-  std::vector<uint32_t> sizes(faces), corner(indices);
-  session.check(cagekit_mesh_get_faces(scan.get(), faces, &faces, sizes.data(), indices, &indices, corner.data()), files[0]);
+  std::vector<uint32_t> sizes, corner;
+  if (info.has_sector_split) {
+    session.check(cagekit_binding_get_faces(binding.get(), 0, &faces, nullptr, 0, &indices, nullptr), "binding");
+    sizes.resize(faces), corner.resize(indices);
+    session.check(cagekit_binding_get_faces(binding.get(), faces, &faces, sizes.data(), indices, &indices, corner.data()),
+                  "binding");
+  } else {
+    session.check(cagekit_mesh_get_faces(scan.get(), 0, &faces, nullptr, 0, &indices, nullptr), files[0]);
+    sizes.resize(faces), corner.resize(indices);
+    session.check(cagekit_mesh_get_faces(scan.get(), faces, &faces, sizes.data(), indices, &indices, corner.data()),
+                  files[0]);
+  }
   cagekit_mesh_desc desc = CAGEKIT_MESH_DESC_INIT;
   desc.vertex_count = info.vertex_count;
   desc.positions = positions.data();
@@ -109,9 +122,9 @@ int command_deform(Args& args) {
   for (size_t k = 0; k + 2 < before.size(); k += 3)
     moved = std::max(moved, std::hypot(after[k] - before[k], after[k + 1] - before[k + 1], after[k + 2] - before[k + 2]));
   if (json) {
-    std::printf("{\"vertices\": %u, \"control_points\": %u, \"basis_entries\": %llu, \"max_control_move_rel\": %.6g, "
+    std::printf("{\"vertices\": %u, \"scan_vertices\": %u, \"control_points\": %u, \"basis_entries\": %llu, \"max_control_move_rel\": %.6g, "
                 "\"max_sideways_residual_rel\": %.6g, \"mode\": \"%s\", \"bind_seconds\": %.4f, \"deform_seconds\": %.5f}\n",
-                info.vertex_count, info.control_count, (unsigned long long)info.basis_entries,
+                info.vertex_count, info.scan_vertex_count, info.control_count, (unsigned long long)info.basis_entries,
                 info.bbox_diagonal > 0 ? moved / info.bbox_diagonal : 0.0, info.max_sideways_residual,
                 saved ? "saved" : local_frame ? "local_frame" : "normal", bind_seconds, deform_seconds);
   } else if (!quiet) {

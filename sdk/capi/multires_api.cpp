@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "capi/api_guard.h"
+#include "capi/mesh_conversion.h"
 
 using namespace cagekit_capi;
 
@@ -74,6 +75,9 @@ CAGEKIT_API cagekit_status cagekit_multires_bind(cagekit_cage cage, cagekit_mesh
                                                        : cagekit::DisplacementMode::normal;
     bo.exact_normals = o.exact_normals == 1;
     bo.threads = int(o.threads);
+    if (!(o.sharp_angle_degrees < 0) && !(o.sharp_angle_degrees <= 180))
+      fail(Status::invalid_argument, "cagekit_bind_options.sharp_angle_degrees must be < 0 (off) or in [0, 180]");
+    bo.sharp_angle_degrees = o.sharp_angle_degrees < 0 ? -1.0 : o.sharp_angle_degrees;
     cagekit::ScanBinding binding = cagekit::bind_scan_to_cage(c.cage, m.mesh, bo, c.context->monitor());
     *out = std::make_unique<cagekit_binding_t>(c.context, std::move(binding), c.cage, bo).release();
   });
@@ -98,7 +102,35 @@ CAGEKIT_API cagekit_status cagekit_binding_get_info(cagekit_binding binding, cag
     out.deform_bytes_per_vertex = cagekit::deform_bytes_per_vertex(b);
     out.compact_cells = static_cast<uint32_t>(b.compact.num_cells());
     out.irregular_vertices = static_cast<uint32_t>(b.compact.num_irregular_vertices());
+    out.has_sector_split = b.source_vertex.empty() ? 0 : 1;
+    out.scan_vertex_count = static_cast<uint32_t>(b.source_vertex.empty() ? b.num_vertices() : b.scan_vertex_count);
     write_versioned(info, out, "cagekit_binding_info");
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_binding_get_vertex_sources(cagekit_binding binding, uint32_t capacity,
+                                                              uint32_t* count, uint32_t* sources) {
+  return guarded(context_of(binding), [&] {
+    const cagekit::ScanBinding& b = checked(binding, "binding").binding;
+    require_not_null(count, "count");
+    const uint32_t n = static_cast<uint32_t>(b.num_vertices());
+    *count = n;
+    if (!two_call_check<uint32_t>(n, capacity, nullptr, sources != nullptr, "sources")) return;
+    for (uint32_t i = 0; i < n; ++i) sources[i] = b.source_vertex.empty() ? i : b.source_vertex[i];
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_binding_get_faces(cagekit_binding binding, uint32_t face_capacity,
+                                                     uint32_t* face_count, uint32_t* face_sizes,
+                                                     uint64_t index_capacity, uint64_t* index_count,
+                                                     uint32_t* face_indices) {
+  return guarded(context_of(binding), [&] {
+    const cagekit::ScanBinding& b = checked(binding, "binding").binding;
+    require_not_null(face_count, "face_count");
+    require_not_null(index_count, "index_count");
+    cagekit::PolygonMesh faces;  // without a split: no faces (the scan's own apply)
+    if (!b.source_vertex.empty()) faces.face_offsets = b.face_offsets, faces.face_vertices = b.face_vertices;
+    copy_faces(faces, face_capacity, face_count, face_sizes, index_capacity, index_count, face_indices);
   });
 }
 

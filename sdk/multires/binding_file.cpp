@@ -22,7 +22,7 @@ constexpr uint32_t tag(const char (&s)[5]) {
   return uint32_t(uint8_t(s[0])) | uint32_t(uint8_t(s[1])) << 8 | uint32_t(uint8_t(s[2])) << 16 |
          uint32_t(uint8_t(s[3])) << 24;
 }
-constexpr uint32_t kCage = tag("CAGE"), kOptions = tag("OPTS"), kVertices = tag("VERT");
+constexpr uint32_t kCage = tag("CAGE"), kOptions = tag("OPTS"), kVertices = tag("VERT"), kSectors = tag("SECT");
 constexpr uint64_t kMaxVertices = uint64_t(1) << 28;
 
 class Writer {
@@ -112,10 +112,13 @@ std::vector<uint8_t> write_binding(const ScanBinding& b, const Cage& cage, const
       b.normal_coefficients.size() != 6 * n || (local && b.tangent_offset.size() != 2 * n) ||
       (exact && b.displacement_gradient.size() != 2 * n))
     fail(Status::invalid_argument, "write binding: the binding does not match its cage or is incomplete");
+  const bool sectors = !b.source_vertex.empty();
+  if (sectors && (b.source_vertex.size() != n || b.face_offsets.empty() || b.face_offsets.back() != b.face_vertices.size()))
+    fail(Status::invalid_argument, "write binding: inconsistent sector split");
   Writer w;
   w.bytes(reinterpret_cast<const uint8_t*>(kMagic), sizeof(kMagic));
   w.u32(kVersion);
-  w.u32(3);
+  w.u32(sectors ? 4 : 3);
   {
     WriteOptions obj;
     obj.format = FileFormat::obj;
@@ -139,6 +142,16 @@ std::vector<uint8_t> write_binding(const ScanBinding& b, const Cage& cage, const
     w.f64(b.bbox_diagonal);
     w.f64(b.max_sideways_residual);
     w.u64(b.vertices_with_sideways_residual);
+    w.f64(sectors ? options.sharp_angle_degrees : -1.0);
+    w.end(at);
+  }
+  if (sectors) {
+    const size_t at = w.begin(kSectors);
+    w.u64(b.scan_vertex_count);
+    for (uint32_t v : b.source_vertex) w.u32(v);
+    w.u64(b.face_offsets.size() - 1);
+    for (uint32_t o : b.face_offsets) w.u32(o);
+    for (uint32_t v : b.face_vertices) w.u32(v);
     w.end(at);
   }
   {
@@ -178,7 +191,10 @@ SavedBinding read_binding(const uint8_t* data, size_t size, const std::string& s
   SavedBinding saved;
   BindOptions& options = saved.options;
   ScanBinding& b = saved.binding;
-  bool have_cage = false, have_options = false, have_vertices = false, local = false, exact = false;
+  bool have_cage = false, have_options = false, have_vertices = false, have_sectors = false, local = false,
+       exact = false;
+  const uint8_t* sector_data = nullptr;
+  size_t sector_size = 0, sector_offset = 0;
   const uint8_t* vertex_data = nullptr;
   size_t vertex_size = 0, vertex_offset = 0;
   for (uint32_t s = 0; s < sections; ++s) {
@@ -221,6 +237,12 @@ SavedBinding read_binding(const uint8_t* data, size_t size, const std::string& s
       if (b.bbox_diagonal < 0 || b.max_sideways_residual < 0 || sideways > kMaxVertices)
         p.error(Status::parse_error, "negative or oversized summary figures");
       b.vertices_with_sideways_residual = size_t(sideways);
+      const double angle = p.f64("sharp angle");
+      if (!(angle < 0) && !(angle <= 180)) p.error(Status::parse_error, "sharp angle outside [0, 180]");
+      options.sharp_angle_degrees = angle < 0 ? -1.0 : angle;
+    } else if (t == kSectors) {
+      once(have_sectors, "SECT");
+      sector_data = payload, sector_size = size_t(length), sector_offset = payload_offset;
     } else if (t == kVertices) {
       once(have_vertices, "VERT");
       vertex_data = payload, vertex_size = size_t(length), vertex_offset = payload_offset;
@@ -269,6 +291,40 @@ SavedBinding read_binding(const uint8_t* data, size_t size, const std::string& s
   if (exact) {
     b.displacement_gradient.resize(2 * n);
     for (double& d : b.displacement_gradient) d = p.f64("displacement gradient");
+  }
+
+  // The sector split: present exactly when the options say so; copies refer to earlier vertices.
+  if (have_sectors != (options.sharp_angle_degrees >= 0))
+    fail(Status::parse_error, source_name + (have_sectors ? ": SECT section without a sharp angle"
+                                                          : ": sharp angle set but no SECT section"));
+  if (have_sectors) {
+    Reader q(sector_data, sector_size, source_name, sector_offset);
+    const uint64_t scan_vertices = q.u64("scan vertex count");
+    if (scan_vertices == 0 || scan_vertices > n) q.error(Status::parse_error, "scan vertex count out of range");
+    b.scan_vertex_count = size_t(scan_vertices);
+    q.need(4 * uint64_t(n), "source vertices");
+    b.source_vertex.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+      const uint32_t v = q.u32("source vertex");
+      if (i < b.scan_vertex_count ? v != i : v >= b.scan_vertex_count)
+        q.error(Status::parse_error, "source vertex " + std::to_string(i) + " out of order or range");
+      b.source_vertex[i] = v;
+    }
+    const uint64_t faces = q.u64("face count");
+    if (faces == 0 || faces > kMaxVertices * 4 || (faces + 1) * 4 > q.remaining())
+      q.error(Status::parse_error, "face count out of range");
+    b.face_offsets.resize(size_t(faces) + 1);
+    for (uint32_t& o : b.face_offsets) o = q.u32("face offset");
+    if (b.face_offsets[0] != 0) q.error(Status::parse_error, "first face offset not 0");
+    for (size_t f = 0; f < faces; ++f)
+      if (b.face_offsets[f + 1] < b.face_offsets[f] + 3 || b.face_offsets[f + 1] > (1u << 30))
+        q.error(Status::parse_error, "face " + std::to_string(f) + " has fewer than 3 vertices or bad offsets");
+    if (uint64_t(b.face_offsets.back()) * 4 > q.remaining()) q.error(Status::parse_error, "truncated face vertices");
+    b.face_vertices.resize(b.face_offsets.back());
+    for (uint32_t& v : b.face_vertices) {
+      v = q.u32("face vertex");
+      if (v >= n) q.error(Status::parse_error, "face vertex out of range");
+    }
   }
 
   // Rebuild: the limit surface, then the basis rows at the stored foot points and the table.

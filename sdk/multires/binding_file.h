@@ -13,7 +13,9 @@
 //
 // Layout (all integers and doubles little-endian): "CAGEKITB" magic, u32 format version (1),
 // u32 section count, then sections {u32 tag, u64 payload bytes, payload}: "CAGE" (OBJ text),
-// "OPTS" (options and summary figures), "VERT" (u64 vertex count, then the per-vertex arrays).
+// "OPTS" (options and summary figures), "VERT" (u64 vertex count, then the per-vertex arrays),
+// and with a sector split "SECT" (the scan vertex count, each bound vertex's source vertex, the
+// faces over the bound vertices).
 // Unknown sections are skipped (later versions may add some); every section must appear once.
 //
 // The reader treats the bytes as hostile (the fuzz harness tests/fuzz/fuzz_binding.cpp): sizes

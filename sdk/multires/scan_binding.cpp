@@ -6,6 +6,7 @@
 
 #include "core/memory_budget.h"
 #include "core/parallel_for.h"
+#include "core/sector_split.h"
 #include "core/status.h"
 #include "fit/ptex_adjacency.h"
 #include "multires/basis_rows.h"
@@ -54,11 +55,19 @@ std::vector<Vec3> vertex_normals(const PolygonMesh& mesh) {
   return normals;
 }
 
-ScanBinding bind_scan_to_cage(const Cage& cage, const PolygonMesh& scan, const BindOptions& options,
+ScanBinding bind_scan_to_cage(const Cage& cage, const PolygonMesh& input_scan, const BindOptions& options,
                               const TaskMonitor& monitor) {
   if (options.mode != DisplacementMode::normal && options.mode != DisplacementMode::local_frame)
     fail(Status::invalid_argument, "bind: unknown displacement mode");
   if (options.threads < 0) fail(Status::invalid_argument, "bind: threads must be >= 0");
+  if (!(options.sharp_angle_degrees < 0) && !(options.sharp_angle_degrees <= 180))
+    fail(Status::invalid_argument, "bind: sharp_angle_degrees must be < 0 (off) or in [0, 180]");
+  // Sharp features: the scan's vertices duplicated per smooth sector, each copy bound on its own
+  // (same position, so the same foot point; its own sector's normal).
+  const bool split_sectors = options.sharp_angle_degrees >= 0;
+  SectorSplit split;
+  if (split_sectors) split = split_vertices_by_sector(input_scan, options.sharp_angle_degrees);
+  const PolygonMesh& scan = split_sectors ? split.mesh : input_scan;
   if (scan.num_vertices() == 0) fail(Status::invalid_argument, "bind: the scan has no vertices");
   BoundingBox box;
   for (const Vec3& p : scan.positions) {
@@ -132,6 +141,12 @@ ScanBinding bind_scan_to_cage(const Cage& cage, const PolygonMesh& scan, const B
   });
   monitor.report("bind", 0.95);
   store_basis_rows(b, rows, options.exact_normals);
+  if (split_sectors) {
+    b.source_vertex = std::move(split.source_vertex);
+    b.face_offsets = scan.face_offsets;
+    b.face_vertices = scan.face_vertices;
+    b.scan_vertex_count = split.num_input_vertices;
+  }
   const double d = b.bbox_diagonal > 0 ? b.bbox_diagonal : 1.0;
   for (double r : sideways) {
     b.max_sideways_residual = std::max(b.max_sideways_residual, r / d);

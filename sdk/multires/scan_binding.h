@@ -16,8 +16,8 @@
 //
 // The compact per-cell representation the fast CPU deformer streams is built with the binding
 // (`compact`, patch_deformer_table.h); the sparse rows stay (reference, exact normals, GPU).
-// Saved to and read from files by binding_file.h. Not done yet (issue #5): one normal per smooth
-// sector at sharp features.
+// Sharp features: optionally one bound vertex (and normal) per smooth sector
+// (BindOptions::sharp_angle_degrees). Saved to and read from files by binding_file.h.
 #include <cstdint>
 #include <vector>
 
@@ -43,6 +43,12 @@ struct BindOptions {
   ClosestPointOptions closest_point;
   SurfaceOptions surface;
   int threads = 0;  // 0 = all cores
+  // Sharp features (thesis §8.5.2, AC-8.8): >= 0 duplicates every scan vertex once per smooth
+  // sector (sectors separated by edges whose faces' normals differ by more than this many
+  // degrees, and by boundary / non-manifold edges; core/sector_split.h), so each copy keeps its
+  // own sector's normal. The bound vertices are then the copies (ScanBinding::source_vertex,
+  // face_offsets, face_vertices). -1 (default): one bound vertex per scan vertex.
+  double sharp_angle_degrees = -1;
   // Also build the compact per-cell table the fast CpuDeformer streams (patch_deformer_table.h).
   bool compact_table = true;
   PatchTableOptions patch_table;
@@ -70,6 +76,13 @@ struct ScanBinding {
   // The compact representation for the CPU deformer (empty when BindOptions::compact_table is
   // off; the deformer then uses the sparse rows above).
   PatchDeformerTable compact;
+
+  // Sector split (BindOptions::sharp_angle_degrees >= 0; all three empty otherwise): bound
+  // vertex i copies scan vertex source_vertex[i] (the first scan_vertex_count bound vertices are
+  // the scan's own, the copies follow), and the scan's faces over the bound vertices are
+  // face_offsets / face_vertices (same faces, same order).
+  std::vector<uint32_t> source_vertex, face_offsets, face_vertices;
+  size_t scan_vertex_count = 0;  // with a sector split; 0 otherwise
 
   size_t num_vertices() const { return foot_points.size(); }
   size_t num_entries() const { return control_index.size(); }

@@ -218,6 +218,15 @@ if "$cli" bind "$tmp/demo/scan.obj" "$tmp/pipe/out/cage.obj" "$tmp/scan.ckb" --l
    "$cli" deform "$tmp/demo/scan.obj" "$tmp/pipe/out/cage.obj" "$tmp/edited.obj" "$tmp/from_bind.obj" --local-frame --quiet &&
    cmp -s "$tmp/from_saved.obj" "$tmp/from_bind.obj"
 then pass "bind: saved binding (.ckb) deforms exactly like binding anew"; else cat "$tmp/bind.json"; fail "bind/deform from .ckb"; fi
+# Sharp features: one vertex per smooth sector (the demo block's edges and corners get copies).
+if "$cli" bind "$tmp/demo/scan.obj" "$tmp/pipe/out/cage.obj" "$tmp/sectors.ckb" --sharp-angle 40 --json --quiet >"$tmp/sectors.json" &&
+   [ "$(json "$tmp/sectors.json" 'd["vertices"] > d["scan_vertices"] > 100')" = True ] &&
+   "$cli" deform "$tmp/demo/scan.obj" "$tmp/sectors.ckb" "$tmp/edited.obj" "$tmp/sectors_saved.obj" --quiet &&
+   "$cli" deform "$tmp/demo/scan.obj" "$tmp/pipe/out/cage.obj" "$tmp/edited.obj" "$tmp/sectors_direct.obj" --sharp-angle 40 --quiet &&
+   cmp -s "$tmp/sectors_saved.obj" "$tmp/sectors_direct.obj" &&
+   [ "$(grep -c '^v ' "$tmp/sectors_saved.obj")" = "$(json "$tmp/sectors.json" 'd["vertices"]')" ]
+then pass "bind/deform --sharp-angle: vertices duplicated per smooth sector, saved = direct"; else cat "$tmp/sectors.json"; fail "sector split"; fi
+expect_bad "bind: --sharp-angle 200" "$cli" bind "$tmp/demo/scan.obj" "$tmp/pipe/out/cage.obj" "$tmp/x.ckb" --sharp-angle 200 --quiet
 head -c 1000 "$tmp/scan.ckb" >"$tmp/truncated.ckb"
 expect_bad "deform: truncated .ckb" "$cli" deform "$tmp/demo/scan.obj" "$tmp/truncated.ckb" "$tmp/edited.obj" "$tmp/out.obj" --quiet
 expect_bad "deform: .ckb of another scan" "$cli" deform "$tmp/cube.obj" "$tmp/scan.ckb" "$tmp/edited.obj" "$tmp/out.obj" --quiet

@@ -760,6 +760,41 @@ static void multires_binding_reproduces_and_deforms_the_scan(void) {
   cagekit_context_release(context);
 }
 
+static void sector_split_duplicates_sharp_vertices(void) {
+  cagekit_context context = new_context();
+  cagekit_mesh cube_mesh = new_cube(context);
+  cagekit_cage cube = NULL;
+  cagekit_binding binding = NULL, none = NULL;
+  cagekit_bind_options options = CAGEKIT_BIND_OPTIONS_INIT;
+  cagekit_binding_info info;
+  uint32_t sources[64], sizes[16], indices[64], n = 0, faces = 0, i;
+  uint64_t index_count = 0;
+  CHECK(options.sharp_angle_degrees < 0); /* off by default */
+  CHECK_OK(cagekit_cage_create(cube_mesh, &cube));
+  options.sharp_angle_degrees = 45.0;
+  CHECK_OK(cagekit_multires_bind(cube, cube_mesh, &options, &binding));
+  info.struct_size = sizeof(info);
+  CHECK_OK(cagekit_binding_get_info(binding, &info));
+  /* Every cube corner lies on three sharp edges: one bound vertex per adjacent face. */
+  CHECK(info.has_sector_split == 1 && info.scan_vertex_count == 8 && info.vertex_count == 24);
+  CHECK_OK(cagekit_binding_get_vertex_sources(binding, 64, &n, sources));
+  CHECK(n == 24);
+  for (i = 0; i < 8; ++i) CHECK(sources[i] == i);
+  for (i = 8; i < 24; ++i) CHECK(sources[i] < 8);
+  CHECK_OK(cagekit_binding_get_faces(binding, 16, &faces, sizes, 64, &index_count, indices));
+  CHECK(faces == 6 && index_count == 24);
+  for (i = 0; i < 24; ++i) CHECK(indices[i] < 24);
+  options.sharp_angle_degrees = 181.0;
+  CHECK_STATUS(cagekit_multires_bind(cube, cube_mesh, &options, &none), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  options.sharp_angle_degrees = NAN;
+  CHECK_STATUS(cagekit_multires_bind(cube, cube_mesh, &options, &none), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(none == NULL);
+  cagekit_binding_release(binding);
+  cagekit_cage_release(cube);
+  cagekit_mesh_release(cube_mesh);
+  cagekit_context_release(context);
+}
+
 static void saved_binding_round_trips_and_bad_bytes_fail(void) {
   cagekit_context context = new_context();
   cagekit_mesh cube_mesh = new_cube(context), sphere = new_sphere(context), cage_mesh = NULL;
@@ -795,6 +830,20 @@ static void saved_binding_round_trips_and_bad_bytes_fail(void) {
   CHECK_OK(cagekit_binding_write_memory(loaded, &again));
   CHECK(cagekit_blob_size(again) == cagekit_blob_size(blob) &&
         memcmp(cagekit_blob_data(again), cagekit_blob_data(blob), cagekit_blob_size(blob)) == 0);
+  /* Without a sector split: identity sources, no faces of its own. */
+  {
+    uint32_t sources[300], n = 0, faces = 7;
+    uint64_t indices = 7;
+    CHECK(a.has_sector_split == 0 && a.scan_vertex_count == a.vertex_count);
+    CHECK_OK(cagekit_binding_get_vertex_sources(loaded, 0, &n, NULL));
+    CHECK(n == a.vertex_count);
+    CHECK_STATUS(cagekit_binding_get_vertex_sources(loaded, 2, &n, sources), CAGEKIT_ERROR_SIZE_INSUFFICIENT);
+    CHECK_OK(cagekit_binding_get_vertex_sources(loaded, 300, &n, sources));
+    for (i = 0; i < n; ++i) CHECK(sources[i] == i);
+    CHECK_OK(cagekit_binding_get_faces(loaded, 0, &faces, NULL, 0, &indices, NULL));
+    CHECK(faces == 0 && indices == 0);
+    CHECK_STATUS(cagekit_binding_get_faces(loaded, 0, NULL, NULL, 0, &indices, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  }
   /* Damaged bytes: a precise error, no handle. */
   CHECK_STATUS(cagekit_binding_read_memory(context, cagekit_blob_data(blob), cagekit_blob_size(blob) / 2, 1, &none),
                CAGEKIT_ERROR_PARSE);
@@ -1110,6 +1159,7 @@ int main(void) {
       {"memory_budget_fails_cleanly_before_allocating", memory_budget_fails_cleanly_before_allocating},
       {"multires_binding_reproduces_and_deforms_the_scan", multires_binding_reproduces_and_deforms_the_scan},
       {"saved_binding_round_trips_and_bad_bytes_fail", saved_binding_round_trips_and_bad_bytes_fail},
+      {"sector_split_duplicates_sharp_vertices", sector_split_duplicates_sharp_vertices},
       {"fit_reduces_the_error_every_pass", fit_reduces_the_error_every_pass},
       {"fit_keeps_tags_and_pinned_crease_vertices", fit_keeps_tags_and_pinned_crease_vertices},
       {"fit_rejects_bad_arguments_and_can_be_cancelled", fit_rejects_bad_arguments_and_can_be_cancelled},

@@ -132,6 +132,47 @@ TEST(BindingFile, reloaded_binding_is_identical_and_deforms_the_same) {
   }
 }
 
+TEST(BindingFile, sector_split_round_trips) {
+  // A refined creased cube: a box with sharp edges, bound with one vertex per smooth sector.
+  Cage cube;
+  cube.mesh = cagekit_test::unit_cube_quads();
+  for (size_t f = 0; f < cube.mesh.num_faces(); ++f)
+    for (uint32_t k = 0; k < 4; ++k) {
+      const uint32_t a = cube.mesh.face_vertex(f, k), b = cube.mesh.face_vertex(f, (k + 1) % 4);
+      if (a < b) cube.creases.push_back({a, b, kSharpnessInfinite});
+    }
+  RefineOptions two;
+  two.levels = 2;
+  const PolygonMesh box = refine_uniform(cube, two).mesh;
+  BindOptions options;
+  options.sharp_angle_degrees = 30;
+  const ScanBinding bound = bind_scan_to_cage(cube, box, options);
+  ASSERT_GT(bound.num_vertices(), box.num_vertices());
+  const std::vector<uint8_t> bytes = write_binding(bound, cube, options);
+  const SavedBinding loaded = read_binding(bytes.data(), bytes.size(), "box.ckb");
+  expect_same(bound, loaded.binding);
+  EXPECT_EQ(loaded.binding.source_vertex, bound.source_vertex);
+  EXPECT_EQ(loaded.binding.face_offsets, bound.face_offsets);
+  EXPECT_EQ(loaded.binding.face_vertices, bound.face_vertices);
+  EXPECT_EQ(loaded.binding.scan_vertex_count, box.num_vertices());
+  EXPECT_EQ(loaded.options.sharp_angle_degrees, 30.0);
+  EXPECT_EQ(write_binding(loaded.binding, loaded.cage, loaded.options), bytes);
+  // A copy that points at a later vertex is refused.
+  std::vector<uint8_t> bad = bytes;
+  const char sect[4] = {'S', 'E', 'C', 'T'};
+  size_t at = 16;
+  for (;;) {
+    uint64_t n;
+    std::memcpy(&n, &bad[at + 4], 8);
+    if (std::memcmp(&bad[at], sect, 4) == 0) break;
+    at += 12 + size_t(n);
+  }
+  const size_t last_source = at + 12 + 8 + 4 * (bound.num_vertices() - 1);
+  const uint32_t later = uint32_t(bound.num_vertices());
+  std::memcpy(&bad[last_source], &later, 4);
+  EXPECT_THROW(read_binding(bad.data(), bad.size(), "bad.ckb"), Error);
+}
+
 TEST(BindingFile, damaged_files_are_refused_without_a_crash) {
   const BoundScan s = make_setup(true);
   BindOptions options;
