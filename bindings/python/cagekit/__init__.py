@@ -1,0 +1,59 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""cagekit: Python bindings of the CageKit SDK over its C ABI (ctypes; no compiled extension).
+
+Structure-preserving Catmull-Clark models from dense triangle meshes: simplification to a
+quad-dominant cage with creases, fitting of its limit surface to the scan, and multiresolution
+editing of the scan through the cage.
+
+    import numpy as np, cagekit
+    scan = cagekit.Mesh.read("scan.obj")
+    cage, _ = cagekit.simplify(scan, faces=300)
+    fitted, report = cagekit.fit(cage, scan)
+    binding = cagekit.bind(fitted, scan)
+    positions, normals = cagekit.CpuDeformer(binding).deform(binding.control_points())
+
+The shared library is found through CAGEKIT_LIBRARY, a copy next to this package, or the
+system loader (see cagekit._lib). Every C call releases the GIL; errors raise CageKitError
+subclasses carrying the SDK's message; handles are released by close(), `with` or collection.
+numpy is needed for arrays only: `import cagekit` works without it.
+"""
+from . import _lib
+from ._errors import (CageKitError, CancelledError, FileIOError, InternalError, InvalidArgumentError,
+                      InvalidHandleError, InvalidMeshError, LimitExceededError, OutOfMemoryError, ParseError,
+                      SizeInsufficientError, UnsupportedFormatError, VersionMismatchError)
+from ._formats import FileFormat
+from ._handle import live_handles
+from ._records import Record
+from .cage import SHARP, BoundaryRule, Cage
+from .context import Context, LogLevel, default_context
+from .fit import LsqSolver, ProjectionMode, fit
+from .mesh import Mesh, MeshIssue, RepairSteps
+from .multires import Binding, CpuDeformer, DisplacementMode, NormalMode, bind
+from .simplify import Hierarchy, LevelQuery, simplify
+from .surface import Surface
+
+ABI_VERSION = _lib.ABI_VERSION
+MAX_SUBDIVISION_LEVELS = _lib.MAX_SUBDIVISION_LEVELS
+__version__ = "0.1.0"
+library_path = _lib.path
+
+
+def version():
+    """'MAJOR.MINOR.PATCH' of the loaded libcagekit."""
+    return _lib.lib.cagekit_version_string().decode()
+
+
+def abi_version():
+    """ABI major version of the loaded libcagekit (== ABI_VERSION, checked at import)."""
+    return _lib.lib.cagekit_abi_version()
+
+
+__all__ = [
+    "ABI_VERSION", "MAX_SUBDIVISION_LEVELS", "SHARP", "Binding", "BoundaryRule", "Cage", "CageKitError",
+    "CancelledError", "Context", "CpuDeformer", "DisplacementMode", "FileFormat", "FileIOError", "Hierarchy",
+    "InternalError", "InvalidArgumentError", "InvalidHandleError", "InvalidMeshError", "LevelQuery",
+    "LimitExceededError", "LogLevel", "LsqSolver", "Mesh", "MeshIssue", "NormalMode", "OutOfMemoryError",
+    "ParseError", "ProjectionMode", "Record", "RepairSteps", "SizeInsufficientError", "Surface",
+    "UnsupportedFormatError", "VersionMismatchError", "abi_version", "bind", "default_context", "fit",
+    "library_path", "live_handles", "simplify", "version",
+]

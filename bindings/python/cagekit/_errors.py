@@ -1,0 +1,104 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Exceptions: one CageKitError subclass per cagekit_status, carrying the SDK's message.
+
+The message is cagekit_last_error_message(context) read on the calling thread right after the
+failed call (the C library keeps the last error per thread and per context). Some classes also
+derive from the matching built-in exception (InvalidArgumentError is a ValueError,
+OutOfMemoryError a MemoryError, FileIOError an OSError), so generic handlers catch them too.
+"""
+from . import _lib
+
+
+class CageKitError(Exception):
+    """A failed CageKit call. `status` is the cagekit_status (negative int), `message` the
+    SDK's message (may be empty), `status_name` the status's English name."""
+
+    status = None
+
+    def __init__(self, message="", status=None):
+        if status is not None:
+            self.status = status
+        self.message = message
+        self.status_name = status_name(self.status) if self.status is not None else "error"
+        super().__init__(message or self.status_name)
+
+    def __str__(self):
+        return self.message or self.status_name
+
+
+class InvalidArgumentError(CageKitError, ValueError):
+    status = -1
+
+
+class InvalidHandleError(CageKitError):
+    status = -2
+
+
+class OutOfMemoryError(CageKitError, MemoryError):
+    status = -3
+
+
+class SizeInsufficientError(CageKitError):
+    status = -4
+
+
+class FileIOError(CageKitError, OSError):
+    status = -5
+
+
+class ParseError(CageKitError):
+    status = -6
+
+
+class UnsupportedFormatError(CageKitError):
+    status = -7
+
+
+class InvalidMeshError(CageKitError):
+    status = -8
+
+
+class LimitExceededError(CageKitError):
+    status = -9
+
+
+class CancelledError(CageKitError):
+    status = -10
+
+
+class InternalError(CageKitError):
+    status = -11
+
+
+class VersionMismatchError(CageKitError):
+    status = -12
+
+
+ERROR_CLASSES = {cls.status: cls for cls in (
+    InvalidArgumentError, InvalidHandleError, OutOfMemoryError, SizeInsufficientError, FileIOError, ParseError,
+    UnsupportedFormatError, InvalidMeshError, LimitExceededError, CancelledError, InternalError,
+    VersionMismatchError)}
+
+
+def status_name(status):
+    name = _lib.lib.cagekit_status_string(status)
+    return name.decode("utf-8", "replace") if name else "status %d" % status
+
+
+def last_message(context_ptr):
+    """cagekit_last_error_message(context) of the calling thread, as str."""
+    text = _lib.lib.cagekit_last_error_message(context_ptr)
+    return text.decode("utf-8", "replace") if text else ""
+
+
+def error_for(status, context_ptr):
+    """The exception for a failed status, with the thread's last message of that context."""
+    cls = ERROR_CLASSES.get(status, CageKitError)
+    return cls(last_message(context_ptr), status)
+
+
+def check(status, context_ptr):
+    """Raises the matching CageKitError when status < 0; returns status otherwise."""
+    if status < 0:
+        raise error_for(status, context_ptr)
+    return status

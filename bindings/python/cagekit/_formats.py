@@ -1,0 +1,82 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""File formats and the write options shared by meshes and cages."""
+import ctypes
+import enum
+import os
+
+from . import _lib
+from ._records import from_struct
+
+
+class FileFormat(enum.IntEnum):
+    AUTO = 0   # by extension (files) or by sniffing (memory)
+    OBJ = 1    # keeps cage tags (OpenSubdiv `t crease/corner/hole`)
+    PLY = 2
+    OFF = 3
+    DRACO = 4  # keeps cage tags
+
+
+_NAMES = {"auto": FileFormat.AUTO, "obj": FileFormat.OBJ, "ply": FileFormat.PLY, "off": FileFormat.OFF,
+          "drc": FileFormat.DRACO, "draco": FileFormat.DRACO}
+
+
+def file_format(value):
+    """FileFormat from a FileFormat, an int or a name ('obj', 'ply', 'off', 'drc'/'draco', 'auto')."""
+    if value is None:
+        return FileFormat.AUTO
+    if isinstance(value, str):
+        try:
+            return _NAMES[value.lower().lstrip(".")]
+        except KeyError:
+            raise ValueError("cagekit: unknown file format %r (obj, ply, off, drc, auto)" % value) from None
+    return FileFormat(int(value))
+
+
+def path_bytes(path):
+    return os.fsencode(os.fspath(path))
+
+
+def write_options(format, ply_binary, draco_position_bits, draco_speed):
+    return _lib.WriteOptions.new(format=int(file_format(format)), ply_binary=1 if ply_binary else 0,
+                                 draco_position_bits=int(draco_position_bits), draco_speed=int(draco_speed))
+
+
+def write_file(obj, fn_name, path, format, ply_binary, draco_position_bits, draco_speed):
+    options = write_options(format, ply_binary, draco_position_bits, draco_speed)
+    report = _lib.WriteReport.new()
+    obj._context._call(getattr(_lib.lib, fn_name), obj._handle, path_bytes(path), ctypes.byref(options),
+                       ctypes.byref(report))
+    return from_struct(report, "WriteReport")
+
+
+def write_memory(obj, fn_name, format, ply_binary, draco_position_bits, draco_speed, with_report=False):
+    if file_format(format) == FileFormat.AUTO:
+        raise ValueError("cagekit: to_bytes needs a format (obj, ply, off, drc)")
+    options = write_options(format, ply_binary, draco_position_bits, draco_speed)
+    report = _lib.WriteReport.new()
+    blob = ctypes.c_void_p()
+    obj._context._call(getattr(_lib.lib, fn_name), obj._handle, ctypes.byref(options), ctypes.byref(blob),
+                       ctypes.byref(report), outs=[(blob, "cagekit_blob_release")])
+    data = blob_bytes(blob)
+    return (data, from_struct(report, "WriteReport")) if with_report else data
+
+
+def blob_bytes(blob):
+    """The bytes of a blob handle (c_void_p), which is released."""
+    try:
+        size = _lib.lib.cagekit_blob_size(blob)
+        return ctypes.string_at(_lib.lib.cagekit_blob_data(blob), size) if size else b""
+    finally:
+        _lib.lib.cagekit_blob_release(blob)
+
+
+def input_bytes(data):
+    """(buffer object kept alive, address, size) for read-from-memory calls; any bytes-like object."""
+    view = memoryview(data).cast("B") if not isinstance(data, bytes) else data
+    if isinstance(view, bytes):
+        return view, ctypes.cast(ctypes.c_char_p(view), ctypes.c_void_p), len(view)
+    if view.readonly:
+        copy = bytes(view)
+        return copy, ctypes.cast(ctypes.c_char_p(copy), ctypes.c_void_p), len(copy)
+    buffer = (ctypes.c_char * len(view)).from_buffer(view)
+    return (view, buffer), ctypes.cast(buffer, ctypes.c_void_p), len(view)

@@ -1,0 +1,72 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The base of every Python object that owns a CageKit handle (one C reference).
+
+The reference is released deterministically by close() or a `with` block, and otherwise by
+__del__ when the object is collected. live_handles() counts the handles Python holds, for
+tests and leak checks."""
+import threading
+
+from . import _lib
+
+_live = 0
+_live_lock = threading.Lock()
+
+
+def live_handles():
+    """Number of CageKit handles currently owned by Python objects of this package."""
+    return _live
+
+
+class Handle:
+    _release_name = None  # the cagekit_*_release function of the type
+    _kind = "handle"
+
+    def __init__(self, ptr, context):
+        global _live
+        if not ptr:
+            raise ValueError("cagekit: NULL %s" % self._kind)
+        self._ptr = ptr
+        self._context = context  # the Python Context: keeps its callbacks alive while C may call them
+        with _live_lock:
+            _live += 1
+
+    @property
+    def context(self):
+        """The Context whose callbacks and error messages this object uses."""
+        return self._context
+
+    @property
+    def closed(self):
+        return self._ptr is None
+
+    @property
+    def _handle(self):
+        if self._ptr is None:
+            raise ValueError("cagekit: this %s is closed" % self._kind)
+        return self._ptr
+
+    def close(self):
+        """Releases the handle now (idempotent). Objects made from it stay valid."""
+        global _live
+        ptr, self._ptr = getattr(self, "_ptr", None), None
+        if ptr is not None:
+            getattr(_lib.lib, self._release_name)(ptr)
+            with _live_lock:
+                _live -= 1
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+        return False
+
+    def __del__(self):
+        try:
+            self.close()
+        except Exception:  # interpreter shutdown: modules may already be gone
+            pass
+
+    def __repr__(self):
+        state = "closed" if self._ptr is None else "0x%x" % self._ptr
+        return "<cagekit.%s %s>" % (type(self).__name__, state)

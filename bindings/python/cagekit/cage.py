@@ -1,0 +1,223 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Cage: a Catmull-Clark control mesh with crease, corner and hole tags (cagekit_cage).
+
+    cage = cagekit.Cage.from_arrays(positions, quads, creases=edges)   # edges: (C, 2) vertex pairs
+    fine = cage.subdivide(levels=2, limit_positions=True)
+    points, normals = cage.limit_points()
+    surface = cage.surface()                                            # evaluation at (face, u, v)
+
+Sharpness: SHARP (10.0) and above is an infinitely sharp tag (the thesis's binary crease);
+values in (0, 10) are OpenSubdiv semi-sharp creases; 0 removes a tag.
+"""
+import ctypes
+import enum
+
+from . import _arrays, _formats, _lib
+from ._handle import Handle
+from ._numpy import np
+from ._records import from_struct
+from .context import resolve
+from .mesh import Mesh, read_faces, read_positions
+
+SHARP = _lib.SHARP
+
+
+class BoundaryRule(enum.IntEnum):
+    EDGES_ONLY = 0             # boundary edges sharp, boundary vertices not pinned (default)
+    EDGES_AND_CORNERS = 1      # also pin boundary vertices with two incident edges
+
+
+def _sharpness(values, count, name):
+    if values is None:
+        return None
+    a = np.ascontiguousarray(np.broadcast_to(np.asarray(values, dtype=np.float32), (count,)))
+    return a
+
+
+class Cage(Handle):
+    """A control cage. Tag setters modify it (one thread at a time); everything else reads."""
+
+    _release_name = "cagekit_cage_release"
+    _kind = "cage"
+
+    def __init__(self, mesh):
+        """A cage whose control mesh is a copy of `mesh` (which must be valid: InvalidMeshError
+        names the first problem otherwise), without tags."""
+        out = ctypes.c_void_p()
+        mesh._context._call(_lib.lib.cagekit_cage_create, mesh._handle, ctypes.byref(out),
+                            outs=[(out, self._release_name)])
+        Handle.__init__(self, out.value, mesh._context)
+
+    @classmethod
+    def _wrap(cls, ptr, context):
+        obj = cls.__new__(cls)
+        Handle.__init__(obj, ptr, context)
+        return obj
+
+    @classmethod
+    def _make(cls, ctx, fn, *args):
+        out = ctypes.c_void_p()
+        ctx._call(fn, *args, ctypes.byref(out), outs=[(out, cls._release_name)])
+        return cls._wrap(out.value, ctx)
+
+    @classmethod
+    def from_arrays(cls, positions, faces, *, face_sizes=None, creases=None, crease_sharpness=None,
+                    corners=None, corner_sharpness=None, holes=None, boundary_rule=None, context=None):
+        """A cage from numpy arrays: faces as for Mesh.from_arrays, creases (C, 2) vertex pairs,
+        corners vertex indices, holes face indices."""
+        with Mesh.from_arrays(positions, faces, face_sizes=face_sizes, context=context) as mesh:
+            cage = cls(mesh)
+        try:
+            if creases is not None:
+                cage.set_creases(creases, crease_sharpness)
+            if corners is not None:
+                cage.set_corners(corners, corner_sharpness)
+            if holes is not None:
+                cage.set_holes(holes)
+            if boundary_rule is not None:
+                cage.boundary_rule = boundary_rule
+        except BaseException:
+            cage.close()
+            raise
+        return cage
+
+    @classmethod
+    def read(cls, path, format="auto", context=None):
+        """Reads a cage; OBJ (`t crease/corner/hole` lines) and Draco keep tags."""
+        ctx = resolve(context)
+        return cls._make(ctx, _lib.lib.cagekit_cage_read_file, ctx._handle, _formats.path_bytes(path),
+                         int(_formats.file_format(format)))
+
+    @classmethod
+    def from_bytes(cls, data, format="auto", context=None):
+        ctx = resolve(context)
+        keep, address, size = _formats.input_bytes(data)
+        return cls._make(ctx, _lib.lib.cagekit_cage_read_memory, ctx._handle, address, size,
+                         int(_formats.file_format(format)))
+
+    def write(self, path, format="auto", *, ply_binary=True, draco_position_bits=14, draco_speed=5):
+        """Writes atomically (PLY and OFF drop the tags with a logged warning)."""
+        return _formats.write_file(self, "cagekit_cage_write_file", path, format, ply_binary,
+                                   draco_position_bits, draco_speed)
+
+    def to_bytes(self, format, *, ply_binary=True, draco_position_bits=14, draco_speed=5, report=False):
+        return _formats.write_memory(self, "cagekit_cage_write_memory", format, ply_binary,
+                                     draco_position_bits, draco_speed, report)
+
+    # --- control mesh ------------------------------------------------------------------------
+    def mesh(self):
+        """A Mesh holding a copy of the control mesh."""
+        return Mesh._make(self._context, _lib.lib.cagekit_cage_get_mesh, self._handle)
+
+    @property
+    def positions(self):
+        """(N, 3) float64 control points."""
+        with self.mesh() as m:
+            return read_positions(m, m._handle)
+
+    @property
+    def faces(self):
+        with self.mesh() as m:
+            return _arrays.split_faces(*read_faces(m, m._handle))
+
+    def face_arrays(self):
+        with self.mesh() as m:
+            return read_faces(m, m._handle)
+
+    def info(self):
+        """Control-mesh statistics plus tag counts (creases, corners, holes)."""
+        info = _lib.MeshInfo.new()
+        self._context._call(_lib.lib.cagekit_cage_get_info, self._handle, ctypes.byref(info))
+        return from_struct(info, "MeshInfo")
+
+    # --- tags --------------------------------------------------------------------------------
+    def set_creases(self, vertex_pairs, sharpness=None):
+        """Replaces the crease tags: (C, 2) vertex pairs (edges of the control mesh), sharpness
+        per crease or one value (None: SHARP). InvalidArgumentError names a pair that is no edge."""
+        pairs = _arrays.indices(vertex_pairs, "crease vertex pairs")
+        if pairs.size % 2:
+            raise ValueError("cagekit: crease vertex pairs must have shape (C, 2)")
+        count = pairs.size // 2
+        sharp = _sharpness(sharpness, count, "crease sharpness")
+        self._context._call(_lib.lib.cagekit_cage_set_creases, self._handle, count, _lib.address(pairs),
+                            _lib.address(sharp))
+
+    @property
+    def creases(self):
+        """((C, 2) uint32 vertex pairs, (C,) float32 sharpness)."""
+        fn, count = _lib.lib.cagekit_cage_get_creases, ctypes.c_uint32()
+        self._context._call(fn, self._handle, 0, ctypes.byref(count), None, None)
+        pairs = np.empty((count.value, 2), dtype=np.uint32)
+        sharp = np.empty(count.value, dtype=np.float32)
+        self._context._call(fn, self._handle, count.value, ctypes.byref(count), _lib.address(pairs),
+                            _lib.address(sharp))
+        return pairs, sharp
+
+    def set_corners(self, vertices, sharpness=None):
+        verts = _arrays.indices(vertices, "corner vertices")
+        sharp = _sharpness(sharpness, verts.size, "corner sharpness")
+        self._context._call(_lib.lib.cagekit_cage_set_corners, self._handle, verts.size, _lib.address(verts),
+                            _lib.address(sharp))
+
+    @property
+    def corners(self):
+        """((K,) uint32 vertices, (K,) float32 sharpness)."""
+        fn, count = _lib.lib.cagekit_cage_get_corners, ctypes.c_uint32()
+        self._context._call(fn, self._handle, 0, ctypes.byref(count), None, None)
+        verts = np.empty(count.value, dtype=np.uint32)
+        sharp = np.empty(count.value, dtype=np.float32)
+        self._context._call(fn, self._handle, count.value, ctypes.byref(count), _lib.address(verts),
+                            _lib.address(sharp))
+        return verts, sharp
+
+    def set_holes(self, faces):
+        f = _arrays.indices(faces, "hole faces")
+        self._context._call(_lib.lib.cagekit_cage_set_holes, self._handle, f.size, _lib.address(f))
+
+    @property
+    def holes(self):
+        """(H,) uint32 hole faces."""
+        fn, count = _lib.lib.cagekit_cage_get_holes, ctypes.c_uint32()
+        self._context._call(fn, self._handle, 0, ctypes.byref(count), None)
+        faces = np.empty(count.value, dtype=np.uint32)
+        self._context._call(fn, self._handle, count.value, ctypes.byref(count), _lib.address(faces))
+        return faces
+
+    @property
+    def boundary_rule(self):
+        rule = ctypes.c_int()
+        self._context._call(_lib.lib.cagekit_cage_get_boundary_rule, self._handle, ctypes.byref(rule))
+        return BoundaryRule(rule.value)
+
+    @boundary_rule.setter
+    def boundary_rule(self, rule):
+        self._context._call(_lib.lib.cagekit_cage_set_boundary_rule, self._handle, int(rule))
+
+    # --- subdivision and the limit surface ----------------------------------------------------
+    def subdivide(self, levels=1, limit_positions=False):
+        """A new cage refined `levels` times (0..8), tags refined; limit_positions moves the
+        vertices onto the limit surface. Long operation (progress, cancel)."""
+        options = _lib.SubdivideOptions.new(levels=int(levels), limit_positions=1 if limit_positions else 0)
+        return Cage._make(self._context, _lib.lib.cagekit_cage_subdivide, self._handle, ctypes.byref(options))
+
+    def limit_points(self):
+        """((N, 3) limit positions, (N, 3) unit normals) of the control vertices."""
+        fn, count = _lib.lib.cagekit_cage_get_limit_points, ctypes.c_uint32()
+        self._context._call(fn, self._handle, 0, ctypes.byref(count), None, None)
+        pos = np.empty((count.value, 3))
+        nrm = np.empty((count.value, 3))
+        self._context._call(fn, self._handle, count.value, ctypes.byref(count), _lib.address(pos),
+                            _lib.address(nrm))
+        return pos, nrm
+
+    def surface(self, isolation_level=2, sharp_isolation_level=10):
+        """A limit-surface evaluator (a snapshot of this cage). Long operation."""
+        from .surface import Surface
+        options = _lib.SurfaceOptions.new(isolation_level=int(isolation_level),
+                                          sharp_isolation_level=int(sharp_isolation_level))
+        return Surface._make(self._context, _lib.lib.cagekit_surface_create, self._handle, ctypes.byref(options))
+
+    def fit(self, scan, **options):
+        """cagekit.fit(self, scan, **options): (fitted Cage, FitReport)."""
+        from .fit import fit
+        return fit(self, scan, **options)

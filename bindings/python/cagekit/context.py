@@ -1,0 +1,163 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Context: the owner of the log and progress callbacks of the objects made with it.
+
+    def progress(stage, fraction):      # stage: "reading", "subdivide", "fit", ...
+        print(stage, fraction)
+        return not user_pressed_escape   # False cancels: the call raises CancelledError
+
+    with cagekit.Context(progress=progress, log=print) as ctx:
+        mesh = cagekit.Mesh.read("scan.obj", context=ctx)
+
+Callbacks run on the thread that made the call, with the GIL held (ctypes takes it back for
+them; the GIL is released while the C code runs). A Python exception raised inside a callback
+never crosses into C: it is stored, the operation is cancelled (progress) and the exception is
+raised again, unchanged, when the C call returns; the SDK stays usable. Progress callables may
+return None (continue), a true value (continue) or a false value other than None (cancel).
+"""
+import ctypes
+import enum
+import threading
+import weakref
+
+from . import _errors, _lib
+from ._handle import Handle
+
+
+class LogLevel(enum.IntEnum):
+    DEBUG = 0
+    INFO = 1
+    WARNING = 2
+    ERROR = 3
+
+
+def _progress_trampoline(ref):
+    def progress(user_data, stage, fraction):
+        ctx = ref()
+        if ctx is None:
+            return 1
+        fn = ctx._progress
+        if fn is None:
+            return 1
+        local = ctx._local
+        if getattr(local, "pending", None) is not None:
+            return 0  # an earlier callback of this call failed: keep cancelling
+        try:
+            result = fn(stage.decode("utf-8", "replace") if stage else "", fraction)
+        except BaseException as e:  # never into C; re-raised after the call returns
+            local.pending = e
+            return 0
+        return 0 if (result is not None and not result) else 1
+    return _lib.PROGRESS_FN(progress)
+
+
+def _log_trampoline(ref):
+    def log(user_data, level, message):
+        ctx = ref()
+        if ctx is None or ctx._log is None:
+            return
+        try:
+            try:
+                level = LogLevel(level)
+            except ValueError:
+                pass
+            ctx._log(level, message.decode("utf-8", "replace") if message else "")
+        except BaseException as e:
+            local = ctx._local
+            if getattr(local, "pending", None) is None:
+                local.pending = e
+    return _lib.LOG_FN(log)
+
+
+class Context(Handle):
+    """A CageKit context.
+
+    log: callable(level: LogLevel, message: str) or None; log_level: the lowest level passed.
+    progress: callable(stage: str, fraction: float) -> bool/None, or None (see module doc);
+    it may be replaced any time through the `progress` attribute.
+    memory_budget_bytes: per-call memory budget (0 = unlimited): calls that would need more
+    fail with OutOfMemoryError before allocating.
+    """
+
+    _release_name = "cagekit_context_release"
+    _kind = "context"
+
+    def __init__(self, log=None, log_level=LogLevel.WARNING, progress=None, memory_budget_bytes=0):
+        self._local = threading.local()
+        self._log = log
+        self._progress = progress
+        ref = weakref.ref(self)
+        # The ctypes callback objects live as long as this Python object, which every object made
+        # with the context references, so C never calls a freed trampoline.
+        self._progress_fn = _progress_trampoline(ref)
+        self._log_fn = _log_trampoline(ref) if log is not None else _lib.LOG_FN()
+        desc = _lib.ContextDesc.new(log=self._log_fn, log_level=int(log_level), progress=self._progress_fn,
+                                    memory_budget_bytes=int(memory_budget_bytes))
+        out = ctypes.c_void_p()
+        status = _lib.lib.cagekit_context_create(ctypes.byref(desc), ctypes.byref(out))
+        _errors.check(status, None)
+        self._raw = out.value  # for error messages, also after close() while objects still use it
+        super().__init__(out.value, None)
+
+    @property
+    def context(self):
+        return self
+
+    @property
+    def progress(self):
+        return self._progress
+
+    @progress.setter
+    def progress(self, fn):
+        """Replaces the progress callable (None: none). Takes effect at the next callback."""
+        self._progress = fn
+
+    @property
+    def log(self):
+        return self._log
+
+    def cancel(self):
+        """Cancels every running and later long operation of this context (any thread) until
+        reset_cancel()."""
+        _lib.lib.cagekit_context_cancel(self._handle)
+
+    def reset_cancel(self):
+        _lib.lib.cagekit_context_reset_cancel(self._handle)
+
+    def last_error_message(self):
+        """The message of the last failed call of this thread with objects of this context."""
+        return _errors.last_message(self._raw)
+
+    def _call(self, fn, *args, outs=()):
+        """Calls a C function of this context's objects; raises the stored callback exception or
+        the status's CageKitError. outs: (c_void_p, release function name) outputs to release
+        when an exception is raised although the call made them."""
+        local = self._local
+        local.pending = None
+        status = fn(*args)
+        pending, local.pending = local.pending, None
+        if pending is not None:
+            for out, release in outs:
+                if out.value:
+                    getattr(_lib.lib, release)(out.value)
+                    out.value = None
+            raise pending
+        if status < 0:
+            raise _errors.error_for(status, self._raw)
+        return status
+
+
+_default = None
+_default_lock = threading.Lock()
+
+
+def default_context():
+    """The context used when none is given: no callbacks, no memory budget."""
+    global _default
+    with _default_lock:
+        if _default is None:
+            _default = Context()
+        return _default
+
+
+def resolve(context):
+    return default_context() if context is None else context

@@ -1,0 +1,64 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Fitting a cage's limit surface to a scan (thesis ch. 7).
+
+    fitted, report = cagekit.fit(cage, scan, max_passes=5)
+    [p.l2 for p in report.passes]     # entry 0: the initial cage; never increasing
+
+Long operation (progress stage "fit", at least once per pass; cancel), using `threads` worker
+threads inside the C library; the GIL is released for the whole call.
+"""
+import ctypes
+import enum
+
+from . import _lib
+from ._records import from_struct
+from .cage import Cage
+
+
+class ProjectionMode(enum.IntEnum):
+    EXACT = 0             # closest points on the exact limit surface (default)
+    PIECEWISE_LINEAR = 1  # on the level-2 limit mesh: faster, less accurate
+
+
+class LsqSolver(enum.IntEnum):
+    DIRECT = 0  # sparse Cholesky (default)
+    CGLS = 1    # conjugate gradients, warm-started
+
+
+def _enum(cls, value):
+    if isinstance(value, str):
+        try:
+            return cls[value.upper().replace("-", "_")]
+        except KeyError:
+            raise ValueError("cagekit: %r is not one of %s" % (value, ", ".join(m.name.lower() for m in cls))) \
+                from None
+    return cls(int(value))
+
+
+def fit(cage, scan, max_passes=5, tolerance=1e-4, fairing=0.0, tangential_weight=1.0,
+        keep_crease_vertices=False, projection=ProjectionMode.EXACT, solver=LsqSolver.DIRECT, threads=0,
+        max_projection_steps=500, projection_epsilon=1e-6, projection_seed_resolution=4):
+    """Fits `cage` (not changed) to the vertices of `scan` (a Mesh). Returns (new Cage with the
+    same faces and tags, report). The report holds pass_count, passes (a list of records with
+    l2, rms_rel, max_rel, mean_rel, max_rel_interior, seconds, unconverged_projections,
+    mean_projection_steps; entry 0 = the initial cage), initial, final, stopped_by_tolerance,
+    rejected_last_step, fairing_used, unsupported_control_vertices, bbox_diagonal, seconds.
+    Option values as the C API's cagekit_fit_options (projection/solver also as names)."""
+    options = _lib.FitOptions.new(
+        max_passes=int(max_passes), tolerance=float(tolerance), fairing=float(fairing),
+        tangential_weight=float(tangential_weight), keep_crease_vertices=1 if keep_crease_vertices else 0,
+        projection=int(_enum(ProjectionMode, projection)), solver=int(_enum(LsqSolver, solver)),
+        threads=int(threads), max_projection_steps=int(max_projection_steps),
+        projection_epsilon=float(projection_epsilon), projection_seed_resolution=int(projection_seed_resolution))
+    capacity = min(int(max_passes), 100000) + 1
+    passes = (_lib.FitPass * capacity)()
+    report = _lib.FitReport.new(pass_capacity=capacity, passes=ctypes.cast(passes, ctypes.POINTER(_lib.FitPass)))
+    out = ctypes.c_void_p()
+    cage._context._call(_lib.lib.cagekit_cage_fit, cage._handle, scan._handle, ctypes.byref(options),
+                        ctypes.byref(out), ctypes.byref(report), outs=[(out, Cage._release_name)])
+    fitted = Cage._wrap(out.value, cage._context)
+    record = from_struct(report, "FitReport", skip=("struct_size", "passes", "pass_capacity"))
+    record.passes = [from_struct(passes[i], "FitPass") for i in range(min(report.pass_count, capacity))]
+    for name in ("stopped_by_tolerance", "rejected_last_step", "fairing_used"):
+        setattr(record, name, bool(getattr(record, name)))
+    return fitted, record
