@@ -134,7 +134,8 @@ GlDeformer::GlDeformer(const ScanBinding& b, const std::vector<uint32_t>& triang
 
   const GlStateGuard guard(gl_);
   try {
-    while (gl_.GetError() != GL_NO_ERROR) {  // earlier errors of the host are not ours
+    // Earlier errors of the host are not ours (bounded: a lost context may keep reporting one).
+    for (int k = 0; k < 64 && gl_.GetError() != GL_NO_ERROR; ++k) {
     }
     compile_program();
     vertices_ = make_buffer(vertex_words.data(), 4 * vertex_words.size(), GL_STATIC_DRAW);

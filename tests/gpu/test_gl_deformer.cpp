@@ -15,6 +15,7 @@
 #include <cstring>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "egl_context.h"
@@ -428,6 +429,17 @@ void (*old_get_proc_address(const char* name, void*))(void) {
   return eglGetProcAddress(name);
 }
 
+// A loader whose glGetIntegerv reports g_fake_limit.second for the limit g_fake_limit.first.
+std::pair<GLenum, GLint> g_fake_limit;
+void APIENTRY fake_get_integerv(GLenum name, GLint* value) {
+  EglContext::load<PFNGLGETINTEGERVPROC>("glGetIntegerv")(name, value);
+  if (name == g_fake_limit.first) *value = g_fake_limit.second;
+}
+void (*limited_get_proc_address(const char* name, void*))(void) {
+  if (std::strcmp(name, "glGetIntegerv") == 0) return reinterpret_cast<void (*)(void)>(&fake_get_integerv);
+  return eglGetProcAddress(name);
+}
+
 TEST(GlDeformer, missing_features_are_an_error_not_a_crash) {
   const Scene& s = scene();
   cagekit_binding binding = s.bind(CAGEKIT_DISPLACEMENT_NORMAL);
@@ -513,6 +525,27 @@ TEST(GlDeformer, missing_features_are_an_error_not_a_crash) {
     cagekit_gl_deformer gpu = nullptr;
     EXPECT_EQ(cagekit_gl_deformer_create(binding, s.scan, old_get_proc_address, nullptr, nullptr, &gpu), CAGEKIT_SUCCESS);
     cagekit_gl_deformer_release(gpu);
+  }
+  {
+    // Limits below what the deformer needs: too few storage blocks, too small a block size.
+    EglContext ctx(EglContext::Api::es, 3, 1);
+    SKIP_WITHOUT(ctx);
+    const struct {
+      GLenum limit;
+      GLint value;
+      cagekit_status expected;
+      const char* message;
+    } cases[] = {{GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS, 2, CAGEKIT_ERROR_UNSUPPORTED_FORMAT, "4 shader storage blocks"},
+                 {GL_MAX_SHADER_STORAGE_BLOCK_SIZE, 4096, CAGEKIT_ERROR_LIMIT_EXCEEDED, "GL_MAX_SHADER_STORAGE_BLOCK_SIZE"}};
+    for (const auto& c : cases) {
+      g_fake_limit = {c.limit, c.value};
+      cagekit_gl_deformer gpu = nullptr;
+      EXPECT_EQ(cagekit_gl_deformer_create(binding, s.scan, limited_get_proc_address, nullptr, nullptr, &gpu), c.expected);
+      EXPECT_EQ(gpu, nullptr);
+      const std::string message = cagekit_last_error_message(s.context);
+      std::printf("limit 0x%04x = %d: %s\n", unsigned(c.limit), c.value, message.c_str());
+      EXPECT_NE(message.find(c.message), std::string::npos);
+    }
   }
   {
     // No context current at all.
