@@ -82,7 +82,9 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
 
   // Measured: ~3.2 KB per sample (foot points, basis rows, least-squares triplets, projection).
   check_memory_estimate(estimate_product(samples.size(), 3300), "fitting");
-  const SubdivisionSurface surface(initial, options.surface);
+  SurfaceOptions surface_options = options.surface;
+  surface_options.threads = threads;
+  const SubdivisionSurface surface(initial, surface_options);
   const PtexAdjacency adjacency(initial.mesh, surface);
   monitor.log(LogLevel::debug, "fit: limit surface built in " + std::to_string(seconds_since(start)) + " s");
   const size_t n = initial.mesh.num_vertices();

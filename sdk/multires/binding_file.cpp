@@ -330,7 +330,9 @@ SavedBinding read_binding(const uint8_t* data, size_t size, const std::string& s
   // Rebuild: the limit surface, then the basis rows at the stored foot points and the table.
   std::unique_ptr<SubdivisionSurface> surface;
   try {
-    surface = std::make_unique<SubdivisionSurface>(saved.cage, options.surface);
+    SurfaceOptions surface_options = options.surface;
+    surface_options.threads = resolve_threads(threads);
+    surface = std::make_unique<SubdivisionSurface>(saved.cage, surface_options);
   } catch (const Error& e) {
     fail(e.status() == Status::out_of_memory || e.status() == Status::cancelled ? e.status() : Status::invalid_mesh,
          source_name + ": the saved cage has no usable limit surface: " + e.what());

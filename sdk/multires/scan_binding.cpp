@@ -79,7 +79,9 @@ ScanBinding bind_scan_to_cage(const Cage& cage, const PolygonMesh& input_scan, c
   // Foot points, rows of ~20-40 entries of 3 (6) doubles + index, coefficients.
   check_memory_estimate(estimate_product(n, options.exact_normals ? 2200 : 1200), "binding the scan");
 
-  const SubdivisionSurface surface(cage, options.surface);
+  SurfaceOptions surface_options = options.surface;
+  surface_options.threads = threads;
+  const SubdivisionSurface surface(cage, surface_options);
   const PtexAdjacency adjacency(cage.mesh, surface);
   const LimitSurfaceProjector projector(surface, &adjacency, cage.mesh.positions, options.closest_point, true,
                                         threads);

@@ -21,6 +21,7 @@
 #include <map>
 #include <string>
 
+#include "core/parallel_for.h"
 #include "core/status.h"
 #include "subdiv/opensubdiv_error_handler.h"
 #include "subdiv/patch_basis.h"
@@ -183,12 +184,17 @@ struct PatchInfo {
 // built on the sub-cage of those faces and three rings of faces around them (enough for every
 // refined point of their patches to be computed from complete neighbourhoods, so the patches
 // equal those of the whole cage).
+// End-cap faces from which the Gregory region is built as two regions (on two threads when the
+// surface options allow).
+constexpr size_t kSplitGregoryRegionFaces = 64;
+
 struct GregoryRegion {
   std::unique_ptr<const Far::PatchTable> patches;
   std::unique_ptr<const Far::PatchMap> patch_map;
   std::vector<int32_t> sub_face;       // per cage face: its face in the sub-cage, or -1
   std::vector<uint32_t> sub_first_ptex;  // per sub-cage face
   std::vector<uint32_t> point_id;      // per patch point of the sub-cage: unified point id
+  StencilRows rows;                    // the region's derived rows until they join `derived`
 };
 
 }  // namespace
@@ -202,7 +208,10 @@ struct SubdivisionSurface::Impl {
   std::vector<PatchInfo> info;          // per patch of `patches`
   std::vector<uint32_t> patch_points;   // unified point ids of the regular and Stam patches
   std::vector<subdiv_detail::StamMatrices> stam;
-  std::unique_ptr<GregoryRegion> gregory;
+  // Gregory regions (sub-cages refined around sharp extraordinary vertices) and, per cage
+  // face, the region whose end caps it uses (-1: none).
+  std::vector<GregoryRegion> gregory;
+  std::vector<int32_t> gregory_of_face;
   // Unified point id p: a control vertex for p < control.size(), else row p - control.size() of
   // `derived` (a refined vertex some patch uses, or a Gregory end-cap point); derived_points
   // are those rows applied to `control`.
@@ -213,8 +222,11 @@ struct SubdivisionSurface::Impl {
   uint32_t num_control() const { return static_cast<uint32_t>(control.size()); }
 
   void build(const Cage& cage, const SurfaceOptions& options);
+  // Builds region `g` around `seed_faces` (3 rings added); its derived rows stay in g.rows
+  // with point ids num_control() + local row (joined to `derived` afterwards). Touches nothing
+  // else of the Impl, so regions can be built on several threads.
   void build_gregory_region(const Cage& cage, const std::vector<uint32_t>& seed_faces, int sharp_level,
-                            int isolation_level);
+                            int isolation_level, GregoryRegion& g) const;
   // kinds: 1 = only the values are needed (the derivative weights of Stam patches stay 0).
   void patch_weights(uint32_t ptex, double u, double v, PatchWeights* out, int kinds = 6) const;
 
@@ -357,8 +369,57 @@ void SubdivisionSurface::Impl::build(const Cage& cage, const SurfaceOptions& opt
   subdiv_detail::fail_on_opensubdiv_error(Status::invalid_mesh, "OpenSubdiv could not build the limit surface");
 
   if (!seed_faces.empty()) {
+    // Many end-cap faces: two regions, split at the median of the faces' centroids along the
+    // bounding box's longest axis, built at once when options.threads allows. The split does
+    // not depend on the thread count, so neither do the results.
+    std::sort(seed_faces.begin(), seed_faces.end());
+    seed_faces.erase(std::unique(seed_faces.begin(), seed_faces.end()), seed_faces.end());
+    std::vector<std::vector<uint32_t>> groups(1, seed_faces);
+    if (seed_faces.size() >= kSplitGregoryRegionFaces) {
+      std::vector<Vec3> centroid(num_faces);
+      BoundingBox box;
+      for (uint32_t f : seed_faces) {
+        Vec3 c;
+        for (uint32_t k = 0; k < cage.mesh.face_size(f); ++k) c += cage.mesh.positions[cage.mesh.face_vertex(f, k)];
+        centroid[f] = c * (1.0 / cage.mesh.face_size(f));
+        box.extend(centroid[f]);
+      }
+      const Vec3 extent = box.max - box.min;
+      const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
+      std::vector<uint32_t> order = seed_faces;
+      std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+        return centroid[a][axis] < centroid[b][axis] || (centroid[a][axis] == centroid[b][axis] && a < b);
+      });
+      const size_t half = order.size() / 2;
+      groups = {std::vector<uint32_t>(order.begin(), order.begin() + long(half)),
+                std::vector<uint32_t>(order.begin() + long(half), order.end())};
+    }
     const int region_level = std::max(options.isolation_level, options.sharp_extraordinary_isolation_level);
-    build_gregory_region(cage, seed_faces, std::max(sharp_level, region_level), region_level);
+    gregory.resize(groups.size());
+    const size_t workers = std::min<size_t>(groups.size(), size_t(std::max(options.threads, 1)));
+    run_ranges(groups.size(), workers, [&](size_t begin, size_t end, size_t) {
+      for (size_t r = begin; r < end; ++r) {
+        subdiv_detail::begin_opensubdiv_call();  // per-thread diagnostics
+        build_gregory_region(cage, groups[r], std::max(sharp_level, region_level), region_level, gregory[r]);
+      }
+    });
+    // Join the regions' rows to `derived`, in region order.
+    gregory_of_face.assign(num_faces, -1);
+    for (size_t r = 0; r < gregory.size(); ++r) {
+      GregoryRegion& g = gregory[r];
+      const uint32_t base = static_cast<uint32_t>(derived.size());
+      for (uint32_t& id : g.point_id)
+        if (id != kUnused && id >= nc) id += base;
+      for (size_t row = 0; row < g.rows.size(); ++row) {
+        derived.indices.insert(derived.indices.end(), g.rows.indices.begin() + g.rows.offsets[row],
+                               g.rows.indices.begin() + g.rows.offsets[row + 1]);
+        derived.weights.insert(derived.weights.end(), g.rows.weights.begin() + g.rows.offsets[row],
+                               g.rows.weights.begin() + g.rows.offsets[row + 1]);
+        derived.offsets.push_back(static_cast<uint32_t>(derived.indices.size()));
+      }
+      g.rows = StencilRows();
+      for (uint32_t f : groups[r]) gregory_of_face[f] = static_cast<int32_t>(r);
+    }
   }
 
   derived_points.assign(derived.size(), Vec3());
@@ -368,7 +429,7 @@ void SubdivisionSurface::Impl::build(const Cage& cage, const SurfaceOptions& opt
 }
 
 void SubdivisionSurface::Impl::build_gregory_region(const Cage& cage, const std::vector<uint32_t>& seed_faces,
-                                                    int sharp_level, int isolation_level) {
+                                                    int sharp_level, int isolation_level, GregoryRegion& g) const {
   const PolygonMesh& mesh = cage.mesh;
   const size_t num_faces = mesh.num_faces();
   std::vector<uint32_t> vertex_face_offsets(mesh.num_vertices() + 1, 0), vertex_faces;
@@ -395,7 +456,6 @@ void SubdivisionSurface::Impl::build_gregory_region(const Cage& cage, const std:
     frontier.swap(next);
   }
 
-  GregoryRegion& g = *(gregory = std::make_unique<GregoryRegion>());
   Cage sub;
   sub.boundary = cage.boundary;
   std::vector<int64_t> sub_vertex(mesh.num_vertices(), -1);
@@ -465,11 +525,11 @@ void SubdivisionSurface::Impl::build_gregory_region(const Cage& cage, const std:
   for (int p : all_points) {
     uint32_t& id = g.point_id.at(static_cast<size_t>(p));
     if (id != kUnused) continue;
-    id = num_control() + static_cast<uint32_t>(derived.size());
+    id = num_control() + static_cast<uint32_t>(g.rows.size());
     const size_t row = static_cast<size_t>(p) - sub_control;
     if (!local && !table) fail(Status::internal_error, "Gregory patch point without a stencil");
     // AppendLocalPointStencilTable returns the refined rows followed by the local ones.
-    derived.append_row(local ? local->GetStencil(static_cast<Far::Index>(row))
+    g.rows.append_row(local ? local->GetStencil(static_cast<Far::Index>(row))
                              : table->GetStencil(static_cast<Far::Index>(row)),
                        &cage_vertex);
   }
@@ -528,8 +588,10 @@ void SubdivisionSurface::Impl::patch_weights(uint32_t ptex, double u, double v, 
     return;
   }
   // Gregory end cap (or a regular patch) of the sub-cage.
-  const GregoryRegion& g = *gregory;
   const uint32_t face = ptex_to_face[ptex];
+  if (gregory_of_face.empty() || gregory_of_face[face] < 0)
+    fail(Status::internal_error, "end-cap face outside the Gregory regions");
+  const GregoryRegion& g = gregory[static_cast<size_t>(gregory_of_face[face])];
   const int32_t sub_face = g.sub_face[face];
   if (sub_face < 0) fail(Status::internal_error, "end-cap face outside the Gregory region");
   const uint32_t sub_ptex = g.sub_first_ptex[static_cast<size_t>(sub_face)] + (ptex - first_ptex[face]);

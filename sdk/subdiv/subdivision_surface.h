@@ -53,6 +53,10 @@ struct SurfaceOptions {
   // patch. Feature-adaptive refinement makes the cost grow linearly with the level and only
   // around those vertices. Range [isolation_level, kMaxIsolationLevel].
   int sharp_extraordinary_isolation_level = kMaxIsolationLevel;
+  // Threads for building (not for evaluating): with many end-cap faces the region around
+  // sharp extraordinary vertices is built as two sub-cages, at once when threads >= 2. The
+  // results do not depend on it.
+  int threads = 1;
 };
 
 struct SurfacePoint {

@@ -734,6 +734,52 @@ TEST(SubdivisionSurface, positions_agree_with_opensubdiv_bfr) {
   }
 }
 
+// Many end-cap faces (a triangle sphere with a third of its edges creased): the Gregory region
+// is built as two sub-cages (on two threads when asked). Same positions as OpenSubdiv's Bfr at
+// the same approximation level, and the same bits with 1 or 2 build threads.
+TEST(SubdivisionSurface, split_gregory_region_agrees_with_bfr_and_ignores_threads) {
+  Cage cage = cage_of(cagekit_test::triangle_sphere(2));
+  for (size_t f = 0; f < cage.mesh.num_faces(); ++f)
+    for (uint32_t k = 0; k < 3; ++k) {
+      const uint32_t a = cage.mesh.face_vertex(f, k), b = cage.mesh.face_vertex(f, (k + 1) % 3);
+      if (a < b && (a + b) % 3 == 0) cage.creases.push_back({a, b, cagekit::kSharpnessInfinite});
+    }
+  SurfaceOptions one, two;
+  one.sharp_extraordinary_isolation_level = two.sharp_extraordinary_isolation_level = one.isolation_level;
+  two.threads = 2;
+  const SubdivisionSurface s1(cage, one), s2(cage, two);
+  auto refiner = cagekit::subdiv_detail::create_topology_refiner(cage);
+  OpenSubdiv::Bfr::RefinerSurfaceFactory<>::Options options;
+  options.SetApproxLevelSmooth(one.isolation_level).SetApproxLevelSharp(one.isolation_level);
+  const OpenSubdiv::Bfr::RefinerSurfaceFactory<> factory(*refiner, options);
+  double max_gap = 0;
+  int compared = 0;
+  for (const Sample& p : random_samples(s1, cage, 400, 17)) {
+    const SurfacePoint a = s1.evaluate(p.ptex, p.u, p.v), b = s2.evaluate(p.ptex, p.u, p.v);
+    ASSERT_TRUE(a.position.x == b.position.x && a.position.y == b.position.y && a.position.z == b.position.z &&
+                a.du.x == b.du.x && a.dv.z == b.dv.z);
+    if (in_smooth_ev_corner(s1, cage, p, one.isolation_level)) continue;
+    const uint32_t face = s1.base_face_of_ptex(p.ptex);
+    OpenSubdiv::Bfr::Surface<double> bfr;
+    ASSERT_TRUE(factory.InitVertexSurface(static_cast<int>(face), &bfr));
+    double uv[2] = {p.u, p.v};
+    const auto param = bfr.GetParameterization();
+    if (param.HasSubFaces()) {
+      const double sub[2] = {p.u, p.v};
+      param.ConvertNormalizedSubFaceToCoord<double>(static_cast<int>(p.ptex - s1.ptex_face(face)), sub, uv);
+    }
+    std::vector<double> points(3 * static_cast<size_t>(bfr.GetNumPatchPoints()));
+    bfr.PreparePatchPoints(&cage.mesh.positions[0].x, 3, points.data(), 3);
+    double position[3];
+    bfr.Evaluate(uv, points.data(), 3, position);
+    max_gap = std::max(max_gap, cagekit::distance(a.position, Vec3(position[0], position[1], position[2])));
+    ++compared;
+  }
+  std::cout << cage.creases.size() << " creases: " << compared << " samples, max gap to Bfr " << max_gap << "\n";
+  EXPECT_LT(max_gap, 1e-12);
+  EXPECT_GT(compared, 100);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Continuity across ptex edges (criterion 10), from the shared level-K vertices
 
