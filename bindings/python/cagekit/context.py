@@ -11,8 +11,10 @@
 Callbacks run on the thread that made the call, with the GIL held (ctypes takes it back for
 them; the GIL is released while the C code runs). A Python exception raised inside a callback
 never crosses into C: it is stored, the operation is cancelled (progress) and the exception is
-raised again, unchanged, when the C call returns; the SDK stays usable. Progress callables may
-return None (continue), a true value (continue) or a false value other than None (cancel).
+raised again, unchanged, when the C call returns; the SDK stays usable. This includes
+KeyboardInterrupt: with a progress callable set, Ctrl-C cancels a long call and raises
+KeyboardInterrupt when it returns. Progress callables may return None (continue), a true value
+(continue) or a false value other than None (cancel).
 """
 import ctypes
 import enum
@@ -32,38 +34,42 @@ class LogLevel(enum.IntEnum):
 
 def _progress_trampoline(ref):
     def progress(user_data, stage, fraction):
-        ctx = ref()
-        if ctx is None:
-            return 1
-        fn = ctx._progress
-        if fn is None:
-            return 1
-        local = ctx._local
-        if getattr(local, "pending", None) is not None:
-            return 0  # an earlier callback of this call failed: keep cancelling
+        # The whole body is inside try: even a KeyboardInterrupt delivered here (Ctrl-C during a
+        # long call) is stored, cancels the operation and is raised when the call returns.
+        local = None
         try:
-            result = fn(stage.decode("utf-8", "replace") if stage else "", fraction)
+            ctx = ref()
+            if ctx is None:
+                return 1
+            local = ctx._local
+            if ctx._progress is None:
+                return 1
+            if getattr(local, "pending", None) is not None:
+                return 0  # an earlier callback of this call failed: keep cancelling
+            result = ctx._progress(stage.decode("utf-8", "replace") if stage else "", fraction)
+            return 0 if (result is not None and not result) else 1
         except BaseException as e:  # never into C; re-raised after the call returns
-            local.pending = e
+            if local is not None and getattr(local, "pending", None) is None:
+                local.pending = e
             return 0
-        return 0 if (result is not None and not result) else 1
     return _lib.PROGRESS_FN(progress)
 
 
 def _log_trampoline(ref):
     def log(user_data, level, message):
-        ctx = ref()
-        if ctx is None or ctx._log is None:
-            return
+        local = None
         try:
+            ctx = ref()
+            if ctx is None or ctx._log is None:
+                return
+            local = ctx._local
             try:
                 level = LogLevel(level)
             except ValueError:
                 pass
             ctx._log(level, message.decode("utf-8", "replace") if message else "")
-        except BaseException as e:
-            local = ctx._local
-            if getattr(local, "pending", None) is None:
+        except BaseException as e:  # stored; raised when the call returns (a log cannot cancel)
+            if local is not None and getattr(local, "pending", None) is None:
                 local.pending = e
     return _lib.LOG_FN(log)
 

@@ -87,6 +87,33 @@ class Progress(HandleCheck):
                 fitted, _ = cagekit.fit(cage, scan, max_passes=1)
                 fitted.close()
 
+    def test_ctrl_c_during_a_long_call_cancels_it_and_raises_keyboard_interrupt(self):
+        import _thread
+        calls = []
+
+        def progress(stage, fraction):
+            calls.append(stage)
+            if len(calls) == 2:
+                _thread.interrupt_main()  # as Ctrl-C: delivered in the next Python bytecode
+
+        with cagekit.Context(progress=progress) as ctx, creased_cube(ctx) as cage:
+            before = cagekit.live_handles()
+            with self.assertRaises(KeyboardInterrupt):
+                cage.subdivide(levels=6)
+            self.assertEqual(cagekit.live_handles(), before)
+            self.assertLess(len(calls), 10)  # cancelled at once
+            ctx.progress = None
+            with cage.subdivide(levels=1) as fine:
+                self.assertEqual(fine.info().faces, 24)
+
+    def test_calls_release_the_gil(self):
+        # ctypes.CDLL (not PyDLL) functions drop the GIL for the duration of each foreign call.
+        import ctypes
+        from cagekit import _lib
+        self.assertIsInstance(_lib.lib, ctypes.CDLL)
+        self.assertNotIsInstance(_lib.lib, ctypes.PyDLL)
+        self.assertEqual(_lib.lib.cagekit_cpu_deformer_deform._flags_ & ctypes._FUNCFLAG_PYTHONAPI, 0)
+
     def test_cancel_from_another_thread(self):
         started, cancelled = threading.Event(), threading.Event()
 
