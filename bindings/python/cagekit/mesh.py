@@ -204,9 +204,14 @@ class Mesh(Handle):
         """Distances from this (input) mesh to `approximation` (a Mesh, or a Cage's control mesh),
         relative to this mesh's bbox diagonal: hausdorff_rel, hausdorff_sym_rel, mean_rel."""
         other = approximation.mesh() if hasattr(approximation, "mesh") else approximation
-        error = _lib.ApproximationError.new()
-        self._context._call(_lib.lib.cagekit_mesh_measure_error, self._handle, other._handle, ctypes.byref(error))
-        return from_struct(error, "ApproximationError")
+        try:
+            error = _lib.ApproximationError.new()
+            self._context._call(_lib.lib.cagekit_mesh_measure_error, self._handle, other._handle,
+                                ctypes.byref(error))
+            return from_struct(error, "ApproximationError")
+        finally:
+            if other is not approximation:
+                other.close()
 
 
 def _validation_record(report, message):

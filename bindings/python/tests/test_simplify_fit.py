@@ -34,6 +34,7 @@ class Simplification(HandleCheck):
                 self.assertEqual((report.quads, report.triangles, report.pentagons, report.creases), (6, 0, 0, 12))
                 info = cage.info()
                 self.assertEqual((info.vertices, info.faces, info.quads, info.creases, info.genus), (8, 6, 6, 12, 0))
+                self.assertLess(mesh.measure_error(cage).hausdorff_rel, 0.01)  # a Cage's control mesh
             with hierarchy.polygon_mesh() as level_mesh:
                 self.assertEqual(level_mesh.counts()[:2], (8, 6))
                 error = mesh.measure_error(level_mesh)
