@@ -22,8 +22,13 @@
 
 CAGEKIT_NAMESPACE_BEGIN
 
+// The limit surface the fit works on: smooth extraordinary vertices are exact at any isolation
+// level (Stam), so level 3 only shrinks their Stam corner squares (cheaper evaluations); the
+// end caps around sharp extraordinary vertices at level 4 (bunny figures equal to 4 digits with
+// levels 2-3 / 4-6, the build twice as fast as at 6).
 inline SurfaceOptions fit_surface_options() {
   SurfaceOptions options;
+  options.isolation_level = 3;
   options.sharp_extraordinary_isolation_level = 4;
   return options;
 }
