@@ -106,6 +106,35 @@ class Progress(HandleCheck):
             with cage.subdivide(levels=1) as fine:
                 self.assertEqual(fine.info().faces, 24)
 
+    def test_python_threads_run_while_a_call_is_blocked_in_c(self):
+        # A read from a FIFO blocks inside the C call until this thread writes the file: that can
+        # only happen if the call released the GIL (else: a deadlock, ended by faulthandler).
+        import faulthandler
+        import os
+        import tempfile
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "pipe.obj")
+            os.mkfifo(path)
+            result = []
+
+            def read():
+                try:
+                    with cagekit.Mesh.read(path) as mesh:
+                        result.append(mesh.counts())
+                except Exception as e:  # reported below
+                    result.append(e)
+
+            faulthandler.dump_traceback_later(120, exit=True)
+            try:
+                reader = threading.Thread(target=read)
+                reader.start()
+                with open(path, "w") as f:
+                    f.write("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+                reader.join(60)
+            finally:
+                faulthandler.cancel_dump_traceback_later()
+            self.assertEqual(result, [(3, 1, 3)])
+
     def test_calls_release_the_gil(self):
         # ctypes.CDLL (not PyDLL) functions drop the GIL for the duration of each foreign call.
         import ctypes
