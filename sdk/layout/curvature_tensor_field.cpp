@@ -299,9 +299,16 @@ Tensor vertex_tensor(const Context& cx, uint32_t v, double r, DiskScratch& s) {
     const uint32_t f = s.queue[qi];
     const uint32_t c0 = mesh.face_offsets[f];
     const Vec3& n = cx.face_normal[f];
-    if (dot(n, n) > 0.0)
-      area += triangle_ball_area(mesh.positions[mesh.face_vertices[c0]], mesh.positions[mesh.face_vertices[c0 + 1]],
-                                 mesh.positions[mesh.face_vertices[c0 + 2]], n, c, r);
+    const Vec3& q0 = mesh.positions[mesh.face_vertices[c0]];
+    const Vec3& q1 = mesh.positions[mesh.face_vertices[c0 + 1]];
+    const Vec3& q2 = mesh.positions[mesh.face_vertices[c0 + 2]];
+    const double r2 = r * r;
+    if (dot(n, n) > 0.0) {  // zero-area faces add no area
+      if (dot(q0 - c, q0 - c) <= r2 && dot(q1 - c, q1 - c) <= r2 && dot(q2 - c, q2 - c) <= r2)
+        area += 0.5 * norm(cross(q1 - q0, q2 - q0));  // the ball is convex: the whole face is inside
+      else
+        area += triangle_ball_area(q0, q1, q2, n, c, r);
+    }
     for (uint32_t k = 0; k < 3; ++k) {
       const uint32_t e = map.corner_edge[c0 + k];
       if (s.edge_stamp[e] == st) continue;

@@ -2,6 +2,7 @@
 // Curvature tensor field (thesis ch. 5 Stage I, spec thesis-ch4-6.md §1.2, AC5-1..AC5-3).
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -470,4 +471,42 @@ TEST(CurvatureTensorField, FandiskWithFeatures) {
               f.disk_radius, barriers, confident, 100.0 * double(confident) / double(m.num_faces()));
   EXPECT_GT(barriers, 0u);
   EXPECT_GT(confident, m.num_faces() / 2);
+}
+
+// AC5-1 with the thesis's own radius (r = 1% of the bbox diagonal) on a finer sphere.
+TEST(CurvatureTensorField, SphereWithThesisRadius) {
+  const double R = 3.0;
+  PolygonMesh m = cagekit_test::triangle_sphere(7);  // 131072 triangles
+  for (Vec3& p : m.positions) p *= R;
+  CurvatureOptions o;
+  o.disk_radius_bbox = 0.01;
+  o.smoothing_iterations = 0;
+  o.threads = 2;
+  const auto t0 = std::chrono::steady_clock::now();
+  const CurvatureField f = cagekit::estimate_curvature_field(m, o);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("sphere (131K triangles), r = 1%% of the diagonal = %.4f: mean k_max %.5f, mean k_min %.5f (1/R %.5f), "
+              "%.2f s on 2 threads\n",
+              f.disk_radius, mean(f.vertex_k_max), mean(f.vertex_k_min), 1 / R, seconds);
+  EXPECT_NEAR(f.disk_radius, 0.01 * m.bounding_box().diagonal(), 1e-12);
+  EXPECT_NEAR(mean(f.vertex_k_max) * R, 1.0, 0.05);
+  EXPECT_NEAR(mean(f.vertex_k_min) * R, 1.0, 0.05);
+}
+
+// Real scan (when present): run time on the bunny, default options.
+TEST(CurvatureTensorField, BunnyRunTime) {
+  const std::string path = cagekit_test::shared_mesh_path("stanford-bunny.obj");
+  if (path.empty()) GTEST_SKIP() << "shared mesh stanford-bunny.obj not present";
+  const PolygonMesh m = cagekit_test::load_mesh(path);
+  if (!m.all_faces_have_size(3)) GTEST_SKIP() << "stanford-bunny.obj is not all triangles";
+  CurvatureOptions o;
+  const auto t0 = std::chrono::steady_clock::now();
+  const CurvatureField f = cagekit::estimate_curvature_field(m, o);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  size_t confident = 0;
+  for (double c : f.face_confidence) confident += c >= std::cos(kPi / 6);
+  std::printf("bunny: %zu triangles, r=%.5f, %.2f s (1 thread, 5 smoothing iterations), confident faces %.1f%%\n",
+              m.num_faces(), f.disk_radius, seconds, 100.0 * double(confident) / double(m.num_faces()));
+  for (size_t v = 0; v < m.num_vertices(); ++v)
+    ASSERT_TRUE(std::isfinite(f.vertex_k_max[v]) && std::isfinite(f.vertex_k_min[v]));
 }
