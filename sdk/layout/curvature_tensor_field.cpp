@@ -567,7 +567,8 @@ CurvatureField::Tensor interpolate_tensor(const PolygonMesh& mesh, const Curvatu
 
 FlattenedFace flatten_face(const PolygonMesh& mesh, const CurvatureField& field, uint32_t face) {
   if (face >= mesh.num_faces() || mesh.face_size(face) != 3 || field.vertex_t_min.size() != mesh.num_vertices() ||
-      field.vertex_normal.size() != mesh.num_vertices())
+      field.vertex_normal.size() != mesh.num_vertices() || field.vertex_k_min.size() != mesh.num_vertices() ||
+      field.vertex_k_max.size() != mesh.num_vertices())
     fail(Status::invalid_argument, "flatten_face: face out of range, not a triangle, or field of another mesh");
   for (int i = 0; i < 3; ++i)
     if (mesh.face_vertex(face, i) >= mesh.num_vertices())

@@ -132,6 +132,12 @@ TEST(CurvatureTensorField, CylinderPrincipalCurvaturesAndAxis) {
     kmax.push_back(f.vertex_k_max[v]);
     kmin.push_back(std::fabs(f.vertex_k_min[v]));
     if (line_angle(f.vertex_t_min[v], {0, 0, 1}) < 5.0) ++axis_ok;
+    // The swapped pairing (5.6) on the raw estimate (5.2): the axis (the minimum-curvature
+    // direction) is the eigenvector of T(v) whose eigenvalue is k_max ≈ 1/R.
+    const CurvatureField::Tensor& T = f.raw_vertex_tensor[v];
+    EXPECT_NEAR(T[2], f.vertex_k_max[v], 1e-9);  // zᵀ T z
+    EXPECT_NEAR(T[4], 0.0, 1e-9);                // (T z)·x
+    EXPECT_NEAR(T[5], 0.0, 1e-9);                // (T z)·y
     // frame: unit, tangent, orthogonal
     EXPECT_NEAR(cagekit::norm(f.vertex_t_min[v]), 1.0, 1e-12);
     EXPECT_NEAR(cagekit::dot(f.vertex_t_min[v], f.vertex_normal[v]), 0.0, 1e-12);
