@@ -1010,7 +1010,8 @@ typedef struct cagekit_gl_deformer_info {
   double acmr_before;                  /* average cache miss ratio (16-entry FIFO) of the scan's */
   double acmr_after;                   /* triangles as given and as uploaded */
   uint64_t gpu_bytes;                  /* bytes of GL buffer memory the deformer holds */
-  uint32_t reference_floats_per_vertex; /* reference mode: 16 + 3|Q| once a set is given, else 0 */
+  uint32_t reference_floats_per_vertex; /* reference mode: 16 + 3|Q| once a set is given (28 in
+                                          the affine-frame variant), else 0 */
   uint32_t reference_max_edited;       /* reference mode: the largest |Q| (GL_MAX_VERTEX_ATTRIBS - 5) */
 } cagekit_gl_deformer_info;
 
@@ -1075,6 +1076,23 @@ CAGEKIT_API cagekit_status cagekit_gl_deformer_set_reference_set(cagekit_gl_defo
                                                                  uint32_t control_count);
 CAGEKIT_API cagekit_status cagekit_gl_deformer_deform_reference(cagekit_gl_deformer deformer, const double* control,
                                                                 uint32_t control_count);
+/* The affine-frame variant of the reference mode (§8.6.2 (b), after Botsch & Kobbelt 2004):
+ * every point of Q moves by one affine map, given by where it takes four frame points.
+ * set_reference_affine: Q = `edited` (edited_count distinct indices, any number), `frame` the 12
+ * coordinates of the frame points q_0..q_3 (not coplanar) in the pose of `control` (control_count
+ * xyz triples, all control points). Each point of Q is written c_j = sum_l xi_jl q_l (8.13), so
+ * the per-vertex data is 28 floats whatever |Q| (7 coefficients, 9 fixed, 3 x 4 combined
+ * weights). deform_reference_affine then uploads only the 4 moved frame points (`frame`, 12
+ * numbers). Normal displacement mode only. Errors: INVALID_HANDLE, INVALID_ARGUMENT (NULL
+ * arrays, counts, an index out of range or repeated, a non-finite or coplanar frame, a local-frame
+ * binding, deform_reference_affine before a set_reference_affine), UNSUPPORTED_FORMAT,
+ * OUT_OF_MEMORY. GL thread only; the host's GL state is left unchanged. */
+CAGEKIT_API cagekit_status cagekit_gl_deformer_set_reference_affine(cagekit_gl_deformer deformer,
+                                                                    const uint32_t* edited, uint32_t edited_count,
+                                                                    const double* frame, const double* control,
+                                                                    uint32_t control_count);
+CAGEKIT_API cagekit_status cagekit_gl_deformer_deform_reference_affine(cagekit_gl_deformer deformer,
+                                                                       const double* frame);
 
 /* Copies the last deform's result to the CPU (waits for the GPU; for tests and tools, not for
  * drawing): positions and normals (either may be NULL) receive vertex_count xyz triples, for

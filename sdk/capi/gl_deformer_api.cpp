@@ -129,6 +129,28 @@ CAGEKIT_API cagekit_status cagekit_gl_deformer_deform_reference(cagekit_gl_defor
   });
 }
 
+CAGEKIT_API cagekit_status cagekit_gl_deformer_set_reference_affine(cagekit_gl_deformer deformer,
+                                                                    const uint32_t* edited, uint32_t edited_count,
+                                                                    const double* frame, const double* control,
+                                                                    uint32_t control_count) {
+  return guarded(context_of(deformer), [&] {
+    cagekit_gl_deformer_t& d = checked(deformer, "deformer");
+    if (edited_count > 0) require_not_null(edited, "edited");
+    require_not_null(frame, "frame");
+    read_control(d, control, control_count);
+    d.deformer->set_reference_affine(std::vector<uint32_t>(edited, edited + edited_count), frame, d.control.data());
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_gl_deformer_deform_reference_affine(cagekit_gl_deformer deformer,
+                                                                       const double* frame) {
+  return guarded(context_of(deformer), [&] {
+    cagekit_gl_deformer_t& d = checked(deformer, "deformer");
+    require_not_null(frame, "frame");
+    d.deformer->deform_reference_affine(frame);
+  });
+}
+
 CAGEKIT_API cagekit_status cagekit_gl_deformer_get_buffers(cagekit_gl_deformer deformer,
                                                            cagekit_gl_deformer_buffers* buffers) {
   return guarded(context_of(deformer), [&] {

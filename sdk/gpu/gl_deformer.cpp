@@ -3,6 +3,7 @@
 
 #include <meshoptimizer.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -272,12 +273,47 @@ std::string reference_prefix(bool es, size_t q) {
 }  // namespace
 
 void GlDeformer::set_reference_set(const std::vector<uint32_t>& edited, const float* control) {
+  // Slot k of the dynamic attributes is the k-th point of Q itself (weight 1).
+  std::vector<double> mix(edited.size() * edited.size(), 0.0);
+  for (size_t k = 0; k < edited.size(); ++k) mix[k * edited.size() + k] = 1.0;
+  build_reference(edited, mix, edited.size(), control);
+  reference_affine_ = false;
+}
+
+void GlDeformer::set_reference_affine(const std::vector<uint32_t>& edited, const double frame[12], const float* control) {
+  // Affine coordinates xi_j of every point c_j of Q in the frame (q_0..q_3):
+  // [q_0 q_1 q_2 q_3; 1 1 1 1] xi_j = [c_j; 1], a 4x4 solve (Gaussian elimination, pivoting).
+  for (int k = 0; k < 12; ++k)
+    if (!std::isfinite(frame[k])) fail(Status::invalid_argument, "gl deformer: the affine frame is not finite");
+  const Vec3 q0{frame[0], frame[1], frame[2]}, e1 = Vec3{frame[3], frame[4], frame[5]} - q0,
+             e2 = Vec3{frame[6], frame[7], frame[8]} - q0, e3 = Vec3{frame[9], frame[10], frame[11]} - q0;
+  const double volume = dot(e1, cross(e2, e3));
+  const double scale = std::max({norm(e1), norm(e2), norm(e3)});
+  if (!(std::abs(volume) > 1e-9 * scale * scale * scale))
+    fail(Status::invalid_argument, "gl deformer: the affine frame's four points are (nearly) coplanar");
+  std::vector<double> mix(4 * edited.size());
+  for (size_t k = 0; k < edited.size(); ++k) {
+    if (edited[k] >= control_count_)
+      fail(Status::invalid_argument, "gl deformer: edited control point " + std::to_string(edited[k]) + " is out of range");
+    // c - q0 = a e1 + b e2 + c e3 (Cramer), xi = (1 - a - b - c, a, b, c).
+    const Vec3 d = Vec3{double(control[3 * size_t(edited[k])]), double(control[3 * size_t(edited[k]) + 1]),
+                        double(control[3 * size_t(edited[k]) + 2])} - q0;
+    const double a = dot(d, cross(e2, e3)) / volume, bb = dot(e1, cross(d, e3)) / volume,
+                 c = dot(e1, cross(e2, d)) / volume;
+    mix[4 * k] = 1 - a - bb - c, mix[4 * k + 1] = a, mix[4 * k + 2] = bb, mix[4 * k + 3] = c;
+  }
+  build_reference(edited, mix, 4, control);
+  reference_affine_ = true;
+}
+
+void GlDeformer::build_reference(const std::vector<uint32_t>& edited, const std::vector<double>& mix, size_t slots,
+                                 const float* control) {
   const ScanBinding& b = binding_;
   if (b.mode != DisplacementMode::normal)
     fail(Status::invalid_argument, "gl deformer: the reference mode is the thesis's normal-displacement mode; the "
                                    "binding uses local-frame displacement");
   const uint32_t max_q = reference_max_edited();
-  if (edited.empty() || edited.size() > max_q)
+  if (edited.empty() || slots > max_q)
     fail(Status::invalid_argument, "gl deformer: the reference mode takes 1.." + std::to_string(max_q) +
                                        " edited control points (vertex attributes), got " + std::to_string(edited.size()));
   std::vector<int> slot(control_count_, -1);
@@ -288,7 +324,7 @@ void GlDeformer::set_reference_set(const std::vector<uint32_t>& edited, const fl
       fail(Status::invalid_argument, "gl deformer: edited control point " + std::to_string(edited[k]) + " is listed twice");
     slot[edited[k]] = int(k);
   }
-  const size_t q = edited.size(), floats = 16 + 3 * q, n = vertex_count_;
+  const size_t q = slots, floats = 16 + 3 * q, n = vertex_count_;
   if (uint64_t(floats) * 4 * n > uint64_t(PTRDIFF_MAX)) fail(Status::limit_exceeded, "gl deformer: reference data too large");
   std::vector<float> data(floats * n, 0.0f);
   for (size_t i = 0; i < n; ++i) {
@@ -300,8 +336,12 @@ void GlDeformer::set_reference_set(const std::vector<uint32_t>& edited, const fl
     for (uint32_t e = b.row_offsets[i]; e < b.row_offsets[i + 1]; ++e) {
       const uint32_t j = b.control_index[e];
       if (slot[j] >= 0) {
-        float* w = &v[16 + 3 * size_t(slot[j])];
-        w[0] += float(b.phi[e]), w[1] += float(b.phi_u[e]), w[2] += float(b.phi_v[e]);
+        for (size_t l = 0; l < slots; ++l) {
+          const double x = mix[size_t(slot[j]) * slots + l];
+          if (x == 0) continue;
+          float* w = &v[16 + 3 * l];
+          w[0] += float(x * b.phi[e]), w[1] += float(x * b.phi_u[e]), w[2] += float(x * b.phi_v[e]);
+        }
         continue;
       }
       for (int c = 0; c < 3; ++c) {
@@ -314,7 +354,7 @@ void GlDeformer::set_reference_set(const std::vector<uint32_t>& edited, const fl
 
   const GlStateGuard guard(gl_, true);
   // The vertex program for this |Q| (recompiled when |Q| changes; one program per deformer).
-  if (reference_program_ == 0 || reference_q_.size() != q) {
+  if (reference_program_ == 0 || reference_slots_ != q) {
     if (reference_program_ != 0) gl_.DeleteProgram(reference_program_), reference_program_ = 0;
     reference_q_.clear();
     const std::string vs_prefix = reference_prefix(version_.es, q);
@@ -375,16 +415,32 @@ void GlDeformer::set_reference_set(const std::vector<uint32_t>& edited, const fl
   attribute(0, 4, 0), attribute(1, 3, 4), attribute(2, 3, 7), attribute(3, 3, 10), attribute(4, 3, 13);
   for (size_t k = 0; k < q; ++k) attribute(GLuint(5 + k), 3, 16 + 3 * k);
   reference_q_ = edited;
+  reference_slots_ = q;
   reference_uniforms_.assign(3 * q, 0.0f);
 }
 
 void GlDeformer::deform_reference(const float* control) {
-  if (reference_q_.empty()) fail(Status::invalid_argument, "gl deformer: deform_reference before set_reference_set");
+  if (reference_q_.empty() || reference_affine_)
+    fail(Status::invalid_argument, "gl deformer: deform_reference needs a set_reference_set first");
   for (size_t k = 0; k < reference_q_.size(); ++k)
     for (int c = 0; c < 3; ++c) reference_uniforms_[3 * k + c] = control[3 * size_t(reference_q_[k]) + c];
+  draw_reference();
+}
+
+void GlDeformer::deform_reference_affine(const double frame[12]) {
+  if (reference_q_.empty() || !reference_affine_)
+    fail(Status::invalid_argument, "gl deformer: deform_reference_affine needs a set_reference_affine first");
+  for (int k = 0; k < 12; ++k) {
+    if (!std::isfinite(frame[k])) fail(Status::invalid_argument, "gl deformer: the moved frame is not finite");
+    reference_uniforms_[size_t(k)] = float(frame[k]);
+  }
+  draw_reference();
+}
+
+void GlDeformer::draw_reference() {
   const GlStateGuard guard(gl_, true);
   gl_.UseProgram(reference_program_);
-  gl_.Uniform3fv(reference_q_location_, GLsizei(reference_q_.size()), reference_uniforms_.data());
+  gl_.Uniform3fv(reference_q_location_, GLsizei(reference_slots_), reference_uniforms_.data());
   gl_.BindVertexArray(reference_vao_);
   gl_.BindFramebuffer(GL_DRAW_FRAMEBUFFER, reference_framebuffer_);
   gl_.BindTransformFeedback(GL_TRANSFORM_FEEDBACK, reference_feedback_);

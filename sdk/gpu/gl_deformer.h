@@ -57,7 +57,15 @@ class GlDeformer {
   // equal those given to set_reference_set) as uniforms and draws. Throws invalid_argument
   // before a set_reference_set.
   void deform_reference(const float* control);
-  uint32_t reference_floats_per_vertex() const { return reference_q_.empty() ? 0 : 16 + 3 * uint32_t(reference_q_.size()); }
+  // The affine-frame variant (§8.6.2 (b), after [BK04]): every point c_j of Q moves by one
+  // affine map given by where it takes four frame points q_0..q_3 (`frame`: 12 numbers, not
+  // coplanar). With c_j = sum_l xi_jl q_l (8.13) the dynamic attributes are the 4 combined
+  // weights (sum_j xi_jl phi_j, ...) — 28 floats per vertex whatever |Q| — and a frame uploads
+  // the 4 moved frame points (12 floats) with deform_reference_affine. `edited` may then hold
+  // any number of distinct control points. Throws invalid_argument, unsupported_format.
+  void set_reference_affine(const std::vector<uint32_t>& edited, const double frame[12], const float* control);
+  void deform_reference_affine(const double frame[12]);
+  uint32_t reference_floats_per_vertex() const { return reference_q_.empty() ? 0 : 16 + 3 * uint32_t(reference_slots_); }
   uint32_t reference_max_edited() const;
 
   // Copies the output buffer (6 floats per vertex) into `interleaved` (maps it for reading).
@@ -82,11 +90,18 @@ class GlDeformer {
   void release() noexcept;
   uint32_t make_buffer(const void* data, size_t bytes, uint32_t usage);
   void compile_program();
+  // The reference attributes: Q = `edited`, `slots` dynamic attributes, point k of Q weighing
+  // into slot l by mix[k * slots + l].
+  void build_reference(const std::vector<uint32_t>& edited, const std::vector<double>& mix, size_t slots,
+                       const float* control);
+  void draw_reference();
 
   const ScanBinding& binding_;
   GlFunctions gl_;
   // Reference mode.
   std::vector<uint32_t> reference_q_;
+  size_t reference_slots_ = 0;     // dynamic attributes: |Q|, or 4 in the affine variant
+  bool reference_affine_ = false;
   uint32_t reference_program_ = 0, reference_vao_ = 0, reference_attributes_ = 0, reference_feedback_ = 0;
   uint32_t reference_framebuffer_ = 0;  // 1x1, no attachments: draws need a complete framebuffer
   int32_t reference_q_location_ = -1, max_vertex_attributes_ = 0;

@@ -259,6 +259,93 @@ TEST(GlDeformer, reference_mode_equals_cpu) {
   }
 }
 
+// The affine-frame variant (§8.6.2 (b)): a set Q larger than the attribute limit moves by one
+// affine map given by four frame points; 28 floats per vertex, the CPU's result.
+TEST(GlDeformer, reference_affine_variant_equals_cpu) {
+  const Scene& s = scene();
+  const uint32_t m = uint32_t(s.cage_positions.size() / 3);
+  // An affine map: a shear and scale about a point, plus a shift.
+  auto apply = [](const double* p, double* out, double t) {
+    const double a[3][3] = {{1 + 0.2 * t, 0.1 * t, 0}, {0, 1, 0.15 * t}, {0.05 * t, 0, 1 - 0.1 * t}};
+    for (int r = 0; r < 3; ++r) out[r] = a[r][0] * p[0] + a[r][1] * p[1] + a[r][2] * p[2] + (r == 0 ? 0.05 * t : 0.0);
+  };
+  const double frame[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+  for (const ApiCase& api : kApis) {
+    EglContext ctx(api.api, api.major, api.minor);
+    SKIP_WITHOUT(ctx);
+    cagekit_binding binding = s.bind(CAGEKIT_DISPLACEMENT_NORMAL);
+    cagekit_binding_info info{};
+    info.struct_size = sizeof(info);
+    ASSERT_EQ(cagekit_binding_get_info(binding, &info), CAGEKIT_SUCCESS);
+    const uint32_t n = info.vertex_count;
+    cagekit_cpu_deformer cpu = nullptr;
+    ASSERT_EQ(cagekit_cpu_deformer_create(binding, 1, &cpu), CAGEKIT_SUCCESS);
+    cagekit_gl_deformer gpu = nullptr;
+    ASSERT_EQ(cagekit_gl_deformer_create(binding, s.scan, EglContext::get_proc_address, nullptr, nullptr, &gpu),
+              CAGEKIT_SUCCESS);
+    cagekit_gl_deformer_info gi{};
+    gi.struct_size = sizeof(gi);
+    ASSERT_EQ(cagekit_gl_deformer_get_info(gpu, &gi), CAGEKIT_SUCCESS);
+    // Q: half of the control points (more than the |Q| path's attribute limit).
+    std::vector<uint32_t> edited;
+    for (uint32_t j = 0; j < m; j += 2) edited.push_back(j);
+    ASSERT_GT(edited.size(), size_t(gi.reference_max_edited));
+    ASSERT_EQ(cagekit_gl_deformer_set_reference_affine(gpu, edited.data(), uint32_t(edited.size()), frame,
+                                                       s.cage_positions.data(), m),
+              CAGEKIT_SUCCESS)
+        << cagekit_last_error_message(s.context);
+    ASSERT_EQ(cagekit_gl_deformer_get_info(gpu, &gi), CAGEKIT_SUCCESS);
+    EXPECT_EQ(gi.reference_floats_per_vertex, 28u);  // AC-8.6: 28 floats whatever |Q|
+    double worst_p = 0, worst_n = 0, moved = 0;
+    for (int step = 1; step <= 2; ++step) {
+      const double t = 0.5 * step;
+      std::vector<double> control = s.cage_positions;
+      for (uint32_t j : edited) apply(&s.cage_positions[3 * j], &control[3 * j], t);
+      double moved_frame[12];
+      for (int l = 0; l < 4; ++l) apply(&frame[3 * l], &moved_frame[3 * l], t);
+      std::vector<double> cp(3 * size_t(n)), cn(3 * size_t(n)), gp(3 * size_t(n)), gn(3 * size_t(n));
+      ASSERT_EQ(cagekit_cpu_deformer_deform(cpu, control.data(), m, CAGEKIT_NORMALS_APPROXIMATE, n, cp.data(), cn.data()),
+                CAGEKIT_SUCCESS);
+      ASSERT_EQ(cagekit_gl_deformer_deform_reference_affine(gpu, moved_frame), CAGEKIT_SUCCESS)
+          << cagekit_last_error_message(s.context);
+      ASSERT_EQ(cagekit_gl_deformer_read_back(gpu, n, gp.data(), gn.data()), CAGEKIT_SUCCESS);
+      for (uint32_t j : edited)
+        for (int k = 0; k < 3; ++k) moved = std::max(moved, std::abs(control[3 * j + k] - s.cage_positions[3 * j + k]));
+      for (uint32_t i = 0; i < n; ++i) {
+        double d2 = 0;
+        for (int k = 0; k < 3; ++k) d2 += (cp[3 * i + k] - gp[3 * i + k]) * (cp[3 * i + k] - gp[3 * i + k]);
+        worst_p = std::max(worst_p, std::sqrt(d2) / info.bbox_diagonal);
+        worst_n = std::max(worst_n, angle(&cn[3 * i], &gn[3 * i]) / kDegree);
+      }
+    }
+    std::printf("%s affine reference variant, |Q| = %zu (%u floats per vertex, control points moved up to %.2g): "
+                "GPU vs CPU positions %.3g of the diagonal, normals %.3g deg\n",
+                api.name, edited.size(), gi.reference_floats_per_vertex, moved, worst_p, worst_n);
+    EXPECT_GT(moved, 0.05);
+    EXPECT_LT(worst_p, 1e-5);
+    EXPECT_LT(worst_n, 0.05);
+    // Bad input: a coplanar frame, NaN, a call before the set, a repeated index.
+    const double flat[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
+    EXPECT_EQ(cagekit_gl_deformer_set_reference_affine(gpu, edited.data(), 2, flat, s.cage_positions.data(), m),
+              CAGEKIT_ERROR_INVALID_ARGUMENT);
+    double bad[12];
+    std::copy(frame, frame + 12, bad);
+    bad[4] = std::nan("");
+    EXPECT_EQ(cagekit_gl_deformer_deform_reference_affine(gpu, bad), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(cagekit_gl_deformer_deform_reference_affine(gpu, nullptr), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    const uint32_t twice[2] = {3, 3};
+    EXPECT_EQ(cagekit_gl_deformer_set_reference_affine(gpu, twice, 2, frame, s.cage_positions.data(), m),
+              CAGEKIT_ERROR_INVALID_ARGUMENT);
+    // |Q| mode and affine mode do not mix.
+    const uint32_t one[1] = {0};
+    ASSERT_EQ(cagekit_gl_deformer_set_reference_set(gpu, one, 1, s.cage_positions.data(), m), CAGEKIT_SUCCESS);
+    EXPECT_EQ(cagekit_gl_deformer_deform_reference_affine(gpu, frame), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    cagekit_gl_deformer_release(gpu);
+    cagekit_cpu_deformer_release(cpu);
+    cagekit_binding_release(binding);
+  }
+}
+
 // The host's state as the GL deformer could touch it, and more.
 struct HostState {
   std::vector<GLint64> values;
