@@ -25,8 +25,6 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, "..", "..", ".."))
-sys.path[:0] = [os.path.join(ROOT, "bindings", "blender"), os.path.join(ROOT, "bindings", "python")]
-
 argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 ap = argparse.ArgumentParser()
 ap.add_argument("--cli", default=os.path.join(ROOT, "build", "samples", "cli", "cagekit"))
@@ -34,10 +32,12 @@ ap.add_argument("--mesh", default=None)
 ap.add_argument("--faces", type=int, default=200)
 ap.add_argument("--passes", type=int, default=3)
 ap.add_argument("--levels", type=int, default=2)
+ap.add_argument("--zip", default=None,
+                help="install this add-on zip (into $BLENDER_USER_SCRIPTS, which must be set) instead of "
+                     "using the source tree; the library is then the zip's own copy")
 args = ap.parse_args(argv)
 
 import addon_utils  # noqa: E402
-import cagekit      # noqa: E402
 
 failures = []
 
@@ -102,10 +102,28 @@ def generated_scan():
 
 # --- the add-on --------------------------------------------------------------------------------
 t0 = time.time()
+if args.zip:
+    scripts = os.environ.get("BLENDER_USER_SCRIPTS")
+    if not scripts:
+        sys.exit("test_blender_addon: --zip needs BLENDER_USER_SCRIPTS set to a scratch folder")
+    os.environ.pop("CAGEKIT_LIBRARY", None)
+    result = bpy.ops.preferences.addon_install(filepath=os.path.abspath(args.zip), overwrite=True)
+    check(result == {'FINISHED'}, "addon_install of %s into %s" % (args.zip, scripts))
+    mod = addon_utils.enable("cagekit_blender", default_set=True, handle_error=None)
+    check(mod is not None and os.path.realpath(mod.__file__).startswith(os.path.realpath(scripts)),
+          "add-on cagekit_blender enabled from the installed zip (%s)" % (mod and mod.__file__))
+    from cagekit_blender import _sdk  # noqa: E402
+    cagekit = _sdk.sdk()
+    check(os.path.realpath(cagekit.library_path).startswith(os.path.realpath(scripts)),
+          "the bundled libcagekit is the one loaded (%s)" % cagekit.library_path)
+else:
+    sys.path[:0] = [os.path.join(ROOT, "bindings", "blender"), os.path.join(ROOT, "bindings", "python")]
+    import cagekit  # noqa: E402
+    mod = addon_utils.enable("cagekit_blender", default_set=True, handle_error=None)
+    check(mod is not None and hasattr(bpy.ops.cagekit, "scan_to_cage"),
+          "add-on cagekit_blender enabled from the source tree")
 print("blender %s, python %s, cagekit %s at %s" % (bpy.app.version_string, sys.version.split()[0],
                                                   cagekit.version(), cagekit.library_path))
-mod = addon_utils.enable("cagekit_blender", default_set=True, handle_error=None)
-check(mod is not None and hasattr(bpy.ops.cagekit, "scan_to_cage"), "add-on cagekit_blender enabled from the source tree")
 
 # --- the scan ------------------------------------------------------------------------------------
 shared = os.environ.get("CAGEKIT_SHARED_MESHES") or os.path.join(ROOT, "..", "shared", "meshes")
