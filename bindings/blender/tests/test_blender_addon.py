@@ -282,6 +282,22 @@ err = np.abs(positions(scan) - expect).max() / diag
 check(err < 1e-5, "scan == rest + deform(edited cage) - deform(cage) (%.1e of the diagonal)" % err)
 check(np.count_nonzero(moved > 1e-9 * diag) < len(moved), "the edit is local: far vertices stay")
 
+# the same in edit mode: the handler reads the cage's edit-mode vertices while they are dragged
+import bmesh  # noqa: E402
+activate(cage)
+bpy.ops.object.mode_set(mode='EDIT')
+runs, before = entry.updates, positions(scan)
+bm = bmesh.from_edit_mesh(cage.data)
+bm.verts.ensure_lookup_table()
+bm.verts[k].co.z -= 0.5 * offset[2]
+bmesh.update_edit_mesh(cage.data)
+bpy.context.view_layer.update()
+moved_edit = np.linalg.norm(positions(scan) - before, axis=1).max()
+bpy.ops.object.mode_set(mode='OBJECT')
+check(entry.updates == runs + 1 and moved_edit > 1e-3 * diag,
+      "edit mode: dragging cage vertex %d moves the scan live (max %.3g, error %s)"
+      % (k, moved_edit, entry.last_error))
+
 result = bpy.ops.cagekit.unbind()
 check(result == {'FINISHED'} and not handlers.bindings()
       and handlers.on_depsgraph_update not in bpy.app.handlers.depsgraph_update_post,
