@@ -188,9 +188,22 @@ def new_mesh(name, pos, sizes, flat):
     return me
 
 
+def edge_face_counts(me):
+    loops = np.empty(len(me.loops), dtype=np.int32)
+    me.loops.foreach_get("edge_index", loops)
+    return np.bincount(loops, minlength=len(me.edges))
+
+
 def write_cage_into_mesh(me, cage):
     """Creases and corners of `cage` (cagekit.Cage with the mesh's vertex numbering) onto the
-    mesh's edges and vertices. Returns (edges creased, corners set)."""
+    mesh's edges and vertices. Returns (edges creased, corners set, two-crease vertices).
+
+    Crease tags on boundary edges are not written: OpenSubdiv makes boundary edges infinitely
+    sharp anyway, and Blender adds the smaller crease of the two edges of a valence-2 vertex to
+    that vertex's sharpness (so that a plane with sharp edges keeps sharp corners), which
+    would turn the cage's valence-2 boundary vertices into corners that CageKit does not have.
+    Interior vertices with exactly two edges, both creased, get the same treatment from Blender
+    and cannot be avoided: they are counted and returned."""
     pairs, sharp = cage.creases
     ev = np.sort(edge_pairs(me).astype(np.int64), axis=1)
     n = max(len(me.vertices), 1)
@@ -204,8 +217,13 @@ def write_cage_into_mesh(me, cage):
         pos = np.clip(pos, 0, len(order) - 1)
         found = keys[order][pos] == want
         values[order[pos[found]]] = crease_from_sharpness(sharp[found])
+    values[edge_face_counts(me) < 2] = 0.0
     set_edge_creases(me, values)
     verts, vsharp = cage.corners
     if len(verts):
         set_vertex_creases(me, verts, crease_from_sharpness(vsharp))
-    return int(np.count_nonzero(values)), len(verts)
+    edges = edge_pairs(me)
+    valence = np.bincount(edges.ravel(), minlength=len(me.vertices))
+    creased_valence = np.bincount(edges[values > 0].ravel(), minlength=len(me.vertices))
+    two_crease = int(np.count_nonzero((valence == 2) & (creased_valence == 2)))
+    return int(np.count_nonzero(values)), len(verts), two_crease

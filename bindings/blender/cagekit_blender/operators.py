@@ -144,7 +144,7 @@ class CAGEKIT_OT_scan_to_cage(bpy.types.Operator):
                 pos = cage.positions
                 sizes, flat = cage.face_arrays()
                 me = meshio.new_mesh(scan.name + "_cage", pos, sizes, flat)
-                creased, corners = meshio.write_cage_into_mesh(me, cage)
+                creased, corners, two_crease = meshio.write_cage_into_mesh(me, cage)
                 holes = len(cage.holes)
                 rule = cage.boundary_rule
             finally:
@@ -177,6 +177,9 @@ class CAGEKIT_OT_scan_to_cage(bpy.types.Operator):
         self.report({'INFO'}, text)
         if holes:
             self.report({'WARNING'}, "CageKit: %d hole faces are not represented in Blender" % holes)
+        if two_crease:
+            self.report({'WARNING'}, "CageKit: %d vertices have only two edges, both creased: Blender's "
+                                     "subdivision makes them corners, CageKit's does not" % two_crease)
         return {'FINISHED'}
 
 

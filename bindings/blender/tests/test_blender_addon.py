@@ -148,9 +148,25 @@ ref_scan = cagekit.Mesh.from_arrays(positions(scan), scan_faces)
 
 # --- scan_to_cage --------------------------------------------------------------------------------
 activate(scan)
+from cagekit_blender import operators as addon_operators  # noqa: E402
+progress_calls = []
+plain_call = addon_operators._Progress.__call__
+
+
+def counting_call(self, stage, fraction):
+    progress_calls.append((stage, self.lo + (self.hi - self.lo) * fraction, self.wm is not None))
+    return plain_call(self, stage, fraction)
+
+
+addon_operators._Progress.__call__ = counting_call
 t = time.time()
 result = bpy.ops.cagekit.scan_to_cage(faces=args.faces, passes=args.passes, levels=args.levels)
 print("scan_to_cage: %s in %.2f s" % (result, time.time() - t))
+addon_operators._Progress.__call__ = plain_call
+stages = sorted({c[0] for c in progress_calls if c[0]})
+check(len(stages) >= 2 and max(c[1] for c in progress_calls) > 0.99 and all(c[2] for c in progress_calls),
+      "progress: %d SDK callbacks (stages %s) drive the window manager's progress to %.2f"
+      % (len(progress_calls), ", ".join(stages), max(c[1] for c in progress_calls) if progress_calls else 0))
 check(result == {'FINISHED'}, "scan_to_cage finished")
 cage = bpy.data.objects.get("scan_cage")
 check(cage is not None and cage.type == 'MESH', "cage object 'scan_cage' exists")
@@ -234,6 +250,37 @@ check(len(blender_pts) == len(ck_pts) and blender_faces == ck_sub.counts()[1],
       % (args.levels, len(blender_pts), blender_faces, how, len(ck_pts), ck_sub.counts()[1]))
 check(match <= 1e-5, "SUBDIVISION MATCH: Blender's modifier vs %s: max distance %.2e of the bbox diagonal "
       "(limit 1e-5)" % (how, match))
+
+# an open mesh: boundary edges stay uncreased in Blender (boundaries are sharp in OpenSubdiv anyway;
+# a crease there would make Blender pin valence-2 boundary vertices) and the surfaces still agree
+n = 24
+gx, gy = np.meshgrid(np.linspace(0, 2, n + 1), np.linspace(0, 1.5, n + 1), indexing="ij")
+gpos = np.stack([gx.ravel(), gy.ravel(), 0.2 * np.sin(3 * gx.ravel()) * np.cos(2 * gy.ravel())], axis=1)
+gid = np.arange((n + 1) ** 2).reshape(n + 1, n + 1)
+gfaces = np.concatenate([np.stack([gid[:-1, :-1].ravel(), gid[1:, :-1].ravel(), gid[1:, 1:].ravel()], 1),
+                         np.stack([gid[:-1, :-1].ravel(), gid[1:, 1:].ravel(), gid[:-1, 1:].ravel()], 1)])
+gme = bpy.data.meshes.new("sheet")
+gme.from_pydata(gpos.tolist(), [], gfaces.tolist())
+gme.update()
+sheet = link(bpy.data.objects.new("sheet", gme))
+activate(sheet)
+result = bpy.ops.cagekit.scan_to_cage(faces=20, passes=1, levels=args.levels)
+sheet_cage = bpy.context.active_object
+dg = bpy.context.evaluated_depsgraph_get()
+ev_obj = sheet_cage.evaluated_get(dg)
+ev_mesh = ev_obj.to_mesh()
+sheet_pts = positions(ev_mesh)
+ev_obj.to_mesh_clear()
+with meshio.cage_from_object(sheet_cage) as c:
+    ck_sheet = c.subdivide(args.levels).positions
+counts = meshio.edge_face_counts(sheet_cage.data)
+boundary_creases = int(np.count_nonzero(meshio.edge_creases(sheet_cage.data)[counts < 2]))
+sheet_diag = float(np.linalg.norm(gpos.max(0) - gpos.min(0)))
+sheet_match = max(one_way(sheet_pts, ck_sheet), one_way(ck_sheet, sheet_pts)) / sheet_diag
+check(result == {'FINISHED'} and int(np.count_nonzero(counts < 2)) > 0 and boundary_creases == 0
+      and len(sheet_pts) == len(ck_sheet) and sheet_match <= 1e-5,
+      "open sheet (%d boundary edges, none creased): Blender's modifier vs Cage.subdivide %.2e of the diagonal"
+      % (int(np.count_nonzero(counts < 2)), sheet_match))
 
 # --- fit -----------------------------------------------------------------------------------------
 activate(scan)
