@@ -144,8 +144,8 @@ def transform(matrix, pos):
 
 
 def cage_from_object(obj, matrix=None, context=None, boundary_rule=None):
-    """cagekit.Cage from a Blender mesh object: polygons, edge creases -> crease tags, vertex
-    creases -> corner tags (sharpness 10 c^2)."""
+    """cagekit.Cage from a Blender mesh object: polygons, edge creases -> crease tags (boundary
+    edges: sharp), vertex creases -> corner tags (sharpness 10 c^2)."""
     ck = sdk()
     me = _mesh(obj)
     pos = positions(obj)
@@ -153,6 +153,9 @@ def cage_from_object(obj, matrix=None, context=None, boundary_rule=None):
         pos = transform(matrix, pos)
     sizes, flat = faces(obj)
     crease = edge_creases(me)
+    # boundary edges carry no Blender crease (see write_cage_into_mesh); they are tagged sharp
+    # again, as the SDK's cages have them (no change to the surface, but the fit sees them)
+    crease[edge_face_counts(me) < 2] = 1.0
     tagged = np.nonzero(crease > 0)[0]
     corners = vertex_creases(me)
     tagged_corners = np.nonzero(corners > 0)[0]
