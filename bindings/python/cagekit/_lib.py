@@ -350,6 +350,8 @@ PROTOTYPES = {
     "cagekit_gl_deformer_get_info": (_S, [_h, _ptr(GlDeformerInfo)]),
     "cagekit_gl_deformer_set_reference_set": (_S, [_h, _p, c_uint32, _p, c_uint32]),
     "cagekit_gl_deformer_deform_reference": (_S, [_h, _p, c_uint32]),
+    "cagekit_gl_deformer_set_reference_affine": (_S, [_h, _p, c_uint32, _p, _p, c_uint32]),
+    "cagekit_gl_deformer_deform_reference_affine": (_S, [_h, _p]),
     "cagekit_gl_deformer_read_back": (_S, [_h, c_uint32, _p, _p]),
 }
 
