@@ -14,7 +14,10 @@ namespace {
 
 // GCC function multiversioning: an AVX2+FMA clone of the block kernels next to the baseline
 // x86-64 (SSE2) one, picked once at load time by the CPU (ifunc). Elsewhere: one plain version.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+// Not under ThreadSanitizer: the ifunc resolvers run during relocation, before the TSan runtime
+// is initialised, and the instrumented resolver crashes the process at load time.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) && \
+    !defined(__SANITIZE_THREAD__)
 #define CAGEKIT_KERNEL_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
 #else
 #define CAGEKIT_KERNEL_CLONES
