@@ -4,6 +4,7 @@
 The reference is released deterministically by close() or a `with` block, and otherwise by
 __del__ when the object is collected. live_handles() counts the handles Python holds, for
 tests and leak checks."""
+import ctypes
 import threading
 
 from . import _lib
@@ -20,6 +21,20 @@ def live_handles():
 class Handle:
     _release_name = None  # the cagekit_*_release function of the type
     _kind = "handle"
+
+    @classmethod
+    def _wrap(cls, ptr, context):
+        """An object of this class around `ptr` (one reference), bypassing the public __init__."""
+        obj = cls.__new__(cls)
+        Handle.__init__(obj, ptr, context)
+        return obj
+
+    @classmethod
+    def _make(cls, ctx, fn, *args):
+        """Calls fn(*args, &out) through the context `ctx` and wraps *out."""
+        out = ctypes.c_void_p()
+        ctx._call(fn, *args, ctypes.byref(out), outs=[(out, cls._release_name)])
+        return cls._wrap(out.value, ctx)
 
     def __init__(self, ptr, context):
         global _live

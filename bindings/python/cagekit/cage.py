@@ -49,18 +49,6 @@ class Cage(Handle):
         Handle.__init__(self, out.value, mesh._context)
 
     @classmethod
-    def _wrap(cls, ptr, context):
-        obj = cls.__new__(cls)
-        Handle.__init__(obj, ptr, context)
-        return obj
-
-    @classmethod
-    def _make(cls, ctx, fn, *args):
-        out = ctypes.c_void_p()
-        ctx._call(fn, *args, ctypes.byref(out), outs=[(out, cls._release_name)])
-        return cls._wrap(out.value, ctx)
-
-    @classmethod
     def from_arrays(cls, positions, faces, *, face_sizes=None, creases=None, crease_sharpness=None,
                     corners=None, corner_sharpness=None, holes=None, boundary_rule=None, context=None):
         """A cage from numpy arrays: faces as for Mesh.from_arrays, creases (C, 2) vertex pairs,

@@ -82,17 +82,8 @@ class Mesh(Handle):
         raise TypeError("use Mesh.from_arrays, Mesh.read or Mesh.from_bytes")
 
     @classmethod
-    def _wrap(cls, ptr, context):
-        obj = cls.__new__(cls)
-        Handle.__init__(obj, ptr, context)
-        return obj
-
-    @classmethod
     def _make(cls, context, fn, *args):
-        ctx = resolve(context)
-        out = ctypes.c_void_p()
-        ctx._call(fn, *args, ctypes.byref(out), outs=[(out, cls._release_name)])
-        return cls._wrap(out.value, ctx)
+        return super()._make(resolve(context), fn, *args)
 
     # --- creation ----------------------------------------------------------------------------
     @classmethod

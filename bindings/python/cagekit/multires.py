@@ -54,14 +54,6 @@ class Binding(Handle):
         raise TypeError("use cagekit.bind, Binding.load or Binding.from_bytes")
 
     @classmethod
-    def _make(cls, ctx, fn, *args):
-        out = ctypes.c_void_p()
-        ctx._call(fn, *args, ctypes.byref(out), outs=[(out, cls._release_name)])
-        obj = cls.__new__(cls)
-        Handle.__init__(obj, out.value, ctx)
-        return obj
-
-    @classmethod
     def load(cls, path, context=None, threads=0):
         """Reads a .ckb file (hostile bytes give ParseError with the offset; long operation)."""
         ctx = resolve(context)

@@ -21,14 +21,6 @@ class Surface(Handle):
     def __init__(self, *args, **kwargs):
         raise TypeError("use Cage.surface()")
 
-    @classmethod
-    def _make(cls, ctx, fn, *args):
-        out = ctypes.c_void_p()
-        ctx._call(fn, *args, ctypes.byref(out), outs=[(out, cls._release_name)])
-        obj = cls.__new__(cls)
-        Handle.__init__(obj, out.value, ctx)
-        return obj
-
     def counts(self):
         """(ptex face count, control vertex count)."""
         faces, controls = ctypes.c_uint32(), ctypes.c_uint32()
