@@ -32,15 +32,9 @@ BoundScan make_setup(bool creased) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> bump(-0.01, 0.01);
   for (Vec3& p : s.scan.positions) p = p * (1.0 + bump(rng) + 0.05 * p.x * p.y);
-  Cage cube;
-  cube.mesh = cagekit_test::unit_cube_quads();
+  Cage cube = cagekit_test::creased_unit_cube();
+  if (!creased) cube.creases.clear();
   for (Vec3& p : cube.mesh.positions) p = (p - Vec3{0.5, 0.5, 0.5}) * 1.2;
-  if (creased)
-    for (size_t f = 0; f < cube.mesh.num_faces(); ++f)
-      for (uint32_t k = 0; k < 4; ++k) {
-        const uint32_t a = cube.mesh.face_vertex(f, k), b = cube.mesh.face_vertex(f, (k + 1) % 4);
-        if (a < b) cube.creases.push_back({a, b, kSharpnessInfinite});
-      }
   RefineOptions once;
   once.levels = 1;
   FitOptions fit;
@@ -134,13 +128,7 @@ TEST(BindingFile, reloaded_binding_is_identical_and_deforms_the_same) {
 
 TEST(BindingFile, sector_split_round_trips) {
   // A refined creased cube: a box with sharp edges, bound with one vertex per smooth sector.
-  Cage cube;
-  cube.mesh = cagekit_test::unit_cube_quads();
-  for (size_t f = 0; f < cube.mesh.num_faces(); ++f)
-    for (uint32_t k = 0; k < 4; ++k) {
-      const uint32_t a = cube.mesh.face_vertex(f, k), b = cube.mesh.face_vertex(f, (k + 1) % 4);
-      if (a < b) cube.creases.push_back({a, b, kSharpnessInfinite});
-    }
+  const Cage cube = cagekit_test::creased_unit_cube();
   RefineOptions two;
   two.levels = 2;
   const PolygonMesh box = refine_uniform(cube, two).mesh;

@@ -18,18 +18,6 @@ namespace {
 
 constexpr double kDegree = 3.141592653589793 / 180.0;
 
-// The unit cube's quads with all 12 edges creased: refined, a box with flat sides and sharp edges.
-Cage creased_cube() {
-  Cage cube;
-  cube.mesh = cagekit_test::unit_cube_quads();
-  for (size_t f = 0; f < cube.mesh.num_faces(); ++f)
-    for (uint32_t k = 0; k < 4; ++k) {
-      const uint32_t a = cube.mesh.face_vertex(f, k), b = cube.mesh.face_vertex(f, (k + 1) % 4);
-      if (a < b) cube.creases.push_back({a, b, kSharpnessInfinite});
-    }
-  return cube;
-}
-
 // Average of the unit normals of the faces around bound vertex v in `mesh` (its sector).
 Vec3 sector_normal(const PolygonMesh& mesh, uint32_t v) {
   Vec3 sum;
@@ -56,7 +44,7 @@ TEST(SectorSplit, cube_corners_get_three_sectors_edges_two) {
   // A refined box: sides' interior vertices stay, edge vertices get 2 copies, corners 3.
   RefineOptions three;
   three.levels = 3;
-  const PolygonMesh box = refine_uniform(creased_cube(), three).mesh;  // 386 vertices
+  const PolygonMesh box = refine_uniform(cagekit_test::creased_unit_cube(), three).mesh;  // 386 vertices
   const SectorSplit split = split_vertices_by_sector(box, 30);
   const size_t edge_vertices = 12 * 7, corners = 8;
   EXPECT_EQ(split.mesh.num_vertices(), box.num_vertices() + edge_vertices + 2 * corners);
@@ -65,7 +53,7 @@ TEST(SectorSplit, cube_corners_get_three_sectors_edges_two) {
 }
 
 TEST(SectorSplit, binding_keeps_one_normal_per_smooth_sector) {
-  const Cage cage = creased_cube();
+  const Cage cage = cagekit_test::creased_unit_cube();
   RefineOptions three;
   three.levels = 3;
   const PolygonMesh scan = refine_uniform(cage, three).mesh;

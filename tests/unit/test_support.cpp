@@ -52,6 +52,17 @@ PolygonMesh unit_cube_quads() {
   return m;
 }
 
+cagekit::Cage creased_unit_cube() {
+  cagekit::Cage cube;
+  cube.mesh = unit_cube_quads();
+  for (size_t f = 0; f < cube.mesh.num_faces(); ++f)
+    for (uint32_t k = 0; k < 4; ++k) {
+      const uint32_t a = cube.mesh.face_vertex(f, k), b = cube.mesh.face_vertex(f, (k + 1) % 4);
+      if (a < b) cube.creases.push_back({a, b, cagekit::kSharpnessInfinite});
+    }
+  return cube;
+}
+
 PolygonMesh quad_grid(int nx, int ny, double (*height)(double, double)) {
   PolygonMesh m;
   for (int j = 0; j <= ny; ++j)

@@ -19,6 +19,9 @@ cagekit::PolygonMesh load_mesh(const std::string& path);
 
 // An axis-aligned unit cube of 6 quads, outward-oriented, vertices at {0,1}^3.
 cagekit::PolygonMesh unit_cube_quads();
+// The same cube as a cage with all 12 edges tagged infinitely sharp (refined: a box with flat
+// sides and sharp edges).
+cagekit::Cage creased_unit_cube();
 
 // A regular grid of nx * ny quads over [0,nx]x[0,ny] at z = height(x, y); open boundary.
 cagekit::PolygonMesh quad_grid(int nx, int ny, double (*height)(double x, double y) = nullptr);
