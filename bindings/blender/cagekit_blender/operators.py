@@ -15,6 +15,22 @@ from . import handlers, meshio
 from ._sdk import sdk
 
 
+
+def _active_mesh(context):
+    """Operators that need an active mesh object (their poll)."""
+    obj = context.active_object
+    return obj is not None and obj.type == 'MESH'
+
+
+def _cage_and_scan(context, cage_obj, scan_name):
+    """The checked scan for the active cage object (by name, or found as _find_scan does)."""
+    _check_mesh(cage_obj, "cage")
+    scan = _find_scan(context, cage_obj, scan_name)
+    _check_mesh(scan, "scan")
+    if scan is cage_obj:
+        raise ValueError("the scan and the cage are the same object")
+    return scan
+
 class _Progress:
     """Blender's progress bar (the window manager's; in background mode it prints nothing)
     driven by CageKit's progress callback: stage `name` covers [lo, hi] of the bar."""
@@ -108,8 +124,7 @@ class CAGEKIT_OT_scan_to_cage(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        obj = context.active_object
-        return obj is not None and obj.type == 'MESH'
+        return _active_mesh(context)
 
     def execute(self, context):
         scan = context.active_object
@@ -197,18 +212,13 @@ class CAGEKIT_OT_fit(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        obj = context.active_object
-        return obj is not None and obj.type == 'MESH'
+        return _active_mesh(context)
 
     def execute(self, context):
         cage_obj = context.active_object
         progress = _Progress(context)
         try:
-            _check_mesh(cage_obj, "cage")
-            scan = _find_scan(context, cage_obj, self.scan)
-            _check_mesh(scan, "scan")
-            if scan is cage_obj:
-                raise ValueError("the scan and the cage are the same object")
+            scan = _cage_and_scan(context, cage_obj, self.scan)
             ck = sdk()
             ctx = ck.Context(progress=progress)
             with meshio.scan_mesh(scan, _relative(cage_obj, scan), context=ctx) as mesh, \
@@ -245,18 +255,13 @@ class CAGEKIT_OT_bind(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        obj = context.active_object
-        return obj is not None and obj.type == 'MESH'
+        return _active_mesh(context)
 
     def execute(self, context):
         cage_obj = context.active_object
         progress = _Progress(context)
         try:
-            _check_mesh(cage_obj, "cage")
-            scan = _find_scan(context, cage_obj, self.scan)
-            _check_mesh(scan, "scan")
-            if scan is cage_obj:
-                raise ValueError("the scan and the cage are the same object")
+            scan = _cage_and_scan(context, cage_obj, self.scan)
             ck = sdk()
             ctx = ck.Context(progress=progress)
             matrix = _relative(scan, cage_obj)
