@@ -119,6 +119,19 @@ double angle(const double* a, const double* b) {
   return std::atan2(std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]), a[0] * b[0] + a[1] * b[1] + a[2] * b[2]);
 }
 
+// Raises worst_p (position gap / diagonal) and worst_n (normal angle, degrees) over n vertices
+// of the CPU (cp, cn) and GPU (gp, gn) outputs.
+void accumulate_gap(uint32_t n, const std::vector<double>& cp, const std::vector<double>& cn,
+                    const std::vector<double>& gp, const std::vector<double>& gn, double diagonal, double& worst_p,
+                    double& worst_n) {
+  for (uint32_t i = 0; i < n; ++i) {
+    double d2 = 0;
+    for (int k = 0; k < 3; ++k) d2 += (cp[3 * i + k] - gp[3 * i + k]) * (cp[3 * i + k] - gp[3 * i + k]);
+    worst_p = std::max(worst_p, std::sqrt(d2) / diagonal);
+    worst_n = std::max(worst_n, angle(&cn[3 * i], &gn[3 * i]) / kDegree);
+  }
+}
+
 TEST(GlDeformer, gpu_equals_cpu_in_both_apis_and_displacement_modes) {
   const Scene& s = scene();
   const std::vector<double> control = edited_control(s.cage_positions);
@@ -154,12 +167,7 @@ TEST(GlDeformer, gpu_equals_cpu_in_both_apis_and_displacement_modes) {
             << cagekit_last_error_message(s.context);
         ASSERT_EQ(cagekit_gl_deformer_read_back(gpu, n, gp.data(), gn.data()), CAGEKIT_SUCCESS)
             << cagekit_last_error_message(s.context);
-        for (uint32_t i = 0; i < n; ++i) {
-          double d2 = 0;
-          for (int k = 0; k < 3; ++k) d2 += (cp[3 * i + k] - gp[3 * i + k]) * (cp[3 * i + k] - gp[3 * i + k]);
-          worst_p = std::max(worst_p, std::sqrt(d2) / info.bbox_diagonal);
-          worst_n = std::max(worst_n, angle(&cn[3 * i], &gn[3 * i]) / kDegree);
-        }
+        accumulate_gap(n, cp, cn, gp, gn, info.bbox_diagonal, worst_p, worst_n);
       }
       std::printf("%s (%s, %s), %s mode: %u vertices, GPU vs CPU: positions %.3g of the diagonal, normals %.3g deg; "
                   "ACMR %.3f -> %.3f\n",
@@ -215,12 +223,7 @@ TEST(GlDeformer, reference_mode_equals_cpu) {
         ASSERT_EQ(cagekit_gl_deformer_deform_reference(gpu, control.data(), m), CAGEKIT_SUCCESS)
             << cagekit_last_error_message(s.context);
         ASSERT_EQ(cagekit_gl_deformer_read_back(gpu, n, gp.data(), gn.data()), CAGEKIT_SUCCESS);
-        for (uint32_t i = 0; i < n; ++i) {
-          double d2 = 0;
-          for (int k = 0; k < 3; ++k) d2 += (cp[3 * i + k] - gp[3 * i + k]) * (cp[3 * i + k] - gp[3 * i + k]);
-          worst_p = std::max(worst_p, std::sqrt(d2) / info.bbox_diagonal);
-          worst_n = std::max(worst_n, angle(&cn[3 * i], &gn[3 * i]) / kDegree);
-        }
+        accumulate_gap(n, cp, cn, gp, gn, info.bbox_diagonal, worst_p, worst_n);
       }
       std::printf("%s reference mode |Q| = %u (%u floats per vertex): GPU vs CPU positions %.3g of the diagonal, "
                   "normals %.3g deg\n", api.name, q, gi.reference_floats_per_vertex, worst_p, worst_n);
@@ -311,12 +314,7 @@ TEST(GlDeformer, reference_affine_variant_equals_cpu) {
       ASSERT_EQ(cagekit_gl_deformer_read_back(gpu, n, gp.data(), gn.data()), CAGEKIT_SUCCESS);
       for (uint32_t j : edited)
         for (int k = 0; k < 3; ++k) moved = std::max(moved, std::abs(control[3 * j + k] - s.cage_positions[3 * j + k]));
-      for (uint32_t i = 0; i < n; ++i) {
-        double d2 = 0;
-        for (int k = 0; k < 3; ++k) d2 += (cp[3 * i + k] - gp[3 * i + k]) * (cp[3 * i + k] - gp[3 * i + k]);
-        worst_p = std::max(worst_p, std::sqrt(d2) / info.bbox_diagonal);
-        worst_n = std::max(worst_n, angle(&cn[3 * i], &gn[3 * i]) / kDegree);
-      }
+      accumulate_gap(n, cp, cn, gp, gn, info.bbox_diagonal, worst_p, worst_n);
     }
     std::printf("%s affine reference variant, |Q| = %zu (%u floats per vertex, control points moved up to %.2g): "
                 "GPU vs CPU positions %.3g of the diagonal, normals %.3g deg\n",
