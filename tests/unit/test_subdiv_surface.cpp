@@ -691,6 +691,27 @@ bool in_smooth_ev_corner(const SubdivisionSurface& s, const Cage& cage, const Sa
   return false;
 }
 
+// OpenSubdiv Bfr's position at CageKit's sample p (ptex face, u, v) of `cage` (a face's
+// sub-face parameters converted to Bfr's), or false when Bfr has no surface there.
+bool bfr_position(const OpenSubdiv::Bfr::RefinerSurfaceFactory<>& factory, const SubdivisionSurface& surface,
+                  const Cage& cage, const Sample& p, Vec3* out) {
+  const uint32_t face = surface.base_face_of_ptex(p.ptex);
+  OpenSubdiv::Bfr::Surface<double> bfr;
+  if (!factory.InitVertexSurface(static_cast<int>(face), &bfr)) return false;
+  double uv[2] = {p.u, p.v};
+  const auto param = bfr.GetParameterization();
+  if (param.HasSubFaces()) {
+    const double sub[2] = {p.u, p.v};
+    param.ConvertNormalizedSubFaceToCoord<double>(static_cast<int>(p.ptex - surface.ptex_face(face)), sub, uv);
+  }
+  std::vector<double> points(3 * static_cast<size_t>(bfr.GetNumPatchPoints()));
+  bfr.PreparePatchPoints(&cage.mesh.positions[0].x, 3, points.data(), 3);
+  double position[3];
+  bfr.Evaluate(uv, points.data(), 3, position);
+  *out = Vec3(position[0], position[1], position[2]);
+  return true;
+}
+
 TEST(SubdivisionSurface, positions_agree_with_opensubdiv_bfr) {
   for (const NamedCage& c : test_cages()) {
     // Bfr approximates every irregular feature at one level: compare with the crease/boundary
@@ -713,21 +734,9 @@ TEST(SubdivisionSurface, positions_agree_with_opensubdiv_bfr) {
     for (const Sample& p : random_samples(surface, c.cage, 300, 13)) {
       if (in_smooth_ev_corner(surface, c.cage, p, defaults.isolation_level)) continue;
       ++compared;
-      const uint32_t face = surface.base_face_of_ptex(p.ptex);
-      OpenSubdiv::Bfr::Surface<double> bfr;
-      ASSERT_TRUE(factory.InitVertexSurface(static_cast<int>(face), &bfr));
-      double uv[2] = {p.u, p.v};
-      const auto param = bfr.GetParameterization();
-      if (param.HasSubFaces()) {
-        const double sub[2] = {p.u, p.v};
-        param.ConvertNormalizedSubFaceToCoord<double>(static_cast<int>(p.ptex - surface.ptex_face(face)), sub, uv);
-      }
-      std::vector<double> points(3 * static_cast<size_t>(bfr.GetNumPatchPoints()));
-      bfr.PreparePatchPoints(&c.cage.mesh.positions[0].x, 3, points.data(), 3);
-      double position[3];
-      bfr.Evaluate(uv, points.data(), 3, position);
-      max_gap = std::max(max_gap, cagekit::distance(surface.evaluate(p.ptex, p.u, p.v).position,
-                                                    Vec3(position[0], position[1], position[2])));
+      Vec3 reference;
+      ASSERT_TRUE(bfr_position(factory, surface, c.cage, p, &reference));
+      max_gap = std::max(max_gap, cagekit::distance(surface.evaluate(p.ptex, p.u, p.v).position, reference));
     }
     EXPECT_LT(max_gap, 1e-12) << c.name;
     EXPECT_GT(compared, 100) << c.name;
@@ -759,20 +768,9 @@ TEST(SubdivisionSurface, split_gregory_region_agrees_with_bfr_and_ignores_thread
     ASSERT_TRUE(a.position.x == b.position.x && a.position.y == b.position.y && a.position.z == b.position.z &&
                 a.du.x == b.du.x && a.dv.z == b.dv.z);
     if (in_smooth_ev_corner(s1, cage, p, one.isolation_level)) continue;
-    const uint32_t face = s1.base_face_of_ptex(p.ptex);
-    OpenSubdiv::Bfr::Surface<double> bfr;
-    ASSERT_TRUE(factory.InitVertexSurface(static_cast<int>(face), &bfr));
-    double uv[2] = {p.u, p.v};
-    const auto param = bfr.GetParameterization();
-    if (param.HasSubFaces()) {
-      const double sub[2] = {p.u, p.v};
-      param.ConvertNormalizedSubFaceToCoord<double>(static_cast<int>(p.ptex - s1.ptex_face(face)), sub, uv);
-    }
-    std::vector<double> points(3 * static_cast<size_t>(bfr.GetNumPatchPoints()));
-    bfr.PreparePatchPoints(&cage.mesh.positions[0].x, 3, points.data(), 3);
-    double position[3];
-    bfr.Evaluate(uv, points.data(), 3, position);
-    max_gap = std::max(max_gap, cagekit::distance(a.position, Vec3(position[0], position[1], position[2])));
+    Vec3 reference;
+    ASSERT_TRUE(bfr_position(factory, s1, cage, p, &reference));
+    max_gap = std::max(max_gap, cagekit::distance(a.position, reference));
     ++compared;
   }
   std::cout << cage.creases.size() << " creases: " << compared << " samples, max gap to Bfr " << max_gap << "\n";
