@@ -40,3 +40,14 @@ def from_struct(struct, name=None, skip=("struct_size",)):
             continue
         fields[field[0]] = _value(getattr(struct, field[0]))
     return Record(name or type(struct).__name__, **fields)
+
+
+def enum_value(cls, value):
+    """A member of the IntEnum `cls` from a member, an int or a name ('local-frame', 'EXACT', ...)."""
+    if isinstance(value, str):
+        try:
+            return cls[value.upper().replace("-", "_")]
+        except KeyError:
+            raise ValueError("cagekit: %r is not one of %s" % (value, ", ".join(m.name.lower() for m in cls))) \
+                from None
+    return cls(int(value))

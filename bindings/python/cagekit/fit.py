@@ -11,7 +11,7 @@ import ctypes
 import enum
 
 from . import _lib
-from ._records import from_struct
+from ._records import enum_value as _enum, from_struct
 from .cage import Cage
 
 
@@ -23,16 +23,6 @@ class ProjectionMode(enum.IntEnum):
 class LsqSolver(enum.IntEnum):
     DIRECT = 0  # sparse Cholesky (default)
     CGLS = 1    # conjugate gradients, warm-started
-
-
-def _enum(cls, value):
-    if isinstance(value, str):
-        try:
-            return cls[value.upper().replace("-", "_")]
-        except KeyError:
-            raise ValueError("cagekit: %r is not one of %s" % (value, ", ".join(m.name.lower() for m in cls))) \
-                from None
-    return cls(int(value))
 
 
 def fit(cage, scan, max_passes=5, tolerance=1e-4, fairing=0.0, tangential_weight=1.0,

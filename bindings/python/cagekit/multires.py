@@ -19,7 +19,7 @@ import enum
 from . import _arrays, _formats, _lib
 from ._handle import Handle
 from ._numpy import np
-from ._records import from_struct
+from ._records import enum_value as _enum, from_struct
 from .cage import Cage
 from .context import resolve
 
@@ -32,16 +32,6 @@ class DisplacementMode(enum.IntEnum):
 class NormalMode(enum.IntEnum):
     APPROXIMATE = 0  # from S_u, S_v (8.11)-(8.12)
     EXACT = 1        # (8.4)-(8.7): needs a binding made with exact_normals=True
-
-
-def _enum(cls, value):
-    if isinstance(value, str):
-        try:
-            return cls[value.upper().replace("-", "_")]
-        except KeyError:
-            raise ValueError("cagekit: %r is not one of %s" % (value, ", ".join(m.name.lower() for m in cls))) \
-                from None
-    return cls(int(value))
 
 
 class Binding(Handle):
