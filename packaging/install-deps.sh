@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
 # Installs every Debian 12 package CageKit needs to build and to run all of its tests.
 # Idempotent: packages already present are skipped. Run as root or with sudo available.
+# All go through one `apt-get install --no-install-recommends` (Blender and FreeCAD included:
+# freecad 0.20.2 took 1m40s there, 122 packages, 151 MB downloaded, 958 MB on disk).
 set -euo pipefail
 
 PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libcgal-dev libeigen3-dev libopenmesh-dev libosd-dev libdraco-dev libmeshoptimizer-dev
   libegl-dev libgles-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
-  libgtest-dev python3 python3-numpy binutils blender
+  libgtest-dev python3 python3-numpy binutils blender freecad
   clang libclang-rt-14-dev
   abigail-tools
 )
