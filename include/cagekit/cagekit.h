@@ -551,6 +551,80 @@ CAGEKIT_API cagekit_status cagekit_surface_evaluate_basis(cagekit_surface surfac
 
 
 /* ------------------------------------------------------------------------------------------ */
+/* Limit surface as bicubic Bezier patches (for CAD kernels: STEP, B-spline faces)            */
+/* ------------------------------------------------------------------------------------------ */
+
+/* The limit surface of a cage (as cagekit_surface_create with default options evaluates it) as
+ * bicubic Bezier patches, each on a dyadic square of one ptex face; the squares tile every ptex
+ * face with a limit surface. Where the limit surface is one polynomial (regular B-spline patches,
+ * also at infinitely sharp creases and boundaries) the patch IS the limit surface ("exact", to
+ * rounding). Around extraordinary vertices it is not polynomial: there a patch approximates it
+ * (border curves fitted to limit points along each border with the corners on the surface, inner
+ * points by least squares), and a square is split into 4 while its measured error exceeds the
+ * tolerance and max_depth allows. Crease edges and ptex face borders are always patch borders, so
+ * sharp features are kept. The error of a patch is measured as the largest distance between patch
+ * and limit surface at equal parameters on a 17 x 17 grid (not a bound between the samples).
+ * Neighbouring patches meet exactly when both are exact or both approximated on equal squares, and
+ * within the sum of their errors otherwise (sew with a tolerance of 2 x max_error). */
+typedef struct cagekit_limit_patches_t* cagekit_limit_patches;
+
+typedef struct cagekit_limit_patch_options {
+  size_t struct_size; /* sizeof(cagekit_limit_patch_options) */
+  double tolerance;   /* largest distance allowed between an approximated patch and the limit surface,
+                         as a fraction of the bounding-box diagonal of the cage's control points;
+                         finite and > 0 (default 1e-4) */
+  uint32_t max_depth; /* how often a square that is not one polynomial may be split into 4, 0..12
+                         (default 8); patches still above the tolerance at that depth are kept and
+                         counted in over_tolerance_count */
+  uint32_t threads;   /* worker threads, 0..1024; 0 (default) = the number of hardware threads.
+                         The patches do not depend on it. */
+} cagekit_limit_patch_options;
+
+#define CAGEKIT_LIMIT_PATCH_OPTIONS_INIT { sizeof(cagekit_limit_patch_options), 1e-4, 8, 0 }
+
+typedef struct cagekit_limit_patch_info {
+  size_t struct_size;            /* set by the caller: sizeof(cagekit_limit_patch_info) */
+  uint32_t patch_count;          /* exact_count + approximated_count */
+  uint32_t exact_count;          /* patches equal to the limit surface */
+  uint32_t approximated_count;
+  uint32_t over_tolerance_count; /* approximated patches above the tolerance (max_depth reached) */
+  double max_error;              /* largest measured error of an approximated patch, model units */
+  double max_error_rel;          /* max_error / bbox_diagonal */
+  double bbox_diagonal;          /* of the cage's control points */
+  double tolerance;              /* the absolute tolerance: options.tolerance * bbox_diagonal */
+} cagekit_limit_patch_info;
+
+/* One patch. Not versioned: its layout is fixed for this ABI version. */
+typedef struct cagekit_limit_patch {
+  uint32_t ptex_face;    /* ptex face (numbering of cagekit_surface_get_ptex_face) */
+  uint32_t cage_face;    /* the cage face it belongs to */
+  double u0, v0, u1, v1; /* its square in the ptex face: Bezier parameters (s, t) in [0,1]^2 are the
+                            ptex location (u0 + s (u1 - u0), v0 + t (v1 - v0)) */
+  uint32_t exact;        /* 1: the polynomial is the limit surface; 0: an approximation */
+  uint32_t reserved;     /* 0 */
+  double error;          /* measured largest distance to the limit surface, model units (rounding
+                            level for exact patches) */
+  double control_points[48]; /* bicubic Bezier control net: point (i, j), i along s, j along t, is
+                                control_points[3 * (4 * j + i) + 0..2], with weight B_i(s) B_j(t) */
+} cagekit_limit_patch;
+
+/* Builds the patches of `cage`'s limit surface. Long operation (progress stage "limit patches",
+ * cancel). Fails with INVALID_ARGUMENT for bad options, INVALID_MESH for a cage that cannot be
+ * subdivided, LIMIT_EXCEEDED when more than 2^20 patches would be needed (raise the tolerance or
+ * lower max_depth), OUT_OF_MEMORY against the context's memory budget. The result is immutable
+ * and may be read from several threads at once. Release with cagekit_limit_patches_release. */
+CAGEKIT_API cagekit_status cagekit_limit_patches_create(cagekit_cage cage, const cagekit_limit_patch_options* options,
+                                                        cagekit_limit_patches* out);
+CAGEKIT_API void cagekit_limit_patches_retain(cagekit_limit_patches patches);
+CAGEKIT_API void cagekit_limit_patches_release(cagekit_limit_patches patches);
+/* Counts and errors. Reads. */
+CAGEKIT_API cagekit_status cagekit_limit_patches_get_info(cagekit_limit_patches patches, cagekit_limit_patch_info* info);
+/* Copies patches [first, first + count) into `out` (count entries); INVALID_ARGUMENT when the range
+ * is not inside [0, patch_count). Patches are ordered by ptex face, then by quadtree order. Reads. */
+CAGEKIT_API cagekit_status cagekit_limit_patches_get(cagekit_limit_patches patches, uint32_t first, uint32_t count,
+                                                     cagekit_limit_patch* out);
+
+/* ------------------------------------------------------------------------------------------ */
 /* Structure-preserving simplification (thesis chapter 3)                                     */
 /* ------------------------------------------------------------------------------------------ */
 

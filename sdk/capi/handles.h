@@ -17,6 +17,7 @@
 #include "core/cage.h"
 #include "core/task_monitor.h"
 #include "layout/face_merge_simplifier.h"
+#include "subdiv/limit_patches.h"
 #include "subdiv/subdivision_surface.h"
 #include "multires/cpu_deformer.h"
 #include "multires/scan_binding.h"
@@ -32,6 +33,7 @@ enum class HandleType : uint32_t {
   hierarchy = 0x48524331, // "HRC1"
   binding = 0x424e4431,   // "BND1"
   cpu_deformer = 0x43444631, // "CDF1"
+  limit_patches = 0x4c505431, // "LPT1"
   dead = 0xdeadbeef,
 };
 
@@ -88,6 +90,12 @@ struct cagekit_surface_t : ContextBound {
   cagekit_surface_t(cagekit_context c, cagekit::SubdivisionSurface s)
       : ContextBound(kType, c), surface(std::move(s)) {}
   cagekit::SubdivisionSurface surface;
+};
+
+struct cagekit_limit_patches_t : ContextBound {
+  static constexpr cagekit_capi::HandleType kType = cagekit_capi::HandleType::limit_patches;
+  cagekit_limit_patches_t(cagekit_context c, cagekit::LimitPatches p) : ContextBound(kType, c), patches(std::move(p)) {}
+  const cagekit::LimitPatches patches;
 };
 
 struct cagekit_hierarchy_t : ContextBound {

@@ -227,6 +227,12 @@ struct SubdivisionSurface::Impl {
   // else of the Impl, so regions can be built on several threads.
   void build_gregory_region(const Cage& cage, const std::vector<uint32_t>& seed_faces, int sharp_level,
                             int isolation_level, GregoryRegion& g) const;
+  // The patch of the whole cage at a location (errors for bad faces/params/holes), and for the
+  // faces of a Gregory region the sub-cage's patch there.
+  const Far::PatchMap::Handle& find_patch(uint32_t ptex, double u, double v) const;
+  const Far::PatchMap::Handle& find_gregory_patch(uint32_t ptex, double u, double v,
+                                                  const GregoryRegion** region) const;
+  PatchDomain patch_domain(uint32_t ptex, double u, double v) const;
   // kinds: 1 = only the values are needed (the derivative weights of Stam patches stay 0).
   void patch_weights(uint32_t ptex, double u, double v, PatchWeights* out, int kinds = 6) const;
 
@@ -536,7 +542,7 @@ void SubdivisionSurface::Impl::build_gregory_region(const Cage& cage, const std:
   subdiv_detail::fail_on_opensubdiv_error(Status::invalid_mesh, "OpenSubdiv could not build the limit surface");
 }
 
-void SubdivisionSurface::Impl::patch_weights(uint32_t ptex, double u, double v, PatchWeights* out, int kinds) const {
+const Far::PatchMap::Handle& SubdivisionSurface::Impl::find_patch(uint32_t ptex, double u, double v) const {
   if (ptex >= num_ptex())
     fail(Status::invalid_argument, "ptex face " + std::to_string(ptex) + " out of range (the surface has " +
                                        std::to_string(num_ptex()) + ")");
@@ -547,6 +553,45 @@ void SubdivisionSurface::Impl::patch_weights(uint32_t ptex, double u, double v, 
   if (!handle)
     fail(Status::invalid_argument, "ptex face " + std::to_string(ptex) + " lies in hole face " +
                                        std::to_string(ptex_to_face[ptex]) + ", which has no limit surface");
+  return *handle;
+}
+
+const Far::PatchMap::Handle& SubdivisionSurface::Impl::find_gregory_patch(uint32_t ptex, double u, double v,
+                                                                         const GregoryRegion** region) const {
+  const uint32_t face = ptex_to_face[ptex];
+  if (gregory_of_face.empty() || gregory_of_face[face] < 0)
+    fail(Status::internal_error, "end-cap face outside the Gregory regions");
+  const GregoryRegion& g = gregory[static_cast<size_t>(gregory_of_face[face])];
+  const int32_t sub_face = g.sub_face[face];
+  if (sub_face < 0) fail(Status::internal_error, "end-cap face outside the Gregory region");
+  const uint32_t sub_ptex = g.sub_first_ptex[static_cast<size_t>(sub_face)] + (ptex - first_ptex[face]);
+  const Far::PatchMap::Handle* sub_handle = g.patch_map->FindPatch(static_cast<int>(sub_ptex), u, v);
+  if (!sub_handle) fail(Status::internal_error, "no Gregory patch found for an end-cap face");
+  *region = &g;
+  return *sub_handle;
+}
+
+PatchDomain SubdivisionSurface::Impl::patch_domain(uint32_t ptex, double u, double v) const {
+  const Far::PatchMap::Handle& handle = find_patch(ptex, u, v);
+  const PatchInfo& pi = info[static_cast<size_t>(handle.patchIndex)];
+  Far::PatchParam param = patches->GetPatchParam(handle);
+  bool polynomial = pi.kind == PatchKind::regular;
+  if (pi.kind == PatchKind::gregory) {
+    const GregoryRegion* g = nullptr;
+    const Far::PatchMap::Handle& sub = find_gregory_patch(ptex, u, v, &g);
+    param = g->patches->GetPatchParam(sub);
+    polynomial = g->patches->GetPatchDescriptor(sub).GetType() == Far::PatchDescriptor::REGULAR;
+  }
+  PatchDomain d;
+  d.size = param.GetParamFraction();
+  d.u0 = param.GetU() * d.size;
+  d.v0 = param.GetV() * d.size;
+  d.polynomial = polynomial;
+  return d;
+}
+
+void SubdivisionSurface::Impl::patch_weights(uint32_t ptex, double u, double v, PatchWeights* out, int kinds) const {
+  const Far::PatchMap::Handle* handle = &find_patch(ptex, u, v);
   const PatchInfo& pi = info[static_cast<size_t>(handle->patchIndex)];
   const Far::PatchParam param = patches->GetPatchParam(*handle);
   const double scale = 1.0 / param.GetParamFraction();  // d(patch) / d(ptex)
@@ -588,15 +633,9 @@ void SubdivisionSurface::Impl::patch_weights(uint32_t ptex, double u, double v, 
     return;
   }
   // Gregory end cap (or a regular patch) of the sub-cage.
-  const uint32_t face = ptex_to_face[ptex];
-  if (gregory_of_face.empty() || gregory_of_face[face] < 0)
-    fail(Status::internal_error, "end-cap face outside the Gregory regions");
-  const GregoryRegion& g = gregory[static_cast<size_t>(gregory_of_face[face])];
-  const int32_t sub_face = g.sub_face[face];
-  if (sub_face < 0) fail(Status::internal_error, "end-cap face outside the Gregory region");
-  const uint32_t sub_ptex = g.sub_first_ptex[static_cast<size_t>(sub_face)] + (ptex - first_ptex[face]);
-  const Far::PatchMap::Handle* sub_handle = g.patch_map->FindPatch(static_cast<int>(sub_ptex), u, v);
-  if (!sub_handle) fail(Status::internal_error, "no Gregory patch found for an end-cap face");
+  const GregoryRegion* region = nullptr;
+  const Far::PatchMap::Handle* sub_handle = &find_gregory_patch(ptex, u, v, &region);
+  const GregoryRegion& g = *region;
   const auto points = g.patches->GetPatchVertices(*sub_handle);
   PatchBasis w;
   const int count = subdiv_detail::patch_basis(g.patches->GetPatchDescriptor(*sub_handle).GetType(),
@@ -753,6 +792,10 @@ void SubdivisionSurface::basis_values(uint32_t ptex_face, double u, double v, st
     });
   }
   for (uint32_t j : indices) slot[j] = 0;
+}
+
+PatchDomain SubdivisionSurface::patch_domain(uint32_t ptex_face, double u, double v) const {
+  return impl_->patch_domain(ptex_face, u, v);
 }
 
 BasisWeights SubdivisionSurface::basis(uint32_t ptex_face, double u, double v) const {

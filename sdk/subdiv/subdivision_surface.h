@@ -63,6 +63,16 @@ struct SurfacePoint {
   Vec3 position, du, dv, duu, duv, dvv;
 };
 
+// The patch that holds one parametric location: its square [u0, u0 + size] x [v0, v0 + size]
+// of the ptex face (a dyadic square of the ptex quadtree) and whether the limit surface is one
+// bicubic polynomial on it (the regular B-spline patches, also those with infinitely sharp
+// boundary or crease edges) or not (Stam patches at smooth extraordinary vertices, Gregory end
+// caps at the others).
+struct PatchDomain {
+  double u0 = 0, v0 = 0, size = 1;
+  bool polynomial = true;
+};
+
 // A stencil: the limit quantity at one location = sum_k weights[k] * control[indices[k]].
 struct BasisWeights {
   std::vector<uint32_t> indices;  // control vertices of the cage
@@ -103,6 +113,10 @@ class SubdivisionSurface {
   // control points by one weighted sum.
   void patch_point_weights(uint32_t ptex_face, double u, double v, std::vector<uint32_t>& points,
                            std::vector<double>& weights) const;
+
+  // The patch at (ptex_face, u, v); same errors as evaluate(). On a patch border the patch the
+  // evaluation uses (OpenSubdiv's PatchMap lookup).
+  PatchDomain patch_domain(uint32_t ptex_face, double u, double v) const;
 
   // The basis functions phi_j that are non-zero at (ptex_face, u, v) and their derivatives.
   // They sum to 1 (partition of unity) and their derivatives sum to 0.

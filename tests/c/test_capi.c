@@ -384,6 +384,95 @@ static void surface_basis_is_a_partition_of_unity(void) {
   cagekit_context_release(context);
 }
 
+/* The limit surface as Bezier patches: exact ones reproduce cagekit_surface_evaluate, the others
+ * stay within the tolerance; bad options, ranges and a cancel fail with the right status. */
+static double bezier_weight(int i, double s) {
+  const double r = 1.0 - s;
+  return i == 0 ? r * r * r : i == 1 ? 3 * s * r * r : i == 2 ? 3 * s * s * r : s * s * s;
+}
+
+static void limit_patches_match_the_surface(void) {
+  cagekit_context context = new_context();
+  cagekit_mesh mesh = new_cube(context);
+  cagekit_cage cage = NULL;
+  cagekit_surface surface = NULL;
+  cagekit_limit_patches patches = NULL;
+  cagekit_limit_patch_options options = CAGEKIT_LIMIT_PATCH_OPTIONS_INIT;
+  cagekit_limit_patch_info info;
+  cagekit_limit_patch* all;
+  uint32_t k, exact = 0;
+  double worst_exact = 0, worst_approx = 0;
+  CHECK_OK(cagekit_cage_create(mesh, &cage));
+  CHECK_OK(cagekit_surface_create(cage, NULL, &surface));
+  CHECK_OK(cagekit_limit_patches_create(cage, &options, &patches));
+  memset(&info, 0, sizeof(info));
+  info.struct_size = sizeof(info);
+  CHECK_OK(cagekit_limit_patches_get_info(patches, &info));
+  CHECK(info.patch_count == info.exact_count + info.approximated_count);
+  CHECK(info.exact_count > 0 && info.approximated_count > 0 && info.over_tolerance_count == 0);
+  CHECK(info.max_error <= info.tolerance && fabs(info.tolerance - 1e-4 * info.bbox_diagonal) < 1e-15);
+  all = (cagekit_limit_patch*)calloc(info.patch_count, sizeof(cagekit_limit_patch));
+  CHECK(all != NULL);
+  CHECK_OK(cagekit_limit_patches_get(patches, 0, info.patch_count, all));
+  for (k = 0; k < info.patch_count; ++k) {
+    const cagekit_limit_patch* p = &all[k];
+    const double s = 0.37, t = 0.81;
+    double x[3] = {0, 0, 0}, d;
+    cagekit_surface_location l;
+    cagekit_surface_point y;
+    int i, j, c;
+    CHECK(p->ptex_face < 6 && p->cage_face == p->ptex_face);
+    for (j = 0; j < 4; ++j)
+      for (i = 0; i < 4; ++i)
+        for (c = 0; c < 3; ++c) x[c] += p->control_points[3 * (4 * j + i) + c] * bezier_weight(i, s) * bezier_weight(j, t);
+    l.face = p->ptex_face;
+    l.u = p->u0 + s * (p->u1 - p->u0);
+    l.v = p->v0 + t * (p->v1 - p->v0);
+    CHECK_OK(cagekit_surface_evaluate(surface, NULL, 1, &l, &y));
+    d = sqrt((x[0] - y.position[0]) * (x[0] - y.position[0]) + (x[1] - y.position[1]) * (x[1] - y.position[1]) +
+             (x[2] - y.position[2]) * (x[2] - y.position[2]));
+    if (p->exact) {
+      ++exact;
+      if (d > worst_exact) worst_exact = d;
+    } else if (d > worst_approx) {
+      worst_approx = d;
+    }
+  }
+  CHECK(exact == info.exact_count);
+  CHECK(worst_exact < 1e-12 * info.bbox_diagonal);
+  CHECK(worst_approx <= 1.5 * info.tolerance);
+  free(all);
+  CHECK_STATUS(cagekit_limit_patches_get(patches, info.patch_count, 1, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_limit_patches_get(patches, 1, 0xffffffffu, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_limit_patches_get(patches, 0, 1, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_limit_patches_get_info(patches, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  cagekit_limit_patches_release(patches);
+  patches = NULL;
+
+  options.tolerance = 0.0;
+  CHECK_STATUS(cagekit_limit_patches_create(cage, &options, &patches), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(patches == NULL);
+  options.tolerance = NAN;
+  CHECK_STATUS(cagekit_limit_patches_create(cage, &options, &patches), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  options.tolerance = 1e-4;
+  options.max_depth = 13;
+  CHECK_STATUS(cagekit_limit_patches_create(cage, &options, &patches), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  options.max_depth = 8;
+  options.threads = 5000;
+  CHECK_STATUS(cagekit_limit_patches_create(cage, &options, &patches), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  options.threads = 0;
+  CHECK_STATUS(cagekit_limit_patches_create(NULL, &options, &patches), CAGEKIT_ERROR_INVALID_HANDLE);
+  CHECK_STATUS(cagekit_limit_patches_create(cage, &options, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_limit_patches_get_info((cagekit_limit_patches)surface, &info), CAGEKIT_ERROR_INVALID_HANDLE);
+  CHECK_OK(cagekit_context_set_progress(context, cancel_after_first, NULL));
+  CHECK_STATUS(cagekit_limit_patches_create(cage, &options, &patches), CAGEKIT_ERROR_CANCELLED);
+  CHECK(patches == NULL);
+  cagekit_surface_release(surface);
+  cagekit_cage_release(cage);
+  cagekit_mesh_release(mesh);
+  cagekit_context_release(context);
+}
+
 /* The last error is kept per thread: a failure on one thread does not overwrite another's. */
 static cagekit_context g_shared_context;
 static void* fail_on_thread(void* arg) {
@@ -1151,6 +1240,7 @@ int main(void) {
       {"progress_callback_can_cancel", progress_callback_can_cancel},
       {"subdivision_counts_and_tags", subdivision_counts_and_tags},
       {"surface_basis_is_a_partition_of_unity", surface_basis_is_a_partition_of_unity},
+      {"limit_patches_match_the_surface", limit_patches_match_the_surface},
       {"last_error_is_per_thread", last_error_is_per_thread},
       {"objects_outlive_their_context_reference", objects_outlive_their_context_reference},
       {"simplification_hierarchy_browses_levels_and_builds_a_cage",

@@ -1,0 +1,94 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The limit surface as bicubic Bezier patches (subdiv/limit_patches.h).
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <thread>
+
+#include "capi/api_guard.h"
+#include "subdiv/limit_patches.h"
+
+using namespace cagekit_capi;
+
+extern "C" {
+
+CAGEKIT_API cagekit_status cagekit_limit_patches_create(cagekit_cage cage, const cagekit_limit_patch_options* options,
+                                                        cagekit_limit_patches* out) {
+  return guarded(context_of(cage), [&] {
+    require_not_null(out, "out");
+    *out = nullptr;
+    cagekit_cage_t& c = checked(cage, "cage");
+    cagekit_limit_patch_options defaults = CAGEKIT_LIMIT_PATCH_OPTIONS_INIT;
+    const cagekit_limit_patch_options o = read_versioned(options, defaults, "cagekit_limit_patch_options");
+    if (!(o.tolerance > 0.0) || !std::isfinite(o.tolerance))
+      fail(Status::invalid_argument, "cagekit_limit_patch_options.tolerance must be finite and > 0");
+    if (o.max_depth > static_cast<uint32_t>(cagekit::kMaxLimitPatchDepth))
+      fail(Status::invalid_argument, "cagekit_limit_patch_options.max_depth must be at most " +
+                                         std::to_string(cagekit::kMaxLimitPatchDepth) + ", not " +
+                                         std::to_string(o.max_depth));
+    if (o.threads > 1024)
+      fail(Status::invalid_argument, "cagekit_limit_patch_options.threads must be at most 1024, not " +
+                                         std::to_string(o.threads));
+    cagekit::LimitPatchOptions lo;
+    lo.tolerance = o.tolerance;
+    lo.max_depth = static_cast<int>(o.max_depth);
+    lo.threads = o.threads != 0 ? static_cast<int>(o.threads) : int(std::max(1u, std::thread::hardware_concurrency()));
+    cagekit::LimitPatches patches = cagekit::build_limit_patches(c.cage, lo, c.context->monitor());
+    *out = std::make_unique<cagekit_limit_patches_t>(c.context, std::move(patches)).release();
+  });
+}
+
+CAGEKIT_API void cagekit_limit_patches_retain(cagekit_limit_patches patches) { retain_handle(patches); }
+CAGEKIT_API void cagekit_limit_patches_release(cagekit_limit_patches patches) { release_handle(patches); }
+
+CAGEKIT_API cagekit_status cagekit_limit_patches_get_info(cagekit_limit_patches patches,
+                                                          cagekit_limit_patch_info* info) {
+  return guarded(context_of(patches), [&] {
+    const cagekit::LimitPatches& p = checked(patches, "patches").patches;
+    require_not_null(info, "info");
+    cagekit_limit_patch_info i{};
+    i.struct_size = sizeof(i);
+    i.patch_count = static_cast<uint32_t>(p.patches.size());
+    i.exact_count = p.exact_count;
+    i.approximated_count = p.approximated_count;
+    i.over_tolerance_count = p.over_tolerance_count;
+    i.max_error = p.max_error;
+    i.max_error_rel = p.bbox_diagonal > 0 ? p.max_error / p.bbox_diagonal : 0.0;
+    i.bbox_diagonal = p.bbox_diagonal;
+    i.tolerance = p.tolerance;
+    write_versioned(info, i, "cagekit_limit_patch_info");
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_limit_patches_get(cagekit_limit_patches patches, uint32_t first, uint32_t count,
+                                                     cagekit_limit_patch* out) {
+  return guarded(context_of(patches), [&] {
+    const cagekit::LimitPatches& p = checked(patches, "patches").patches;
+    const size_t n = p.patches.size();
+    if (first > n || count > n - first)
+      fail(Status::invalid_argument, "patches [" + std::to_string(first) + ", " + std::to_string(uint64_t(first) + count) +
+                                         ") are not inside [0, " + std::to_string(n) + ")");
+    if (count == 0) return;
+    require_not_null(out, "out");
+    for (uint32_t k = 0; k < count; ++k) {
+      const cagekit::LimitPatch& from = p.patches[first + k];
+      cagekit_limit_patch& to = out[k];
+      to.ptex_face = from.ptex_face;
+      to.cage_face = from.cage_face;
+      to.u0 = from.u0;
+      to.v0 = from.v0;
+      to.u1 = from.u1;
+      to.v1 = from.v1;
+      to.exact = from.exact ? 1u : 0u;
+      to.reserved = 0;
+      to.error = from.error;
+      for (int i = 0; i < 16; ++i) {
+        to.control_points[3 * i] = from.points[i].x;
+        to.control_points[3 * i + 1] = from.points[i].y;
+        to.control_points[3 * i + 2] = from.points[i].z;
+      }
+    }
+  });
+}
+
+}  // extern "C"
