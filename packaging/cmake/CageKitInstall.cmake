@@ -6,6 +6,7 @@
 #     <libdir>/cmake/CageKit/CageKit{Config,ConfigVersion,Targets,Targets-<config>}.cmake
 #                                                        find_package(CageKit) -> CageKit::cagekit
 #     <libdir>/pkgconfig/cagekit.pc                      pkg-config cagekit
+#     share/doc/cagekit/copyright                        the license statement (GPL-3.0-or-later)
 #   cpack -G DEB (in the build folder)                   cagekit_<version>_<arch>.deb of the same tree
 # The install rules of the targets are next to them (sdk/capi, samples/cli); tests/packaging checks
 # the installed tree, a consumer built against it alone, and the .deb.
@@ -47,6 +48,10 @@ else()
 endif()
 configure_file(${PROJECT_SOURCE_DIR}/packaging/cmake/cagekit.pc.in ${PROJECT_BINARY_DIR}/packaging/cagekit.pc @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/packaging/cagekit.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+
+# The license statement (Debian copyright format; the GPL-3 text itself is in every Debian
+# system's /usr/share/common-licenses/GPL-3).
+install(FILES ${PROJECT_SOURCE_DIR}/packaging/copyright DESTINATION ${CMAKE_INSTALL_DATAROOTDIR}/doc/cagekit)
 
 # Debian package: one package with the library, header, CMake package, pkg-config file and CLI.
 if(CMAKE_SOURCE_DIR STREQUAL PROJECT_SOURCE_DIR)

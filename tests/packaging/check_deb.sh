@@ -36,13 +36,14 @@ else cat "$tmp/cpack.log"; ls -l "$tmp/out"; fail "cpack -G DEB"; echo "$passed 
     echo "./usr/$libdir/cmake/CageKit/$f"
   done
   echo "./usr/$libdir/pkgconfig/cagekit.pc"
+  echo "./usr/share/doc/cagekit/copyright"
 } | LC_ALL=C sort >"$tmp/expected.txt"
 dpkg-deb -c "$deb" >"$tmp/contents.txt" 2>&1
 # "perms owner/group size date time path [-> target]"; the per-config targets file by pattern
 awk '$1 !~ /^d/ { $1 = $2 = $3 = $4 = $5 = ""; sub(/^ +/, ""); print }' "$tmp/contents.txt" |
   sed 's|/CageKitTargets-[a-z]*\.cmake$|/CageKitTargets-*.cmake|' | LC_ALL=C sort >"$tmp/packaged.txt"
 if cmp -s "$tmp/expected.txt" "$tmp/packaged.txt"
-then pass "package files: exactly $(wc -l <"$tmp/expected.txt") expected ones (library, links, header, CMake package, cagekit.pc, CLI)"
+then pass "package files: exactly $(wc -l <"$tmp/expected.txt") expected ones (library, links, header, CMake package, cagekit.pc, CLI, copyright)"
 else diff "$tmp/expected.txt" "$tmp/packaged.txt"; fail "package files differ from the expected list (< expected, > packaged)"; fi
 
 # 3. control fields

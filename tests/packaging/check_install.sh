@@ -41,6 +41,7 @@ config=$(echo "${build_type:-noconfig}" | tr '[:upper:]' '[:lower:]')
     echo "$libdir/cmake/CageKit/$f"
   done
   echo "$libdir/pkgconfig/cagekit.pc"
+  echo "share/doc/cagekit/copyright"
 } | LC_ALL=C sort >"$tmp/expected.txt"
 (cd "$prefix" && find . ! -type d | sed 's|^\./||' | LC_ALL=C sort) >"$tmp/installed.txt"
 if cmp -s "$tmp/expected.txt" "$tmp/installed.txt"
