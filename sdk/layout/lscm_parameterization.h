@@ -9,8 +9,10 @@
 // The two boundary vertices farthest apart (double sweep) are pinned at (0, 0) and (d, 0), d
 // their 3D distance, which removes the similarity null space; the rest is a sparse linear least
 // squares problem solved through its normal equations with Eigen's SimplicialLDLT. Holes need no
-// cutting. A vanishing Laplacian term (1e-10 of the mean LSCM weight per edge) keeps vertices
-// that touch only zero-area triangles determined. Why not CGAL's LSCM_parameterizer_3: it
+// cutting. A vanishing Laplacian term (weight 1e-10 per edge against O(1) LSCM rows) keeps
+// vertices that touch only zero-area triangles determined; a part joined to the rest only through
+// a vertex or through zero-area triangles is placed by that term alone (any similarity of it
+// has zero LSCM energy). Why not CGAL's LSCM_parameterizer_3: it
 // documents disk-topology input only, and each CGAL translation unit costs ~25 s / 1.4 GB.
 //
 // The map preserves orientation (Cauchy-Riemann, not the anti-conformal equations): triangles

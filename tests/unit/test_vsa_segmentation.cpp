@@ -437,6 +437,24 @@ TEST(RegionBoundaries, ClosedChainsWithoutAnchorsAreSplitIntoThreeArcs) {
   expect_consistent_boundaries(grid, holed, 2, h);
 }
 
+TEST(RegionBoundaries, SplitArcKeepsLoopsConsistent) {
+  const PolygonMesh m = box(4, 1.0);
+  VsaOptions options;
+  options.region_count = 6;
+  const VsaSegmentation seg = cagekit::segment_vsa(m, options);
+  cagekit::RegionBoundaries b = cagekit::compute_region_boundaries(m, seg.face_region, 6);
+  const uint32_t middle = b.arcs[0].vertices[2];
+  cagekit::split_arc(b, 0, 2);
+  ASSERT_EQ(b.arcs.size(), 13u);
+  EXPECT_EQ(b.anchors.size(), 9u);
+  EXPECT_TRUE(b.is_anchor(middle));
+  EXPECT_EQ(b.arcs[0].vertices.back(), middle);
+  EXPECT_EQ(b.arcs[12].vertices.front(), middle);
+  expect_consistent_boundaries(m, seg.face_region, 6, b);
+  EXPECT_EQ(status_of([&] { cagekit::split_arc(b, 0, 0); }), Status::invalid_argument);
+  EXPECT_EQ(status_of([&] { cagekit::split_arc(b, 99, 1); }), Status::invalid_argument);
+}
+
 TEST(RegionBoundaries, BadInputGivesPreciseErrors) {
   const PolygonMesh m = box(1, 1.0);
   EXPECT_EQ(status_of([&] { cagekit::compute_region_boundaries(m, std::vector<uint32_t>(5, 0), 1); }),
@@ -575,6 +593,21 @@ TEST(Lscm, CurvedRegionHasNoFlipsAndBoundedDistortion) {
   EXPECT_LT(c.mean_conformal_distortion, 1.05);  // developable: only the chord discretisation
   std::printf("cap: mean %.4f max %.4f; half cylinder: mean %.4f max %.4f\n", p.mean_conformal_distortion,
               p.max_conformal_distortion, c.mean_conformal_distortion, c.max_conformal_distortion);
+}
+
+TEST(Lscm, ZeroAreaTrianglesGetNoConstraintButAPosition) {
+  // Interior vertex 16 = (2, 2) moved onto its neighbour 17 = (3, 2): the two triangles on edge
+  // 16-17 have zero area. The others are still mapped by one similarity, which puts 16 onto 17.
+  PolygonMesh m = triangle_grid(6, 5);
+  m.positions[16] = m.positions[17];
+  std::vector<uint32_t> faces(m.num_faces());
+  for (uint32_t f = 0; f < faces.size(); ++f) faces[f] = f;
+  const cagekit::RegionParameterization p = cagekit::parameterize_region_lscm(m, faces);
+  EXPECT_EQ(p.flipped_triangles, 0u);
+  EXPECT_LT(p.max_conformal_distortion - 1.0, 1e-6);
+  for (const auto& uv : p.uv) EXPECT_TRUE(std::isfinite(uv[0]) && std::isfinite(uv[1]));
+  EXPECT_NEAR(std::hypot(p.uv_of(16)[0] - p.uv_of(17)[0], p.uv_of(16)[1] - p.uv_of(17)[1]), 0.0, 1e-6);
+  EXPECT_NEAR(std::hypot(p.uv_of(0)[0] - p.uv_of(6)[0], p.uv_of(0)[1] - p.uv_of(6)[1]), 6.0, 1e-6);
 }
 
 TEST(Lscm, RegionsThatAreNoDisksAreRefused) {
