@@ -43,17 +43,20 @@ class VsaSolver {
     initial_regions();
     const size_t target = size_t(options_.region_count);
     const bool tolerance_mode = options_.tolerance >= 0.0;
-    relax(size_t(options_.max_lloyd_iterations), true);
+    const size_t insertion_iterations =
+        size_t(std::min(options_.insertion_lloyd_iterations, options_.max_lloyd_iterations));
+    relax(insertion_iterations, true);
     out_.count_history.emplace_back(uint32_t(state_.proxy.size()), state_.error);
     while (state_.proxy.size() < target) {
       if (tolerance_mode && state_.error <= options_.tolerance * out_.total_area) break;
       if (!insert_region_at_worst()) break;
-      relax(size_t(options_.max_lloyd_iterations), true);
+      relax(insertion_iterations, true);
       out_.count_history.emplace_back(uint32_t(state_.proxy.size()), state_.error);
       monitor_.report("vsa segmentation", 0.8 * double(state_.proxy.size()) / double(target));
     }
     if (tolerance_mode && state_.error > options_.tolerance * out_.total_area)
       monitor_.log(LogLevel::warning, "vsa segmentation: tolerance not met with the largest region count");
+    relax(size_t(options_.max_lloyd_iterations), false);
     teleport();
     finish();
   }
@@ -86,6 +89,7 @@ class VsaSolver {
   std::vector<Vec3> normal_;
   std::vector<double> area_;
   std::vector<Vec3> centroid_;
+  std::vector<uint32_t> pushed_by_;  // flooding scratch: the last region that queued each face
   size_t num_pinned_ = 0;
   PartitionState state_;
 };
@@ -221,11 +225,19 @@ void VsaSolver::flood() {
     if (!pinned(state_.face_region[f])) state_.face_region[f] = kNone;
   // (cost, face, region), smallest first; ties broken by face then region: deterministic.
   using Entry = std::tuple<double, uint32_t, uint32_t>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+  std::vector<Entry> storage;
+  storage.reserve(2 * nf);
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue(std::greater<Entry>(), std::move(storage));
+  // A face's cost to a region does not depend on which face of the region reaches it: a second
+  // push by the same region would only duplicate the entry.
+  pushed_by_.assign(nf, kNone);
   auto push_neighbours = [&](uint32_t f, uint32_t r) {
     for (uint32_t k = adjacency_.offsets[f]; k < adjacency_.offsets[f + 1]; ++k) {
       const uint32_t g = adjacency_.neighbours[k];
-      if (state_.face_region[g] == kNone) queue.emplace(cost(g, r), g, r);
+      if (state_.face_region[g] == kNone && pushed_by_[g] != r) {
+        pushed_by_[g] = r;
+        queue.emplace(cost(g, r), g, r);
+      }
     }
   };
   for (uint32_t r = uint32_t(num_pinned_); r < state_.proxy.size(); ++r) state_.face_region[state_.seed[r]] = r;
@@ -407,7 +419,7 @@ VsaSegmentation segment_vsa(const PolygonMesh& triangles, const VsaOptions& opti
   if (options.region_count < 1) fail(Status::invalid_argument, "vsa segmentation: region_count must be >= 1");
   if (!(options.tolerance < 0.0 || std::isfinite(options.tolerance)))
     fail(Status::invalid_argument, "vsa segmentation: tolerance must be finite");
-  if (options.max_lloyd_iterations < 1 || options.teleport_attempts < 0 || options.teleport_relaxation_steps < 1 ||
+  if (options.max_lloyd_iterations < 1 || options.insertion_lloyd_iterations < 1 || options.teleport_attempts < 0 || options.teleport_relaxation_steps < 1 ||
       !(options.relative_convergence >= 0.0))
     fail(Status::invalid_argument, "vsa segmentation: iteration counts must be >= 1 (teleport_attempts >= 0)");
   require_triangle_mesh(triangles, "vsa segmentation");

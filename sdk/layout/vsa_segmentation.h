@@ -10,9 +10,10 @@
 // normal of its faces (the L2,1 optimum, so that region error = 2(|R| − ‖Σ|f| n_f‖)).
 //
 // Region count: regions are added one at a time, each seeded at the worst face (largest cost)
-// of the worst region (largest error), and relaxed to convergence after each insertion. In
-// count mode this stops at `region_count`; in tolerance mode at the first count whose relaxed
-// error / total area <= tolerance (the errors of all counts are kept in `count_history`).
+// of the worst region (largest error), with `insertion_lloyd_iterations` Lloyd iterations after
+// each insertion and a relaxation to convergence at the final count. In count mode this stops
+// at `region_count`; in tolerance mode at the first count whose error / total area <= tolerance
+// (the errors of all counts are kept in `count_history`).
 //
 // Teleporting with roll-back (the thesis's change to VSA): at the final count, the region whose
 // merge with a neighbour costs least is removed and re-seeded at the worst face of the worst
@@ -50,6 +51,10 @@ struct VsaOptions {
   // lower state is kept).
   int max_lloyd_iterations = 50;
   double relative_convergence = 1e-9;
+  // Lloyd iterations after each region insertion (at most max_lloyd_iterations); the final count
+  // is then relaxed to convergence. Tolerance mode judges each count by the error after these
+  // iterations (the final relaxation only lowers it).
+  int insertion_lloyd_iterations = 5;
   // Teleport attempts at the final count (0 = no teleporting) and the Lloyd iterations run
   // after a tentative teleport before it is judged ("a few more relaxation steps").
   int teleport_attempts = 10;
