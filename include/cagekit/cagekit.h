@@ -714,6 +714,18 @@ CAGEKIT_API cagekit_status cagekit_hierarchy_get_clusters(cagekit_hierarchy hier
  * triangles (a polygon mesh cannot hold holes). Reads. */
 CAGEKIT_API cagekit_status cagekit_hierarchy_get_polygon_mesh(cagekit_hierarchy hierarchy, cagekit_mesh* out);
 
+/* As cagekit_hierarchy_get_polygon_mesh, with the contours refined: chapter 3 removes every
+ * valence-2 contour vertex, so a level edge is a straight chord across a curved border between two
+ * clusters of input faces; this puts border vertices back (Douglas-Peucker on each border chain,
+ * the same vertices for both faces of an edge) while the border strays farther than
+ * chord_tolerance * (input bounding-box diagonal) from the chord. A face whose refined loops would
+ * not project injectively gets its edges' tolerance doubled until they do. Same faces and clusters,
+ * more vertices (all input vertices); at the coarsest levels a much smaller distance to the input
+ * (VSA's meshing step does the same). chord_tolerance: finite, > 0 (e.g. 5 mean input edge lengths,
+ * VSA's default). Reads. */
+CAGEKIT_API cagekit_status cagekit_hierarchy_get_refined_polygon_mesh(cagekit_hierarchy hierarchy,
+                                                                      double chord_tolerance, cagekit_mesh* out);
+
 typedef struct cagekit_cage_options {
   size_t struct_size;           /* sizeof(cagekit_cage_options) */
   double crease_angle_degrees;  /* tag cage edges between clusters whose normals differ more (default 30; < 0: never) */

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // cagekit simplify IN OUT (--faces N | --vertices N) [--cage] [--clusters FILE.ply] [--json]
-//                 [--crease-angle DEG] [--input-crease-angle DEG] [--epsilon E]
+//                 [--crease-angle DEG] [--input-crease-angle DEG] [--epsilon E] [--contour-tolerance REL]
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -61,7 +61,7 @@ void write_clusters_ply(const Session& session, cagekit_mesh input, const std::v
 int command_simplify(Args& args) {
   const char* usage =
       "cagekit simplify IN OUT (--faces N | --vertices N) [--cage] [--clusters FILE.ply] [--json] "
-      "[--crease-angle DEG] [--input-crease-angle DEG] [--epsilon E] [--quiet]";
+      "[--crease-angle DEG] [--input-crease-angle DEG] [--epsilon E] [--contour-tolerance REL] [--quiet]";
   const bool quiet = args.flag("--quiet");
   const bool json = args.flag("--json");
   const bool want_cage = args.flag("--cage");
@@ -71,8 +71,13 @@ int command_simplify(Args& args) {
   const double crease_angle = args.real("--crease-angle", 30.0, -1.0, 180.0);
   const double input_crease_angle = args.real("--input-crease-angle", -1.0, -1.0, 180.0);
   const double epsilon = args.real("--epsilon", 0.01, 0.0, 1e6);
+  // Polygonal output only: border vertices put back where the border strays more than REL x the
+  // input's bbox diagonal from a level edge (cagekit_hierarchy_get_refined_polygon_mesh).
+  const double contour_tolerance = args.real("--contour-tolerance", 0.0, 0.0, 1.0);
   const auto files = args.positional(2, 2, usage);
   if ((faces_target < 0) == (vertices_target < 0)) throw Failure(kExitUsage, std::string("usage: ") + usage);
+  if (contour_tolerance > 0 && want_cage)
+    throw Failure(kExitUsage, "--contour-tolerance refines the polygonal level; it does not apply with --cage");
   const cagekit_file_format out_format = format_from_extension(files[1]);
   const auto start = std::chrono::steady_clock::now();
 
@@ -110,7 +115,11 @@ int command_simplify(Args& args) {
     session.check(cagekit_cage_write_file(cage.get(), files[1].c_str(), &write, nullptr), files[1]);
     session.check(cagekit_cage_get_mesh(cage.get(), output_mesh.out()), files[1]);
   } else {
-    session.check(cagekit_hierarchy_get_polygon_mesh(hierarchy.get(), output_mesh.out()), files[0]);
+    if (contour_tolerance > 0)
+      session.check(cagekit_hierarchy_get_refined_polygon_mesh(hierarchy.get(), contour_tolerance, output_mesh.out()),
+                    files[0]);
+    else
+      session.check(cagekit_hierarchy_get_polygon_mesh(hierarchy.get(), output_mesh.out()), files[0]);
     session.check(cagekit_mesh_write_file(output_mesh.get(), files[1].c_str(), &write, nullptr), files[1]);
   }
   if (!clusters_path.empty()) {

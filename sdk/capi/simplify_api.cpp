@@ -7,6 +7,7 @@
 #include "capi/mesh_conversion.h"
 #include "layout/approximation_error.h"
 #include "layout/cage_builder.h"
+#include "layout/contour_refinement.h"
 
 using namespace cagekit_capi;
 
@@ -176,6 +177,22 @@ CAGEKIT_API cagekit_status cagekit_hierarchy_get_polygon_mesh(cagekit_hierarchy 
     *out = nullptr;
     const cagekit_hierarchy_t& h = checked(hierarchy, "hierarchy");
     *out = make_mesh_handle(h.context, cagekit::polygonal_level_mesh(h.hierarchy.input(), h.level));
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_hierarchy_get_refined_polygon_mesh(cagekit_hierarchy hierarchy,
+                                                                      double chord_tolerance, cagekit_mesh* out) {
+  return guarded(context_of(hierarchy), [&] {
+    require_not_null(out, "out");
+    *out = nullptr;
+    const cagekit_hierarchy_t& h = checked(hierarchy, "hierarchy");
+    if (!(chord_tolerance > 0) || !std::isfinite(chord_tolerance))
+      fail(Status::invalid_argument, "chord_tolerance must be finite and > 0");
+    const cagekit::PolygonMesh& input = h.hierarchy.input();
+    const double diagonal = input.bounding_box().diagonal();
+    const cagekit::PolygonalLevel refined =
+        cagekit::refine_level_contours(input, h.level, chord_tolerance * (diagonal > 0 ? diagonal : 1.0));
+    *out = make_mesh_handle(h.context, cagekit::polygonal_level_mesh(input, refined));
   });
 }
 

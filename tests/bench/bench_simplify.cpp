@@ -4,6 +4,8 @@
 //   * CageKit   SimplificationHierarchy (the whole run to the coarsest level = the algorithm) +
 //               level_for_face_count / go_to_level / extract; every level face is CDT-triangulated
 //               (project_face + triangulate_polygon) -> "our triangles" T
+//   * CageKit + contours: the same levels with refine_level_contours (chord tolerance 5 mean edge
+//               lengths, as VSA's extract_mesh subdivision_ratio 5), refinement inside the query time
 //   * CGAL VSA  Variational_shape_approximation, L21_metric_plane_proxy, HIERARCHICAL seeding with
 //               max_number_of_proxies = our face count, run(30), extract_mesh(subdivision_ratio 5)
 //               (as ../shared/spec/peer-measurements.md §1)
@@ -70,6 +72,7 @@
 #include "core/mesh_repair.h"
 #include "layout/approximation_error.h"
 #include "layout/cage_builder.h"
+#include "layout/contour_refinement.h"
 #include "layout/face_merge_simplifier.h"
 #include "layout/planar_polygon.h"
 
@@ -356,7 +359,10 @@ struct Target {
 };
 
 // CageKit: the hierarchy once, then every target's level; each level face CDT-triangulated.
-void run_cagekit(const cagekit::PolygonMesh& input, const std::vector<Target>& targets, std::vector<Result>& out) {
+// contour_edges > 0: each level's contours refined (refine_level_contours) with a chord tolerance
+// of contour_edges mean input edge lengths (VSA's subdivision_ratio rule), inside the query time.
+void run_cagekit(const cagekit::PolygonMesh& input, const std::vector<Target>& targets, std::vector<Result>& out,
+                 double contour_edges = 0) {
   Meter m;
   m.begin();
   cagekit::SimplificationHierarchy hierarchy(input);
@@ -368,6 +374,16 @@ void run_cagekit(const cagekit::PolygonMesh& input, const std::vector<Target>& t
     const double c0 = cpu_seconds();
     hierarchy.go_to_level(hierarchy.level_for_face_count(t.faces));
     levels.push_back(hierarchy.extract());
+    if (contour_edges > 0) {
+      double mean_edge = 0;
+      size_t edges = 0;
+      for (uint32_t f = 0; f < input.num_faces(); ++f)
+        for (uint32_t k = 0; k < input.face_size(f); ++k, ++edges)
+          mean_edge += cagekit::distance(input.positions[input.face_vertex(f, k)],
+                                         input.positions[input.face_vertex(f, (k + 1) % input.face_size(f))]);
+      mean_edge /= double(std::max<size_t>(edges, 1));
+      levels.back() = cagekit::refine_level_contours(input, levels.back(), contour_edges * mean_edge);
+    }
     query_wall.push_back(seconds_since(q0));
     query_cpu.push_back(cpu_seconds() - c0);
   }
@@ -600,6 +616,14 @@ int main(int argc, char** argv) {
                   (unsigned long long)ours[i].out_faces, (unsigned long long)ours[i].out_triangles);
       std::fflush(stdout);
     }
+    // The same levels with refined contours (chord tolerance 5 mean edge lengths, VSA's default).
+    const std::vector<Result> refined = measure(
+        in.runs, targets.size(), [&](std::vector<Result>& out) { run_cagekit(in.mesh, targets, out, 5.0); });
+    for (size_t i = 0; i < targets.size(); ++i) {
+      Row row{name, "CageKit + contours", targets[i].faces, refined[i], ""};
+      row.time_detail = "build " + fmt_time(refined[i].part[0]) + " + query/refine " + fmt_time(refined[i].part[1]);
+      rows.push_back(row);
+    }
     for (const Target& t : targets) {
       if (t.our_faces == 0) continue;
       Row vsa{name, "CGAL VSA", t.faces,
@@ -627,7 +651,7 @@ int main(int argc, char** argv) {
                   w.tool.c_str(), r.error);
       continue;
     }
-    std::string invalid = w.tool == "CageKit" ? std::to_string(r.invalid_faces) + (r.holes ? " (" + std::to_string(r.holes) + " with holes)" : "")
+    std::string invalid = w.tool.rfind("CageKit", 0) == 0 ? std::to_string(r.invalid_faces) + (r.holes ? " (" + std::to_string(r.holes) + " with holes)" : "")
                                               : "–";
     std::string pm = yes_no(r.polygon_mesh);
     if (r.library_manifold >= 0) pm += " (CGAL: " + std::string(r.library_manifold ? "yes" : "no") + ")";
@@ -642,11 +666,11 @@ int main(int argc, char** argv) {
   }
 
   std::printf("\nRatios CageKit / peer (time: wall (CPU); error: Hausdorff input->output, and mean):\n\n");
-  std::printf("| mesh | target | our faces / triangles | time / VSA | Hausdorff / VSA | mean / VSA | time / OpenMesh | "
+  std::printf("| mesh | target | ours | our faces / triangles | time / VSA | Hausdorff / VSA | mean / VSA | time / OpenMesh | "
               "Hausdorff / OpenMesh | time / CGAL SMS | Hausdorff / CGAL SMS |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (size_t i = 0; i < rows.size(); ++i) {
-    if (rows[i].tool != "CageKit" || !rows[i].r.ok) continue;
+    if (rows[i].tool.rfind("CageKit", 0) != 0 || !rows[i].r.ok) continue;
     const Result& o = rows[i].r;
     std::string cells;
     for (const char* peer : {"CGAL VSA", "OpenMesh Decimater", "CGAL SMS (LT)"}) {
@@ -664,8 +688,8 @@ int main(int argc, char** argv) {
                       o.hausdorff / p->r.hausdorff);
       cells += b;
     }
-    std::printf("| %s | %llu | %llu / %llu |%s\n", rows[i].mesh.c_str(), (unsigned long long)rows[i].target,
-                (unsigned long long)o.out_faces, (unsigned long long)o.out_triangles, cells.c_str());
+    std::printf("| %s | %llu | %s | %llu / %llu |%s\n", rows[i].mesh.c_str(), (unsigned long long)rows[i].target,
+                rows[i].tool.c_str(), (unsigned long long)o.out_faces, (unsigned long long)o.out_triangles, cells.c_str());
   }
   std::printf("\nTimes: median of %d child processes per tool (1 for bunny-1.1M); CageKit's time is the hierarchy build "
               "(the whole run to the coarsest level, the same for every target of a mesh) + the level query/extract. "

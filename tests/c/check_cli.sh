@@ -128,9 +128,18 @@ if [ -f "$rocker" ]; then
      [ "$(grep -c '^element face 20088' "$tmp/rocker-clusters.ply")" = 1 ] && "$cli" info "$tmp/rocker6.obj" --json >"$tmp/r6.json" &&
      [ "$(json "$tmp/r6.json" "d['valid'] and d['genus'] == 1")" = True ]
   then pass "simplify rocker-arm to a coarse cage (valid, genus kept, clusters file)"; else cat "$tmp/rocker.json" "$tmp/r6.json"; fail "simplify rocker-arm"; fi
+  # The same level with its contours refined (VSA's rule: 5 mean edge lengths ~ 0.05 of the diagonal):
+  # same polygon count, more vertices, a smaller distance to the input.
+  if "$cli" simplify "$rocker" "$tmp/rocker6p.obj" --faces 6 --json --quiet >"$tmp/rocker6p.json" &&
+     "$cli" simplify "$rocker" "$tmp/rocker6r.obj" --faces 6 --contour-tolerance 0.05 --json --quiet >"$tmp/rocker6r.json" &&
+     [ "$(python3 -c "import json,sys; a=json.load(open(sys.argv[1])); b=json.load(open(sys.argv[2])); print(a['polygons'] == b['polygons'] and b['vertices'] > a['vertices'] and b['hausdorff_rel'] < 0.5 * a['hausdorff_rel'] and b['invalid_faces'] == 0)" "$tmp/rocker6p.json" "$tmp/rocker6r.json")" = True ]
+  then pass "simplify --contour-tolerance: same polygons, more vertices, Hausdorff less than half"; else cat "$tmp/rocker6p.json" "$tmp/rocker6r.json"; fail "simplify --contour-tolerance"; fi
 else
   echo "[ SKIP ] simplify checks: $rocker not present"
 fi
+"$cli" simplify "$tmp/badindex.obj" "$tmp/out.obj" --faces 10 --cage --contour-tolerance 0.01 --quiet 2>"$tmp/usage.err"; code=$?
+if [ "$code" -eq 64 ] && grep -q "does not apply with --cage" "$tmp/usage.err" && [ ! -e "$tmp/out.obj" ]
+then pass "usage: simplify --contour-tolerance with --cage is refused (exit 64)"; else cat "$tmp/usage.err"; fail "simplify --contour-tolerance with --cage"; fi
 expect_bad "simplify of a corrupt file" "$cli" simplify "$tmp/badindex.obj" "$tmp/out.obj" --faces 10 --quiet
 
 # 9. fitting (thesis ch. 7): a cage from the demo scan, and the creased unit cube, fitted to the scan

@@ -587,6 +587,20 @@ static void simplification_hierarchy_browses_levels_and_builds_a_cage(void) {
   error.struct_size = sizeof(error);
   CHECK_OK(cagekit_mesh_measure_error(mesh, level_mesh, &error));
   CHECK(error.hausdorff_rel < 1e-12 && error.hausdorff_sym_rel < 1e-12);
+  /* the cube's borders are straight: refined contours add nothing; a bad tolerance is refused */
+  {
+    cagekit_mesh refined = NULL;
+    uint32_t refined_vertices = 0, refined_faces = 0;
+    CHECK_OK(cagekit_hierarchy_get_refined_polygon_mesh(hierarchy, 0.01, &refined));
+    CHECK_OK(cagekit_mesh_get_counts(refined, &refined_vertices, &refined_faces, NULL));
+    CHECK(refined_vertices == 8 && refined_faces == 6);
+    cagekit_mesh_release(refined);
+    refined = (cagekit_mesh)1;
+    CHECK_STATUS(cagekit_hierarchy_get_refined_polygon_mesh(hierarchy, 0.0, &refined), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    CHECK(refined == NULL);
+    CHECK_STATUS(cagekit_hierarchy_get_refined_polygon_mesh(hierarchy, NAN, &refined), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    CHECK_STATUS(cagekit_hierarchy_get_refined_polygon_mesh(hierarchy, 0.01, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  }
 
   /* a cancelling progress callback stops the simplification with no handle made */
   {
