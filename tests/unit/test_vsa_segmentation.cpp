@@ -437,6 +437,25 @@ TEST(RegionBoundaries, ClosedChainsWithoutAnchorsAreSplitIntoThreeArcs) {
   expect_consistent_boundaries(grid, holed, 2, h);
 }
 
+TEST(RegionBoundaries, VertexWhereTwoRegionsMeetTwiceIsAnAnchor) {
+  // Checkerboard of 2x2 quadrants on a 4x4 grid: regions A B / B A meet at the centre vertex
+  // twice (A B A B around it). The centre and the four border points where the region changes
+  // are anchors; 4 interior arcs, 4 border arcs; each region has two loops (its two quadrants).
+  const PolygonMesh m = triangle_grid(4, 4);
+  std::vector<uint32_t> region(m.num_faces());
+  for (uint32_t f = 0; f < m.num_faces(); ++f) {
+    Vec3 c;
+    for (int i = 0; i < 3; ++i) c += m.positions[m.face_vertex(f, i)];
+    region[f] = (c.x / 3 < 2) != (c.y / 3 < 2) ? 1 : 0;
+  }
+  const cagekit::RegionBoundaries b = cagekit::compute_region_boundaries(m, region, 2);
+  EXPECT_EQ(b.anchors, (std::vector<uint32_t>{2, 10, 12, 14, 22}));
+  EXPECT_EQ(b.arcs.size(), 8u);
+  EXPECT_EQ(b.region_loops[0].size(), 2u);
+  EXPECT_EQ(b.region_loops[1].size(), 2u);
+  expect_consistent_boundaries(m, region, 2, b);
+}
+
 TEST(RegionBoundaries, SplitArcKeepsLoopsConsistent) {
   const PolygonMesh m = box(4, 1.0);
   VsaOptions options;
@@ -730,6 +749,41 @@ void check_real_mesh_constraints(const char* name, int regions, double delta_fra
 }
 
 }  // namespace
+
+TEST(RemeshConstraints, CubeSidesShareTheirSamplesAndCancelCleanly) {
+  const PolygonMesh m = box(4, 0.25);  // the unit cube, 4 x 4 quads per side
+  VsaOptions options;
+  options.region_count = 6;
+  const VsaSegmentation seg = cagekit::segment_vsa(m, options);
+  cagekit::ConstraintOptions constraint_options;
+  constraint_options.spacing = 0.25;
+  const cagekit::RemeshConstraints c = cagekit::compute_remesh_constraints(m, seg.face_region, 6, constraint_options);
+  ASSERT_EQ(c.arcs.size(), 12u);
+  for (const cagekit::ArcConstraint& arc : c.arcs) {
+    EXPECT_LT(arc.fit_rms, 1e-12);                // straight cube edges
+    ASSERT_EQ(arc.samples.position.size(), 5u);  // length 1 / 0.25: 3 interior samples
+  }
+  for (uint32_t r = 0; r < 6; ++r) {
+    // Each side: a unit square in its domain, its 16 boundary samples on the square's outline.
+    const std::vector<std::array<double, 2>> uv = c.loop_samples_uv(r, 0);
+    ASSERT_EQ(uv.size(), 16u);
+    double area = 0.0;
+    for (size_t i = 0; i < uv.size(); ++i) {
+      const auto& p = uv[i];
+      const auto& q = uv[(i + 1) % uv.size()];
+      area += 0.5 * (p[0] * q[1] - p[1] * q[0]);
+      EXPECT_NEAR(std::hypot(q[0] - p[0], q[1] - p[1]), 0.25, 1e-8);
+    }
+    EXPECT_NEAR(area, 1.0, 1e-8);  // the 1e-10 regularising Laplacian shrinks it by ~1.5e-9
+    EXPECT_EQ(c.loop_samples(r, 0).size(), 16u);
+  }
+  const cagekit::TaskMonitor cancel([](const char*, double) { return false; }, nullptr);
+  EXPECT_EQ(status_of([&] { cagekit::compute_remesh_constraints(m, seg.face_region, 6, constraint_options, cancel); }),
+            Status::cancelled);
+  constraint_options.spacing = 0.0;
+  EXPECT_EQ(status_of([&] { cagekit::compute_remesh_constraints(m, seg.face_region, 6, constraint_options); }),
+            Status::invalid_argument);
+}
 
 TEST(RemeshConstraints, FandiskThirtyRegions) { check_real_mesh_constraints("fandisk.obj", 30, 0.05); }
 TEST(RemeshConstraints, RockerArmFortyOneRegions) { check_real_mesh_constraints("rocker-arm.obj", 41, 0.03); }
