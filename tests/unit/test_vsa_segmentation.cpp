@@ -111,6 +111,18 @@ PolygonMesh load_shared(const std::string& name) {
   return path.empty() ? PolygonMesh{} : cagekit_test::load_mesh(path);
 }
 
+Vec3 face_centroid(const PolygonMesh& m, uint32_t f) {
+  return (m.positions[m.face_vertex(f, 0)] + m.positions[m.face_vertex(f, 1)] + m.positions[m.face_vertex(f, 2)]) *
+         (1.0 / 3.0);
+}
+
+// VSA with `count` regions and default options.
+VsaSegmentation segment(const PolygonMesh& m, int count) {
+  VsaOptions options;
+  options.region_count = count;
+  return cagekit::segment_vsa(m, options);
+}
+
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -122,9 +134,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 TEST(VsaSegmentation, CubeWithSixRegionsGivesItsSixSidesWithZeroError) {
   const PolygonMesh m = box(5, 2.0);
-  VsaOptions options;
-  options.region_count = 6;
-  const VsaSegmentation seg = cagekit::segment_vsa(m, options);
+  const VsaSegmentation seg = segment(m, 6);
   ASSERT_EQ(seg.num_regions(), 6u);
   EXPECT_NEAR(seg.total_area, 6 * 100.0, 1e-9);
   EXPECT_LT(seg.total_error, 1e-12 * seg.total_area);
@@ -143,14 +153,11 @@ TEST(VsaSegmentation, DisconnectedMeshGetsRegionsInEveryComponent) {
   PolygonMesh m;
   append_box(m, 3, 1.0);
   append_box(m, 3, 1.0, Vec3(5, 0, 0));
-  VsaOptions options;
-  options.region_count = 12;
-  const VsaSegmentation seg = cagekit::segment_vsa(m, options);
+  const VsaSegmentation seg = segment(m, 12);
   ASSERT_EQ(seg.num_regions(), 12u);
   EXPECT_LT(seg.total_error, 1e-12 * seg.total_area);
   EXPECT_TRUE(regions_connected(m, seg.face_region, 12));
-  options.region_count = 1;
-  EXPECT_EQ(status_of([&] { cagekit::segment_vsa(m, options); }), Status::invalid_argument);
+  EXPECT_EQ(status_of([&] { segment(m, 1); }), Status::invalid_argument);  // fewer regions than components
 }
 
 TEST(VsaSegmentation, BadInputGivesPreciseErrors) {
@@ -189,9 +196,7 @@ TEST(VsaSegmentation, DegenerateTrianglesAndOpenBoundariesAreHandled) {
   // moved onto vertex 8 makes the triangles around that edge degenerate.
   PolygonMesh m = triangle_grid(8, 4, [](double x, double) { return x > 4 ? x - 4 : 0.0; });
   m.positions[7] = m.positions[8];
-  VsaOptions options;
-  options.region_count = 2;
-  const VsaSegmentation seg = cagekit::segment_vsa(m, options);
+  const VsaSegmentation seg = segment(m, 2);
   ASSERT_EQ(seg.num_regions(), 2u);
   EXPECT_TRUE(regions_connected(m, seg.face_region, 2));
   // The two planes: every face with a defined normal is in the region of its plane.
@@ -378,9 +383,7 @@ void expect_consistent_boundaries(const PolygonMesh& m, const std::vector<uint32
 
 TEST(RegionBoundaries, CubeSidesMeetAtEightAnchorsAlongTwelveArcs) {
   const PolygonMesh m = box(4, 1.0);
-  VsaOptions options;
-  options.region_count = 6;
-  const VsaSegmentation seg = cagekit::segment_vsa(m, options);
+  const VsaSegmentation seg = segment(m, 6);
   const cagekit::RegionBoundaries b = cagekit::compute_region_boundaries(m, seg.face_region, 6);
   EXPECT_EQ(b.anchors.size(), 8u);
   for (uint8_t inserted : b.anchor_inserted) EXPECT_EQ(inserted, 0);
@@ -405,9 +408,8 @@ TEST(RegionBoundaries, ClosedChainsWithoutAnchorsAreSplitIntoThreeArcs) {
   const PolygonMesh sphere = cagekit_test::triangle_sphere(3);
   std::vector<uint32_t> cap(sphere.num_faces());
   for (uint32_t f = 0; f < sphere.num_faces(); ++f) {
-    Vec3 c;
-    for (int i = 0; i < 3; ++i) c += sphere.positions[sphere.face_vertex(f, i)];
-    cap[f] = c.z / 3 > 0.6 ? 1 : 0;
+    const Vec3 c = face_centroid(sphere, f);
+    cap[f] = c.z > 0.6 ? 1 : 0;
   }
   const cagekit::RegionBoundaries b = cagekit::compute_region_boundaries(sphere, cap, 2);
   EXPECT_EQ(b.anchors.size(), 3u);
@@ -425,9 +427,8 @@ TEST(RegionBoundaries, ClosedChainsWithoutAnchorsAreSplitIntoThreeArcs) {
 
   std::vector<uint32_t> holed(grid.num_faces(), 0);
   for (uint32_t f = 0; f < grid.num_faces(); ++f) {
-    Vec3 c;
-    for (int i = 0; i < 3; ++i) c += grid.positions[grid.face_vertex(f, i)];
-    holed[f] = std::abs(c.x / 3 - 3) < 1 && std::abs(c.y / 3 - 3) < 1 ? 1 : 0;
+    const Vec3 c = face_centroid(grid, f);
+    holed[f] = std::abs(c.x - 3) < 1 && std::abs(c.y - 3) < 1 ? 1 : 0;
   }
   const cagekit::RegionBoundaries h = cagekit::compute_region_boundaries(grid, holed, 2);
   ASSERT_EQ(h.region_loops[0].size(), 2u);  // outer border + the hole around region 1
@@ -444,9 +445,8 @@ TEST(RegionBoundaries, VertexWhereTwoRegionsMeetTwiceIsAnAnchor) {
   const PolygonMesh m = triangle_grid(4, 4);
   std::vector<uint32_t> region(m.num_faces());
   for (uint32_t f = 0; f < m.num_faces(); ++f) {
-    Vec3 c;
-    for (int i = 0; i < 3; ++i) c += m.positions[m.face_vertex(f, i)];
-    region[f] = (c.x / 3 < 2) != (c.y / 3 < 2) ? 1 : 0;
+    const Vec3 c = face_centroid(m, f);
+    region[f] = (c.x < 2) != (c.y < 2) ? 1 : 0;
   }
   const cagekit::RegionBoundaries b = cagekit::compute_region_boundaries(m, region, 2);
   EXPECT_EQ(b.anchors, (std::vector<uint32_t>{2, 10, 12, 14, 22}));
@@ -458,9 +458,7 @@ TEST(RegionBoundaries, VertexWhereTwoRegionsMeetTwiceIsAnAnchor) {
 
 TEST(RegionBoundaries, SplitArcKeepsLoopsConsistent) {
   const PolygonMesh m = box(4, 1.0);
-  VsaOptions options;
-  options.region_count = 6;
-  const VsaSegmentation seg = cagekit::segment_vsa(m, options);
+  const VsaSegmentation seg = segment(m, 6);
   cagekit::RegionBoundaries b = cagekit::compute_region_boundaries(m, seg.face_region, 6);
   const uint32_t middle = b.arcs[0].vertices[2];
   cagekit::split_arc(b, 0, 2);
@@ -490,9 +488,7 @@ TEST(RegionBoundaries, BadInputGivesPreciseErrors) {
 TEST(RegionBoundaries, FandiskThirtyRegionsAreConsistent) {
   const PolygonMesh m = load_shared("fandisk.obj");
   if (m.num_faces() == 0) GTEST_SKIP() << "../shared/meshes/fandisk.obj not present";
-  VsaOptions options;
-  options.region_count = 30;
-  const VsaSegmentation seg = cagekit::segment_vsa(m, options);
+  const VsaSegmentation seg = segment(m, 30);
   const cagekit::RegionBoundaries b = cagekit::compute_region_boundaries(m, seg.face_region, 30);
   expect_consistent_boundaries(m, seg.face_region, 30, b);
   size_t holes = 0;
@@ -592,9 +588,8 @@ TEST(Lscm, CurvedRegionHasNoFlipsAndBoundedDistortion) {
   const PolygonMesh sphere = cagekit_test::triangle_sphere(4);
   std::vector<uint32_t> cap;
   for (uint32_t f = 0; f < sphere.num_faces(); ++f) {
-    Vec3 c;
-    for (int i = 0; i < 3; ++i) c += sphere.positions[sphere.face_vertex(f, i)];
-    if (c.z / 3 > 0.5) cap.push_back(f);
+    const Vec3 c = face_centroid(sphere, f);
+    if (c.z > 0.5) cap.push_back(f);
   }
   const cagekit::RegionParameterization p = cagekit::parameterize_region_lscm(sphere, cap);
   EXPECT_EQ(p.flipped_triangles, 0u);
@@ -752,9 +747,7 @@ void check_real_mesh_constraints(const char* name, int regions, double delta_fra
 
 TEST(RemeshConstraints, CubeSidesShareTheirSamplesAndCancelCleanly) {
   const PolygonMesh m = box(4, 0.25);  // the unit cube, 4 x 4 quads per side
-  VsaOptions options;
-  options.region_count = 6;
-  const VsaSegmentation seg = cagekit::segment_vsa(m, options);
+  const VsaSegmentation seg = segment(m, 6);
   cagekit::ConstraintOptions constraint_options;
   constraint_options.spacing = 0.25;
   const cagekit::RemeshConstraints c = cagekit::compute_remesh_constraints(m, seg.face_region, 6, constraint_options);
