@@ -55,6 +55,16 @@ RemeshConstraints compute_remesh_constraints(const PolygonMesh& triangles, const
     if (faces[r].empty()) fail(Status::invalid_argument, "remesh constraints: region " + std::to_string(r) + " is empty");
     out.domains.push_back(parameterize_region_lscm(triangles, faces[r]));
     const RegionParameterization& domain = out.domains.back();
+    // The outer loop is the one with the largest signed area in Ω_i (the longest in 3D need
+    // not be, e.g. on an annulus around a torus' tube); it goes first.
+    std::vector<RegionLoop>& loops = out.boundaries.region_loops[r];
+    size_t outer = 0;
+    double outer_area = -HUGE_VAL;
+    for (size_t l = 0; l < loops.size(); ++l) {
+      const double area = signed_domain_area(domain, out.boundaries.loop_vertices(loops[l]));
+      if (area > outer_area) outer_area = area, outer = l;
+    }
+    std::rotate(loops.begin(), loops.begin() + long(outer), loops.begin() + long(outer) + 1);
     for (const RegionLoop& loop : out.boundaries.region_loops[r])
       for (uint32_t arc : loop.arcs) {
         const ArcConstraint& constraint = out.arcs[arc];

@@ -40,7 +40,9 @@ struct RegionArcDomain {
 };
 
 struct RemeshConstraints {
-  // The region boundaries, with the arcs split where a cubic fits them poorly.
+  // The region boundaries, with the arcs split where a cubic fits them poorly, and each region's
+  // loops reordered so that the outer loop (largest signed area in Ω_i: counter-clockwise) is
+  // first; the holes follow, longest first.
   RegionBoundaries boundaries;
   std::vector<ArcConstraint> arcs;               // per arc of `boundaries`
   std::vector<RegionParameterization> domains;   // per region

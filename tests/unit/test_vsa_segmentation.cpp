@@ -85,6 +85,23 @@ PolygonMesh triangle_grid(int nx, int ny, double (*height)(double, double) = nul
   return m;
 }
 
+// Torus with ring radius 3 and tube radius 1, nu x nv triangulated quads, outward.
+PolygonMesh triangle_torus(int nu, int nv) {
+  PolygonMesh torus;
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      const double u = 2 * kPi * i / nu, v = 2 * kPi * j / nv;
+      torus.add_vertex(Vec3((3 + std::cos(v)) * std::cos(u), (3 + std::cos(v)) * std::sin(u), std::sin(v)));
+    }
+  auto id = [&](int i, int j) { return uint32_t((i % nu) * nv + (j % nv)); };
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      torus.add_face({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      torus.add_face({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  return torus;
+}
+
 Vec3 face_normal(const PolygonMesh& m, size_t f) { return cagekit::normalized(m.face_vector_area(f)); }
 
 // Every region edge-connected (through edges shared by two faces of the region).
@@ -633,20 +650,8 @@ TEST(Lscm, RegionsThatAreNoDisksAreRefused) {
   EXPECT_EQ(status_of([&] { cagekit::parameterize_region_lscm(cube, {}); }), Status::invalid_argument);
   EXPECT_EQ(status_of([&] { cagekit::parameterize_region_lscm(cube, {1, 1}); }), Status::invalid_argument);
   EXPECT_EQ(status_of([&] { cagekit::parameterize_region_lscm(cube, {1000}); }), Status::invalid_argument);
-  // A torus-like band with a handle: a quad-grid torus minus one quad is genus 1 with one hole.
-  PolygonMesh torus;
-  const int nu = 12, nv = 8;
-  for (int i = 0; i < nu; ++i)
-    for (int j = 0; j < nv; ++j) {
-      const double u = 2 * kPi * i / nu, v = 2 * kPi * j / nv;
-      torus.add_vertex(Vec3((3 + std::cos(v)) * std::cos(u), (3 + std::cos(v)) * std::sin(u), std::sin(v)));
-    }
-  auto id = [&](int i, int j) { return uint32_t((i % nu) * nv + (j % nv)); };
-  for (int i = 0; i < nu; ++i)
-    for (int j = 0; j < nv; ++j) {
-      torus.add_face({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-      torus.add_face({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-    }
+  // A torus minus one quad: genus 1 with one hole.
+  const PolygonMesh torus = triangle_torus(12, 8);
   std::vector<uint32_t> band;
   for (uint32_t f = 2; f < torus.num_faces(); ++f) band.push_back(f);
   EXPECT_EQ(status_of([&] { cagekit::parameterize_region_lscm(torus, band); }), Status::invalid_mesh);
@@ -776,6 +781,40 @@ TEST(RemeshConstraints, CubeSidesShareTheirSamplesAndCancelCleanly) {
   constraint_options.spacing = 0.0;
   EXPECT_EQ(status_of([&] { cagekit::compute_remesh_constraints(m, seg.face_region, 6, constraint_options); }),
             Status::invalid_argument);
+}
+
+TEST(RemeshConstraints, TorusRegionsAreDisksOrAnnuliWithValidDomains) {
+  // A closed genus-1 surface: with a few regions some wrap around the tube or the ring
+  // (annuli: two loops, genus 0); every region gets a flip-free LSCM domain.
+  const PolygonMesh m = triangle_torus(48, 24);
+  for (int count : {4, 8, 16}) {
+    const VsaSegmentation seg = segment(m, count);
+    cagekit::ConstraintOptions constraint_options;
+    constraint_options.spacing = 0.5;
+    const cagekit::RemeshConstraints c =
+        cagekit::compute_remesh_constraints(m, seg.face_region, seg.num_regions(), constraint_options);
+    expect_consistent_boundaries(m, seg.face_region, seg.num_regions(), c.boundaries);
+    size_t annuli = 0;
+    for (uint32_t r = 0; r < seg.num_regions(); ++r) {
+      EXPECT_EQ(c.boundaries.region_genus(r), 0);
+      annuli += c.boundaries.region_loops[r].size() == 2;
+      EXPECT_EQ(c.domains[r].flipped_triangles, 0u) << count << " regions, region " << r;
+      const auto& loops = c.boundaries.region_loops[r];
+      for (size_t l = 0; l < loops.size(); ++l) {
+        const double area = cagekit::signed_domain_area(c.domains[r], c.boundaries.loop_vertices(loops[l]));
+        EXPECT_EQ(area > 0.0, l == 0) << count << " regions, region " << r << " loop " << l;
+      }
+    }
+    std::printf("torus %d regions: %zu annuli, %zu arcs, L2,1/area %.4f\n", count, annuli, c.arcs.size(),
+                seg.total_error / seg.total_area);
+  }
+  // One region: the whole closed torus has no boundary to parameterise.
+  cagekit::ConstraintOptions constraint_options;
+  constraint_options.spacing = 0.5;
+  EXPECT_EQ(status_of([&] {
+              cagekit::compute_remesh_constraints(m, std::vector<uint32_t>(m.num_faces(), 0), 1, constraint_options);
+            }),
+            Status::invalid_mesh);
 }
 
 TEST(RemeshConstraints, FandiskThirtyRegions) { check_real_mesh_constraints("fandisk.obj", 30, 0.05); }
