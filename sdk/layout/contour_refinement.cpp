@@ -29,25 +29,28 @@ double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
 class ClusterBorders {
  public:
   ClusterBorders(const PolygonMesh& input, const std::vector<uint32_t>& cluster_of_face) {
-    std::unordered_map<uint64_t, uint32_t> face_of_half_edge;
-    face_of_half_edge.reserve(input.num_face_vertices());
+    // Every half-edge as (from, to) key with its face, sorted: the opposite of (u, v) is found by
+    // binary search (a hash map over millions of half-edges is several times slower).
+    std::vector<std::pair<uint64_t, uint32_t>> half_edges;
+    half_edges.reserve(input.num_face_vertices());
     for (uint32_t f = 0; f < input.num_faces(); ++f) {
       const uint32_t n = input.face_size(f);
       for (uint32_t k = 0; k < n; ++k)
-        face_of_half_edge[pair_key(input.face_vertex(f, k), input.face_vertex(f, (k + 1) % n))] = f;
+        half_edges.emplace_back(pair_key(input.face_vertex(f, k), input.face_vertex(f, (k + 1) % n)), f);
     }
-    for (uint32_t f = 0; f < input.num_faces() && f < cluster_of_face.size(); ++f) {
-      const uint32_t c = cluster_of_face[f];
-      const uint32_t n = input.face_size(f);
-      for (uint32_t k = 0; k < n; ++k) {
-        const uint32_t u = input.face_vertex(f, k), v = input.face_vertex(f, (k + 1) % n);
-        const auto opposite = face_of_half_edge.find(pair_key(v, u));
-        if (opposite != face_of_half_edge.end() && opposite->second < cluster_of_face.size() &&
-            cluster_of_face[opposite->second] == c)
-          continue;
-        next_.emplace(pair_key(c, u), v);
-        ++count_[c];
-      }
+    std::sort(half_edges.begin(), half_edges.end());
+    auto cluster_of = [&](uint32_t f) { return f < cluster_of_face.size() ? cluster_of_face[f] : UINT32_MAX; };
+    for (const auto& [key, f] : half_edges) {
+      const uint32_t c = cluster_of(f);
+      if (c == UINT32_MAX) continue;
+      const uint32_t u = uint32_t(key >> 32), v = uint32_t(key);
+      const auto opposite = std::lower_bound(half_edges.begin(), half_edges.end(), std::make_pair(pair_key(v, u), 0u));
+      bool inside = false;
+      for (auto it = opposite; it != half_edges.end() && it->first == pair_key(v, u); ++it)
+        inside = inside || cluster_of(it->second) == c;
+      if (inside) continue;
+      next_.emplace(pair_key(c, u), v);
+      ++count_[c];
     }
   }
 
