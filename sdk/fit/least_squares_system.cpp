@@ -2,7 +2,7 @@
 #include "fit/least_squares_system.h"
 
 // eigen_config.h must come before any Eigen header.
-#include "fit/eigen_config.h"
+#include "core/eigen_config.h"
 
 #include <Eigen/Sparse>
 #include <Eigen/IterativeLinearSolvers>

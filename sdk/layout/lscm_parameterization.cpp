@@ -1,4 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
+// Eigen's assertions throw instead of aborting: before any Eigen header.
+#include "core/eigen_config.h"
 #include "layout/lscm_parameterization.h"
 
 #include <Eigen/Sparse>
