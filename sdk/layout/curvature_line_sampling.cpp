@@ -67,6 +67,7 @@ class Sampler {
   void add_seed(uint32_t f, const Vec3& p, LineType t, const Vec3& hint) {
     seeds_.push_back({f, p, t, hint, false});
   }
+  bool crosses_transversal(uint32_t f, const Vec3& a, const Vec3& b, uint32_t line, LineType t) const;
   bool trace(const Seed& s);
   struct Pass {
     uint32_t face;
@@ -75,8 +76,20 @@ class Sampler {
     double sign;
     std::vector<uint32_t> segments;
     bool closed = false;
+    bool open_end = false;  // stopped by a collision with no transversal line within reach
+    uint32_t end_face = 0;
+    Vec3 end_point, end_dir;
   };
-  void run_pass(Pass& pass, uint32_t line, bool trusted_start, const Vec3& start_point);
+  struct OpenEnd {
+    uint32_t line;
+    bool at_front;
+    uint32_t face;
+    Vec3 point, dir;
+    LineType type;
+  };
+  void run_pass(Pass& pass, uint32_t line, bool trusted_start, const Vec3& start_point, bool extend_only = false);
+  void extend_open_ends();
+  std::vector<OpenEnd> open_ends_;
   void feature_and_boundary_lines();
   void initial_seeds();
   void sweep();
@@ -181,7 +194,7 @@ bool Sampler::collides(uint32_t f, const Vec3& p, const Vec3& dir, LineType t, b
   return hit;
 }
 
-void Sampler::run_pass(Pass& ps, uint32_t line, bool trusted_start, const Vec3& start_point) {
+void Sampler::run_pass(Pass& ps, uint32_t line, bool trusted_start, const Vec3& start_point, bool extend_only) {
   std::vector<Vec3> history;
   {
     const Placement* pl = unf_.placement(ps.face);
@@ -190,6 +203,12 @@ void Sampler::run_pass(Pass& ps, uint32_t line, bool trusted_start, const Vec3& 
   bool trusted_mode = trusted_start;
   double arc = 0.0, since_seed = 0.0, step_arc = 0.0, seed_spacing = 0.0;
   uint32_t at_vertex = detail::kNone, start_vertex = detail::kNone;
+  // After a collision the line is extended until it crosses a transversal line (or gives up
+  // after max_spacing), so that it ends in a T-joint instead of leaving a gap that no line
+  // crosses [J] (the thesis stops at the collision point; its limitation 1).
+  bool extending = extend_only, crossed = false;
+  double extension = 0.0;
+  size_t extension_start = 0;
   const double scale_eps = 1e-12 * out_.bbox_diagonal;
   auto on_piece = [&](uint32_t g, const Placement& pl, Vec2 a, Vec2 b, uint32_t va, uint32_t vb) {
     LineSegment s;
@@ -207,6 +226,11 @@ void Sampler::run_pass(Pass& ps, uint32_t line, bool trusted_start, const Vec3& 
     s.trusted = trusted_mode;
     ps.segments.push_back(db_.insert(s));
     step_arc += len;
+    if (extending) {
+      extension += len;
+      crossed |= crosses_transversal(g, s.a, s.b, line, ps.type);
+      return;
+    }
     // Seeds of the opposite type every D(p) of arc (κ of this line's type), placed exactly [R].
     if (!trusted_mode || !(seed_spacing > 0.0) || !(len > 0.0)) return;
     double used = 0.0;
@@ -282,6 +306,16 @@ void Sampler::run_pass(Pass& ps, uint32_t line, bool trusted_start, const Vec3& 
       history.push_back(d3);
       if (int(history.size()) > std::max(1, o_.trusted_history)) history.erase(history.begin());
     }
+    if (extending) {
+      if (crossed) return;
+      if (extension > dmax_) {  // no transversal line ahead: withdraw the extension
+        for (size_t k = extension_start; k < ps.segments.size(); ++k) db_.segment_for_update(ps.segments[k]).line = detail::kNone;
+        ps.segments.resize(extension_start);
+        ps.open_end = !extend_only;
+        return;
+      }
+      continue;
+    }
     bool near_start = false;
     const double r = o_.collision_factor * spacing(ps.type, ps.face, w2);
     if (collides(ps.face, p3, d3, ps.type, trusted_mode, r, line, ps.sign * arc, near_start)) {
@@ -295,11 +329,35 @@ void Sampler::run_pass(Pass& ps, uint32_t line, bool trusted_start, const Vec3& 
             ps.segments.size() > before) {
           db_.segment_for_update(ps.segments.back()).b = start_point;
           ps.closed = true;
+          return;
         }
       }
-      return;
+      extending = true;
+      extension = 0.0;
+      extension_start = ps.segments.size();
+      ps.end_face = ps.face;
+      ps.end_point = p3;
+      ps.end_dir = d3;
     }
   }
+}
+
+bool Sampler::crosses_transversal(uint32_t f, const Vec3& a, const Vec3& b, uint32_t line, LineType t) const {
+  const FaceFrame fr = face_frame(mesh_, f);
+  auto flat = [&](const Vec3& p) { return Vec2{dot(p - fr.origin, fr.u), dot(p - fr.origin, fr.v)}; };
+  const Vec2 a2 = flat(a), b2 = flat(b), d = b2 - a2;
+  bool hit = false;
+  db_.for_each_in_face(f, [&](uint32_t id) {
+    const LineSegment& s = db_.segment(id);
+    if (hit || s.line == detail::kNone || s.line == line) return;
+    if (is_curvature_line(s.type) && s.type == t && s.trusted) return;
+    const Vec2 c2 = flat(s.a), e = flat(s.b) - c2;
+    const double den = cross(d, e);
+    if (!(std::fabs(den) > 1e-12 * norm(d) * norm(e))) return;
+    const double u = cross(c2 - a2, e) / den, v = cross(c2 - a2, d) / den;
+    hit = u >= -1e-9 && u <= 1 + 1e-9 && v >= -1e-9 && v <= 1 + 1e-9;
+  });
+  return hit;
 }
 
 bool Sampler::trace(const Seed& seed) {
@@ -308,24 +366,24 @@ bool Sampler::trace(const Seed& seed) {
   unf_.reset(seed.face);
   const FaceFrame fr = unf_.frame(seed.face);
   const Vec2 p{dot(seed.point - fr.origin, fr.u), dot(seed.point - fr.origin, fr.v)};
-  const Placement id;
+  const Placement frame0;
   const bool conf = confident(seed.face);
-  Vec2 hint = unf_.to_omega(seed.face, id, seed.hint);
+  Vec2 hint = unf_.to_omega(seed.face, frame0, seed.hint);
   if (norm(hint) > 0.0) hint = (1.0 / norm(hint)) * hint;
   else hint = {1.0, 0.0};
-  Vec2 dir = (conf || seed.forced) ? field_direction(seed.face, id, p, seed.type, hint) : hint;
-  const std::array<double, 3> w = weights(seed.face, id, p);
+  Vec2 dir = (conf || seed.forced) ? field_direction(seed.face, frame0, p, seed.type, hint) : hint;
+  const std::array<double, 3> w = weights(seed.face, frame0, p);
   bool near_start = false;
   const double r = o_.collision_factor * spacing(seed.type, seed.face, w);
   if (!std::isfinite(p.x) || !std::isfinite(p.y) ||
-      collides(seed.face, seed.point, unf_.to_space(seed.face, id, dir), seed.type, conf || seed.forced, r, line,
+      collides(seed.face, seed.point, unf_.to_space(seed.face, frame0, dir), seed.type, conf || seed.forced, r, line,
                0.0, near_start)) {
     ++out_.seeds_rejected;
     return false;
   }
   out_.lines.push_back({seed.type, false, {}});
   const size_t seeds_before = seeds_.size();
-  if (conf || seed.forced) add_seed(seed.face, seed.point, opposite_type(seed.type), cross(fr.n, unf_.to_space(seed.face, id, dir)));
+  if (conf || seed.forced) add_seed(seed.face, seed.point, opposite_type(seed.type), cross(fr.n, unf_.to_space(seed.face, frame0, dir)));
   Pass fwd{seed.face, p, dir, seed.type, 1.0, {}, false};
   run_pass(fwd, line, conf || seed.forced, seed.point);
   Pass bwd{seed.face, p, -1.0 * dir, seed.type, -1.0, {}, false};
@@ -353,6 +411,8 @@ bool Sampler::trace(const Seed& seed) {
     l.segments.push_back(*it);
   }
   l.segments.insert(l.segments.end(), fwd.segments.begin(), fwd.segments.end());
+  if (fwd.open_end) open_ends_.push_back({line, false, fwd.end_face, fwd.end_point, fwd.end_dir, fwd.type});
+  if (bwd.open_end) open_ends_.push_back({line, true, bwd.end_face, bwd.end_point, bwd.end_dir, bwd.type});
   ++out_.lines_by_type[size_t(seed.type)];
   return true;
 }
@@ -381,7 +441,7 @@ void Sampler::feature_and_boundary_lines() {
     incident[mesh_.face_vertices[c]].push_back(c);
     incident[mesh_.face_vertices[TriangleAdjacency::next(c)]].push_back(c);
   }
-  std::vector<uint8_t> used(nc, 0);
+  std::vector<uint8_t> used_edge(nc, 0);
   auto emit = [&](LineType type, const std::vector<std::pair<uint32_t, bool>>& chain, bool closed) {
     const uint32_t line = uint32_t(out_.lines.size());
     SampledLine l;
@@ -435,12 +495,12 @@ void Sampler::feature_and_boundary_lines() {
     for (uint32_t v0 = 0; v0 < nv; ++v0) {
       if ((pass == 0) == (incident[v0].size() == 2)) continue;
       for (uint32_t c0 : incident[v0]) {
-        if (used[c0]) continue;
+        if (used_edge[c0]) continue;
         std::vector<std::pair<uint32_t, bool>> chain;
         uint32_t v = v0, c = c0;
         bool closed = false;
-        for (uint32_t guard = 0; guard < nc && !used[c]; ++guard) {
-          used[c] = 1;
+        for (uint32_t guard = 0; guard < nc && !used_edge[c]; ++guard) {
+          used_edge[c] = 1;
           chain.push_back({c, mesh_.face_vertices[c] == v});
           v = other_end(c, v);
           if (v == v0 && pass == 1) {
@@ -458,19 +518,19 @@ void Sampler::feature_and_boundary_lines() {
   for (uint32_t c = 0; c < nc; ++c)
     if (adj_.twin[c] == detail::kNone) boundary_out[mesh_.face_vertices[c]] = c;
   for (uint32_t c0 = 0; c0 < nc; ++c0) {
-    if (adj_.twin[c0] != detail::kNone || used[c0]) continue;
+    if (adj_.twin[c0] != detail::kNone || used_edge[c0]) continue;
     std::vector<std::pair<uint32_t, bool>> chain;
     uint32_t c = c0;
     bool closed = false;
     for (uint32_t guard = 0; guard < nc; ++guard) {
-      used[c] = 1;
+      used_edge[c] = 1;
       chain.push_back({c, true});
       const uint32_t next = boundary_out[mesh_.face_vertices[TriangleAdjacency::next(c)]];
       if (next == c0) {
         closed = true;
         break;
       }
-      if (next == detail::kNone || used[next]) break;
+      if (next == detail::kNone || used_edge[next]) break;
       c = next;
     }
     emit(LineType::boundary, chain, closed);
@@ -533,11 +593,43 @@ void Sampler::sweep() {
   }
 }
 
+// Lines stopped by a collision before any transversal line existed: once all lines are in,
+// extend them (at most max_spacing) until they cross one, so they end in T-joints [J].
+void Sampler::extend_open_ends() {
+  for (size_t i = 0; i < open_ends_.size(); ++i) {
+    if (i % 256 == 0) monitor_.report("curvature lines: open ends", double(i) / double(open_ends_.size()));
+    const OpenEnd& oe = open_ends_[i];
+    unf_.reset(oe.face);
+    const FaceFrame fr = unf_.frame(oe.face);
+    const Vec2 p{dot(oe.point - fr.origin, fr.u), dot(oe.point - fr.origin, fr.v)};
+    Vec2 d{dot(oe.dir, fr.u), dot(oe.dir, fr.v)};
+    if (!(norm(d) > 0.0)) continue;
+    d = (1.0 / norm(d)) * d;
+    Pass ps{oe.face, p, d, oe.type, 1.0, {}, false};
+    run_pass(ps, oe.line, confident(oe.face), oe.point, true);
+    if (ps.segments.empty()) continue;
+    std::vector<uint32_t>& segs = out_.lines[oe.line].segments;
+    if (!oe.at_front) {
+      segs.insert(segs.end(), ps.segments.begin(), ps.segments.end());
+      continue;
+    }
+    std::vector<uint32_t> front;
+    for (auto it = ps.segments.rbegin(); it != ps.segments.rend(); ++it) {
+      LineSegment& sg = db_.segment_for_update(*it);
+      std::swap(sg.a, sg.b);
+      std::swap(sg.vertex_a, sg.vertex_b);
+      front.push_back(*it);
+    }
+    segs.insert(segs.begin(), front.begin(), front.end());
+  }
+}
+
 void Sampler::run() {
   feature_and_boundary_lines();
   initial_seeds();
   drain();
   sweep();
+  extend_open_ends();
 }
 
 }  // namespace

@@ -1,0 +1,265 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Curvature-line meshing (thesis §5.6, spec thesis-ch4-6.md §1.4, AC5-6..AC5-8): quads along the
+// principal directions on a cylinder and a torus, topology (Euler characteristic) preserved,
+// no concave faces, face valence bounded, fandisk creases reproduced, no hang on a sphere.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include "layout/convex_face_partition.h"
+#include "layout/curvature_line_mesher.h"
+#include "layout/curvature_line_sampling.h"
+#include "layout/curvature_tensor_field.h"
+#include "layout/feature_edges.h"
+#include "test_support.h"
+
+using cagekit::CurvatureOptions;
+using cagekit::LineMesh;
+using cagekit::LineMeshOptions;
+using cagekit::LineSamplingOptions;
+using cagekit::PolygonMesh;
+using cagekit::Status;
+using cagekit::Vec3;
+using cagekit_test::status_of;
+
+namespace {
+
+const double kPi = 3.14159265358979323846;
+
+PolygonMesh cylinder(double R, double H, int n_around, int n_along) {
+  PolygonMesh m;
+  for (int j = 0; j <= n_along; ++j)
+    for (int i = 0; i < n_around; ++i) {
+      const double a = 2 * kPi * i / n_around;
+      m.add_vertex({R * std::cos(a), R * std::sin(a), H * j / n_along});
+    }
+  auto id = [&](int i, int j) { return uint32_t(j * n_around + (i % n_around)); };
+  for (int j = 0; j < n_along; ++j)
+    for (int i = 0; i < n_around; ++i) {
+      const uint32_t a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
+      if ((i + j) % 2) {
+        m.add_face({a, b, d});
+        m.add_face({b, c, d});
+      } else {
+        m.add_face({a, b, c});
+        m.add_face({a, c, d});
+      }
+    }
+  return m;
+}
+
+// Torus about the z axis: ring radius R, tube radius r, outward-oriented triangles.
+PolygonMesh torus(double R, double r, int n_u, int n_v) {
+  PolygonMesh m;
+  for (int i = 0; i < n_u; ++i)
+    for (int j = 0; j < n_v; ++j) {
+      const double u = 2 * kPi * i / n_u, v = 2 * kPi * j / n_v;
+      m.add_vertex({(R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u), r * std::sin(v)});
+    }
+  auto id = [&](int i, int j) { return uint32_t((i % n_u) * n_v + (j % n_v)); };
+  for (int i = 0; i < n_u; ++i)
+    for (int j = 0; j < n_v; ++j) {
+      const uint32_t a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
+      m.add_face({a, b, c});
+      m.add_face({a, c, d});
+    }
+  return m;
+}
+
+struct Result {
+  PolygonMesh input;
+  cagekit::CurvatureField field;
+  cagekit::LineSampling lines;
+  LineMesh out;
+};
+
+Result remesh(PolygonMesh input, double tolerance, double feature_angle = -1.0, double disk_bbox = 0.0) {
+  Result r;
+  r.input = std::move(input);
+  CurvatureOptions co;
+  co.feature_angle_degrees = feature_angle;
+  co.disk_radius_bbox = disk_bbox;
+  r.field = cagekit::estimate_curvature_field(r.input, co);
+  std::vector<uint8_t> features;
+  if (feature_angle >= 0.0) features = cagekit::detect_feature_edges(r.input, feature_angle);
+  LineSamplingOptions lo;
+  lo.tolerance = tolerance;
+  r.lines = cagekit::sample_curvature_lines(r.input, r.field, lo, feature_angle >= 0.0 ? &features : nullptr);
+  r.out = cagekit::mesh_curvature_lines(r.input, r.field, r.lines, LineMeshOptions{});
+  return r;
+}
+
+struct Topology {
+  long V = 0, E = 0, F = 0;
+  size_t boundary_edges = 0, nonmanifold_edges = 0, quads = 0, max_valence = 0, concave_corners = 0;
+  size_t interior_vertices = 0, valence4 = 0;
+  long euler() const { return V - E + F; }
+};
+
+Topology topology(const LineMesh& out) {
+  Topology t;
+  const PolygonMesh& m = out.mesh;
+  std::map<std::pair<uint32_t, uint32_t>, int> directed;
+  for (size_t f = 0; f < m.num_faces(); ++f) {
+    const uint32_t n = m.face_size(f);
+    t.max_valence = std::max<size_t>(t.max_valence, n);
+    t.quads += n == 4;
+    std::vector<uint32_t> loop(m.face_begin(f), m.face_begin(f) + n);
+    const Vec3 fn = cagekit::loop_normal(m.positions, loop);
+    for (uint32_t k = 0; k < n; ++k) {
+      ++directed[{loop[k], loop[(k + 1) % n]}];
+      if (cagekit::corner_angle(m.positions, out.vertex_normals, loop, k, fn) > kPi + 1e-6) ++t.concave_corners;
+    }
+  }
+  std::map<std::pair<uint32_t, uint32_t>, int> undirected;
+  for (const auto& [e, c] : directed) {
+    undirected[{std::min(e.first, e.second), std::max(e.first, e.second)}] += c;
+    if (c > 1) ++t.nonmanifold_edges;
+  }
+  std::vector<int> valence(m.num_vertices(), 0);
+  std::vector<uint8_t> on_boundary(m.num_vertices(), 0);
+  for (const auto& [e, c] : undirected) {
+    ++valence[e.first];
+    ++valence[e.second];
+    if (c == 1) {
+      ++t.boundary_edges;
+      on_boundary[e.first] = on_boundary[e.second] = 1;
+    }
+    if (c > 2) ++t.nonmanifold_edges;
+  }
+  for (size_t v = 0; v < m.num_vertices(); ++v)
+    if (!on_boundary[v]) {
+      ++t.interior_vertices;
+      t.valence4 += valence[v] == 4;
+    }
+  t.V = long(m.num_vertices());
+  t.E = long(undirected.size());
+  t.F = long(m.num_faces());
+  return t;
+}
+
+void print(const char* name, const Result& r, const Topology& t) {
+  std::printf("%s: %zu lines -> V %ld E %ld F %ld (chi %ld), quads %.1f%%, valence-4 interior vertices %.1f%%, max face "
+              "valence %zu, boundary edges %zu, nonmanifold %zu, concave corners %zu; intersections %zu merged %zu "
+              "dangling %zu inconsistent %zu unclosed %zu; splits concave %zu valence %zu unresolved %zu; %.3f s\n",
+              name, r.lines.lines.size(), t.V, t.E, t.F, t.euler(), 100.0 * double(t.quads) / double(std::max<long>(1, t.F)),
+              100.0 * double(t.valence4) / double(std::max<size_t>(1, t.interior_vertices)), t.max_valence,
+              t.boundary_edges, t.nonmanifold_edges, t.concave_corners, r.out.intersections, r.out.merged_vertices,
+              r.out.dangling_edges_removed, r.out.inconsistent_edges_removed, r.out.unclosed_half_edges,
+              r.out.partition.concave_splits, r.out.partition.valence_splits, r.out.partition.unresolved, r.out.seconds);
+}
+
+double line_angle_deg(const Vec3& a, const Vec3& b) {
+  const double c = std::fabs(cagekit::dot(cagekit::normalized(a), cagekit::normalized(b)));
+  return std::acos(std::min(1.0, c)) * 180.0 / kPi;
+}
+
+}  // namespace
+
+TEST(CurvatureLineMesher, CylinderGivesAlignedQuads) {
+  // AC5-6-like: an open cylinder (R = 1, H = 4, 18K triangles).
+  Result r = remesh(cylinder(1.0, 4.0, 96, 96), 0.001);
+  const Topology t = topology(r.out);
+  print("cylinder", r, t);
+  EXPECT_GT(t.F, 300);
+  EXPECT_EQ(t.euler(), 0);  // an annulus
+  EXPECT_EQ(t.nonmanifold_edges, 0u);
+  EXPECT_EQ(t.concave_corners, 0u);
+  EXPECT_LE(t.max_valence, 5u);
+  EXPECT_GE(double(t.quads), 0.95 * double(t.F));
+  EXPECT_GE(double(t.valence4), 0.95 * double(t.interior_vertices));
+  // Edges along the axis or around it.
+  size_t aligned = 0, total = 0;
+  const PolygonMesh& m = r.out.mesh;
+  for (size_t f = 0; f < m.num_faces(); ++f)
+    for (uint32_t k = 0; k < m.face_size(f); ++k) {
+      const Vec3 a = m.positions[m.face_vertex(f, k)], b = m.positions[m.face_vertex(f, (k + 1) % m.face_size(f))];
+      const Vec3 mid = 0.5 * (a + b);
+      const double ang = std::min(line_angle_deg(b - a, {0, 0, 1}), line_angle_deg(b - a, {-mid.y, mid.x, 0}));
+      aligned += ang < 10.0;
+      ++total;
+    }
+  std::printf("cylinder: %.1f%% of edges within 10 deg of the axis or the circles\n", 100.0 * double(aligned) / double(total));
+  EXPECT_GE(double(aligned), 0.9 * double(total));
+}
+
+TEST(CurvatureLineMesher, TorusIsClosedGenusOneAndAligned) {
+  Result r = remesh(torus(2.0, 0.7, 160, 64), 0.002);
+  const Topology t = topology(r.out);
+  print("torus", r, t);
+  EXPECT_EQ(t.euler(), 0);  // genus 1
+  EXPECT_EQ(t.boundary_edges, 0u);
+  EXPECT_EQ(t.nonmanifold_edges, 0u);
+  EXPECT_EQ(t.concave_corners, 0u);
+  EXPECT_LE(t.max_valence, 5u);
+  EXPECT_GE(double(t.quads), 0.8 * double(t.F));
+  // Principal directions of a torus: around the ring (u) and around the tube (v).
+  double sum = 0.0;
+  size_t total = 0;
+  const PolygonMesh& m = r.out.mesh;
+  for (size_t f = 0; f < m.num_faces(); ++f)
+    for (uint32_t k = 0; k < m.face_size(f); ++k) {
+      const Vec3 a = m.positions[m.face_vertex(f, k)], b = m.positions[m.face_vertex(f, (k + 1) % m.face_size(f))];
+      const Vec3 mid = 0.5 * (a + b);
+      const Vec3 ring{-mid.y, mid.x, 0.0};
+      const Vec3 radial = cagekit::normalized(Vec3{mid.x, mid.y, 0.0});
+      const Vec3 centre = 2.0 * radial;
+      const Vec3 tube = cagekit::cross(ring, mid - centre);
+      sum += std::min(line_angle_deg(b - a, ring), line_angle_deg(b - a, tube));
+      ++total;
+    }
+  std::printf("torus: mean angle of edges to the nearer principal direction %.2f deg\n", sum / double(total));
+  EXPECT_LT(sum / double(total), 5.0);
+}
+
+TEST(CurvatureLineMesher, SphereTerminatesWithValidFaces) {
+  Result r = remesh(cagekit_test::triangle_sphere(5), 0.002);
+  const Topology t = topology(r.out);
+  print("sphere", r, t);
+  EXPECT_GT(t.F, 10);
+  EXPECT_EQ(t.concave_corners, 0u);
+  EXPECT_LE(t.max_valence, 5u);
+  EXPECT_EQ(t.nonmanifold_edges, 0u);
+}
+
+TEST(CurvatureLineMesher, FandiskCreasesAreMeshEdges) {
+  const std::string path = cagekit_test::shared_mesh_path("fandisk.obj");
+  if (path.empty()) GTEST_SKIP() << "fandisk.obj not in ../shared/meshes";
+  Result r = remesh(cagekit_test::load_mesh(path), 0.002, 40.0);
+  const Topology t = topology(r.out);
+  print("fandisk", r, t);
+  EXPECT_EQ(t.concave_corners, 0u);
+  EXPECT_LE(t.max_valence, 5u);
+  EXPECT_EQ(t.nonmanifold_edges, 0u);
+  // Every input crease edge midpoint lies near an output edge (AC5-8: within 0.5% of the diagonal).
+  const std::vector<uint8_t> creases = cagekit::detect_feature_edges(r.input, 40.0);
+  const PolygonMesh& m = r.out.mesh;
+  const double diag = r.input.bounding_box().diagonal();
+  size_t near = 0, count = 0;
+  for (size_t f = 0; f < r.input.num_faces(); ++f)
+    for (uint32_t k = 0; k < 3; ++k) {
+      if (!creases[3 * f + k]) continue;
+      const Vec3 mid = 0.5 * (r.input.positions[r.input.face_vertex(f, k)] + r.input.positions[r.input.face_vertex(f, (k + 1) % 3)]);
+      double best = 1e300;
+      for (size_t g = 0; g < m.num_faces(); ++g)
+        for (uint32_t j = 0; j < m.face_size(g); ++j)
+          best = std::min(best, cagekit::point_segment_distance(mid, m.positions[m.face_vertex(g, j)],
+                                                                m.positions[m.face_vertex(g, (j + 1) % m.face_size(g))]));
+      near += best < 0.005 * diag;
+      ++count;
+    }
+  std::printf("fandisk: %zu of %zu crease edge midpoints within 0.5%% of the diagonal of an output edge\n", near, count);
+  EXPECT_GE(double(near), 0.95 * double(count));
+}
+
+TEST(CurvatureLineMesher, RejectsBadOptions) {
+  Result r = remesh(cylinder(1.0, 2.0, 24, 8), 0.01);
+  LineMeshOptions o;
+  o.max_face_valence = 2;
+  EXPECT_EQ(status_of([&] { cagekit::mesh_curvature_lines(r.input, r.field, r.lines, o); }), Status::invalid_argument);
+  const PolygonMesh other = cylinder(1.0, 2.0, 20, 8);
+  EXPECT_EQ(status_of([&] { cagekit::mesh_curvature_lines(other, r.field, r.lines, LineMeshOptions{}); }),
+            Status::invalid_argument);
+}
