@@ -374,6 +374,15 @@ fan = bpy.data.meshes.new("fin")  # three triangles on one edge: non-manifold, r
 fan.from_pydata([(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1)], [], [(0, 1, 2), (1, 0, 3), (0, 1, 4)])
 activate(link(bpy.data.objects.new("fin", fan)))
 expect_error("a non-manifold mesh (the SDK's validation)", ["CageKit"])
+nanm = bpy.data.meshes.new("nan")  # a NaN coordinate: refused by the SDK's validation
+nanm.from_pydata([(float("nan"), 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)], [],
+                 [(0, 2, 1), (0, 1, 3), (1, 2, 3), (0, 3, 2)])
+activate(link(bpy.data.objects.new("nan", nanm)))
+expect_error("a mesh with a NaN vertex", ["CageKit"])
+degenerate = bpy.data.meshes.new("degenerate")  # every face has zero area
+degenerate.from_pydata([(0, 0, 0), (1, 0, 0), (2, 0, 0), (3, 0, 0)], [], [(0, 1, 2), (1, 2, 3), (0, 1, 3)])
+activate(link(bpy.data.objects.new("degenerate", degenerate)))
+expect_error("a mesh of zero-area faces", ["CageKit"])
 activate(cage)
 try:
     bpy.ops.cagekit.fit(scan="points")
