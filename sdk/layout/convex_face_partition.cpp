@@ -43,7 +43,8 @@ Vec3 loop_normal(const std::vector<Vec3>& p, const std::vector<uint32_t>& loop) 
 }
 
 void partition_face(const std::vector<Vec3>& p, const std::vector<Vec3>& n, const std::vector<uint32_t>& loop,
-                    int max_valence, std::vector<std::vector<uint32_t>>& out, PartitionStats& stats) {
+                    int max_valence, std::vector<std::vector<uint32_t>>& out, PartitionStats& stats,
+                    std::unordered_set<uint64_t>* edges) {
   std::vector<std::vector<uint32_t>> stack{loop};
   for (size_t guard = 0; !stack.empty() && guard < 100000; ++guard) {
     const std::vector<uint32_t> f = std::move(stack.back());
@@ -74,6 +75,7 @@ void partition_face(const std::vector<Vec3>& p, const std::vector<Vec3>& n, cons
         for (size_t j = 0; j < m; ++j) {
           if (j == i || j == (i + 1) % m || (j + 1) % m == i) continue;
           if (level >= 2 && j < i) continue;
+          if (edges && edges->count(edge_key(f[i], f[j]))) continue;
           const std::vector<uint32_t> a = sub_loop(f, i, j), b = sub_loop(f, j, i);
           // New corners: in a, i is first and j last; in b, j is first and i last.
           const Vec3 fa = loop_normal(p, a), fb = loop_normal(p, b);
@@ -104,6 +106,7 @@ void partition_face(const std::vector<Vec3>& p, const std::vector<Vec3>& n, cons
       continue;
     }
     ++(concave ? stats.concave_splits : stats.valence_splits);
+    if (edges) edges->insert(edge_key(f[bi], f[bj]));
     stack.push_back(sub_loop(f, bi, bj));
     stack.push_back(sub_loop(f, bj, bi));
   }

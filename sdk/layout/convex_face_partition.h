@@ -11,6 +11,7 @@
 // it lies inside the corner angle at both of its ends (measured in each end's tangent plane);
 // crossings of the diagonal with other edges of a very non-planar face are not checked.
 #include <cstdint>
+#include <unordered_set>
 #include <vector>
 
 #include "core/vec3.h"
@@ -34,8 +35,14 @@ Vec3 loop_normal(const std::vector<Vec3>& positions, const std::vector<uint32_t>
 
 // Appends to `out` the convex faces (at most max_valence corners each, when possible) that
 // partition the loop. positions/normals are indexed by the loop's vertex ids; max_valence >= 3.
+// edges: optional set of the mesh's existing edges (key edge_key(a, b)); diagonals joining two
+// vertices that are already joined are not used (they would duplicate an edge), and the
+// diagonals used are added to it.
+inline uint64_t edge_key(uint32_t a, uint32_t b) {
+  return a < b ? (uint64_t(a) << 32) | b : (uint64_t(b) << 32) | a;
+}
 void partition_face(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
                     const std::vector<uint32_t>& loop, int max_valence, std::vector<std::vector<uint32_t>>& out,
-                    PartitionStats& stats);
+                    PartitionStats& stats, std::unordered_set<uint64_t>* edges = nullptr);
 
 CAGEKIT_NAMESPACE_END

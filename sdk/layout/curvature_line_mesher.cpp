@@ -361,8 +361,11 @@ LineMesh mesh_curvature_lines(const PolygonMesh& mesh, const CurvatureField& fie
   std::vector<std::vector<uint32_t>> loops, faces;
   graph.trace(out, loops);
   monitor.report("meshing: convex partition", 0.8);
+  std::unordered_set<uint64_t> existing;
   for (const auto& loop : loops)
-    partition_face(graph.position, graph.normal, loop, options.max_face_valence, faces, out.partition);
+    for (size_t k = 0; k < loop.size(); ++k) existing.insert(edge_key(loop[k], loop[(k + 1) % loop.size()]));
+  for (const auto& loop : loops)
+    partition_face(graph.position, graph.normal, loop, options.max_face_valence, faces, out.partition, &existing);
   // Compact the vertices used by faces.
   std::vector<uint32_t> remap(graph.position.size(), kNone);
   for (auto& f : faces)

@@ -4,8 +4,10 @@
 // no concave faces, face valence bounded, fandisk creases reproduced, no hang on a sphere.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <array>
 #include <map>
 
 #include "layout/convex_face_partition.h"
@@ -13,6 +15,7 @@
 #include "layout/curvature_line_sampling.h"
 #include "layout/curvature_tensor_field.h"
 #include "layout/feature_edges.h"
+#include "subdiv/uniform_refinement.h"
 #include "test_support.h"
 
 using cagekit::CurvatureOptions;
@@ -66,6 +69,62 @@ PolygonMesh torus(double R, double r, int n_u, int n_v) {
       m.add_face({a, c, d});
     }
   return m;
+}
+
+
+// A smooth closed surface of genus `holes`: a one-voxel-thick plate of nx x ny cells with
+// `holes` cells removed along its middle row, refined `levels` times by Catmull-Clark (the SDK's
+// uniform refinement) and split into triangles.
+PolygonMesh holed_plate(int nx, int ny, const std::vector<std::pair<int, int>>& holes, int levels) {
+  auto solid = [&](int i, int j, int k) {
+    if (i < 0 || j < 0 || k != 0 || i >= nx || j >= ny) return false;
+    for (const auto& h : holes)
+      if (h.first == i && h.second == j) return false;
+    return true;
+  };
+  cagekit::Cage cage;
+  std::map<std::array<int, 3>, uint32_t> ids;
+  auto vid = [&](std::array<int, 3> p) {
+    auto it = ids.find(p);
+    if (it != ids.end()) return it->second;
+    const uint32_t v = cage.mesh.add_vertex({double(p[0]), double(p[1]), 1.4 * double(p[2])});
+    ids[p] = v;
+    return v;
+  };
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < ny; ++j) {
+      if (!solid(i, j, 0)) continue;
+      for (int d = 0; d < 3; ++d)
+        for (int sgn : {-1, 1}) {
+          std::array<int, 3> c{i, j, 0}, nb = c;
+          nb[d] += sgn;
+          if (solid(nb[0], nb[1], nb[2])) continue;
+          const int u = (d + 1) % 3, v = (d + 2) % 3;
+          std::array<int, 3> base = c;
+          if (sgn > 0) base[d] += 1;
+          std::array<int, 3> q[4] = {base, base, base, base};
+          q[1][u] += 1;
+          q[2][u] += 1;
+          q[2][v] += 1;
+          q[3][v] += 1;
+          if (sgn > 0)
+            cage.mesh.add_face({vid(q[0]), vid(q[1]), vid(q[2]), vid(q[3])});
+          else
+            cage.mesh.add_face({vid(q[0]), vid(q[3]), vid(q[2]), vid(q[1])});
+        }
+    }
+  cagekit::RefineOptions ro;
+  ro.levels = levels;
+  ro.limit_positions = true;
+  const cagekit::Cage fine = cagekit::refine_uniform(cage, ro);
+  PolygonMesh tri;
+  tri.positions = fine.mesh.positions;
+  for (size_t f = 0; f < fine.mesh.num_faces(); ++f) {
+    const uint32_t* q = fine.mesh.face_begin(f);
+    tri.add_face({q[0], q[1], q[2]});
+    tri.add_face({q[0], q[2], q[3]});
+  }
+  return tri;
 }
 
 struct Result {
@@ -262,4 +321,55 @@ TEST(CurvatureLineMesher, RejectsBadOptions) {
   const PolygonMesh other = cylinder(1.0, 2.0, 20, 8);
   EXPECT_EQ(status_of([&] { cagekit::mesh_curvature_lines(other, r.field, r.lines, LineMeshOptions{}); }),
             Status::invalid_argument);
+}
+
+TEST(CurvatureLineMesher, GenusThreeSurfaceKeepsItsGenus) {
+  // AC5-7: no global parameterization, so any genus works; χ = 2 − 2g.
+  const PolygonMesh input = holed_plate(7, 3, {{1, 1}, {3, 1}, {5, 1}}, 4);
+  Result r = remesh(input, 0.002);
+  const Topology t = topology(r.out);
+  std::printf("genus-3 input: %zu triangles\n", input.num_faces());
+  print("genus 3", r, t);
+  EXPECT_EQ(t.euler(), -4);
+  EXPECT_EQ(t.boundary_edges, 0u);
+  EXPECT_EQ(t.nonmanifold_edges, 0u);
+  EXPECT_EQ(t.concave_corners, 0u);
+  EXPECT_LE(t.max_valence, 5u);
+}
+
+TEST(CurvatureLineMesher, HighGenusSurfaceKeepsItsGenus) {
+  std::vector<std::pair<int, int>> holes;
+  for (int i = 1; i < 12; i += 2)
+    for (int j = 1; j < 5; j += 2) holes.push_back({i, j});
+  const PolygonMesh input = holed_plate(13, 5, holes, 3);
+  Result r = remesh(input, 0.001);
+  const Topology t = topology(r.out);
+  std::printf("genus-%zu input: %zu triangles\n", holes.size(), input.num_faces());
+  print("high genus", r, t);
+  EXPECT_EQ(t.euler(), 2 - 2 * long(holes.size()));
+  EXPECT_EQ(t.boundary_edges, 0u);
+  EXPECT_EQ(t.nonmanifold_edges, 0u);
+  EXPECT_EQ(t.concave_corners, 0u);
+  EXPECT_LE(t.max_valence, 5u);
+}
+
+TEST(CurvatureLineMesher, RealMeshes) {
+  for (const char* name : {"rocker-arm.obj", "stanford-bunny.obj", "spot.obj", "cheburashka.obj"}) {
+    const std::string path = cagekit_test::shared_mesh_path(name);
+    if (path.empty()) {
+      std::printf("%s absent, skipped\n", name);
+      continue;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    Result r = remesh(cagekit_test::load_mesh(path), 0.001, -1.0, 0.01);
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const Topology t = topology(r.out);
+    std::printf("%s: %zu triangles, total %.2f s (sampling %.2f s, meshing %.2f s)\n", name, r.input.num_faces(), secs,
+                r.lines.seconds, r.out.seconds);
+    print(name, r, t);
+    EXPECT_GT(t.F, 100);
+    EXPECT_EQ(t.nonmanifold_edges, 0u);
+    EXPECT_EQ(t.concave_corners, 0u);
+    EXPECT_LE(t.max_valence, 5u);
+  }
 }

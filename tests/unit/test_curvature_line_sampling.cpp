@@ -142,6 +142,27 @@ TEST(CurvatureLineSampling, CylinderLinesFollowAxisAndCircles) {
   EXPECT_LE(axial, expected + 2);
 }
 
+TEST(CurvatureLineSampling, LineCountFollowsTheDensityRule) {
+  // AC5-5 at three tolerances: about ⌈2πR / D(ε)⌉ axial lines each time.
+  const double R = 1.0, H = 4.0;
+  const PolygonMesh mesh = cylinder(R, H, 128, 96);
+  int previous = 0;
+  for (double tol : {0.002, 0.0005, 0.000125}) {
+    Sampled s = sample(mesh, tol);
+    const LineSampling& ls = s.lines;
+    const double D = cagekit::line_spacing(1.0 / R, ls.epsilon, ls.min_spacing, ls.max_spacing);
+    int axial = 0;
+    for (size_t l = 0; l < ls.lines.size(); ++l)
+      if (ls.lines[l].type == LineType::min_curvature && line_length(ls, l) > 0.5 * H) ++axial;
+    const int expected = int(std::ceil(2 * kPi * R / D));
+    std::printf("tolerance %g: D = %.4f, expected ~%d axial lines, got %d\n", tol, D, expected, axial);
+    EXPECT_GE(axial, expected - 2);
+    EXPECT_LE(axial, expected + 1);
+    EXPECT_GT(axial, previous);
+    previous = axial;
+  }
+}
+
 TEST(CurvatureLineSampling, SameTypeLinesKeepTheirSpacing) {
   // Lines stop when a same-type line is within collision_factor · D, so away from their ends
   // no two min lines come closer than that (AC5-5 asks for about 0.9 D; the default factor is 0.8).
