@@ -373,3 +373,33 @@ TEST(CurvatureLineMesher, RealMeshes) {
     EXPECT_LE(t.max_valence, 5u);
   }
 }
+
+// Scale check (run explicitly: --gtest_also_run_disabled_tests): a 1M-triangle torus, timings
+// per stage and the peak resident memory of the process.
+TEST(CurvatureLineMesher, DISABLED_MillionTrianglesScale) {
+  const PolygonMesh input = torus(2.0, 0.7, 1000, 500);
+  const auto t0 = std::chrono::steady_clock::now();
+  CurvatureOptions co;
+  co.disk_radius_bbox = 0.01;
+  co.threads = 2;
+  const auto field = cagekit::estimate_curvature_field(input, co);
+  const auto t1 = std::chrono::steady_clock::now();
+  LineSamplingOptions lo;
+  lo.tolerance = 0.0005;
+  const auto lines = cagekit::sample_curvature_lines(input, field, lo);
+  const auto out = cagekit::mesh_curvature_lines(input, field, lines, LineMeshOptions{});
+  const auto t2 = std::chrono::steady_clock::now();
+  long peak_kb = 0;
+  if (FILE* f = std::fopen("/proc/self/status", "r")) {
+    char line[256];
+    while (std::fgets(line, sizeof line, f))
+      if (std::sscanf(line, "VmHWM: %ld kB", &peak_kb) == 1) break;
+    std::fclose(f);
+  }
+  std::printf("1M torus: %zu triangles; field %.2f s; lines %.2f s (%zu lines, %zu segments, %llu queries); meshing %.2f s "
+              "(%zu faces); peak RSS %.0f MB\n",
+              input.num_faces(), std::chrono::duration<double>(t1 - t0).count(), lines.seconds, lines.lines.size(),
+              lines.database->num_segments(), (unsigned long long)lines.database->queries(), out.seconds,
+              out.mesh.num_faces(), double(peak_kb) / 1024.0);
+  EXPECT_GT(out.mesh.num_faces(), 100u);
+}
