@@ -66,4 +66,13 @@ bool PolygonMesh::all_faces_have_size(uint32_t n) const {
   return true;
 }
 
+double PolygonMesh::mean_edge_length() const {
+  double sum = 0;
+  for (size_t f = 0; f < num_faces(); ++f) {
+    const uint32_t n = face_size(f);
+    for (uint32_t k = 0; k < n; ++k) sum += distance(positions[face_vertex(f, k)], positions[face_vertex(f, (k + 1) % n)]);
+  }
+  return face_vertices.empty() ? 0.0 : sum / double(face_vertices.size());
+}
+
 CAGEKIT_NAMESPACE_END

@@ -47,6 +47,9 @@ class PolygonMesh {
   // its length the area for planar faces. Indices must be in range.
   Vec3 face_vector_area(size_t f) const;
   bool all_faces_have_size(uint32_t n) const;
+  // Mean length of the faces' edges, each half-edge counted once (shared edges twice); 0 without
+  // faces. Indices must be in range.
+  double mean_edge_length() const;
 };
 
 CAGEKIT_NAMESPACE_END

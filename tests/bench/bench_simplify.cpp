@@ -375,13 +375,7 @@ void run_cagekit(const cagekit::PolygonMesh& input, const std::vector<Target>& t
     hierarchy.go_to_level(hierarchy.level_for_face_count(t.faces));
     levels.push_back(hierarchy.extract());
     if (contour_edges > 0) {
-      double mean_edge = 0;
-      size_t edges = 0;
-      for (uint32_t f = 0; f < input.num_faces(); ++f)
-        for (uint32_t k = 0; k < input.face_size(f); ++k, ++edges)
-          mean_edge += cagekit::distance(input.positions[input.face_vertex(f, k)],
-                                         input.positions[input.face_vertex(f, (k + 1) % input.face_size(f))]);
-      mean_edge /= double(std::max<size_t>(edges, 1));
+      const double mean_edge = input.mean_edge_length();
       levels.back() = cagekit::refine_level_contours(input, levels.back(), contour_edges * mean_edge);
     }
     query_wall.push_back(seconds_since(q0));

@@ -135,13 +135,7 @@ TEST(ContourRefinement, coarse_real_levels_beat_the_chords) {
     h.go_to_level(h.level_for_face_count(c.faces));
     const PolygonalLevel level = h.extract();
     // VSA's default chord rule: 5 mean input edge lengths.
-    double mean_edge = 0;
-    size_t edges = 0;
-    for (uint32_t f = 0; f < input.num_faces(); ++f)
-      for (uint32_t k = 0; k < input.face_size(f); ++k, ++edges)
-        mean_edge += cagekit::distance(input.positions[input.face_vertex(f, k)],
-                                       input.positions[input.face_vertex(f, (k + 1) % input.face_size(f))]);
-    mean_edge /= double(edges);
+    const double mean_edge = input.mean_edge_length();
     cagekit::ContourRefinementReport report;
     const PolygonalLevel refined = cagekit::refine_level_contours(input, level, 5 * mean_edge, &report);
     check_refined(c.mesh, input, level, refined, 5 * mean_edge);
