@@ -1,0 +1,119 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// The candidate curve network of one region of the two-step quad-dominant remeshing (thesis
+// §6.5, spec thesis-ch4-6.md §2.6): minimum-bending-energy cubic Béziers (6.2)-(6.3) between
+// pairs of eligible constrained points in the region's LSCM domain Ω_i.
+//
+// Input: the region's loops of constrained points in Ω_i (RemeshConstraints::loop_samples_uv),
+// outer loop first and counter-clockwise, holes clockwise (the region on the left of every
+// loop). A point c_i with internal angle α_i > ψ is eligible; its tangent q_i is the bisector of
+// α_i pointing into the region (the normal of the boundary curve C̄ in the limit of dense
+// samples; at an anchor C̄ has no normal). A point with α_i > `concave_angle` gets two tangents
+// that trisect α_i ("ports"; the selection counts them as two points).
+//
+// Per pair of ports (p, q) on different, non-neighbouring points whose chord lies in front of both
+// tangents, (6.3) E(λ, μ) = ∫₀¹ κ²(t) dt (over the curve parameter, as printed; the arc-length
+// version ∫κ² ds has no minimiser for a U-turn: it decreases as the curve grows) is minimised
+// for λ, μ ≥ λ_min = 1e-3·|c_j − c_i| (at λ = 0 the curvature is singular at t = 0) by an 8×8
+// log-spaced grid over [0.03, 1.8]·|c_j − c_i| and a compass search from its 3 best local minima
+// and from (a·|X − c_i|, b·|X − c_j|), (a, b) = (0.95, 0.1), (0.1, 0.95), (0.67, 0.67), where the
+// tangent lines meet at X in front of both points; a trial point whose control legs
+// [c_i, c_i + λ q_i] and [c_j, c_j + μ q_j] touch is ignored (so the legs of the result never
+// cross). Facing collinear tangents (E ≡ 0) get λ = μ = |c_j − c_i|/3. Afterwards a curve whose
+// polyline (`polyline_segments` pieces, equal parameter steps) crosses or touches a boundary loop
+// away from its own end points, or crosses itself, is discarded.
+//
+// Thread-safety: pure functions. Errors: invalid_argument for no loop, a loop of fewer than three
+// points, a non-finite coordinate, two consecutive equal points, an outer loop that is not
+// counter-clockwise or bad options; cancelled from the monitor.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/task_monitor.h"
+
+CAGEKIT_NAMESPACE_BEGIN
+
+using Point2 = std::array<double, 2>;
+
+namespace plane2 {
+inline Point2 add(const Point2& a, const Point2& b) { return {a[0] + b[0], a[1] + b[1]}; }
+inline Point2 sub(const Point2& a, const Point2& b) { return {a[0] - b[0], a[1] - b[1]}; }
+inline Point2 scale(const Point2& a, double s) { return {a[0] * s, a[1] * s}; }
+inline double dot(const Point2& a, const Point2& b) { return a[0] * b[0] + a[1] * b[1]; }
+inline double cross(const Point2& a, const Point2& b) { return a[0] * b[1] - a[1] * b[0]; }
+double length(const Point2& a);
+Point2 normalized(const Point2& a);
+// Counter-clockwise angle in [0, 2π) that turns direction `from` onto direction `to`.
+double ccw_angle(const Point2& from, const Point2& to);
+// Closed segments [a, b] and [c, d] share a point (collinear overlaps included). When they cross
+// at a single point, *s and *t (optional) receive its parameters on the two segments.
+bool segments_intersect(const Point2& a, const Point2& b, const Point2& c, const Point2& d, double* s = nullptr,
+                        double* t = nullptr);
+double signed_area(const std::vector<Point2>& polygon);
+}  // namespace plane2
+
+struct CubicBezier2 {
+  std::array<Point2, 4> control;
+  Point2 eval(double t) const;
+  Point2 derivative(double t) const;
+  Point2 second_derivative(double t) const;
+};
+
+// (6.2): b(t) = c_i B0 + (c_i + λ q_i) B1 + (c_j + μ q_j) B2 + c_j B3.
+CubicBezier2 connecting_bezier(const Point2& ci, const Point2& qi, const Point2& cj, const Point2& qj, double lambda,
+                               double mu);
+// (6.3) by composite 4-point Gauss-Legendre over `intervals` equal pieces of [0, 1]; +inf where
+// b' vanishes at a node.
+double bending_energy(const CubicBezier2& curve, int intervals = 8);
+
+struct BendingFit {
+  double lambda = 0.0, mu = 0.0, energy = 0.0;
+  int evaluations = 0;
+  bool valid = false;  // false: every trial point had crossing legs
+};
+// Minimum of (6.3) over λ, μ (see the file comment). q_i and q_j must be unit vectors.
+BendingFit minimize_bending_energy(const Point2& ci, const Point2& qi, const Point2& cj, const Point2& qj);
+
+struct CurveNetworkOptions {
+  double min_angle = 2.0943951023931957;      // ψ = 2π/3: eligibility needs α_i > ψ
+  double concave_angle = 4.1887902047863905;  // 4π/3: above it, two tangents trisect α_i
+  int polyline_segments = 32;                 // polyline of every curve (crossing tests, meshing)
+};
+
+struct NetworkPoint {
+  Point2 uv{};
+  uint32_t loop = 0;
+  uint32_t prev = 0, next = 0;  // neighbours on the loop (region on the left going to `next`)
+  double angle = 0.0;           // internal angle α_i on the region's side, in (0, 2π)
+  uint32_t first_port = 0, port_count = 0;  // ports[first_port, first_port + port_count)
+};
+
+struct NetworkPort {
+  uint32_t point = 0;
+  Point2 tangent{};  // unit, into the region
+};
+
+struct NetworkCurve {
+  std::array<uint32_t, 2> ports{};  // ports[0] < ports[1]
+  double lambda = 0.0, mu = 0.0, energy = 0.0;
+  CubicBezier2 bezier;
+  std::vector<Point2> polyline;  // polyline_segments + 1 points, from ports[0] to ports[1]
+};
+
+struct CurveNetwork {
+  std::vector<NetworkPoint> points;  // the loops concatenated, in input order
+  std::vector<uint32_t> loop_begin;  // loop l: points [loop_begin[l], loop_begin[l + 1])
+  std::vector<NetworkPort> ports;
+  std::vector<NetworkCurve> curves;
+  size_t pairs_considered = 0;       // port pairs for which (6.3) was minimised
+  size_t discarded_crossing = 0;     // dropped: crossing a boundary loop (curve leaves the region)
+  size_t discarded_self_intersection = 0;
+  size_t discarded_invalid = 0;      // no trial point with uncrossed legs
+  size_t num_loops() const { return loop_begin.size() - 1; }
+};
+
+CurveNetwork build_curve_network(const std::vector<std::vector<Point2>>& loops, const CurveNetworkOptions& options = {},
+                                 const TaskMonitor& monitor = {});
+
+CAGEKIT_NAMESPACE_END
