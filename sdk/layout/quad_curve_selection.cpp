@@ -530,8 +530,7 @@ class Optimizer {
           }
       }
       if (best_move.removed.empty()) return;
-      arrangement_.evaluate(best_move.removed, best_move.added, true);
-      ++stats_.moves_applied;
+      apply(best_move.removed, best_move.added);
     }
   }
 
@@ -540,7 +539,7 @@ class Optimizer {
     std::vector<uint32_t> bad;
     for (uint32_t c : arrangement_.selected())
       if (arrangement_.smallest_crossing_angle(c) < options_.bad_crossing_angle) bad.push_back(c);
-    if (!bad.empty()) arrangement_.evaluate(bad, {}, true);
+    if (!bad.empty()) apply(bad, {});
     remember(best, best_energy);
     for (size_t round = 0; round <= net_.ports.size(); ++round) {
       monitor_.report("quad curve selection", 0.75);
@@ -554,11 +553,27 @@ class Optimizer {
         if (delta < lowest) lowest = delta, chosen = c;
       }
       if (chosen < 0) return;  // saturated, or no curve left
-      arrangement_.evaluate({}, {uint32_t(chosen)}, true);
-      ++stats_.moves_applied;
+      apply({}, {uint32_t(chosen)});
       if (options_.run_phase2) descend();
       remember(best, best_energy);
     }
+  }
+
+  // Commits a move; with verify_incremental, checks it against a rebuild from scratch.
+  void apply(const std::vector<uint32_t>& removed, const std::vector<uint32_t>& added) {
+    const double before = arrangement_.energy();
+    const double predicted = options_.verify_incremental ? arrangement_.evaluate(removed, added, false) : 0.0;
+    arrangement_.evaluate(removed, added, true);
+    ++stats_.moves_applied;
+    if (!options_.verify_incremental) return;
+    Arrangement fresh(net_, options_.weights);
+    fresh.reset(arrangement_.selected());
+    const double tolerance = 1e-9 * (1.0 + std::fabs(fresh.energy()));
+    if (std::fabs(fresh.energy() - arrangement_.energy()) > tolerance ||
+        std::fabs(before + predicted - arrangement_.energy()) > tolerance)
+      fail(Status::internal_error, "quad selection: incremental E(L) " + std::to_string(arrangement_.energy()) +
+                                       " (predicted " + std::to_string(before + predicted) + ") but rebuilt " +
+                                       std::to_string(fresh.energy()));
   }
 
   void remember(std::vector<uint32_t>& best, double& best_energy) {

@@ -41,6 +41,10 @@ struct SelectionOptions {
   bool run_phase2 = true;
   bool run_phase3 = true;
   size_t max_descent_steps = 100000;  // per Phase II run
+  // Testing aid: after every applied move, rebuild E(L) from scratch and fail with
+  // internal_error if it differs from the incrementally updated value or from the move's
+  // predicted change (slow: one full rebuild per move).
+  bool verify_incremental = false;
 };
 
 struct QuadSelection {

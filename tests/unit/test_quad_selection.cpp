@@ -334,6 +334,7 @@ TEST(QuadCurveSelection, PhaseTwoNeverIncreasesAndTheBackupIsTheBest) {
   for (bool phase3 : {false, true}) {
     cagekit::SelectionOptions options;
     options.run_phase3 = phase3;
+    options.verify_incremental = true;
     const CurveNetwork net = cagekit::build_curve_network({outer, hole});
     const QuadSelection s = cagekit::select_quad_curves(net, options);
     expect_matching(net, s);
@@ -360,7 +361,8 @@ TEST(QuadCurveSelection, ConfigurationEnergyRefusesNonMatchings) {
 
 namespace {
 
-void run_real_mesh(const char* name, int regions, double delta_fraction, double w_tri, double w_pent, double w_t) {
+void run_real_mesh(const char* name, int regions, double delta_fraction, double w_tri, double w_pent, double w_t,
+                   bool verify = false) {
   const std::string path = cagekit_test::shared_mesh_path(name);
   if (path.empty()) GTEST_SKIP() << "../shared/meshes/" << name << " not present";
   const cagekit::PolygonMesh m = cagekit_test::load_mesh(path);
@@ -372,6 +374,7 @@ void run_real_mesh(const char* name, int regions, double delta_fraction, double 
   const auto constraints = cagekit::compute_remesh_constraints(m, seg.face_region, seg.num_regions(), co);
   cagekit::SelectionOptions options;
   options.weights.triangle = w_tri, options.weights.pentagon = w_pent, options.weights.t_joint = w_t;
+  options.verify_incremental = verify;
   size_t faces = 0, quads = 0, tris = 0, pents = 0, larger = 0, invalid = 0, curves = 0, moves = 0;
   double t_network = 0, t_select = 0, worst_region = 0;
   for (uint32_t r = 0; r < seg.num_regions(); ++r) {
@@ -403,3 +406,8 @@ void run_real_mesh(const char* name, int regions, double delta_fraction, double 
 
 TEST(QuadCurveSelection, FandiskTableSixOneSettings) { run_real_mesh("fandisk.obj", 30, 0.10, 500, 500, 500); }
 TEST(QuadCurveSelection, RockerArmTableSixOneSettings) { run_real_mesh("rocker-arm.obj", 41, 0.06, 20, 70, 70); }
+// Every applied move checked against a rebuild from scratch (incremental face updates).
+TEST(QuadCurveSelection, IncrementalUpdatesMatchRebuildsOnRealRegions) {
+  run_real_mesh("fandisk.obj", 30, 0.05, 100, 100, 100, true);
+  run_real_mesh("rocker-arm.obj", 41, 0.03, 30, 30, 100, true);
+}
