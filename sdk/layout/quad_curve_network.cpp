@@ -3,10 +3,13 @@
 #include "layout/quad_curve_network.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <string>
+#include <thread>
 
+#include "core/parallel_for.h"
 #include "core/status.h"
 
 CAGEKIT_NAMESPACE_BEGIN
@@ -100,16 +103,22 @@ CubicBezier2 connecting_bezier(const Point2& ci, const Point2& qi, const Point2&
 double bending_energy(const CubicBezier2& curve, int intervals) {
   static const double kNode[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526};
   static const double kWeight[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538};
+  // b' and b'' as combinations of the control-polygon differences (the hot loop of the network).
+  const Point2 d0 = sub(curve.control[1], curve.control[0]), d1 = sub(curve.control[2], curve.control[1]),
+               d2 = sub(curve.control[3], curve.control[2]);
+  const Point2 e0 = sub(d1, d0), e1 = sub(d2, d1);
   const double h = 1.0 / intervals;
   double energy = 0.0;
   for (int k = 0; k < intervals; ++k)
     for (int g = 0; g < 4; ++g) {
-      const double t = h * (k + 0.5 * (kNode[g] + 1.0));
-      const Point2 d1 = curve.derivative(t), d2 = curve.second_derivative(t);
-      const double speed2 = dot(d1, d1);
+      const double t = h * (k + 0.5 * (kNode[g] + 1.0)), s = 1.0 - t;
+      const double a = 3 * s * s, b = 6 * s * t, c = 3 * t * t;
+      const double x1 = a * d0[0] + b * d1[0] + c * d2[0], y1 = a * d0[1] + b * d1[1] + c * d2[1];
+      const double x2 = 6 * (s * e0[0] + t * e1[0]), y2 = 6 * (s * e0[1] + t * e1[1]);
+      const double speed2 = x1 * x1 + y1 * y1;
       if (!(speed2 > 0.0)) return std::numeric_limits<double>::infinity();
-      const double kappa = cross(d1, d2) / (speed2 * std::sqrt(speed2));
-      energy += 0.5 * h * kWeight[g] * kappa * kappa;
+      const double cr = x1 * y2 - y1 * x2;
+      energy += 0.5 * h * kWeight[g] * cr * cr / (speed2 * speed2 * speed2);
     }
   return energy;
 }
@@ -176,7 +185,7 @@ BendingFit minimize_bending_energy(const Point2& ci, const Point2& qi, const Poi
     double e = seed[0], l = seed[1], u = seed[2];
     // Compass search: shrink the step when no axis move improves; bounded iterations.
     double step = 0.1 * d;
-    for (int iteration = 0; iteration < 400 && step > 1e-5 * d; ++iteration) {
+    for (int iteration = 0; iteration < 400 && step > 1e-4 * d; ++iteration) {
       bool improved = false;
       const double moves[4][2] = {{step, 0}, {-step, 0}, {0, step}, {0, -step}};
       for (const auto& m : moves) {
@@ -201,9 +210,9 @@ namespace {
 void validate(const std::vector<std::vector<Point2>>& loops, const CurveNetworkOptions& options) {
   if (loops.empty()) fail(Status::invalid_argument, "curve network: the region has no loop");
   if (!(options.min_angle >= 0.0 && options.min_angle < options.concave_angle && options.concave_angle < 6.2832) ||
-      options.polyline_segments < 2 || options.polyline_segments > 4096)
+      options.polyline_segments < 2 || options.polyline_segments > 4096 || options.threads < 0)
     fail(Status::invalid_argument, "curve network: options out of range (need 0 <= min_angle < concave_angle < 2π, "
-                                   "2 <= polyline_segments <= 4096)");
+                                   "2 <= polyline_segments <= 4096, threads >= 0)");
   for (size_t l = 0; l < loops.size(); ++l) {
     if (loops[l].size() < 3)
       fail(Status::invalid_argument, "curve network: loop " + std::to_string(l) + " has fewer than 3 points");
@@ -302,40 +311,62 @@ CurveNetwork build_curve_network(const std::vector<std::vector<Point2>>& loops, 
   }
   const uint32_t num_ports = static_cast<uint32_t>(net.ports.size());
   const int segments = options.polyline_segments;
-  for (uint32_t a = 0; a < num_ports; ++a) {
-    if ((a & 7) == 0) monitor.report("quad curve network", double(a) / std::max(1u, num_ports));
-    const NetworkPort& pa = net.ports[a];
-    const NetworkPoint& ca = net.points[pa.point];
-    for (uint32_t b = a + 1; b < num_ports; ++b) {
-      const NetworkPort& pb = net.ports[b];
-      if (pb.point == pa.point || pb.point == ca.next || pb.point == ca.prev) continue;
-      const NetworkPoint& cb = net.points[pb.point];
-      const Point2 chord = sub(cb.uv, ca.uv);
-      // A chord behind either tangent needs a turn of more than π/2 at that end.
-      if (!(dot(chord, pa.tangent) > 0.0) || !(dot(chord, pb.tangent) < 0.0)) continue;
-      ++net.pairs_considered;
-      const BendingFit fit = minimize_bending_energy(ca.uv, pa.tangent, cb.uv, pb.tangent);
-      if (!fit.valid) {
-        ++net.discarded_invalid;
-        continue;
+  // Per first port a, its curves and counters; ports are handed out dynamically (the work per
+  // port falls with a) and the results concatenated in port order, so the network does not
+  // depend on the thread count.
+  struct PortResult {
+    std::vector<NetworkCurve> curves;
+    size_t considered = 0, crossing = 0, self = 0, invalid = 0;
+  };
+  std::vector<PortResult> results(num_ports);
+  std::atomic<uint32_t> next_port{0};
+  const size_t workers = std::max<size_t>(
+      1, std::min<size_t>(options.threads > 0 ? size_t(options.threads) : std::thread::hardware_concurrency(),
+                          num_ports / 8 + 1));
+  run_ranges(workers, workers, [&](size_t, size_t, size_t worker) {
+    for (uint32_t a = next_port++; a < num_ports; a = next_port++) {
+      if (worker == 0) monitor.report("quad curve network", double(a) / std::max(1u, num_ports));
+      PortResult& out = results[a];
+      const NetworkPort& pa = net.ports[a];
+      const NetworkPoint& ca = net.points[pa.point];
+      for (uint32_t b = a + 1; b < num_ports; ++b) {
+        const NetworkPort& pb = net.ports[b];
+        if (pb.point == pa.point || pb.point == ca.next || pb.point == ca.prev) continue;
+        const NetworkPoint& cb = net.points[pb.point];
+        const Point2 chord = sub(cb.uv, ca.uv);
+        // A chord behind either tangent needs a turn of more than π/2 at that end.
+        if (!(dot(chord, pa.tangent) > 0.0) || !(dot(chord, pb.tangent) < 0.0)) continue;
+        ++out.considered;
+        const BendingFit fit = minimize_bending_energy(ca.uv, pa.tangent, cb.uv, pb.tangent);
+        if (!fit.valid) {
+          ++out.invalid;
+          continue;
+        }
+        NetworkCurve curve;
+        curve.ports = {a, b};
+        curve.lambda = fit.lambda, curve.mu = fit.mu, curve.energy = fit.energy;
+        curve.bezier = connecting_bezier(ca.uv, pa.tangent, cb.uv, pb.tangent, fit.lambda, fit.mu);
+        curve.polyline.resize(segments + 1);
+        for (int k = 0; k <= segments; ++k) curve.polyline[k] = curve.bezier.eval(double(k) / segments);
+        curve.polyline.front() = ca.uv, curve.polyline.back() = cb.uv;
+        if (polyline_crosses_itself(curve.polyline)) {
+          ++out.self;
+          continue;
+        }
+        if (polyline_crosses_boundary(net, curve.polyline, pa.point, pb.point)) {
+          ++out.crossing;
+          continue;
+        }
+        out.curves.push_back(std::move(curve));
       }
-      NetworkCurve curve;
-      curve.ports = {a, b};
-      curve.lambda = fit.lambda, curve.mu = fit.mu, curve.energy = fit.energy;
-      curve.bezier = connecting_bezier(ca.uv, pa.tangent, cb.uv, pb.tangent, fit.lambda, fit.mu);
-      curve.polyline.resize(segments + 1);
-      for (int s = 0; s <= segments; ++s) curve.polyline[s] = curve.bezier.eval(double(s) / segments);
-      curve.polyline.front() = ca.uv, curve.polyline.back() = cb.uv;
-      if (polyline_crosses_itself(curve.polyline)) {
-        ++net.discarded_self_intersection;
-        continue;
-      }
-      if (polyline_crosses_boundary(net, curve.polyline, pa.point, pb.point)) {
-        ++net.discarded_crossing;
-        continue;
-      }
-      net.curves.push_back(std::move(curve));
     }
+  });
+  for (PortResult& r : results) {
+    net.pairs_considered += r.considered;
+    net.discarded_crossing += r.crossing;
+    net.discarded_self_intersection += r.self;
+    net.discarded_invalid += r.invalid;
+    for (NetworkCurve& c : r.curves) net.curves.push_back(std::move(c));
   }
   monitor.report("quad curve network", 1.0);
   return net;

@@ -23,7 +23,7 @@
 // polyline (`polyline_segments` pieces, equal parameter steps) crosses or touches a boundary loop
 // away from its own end points, or crosses itself, is discarded.
 //
-// Thread-safety: pure functions. Errors: invalid_argument for no loop, a loop of fewer than three
+// Thread-safety: pure functions (build_curve_network runs `threads` workers inside). Errors: invalid_argument for no loop, a loop of fewer than three
 // points, a non-finite coordinate, two consecutive equal points, an outer loop that is not
 // counter-clockwise or bad options; cancelled from the monitor.
 #include <array>
@@ -79,6 +79,7 @@ struct CurveNetworkOptions {
   double min_angle = 2.0943951023931957;      // ψ = 2π/3: eligibility needs α_i > ψ
   double concave_angle = 4.1887902047863905;  // 4π/3: above it, two tangents trisect α_i
   int polyline_segments = 32;                 // polyline of every curve (crossing tests, meshing)
+  int threads = 1;  // workers for the pairs (0 = hardware concurrency); the result does not depend on it
 };
 
 struct NetworkPoint {

@@ -259,6 +259,21 @@ TEST(QuadCurveNetwork, ConcavePointGetsTwoTrisectingTangentsAndLeavingCurvesAreD
   }
 }
 
+TEST(QuadCurveNetwork, ThreadCountDoesNotChangeTheNetwork) {
+  std::vector<Point2> outer = rectangle_loop(10, 7);
+  for (size_t i = 0; i < outer.size(); ++i) outer[i][1] += 0.1 * std::sin(0.9 * double(i));
+  cagekit::CurveNetworkOptions one, four;
+  four.threads = 4;
+  const CurveNetwork a = cagekit::build_curve_network({outer}, one), b = cagekit::build_curve_network({outer}, four);
+  ASSERT_EQ(a.curves.size(), b.curves.size());
+  EXPECT_EQ(a.discarded_crossing, b.discarded_crossing);
+  for (size_t c = 0; c < a.curves.size(); ++c) {
+    EXPECT_EQ(a.curves[c].ports, b.curves[c].ports);
+    EXPECT_EQ(a.curves[c].lambda, b.curves[c].lambda);
+    EXPECT_EQ(a.curves[c].mu, b.curves[c].mu);
+  }
+}
+
 TEST(QuadCurveNetwork, DegenerateInputIsRefused) {
   EXPECT_EQ(status_of([] { cagekit::build_curve_network({}); }), Status::invalid_argument);
   EXPECT_EQ(status_of([] { cagekit::build_curve_network({{{0, 0}, {1, 0}}}); }), Status::invalid_argument);
@@ -268,6 +283,12 @@ TEST(QuadCurveNetwork, DegenerateInputIsRefused) {
             Status::invalid_argument);
   EXPECT_EQ(status_of([] { cagekit::build_curve_network({{{0, 0}, {1, std::nan("")}, {0, 1}}}); }),
             Status::invalid_argument);
+  cagekit::CurveNetworkOptions bad;
+  bad.min_angle = 5.0;  // above concave_angle
+  EXPECT_EQ(status_of([&] { cagekit::build_curve_network({rectangle_loop(2, 2)}, bad); }), Status::invalid_argument);
+  bad = {};
+  bad.threads = -1;
+  EXPECT_EQ(status_of([&] { cagekit::build_curve_network({rectangle_loop(2, 2)}, bad); }), Status::invalid_argument);
 }
 
 // ---------------------------------------------------------------------------------------------
