@@ -576,11 +576,71 @@ class Optimizer {
                                        std::to_string(fresh.energy()));
   }
 
+  // Number of matchings of the candidate curves (the empty one included), or limit + 1 when
+  // there are more.
+  size_t count_matchings(size_t limit) {
+    build_adjacency();
+    std::vector<char> used(net_.ports.size(), 0);
+    size_t count = 0;
+    count_from(0, used, count, limit);
+    return count;
+  }
+
+  // Every matching, by depth-first search with incremental add/remove moves; the least E(L)
+  // goes to `best` (a global minimum of the selection problem).
+  void enumerate(std::vector<uint32_t>& best, double& best_energy) {
+    build_adjacency();
+    arrangement_.reset({});
+    std::vector<char> used(net_.ports.size(), 0);
+    enumerate_from(0, used, best, best_energy);
+  }
+
   void remember(std::vector<uint32_t>& best, double& best_energy) {
     if (arrangement_.energy() < best_energy) best = arrangement_.selected(), best_energy = arrangement_.energy();
   }
 
  private:
+  void build_adjacency() {
+    if (!forward_.empty() || net_.ports.empty()) return;
+    forward_.resize(net_.ports.size());
+    for (uint32_t c = 0; c < net_.curves.size(); ++c) forward_[net_.curves[c].ports[0]].push_back(c);
+  }
+  void count_from(uint32_t p, std::vector<char>& used, size_t& count, size_t limit) {
+    while (p < used.size() && used[p]) ++p;
+    if (count > limit) return;
+    if (p >= used.size()) {
+      ++count;
+      return;
+    }
+    count_from(p + 1, used, count, limit);  // p stays unmatched
+    for (uint32_t c : forward_[p]) {
+      const uint32_t q = net_.curves[c].ports[1];
+      if (used[q]) continue;
+      used[p] = used[q] = 1;
+      count_from(p + 1, used, count, limit);
+      used[p] = used[q] = 0;
+    }
+  }
+  void enumerate_from(uint32_t p, std::vector<char>& used, std::vector<uint32_t>& best, double& best_energy) {
+    while (p < used.size() && used[p]) ++p;
+    if (p >= used.size()) {
+      ++stats_.matchings_enumerated;
+      if ((stats_.matchings_enumerated & 255) == 0) monitor_.report("quad curve selection", 0.5);
+      remember(best, best_energy);
+      return;
+    }
+    enumerate_from(p + 1, used, best, best_energy);
+    for (uint32_t c : forward_[p]) {
+      const uint32_t q = net_.curves[c].ports[1];
+      if (used[q]) continue;
+      used[p] = used[q] = 1;
+      arrangement_.evaluate({}, {c}, true);
+      enumerate_from(p + 1, used, best, best_energy);
+      arrangement_.evaluate({c}, {}, true);
+      used[p] = used[q] = 0;
+    }
+  }
+
   static uint64_t key(uint32_t a, uint32_t b) { return a < b ? (uint64_t(a) << 32 | b) : (uint64_t(b) << 32 | a); }
   int64_t curve(uint32_t a, uint32_t b) const {
     auto it = curve_of_.find(key(a, b));
@@ -593,6 +653,7 @@ class Optimizer {
   QuadSelection& stats_;
   Arrangement arrangement_;
   std::unordered_map<uint64_t, uint32_t> curve_of_;
+  std::vector<std::vector<uint32_t>> forward_;  // per port: the curves whose first port it is
 };
 
 void validate_matching(const CurveNetwork& net, const std::vector<uint32_t>& curves) {
@@ -629,10 +690,16 @@ QuadSelection select_quad_curves(const CurveNetwork& network, const SelectionOpt
   result.phase1_energy = arrangement.energy();
   std::vector<uint32_t> best = arrangement.selected();
   double best_energy = arrangement.energy();
-  if (options.run_phase2) optimizer.descend();
-  result.phase2_energy = arrangement.energy();
-  optimizer.remember(best, best_energy);
-  if (options.run_phase3) optimizer.escape(best, best_energy);
+  if (options.exhaustive_limit > 0 && optimizer.count_matchings(options.exhaustive_limit) <= options.exhaustive_limit) {
+    result.phase2_energy = result.phase1_energy;
+    result.exhaustive = true;
+    optimizer.enumerate(best, best_energy);
+  } else {
+    if (options.run_phase2) optimizer.descend();
+    result.phase2_energy = arrangement.energy();
+    optimizer.remember(best, best_energy);
+    if (options.run_phase3) optimizer.escape(best, best_energy);
+  }
   result.tracked_energy = best_energy;
   arrangement.reset(best);  // the backup (§6.7.4)
   result.curves = arrangement.selected();

@@ -10,7 +10,8 @@
 // vertices; faces are the cycles of the planar map (next half-edge = first one clockwise from the
 // twin, using the polyline's direction at the vertex), rated on their straight polygons.
 //
-// Optimiser: Phase I greedy by the end-point heuristic Σ|ξ_k − π/2| (chord against the two
+// Optimiser: small regions (at most `exhaustive_limit` matchings) are solved exactly by
+// enumeration; otherwise Phase I greedy by the end-point heuristic Σ|ξ_k − π/2| (chord against the two
 // boundary edges at each end; at a two-tangent concave port 2·∠(chord, tangent)); Phase II steepest
 // descent over all swap (Fig. 6.6) and reconnect (Fig. 6.7) moves; Phase III removes the curves
 // with a crossing at an angle below `bad_crossing_angle`, then repeatedly adds the curve with the
@@ -41,6 +42,10 @@ struct SelectionOptions {
   bool run_phase2 = true;
   bool run_phase3 = true;
   size_t max_descent_steps = 100000;  // per Phase II run
+  // A region whose candidate curves admit at most this many matchings (the empty one included)
+  // is solved exactly by enumerating them all (depth-first, incremental add/remove); Phases II
+  // and III are then skipped. 0: always the thesis's Phases I-III.
+  size_t exhaustive_limit = 2000;
   // Testing aid: after every applied move, rebuild E(L) from scratch and fail with
   // internal_error if it differs from the incrementally updated value or from the move's
   // predicted change (slow: one full rebuild per move).
@@ -62,6 +67,8 @@ struct QuadSelection {
   size_t quads = 0, triangles = 0, pentagons = 0, larger = 0;  // valence counts of `faces`
   size_t invalid_faces = 0;                                    // flipped or hole cycles
   size_t moves_evaluated = 0, moves_applied = 0;
+  bool exhaustive = false;           // solved by enumeration (a global minimum of E(L))
+  size_t matchings_enumerated = 0;
 };
 
 QuadSelection select_quad_curves(const CurveNetwork& network, const SelectionOptions& options = {},

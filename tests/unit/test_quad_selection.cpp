@@ -332,7 +332,10 @@ TEST(QuadCurveSelection, RectangleRegionGivesTheRegularGrid) {
 
 TEST(QuadCurveSelection, LShapeIsQuadMeshedAndNeverWorseThanPhaseOne) {
   const CurveNetwork net = cagekit::build_curve_network({l_shape_loop()});
-  const QuadSelection s = cagekit::select_quad_curves(net);
+  cagekit::SelectionOptions options;
+  options.exhaustive_limit = 0;
+  const QuadSelection s = cagekit::select_quad_curves(net, options);
+  EXPECT_FALSE(s.exhaustive);
   expect_matching(net, s);
   EXPECT_LE(s.energy, s.phase1_energy + 1e-9);
   EXPECT_LE(s.energy, s.phase2_energy + 1e-9);
@@ -356,6 +359,7 @@ TEST(QuadCurveSelection, PhaseTwoNeverIncreasesAndTheBackupIsTheBest) {
     cagekit::SelectionOptions options;
     options.run_phase3 = phase3;
     options.verify_incremental = true;
+    options.exhaustive_limit = 0;  // the thesis's phases
     const CurveNetwork net = cagekit::build_curve_network({outer, hole});
     const QuadSelection s = cagekit::select_quad_curves(net, options);
     expect_matching(net, s);
@@ -367,6 +371,61 @@ TEST(QuadCurveSelection, PhaseTwoNeverIncreasesAndTheBackupIsTheBest) {
     std::printf("8x6 with hole (phase III %s): E_I %.2f, E_II %.2f, E %.2f; %zu faces, %zu quads, %zu moves\n",
                 phase3 ? "on" : "off", s.phase1_energy, s.phase2_energy, s.energy, s.faces.size(), s.quads,
                 s.moves_applied);
+  }
+}
+
+namespace {
+
+// Least E(L) over all matchings, by brute force through configuration_energy (no caches, no
+// incremental updates).
+void brute_force_minimum(const CurveNetwork& net, uint32_t port, std::vector<char>& used,
+                         std::vector<uint32_t>& chosen, double& best, size_t& count) {
+  while (port < used.size() && used[port]) ++port;
+  if (port >= used.size()) {
+    ++count;
+    best = std::min(best, cagekit::configuration_energy(net, chosen, {}));
+    return;
+  }
+  brute_force_minimum(net, port + 1, used, chosen, best, count);
+  for (uint32_t c = 0; c < net.curves.size(); ++c) {
+    const auto& ports = net.curves[c].ports;
+    if (ports[0] != port || used[ports[1]]) continue;
+    used[ports[0]] = used[ports[1]] = 1;
+    chosen.push_back(c);
+    brute_force_minimum(net, port + 1, used, chosen, best, count);
+    chosen.pop_back();
+    used[ports[0]] = used[ports[1]] = 0;
+  }
+}
+
+}  // namespace
+
+TEST(QuadCurveSelection, SmallRegionsAreSolvedExactly) {
+  // A jittered 3x2 rectangle and a house-shaped region (where Phases I-III stop above the optimum).
+  std::vector<Point2> jittered = rectangle_loop(3, 2);
+  for (size_t i = 0; i < jittered.size(); ++i) jittered[i][0] += 0.15 * std::sin(2.3 * double(i));
+  const std::vector<Point2> house = {{0, 0}, {1, 0}, {2, 0}, {3, 0}, {3, 1}, {3, 2}, {2.2, 2.8}, {1.5, 3.5},
+                                     {0.8, 2.8}, {0, 2}, {0, 1}};
+  for (const auto& loop : {jittered, house}) {
+    const CurveNetwork net = cagekit::build_curve_network({loop});
+    cagekit::SelectionOptions options;
+    options.exhaustive_limit = 5000;
+    const QuadSelection exact = cagekit::select_quad_curves(net, options);
+    ASSERT_TRUE(exact.exhaustive) << net.ports.size() << " ports, " << net.curves.size() << " curves";
+    std::vector<char> used(net.ports.size(), 0);
+    std::vector<uint32_t> chosen;
+    double best = std::numeric_limits<double>::infinity();
+    size_t count = 0;
+    brute_force_minimum(net, 0, used, chosen, best, count);
+    EXPECT_EQ(exact.matchings_enumerated, count);
+    EXPECT_NEAR(exact.energy, best, 1e-9 * (1 + best));
+    cagekit::SelectionOptions phases;
+    phases.exhaustive_limit = 0;
+    const QuadSelection heuristic = cagekit::select_quad_curves(net, phases);
+    EXPECT_LE(exact.energy, heuristic.energy + 1e-9 * (1 + heuristic.energy));
+    EXPECT_LE(exact.energy, exact.phase1_energy + 1e-9);
+    std::printf("%zu matchings: exact E %.3f, Phases I-III E %.3f (Phase I %.3f)\n", count, exact.energy,
+                heuristic.energy, heuristic.phase1_energy);
   }
 }
 
@@ -383,7 +442,7 @@ TEST(QuadCurveSelection, ConfigurationEnergyRefusesNonMatchings) {
 namespace {
 
 void run_real_mesh(const char* name, int regions, double delta_fraction, double w_tri, double w_pent, double w_t,
-                   bool verify = false) {
+                   bool verify = false, size_t exhaustive_limit = cagekit::SelectionOptions().exhaustive_limit) {
   const std::string path = cagekit_test::shared_mesh_path(name);
   if (path.empty()) GTEST_SKIP() << "../shared/meshes/" << name << " not present";
   const cagekit::PolygonMesh m = cagekit_test::load_mesh(path);
@@ -396,7 +455,9 @@ void run_real_mesh(const char* name, int regions, double delta_fraction, double 
   cagekit::SelectionOptions options;
   options.weights.triangle = w_tri, options.weights.pentagon = w_pent, options.weights.t_joint = w_t;
   options.verify_incremental = verify;
-  size_t faces = 0, quads = 0, tris = 0, pents = 0, larger = 0, invalid = 0, curves = 0, moves = 0;
+  options.exhaustive_limit = exhaustive_limit;
+  size_t faces = 0, quads = 0, tris = 0, pents = 0, larger = 0, invalid = 0, curves = 0, moves = 0, exact = 0;
+  double energy = 0.0;
   double t_network = 0, t_select = 0, worst_region = 0;
   for (uint32_t r = 0; r < seg.num_regions(); ++r) {
     std::vector<std::vector<Point2>> loops;
@@ -414,21 +475,31 @@ void run_real_mesh(const char* name, int regions, double delta_fraction, double 
     expect_matching(net, s);
     faces += s.faces.size(), quads += s.quads, tris += s.triangles, pents += s.pentagons, larger += s.larger;
     invalid += s.invalid_faces, curves += net.curves.size(), moves += s.moves_applied;
+    exact += s.exhaustive ? 1 : 0, energy += s.energy;
   }
   const double quad_share = faces ? double(quads) / double(faces) : 0.0;
-  std::printf("%s |S| = %d, δ = %.0f%%, w = %g/%g/%g: %zu candidate curves (%.2f s), selection %.2f s (worst region "
-              "%.2f s), %zu moves; %zu faces: %zu quads (%.1f%%), %zu triangles, %zu pentagons, %zu larger, %zu invalid\n",
-              name, regions, 100 * delta_fraction, w_tri, w_pent, w_t, curves, t_network, t_select, worst_region,
-              moves, faces, quads, 100 * quad_share, tris, pents, larger, invalid);
+  std::printf("%s |S| = %d, δ = %.0f%%, w = %g/%g/%g, exhaustive limit %zu: %zu candidate curves (%.2f s), "
+              "selection %.2f s (worst region %.2f s), %zu moves, %zu regions exact; E = %.1f; %zu faces: %zu quads "
+              "(%.1f%%), %zu triangles, %zu pentagons, %zu larger, %zu invalid\n",
+              name, regions, 100 * delta_fraction, w_tri, w_pent, w_t, exhaustive_limit, curves, t_network, t_select,
+              worst_region, moves, exact, energy, faces, quads, 100 * quad_share, tris, pents, larger, invalid);
   EXPECT_GT(quad_share, 0.6);
 }
 
 }  // namespace
 
-TEST(QuadCurveSelection, FandiskTableSixOneSettings) { run_real_mesh("fandisk.obj", 30, 0.10, 500, 500, 500); }
-TEST(QuadCurveSelection, RockerArmTableSixOneSettings) { run_real_mesh("rocker-arm.obj", 41, 0.06, 20, 70, 70); }
+TEST(QuadCurveSelection, FandiskTableSixOneSettings) {
+  run_real_mesh("fandisk.obj", 30, 0.10, 500, 500, 500);
+  run_real_mesh("fandisk.obj", 30, 0.10, 500, 500, 500, false, 0);  // the thesis's phases only
+  run_real_mesh("fandisk.obj", 30, 0.05, 100, 100, 100);
+}
+TEST(QuadCurveSelection, RockerArmTableSixOneSettings) {
+  run_real_mesh("rocker-arm.obj", 41, 0.06, 20, 70, 70);
+  run_real_mesh("rocker-arm.obj", 41, 0.06, 20, 70, 70, false, 0);
+  run_real_mesh("rocker-arm.obj", 41, 0.03, 30, 30, 100);
+}
 // Every applied move checked against a rebuild from scratch (incremental face updates).
 TEST(QuadCurveSelection, IncrementalUpdatesMatchRebuildsOnRealRegions) {
-  run_real_mesh("fandisk.obj", 30, 0.05, 100, 100, 100, true);
-  run_real_mesh("rocker-arm.obj", 41, 0.03, 30, 30, 100, true);
+  run_real_mesh("fandisk.obj", 30, 0.05, 100, 100, 100, true, 0);
+  run_real_mesh("rocker-arm.obj", 41, 0.03, 30, 30, 100, true, 0);
 }
