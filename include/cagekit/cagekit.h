@@ -1188,6 +1188,68 @@ CAGEKIT_API cagekit_status cagekit_gl_deformer_deform_reference_affine(cagekit_g
 CAGEKIT_API cagekit_status cagekit_gl_deformer_read_back(cagekit_gl_deformer deformer, uint32_t vertex_capacity,
                                                          double* positions, double* normals);
 
+/* ------------------------------------------------------------------------------------------ */
+/* Remeshing (thesis chapter 5: anisotropic, curvature-line based)                            */
+/* ------------------------------------------------------------------------------------------ */
+
+/* Remeshing methods. ANISOTROPIC samples the surface with lines of principal curvature (plus
+ * feature and boundary lines) and meshes their intersections into a quad-dominant mesh whose
+ * edges follow the principal directions (thesis ch. 5, sdk/layout/README.md). Other methods may
+ * be added with new values; options and report are shared. */
+typedef enum cagekit_remesh_method {
+  CAGEKIT_REMESH_ANISOTROPIC = 0,
+  CAGEKIT_REMESH_METHOD_MAX_ENUM = 0x7fffffff
+} cagekit_remesh_method;
+
+typedef struct cagekit_remesh_options {
+  size_t struct_size;             /* sizeof(cagekit_remesh_options) */
+  cagekit_remesh_method method;   /* default CAGEKIT_REMESH_ANISOTROPIC */
+  double tolerance;               /* approximation tolerance relative to the bbox diagonal, in (0, 1]; the
+                                     line spacing follows the chord-height rule (5.10) (default 0.002) */
+  double feature_angle_degrees;   /* edges whose faces' normals differ by more than this become feature
+                                     lines and crease tags; < 0: none; <= 180 (default 40) */
+  uint32_t max_face_valence;      /* faces with more corners are split, >= 3 (default 5) */
+  uint32_t threads;               /* worker threads for the curvature field, 0 = all cores (default 0) */
+  double curvature_radius;        /* curvature averaging radius relative to the bbox diagonal (thesis:
+                                     0.01); 0: three mean edge lengths (default 0.01) */
+} cagekit_remesh_options;
+
+#define CAGEKIT_REMESH_OPTIONS_INIT \
+  { sizeof(cagekit_remesh_options), CAGEKIT_REMESH_ANISOTROPIC, 0.002, 40.0, 5, 0, 0.01 }
+
+typedef struct cagekit_remesh_report {
+  size_t struct_size;             /* sizeof(cagekit_remesh_report) */
+  uint64_t faces, vertices, quads;
+  uint64_t interior_vertices;     /* vertices not on a boundary edge of the output */
+  uint64_t valence4_vertices;     /* interior vertices with 4 edges */
+  uint32_t max_face_valence, max_vertex_valence;
+  uint64_t creases;               /* output edges on feature lines (tagged infinitely sharp) */
+  uint64_t regions;               /* anisotropic: connected regions of confident input faces */
+  uint64_t lines;                 /* anisotropic: sampled lines of all types */
+  uint64_t holes;                 /* half-edges that could not be closed into faces (0 expected) */
+  double mean_alignment_deg;      /* anisotropic: mean angle between the output edges along curvature lines and
+                                     the nearer principal direction (mean of the two ends' directions, i.e. the
+                                     tangent at the middle of a curved edge), over edges whose ends lie on
+                                     confident faces (Λ >= cos π/6) */
+  double min_scaled_jacobian;     /* min over face corners of sin(corner angle) (the scaled Jacobian of a quad
+                                     corner); T-joint vertices (within 10° of straight) are not corners;
+                                     < 0 only at a concave corner */
+  double seconds;                 /* whole call */
+} cagekit_remesh_report;
+
+/* Remeshes `mesh` with `options` (NULL: defaults) into a new cage: the output polygon mesh, with
+ * the edges on feature lines tagged as infinitely sharp creases. The mesh must be an oriented
+ * 2-manifold (boundary allowed) with finite positions; faces with more than 3 vertices are
+ * fan-triangulated first. Errors: INVALID_ARGUMENT (NULL out, bad options or method), INVALID_MESH
+ * (naming the problem: faces with < 3 or repeated vertices, bad indices, non-manifold or
+ * inconsistently oriented edges, non-finite positions, an empty or zero-extent mesh), CANCELLED,
+ * OUT_OF_MEMORY. An input on which no lines intersect (too large a tolerance for its size) is
+ * INVALID_MESH with a message saying so. `report` may be NULL.
+ * Long operation (progress stages "curvature field", "curvature lines", "meshing", cancel).
+ * Reads `mesh`; thread-safe for distinct outputs. */
+CAGEKIT_API cagekit_status cagekit_mesh_remesh(cagekit_mesh mesh, const cagekit_remesh_options* options,
+                                               cagekit_cage* out, cagekit_remesh_report* report);
+
 #ifdef __cplusplus
 }
 #endif

@@ -77,6 +77,12 @@ int command_info(Args& args);
 int command_convert(Args& args);
 int command_subdivide(Args& args);
 int command_simplify(Args& args);
+int command_remesh(Args& args);
+// --method/--tolerance/--feature-angle/... of remesh and `pipeline --method anisotropic` (values out
+// of range: Failure with kExitBadInput).
+cagekit_remesh_options parse_remesh_options(Args& args, const std::string& method);
+// The report's JSON fields (no braces): faces, vertices, quads_pct, ..., mean_alignment_deg.
+std::string remesh_json_fields(const cagekit_remesh_report& report, const cagekit_approximation_error& error);
 int command_demo(Args& args);
 int command_fit(Args& args);
 int command_pipeline(Args& args);

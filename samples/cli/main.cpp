@@ -18,6 +18,10 @@ const char* kUsage =
     "  simplify IN OUT (--faces N | --vertices N) [--cage] [--clusters FILE.ply] [--json] [--crease-angle DEG]\n"
     "      [--input-crease-angle DEG]           (tag only where the input is sharp too: smooth cages for organic scans)\n"
     "                                           structure-preserving simplification (thesis ch. 3); --cage: quad-dominant cage\n"
+    "  remesh IN OUT --method anisotropic [--tolerance REL] [--feature-angle DEG] [--max-face-valence N]\n"
+    "      [--curvature-radius REL] [--threads N] [--json]\n"
+    "                                           curvature-line remeshing (thesis ch. 5): quad-dominant, edges along\n"
+    "                                           the principal directions; OUT keeps feature lines as creases\n"
     "  fit SCAN CAGE OUT [--passes N] [--tolerance T] [--projection exact|linear] [--fairing F] [--keep-creases]\n"
     "      [--threads N] [--json]               fit the cage's limit surface to the scan's vertices (thesis ch. 7);\n"
     "                                           OUT keeps the cage's connectivity and crease tags\n"
@@ -54,6 +58,7 @@ int main(int argc, char** argv) {
     if (command == "convert") return cli::command_convert(args);
     if (command == "subdivide") return cli::command_subdivide(args);
     if (command == "simplify") return cli::command_simplify(args);
+    if (command == "remesh") return cli::command_remesh(args);
     if (command == "fit") return cli::command_fit(args);
     if (command == "pipeline") return cli::command_pipeline(args);
     if (command == "bind") return cli::command_bind(args);

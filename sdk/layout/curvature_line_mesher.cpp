@@ -39,6 +39,7 @@ class LineGraph {
   void trace(LineMesh& out, std::vector<std::vector<uint32_t>>& faces);
 
   std::vector<Vec3> position, normal;  // per output vertex (merged intersections)
+  std::vector<uint32_t> face;          // an input triangle the vertex lies on
   std::vector<GraphEdge> edges;
 
  private:
@@ -99,6 +100,7 @@ void LineGraph::build(const PolygonMesh& mesh, const CurvatureField& field, cons
       seg_index[s_.lines[l].segments[k]] = k;
     }
   std::vector<Vec3> node_p, node_n;
+  std::vector<uint32_t> node_f;
   // Intersections inside faces.
   std::vector<uint32_t> ids;
   std::vector<Vec2> a2, b2;
@@ -137,6 +139,7 @@ void LineGraph::build(const PolygonMesh& mesh, const CurvatureField& field, cons
         // On a crease or boundary line: the mean of the two faces' normals (one at a boundary).
         const LineSegment& edge_seg = !ci ? si : (!cj ? sj : si);
         node_n.push_back(ci && cj ? fr.n : edge_normal(mesh, f, edge_seg.vertex_a, edge_seg.vertex_b, fr.n));
+        node_f.push_back(f);
         add_hit(seg_line[ids[i]], seg_index[ids[i]] + tc, node);
         add_hit(seg_line[ids[j]], seg_index[ids[j]] + uc, node);
       }
@@ -158,6 +161,7 @@ void LineGraph::build(const PolygonMesh& mesh, const CurvatureField& field, cons
     const uint32_t node = uint32_t(node_p.size());
     node_p.push_back(mesh.positions[v]);
     node_n.push_back(field.vertex_normal[v]);
+    node_f.push_back(s_.adjacency->vertex_corner[v] / 3);
     for (const auto& e : at) add_hit(e.first, e.second, node);
   }
   out.intersections = node_p.size();
@@ -188,6 +192,7 @@ void LineGraph::build(const PolygonMesh& mesh, const CurvatureField& field, cons
       vertex_of[r] = uint32_t(position.size());
       position.push_back(node_p[r]);
       normal.push_back(node_n[r]);
+      face.push_back(node_f[r]);
     }
     vertex_of[i] = vertex_of[r];
   }
@@ -373,6 +378,7 @@ LineMesh mesh_curvature_lines(const PolygonMesh& mesh, const CurvatureField& fie
       if (remap[v] == kNone) {
         remap[v] = out.mesh.add_vertex(graph.position[v]);
         out.vertex_normals.push_back(normalized(graph.normal[v]));
+        out.vertex_face.push_back(graph.face[v]);
       }
       v = remap[v];
     }

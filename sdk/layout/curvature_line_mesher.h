@@ -39,6 +39,7 @@ struct LineMeshOptions {
 struct LineMesh {
   PolygonMesh mesh;
   std::vector<Vec3> vertex_normals;
+  std::vector<uint32_t> vertex_face;  // an input triangle each output vertex lies on
   // Edges of the line graph that ended up in the mesh, with the type of the line they follow
   // (diagonals added by the partition are not listed).
   struct Edge {

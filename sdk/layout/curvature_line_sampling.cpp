@@ -70,6 +70,7 @@ class Sampler {
   bool crosses_transversal(uint32_t f, const Vec3& a, const Vec3& b, uint32_t line, LineType t) const;
   bool trace(const Seed& s);
   struct Pass {
+    Pass(uint32_t f, Vec2 p, Vec2 d, LineType t, double s) : face(f), point(p), dir(d), type(t), sign(s) {}
     uint32_t face;
     Vec2 point, dir;
     LineType type;
@@ -384,9 +385,9 @@ bool Sampler::trace(const Seed& seed) {
   out_.lines.push_back({seed.type, false, {}});
   const size_t seeds_before = seeds_.size();
   if (conf || seed.forced) add_seed(seed.face, seed.point, opposite_type(seed.type), cross(fr.n, unf_.to_space(seed.face, frame0, dir)));
-  Pass fwd{seed.face, p, dir, seed.type, 1.0, {}, false};
+  Pass fwd(seed.face, p, dir, seed.type, 1.0);
   run_pass(fwd, line, conf || seed.forced, seed.point);
-  Pass bwd{seed.face, p, -1.0 * dir, seed.type, -1.0, {}, false};
+  Pass bwd(seed.face, p, -1.0 * dir, seed.type, -1.0);
   if (!fwd.closed) {
     unf_.reset(seed.face);
     run_pass(bwd, line, conf || seed.forced, seed.point);
@@ -605,7 +606,7 @@ void Sampler::extend_open_ends() {
     Vec2 d{dot(oe.dir, fr.u), dot(oe.dir, fr.v)};
     if (!(norm(d) > 0.0)) continue;
     d = (1.0 / norm(d)) * d;
-    Pass ps{oe.face, p, d, oe.type, 1.0, {}, false};
+    Pass ps(oe.face, p, d, oe.type, 1.0);
     run_pass(ps, oe.line, confident(oe.face), oe.point, true);
     if (ps.segments.empty()) continue;
     std::vector<uint32_t>& segs = out_.lines[oe.line].segments;

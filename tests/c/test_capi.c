@@ -1239,6 +1239,98 @@ static void fit_rejects_bad_arguments_and_can_be_cancelled(void) {
   cagekit_context_release(context);
 }
 
+
+/* Open cylinder of radius 1 about z, height 4, n_around x n_along quads split into triangles. */
+static cagekit_mesh new_triangle_cylinder(cagekit_context context, int n_around, int n_along) {
+  const uint32_t nv = (uint32_t)(n_around * (n_along + 1)), nf = (uint32_t)(2 * n_around * n_along);
+  double* positions = (double*)malloc(3 * nv * sizeof(double));
+  uint32_t* faces = (uint32_t*)malloc(3 * nf * sizeof(uint32_t));
+  uint32_t at = 0;
+  cagekit_mesh_desc desc = CAGEKIT_MESH_DESC_INIT;
+  cagekit_mesh mesh = NULL;
+  for (int j = 0; j <= n_along; ++j)
+    for (int i = 0; i < n_around; ++i) {
+      const double a = 6.283185307179586 * i / n_around;
+      double* p = positions + 3 * (j * n_around + i);
+      p[0] = cos(a);
+      p[1] = sin(a);
+      p[2] = 4.0 * j / n_along;
+    }
+  for (int j = 0; j < n_along; ++j)
+    for (int i = 0; i < n_around; ++i) {
+      const uint32_t a = (uint32_t)(j * n_around + i), b = (uint32_t)(j * n_around + (i + 1) % n_around);
+      const uint32_t c = b + (uint32_t)n_around, d = a + (uint32_t)n_around;
+      const uint32_t tri[6] = {a, b, c, a, c, d};
+      memcpy(faces + at, tri, sizeof(tri));
+      at += 6;
+    }
+  desc.vertex_count = nv;
+  desc.positions = positions;
+  desc.face_count = nf;
+  desc.uniform_face_size = 3;
+  desc.face_indices = faces;
+  CHECK_OK(cagekit_mesh_create(context, &desc, &mesh));
+  free(positions);
+  free(faces);
+  return mesh;
+}
+
+static void anisotropic_remesh_follows_a_cylinder(void) {
+  cagekit_context context = new_context();
+  cagekit_mesh mesh = new_triangle_cylinder(context, 96, 96);
+  cagekit_remesh_options options = CAGEKIT_REMESH_OPTIONS_INIT;
+  cagekit_remesh_report report;
+  cagekit_cage cage = NULL;
+  cagekit_mesh_info info;
+  memset(&report, 0, sizeof(report));
+  report.struct_size = sizeof(report);
+  options.tolerance = 0.001;
+  options.curvature_radius = 0.0;
+  CHECK_OK(cagekit_mesh_remesh(mesh, &options, &cage, &report));
+  CHECK(report.faces > 300);
+  CHECK(report.quads >= report.faces * 95 / 100);
+  CHECK(report.max_face_valence <= 5);
+  CHECK(report.holes == 0);
+  CHECK(report.creases == 0);
+  CHECK(report.min_scaled_jacobian > 0.5);
+  CHECK(report.mean_alignment_deg < 2.0);
+  memset(&info, 0, sizeof(info));
+  info.struct_size = sizeof(info);
+  CHECK_OK(cagekit_cage_get_info(cage, &info));
+  CHECK(info.faces == report.faces);
+  cagekit_cage_release(cage);
+  /* Bad arguments. */
+  cage = (cagekit_cage)1;
+  options.tolerance = 0.0;
+  CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(cage == NULL);
+  options.tolerance = 0.002;
+  options.method = (cagekit_remesh_method)7;
+  CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  options.method = CAGEKIT_REMESH_ANISOTROPIC;
+  options.max_face_valence = 2;
+  CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_mesh_remesh(mesh, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  cagekit_mesh_release(mesh);
+  {
+    /* Three triangles on one edge: not a 2-manifold. */
+    static const double p[15] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1};
+    static const uint32_t f[9] = {0, 1, 2, 1, 0, 3, 0, 1, 4};
+    cagekit_mesh_desc desc = CAGEKIT_MESH_DESC_INIT;
+    desc.vertex_count = 5;
+    desc.positions = p;
+    desc.face_count = 3;
+    desc.uniform_face_size = 3;
+    desc.face_indices = f;
+    CHECK_OK(cagekit_mesh_create(context, &desc, &mesh));
+    CHECK_STATUS(cagekit_mesh_remesh(mesh, NULL, &cage, NULL), CAGEKIT_ERROR_INVALID_MESH);
+    CHECK(strstr(cagekit_last_error_message(context), "manifold") != NULL ||
+          strstr(cagekit_last_error_message(context), "edge") != NULL);
+    cagekit_mesh_release(mesh);
+  }
+  cagekit_context_release(context);
+}
+
 int main(void) {
   static const c_test_case tests[] = {
       {"version_is_consistent", version_is_consistent},
@@ -1267,6 +1359,7 @@ int main(void) {
       {"fit_reduces_the_error_every_pass", fit_reduces_the_error_every_pass},
       {"fit_keeps_tags_and_pinned_crease_vertices", fit_keeps_tags_and_pinned_crease_vertices},
       {"fit_rejects_bad_arguments_and_can_be_cancelled", fit_rejects_bad_arguments_and_can_be_cancelled},
+      {"anisotropic_remesh_follows_a_cylinder", anisotropic_remesh_follows_a_cylinder},
   };
   return run_tests(tests, (int)(sizeof(tests) / sizeof(tests[0])));
 }

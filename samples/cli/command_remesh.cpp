@@ -1,0 +1,94 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// cagekit remesh IN OUT --method anisotropic [--tolerance REL] [--feature-angle DEG]
+//                [--max-face-valence N] [--curvature-radius REL] [--threads N] [--json] [--quiet]
+#include <chrono>
+#include <cstdio>
+#include <string>
+
+#include "cli_context.h"
+
+namespace cli {
+
+namespace {
+
+double percent(uint64_t part, uint64_t whole) { return whole ? 100.0 * double(part) / double(whole) : 0.0; }
+
+}  // namespace
+
+cagekit_remesh_options parse_remesh_options(Args& args, const std::string& method) {
+  cagekit_remesh_options o = CAGEKIT_REMESH_OPTIONS_INIT;
+  if (method != "anisotropic") throw Failure(kExitBadInput, "--method must be 'anisotropic', not '" + method + "'");
+  o.method = CAGEKIT_REMESH_ANISOTROPIC;
+  try {
+    o.tolerance = args.real("--tolerance", 0.002, 1e-7, 1.0);
+    o.feature_angle_degrees = args.real("--feature-angle", 40.0, -1.0, 180.0);
+    o.max_face_valence = static_cast<uint32_t>(args.integer("--max-face-valence", 5, 3, 1000));
+    o.curvature_radius = args.real("--curvature-radius", 0.01, 0.0, 1.0);
+    o.threads = static_cast<uint32_t>(args.integer("--threads", 0, 0, 1024));
+  } catch (const Failure& f) {  // option values are input: exit code 2
+    throw Failure(f.code == kExitUsage ? kExitBadInput : f.code, f.what());
+  }
+  return o;
+}
+
+std::string remesh_json_fields(const cagekit_remesh_report& r, const cagekit_approximation_error& e) {
+  char buffer[1024];
+  std::snprintf(buffer, sizeof(buffer),
+                "\"faces\": %llu, \"vertices\": %llu, \"quads_pct\": %.3f, \"valence4_vertices_pct\": %.3f, "
+                "\"max_face_valence\": %u, \"max_vertex_valence\": %u, \"creases\": %llu, \"hausdorff_rel\": %.9g, "
+                "\"hausdorff_sym_rel\": %.9g, \"min_scaled_jacobian\": %.6f, \"regions\": %llu, "
+                "\"mean_alignment_deg\": %.4f, \"lines\": %llu, \"holes\": %llu",
+                (unsigned long long)r.faces, (unsigned long long)r.vertices, percent(r.quads, r.faces),
+                percent(r.valence4_vertices, r.interior_vertices), r.max_face_valence, r.max_vertex_valence,
+                (unsigned long long)r.creases, e.hausdorff_rel, e.hausdorff_sym_rel, r.min_scaled_jacobian,
+                (unsigned long long)r.regions, r.mean_alignment_deg, (unsigned long long)r.lines,
+                (unsigned long long)r.holes);
+  return buffer;
+}
+
+int command_remesh(Args& args) {
+  const char* usage =
+      "cagekit remesh IN OUT --method anisotropic [--tolerance REL] [--feature-angle DEG] [--max-face-valence N] "
+      "[--curvature-radius REL] [--threads N] [--json] [--quiet]";
+  const bool quiet = args.flag("--quiet");
+  const bool json = args.flag("--json");
+  const std::string method = args.option("--method", "");
+  if (method.empty()) throw Failure(kExitUsage, std::string("usage: ") + usage + " (--method is required)");
+  const cagekit_remesh_options options = parse_remesh_options(args, method);
+  const auto files = args.positional(2, 2, usage);
+  const cagekit_file_format out_format = format_from_extension(files[1]);
+  const auto start = std::chrono::steady_clock::now();
+
+  Session session(quiet);
+  Mesh input;
+  session.check(cagekit_mesh_read_file(session.context(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, input.out()), files[0]);
+  cagekit_remesh_report report = {};
+  report.struct_size = sizeof(report);
+  Cage output;
+  session.check(cagekit_mesh_remesh(input.get(), &options, output.out(), &report), files[0]);
+  cagekit_write_options write = CAGEKIT_WRITE_OPTIONS_INIT;
+  write.format = out_format;
+  session.check(cagekit_cage_write_file(output.get(), files[1].c_str(), &write, nullptr), files[1]);
+  Mesh output_mesh;
+  session.check(cagekit_cage_get_mesh(output.get(), output_mesh.out()), files[1]);
+  cagekit_approximation_error error = {};
+  error.struct_size = sizeof(error);
+  session.check(cagekit_mesh_measure_error(input.get(), output_mesh.get(), &error), files[0]);
+  session.finish_progress();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  if (json) {
+    std::printf("{\"method\": \"%s\", \"tolerance\": %.9g, %s, \"remesh_seconds\": %.3f, \"seconds\": %.3f}\n",
+                method.c_str(), options.tolerance, remesh_json_fields(report, error).c_str(), report.seconds, seconds);
+  } else if (!quiet) {
+    std::printf("%s -> %s (%s, tolerance %g): %llu faces (%.1f%% quads), %llu vertices (%.1f%% interior valence 4), "
+                "%llu creases, mean alignment %.2f deg, Hausdorff %.3g of the diagonal, %.2f s\n",
+                files[0].c_str(), files[1].c_str(), method.c_str(), options.tolerance, (unsigned long long)report.faces,
+                percent(report.quads, report.faces), (unsigned long long)report.vertices,
+                percent(report.valence4_vertices, report.interior_vertices), (unsigned long long)report.creases,
+                report.mean_alignment_deg, error.hausdorff_sym_rel, seconds);
+  }
+  return kExitOk;
+}
+
+}  // namespace cli

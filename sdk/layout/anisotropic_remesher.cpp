@@ -1,0 +1,182 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "layout/anisotropic_remesher.h"
+
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "core/edge_map.h"
+#include "core/status.h"
+#include "layout/convex_face_partition.h"
+#include "layout/curvature_line_mesher.h"
+#include "layout/curvature_line_sampling.h"
+#include "layout/curvature_tensor_field.h"
+#include "layout/feature_edges.h"
+
+CAGEKIT_NAMESPACE_BEGIN
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+PolygonMesh fan_triangulated(const PolygonMesh& input) {
+  detail::check_mesh_arrays(input);
+  PolygonMesh tri;
+  tri.positions = input.positions;
+  for (size_t f = 0; f < input.num_faces(); ++f) {
+    const uint32_t n = input.face_size(f);
+    if (n < 3) fail(Status::invalid_mesh, "anisotropic remeshing: face " + std::to_string(f) + " has fewer than 3 vertices");
+    const uint32_t* v = input.face_begin(f);
+    for (uint32_t k = 1; k + 1 < n; ++k) tri.add_face({v[0], v[k], v[k + 1]});
+  }
+  return tri;
+}
+
+// Connected regions of confident faces (edge-adjacent).
+uint64_t confident_regions(const PolygonMesh& tri, const CurvatureField& field, const TriangleAdjacency& adj) {
+  const double lambda_min = std::cos(kPi / 6.0);
+  std::vector<uint8_t> seen(tri.num_faces(), 0);
+  std::vector<uint32_t> stack;
+  uint64_t regions = 0;
+  for (uint32_t f = 0; f < tri.num_faces(); ++f) {
+    if (seen[f] || field.face_confidence[f] < lambda_min) continue;
+    ++regions;
+    seen[f] = 1;
+    stack.push_back(f);
+    while (!stack.empty()) {
+      const uint32_t g = stack.back();
+      stack.pop_back();
+      for (uint32_t k = 0; k < 3; ++k) {
+        const uint32_t t = adj.twin[3 * g + k];
+        if (t == detail::kNone || seen[t / 3] || field.face_confidence[t / 3] < lambda_min) continue;
+        seen[t / 3] = 1;
+        stack.push_back(t / 3);
+      }
+    }
+  }
+  return regions;
+}
+
+double line_angle_deg(const Vec3& a, const Vec3& b) {
+  const double la = norm(a), lb = norm(b);
+  if (!(la > 0.0) || !(lb > 0.0)) return 0.0;
+  return std::acos(std::min(1.0, std::fabs(dot(a, b)) / (la * lb))) * 180.0 / kPi;
+}
+
+void measure(const PolygonMesh& tri, const CurvatureField& field, const LineMesh& lm, AnisotropicRemeshResult& r) {
+  const PolygonMesh& m = lm.mesh;
+  const double lambda_min = std::cos(kPi / 6.0);
+  r.faces = m.num_faces();
+  r.vertices = m.num_vertices();
+  std::unordered_map<uint64_t, int> edge_use;
+  r.min_scaled_jacobian = m.num_faces() ? 1.0 : 0.0;
+  std::vector<uint32_t> loop;
+  for (size_t f = 0; f < m.num_faces(); ++f) {
+    const uint32_t n = m.face_size(f);
+    r.quads += n == 4;
+    r.max_face_valence = std::max(r.max_face_valence, n);
+    loop.assign(m.face_begin(f), m.face_begin(f) + n);
+    const Vec3 fn = loop_normal(m.positions, loop);
+    for (uint32_t k = 0; k < n; ++k) {
+      ++edge_use[edge_key(loop[k], loop[(k + 1) % n])];
+      // T-joint vertices (angles within 10° of π) are not corners of the element.
+      const double angle = corner_angle(m.positions, lm.vertex_normals, loop, k, fn);
+      if (std::fabs(angle - kPi) > kPi / 18.0) r.min_scaled_jacobian = std::min(r.min_scaled_jacobian, std::sin(angle));
+    }
+  }
+  std::vector<uint32_t> valence(m.num_vertices(), 0);
+  std::vector<uint8_t> boundary(m.num_vertices(), 0);
+  for (const auto& [key, uses] : edge_use) {
+    const uint32_t a = uint32_t(key >> 32), b = uint32_t(key & 0xffffffffu);
+    ++valence[a];
+    ++valence[b];
+    if (uses == 1) boundary[a] = boundary[b] = 1;
+  }
+  // Alignment of the edges along curvature lines whose two ends lie on confident faces, against
+  // the nearer principal direction of each end's face (feature lines and partition diagonals are
+  // not meant to follow the field).
+  double angle_sum = 0.0;
+  uint64_t angle_count = 0;
+  for (const LineMesh::Edge& e : lm.edges) {
+    if (!is_curvature_line(e.type) || !edge_use.count(edge_key(e.a, e.b))) continue;
+    const uint32_t fa = lm.vertex_face[e.a], fb = lm.vertex_face[e.b];
+    if (field.face_confidence[fa] < lambda_min || field.face_confidence[fb] < lambda_min) continue;
+    // The chord of a curved edge is parallel to the tangent at its middle, approximated by the
+    // sign-aligned mean of the nearer principal directions at the two ends.
+    const Vec3 d = m.positions[e.b] - m.positions[e.a];
+    auto nearer = [&](uint32_t g) {
+      const Vec3 t1 = field.face_t_min[g], t2 = field.face_t_max[g];
+      return line_angle_deg(d, t1) <= line_angle_deg(d, t2) ? t1 : t2;
+    };
+    const Vec3 pa = nearer(fa), pb = nearer(fb);
+    angle_sum += line_angle_deg(d, pa + (dot(pa, pb) < 0.0 ? -1.0 : 1.0) * pb);
+    ++angle_count;
+  }
+  r.mean_alignment_deg = angle_count ? angle_sum / double(angle_count) : 0.0;
+  for (size_t v = 0; v < m.num_vertices(); ++v) {
+    r.max_vertex_valence = std::max(r.max_vertex_valence, valence[v]);
+    if (boundary[v]) continue;
+    ++r.interior_vertices;
+    r.valence4_vertices += valence[v] == 4;
+  }
+  (void)tri;
+}
+
+}  // namespace
+
+AnisotropicRemeshResult remesh_anisotropic(const PolygonMesh& input, const AnisotropicRemeshOptions& o,
+                                           const TaskMonitor& monitor) {
+  const auto start = std::chrono::steady_clock::now();
+  if (!(o.tolerance > 0.0) || !std::isfinite(o.tolerance) || o.tolerance > 1.0)
+    fail(Status::invalid_argument, "anisotropic remeshing: tolerance must be in (0, 1] (relative to the bbox diagonal)");
+  if (!(o.feature_angle_degrees <= 180.0) || std::isnan(o.feature_angle_degrees))
+    fail(Status::invalid_argument, "anisotropic remeshing: feature angle must be <= 180 degrees (< 0: none)");
+  if (o.max_face_valence < 3) fail(Status::invalid_argument, "anisotropic remeshing: max face valence must be >= 3");
+  if (!std::isfinite(o.disk_radius_bbox) || o.disk_radius_bbox > 1.0 || o.threads < 0)
+    fail(Status::invalid_argument, "anisotropic remeshing: disk radius must be <= 1 and threads >= 0");
+  const PolygonMesh tri = fan_triangulated(input);
+  std::vector<uint8_t> features;
+  if (o.feature_angle_degrees >= 0.0) features = detect_feature_edges(tri, o.feature_angle_degrees);
+
+  AnisotropicRemeshResult r;
+  CurvatureOptions co;
+  co.disk_radius_bbox = o.disk_radius_bbox > 0.0 ? o.disk_radius_bbox : 0.0;
+  co.threads = o.threads;
+  co.feature_angle_degrees = -1.0;
+  const CurvatureField field = estimate_curvature_field(tri, co, features.empty() ? nullptr : &features, monitor);
+  r.field_seconds = seconds_since(start);
+
+  LineSamplingOptions lo;
+  lo.tolerance = o.tolerance;
+  const LineSampling lines = sample_curvature_lines(tri, field, lo, features.empty() ? nullptr : &features, monitor);
+  r.sampling_seconds = lines.seconds;
+  r.lines = lines.lines.size();
+
+  LineMeshOptions mo;
+  mo.max_face_valence = o.max_face_valence;
+  const LineMesh lm = mesh_curvature_lines(tri, field, lines, mo, monitor);
+  r.meshing_seconds = lm.seconds;
+  r.holes = lm.unclosed_half_edges;
+  r.regions = confident_regions(tri, field, *lines.adjacency);
+  measure(tri, field, lm, r);
+
+  r.cage.mesh = lm.mesh;
+  std::unordered_set<uint64_t> face_edges;
+  for (size_t f = 0; f < lm.mesh.num_faces(); ++f)
+    for (uint32_t k = 0, n = lm.mesh.face_size(f); k < n; ++k)
+      face_edges.insert(edge_key(lm.mesh.face_vertex(f, k), lm.mesh.face_vertex(f, (k + 1) % n)));
+  for (const LineMesh::Edge& e : lm.edges)
+    if (e.type == LineType::feature && face_edges.count(edge_key(e.a, e.b)))
+      r.cage.creases.push_back({e.a, e.b, kSharpnessInfinite});
+  r.creases = r.cage.creases.size();
+  r.seconds = seconds_since(start);
+  return r;
+}
+
+CAGEKIT_NAMESPACE_END
