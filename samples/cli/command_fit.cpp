@@ -2,6 +2,7 @@
 // cagekit fit SCAN CAGE OUT [--passes N] [--tolerance T] [--projection exact|linear] [--fairing F]
 //             [--keep-creases] [--threads N] [--json] [--quiet]
 // cagekit pipeline SCAN OUTDIR [--method simplify] (--faces N | --vertices N) [--passes N] ...
+// cagekit pipeline SCAN OUTDIR --method anisotropic [--tolerance REL] [--fit-tolerance T] [--passes N] ...
 #include <cstdio>
 #include <string>
 
@@ -51,7 +52,8 @@ int command_fit(Args& args) {
 
 int command_pipeline(Args& args) {
   const char* usage =
-      "cagekit pipeline SCAN OUTDIR [--method simplify] (--faces N | --vertices N) [--crease-angle DEG] [--input-crease-angle DEG] "
+      "cagekit pipeline SCAN OUTDIR ([--method simplify] (--faces N | --vertices N) [--crease-angle DEG] [--input-crease-angle DEG] "
+      "| --method anisotropic [--tolerance REL] [--feature-angle DEG] [--max-face-valence N] [--fit-tolerance T]) "
       "[--passes N] [--tolerance T] [--projection exact|linear] [--fairing F] [--keep-creases] [--threads N] "
       "[--limit-levels L] [--json] [--quiet]";
   const bool quiet = args.flag("--quiet");
@@ -59,8 +61,13 @@ int command_pipeline(Args& args) {
   PipelineSettings settings;
   std::string method;
   int faces = -1, vertices = -1, limit_levels = 3;
+  double fit_tolerance = -1.0;
   try {
     method = args.option("--method", "simplify");
+    if (method == "anisotropic") {  // --tolerance is the remeshing tolerance; the fit's is --fit-tolerance
+      settings.remesh = parse_remesh_options(args, method);
+      fit_tolerance = args.real("--fit-tolerance", 1e-4, 0.0, 1.0);
+    }
     faces = args.integer("--faces", -1, 1, 2000000000);
     vertices = args.integer("--vertices", -1, 1, 2000000000);
     settings.crease_angle = args.real("--crease-angle", 30.0, -1.0, 180.0);
@@ -69,11 +76,15 @@ int command_pipeline(Args& args) {
   } catch (const Failure& f) {  // option values are input of this command: exit code 2
     throw Failure(f.code == kExitUsage ? kExitBadInput : f.code, f.what());
   }
-  if (method != "simplify") throw Failure(kExitBadInput, "--method must be 'simplify', not '" + method + "'");
+  if (method != "simplify" && method != "anisotropic")
+    throw Failure(kExitBadInput, "--method must be 'simplify' or 'anisotropic', not '" + method + "'");
+  settings.method = method;
   settings.fit = parse_fit_options(args);
+  if (fit_tolerance >= 0.0) settings.fit.tolerance = fit_tolerance;
   const auto files = args.positional(2, 2, usage);
-  if ((faces < 0) == (vertices < 0)) throw Failure(kExitUsage, std::string("usage: ") + usage);
-  settings.query = faces > 0 ? CAGEKIT_LEVEL_BY_FACES : CAGEKIT_LEVEL_BY_VERTICES;
+  if (method == "anisotropic" ? (faces > 0 || vertices > 0) : ((faces < 0) == (vertices < 0)))
+    throw Failure(kExitUsage, std::string("usage: ") + usage);
+  settings.query = faces > 0 ? CAGEKIT_LEVEL_BY_FACES : CAGEKIT_LEVEL_BY_VERTICES;  // (unused by anisotropic)
   settings.target = faces > 0 ? faces : vertices;
   settings.limit_levels = static_cast<uint32_t>(limit_levels);
 
@@ -89,12 +100,21 @@ int command_pipeline(Args& args) {
     std::fputs(result.json.c_str(), stdout);
   } else if (!quiet) {
     std::printf("%s -> %s/\n", files[0].c_str(), files[1].c_str());
+    if (method == "anisotropic") {
+      const cagekit_remesh_report& m = result.remesh_report;
+      std::printf("  remesh    anisotropic, tolerance %g: %llu faces (%llu quads), %llu creases, mean alignment %.2f deg, "
+                  "Hausdorff %.3g of the diagonal (%.2f s)\n",
+                  settings.remesh.tolerance, (unsigned long long)m.faces, (unsigned long long)m.quads,
+                  (unsigned long long)m.creases, m.mean_alignment_deg, result.level_error.hausdorff_sym_rel,
+                  result.simplify_seconds);
+    } else {
     std::printf("  simplify  level %u: %llu polygons -> cage of %llu quads, %llu triangles, %llu other, %llu creases "
                 "(%.2f s)\n",
                 result.level, (unsigned long long)result.level_info.faces,
                 (unsigned long long)result.cage_report.quads, (unsigned long long)result.cage_report.triangles,
                 (unsigned long long)(result.cage_report.pentagons + result.cage_report.other_polygons),
                 (unsigned long long)result.cage_report.creases, result.simplify_seconds);
+    }
     std::printf("  fit       %u passes: max %.3g -> %.3g, rms %.3g -> %.3g of the diagonal (%.2f s)\n", r.pass_count - 1,
                 r.initial.max_rel, r.final.max_rel, r.initial.rms_rel, r.final.rms_rel, r.seconds);
     std::printf("  limit     level %u: %llu quads, Hausdorff %.3g of the diagonal from the scan\n",

@@ -30,6 +30,8 @@ const char* kUsage =
     "      [--tolerance T] [--projection exact|linear] [--fairing F] [--keep-creases] [--limit-levels L] [--json]\n"
     "                                           simplify -> quad-dominant cage with creases -> fit; writes\n"
     "                                           OUTDIR/cage.obj (fitted), limit.obj (its limit, L=3 levels), report.json\n"
+    "  pipeline SCAN OUTDIR --method anisotropic [--tolerance REL] [--feature-angle DEG] [--fit-tolerance T] ...\n"
+    "                                           the same with curvature-line remeshing (thesis ch. 5) as step 1\n"
     "  bind SCAN CAGE OUT.ckb [--local-frame] [--exact-normals] [--sharp-angle DEG] [--threads N] [--json]\n"
     "                                           bind the scan to the cage's limit surface (thesis ch. 8), save it\n"
     "  deform SCAN (CAGE | BINDING.ckb) EDITED_CAGE OUT [--local-frame] [--sharp-angle DEG] [--json]\n"

@@ -59,6 +59,42 @@ void write_text_file(const std::string& path, const std::string& text) {
   }
 }
 
+// Steps 2 and 3 of the pipeline, shared by both methods: fit of the initial cage's limit surface
+// to the scan, then the fitted cage refined to (nearly) its limit surface and compared with it.
+void fit_and_limit(const Session& session, cagekit_mesh scan, const std::string& scan_name,
+                   const PipelineSettings& settings, const std::string& dir, PipelineResult* result) {
+  cagekit_write_options write = CAGEKIT_WRITE_OPTIONS_INIT;
+  // 2. Fit of the cage's limit surface to the scan.
+  run_fit(session, result->initial_cage.get(), scan, settings.fit, scan_name, &result->fitted_cage, &result->fit);
+  if (!settings.cage_file.empty()) {
+    const std::string path = dir + "/" + settings.cage_file;
+    session.check(cagekit_cage_write_file(result->fitted_cage.get(), path.c_str(), &write, nullptr), path);
+  }
+
+  // 3. The fitted cage refined to (nearly) its limit surface, compared with the scan.
+  cagekit_subdivide_options subdivide = CAGEKIT_SUBDIVIDE_OPTIONS_INIT;
+  subdivide.levels = settings.limit_levels;
+  subdivide.limit_positions = 1;
+  session.check(cagekit_cage_subdivide(result->fitted_cage.get(), &subdivide, result->limit.out()), "fitted cage");
+  if (!settings.limit_file.empty()) {
+    const std::string path = dir + "/" + settings.limit_file;
+    session.check(cagekit_cage_write_file(result->limit.get(), path.c_str(), &write, nullptr), path);
+  }
+  result->limit_info.struct_size = sizeof(result->limit_info);
+  session.check(cagekit_cage_get_info(result->limit.get(), &result->limit_info), "fitted limit");
+  Mesh limit_mesh;
+  session.check(cagekit_cage_get_mesh(result->limit.get(), limit_mesh.out()), "fitted limit");
+  result->limit_error.struct_size = sizeof(result->limit_error);
+  session.check(cagekit_mesh_measure_error(scan, limit_mesh.get(), &result->limit_error), scan_name);
+}
+
+std::string limit_json(const PipelineSettings& settings, const PipelineResult& result) {
+  return "{\"levels\": " + std::to_string(settings.limit_levels) + ", \"vertices\": " +
+         std::to_string((unsigned long long)result.limit_info.vertices) + ", \"faces\": " +
+         std::to_string((unsigned long long)result.limit_info.faces) + ", \"error\": " +
+         error_json(result.limit_error) + "}";
+}
+
 }  // namespace
 
 void make_directories(const std::string& path) {
@@ -127,8 +163,26 @@ void run_pipeline(const Session& session, cagekit_mesh scan, const std::string& 
   using Hierarchy = Handle<cagekit_hierarchy, cagekit_hierarchy_release>;
   const auto start = std::chrono::steady_clock::now();
   make_directories(dir);
-  cagekit_write_options write = CAGEKIT_WRITE_OPTIONS_INIT;
 
+  if (settings.method == "anisotropic") {
+    // 1. Anisotropic remeshing (thesis ch. 5): a quad-dominant cage with feature lines as creases.
+    result->remesh_report.struct_size = sizeof(result->remesh_report);
+    session.check(cagekit_mesh_remesh(scan, &settings.remesh, result->initial_cage.out(), &result->remesh_report),
+                  scan_name);
+    result->simplify_seconds = seconds_since(start);
+    session.check(cagekit_cage_get_mesh(result->initial_cage.get(), result->polygons.out()), scan_name);
+    result->level_error.struct_size = sizeof(result->level_error);
+    session.check(cagekit_mesh_measure_error(scan, result->polygons.get(), &result->level_error), scan_name);
+    fit_and_limit(session, scan, scan_name, settings, dir, result);
+    result->seconds = seconds_since(start);
+    result->json = std::string("{\"remesh\": {\"method\": \"anisotropic\", \"tolerance\": ") +
+                   number(settings.remesh.tolerance) + ", " + remesh_json_fields(result->remesh_report, result->level_error) +
+                   ", \"seconds\": " + number(result->simplify_seconds) + "},\n \"fit\": " +
+                   fit_json(result->fit, settings.fit) + ",\n \"limit\": " + limit_json(settings, *result) +
+                   ",\n \"seconds\": " + number(result->seconds) + "}\n";
+    if (!settings.report_file.empty()) write_text_file(dir + "/" + settings.report_file, result->json);
+    return;
+  }
   // 1. Simplification to the requested level and the quad-dominant cage with creases.
   Hierarchy hierarchy;
   session.check(cagekit_hierarchy_create(scan, nullptr, hierarchy.out()), scan_name);
@@ -150,28 +204,7 @@ void run_pipeline(const Session& session, cagekit_mesh scan, const std::string& 
   result->level_error.struct_size = sizeof(result->level_error);
   session.check(cagekit_mesh_measure_error(scan, result->polygons.get(), &result->level_error), scan_name);
 
-  // 2. Fit of the cage's limit surface to the scan.
-  run_fit(session, result->initial_cage.get(), scan, settings.fit, scan_name, &result->fitted_cage, &result->fit);
-  if (!settings.cage_file.empty()) {
-    const std::string path = dir + "/" + settings.cage_file;
-    session.check(cagekit_cage_write_file(result->fitted_cage.get(), path.c_str(), &write, nullptr), path);
-  }
-
-  // 3. The fitted cage refined to (nearly) its limit surface, compared with the scan.
-  cagekit_subdivide_options subdivide = CAGEKIT_SUBDIVIDE_OPTIONS_INIT;
-  subdivide.levels = settings.limit_levels;
-  subdivide.limit_positions = 1;
-  session.check(cagekit_cage_subdivide(result->fitted_cage.get(), &subdivide, result->limit.out()), "fitted cage");
-  if (!settings.limit_file.empty()) {
-    const std::string path = dir + "/" + settings.limit_file;
-    session.check(cagekit_cage_write_file(result->limit.get(), path.c_str(), &write, nullptr), path);
-  }
-  result->limit_info.struct_size = sizeof(result->limit_info);
-  session.check(cagekit_cage_get_info(result->limit.get(), &result->limit_info), "fitted limit");
-  Mesh limit_mesh;
-  session.check(cagekit_cage_get_mesh(result->limit.get(), limit_mesh.out()), "fitted limit");
-  result->limit_error.struct_size = sizeof(result->limit_error);
-  session.check(cagekit_mesh_measure_error(scan, limit_mesh.get(), &result->limit_error), scan_name);
+  fit_and_limit(session, scan, scan_name, settings, dir, result);
   result->seconds = seconds_since(start);
 
   const cagekit_cage_report& c = result->cage_report;
@@ -188,11 +221,8 @@ void run_pipeline(const Session& session, cagekit_mesh scan, const std::string& 
                 (unsigned long long)c.non_manifold_edges);
   result->json = std::string("{\"simplify\": ") + simplify + "\"error\": " + error_json(result->level_error) +
                  ", \"seconds\": " + number(result->simplify_seconds) + "},\n \"fit\": " +
-                 fit_json(result->fit, settings.fit) + ",\n \"limit\": {\"levels\": " +
-                 std::to_string(settings.limit_levels) + ", \"vertices\": " +
-                 std::to_string((unsigned long long)result->limit_info.vertices) + ", \"faces\": " +
-                 std::to_string((unsigned long long)result->limit_info.faces) + ", \"error\": " +
-                 error_json(result->limit_error) + "},\n \"seconds\": " + number(result->seconds) + "}\n";
+                 fit_json(result->fit, settings.fit) + ",\n \"limit\": " + limit_json(settings, *result) +
+                 ",\n \"seconds\": " + number(result->seconds) + "}\n";
   if (!settings.report_file.empty()) write_text_file(dir + "/" + settings.report_file, result->json);
 }
 

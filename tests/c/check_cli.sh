@@ -142,6 +142,25 @@ if [ "$code" -eq 64 ] && grep -q "does not apply with --cage" "$tmp/usage.err" &
 then pass "usage: simplify --contour-tolerance with --cage is refused (exit 64)"; else cat "$tmp/usage.err"; fail "simplify --contour-tolerance with --cage"; fi
 expect_bad "simplify of a corrupt file" "$cli" simplify "$tmp/badindex.obj" "$tmp/out.obj" --faces 10 --quiet
 
+# 8b. anisotropic remeshing (thesis ch. 5): report keys, bounded valence, fandisk creases, pipeline
+fandisk="$meshes/fandisk.obj"
+if [ -f "$fandisk" ]; then
+  remesh_keys="faces vertices quads_pct valence4_vertices_pct max_face_valence max_vertex_valence creases hausdorff_rel hausdorff_sym_rel min_scaled_jacobian regions seconds mean_alignment_deg"
+  if "$cli" remesh "$fandisk" "$tmp/fan-aniso.obj" --method anisotropic --tolerance 0.002 --json --quiet >"$tmp/fan-aniso.json" &&
+     [ "$(json "$tmp/fan-aniso.json" "all(k in d for k in '$remesh_keys'.split()) and d['max_face_valence'] <= 5 and d['creases'] > 100 and d['quads_pct'] > 50 and d['min_scaled_jacobian'] >= 0 and d['hausdorff_sym_rel'] < 0.02")" = True ] &&
+     "$cli" info "$tmp/fan-aniso.obj" --json >"$tmp/fan-aniso-info.json" && [ "$(json "$tmp/fan-aniso-info.json" "d['valid'] and d['genus'] == 0")" = True ]
+  then pass "remesh --method anisotropic: fandisk quad-dominant, creases kept, valid, genus 0"; else cat "$tmp/fan-aniso.json"; fail "remesh anisotropic"; fi
+  if "$cli" pipeline "$fandisk" "$tmp/fan-pipe" --method anisotropic --tolerance 0.003 --passes 2 --quiet &&
+     [ "$(json "$tmp/fan-pipe/report.json" "d['remesh']['method'] == 'anisotropic' and d['limit']['error']['hausdorff_sym_rel'] < 0.02")" = True ]
+  then pass "pipeline --method anisotropic: remesh -> fit -> limit within 2% of the diagonal"; else cat "$tmp/fan-pipe/report.json"; fail "pipeline anisotropic"; fi
+else
+  echo "[ SKIP ] remesh checks: $fandisk not present"
+fi
+"$cli" remesh "$tmp/cube.obj" "$tmp/out.obj" --quiet 2>"$tmp/usage.err"; code=$?
+if [ "$code" -eq 64 ] && grep -q "method is required" "$tmp/usage.err"; then pass "usage: remesh without --method (exit 64)"; else cat "$tmp/usage.err"; fail "remesh without --method"; fi
+expect_bad "remesh with an unknown method" "$cli" remesh "$tmp/cube.obj" "$tmp/out.obj" --method quadx --quiet
+expect_bad "remesh of a non-manifold mesh" "$cli" remesh "$tmp/nonmanifold.obj" "$tmp/out.obj" --method anisotropic --quiet
+
 # 9. fitting (thesis ch. 7): a cage from the demo scan, and the creased unit cube, fitted to the scan
 fit_keys="passes l2 rms_rel max_rel mean_rel max_rel_interior seconds per_pass stopped_by_tolerance unconverged_projections"
 pass_keys="l2 rms_rel max_rel mean_rel max_rel_interior seconds unconverged_projections"
