@@ -77,7 +77,7 @@ BendingFit minimize_bending_energy(const Point2& ci, const Point2& qi, const Poi
 
 struct CurveNetworkOptions {
   double min_angle = 2.0943951023931957;      // ψ = 2π/3: eligibility needs α_i > ψ
-  double concave_angle = 4.1887902047863905;  // 4π/3: above it, two tangents trisect α_i
+  double concave_angle = 3.6651914291880923;  // 7π/6: above it, two tangents trisect α_i
   int polyline_segments = 32;                 // polyline of every curve (crossing tests, meshing)
   int threads = 1;  // workers for the pairs (0 = hardware concurrency); the result does not depend on it
 };
