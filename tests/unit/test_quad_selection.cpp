@@ -15,6 +15,7 @@
 #include "layout/quad_curve_network.h"
 #include "layout/quad_curve_selection.h"
 #include "layout/quad_element_energy.h"
+#include "layout/quad_region_selection.h"
 #include "layout/remesh_constraints.h"
 #include "layout/vsa_segmentation.h"
 #include "test_support.h"
@@ -458,18 +459,12 @@ void run_real_mesh(const char* name, int regions, double delta_fraction, double 
   options.exhaustive_limit = exhaustive_limit;
   size_t faces = 0, quads = 0, tris = 0, pents = 0, larger = 0, invalid = 0, curves = 0, moves = 0, exact = 0;
   double energy = 0.0;
-  double t_network = 0, t_select = 0, worst_region = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  const cagekit::RegionQuadMeshes all = cagekit::select_region_quads(constraints, {}, options, 2);
+  const double t_all = seconds_since(t0);
   for (uint32_t r = 0; r < seg.num_regions(); ++r) {
-    std::vector<std::vector<Point2>> loops;
-    for (size_t l = 0; l < constraints.boundaries.region_loops[r].size(); ++l)
-      loops.push_back(constraints.loop_samples_uv(r, l));
-    const auto t0 = std::chrono::steady_clock::now();
-    const CurveNetwork net = cagekit::build_curve_network(loops);
-    t_network += seconds_since(t0);
-    const auto t1 = std::chrono::steady_clock::now();
-    const QuadSelection s = cagekit::select_quad_curves(net, options);
-    const double t = seconds_since(t1);
-    t_select += t, worst_region = std::max(worst_region, t);
+    const CurveNetwork& net = all.networks[r];
+    const QuadSelection& s = all.selections[r];
     EXPECT_LE(s.energy, s.phase1_energy + 1e-9 * (1 + s.phase1_energy)) << "region " << r;
     EXPECT_NEAR(s.tracked_energy, s.energy, 1e-7 * (1 + s.energy)) << "region " << r;
     expect_matching(net, s);
@@ -477,12 +472,20 @@ void run_real_mesh(const char* name, int regions, double delta_fraction, double 
     invalid += s.invalid_faces, curves += net.curves.size(), moves += s.moves_applied;
     exact += s.exhaustive ? 1 : 0, energy += s.energy;
   }
+  EXPECT_EQ(faces, all.faces);
+  EXPECT_NEAR(energy, all.energy, 1e-9 * (1 + energy));
+  // One worker gives the same result (timed: the single-threaded figure).
+  const auto t1 = std::chrono::steady_clock::now();
+  const cagekit::RegionQuadMeshes sequential = cagekit::select_region_quads(constraints, {}, options, 1);
+  const double t_one = seconds_since(t1);
+  EXPECT_EQ(sequential.energy, all.energy);
+  EXPECT_EQ(sequential.faces, all.faces);
   const double quad_share = faces ? double(quads) / double(faces) : 0.0;
-  std::printf("%s |S| = %d, δ = %.0f%%, w = %g/%g/%g, exhaustive limit %zu: %zu candidate curves (%.2f s), "
-              "selection %.2f s (worst region %.2f s), %zu moves, %zu regions exact; E = %.1f; %zu faces: %zu quads "
+  std::printf("%s |S| = %d, δ = %.0f%%, w = %g/%g/%g, exhaustive limit %zu: %zu candidate curves; steps 3-4 "
+              "%.2f s on 2 threads, %.2f s on 1; %zu moves, %zu regions exact; E = %.1f; %zu faces: %zu quads "
               "(%.1f%%), %zu triangles, %zu pentagons, %zu larger, %zu invalid\n",
-              name, regions, 100 * delta_fraction, w_tri, w_pent, w_t, exhaustive_limit, curves, t_network, t_select,
-              worst_region, moves, exact, energy, faces, quads, 100 * quad_share, tris, pents, larger, invalid);
+              name, regions, 100 * delta_fraction, w_tri, w_pent, w_t, exhaustive_limit, curves, t_all, t_one, moves,
+              exact, energy, faces, quads, 100 * quad_share, tris, pents, larger, invalid);
   EXPECT_GT(quad_share, 0.6);
 }
 

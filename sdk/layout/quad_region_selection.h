@@ -1,0 +1,32 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// Steps 3-4 of the two-step quad-dominant remeshing over every region of a segmentation: per
+// region, the curve network in its LSCM domain (quad_curve_network.h) from
+// RemeshConstraints::loop_samples_uv, then the curve selection (quad_curve_selection.h).
+// Regions are independent; they run on `threads` workers, largest first, and the result does
+// not depend on the thread count.
+//
+// Thread-safety: pure function. Errors: those of build_curve_network and select_quad_curves
+// (with the region id in the message); invalid_argument for threads < 0; cancelled from the
+// monitor (checked between regions on the calling thread's worker).
+#include <vector>
+
+#include "core/task_monitor.h"
+#include "layout/quad_curve_network.h"
+#include "layout/quad_curve_selection.h"
+#include "layout/remesh_constraints.h"
+
+CAGEKIT_NAMESPACE_BEGIN
+
+struct RegionQuadMeshes {
+  std::vector<CurveNetwork> networks;     // per region
+  std::vector<QuadSelection> selections;  // per region
+  double energy = 0.0;                    // Σ E(L) over the regions
+  size_t faces = 0, quads = 0;            // over the region meshes (the glued mesh has the same faces)
+};
+
+RegionQuadMeshes select_region_quads(const RemeshConstraints& constraints, const CurveNetworkOptions& network_options,
+                                     const SelectionOptions& selection_options, int threads = 1,
+                                     const TaskMonitor& monitor = {});
+
+CAGEKIT_NAMESPACE_END
