@@ -320,6 +320,7 @@ PROTOTYPES = {
     "cagekit_hierarchy_get_faces": (_S, [_h, c_uint32, _u32p, _p, c_uint32, _u32p, _p, c_uint64, _u64p, _p]),
     "cagekit_hierarchy_get_clusters": (_S, [_h, c_uint32, _u32p, _p]),
     "cagekit_hierarchy_get_polygon_mesh": (_S, [_h, _pp]),
+    "cagekit_hierarchy_get_refined_polygon_mesh": (_S, [_h, c_double, _pp]),
     "cagekit_hierarchy_build_cage": (_S, [_h, _ptr(CageOptions), _pp, _ptr(CageReport)]),
     "cagekit_mesh_measure_error": (_S, [_h, _h, _ptr(ApproximationError)]),
     # fitting

@@ -132,6 +132,13 @@ class Hierarchy(Handle):
         holes are split into constrained Delaunay triangles."""
         return Mesh._make(self._context, _lib.lib.cagekit_hierarchy_get_polygon_mesh, self._handle)
 
+    def refined_polygon_mesh(self, chord_tolerance):
+        """polygon_mesh() with border vertices put back where a cluster border strays farther than
+        chord_tolerance x the input's bbox diagonal from its level edge (same faces, more
+        vertices, closer to the input at coarse levels)."""
+        return Mesh._make(self._context, _lib.lib.cagekit_hierarchy_get_refined_polygon_mesh, self._handle,
+                          float(chord_tolerance))
+
     def build_cage(self, crease_angle_degrees=30.0, tag_boundary_edges=True, exact_partition_limit=20,
                    input_crease_angle_degrees=-1.0):
         """The quad-dominant control cage of the current level with crease tags, and its report

@@ -39,6 +39,11 @@ class Simplification(HandleCheck):
                 self.assertEqual(level_mesh.counts()[:2], (8, 6))
                 error = mesh.measure_error(level_mesh)
                 self.assertLess(error.hausdorff_rel, 0.01)
+            # the cube's borders are straight: refined contours add no vertex
+            with hierarchy.refined_polygon_mesh(0.01) as refined:
+                self.assertEqual(refined.counts()[:2], (8, 6))
+            with self.assertRaises(cagekit.InvalidArgumentError):
+                hierarchy.refined_polygon_mesh(0.0)
             # the vertex query and the input level
             self.assertEqual(hierarchy.find_level(vertices=8), level)
             hierarchy.level = 0
@@ -69,6 +74,17 @@ class Simplification(HandleCheck):
                 self.assertGreater(report.quads, info.faces / 2)  # quad-dominant
                 self.assertEqual(report.non_manifold_edges, 0)
                 self.assertGreater(info.creases, 0)
+
+    def test_refined_contours_bring_a_coarse_sphere_level_closer(self):
+        positions, triangles = sphere(rings=24, segments=48)
+        with cagekit.Mesh.from_arrays(positions, triangles) as scan, cagekit.Hierarchy(scan) as hierarchy:
+            hierarchy.set_level(faces=8)
+            with hierarchy.polygon_mesh() as plain, hierarchy.refined_polygon_mesh(0.01) as refined:
+                self.assertEqual(plain.counts()[1], refined.counts()[1])  # same faces
+                self.assertGreater(refined.counts()[0], plain.counts()[0])  # more vertices
+                # measured 13.7% -> 9.0% of the diagonal
+                self.assertLess(scan.measure_error(refined).hausdorff_rel,
+                                0.8 * scan.measure_error(plain).hausdorff_rel)
 
 
 class Fitting(HandleCheck):
