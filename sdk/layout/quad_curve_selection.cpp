@@ -3,6 +3,7 @@
 #include "layout/quad_curve_selection.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -65,6 +66,15 @@ struct CycleHash {
 struct Fan {
   HalfEdge edge;
   Point2 direction;
+};
+
+// At most four half-edges leave a vertex: two boundary edges and two ports, or two crossing curves.
+struct FanList {
+  std::array<Fan, 4> items;
+  size_t count = 0;
+  void push_back(const Fan& f) { items[count++] = f; }
+  const Fan* begin() const { return items.data(); }
+  const Fan* end() const { return items.data() + count; }
 };
 
 struct Face {
@@ -271,8 +281,8 @@ class Arrangement {
       return c[locate(c, id)].position;
     }
     // Outgoing half-edges at vertex v.
-    std::vector<Fan> fan(uint64_t v) const {
-      std::vector<Fan> out;
+    FanList fan(uint64_t v) const {
+      FanList out;
       const CurveNetwork& net = arr.net_;
       if (!(v & kCrossingFlag)) {
         const NetworkPoint& p = net.points[v];
@@ -529,7 +539,15 @@ class Optimizer {
             if (c >= 0) consider({selected[i]}, {uint32_t(c)});
           }
       }
-      if (best_move.removed.empty()) return;
+      // Add / remove moves only where no swap or reconnect decreases E (they scan every curve).
+      if (polish_ && best_move.removed.empty()) {
+        for (uint32_t c : selected) consider({c}, {});
+        for (uint32_t c = 0; c < net_.curves.size(); ++c) {
+          const auto& ports = net_.curves[c].ports;
+          if (arrangement_.port_curve(ports[0]) < 0 && arrangement_.port_curve(ports[1]) < 0) consider({}, {c});
+        }
+      }
+      if (best_move.removed.empty() && best_move.added.empty()) return;
       apply(best_move.removed, best_move.added);
     }
   }
@@ -654,6 +672,8 @@ class Optimizer {
   Arrangement arrangement_;
   std::unordered_map<uint64_t, uint32_t> curve_of_;
   std::vector<std::vector<uint32_t>> forward_;  // per port: the curves whose first port it is
+ public:
+  bool polish_ = false;  // descend() also tries add and remove moves
 };
 
 void validate_matching(const CurveNetwork& net, const std::vector<uint32_t>& curves) {
@@ -699,6 +719,13 @@ QuadSelection select_quad_curves(const CurveNetwork& network, const SelectionOpt
     result.phase2_energy = arrangement.energy();
     optimizer.remember(best, best_energy);
     if (options.run_phase3) optimizer.escape(best, best_energy);
+  }
+  result.phase3_energy = best_energy;
+  if (options.add_remove_moves && !result.exhaustive) {
+    arrangement.reset(best);
+    optimizer.polish_ = true;
+    optimizer.descend();
+    optimizer.remember(best, best_energy);
   }
   result.tracked_energy = best_energy;
   arrangement.reset(best);  // the backup (§6.7.4)

@@ -16,7 +16,7 @@
 // descent over all swap (Fig. 6.6) and reconnect (Fig. 6.7) moves; Phase III removes the curves
 // with a crossing at an angle below `bad_crossing_angle`, then repeatedly adds the curve with the
 // smallest resulting E followed by Phase II, with a backup of the best configuration restored at
-// the end (so the result is never worse than Phase I).
+// the end (so the result is never worse than Phase I); then the polish (add_remove_moves).
 //
 // Incremental evaluation (the bottleneck the thesis names in §6.10): a move (remove R, add A)
 // rebuilds the crossing chains only of the curves in R ∪ A and of the selected curves they cross,
@@ -41,6 +41,11 @@ struct SelectionOptions {
   double bad_crossing_angle = 0.7853981633974483;  // π/4 (Phase III)
   bool run_phase2 = true;
   bool run_phase3 = true;
+  // Polish (not in the thesis): after Phase III, from the best configuration, a Phase II descent
+  // that also tries removing a selected curve and adding a curve between two free ports (these
+  // scan every curve, so only when no swap or reconnect decreases E). Inside Phase III the same
+  // moves gave the same E but took 5-7x longer.
+  bool add_remove_moves = true;
   size_t max_descent_steps = 100000;  // per Phase II run
   // A region whose candidate curves admit at most this many matchings (the empty one included)
   // is solved exactly by enumerating them all (depth-first, incremental add/remove); Phases II
@@ -56,6 +61,7 @@ struct QuadSelection {
   std::vector<uint32_t> curves;  // selected indices into CurveNetwork::curves, increasing
   double energy = 0.0;           // E(L) of `curves`
   double phase1_energy = 0.0, phase2_energy = 0.0;
+  double phase3_energy = 0.0;  // the best after Phase III (before the polish)
   // The best E(L) as tracked by the incremental updates (before the final rebuild of `curves`):
   // equal to `energy` up to rounding when the incremental bookkeeping is right.
   double tracked_energy = 0.0;
