@@ -431,6 +431,17 @@ TEST(QuadCurveSelection, SmallRegionsAreSolvedExactly) {
   }
 }
 
+TEST(QuadCurveSelection, CancellationAndBadOptions) {
+  const cagekit::TaskMonitor cancel([](const char*, double) { return false; }, nullptr);
+  EXPECT_EQ(status_of([&] { cagekit::build_curve_network({rectangle_loop(4, 4)}, {}, cancel); }), Status::cancelled);
+  const CurveNetwork net = cagekit::build_curve_network({rectangle_loop(4, 4)});
+  EXPECT_EQ(status_of([&] { cagekit::select_quad_curves(net, {}, cancel); }), Status::cancelled);
+  cagekit::SelectionOptions bad;
+  bad.bad_crossing_angle = 2.0;
+  EXPECT_EQ(status_of([&] { cagekit::select_quad_curves(net, bad); }), Status::invalid_argument);
+  EXPECT_EQ(status_of([&] { cagekit::select_quad_curves(CurveNetwork{}); }), Status::invalid_argument);
+}
+
 TEST(QuadCurveSelection, ConfigurationEnergyRefusesNonMatchings) {
   const CurveNetwork net = cagekit::build_curve_network({rectangle_loop(3, 3)});
   EXPECT_EQ(status_of([&] { cagekit::configuration_energy(net, {uint32_t(net.curves.size())}, {}); }),
