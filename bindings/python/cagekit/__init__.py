@@ -27,6 +27,7 @@ from ._records import Record
 from .cage import SHARP, BoundaryRule, Cage
 from .context import Context, LogLevel, default_context
 from .fit import LsqSolver, ProjectionMode, fit
+from .limit_patches import LimitPatches, limit_patches
 from .mesh import Mesh, MeshIssue, RepairSteps
 from .multires import Binding, CpuDeformer, DisplacementMode, NormalMode, bind
 from .simplify import Hierarchy, LevelQuery, simplify
@@ -52,8 +53,8 @@ __all__ = [
     "ABI_VERSION", "MAX_SUBDIVISION_LEVELS", "SHARP", "Binding", "BoundaryRule", "Cage", "CageKitError",
     "CancelledError", "Context", "CpuDeformer", "DisplacementMode", "FileFormat", "FileIOError", "Hierarchy",
     "InternalError", "InvalidArgumentError", "InvalidHandleError", "InvalidMeshError", "LevelQuery",
-    "LimitExceededError", "LogLevel", "LsqSolver", "Mesh", "MeshIssue", "NormalMode", "OutOfMemoryError",
+    "LimitExceededError", "LimitPatches", "LogLevel", "LsqSolver", "Mesh", "MeshIssue", "NormalMode", "OutOfMemoryError",
     "ParseError", "ProjectionMode", "Record", "RepairSteps", "SizeInsufficientError", "Surface",
     "UnsupportedFormatError", "VersionMismatchError", "abi_version", "bind", "default_context", "fit",
-    "library_path", "live_handles", "simplify", "version",
+    "library_path", "limit_patches", "live_handles", "simplify", "version",
 ]
