@@ -1,0 +1,625 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""CageKit in FreeCAD, without the GUI: scan mesh -> cage -> fit -> limit surface -> STEP.
+
+The workbench's commands (CageKitGui) only add dialogs around these functions, and they work
+the same in `freecadcmd`:
+
+    import FreeCAD, CageKitTools as ck
+    doc = FreeCAD.newDocument()
+    scan = ck.import_scan("fandisk.obj", doc)              # or any Mesh::Feature
+    cage = ck.scan_to_cage(scan, faces=200)                # Part::Feature "<scan>_cage"
+    ck.fit_cage(cage, passes=5)                            # moves its control points
+    surface = ck.limit_surface(cage, tolerance=1e-4)       # Part::Feature "<cage>_surface"
+    ck.export_step(surface, "fandisk.step")
+
+Objects: a cage is a Part::Feature whose Shape is the cage's edges and whose properties (group
+"CageKit") hold the control mesh and its tags (ControlPoints, FaceSizes, FaceIndices, Creases,
+CreaseSharpness, Corners, CornerSharpness, Holes, BoundaryRule) and a link to its Scan. The
+limit surface is a Part::Feature whose Shape has one B-spline face (bicubic, knots [0, 1] with
+multiplicity 4: a Bezier patch) per patch of cagekit_limit_patches_create, sewn into a shell, a
+solid when the shell is closed. Coordinates are global: a scan's Placement is applied, the
+objects made have the identity Placement.
+
+Errors: every function raises a cagekit.CageKitError (the SDK's message), WorkbenchError (input
+this module refuses before calling the SDK) or ImportError (the library cannot be loaded).
+run_reported() turns them into a FreeCAD console error and a message for the host; nothing here
+lets an exception reach FreeCAD's core.
+"""
+import math
+import os
+import tempfile
+import time
+
+import FreeCAD
+import Part
+
+GROUP = "CageKit"
+
+
+class WorkbenchError(Exception):
+    """Input refused by the workbench itself (not a mesh, no faces, not a cage, ...)."""
+
+
+# --- the SDK ---------------------------------------------------------------------------------------
+_cagekit = None
+
+
+def sdk():
+    """The `cagekit` package: the copy bundled in this addon folder (CageKit/cagekit, with
+    libcagekit.so.1 next to it), else the one on sys.path (bindings/python in a source tree, with
+    CAGEKIT_LIBRARY naming the library). ImportError carries the package's message."""
+    global _cagekit
+    if _cagekit is None:
+        import cagekit
+        _cagekit = cagekit
+    return _cagekit
+
+
+def numpy():
+    import numpy as np
+    return np
+
+
+def message_of(error):
+    """The text shown to the user for an exception raised by this module."""
+    text = getattr(error, "message", None) or str(error) or type(error).__name__
+    return text if text.startswith("CageKit") else "CageKit: " + text
+
+
+def run_reported(action, *args, report=None, **kwargs):
+    """action(*args, **kwargs); on an exception prints it to FreeCAD's report view, calls
+    report(text) (the GUI shows a message box) and returns None. Also catches ImportError (no
+    library) and any other Exception, so that none reaches FreeCAD's core."""
+    try:
+        return action(*args, **kwargs)
+    except Exception as e:  # SDK errors, missing library, bad input
+        text = message_of(e)
+        FreeCAD.Console.PrintError(text + "\n")
+        if report is not None:
+            try:
+                report(text)
+            except Exception:
+                pass
+        return None
+
+
+class Progress:
+    """CageKit's progress callback -> FreeCAD's progress indicator (the status bar's in the GUI,
+    percentages on the console in freecadcmd); Esc in the GUI cancels the SDK call."""
+
+    def __init__(self, text, steps=100):
+        self.last = -1
+        self.indicator = None
+        try:
+            self.indicator = FreeCAD.Base.ProgressIndicator()
+            self.indicator.start(text, steps)
+        except Exception:
+            self.indicator = None
+
+    def __call__(self, stage, fraction):
+        if self.indicator is None:
+            return None
+        step = int(100 * min(max(float(fraction), 0.0), 1.0))
+        try:
+            while self.last < step:
+                self.last += 1
+                self.indicator.next(True)
+        except Exception:  # the user aborted the indicator: cancel the SDK call
+            return False
+        return None
+
+    def stop(self):
+        if self.indicator is not None:
+            try:
+                self.indicator.stop()
+            except Exception:
+                pass
+            self.indicator = None
+
+
+# --- reading FreeCAD objects -------------------------------------------------------------------------
+def mesh_arrays(obj):
+    """(positions (N, 3) float64, global coordinates; triangles (F, 3) uint32) of a mesh object."""
+    np = numpy()
+    mesh = getattr(obj, "Mesh", None)
+    if mesh is None or not hasattr(mesh, "Topology"):
+        raise WorkbenchError("%r is not a mesh object" % getattr(obj, "Label", obj))
+    points, facets = mesh.Topology  # the object's Placement applied
+    if len(facets) == 0:
+        raise WorkbenchError("mesh %r has no faces" % obj.Label)
+    pos = np.array([(p.x, p.y, p.z) for p in points], dtype=np.float64).reshape(-1, 3)
+    tris = np.array(facets, dtype=np.int64).reshape(-1, 3)
+    return pos, tris.astype(np.uint32)
+
+
+def is_cage(obj):
+    return obj is not None and "ControlPoints" in getattr(obj, "PropertiesList", ()) \
+        and "FaceSizes" in obj.PropertiesList
+
+
+def is_limit_surface(obj):
+    return obj is not None and "PatchCount" in getattr(obj, "PropertiesList", ()) \
+        and hasattr(obj, "Shape")
+
+
+def cage_arrays(obj):
+    """dict of the cage object's control mesh and tags (numpy arrays)."""
+    np = numpy()
+    if not is_cage(obj):
+        raise WorkbenchError("%r is not a CageKit cage" % getattr(obj, "Label", obj))
+    sizes = np.array(obj.FaceSizes, dtype=np.int64)
+    flat = np.array(obj.FaceIndices, dtype=np.int64)
+    pos = np.array([(p.x, p.y, p.z) for p in obj.ControlPoints], dtype=np.float64).reshape(-1, 3)
+    if len(sizes) == 0 or sizes.sum() != len(flat):
+        raise WorkbenchError("cage %r: %d face sizes do not match %d face indices"
+                             % (obj.Label, len(sizes), len(flat)))
+    creases = np.array(obj.Creases, dtype=np.int64)
+    if creases.size % 2 or len(obj.CreaseSharpness) != creases.size // 2:
+        raise WorkbenchError("cage %r: Creases must be vertex pairs, one sharpness each" % obj.Label)
+    if len(obj.CornerSharpness) != len(obj.Corners):
+        raise WorkbenchError("cage %r: one sharpness per corner" % obj.Label)
+    return {"positions": pos, "sizes": sizes, "flat": flat, "creases": creases.reshape(-1, 2),
+            "crease_sharpness": np.array(obj.CreaseSharpness, dtype=np.float64),
+            "corners": np.array(obj.Corners, dtype=np.int64),
+            "corner_sharpness": np.array(obj.CornerSharpness, dtype=np.float64),
+            "holes": np.array(obj.Holes, dtype=np.int64), "boundary_rule": int(obj.BoundaryRule)}
+
+
+def cage_from_object(obj, context=None):
+    """A cagekit.Cage of a cage object (the SDK validates it: InvalidMeshError names a problem)."""
+    ck, a = sdk(), cage_arrays(obj)
+    return ck.Cage.from_arrays(a["positions"], (a["sizes"], a["flat"]), creases=a["creases"],
+                               crease_sharpness=a["crease_sharpness"], corners=a["corners"],
+                               corner_sharpness=a["corner_sharpness"], holes=a["holes"],
+                               boundary_rule=a["boundary_rule"], context=context)
+
+
+def cage_data(cage):
+    """dict of a cagekit.Cage's arrays, as cage_arrays() returns them."""
+    np = numpy()
+    sizes, flat = cage.face_arrays()
+    pairs, sharp = cage.creases
+    corners, corner_sharp = cage.corners
+    return {"positions": cage.positions, "sizes": sizes.astype(np.int64), "flat": flat.astype(np.int64),
+            "creases": pairs.astype(np.int64), "crease_sharpness": sharp.astype(np.float64),
+            "corners": corners.astype(np.int64), "corner_sharpness": corner_sharp.astype(np.float64),
+            "holes": cage.holes.astype(np.int64), "boundary_rule": int(cage.boundary_rule)}
+
+
+# --- making FreeCAD objects ----------------------------------------------------------------------------
+def _property(obj, kind, name, doc, read_only=False):
+    if name not in obj.PropertiesList:
+        obj.addProperty(kind, name, GROUP, doc)
+    if read_only:
+        obj.setEditorMode(name, 1)
+
+
+def _vectors(points):
+    V = FreeCAD.Vector
+    return [V(float(p[0]), float(p[1]), float(p[2])) for p in points]
+
+
+def cage_edges_shape(positions, sizes, flat):
+    """A compound of the cage's edges (each once; zero-length ones left out)."""
+    V = FreeCAD.Vector
+    seen, edges, at = set(), [], 0
+    for n in sizes:
+        n = int(n)
+        loop = [int(i) for i in flat[at:at + n]]
+        at += n
+        for a, b in zip(loop, loop[1:] + loop[:1]):
+            key = (a, b) if a < b else (b, a)
+            if key in seen:
+                continue
+            seen.add(key)
+            p, q = V(*map(float, positions[a])), V(*map(float, positions[b]))
+            if (p - q).Length > 0.0:
+                edges.append(Part.LineSegment(p, q).toShape())
+    return Part.makeCompound(edges)
+
+
+def write_cage(obj, data):
+    """Stores `data` (cage_data()) in the cage object's properties and rebuilds its Shape."""
+    obj.ControlPoints = _vectors(data["positions"])
+    obj.FaceSizes = [int(x) for x in data["sizes"]]
+    obj.FaceIndices = [int(x) for x in data["flat"]]
+    obj.Creases = [int(x) for x in data["creases"].reshape(-1)]
+    obj.CreaseSharpness = [float(x) for x in data["crease_sharpness"]]
+    obj.Corners = [int(x) for x in data["corners"]]
+    obj.CornerSharpness = [float(x) for x in data["corner_sharpness"]]
+    obj.Holes = [int(x) for x in data["holes"]]
+    obj.BoundaryRule = int(data["boundary_rule"])
+    obj.Shape = cage_edges_shape(data["positions"], data["sizes"], data["flat"])
+
+
+def new_cage_object(doc, label, data, scan=None):
+    obj = doc.addObject("Part::Feature", "Cage")
+    obj.Label = label
+    _property(obj, "App::PropertyLink", "Scan", "The scanned mesh this cage was made from / is fitted to")
+    _property(obj, "App::PropertyVectorList", "ControlPoints", "Control points of the Catmull-Clark cage")
+    _property(obj, "App::PropertyIntegerList", "FaceSizes", "Vertex count of each cage face")
+    _property(obj, "App::PropertyIntegerList", "FaceIndices", "Control point indices of the faces, face after face")
+    _property(obj, "App::PropertyIntegerList", "Creases", "Crease edges as control point index pairs, flattened")
+    _property(obj, "App::PropertyFloatList", "CreaseSharpness", "Sharpness per crease (10: infinitely sharp)")
+    _property(obj, "App::PropertyIntegerList", "Corners", "Corner (sharp) control points")
+    _property(obj, "App::PropertyFloatList", "CornerSharpness", "Sharpness per corner")
+    _property(obj, "App::PropertyIntegerList", "Holes", "Hole faces (not part of the limit surface)")
+    _property(obj, "App::PropertyInteger", "BoundaryRule", "0: boundary edges sharp; 1: boundary corners pinned too")
+    _property(obj, "App::PropertyInteger", "LevelFaces", "Faces of the simplification level", True)
+    _property(obj, "App::PropertyInteger", "FitPasses", "Fitting passes done (0: not fitted)", True)
+    _property(obj, "App::PropertyFloat", "FitRmsRel", "RMS distance scan -> limit surface / bbox diagonal", True)
+    obj.Scan = scan
+    write_cage(obj, data)
+    return obj
+
+
+# --- the pipeline -----------------------------------------------------------------------------------------
+def import_scan(path, doc=None, context=None):
+    """Reads a scan with the SDK (OBJ, PLY, OFF, Draco; a bad file raises the SDK's ParseError
+    etc. naming the file and line) into a new Mesh::Feature (polygons split into triangle fans)."""
+    import Mesh
+    ck, np = sdk(), numpy()
+    doc = doc or FreeCAD.ActiveDocument or FreeCAD.newDocument()
+    with ck.Mesh.read(path, context=context) as m:
+        pos = m.positions
+        sizes, flat = m.face_arrays()
+    if len(sizes) == 0:
+        raise WorkbenchError("%s has no faces" % path)
+    tris, at = [], 0
+    for n in sizes.tolist():
+        loop = flat[at:at + n].tolist()
+        at += n
+        tris.extend((loop[0], loop[k], loop[k + 1]) for k in range(1, n - 1))
+    mesh = Mesh.Mesh((_vectors(pos), tris))
+    name = os.path.splitext(os.path.basename(path))[0] or "Scan"
+    obj = doc.addObject("Mesh::Feature", "Scan")
+    obj.Label = name
+    obj.Mesh = mesh
+    doc.recompute()
+    return obj
+
+
+def scan_to_cage(scan, faces=200, crease_angle=30.0, passes=0, keep_crease_vertices=False, progress=None,
+                 doc=None):
+    """Simplifies the mesh object `scan` to the finest level with at most `faces` faces, builds the
+    quad-dominant cage with creases beyond `crease_angle` degrees, optionally fits it in `passes`
+    passes, and returns the new cage object '<scan>_cage'. Nothing is added on an error."""
+    ck = sdk()
+    if int(faces) < 1:
+        raise WorkbenchError("faces must be at least 1, not %r" % faces)
+    pos, tris = mesh_arrays(scan)
+    ctx = ck.Context(progress=progress)
+    fit_report = None
+    with ck.Mesh.from_arrays(pos, tris, context=ctx) as mesh:
+        with ck.Hierarchy(mesh) as hierarchy:
+            level = hierarchy.set_level(faces=int(faces))
+            level_faces = hierarchy.level_info(level).faces
+            cage, report = hierarchy.build_cage(crease_angle_degrees=float(crease_angle))
+        with cage:
+            if int(passes) > 0:
+                fitted, fit_report = ck.fit(cage, mesh, max_passes=int(passes),
+                                            keep_crease_vertices=bool(keep_crease_vertices))
+                with fitted:
+                    data = cage_data(fitted)
+            else:
+                data = cage_data(cage)
+    doc = doc or scan.Document
+    obj = new_cage_object(doc, scan.Label + "_cage", data, scan)
+    obj.LevelFaces = int(level_faces)
+    if fit_report is not None:
+        obj.FitPasses = len(fit_report.passes) - 1
+        obj.FitRmsRel = float(fit_report.final.rms_rel)
+    doc.recompute()
+    FreeCAD.Console.PrintMessage("CageKit: cage %r: %d faces (%d quads), %d creases%s\n" % (
+        obj.Label, len(data["sizes"]), report.quads, len(data["creases"]),
+        "" if fit_report is None else ", fitted (rms %.2g of the diagonal)" % fit_report.final.rms_rel))
+    return obj
+
+
+def fit_cage(cage_obj, scan=None, passes=5, keep_crease_vertices=False, progress=None):
+    """Fits the cage object's limit surface to `scan` (default: its Scan link) and stores the
+    fitted control points in it. Returns the SDK's fit report."""
+    ck = sdk()
+    scan = scan if scan is not None else getattr(cage_obj, "Scan", None)
+    if scan is None:
+        raise WorkbenchError("cage %r has no scan: select the scan too" % cage_obj.Label)
+    if int(passes) < 1:
+        raise WorkbenchError("passes must be at least 1, not %r" % passes)
+    pos, tris = mesh_arrays(scan)
+    ctx = ck.Context(progress=progress)
+    with ck.Mesh.from_arrays(pos, tris, context=ctx) as mesh, cage_from_object(cage_obj, ctx) as cage:
+        fitted, report = ck.fit(cage, mesh, max_passes=int(passes), keep_crease_vertices=bool(keep_crease_vertices))
+        with fitted:
+            data = cage_data(fitted)
+    write_cage(cage_obj, data)
+    cage_obj.Scan = scan
+    cage_obj.FitPasses = int(cage_obj.FitPasses) + len(report.passes) - 1
+    cage_obj.FitRmsRel = float(report.final.rms_rel)
+    cage_obj.Document.recompute()
+    FreeCAD.Console.PrintMessage("CageKit: %r fitted in %d passes: rms %.3g -> %.3g of the diagonal\n" % (
+        cage_obj.Label, len(report.passes) - 1, report.initial.rms_rel, report.final.rms_rel))
+    return report
+
+
+def _sides(control_points):
+    """(N, 4, 4, 3): the cubic Bezier boundary curves of each patch, side by side counter-clockwise
+    in (s, t): 0 (t = 0, s 0 -> 1), 1 (s = 1, t 0 -> 1), 2 (t = 1, s 1 -> 0), 3 (s = 0, t 1 -> 0)."""
+    np = numpy()
+    cp = control_points
+    return np.stack([cp[:, :, 0], cp[:, 3, :], cp[:, ::-1, 3], cp[:, 0, ::-1]], axis=1)
+
+
+def _cubic(curves, t):
+    """Points (K, 3) of K cubic Bezier curves (K, 4, 3) at t (K,)."""
+    y = 1.0 - t
+    w = [y ** 3, 3.0 * t * y * y, 3.0 * t * t * y, t ** 3]
+    return sum(w[i][:, None] * curves[:, i] for i in range(4))
+
+
+def _cubic_d(curves, t):
+    y = 1.0 - t
+    d = 3.0 * (curves[:, 1:] - curves[:, :-1])  # (K, 3, 3): the derivative's quadratic control points
+    w = [y * y, 2.0 * t * y, t * t]
+    return sum(w[i][:, None] * d[:, i] for i in range(3))
+
+
+def t_junctions(control_points, errors, slack):
+    """Where patch corners lie inside another patch's side (the quadtree's T-junctions, also
+    across ptex faces): for each patch and side (as _sides) the sorted fractions along the side,
+    in (0, 1), of the corners within 1.5 x (the side's patch error + the largest error of the
+    corner's patches) + slack of it (neighbours differ by at most the sum of their errors). A face
+    gets a vertex there, so that sewing pairs its side with the shorter sides of its neighbours."""
+    np = numpy()
+    n = len(control_points)
+    sides = _sides(control_points).reshape(-1, 4, 3)               # (4N, 4, 3)
+    corners = sides[:, 0]                                          # every patch corner (4N, 3)
+    corner_errors = np.repeat(np.asarray(errors, dtype=np.float64), 4)
+    scale = max(float(np.abs(corners).max()), 1.0) if n else 1.0
+    keys = np.round(corners / (scale * 1e-12)).astype(np.int64)
+    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    points = corners[first]                                        # distinct corners (M, 3)
+    point_errors = np.zeros(len(points))
+    np.maximum.at(point_errors, inverse.reshape(-1), corner_errors)
+    tolerance = 1.5 * (float(np.max(errors)) + float(point_errors.max())) + slack if n else slack
+    lengths = np.linalg.norm(sides[:, 3] - sides[:, 0], axis=1)
+    cell = max(float(np.median(lengths)) if n else 1.0, 1e-300)
+    grid = {}
+    for index, key in enumerate(map(tuple, np.floor(points / cell).astype(np.int64))):
+        grid.setdefault(key, []).append(index)
+    samples_t = np.linspace(0.0, 1.0, 33)
+    y = 1.0 - samples_t
+    basis = np.stack([y ** 3, 3 * samples_t * y * y, 3 * samples_t ** 2 * y, samples_t ** 3], axis=1)  # (33, 4)
+    out = [[[] for _ in range(4)] for _ in range(n)]
+    lo_all = sides.min(axis=1) - tolerance
+    hi_all = sides.max(axis=1) + tolerance
+    for k in range(len(sides)):
+        lo = np.floor(lo_all[k] / cell).astype(np.int64)
+        hi = np.floor(hi_all[k] / cell).astype(np.int64)
+        candidates = []
+        for a in range(lo[0], hi[0] + 1):
+            for b in range(lo[1], hi[1] + 1):
+                for c in range(lo[2], hi[2] + 1):
+                    candidates.extend(grid.get((a, b, c), ()))
+        if len(candidates) <= 2:
+            continue  # its own two corners
+        candidates = np.array(candidates)
+        pts = points[candidates]
+        inside = np.all((pts >= lo_all[k]) & (pts <= hi_all[k]), axis=1)
+        pts, candidates = pts[inside], candidates[inside]
+        local = 1.5 * (corner_errors[k] + point_errors[candidates]) + slack   # this pair's tolerance
+        ends = sides[k, [0, 3]]
+        far = np.min(np.linalg.norm(pts[:, None, :] - ends[None], axis=2), axis=1) > local
+        pts, local = pts[far], local[far]
+        if not len(pts):
+            continue
+        curve = basis @ sides[k]                                        # (33, 3)
+        d = np.linalg.norm(pts[:, None, :] - curve[None], axis=2)       # (K, 33)
+        step = float(np.linalg.norm(np.diff(curve, axis=0), axis=1).max())
+        near = d.min(axis=1) <= local + step
+        if not near.any():
+            continue
+        pts, local = pts[near], local[near]
+        t = samples_t[np.argmin(d[near], axis=1)]
+        curves = np.repeat(sides[k][None], len(pts), axis=0)
+        for _ in range(8):  # Newton on (B(t) - p) . B'(t) = 0
+            diff = _cubic(curves, t) - pts
+            d1 = _cubic_d(curves, t)
+            dt = 1e-7
+            g = np.sum(diff * d1, axis=1)
+            g2 = (np.sum((_cubic(curves, t + dt) - pts) * _cubic_d(curves, t + dt), axis=1) - g) / dt
+            t = np.clip(t - g / np.where(np.abs(g2) > 1e-300, g2, 1e-300), 0.0, 1.0)
+        dist = np.linalg.norm(_cubic(curves, t) - pts, axis=1)
+        keep = (dist <= local) & (t > 1e-9) & (t < 1.0 - 1e-9)
+        if keep.any():
+            out[k // 4][k % 4] = sorted(set(np.round(t[keep], 12).tolist()))
+    return out
+
+
+def bezier_face(control_points, splits=None):
+    """A face on the bicubic Bezier patch `control_points` (4, 4, 3) ([i, j]: weight B_i(s) B_j(t)),
+    a B-spline surface of degree 3 with knots [0, 1] of multiplicity 4; (u, v) = (s, t). Its
+    boundary is the whole square [0, 1]^2, with extra vertices at `splits` (as t_junctions)."""
+    poles = [[FreeCAD.Vector(*map(float, control_points[i, j])) for j in range(4)] for i in range(4)]
+    surface = Part.BSplineSurface()
+    surface.buildFromPolesMultsKnots(poles, [4, 4], [4, 4], [0.0, 1.0], [0.0, 1.0], False, False, 3, 3)
+    if not splits or not any(splits):
+        return surface.toShape()
+    V2 = FreeCAD.Base.Vector2d
+    corners = ((0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0))
+    edges = []
+    for side in range(4):
+        a, b = corners[side], corners[(side + 1) % 4]
+        fractions = [0.0] + list(splits[side]) + [1.0]
+        at = [V2(a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1])) for f in fractions]
+        edges.extend(Part.Geom2d.Line2dSegment(p, q).toShape(surface) for p, q in zip(at, at[1:]))
+    return Part.Face(surface, Part.Wire(edges))
+
+
+def sew(faces, tolerance, cut_free_edges=True):
+    """BRepBuilderAPI_Sewing of `faces` with `tolerance` (model units), through a Surface::Sewing
+    feature in a hidden scratch document (FreeCAD 0.20's Shape.sewShape() ignores its tolerance)."""
+    import Surface  # noqa: F401  (registers Surface::Sewing)
+    doc = FreeCAD.newDocument("CageKitSewing", hidden=True, temp=True)
+    try:
+        source = doc.addObject("Part::Feature", "Faces")
+        source.Shape = Part.makeCompound(faces)
+        sewing = doc.addObject("Surface::Sewing", "Sewing")
+        sewing.ShapeList = [(source, ["Face%d" % (i + 1) for i in range(len(faces))])]
+        sewing.Tolerance = float(tolerance)
+        sewing.SewingOption = True
+        sewing.DegenerateShape = True
+        sewing.CutFreeEdges = bool(cut_free_edges)
+        sewing.Nonmanifold = False
+        doc.recompute()
+        if not sewing.isValid() or sewing.Shape.isNull():
+            raise WorkbenchError("sewing the %d patches failed" % len(faces))
+        return sewing.Shape.copy()
+    finally:
+        FreeCAD.closeDocument(doc.Name)
+
+
+def patches_shape(control_points, errors, sew_tolerance, slack=0.0):
+    """(shape, closed): one face per patch ((N, 4, 4, 3) control points, (N,) errors), with
+    vertices at the T-junctions, sewn with `sew_tolerance` (model units) into shells; one closed
+    shell becomes a solid (outward)."""
+    splits = t_junctions(control_points, errors, slack)
+    faces = [bezier_face(cp, sp) for cp, sp in zip(control_points, splits)]
+    sewn = sew(faces, sew_tolerance)
+    shells = sewn.Shells
+    if len(shells) == 1 and len(shells[0].Faces) == len(faces) and shells[0].isClosed():
+        solid = Part.Solid(shells[0])
+        if solid.Volume < 0:
+            solid.reverse()
+        return solid, True
+    if len(shells) == 1 and len(shells[0].Faces) == len(faces):
+        return shells[0], False
+    return sewn, False
+
+
+def limit_surface(cage_obj, tolerance=1e-4, max_depth=8, progress=None, doc=None):
+    """Makes (or updates) '<cage>_surface': the cage's limit surface as B-spline patches of
+    cagekit_limit_patches_create (tolerance: fraction of the cage's bounding-box diagonal),
+    sewn into a shell, a solid when closed. Its properties record the SDK's figures."""
+    ck = sdk()
+    if not hasattr(ck, "LimitPatches"):
+        raise WorkbenchError("the cagekit package at %s has no limit patches (cagekit_limit_patches_create): "
+                             "update it and libcagekit" % os.path.dirname(ck.__file__))
+    t0 = time.time()
+    ctx = ck.Context(progress=progress)
+    with cage_from_object(cage_obj, ctx) as cage, \
+            ck.LimitPatches(cage, tolerance=float(tolerance), max_depth=int(max_depth)) as patches:
+        info = patches.info
+        control_points = patches.control_points
+        errors = patches.errors
+    diag = float(info.bbox_diagonal)
+    sew_tolerance = sew_tolerance_for(control_points, info)
+    shape, closed = patches_shape(control_points, errors, sew_tolerance, 1e-9 * diag)
+    doc = doc or cage_obj.Document
+    obj = None
+    for o in doc.Objects:
+        if is_limit_surface(o) and getattr(o, "Cage", None) is cage_obj:
+            obj = o
+            break
+    if obj is None:
+        obj = doc.addObject("Part::Feature", "LimitSurface")
+        obj.Label = cage_obj.Label + "_surface"
+        _property(obj, "App::PropertyLink", "Cage", "The cage whose limit surface this is")
+        for name, kind, text in (
+                ("Tolerance", "App::PropertyFloat", "Asked max distance to the limit surface / bbox diagonal"),
+                ("MaxDepth", "App::PropertyInteger", "Quadtree depth allowed for approximated regions"),
+                ("PatchCount", "App::PropertyInteger", "Faces = patches of the SDK"),
+                ("ExactPatches", "App::PropertyInteger", "Patches that are the limit surface itself"),
+                ("ApproximatedPatches", "App::PropertyInteger", "Patches that approximate it"),
+                ("OverTolerancePatches", "App::PropertyInteger", "Approximated patches beyond the tolerance"),
+                ("MaxErrorRel", "App::PropertyFloat", "Largest measured distance / bbox diagonal"),
+                ("BBoxDiagonal", "App::PropertyFloat", "Bounding-box diagonal of the control points"),
+                ("SewTolerance", "App::PropertyFloat", "Tolerance used to sew the faces (model units)"),
+                ("Closed", "App::PropertyBool", "The sewn shell is closed (the Shape is a solid)")):
+            _property(obj, kind, name, text, read_only=name not in ("Tolerance", "MaxDepth"))
+    obj.Cage = cage_obj
+    obj.Tolerance = float(tolerance)
+    obj.MaxDepth = int(max_depth)
+    obj.PatchCount = int(info.patch_count)
+    obj.ExactPatches = int(info.exact_count)
+    obj.ApproximatedPatches = int(info.approximated_count)
+    obj.OverTolerancePatches = int(info.over_tolerance_count)
+    obj.MaxErrorRel = float(info.max_error_rel)
+    obj.BBoxDiagonal = diag
+    obj.SewTolerance = float(sew_tolerance)
+    obj.Closed = bool(closed)
+    obj.Shape = shape
+    doc.recompute()
+    FreeCAD.Console.PrintMessage(
+        "CageKit: %r: %d patches (%d exact, %d approximated, max error %.2g of the diagonal), %s, %.1f s\n"
+        % (obj.Label, info.patch_count, info.exact_count, info.approximated_count, info.max_error_rel,
+           "closed solid" if closed else "open shell", time.time() - t0))
+    if info.over_tolerance_count:
+        FreeCAD.Console.PrintWarning("CageKit: %d patches exceed the tolerance (max depth %d reached)\n"
+                                     % (info.over_tolerance_count, max_depth))
+    return obj
+
+
+def sew_tolerance_for(control_points, info):
+    """Sewing tolerance (model units): neighbouring patches may differ by the sum of their errors
+    (an approximated patch beside an exact one, or the quadtree's T-junctions), so 2.5 x the
+    largest error, plus 1e-9 of the diagonal for the rounding of exact ones."""
+    return 2.5 * float(info.max_error) + 1e-9 * max(float(info.bbox_diagonal), 1e-300)
+
+
+def export_step(obj_or_shape, path):
+    """Writes the shape of a limit-surface object (or a cage: its limit surface is made first
+    with the default options) or a Part.Shape as STEP. Atomic: a temporary file next to `path`
+    is renamed over it, so a failure leaves no partial file. Returns the path."""
+    if isinstance(obj_or_shape, Part.Shape):
+        shape = obj_or_shape
+    elif is_cage(obj_or_shape):
+        shape = limit_surface(obj_or_shape).Shape
+    elif is_limit_surface(obj_or_shape):
+        shape = obj_or_shape.Shape
+    else:
+        raise WorkbenchError("select a CageKit cage or limit surface to export, not %r"
+                             % getattr(obj_or_shape, "Label", obj_or_shape))
+    if shape.isNull() or not shape.Faces:
+        raise WorkbenchError("nothing to export: the shape has no faces")
+    path = os.path.abspath(path)
+    folder = os.path.dirname(path)
+    if not os.path.isdir(folder):
+        raise WorkbenchError("folder %s does not exist" % folder)
+    fd, tmp = tempfile.mkstemp(prefix=".cagekit-", suffix=".step", dir=folder)
+    os.close(fd)
+    try:
+        shape.exportStep(tmp)
+        if os.path.getsize(tmp) == 0:
+            raise WorkbenchError("FreeCAD wrote an empty STEP file")
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+    FreeCAD.Console.PrintMessage("CageKit: wrote %s (%d faces)\n" % (path, len(shape.Faces)))
+    return path
+
+
+def insert(filename, docname):
+    """FreeCAD's importer entry (File > Import, registered by Init.py for Draco .drc files)."""
+    try:
+        doc = FreeCAD.getDocument(docname)
+    except Exception:
+        doc = FreeCAD.newDocument(docname)
+    return run_reported(import_scan, filename, doc, report=_gui_report())
+
+
+def open(filename):  # noqa: A001  (FreeCAD's importer interface)
+    """FreeCAD's importer entry (File > Open): a new document with the scan."""
+    name = os.path.splitext(os.path.basename(filename))[0] or "Scan"
+    doc = FreeCAD.newDocument(name)
+    return run_reported(import_scan, filename, doc, report=_gui_report())
+
+
+def _gui_report():
+    if not FreeCAD.GuiUp:
+        return None
+    try:
+        import CageKitGui
+        return CageKitGui.show_error
+    except Exception:
+        return None

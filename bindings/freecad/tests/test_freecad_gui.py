@@ -1,0 +1,211 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The documented click path through the CageKit workbench in FreeCAD's real GUI (ctest
+freecad.gui, label freecad), run with Qt's offscreen platform:
+
+    QT_QPA_PLATFORM=offscreen FREECAD_USER_HOME=<scratch with Mod/CageKit> freecad test_freecad_gui.py
+
+The addon is the installed folder (make_addon.cmake -DUSER_HOME=...), found by FreeCAD in the
+scratch user folder's Mod/. FreeCAD runs this file as a macro once its main window is up.
+Workbench CageKit -> Import scan (fandisk, or a generated block) -> select it -> Scan to cage
+(task panel: Faces 200, OK) -> Fit (OK) -> Limit surface (tolerance 1e-3, OK) -> Export STEP
+(file dialog). A file dialog cannot be
+clicked offscreen: QFileDialog's static functions answer with the test's paths; message boxes
+are recorded instead of shown (they would block). Checks the objects, the STEP file (one face
+per patch), and that bad input (a corrupt file, an empty mesh, a NaN vertex) ends in a CageKit
+message box with FreeCAD still working. The process exits with 0 or 1 (os._exit: the GUI's event
+loop would otherwise keep running).
+"""
+import os
+import sys
+import tempfile
+import time
+import traceback
+
+import FreeCAD
+import FreeCADGui
+
+failures = []
+
+
+def check(cond, what):
+    print(("ok    " if cond else "FAIL  ") + what, flush=True)
+    if not cond:
+        failures.append(what)
+
+
+def main(out_dir):
+    from PySide import QtGui
+    import Mesh
+    t0 = time.time()
+    FreeCADGui.activateWorkbench("CageKitWorkbench")
+    check(FreeCADGui.activeWorkbench().name() == "CageKitWorkbench", "workbench CageKit activated")
+    import CageKitGui
+    mod = os.path.realpath(os.path.join(FreeCAD.getUserAppDataDir(), "Mod", "CageKit"))
+    check(os.path.realpath(CageKitGui.__file__).startswith(mod + os.sep),
+          "the workbench is the installed addon (%s)" % CageKitGui.__file__)
+    commands = set(FreeCADGui.listCommands())
+    check(all(c in commands for c in CageKitGui.COMMANDS), "commands registered: %s" % ", ".join(CageKitGui.COMMANDS))
+    mw = FreeCADGui.getMainWindow()
+    menu = [a for a in mw.menuBar().actions() if a.text().replace("&", "") == "CageKit"]
+    items = [a.text().replace("&", "") for a in menu[0].menu().actions()] if menu else []
+    check(len(menu) == 1 and len(items) == len(CageKitGui.COMMANDS),
+          "menu CageKit in the menu bar: %s" % ", ".join(items))
+
+    boxes = []
+    QtGui.QMessageBox.critical = staticmethod(lambda parent, title, text, *a, **k: boxes.append((title, text)))
+    answers = {}
+    QtGui.QFileDialog.getOpenFileName = staticmethod(lambda *a, **k: (answers["open"], ""))
+    QtGui.QFileDialog.getSaveFileName = staticmethod(lambda *a, **k: (answers["save"], ""))
+
+    doc = FreeCAD.newDocument("ClickPath")
+    shared = os.environ.get("CAGEKIT_SHARED_MESHES") or os.path.join(os.path.dirname(__file__), "..", "..", "..",
+                                                                      "..", "shared", "meshes")
+    scan_path = os.path.join(shared, "fandisk.obj")
+    if not os.path.isfile(scan_path):
+        print("scan: %s absent; using a generated block (written as OBJ)" % scan_path)
+        scan_path = os.path.join(out_dir, "block.obj")
+        write_block(scan_path)
+
+    def run(name):
+        FreeCADGui.runCommand(name)
+        FreeCADGui.updateGui()
+
+    def accept(**values):
+        panel, CageKitGui.last_panel = CageKitGui.last_panel, None
+        ok = panel is not None and FreeCADGui.Control.activeDialog()
+        if panel is not None:
+            panel.set_values(**values)
+            panel.accept()
+        FreeCADGui.updateGui()
+        return ok
+
+    # Import scan (File dialog) -> a mesh object, selected
+    answers["open"] = scan_path
+    run("CageKit_ImportScan")
+    meshes = [o for o in doc.Objects if o.isDerivedFrom("Mesh::Feature")]
+    check(len(meshes) == 1 and FreeCADGui.Selection.getSelection() == meshes[0] and not boxes,
+          "Import scan: mesh object %r (%d facets), selected" % (meshes[0].Label if meshes else None,
+                                                                 meshes[0].Mesh.CountFacets if meshes else 0))
+    scan = meshes[0]
+    # Scan to cage -> task panel -> OK
+    run("CageKit_ScanToCage")
+    check(accept(faces=200), "Scan to cage shows its task panel")
+    cages = [o for o in doc.Objects if "ControlPoints" in o.PropertiesList]
+    check(len(cages) == 1 and cages[0].LevelFaces <= 200 and cages[0].LevelFaces > 150 and not boxes,
+          "Scan to cage: %r, level of %d faces, %d cage faces, selected"
+          % (cages[0].Label if cages else None, cages[0].LevelFaces if cages else 0,
+             len(cages[0].FaceSizes) if cages else 0))
+    cage = cages[0]
+    check(FreeCADGui.Selection.getSelection() == [cage] and not scan.ViewObject.Visibility,
+          "the cage is selected and the scan hidden")
+    # Fit -> OK
+    run("CageKit_Fit")
+    check(accept(passes=3), "Fit shows its task panel")
+    check(cage.FitPasses >= 1 and 0 < cage.FitRmsRel < 1e-3 and not boxes,
+          "Fit: %d passes, rms %.2e of the diagonal" % (cage.FitPasses, cage.FitRmsRel))
+    # Limit surface -> task panel (tolerance 1e-3: fewer patches than the default 1e-4) -> OK
+    t = time.time()
+    run("CageKit_LimitSurface")
+    check(accept(tolerance=1e-3, max_depth=8), "Limit surface shows its task panel")
+    surfaces = [o for o in doc.Objects if "PatchCount" in o.PropertiesList]
+    check(len(surfaces) == 1 and surfaces[0].Tolerance == 1e-3 and surfaces[0].Closed
+          and surfaces[0].Shape.ShapeType == "Solid" and FreeCADGui.Selection.getSelection() == surfaces[0:1]
+          and not boxes,
+          "Limit surface: %r, %d patches, closed solid, selected (%.1f s)"
+          % (surfaces[0].Label if surfaces else None, surfaces[0].PatchCount if surfaces else 0, time.time() - t))
+    # Export STEP -> file dialog (no extension typed: .step is added)
+    step = os.path.join(out_dir, "fandisk")
+    answers["save"] = step
+    t = time.time()
+    run("CageKit_ExportStep")
+    check(os.path.isfile(step + ".step") and not boxes, "Export STEP: %s.step written (%.1f s)" % (step, time.time() - t))
+    import Part
+    back = Part.read(step + ".step")
+    check(surfaces and len(back.Faces) == surfaces[0].PatchCount and (not surfaces[0].Closed or len(back.Solids) == 1),
+          "the STEP file: %d faces == %d patches, %d solid(s)" % (len(back.Faces), surfaces[0].PatchCount,
+                                                                len(back.Solids)))
+
+    # bad input -> a CageKit message box, FreeCAD goes on
+    def expect_box(what, words):
+        ok = len(boxes) == 1 and all(w.lower() in boxes[0][1].lower() for w in words)
+        check(ok, "%s -> message box %r" % (what, boxes[0][1] if boxes else None))
+        boxes.clear()
+
+    count = len(doc.Objects)
+    corrupt = os.path.join(out_dir, "corrupt.obj")
+    with open(corrupt, "w") as f:
+        f.write("v 0 0 0\nv 1 0 0\nf 1 2 7\n")
+    answers["open"] = corrupt
+    run("CageKit_ImportScan")
+    expect_box("Import scan of a corrupt OBJ", ["CageKit", "corrupt.obj"])
+    empty = doc.addObject("Mesh::Feature", "empty")
+    FreeCADGui.Selection.clearSelection()
+    FreeCADGui.Selection.addSelection(empty)
+    run("CageKit_ScanToCage")
+    accept(faces=10)
+    expect_box("Scan to cage of an empty mesh", ["CageKit", "no faces"])
+    nan = doc.addObject("Mesh::Feature", "nan")
+    V = FreeCAD.Vector
+    nan.Mesh = Mesh.Mesh(([V(0, 0, 0), V(1, 0, 0), V(0, 1, 0), V(0, 0, float("nan"))],
+                          [(0, 2, 1), (0, 1, 3), (1, 2, 3), (0, 3, 2)]))
+    FreeCADGui.Selection.clearSelection()
+    FreeCADGui.Selection.addSelection(nan)
+    run("CageKit_ScanToCage")
+    accept(faces=2)
+    expect_box("Scan to cage of a mesh with a NaN vertex", ["CageKit", "finite"])
+    check(len(doc.Objects) == count + 2, "no objects made by the failed commands")
+    FreeCADGui.Selection.clearSelection()
+    FreeCADGui.Selection.addSelection(scan)
+    run("CageKit_ScanToCage")
+    accept(faces=50)
+    check(len(doc.Objects) == count + 3 and not boxes, "FreeCAD and the workbench still work after the errors")
+    print("total %.1f s" % (time.time() - t0))
+
+
+def write_block(path):
+    """A tessellated 2 x 1.4 x 0.8 box (8 x 8 grid per side) as OBJ."""
+    n = 8
+    size = (2.0, 1.4, 0.8)
+    verts, index, faces = [], {}, []
+
+    def vid(p):
+        key = tuple(round(c, 9) for c in p)
+        if key not in index:
+            index[key] = len(verts)
+            verts.append(key)
+        return index[key]
+    for axis in range(3):
+        for side in (0.0, 1.0):
+            u, v = [a for a in range(3) if a != axis]
+            for i in range(n):
+                for j in range(n):
+                    quad = []
+                    for di, dj in ((0, 0), (1, 0), (1, 1), (0, 1)):
+                        p = [0.0, 0.0, 0.0]
+                        p[axis], p[u], p[v] = side, (i + di) / n, (j + dj) / n
+                        quad.append(vid([p[k] * size[k] for k in range(3)]))
+                    if (side == 1.0) == (axis == 1):
+                        quad.reverse()
+                    faces += [(quad[0], quad[1], quad[2]), (quad[0], quad[2], quad[3])]
+    with open(path, "w") as f:
+        f.writelines("v %r %r %r\n" % p for p in verts)
+        f.writelines("f %d %d %d\n" % tuple(i + 1 for i in t) for t in faces)
+
+
+try:
+    scratch = os.environ.get("CAGEKIT_TEST_OUT")
+    if scratch:
+        os.makedirs(scratch, exist_ok=True)
+        main(scratch)
+    else:
+        with tempfile.TemporaryDirectory() as tmp:
+            main(tmp)
+except Exception:
+    traceback.print_exc()
+    failures.append("exception")
+print("%d failure(s)" % len(failures), flush=True)
+if failures:
+    print("FAILED:\n  " + "\n  ".join(failures), flush=True)
+sys.stdout.flush()
+sys.stderr.flush()
+os._exit(1 if failures else 0)
