@@ -4,10 +4,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <unordered_map>
 #include <unordered_set>
 
 #include "core/edge_map.h"
+#include "core/mesh_repair.h"
 #include "core/status.h"
 #include "layout/local_unfolding.h"
 
@@ -349,6 +351,62 @@ void LineGraph::trace(LineMesh& out, std::vector<std::vector<uint32_t>>& faces) 
     if (failed[h] && edges[h / 2].alive) ++out.unclosed_half_edges;
 }
 
+
+// Vertices where two fans of faces touch (a pinch between two faces that share only a vertex)
+// are split into one copy per fan (core repair), so the output is a 2-manifold; the per-vertex
+// data and the line edges follow the copies.
+void split_pinched_vertices(LineMesh& out) {
+  const size_t before = out.mesh.num_vertices();
+  RepairOptions ro;
+  ro.weld_tolerance = -1.0;
+  ro.drop_invalid_faces = false;
+  ro.drop_degenerate_faces = false;
+  ro.drop_duplicate_faces = true;
+  ro.split_non_manifold = true;
+  ro.orient_consistently = false;
+  RepairReport report;
+  PolygonMesh repaired = repair_mesh(out.mesh, ro, &report);
+  if (report.split_vertices == 0 && report.dropped_duplicate_faces == 0) return;
+  std::unordered_map<uint64_t, uint32_t> by_position;
+  auto key = [](const Vec3& p) {
+    uint64_t h = 1469598103934665603ull;
+    for (double c : {p.x, p.y, p.z}) {
+      uint64_t b;
+      std::memcpy(&b, &c, sizeof b);
+      h = (h ^ b) * 1099511628211ull;
+    }
+    return h;
+  };
+  for (uint32_t v = 0; v < before; ++v) by_position.emplace(key(out.mesh.positions[v]), v);
+  std::vector<uint32_t> original(repaired.num_vertices());
+  for (uint32_t v = 0; v < repaired.num_vertices(); ++v) {
+    if (v < before) {
+      original[v] = v;
+      continue;
+    }
+    auto it = by_position.find(key(repaired.positions[v]));
+    original[v] = it == by_position.end() ? 0 : it->second;
+    out.vertex_normals.push_back(out.vertex_normals[original[v]]);
+    out.vertex_face.push_back(out.vertex_face[original[v]]);
+  }
+  std::unordered_map<uint64_t, std::vector<std::pair<uint32_t, uint32_t>>> copies;  // original edge -> edges
+  for (size_t f = 0; f < repaired.num_faces(); ++f)
+    for (uint32_t k = 0, n = repaired.face_size(f); k < n; ++k) {
+      const uint32_t a = repaired.face_vertex(f, k), b = repaired.face_vertex(f, (k + 1) % n);
+      auto& list = copies[edge_key(original[a], original[b])];
+      if (std::find(list.begin(), list.end(), std::make_pair(std::min(a, b), std::max(a, b))) == list.end())
+        list.push_back({std::min(a, b), std::max(a, b)});
+    }
+  std::vector<LineMesh::Edge> edges;
+  for (const LineMesh::Edge& e : out.edges) {
+    auto it = copies.find(edge_key(e.a, e.b));
+    if (it == copies.end()) continue;
+    for (const auto& [a, b] : it->second) edges.push_back({a, b, e.type});
+  }
+  out.edges.swap(edges);
+  out.mesh = std::move(repaired);
+}
+
 }  // namespace
 
 LineMesh mesh_curvature_lines(const PolygonMesh& mesh, const CurvatureField& field, const LineSampling& sampling,
@@ -388,6 +446,7 @@ LineMesh mesh_curvature_lines(const PolygonMesh& mesh, const CurvatureField& fie
       const uint32_t k = std::min<uint32_t>(uint32_t(e.pos_a), uint32_t(sampling.lines[e.line].segments.size() - 1));
       out.edges.push_back({remap[e.a], remap[e.b], sampling.database->segment(sampling.lines[e.line].segments[k]).type});
     }
+  split_pinched_vertices(out);
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   monitor.report("meshing", 1.0);
   return out;

@@ -43,6 +43,7 @@ class Sampler {
     eps_ = out.epsilon;
     dmin_ = out.min_spacing;
     dmax_ = out.max_spacing;
+    min_feature_length_ = o.min_feature_length * dmin_;
     corner_angle_.resize(mesh.num_face_vertices());
     for (uint32_t f = 0; f < mesh.num_faces(); ++f) {
       const FlattenedFace ff = flatten_face(mesh, field, f);
@@ -111,7 +112,7 @@ class Sampler {
   std::mt19937 rng_;
   std::vector<float> corner_angle_;
   std::deque<Seed> seeds_;
-  double eps_ = 0, dmin_ = 0, dmax_ = 0;
+  double eps_ = 0, dmin_ = 0, dmax_ = 0, min_feature_length_ = 0;
 };
 
 std::array<double, 3> Sampler::weights(uint32_t f, const Placement& pl, Vec2 p) const {
@@ -208,6 +209,7 @@ void Sampler::run_pass(Pass& ps, uint32_t line, bool trusted_start, const Vec3& 
   // after max_spacing), so that it ends in a T-joint instead of leaving a gap that no line
   // crosses [J] (the thesis stops at the collision point; its limitation 1).
   bool extending = extend_only, crossed = false;
+  int stalled = 0;
   double extension = 0.0;
   size_t extension_start = 0;
   const double scale_eps = 1e-12 * out_.bbox_diagonal;
@@ -216,7 +218,10 @@ void Sampler::run_pass(Pass& ps, uint32_t line, bool trusted_start, const Vec3& 
     s.a = unf_.position(g, pl, a);
     s.b = unf_.position(g, pl, b);
     const double len = distance(s.a, s.b);
-    if (len <= scale_eps && vb == detail::kNone) return;
+    if (len <= scale_eps) {  // nothing to store; the end vertex (if any) starts the next piece
+      if (vb != detail::kNone) start_vertex = vb;
+      return;
+    }
     s.face = g;
     s.line = line;
     s.vertex_a = va != detail::kNone ? va : start_vertex;
@@ -285,13 +290,15 @@ void Sampler::run_pass(Pass& ps, uint32_t line, bool trusted_start, const Vec3& 
     seed_spacing = trusted_mode ? spacing(opposite_type(ps.type), ps.face, w) : 0.0;
     WalkEnd e = unf_.walk(ps.face, ps.point, ps.point + h * q, true, on_piece);
     arc += step_arc;
+    // No progress (e.g. bouncing on an input vertex) or an absurd length: end the pass.
+    stalled = step_arc < 1e-6 * h ? stalled + 1 : 0;
+    if (stalled >= 3 || arc > 100.0 * out_.bbox_diagonal) return;
     ps.face = e.face;
     ps.point = e.point;
     ps.dir = q;
     if (unf_.needs_reset() || !unf_.placement(e.face)) unf_.reroot(e, ps.point, {&ps.dir});
     if (e.kind == WalkEnd::boundary || e.kind == WalkEnd::feature || e.kind == WalkEnd::stuck) return;
     if (e.kind == WalkEnd::vertex) {
-      if (step_arc <= scale_eps && step > 0 && at_vertex == detail::kNone && start_vertex != detail::kNone) return;
       // A vertex on a crease or the boundary ends a curvature line like the edge would.
       const uint32_t v = mesh_.face_vertices[e.corner];
       bool barrier = false;
@@ -444,6 +451,22 @@ void Sampler::feature_and_boundary_lines() {
   }
   std::vector<uint8_t> used_edge(nc, 0);
   auto emit = [&](LineType type, const std::vector<std::pair<uint32_t, bool>>& chain, bool closed) {
+    if (type == LineType::feature) {
+      // Feature chains shorter than min_feature_length are noise (a scan's dihedral spikes): they
+      // stay barriers of the tensor estimate but neither become lines nor stop lines [J].
+      double length = 0.0;
+      for (const auto& ce : chain)
+        length += distance(mesh_.positions[mesh_.face_vertices[ce.first]],
+                           mesh_.positions[mesh_.face_vertices[TriangleAdjacency::next(ce.first)]]);
+      if (length < min_feature_length_) {
+        for (const auto& ce : chain) {
+          out_.adjacency->feature[ce.first] = 0;
+          if (adj_.twin[ce.first] != detail::kNone) out_.adjacency->feature[adj_.twin[ce.first]] = 0;
+        }
+        ++out_.features_dropped;
+        return;
+      }
+    }
     const uint32_t line = uint32_t(out_.lines.size());
     SampledLine l;
     l.type = type;

@@ -37,6 +37,9 @@ struct LineSamplingOptions {
   double min_spacing = 0.0;
   double max_spacing = 0.05;
   double confidence_threshold = 0.86602540378443865;  // Λ_min = cos(π/6)
+  // Feature chains shorter than this many min spacings become no feature lines (and do not stop
+  // curvature lines); they stay barriers of the tensor estimate [J].
+  double min_feature_length = 2.0;
   double step_fraction = 0.2;      // h = step_fraction · D(p) [J]
   double collision_factor = 0.8;   // query radius r = collision_factor · D(p) [J]
   int trusted_history = 4;         // directions averaged into t_tr [J]
@@ -61,7 +64,8 @@ struct LineSampling {
   // Parameters used (model units) and counters.
   double epsilon = 0.0, min_spacing = 0.0, max_spacing = 0.0, bbox_diagonal = 0.0;
   size_t seeds_tried = 0, seeds_rejected = 0, steps = 0;
-  bool truncated = false;  // max_lines or max_segments was reached: sampling stopped early
+  bool truncated = false;
+  size_t features_dropped = 0;  // feature chains shorter than min_feature_length  // max_lines or max_segments was reached: sampling stopped early
   size_t lines_by_type[4] = {0, 0, 0, 0};
   double seconds = 0.0;
 };
