@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <array>
 #include <map>
+#include <random>
 
 #include "core/mesh_validation.h"
 #include "layout/anisotropic_remesher.h"
@@ -428,4 +429,30 @@ TEST(AnisotropicRemesher, RealMeshesWithFeaturesGiveValidCages) {
     EXPECT_GE(r.min_scaled_jacobian, 0.0);
     EXPECT_GT(r.faces, 300u);
   }
+}
+
+TEST(AnisotropicRemesher, HostileInputFailsCleanly) {
+  // Random polygon soups (non-manifold edges and vertices, flipped faces): a precise Error or a
+  // result, never a crash or a hang.
+  std::mt19937 rng(11);
+  size_t errors = 0, results = 0;
+  for (int i = 0; i < 200; ++i) {
+    const PolygonMesh soup = cagekit_test::random_polygon_soup(rng);
+    const Status st = status_of([&] { cagekit::remesh_anisotropic(soup, cagekit::AnisotropicRemeshOptions{}); });
+    EXPECT_TRUE(st == Status::success || st == Status::invalid_mesh) << int(st);
+    (st == Status::success ? results : errors) += 1;
+  }
+  std::printf("random soups: %zu errors, %zu results\n", errors, results);
+  // Options.
+  cagekit::AnisotropicRemeshOptions bad;
+  bad.tolerance = -1.0;
+  EXPECT_EQ(status_of([&] { cagekit::remesh_anisotropic(cylinder(1, 2, 24, 8), bad); }), Status::invalid_argument);
+  bad = {};
+  bad.max_face_valence = 2;
+  EXPECT_EQ(status_of([&] { cagekit::remesh_anisotropic(cylinder(1, 2, 24, 8), bad); }), Status::invalid_argument);
+  // A face with two vertices.
+  PolygonMesh two = cylinder(1, 2, 24, 8);
+  two.add_face({0, 1});
+  EXPECT_EQ(status_of([&] { cagekit::remesh_anisotropic(two, cagekit::AnisotropicRemeshOptions{}); }),
+            Status::invalid_mesh);
 }
