@@ -27,6 +27,16 @@ uint64_t crossing_id(uint32_t a, uint32_t b, uint32_t k) {
   return kCrossingFlag | (uint64_t(a) << 39) | (uint64_t(b) << 15) | uint64_t(k);
 }
 
+// A strictly increasing function of ccw_angle(from, to) in [0, 4) without atan2 (the hot loop of
+// face tracing only compares angles).
+double pseudo_ccw_angle(const Point2& from, const Point2& to) {
+  const double c = cross(from, to), d = dot(from, to);
+  const double r = std::fabs(c) + std::fabs(d);
+  if (!(r > 0.0)) return 0.0;
+  const double p = d / r;  // in [-1, 1]: 1 at angle 0, -1 at π
+  return c >= 0.0 ? 1.0 - p : 3.0 + p;
+}
+
 struct Crossing {
   double ta = 0.0, tb = 0.0;  // parameters on curves a < b
   Point2 position{};
@@ -414,7 +424,7 @@ class Arrangement {
       HalfEdge next = twin;
       for (const Fan& f : view.fan(w)) {
         if (f.edge == twin) continue;
-        const double angle = ccw_angle(f.direction, twin_direction);  // clockwise from the twin
+        const double angle = pseudo_ccw_angle(f.direction, twin_direction);  // clockwise from the twin
         if (angle < best) best = angle, next = f.edge;
       }
       h = next;
