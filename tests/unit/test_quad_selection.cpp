@@ -431,6 +431,26 @@ TEST(QuadCurveSelection, SmallRegionsAreSolvedExactly) {
   }
 }
 
+TEST(QuadCurveSelection, AnnulusGivesARingOfQuads) {
+  // Outer circle radius 2, hole radius 1, 16 samples each (the hole clockwise): the 16 radial
+  // segments are straight (E = 0) curves and cut the ring into 16 quads.
+  std::vector<Point2> outer, hole;
+  for (int i = 0; i < 16; ++i) {
+    const double a = 2 * kPi * i / 16;
+    outer.push_back({2 * std::cos(a), 2 * std::sin(a)});
+    hole.push_back({std::cos(-a), std::sin(-a)});
+  }
+  const CurveNetwork net = cagekit::build_curve_network({outer, hole});
+  EXPECT_EQ(net.ports.size(), 32u);
+  const QuadSelection s = cagekit::select_quad_curves(net);
+  expect_matching(net, s);
+  EXPECT_EQ(s.invalid_faces, 0u);
+  EXPECT_EQ(s.faces.size(), 16u);
+  EXPECT_EQ(s.quads, 16u);
+  EXPECT_EQ(s.curves.size(), 16u);
+  for (uint32_t c : s.curves) EXPECT_EQ(net.curves[c].energy, 0.0);  // radial
+}
+
 TEST(QuadCurveSelection, CancellationAndBadOptions) {
   const cagekit::TaskMonitor cancel([](const char*, double) { return false; }, nullptr);
   EXPECT_EQ(status_of([&] { cagekit::build_curve_network({rectangle_loop(4, 4)}, {}, cancel); }), Status::cancelled);
