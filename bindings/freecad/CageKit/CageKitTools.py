@@ -62,7 +62,7 @@ def numpy():
 
 def message_of(error):
     """The text shown to the user for an exception raised by this module."""
-    text = getattr(error, "message", None) or str(error) or type(error).__name__
+    text = (getattr(error, "message", None) or str(error) or type(error).__name__).strip()
     return text if text.startswith("CageKit") else "CageKit: " + text
 
 

@@ -83,7 +83,7 @@ def main(out_dir):
     answers["open"] = scan_path
     run("CageKit_ImportScan")
     meshes = [o for o in doc.Objects if o.isDerivedFrom("Mesh::Feature")]
-    check(len(meshes) == 1 and FreeCADGui.Selection.getSelection() == meshes[0] and not boxes,
+    check(len(meshes) == 1 and FreeCADGui.Selection.getSelection() == meshes[:1] and not boxes,
           "Import scan: mesh object %r (%d facets), selected" % (meshes[0].Label if meshes else None,
                                                                  meshes[0].Mesh.CountFacets if meshes else 0))
     scan = meshes[0]
