@@ -25,7 +25,6 @@ this module refuses before calling the SDK) or ImportError (the library cannot b
 run_reported() turns them into a FreeCAD console error and a message for the host; nothing here
 lets an exception reach FreeCAD's core.
 """
-import math
 import os
 import tempfile
 import time
@@ -258,7 +257,7 @@ def import_scan(path, doc=None, context=None):
     """Reads a scan with the SDK (OBJ, PLY, OFF, Draco; a bad file raises the SDK's ParseError
     etc. naming the file and line) into a new Mesh::Feature (polygons split into triangle fans)."""
     import Mesh
-    ck, np = sdk(), numpy()
+    ck = sdk()
     doc = doc or FreeCAD.ActiveDocument or FreeCAD.newDocument()
     with ck.Mesh.read(path, context=context) as m:
         pos = m.positions

@@ -118,7 +118,8 @@ def main(out_dir):
     answers["save"] = step
     t = time.time()
     run("CageKit_ExportStep")
-    check(os.path.isfile(step + ".step") and not boxes, "Export STEP: %s.step written (%.1f s)" % (step, time.time() - t))
+    check(os.path.isfile(step + ".step") and not boxes,
+          "Export STEP: %s.step written (%.1f s)" % (step, time.time() - t))
     import Part
     back = Part.read(step + ".step")
     check(surfaces and len(back.Faces) == surfaces[0].PatchCount and (not surfaces[0].Closed or len(back.Solids) == 1),

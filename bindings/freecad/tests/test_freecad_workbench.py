@@ -282,7 +282,8 @@ def main(out_dir):
     expect_error("a corrupt Draco file", ["CageKit", "corrupt.drc"], tools.import_scan, bad_drc, doc)
     n = len(messages)
     result = tools.insert(bad_drc, doc.Name)  # FreeCAD's importer entry: reports, never raises
-    check(result is None and len(messages) == n, "File > Import of the corrupt .drc returns quietly (error on the console)")
+    check(result is None and len(messages) == n,
+          "File > Import of the corrupt .drc returns quietly (error on the console)")
     empty = doc.addObject("Mesh::Feature", "empty")
     expect_error("an empty mesh", ["CageKit", "no faces"], tools.scan_to_cage, empty, faces=50)
     nan = mesh_object(doc, "nan", [(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, float("nan"))],

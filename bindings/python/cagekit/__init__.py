@@ -53,8 +53,8 @@ __all__ = [
     "ABI_VERSION", "MAX_SUBDIVISION_LEVELS", "SHARP", "Binding", "BoundaryRule", "Cage", "CageKitError",
     "CancelledError", "Context", "CpuDeformer", "DisplacementMode", "FileFormat", "FileIOError", "Hierarchy",
     "InternalError", "InvalidArgumentError", "InvalidHandleError", "InvalidMeshError", "LevelQuery",
-    "LimitExceededError", "LimitPatches", "LogLevel", "LsqSolver", "Mesh", "MeshIssue", "NormalMode", "OutOfMemoryError",
-    "ParseError", "ProjectionMode", "Record", "RepairSteps", "SizeInsufficientError", "Surface",
+    "LimitExceededError", "LimitPatches", "LogLevel", "LsqSolver", "Mesh", "MeshIssue", "NormalMode",
+    "OutOfMemoryError", "ParseError", "ProjectionMode", "Record", "RepairSteps", "SizeInsufficientError", "Surface",
     "UnsupportedFormatError", "VersionMismatchError", "abi_version", "bind", "default_context", "fit",
     "library_path", "limit_patches", "live_handles", "simplify", "version",
 ]
