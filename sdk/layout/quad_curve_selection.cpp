@@ -108,6 +108,7 @@ class Arrangement {
     std::fill(port_curve_.begin(), port_curve_.end(), -1);
     faces_.clear();
     face_of_.clear();
+    delta_cache_.clear();
     energy_ = 0.0;
     for (uint32_t c : curves) {
       selected_[c] = 1;
@@ -139,6 +140,18 @@ class Arrangement {
   // Energy change of removing `removed` and adding `added` (ports must be free after removal);
   // applied when commit is true.
   double evaluate(const std::vector<uint32_t>& removed, const std::vector<uint32_t>& added, bool commit) {
+    // A trial's ΔE depends only on the faces it removes: every face it traces reuses half-edges
+    // of those faces or runs through them. So a cached ΔE stays exact while they are all alive.
+    const bool cacheable = !commit && removed.size() <= 2 && added.size() <= 2;
+    MoveKey key{};
+    if (cacheable) {
+      key = move_key(removed, added);
+      auto it = delta_cache_.find(key);
+      if (it != delta_cache_.end() &&
+          std::all_of(it->second.old_faces.begin(), it->second.old_faces.end(),
+                      [&](uint32_t f) { return faces_[f].alive; }))
+        return it->second.delta;
+    }
     View view(*this);
     for (uint32_t c : removed) view.selected_override[c] = 0;
     for (uint32_t c : added) view.selected_override[c] = 1;
@@ -157,24 +170,56 @@ class Arrangement {
             changed.push_back(c);
             break;
           }
-    // Dirty vertices: those of the old chains (old state) and of the new chains (new state);
-    // boundary points, whose fans change with their curves, on both sides.
+    // Dirty vertices. Removed / added curves: all their old / new chain vertices (end points
+    // included: their fans change). A selected curve they cross: the crossings that disappear or
+    // appear and their chain neighbours (its pieces there merge or split). Every other vertex
+    // keeps its fan and its pieces, so a face through none of them is unchanged.
     std::vector<uint64_t> dirty_old, dirty;
+    auto mark = [](std::vector<uint64_t>& side, uint64_t id) { side.push_back(id); };
+    auto contains = [](const Chain& chain, uint64_t id) {
+      return std::any_of(chain.begin(), chain.end(), [&](const ChainVertex& v) { return v.id == id; });
+    };
     for (uint32_t c : changed) {
-      for (const ChainVertex& v : chains_[c]) {
-        dirty_old.push_back(v.id);
-        if (!(v.id & kCrossingFlag)) dirty.push_back(v.id);
-      }
-      if (view.is_selected(c)) {
-        view.chain_override[c] = build_chain(c, view);
-        for (const ChainVertex& v : view.chain_override[c]) {
-          dirty.push_back(v.id);
-          if (!(v.id & kCrossingFlag)) dirty_old.push_back(v.id);
-        }
-      } else {
+      const Chain& old_chain = chains_[c];
+      if (!view.is_selected(c)) {
+        for (const ChainVertex& v : old_chain) mark(dirty_old, v.id);
         view.chain_override[c] = Chain();
+        continue;
       }
+      view.chain_override[c] = build_chain(c, view);
+      const Chain& new_chain = view.chain_override[c];
+      if (!selected_[c]) {
+        for (const ChainVertex& v : new_chain) mark(dirty, v.id);
+        continue;
+      }
+      for (size_t i = 0; i < old_chain.size(); ++i)
+        if (!contains(new_chain, old_chain[i].id)) {
+          mark(dirty_old, old_chain[i].id);
+          if (i > 0) mark(dirty, old_chain[i - 1].id);
+          if (i + 1 < old_chain.size()) mark(dirty, old_chain[i + 1].id);
+        }
+      for (size_t i = 0; i < new_chain.size(); ++i)
+        if (!contains(old_chain, new_chain[i].id)) {
+          mark(dirty, new_chain[i].id);
+          if (i > 0) mark(dirty_old, new_chain[i - 1].id);
+          if (i + 1 < new_chain.size()) mark(dirty_old, new_chain[i + 1].id);
+        }
     }
+    // One dirty set for both sides (a face through a dirty vertex that exists in both states is
+    // removed and traced again, identical or not), each side keeping the vertices it has.
+    dirty.insert(dirty.end(), dirty_old.begin(), dirty_old.end());
+    dirty_old = dirty;
+    auto exists_old = [&](uint64_t id) {
+      if (!(id & kCrossingFlag)) return true;
+      return contains(chains_[uint32_t((id >> 39) & 0xFFFFFF)], id);
+    };
+    auto exists_new = [&](uint64_t id) {
+      if (!(id & kCrossingFlag)) return true;
+      return contains(view.chain(uint32_t((id >> 39) & 0xFFFFFF)), id);
+    };
+    dirty_old.erase(std::remove_if(dirty_old.begin(), dirty_old.end(), [&](uint64_t id) { return !exists_old(id); }),
+                    dirty_old.end());
+    dirty.erase(std::remove_if(dirty.begin(), dirty.end(), [&](uint64_t id) { return !exists_new(id); }), dirty.end());
     for (auto* list : {&dirty_old, &dirty}) {
       std::sort(list->begin(), list->end());
       list->erase(std::unique(list->begin(), list->end()), list->end());
@@ -200,6 +245,7 @@ class Arrangement {
         new_faces.push_back(trace(view, f.edge, visited));
         delta += new_faces.back().energy;
       }
+    if (cacheable) delta_cache_[key] = {delta, old_faces};
     if (commit) {
       for (uint32_t f : old_faces) {
         for (const HalfEdge& h : faces_[f].cycle) face_of_.erase(h);
@@ -453,6 +499,7 @@ class Arrangement {
 
   void compact_faces() {
     if (faces_.size() < 4096) return;
+    delta_cache_.clear();  // face ids change
     std::vector<Face> alive;
     for (Face& f : faces_)
       if (f.alive) alive.push_back(std::move(f));
@@ -472,6 +519,29 @@ class Arrangement {
   std::unordered_map<HalfEdge, uint32_t, HalfEdgeHash> face_of_;
   std::unordered_map<uint64_t, std::vector<Crossing>> crossing_cache_;
   std::unordered_map<std::vector<uint64_t>, double, CycleHash> energy_cache_;
+  // (removed, added) curve ids, each pair sorted and padded with kNoCurve.
+  using MoveKey = std::array<uint32_t, 4>;
+  struct MoveKeyHash {
+    size_t operator()(const MoveKey& k) const {
+      uint64_t x = 0x84222325cbf29ce4ull;
+      for (uint32_t v : k) x = (x ^ v) * 0x100000001b3ull;
+      return size_t(x ^ (x >> 32));
+    }
+  };
+  static MoveKey move_key(const std::vector<uint32_t>& removed, const std::vector<uint32_t>& added) {
+    const uint32_t kNoCurve = 0xffffffffu;
+    MoveKey k{kNoCurve, kNoCurve, kNoCurve, kNoCurve};
+    for (size_t i = 0; i < removed.size(); ++i) k[i] = removed[i];
+    for (size_t i = 0; i < added.size(); ++i) k[2 + i] = added[i];
+    if (k[0] > k[1]) std::swap(k[0], k[1]);
+    if (k[2] > k[3]) std::swap(k[2], k[3]);
+    return k;
+  }
+  struct CachedDelta {
+    double delta = 0.0;
+    std::vector<uint32_t> old_faces;
+  };
+  std::unordered_map<MoveKey, CachedDelta, MoveKeyHash> delta_cache_;
   double energy_ = 0.0;
 };
 
