@@ -60,7 +60,9 @@ class LineGraph {
     return fn;
   }
   void remove_dangling(LineMesh& out);
-  bool trace_pass(std::vector<std::vector<uint32_t>>& faces, std::vector<uint8_t>& failed);
+  bool trace_pass(std::vector<std::vector<uint32_t>>& faces, std::vector<uint8_t>& failed, bool split_repeated);
+  bool bridge_annulus(const std::vector<uint32_t>& inner, std::vector<std::vector<uint32_t>>& faces) const;
+  std::vector<std::vector<uint32_t>> inner_loops_;  // rejected clockwise cycles without repeats (last pass)
 
   const LineSampling& s_;
   const LineSampleDatabase& db_;
@@ -258,7 +260,8 @@ void LineGraph::remove_dangling(LineMesh& out) {
 
 // One pass of face tracing over the alive edges. failed[h] is set for the half-edges of
 // rejected cycles. Returns true when every cycle was accepted.
-bool LineGraph::trace_pass(std::vector<std::vector<uint32_t>>& faces, std::vector<uint8_t>& failed) {
+bool LineGraph::trace_pass(std::vector<std::vector<uint32_t>>& faces, std::vector<uint8_t>& failed,
+                           bool split_repeated) {
   const uint32_t nh = uint32_t(2 * edges.size());
   // Outgoing half-edges per vertex, counter-clockwise about the vertex normal.
   std::vector<std::vector<std::pair<double, uint32_t>>> star(position.size());
@@ -291,8 +294,9 @@ bool LineGraph::trace_pass(std::vector<std::vector<uint32_t>>& faces, std::vecto
   };
   std::vector<uint8_t> visited(nh, 0);
   bool all_ok = true;
-  std::vector<uint32_t> cycle, loop;
-  std::unordered_set<uint32_t> in_loop;
+  std::vector<uint32_t> cycle, loop, stack;
+  std::vector<std::vector<uint32_t>> sub_cycles;
+  std::unordered_map<uint32_t, size_t> first_at;
   for (uint32_t h0 = 0; h0 < nh; ++h0) {
     if (!edges[h0 / 2].alive || visited[h0]) continue;
     cycle.clear();
@@ -305,25 +309,48 @@ bool LineGraph::trace_pass(std::vector<std::vector<uint32_t>>& faces, std::vecto
       if (h == h0) break;
     }
     if (outside) continue;
-    loop.clear();
-    in_loop.clear();
-    bool repeated = false;
+    // A cycle through a vertex twice (two regions touching there) is split into simple loops.
+    sub_cycles.clear();
+    stack.clear();
+    first_at.clear();
     for (uint32_t h : cycle) {
       const uint32_t v = origin[h];
-      repeated |= !in_loop.insert(v).second;
-      loop.push_back(v);
+      auto it = first_at.find(v);
+      if (it != first_at.end() && !split_repeated) {  // rejected whole: mark it and go on
+        stack.clear();
+        break;
+      }
+      if (it != first_at.end()) {
+        const size_t i = it->second;
+        sub_cycles.emplace_back(stack.begin() + long(i), stack.end());
+        for (size_t k = i; k < stack.size(); ++k) first_at.erase(origin[stack[k]]);
+        stack.resize(i);
+      }
+      first_at[v] = stack.size();
+      stack.push_back(h);
     }
-    Vec3 area{}, nsum{};
-    for (size_t k = 0; k < loop.size(); ++k) {
-      area = area + cross(position[loop[k]], position[loop[(k + 1) % loop.size()]]);
-      nsum = nsum + normalized(normal[loop[k]]);
-    }
-    if (repeated || loop.size() < 3 || !(dot(area, nsum) > 0.0)) {
+    if (stack.empty()) {
       for (uint32_t h : cycle) failed[h] = 1;
       all_ok = false;
       continue;
     }
-    faces.push_back(loop);
+    sub_cycles.push_back(stack);
+    for (const auto& sub : sub_cycles) {
+      loop.clear();
+      for (uint32_t h : sub) loop.push_back(origin[h]);
+      Vec3 area{}, nsum{};
+      for (size_t k = 0; k < loop.size(); ++k) {
+        area = area + cross(position[loop[k]], position[loop[(k + 1) % loop.size()]]);
+        nsum = nsum + normalized(normal[loop[k]]);
+      }
+      if (loop.size() < 3 || !(dot(area, nsum) > 0.0)) {
+        if (loop.size() >= 3) inner_loops_.push_back(loop);
+        for (uint32_t h : sub) failed[h] = 1;
+        all_ok = false;
+        continue;
+      }
+      faces.push_back(loop);
+    }
   }
   return all_ok;
 }
@@ -334,8 +361,9 @@ void LineGraph::trace(LineMesh& out, std::vector<std::vector<uint32_t>>& faces) 
   // and trace again (the thesis does this once; up to 4 rounds here [J]).
   for (int round = 0; round < 5; ++round) {
     faces.clear();
+    inner_loops_.clear();
     std::fill(failed.begin(), failed.end(), 0);
-    if (trace_pass(faces, failed)) return;
+    if (trace_pass(faces, failed, false)) return;
     if (round == 4) break;
     size_t removed = 0;
     for (uint32_t e = 0; e < edges.size(); ++e)
@@ -347,8 +375,102 @@ void LineGraph::trace(LineMesh& out, std::vector<std::vector<uint32_t>>& faces) 
     if (removed == 0) break;
     remove_dangling(out);
   }
+  // Last pass [J]: cycles through a vertex twice are split there into simple loops; clockwise
+  // loops left are inner boundaries of annular regions (a band no line crosses, e.g. around a
+  // crease loop): each is bridged to the face around it.
+  faces.clear();
+  inner_loops_.clear();
+  std::fill(failed.begin(), failed.end(), 0);
+  trace_pass(faces, failed, true);
+  size_t bridged = 0;
+  for (const auto& inner : inner_loops_)
+    if (bridge_annulus(inner, faces)) {
+      bridged += inner.size();
+      ++out.bridged_loops;
+    }
   for (uint32_t h = 0; h < failed.size(); ++h)
     if (failed[h] && edges[h / 2].alive) ++out.unclosed_half_edges;
+  out.unclosed_half_edges -= std::min(out.unclosed_half_edges, bridged);
+}
+
+// The annulus between a face O and a clockwise loop C inside it (both with the region on their
+// left) becomes two faces through two bridges: from the closest pair of vertices c-x, and from
+// the vertex c2 of C half-way round to its closest vertex x2 != x of O. O is the smallest face
+// whose polygon, projected along its normal, contains C's centroid.
+bool LineGraph::bridge_annulus(const std::vector<uint32_t>& inner, std::vector<std::vector<uint32_t>>& faces) const {
+  Vec3 centroid{};
+  for (uint32_t v : inner) centroid = centroid + position[v];
+  centroid = (1.0 / double(inner.size())) * centroid;
+  size_t best = faces.size();
+  double best_area = 1e300;
+  for (size_t f = 0; f < faces.size(); ++f) {
+    const auto& o = faces[f];
+    Vec3 area{};
+    for (size_t k = 0; k < o.size(); ++k) area = area + cross(position[o[k]], position[o[(k + 1) % o.size()]]);
+    const double a = norm(area);
+    if (!(a > 0.0) || 0.5 * a >= best_area) continue;
+    const Vec3 n = (1.0 / a) * area;
+    Vec3 b1 = std::fabs(n.x) < 0.9 ? cross(n, Vec3{1, 0, 0}) : cross(n, Vec3{0, 1, 0});
+    b1 = normalized(b1);
+    const Vec3 b2 = cross(n, b1);
+    double winding = 0.0;
+    for (size_t k = 0; k < o.size(); ++k) {
+      const Vec3 p = position[o[k]] - centroid, q = position[o[(k + 1) % o.size()]] - centroid;
+      const Vec2 p2{dot(p, b1), dot(p, b2)}, q2{dot(q, b1), dot(q, b2)};
+      winding += std::atan2(cross(p2, q2), dot(p2, q2));
+    }
+    if (std::fabs(winding) < 3.14159) continue;  // centroid outside
+    // ... and near the face's plane (not a face on another part of the model seen through it).
+    if (std::fabs(dot(centroid - position[o[0]], n)) > 0.5 * std::sqrt(0.5 * a)) continue;
+    bool shares = false;  // C must not touch O
+    for (uint32_t v : inner) shares |= std::find(o.begin(), o.end(), v) != o.end();
+    if (shares) continue;
+    best = f;
+    best_area = 0.5 * a;
+  }
+  if (best == faces.size()) return false;
+  const std::vector<uint32_t> o = faces[best];
+  size_t ic = 0, ix = 0;
+  double d_best = 1e300;
+  for (size_t i = 0; i < inner.size(); ++i)
+    for (size_t j = 0; j < o.size(); ++j) {
+      const double d = distance(position[inner[i]], position[o[j]]);
+      if (d < d_best) {
+        d_best = d;
+        ic = i;
+        ix = j;
+      }
+    }
+  const size_t ic2 = (ic + inner.size() / 2) % inner.size();
+  size_t ix2 = o.size();
+  d_best = 1e300;
+  for (size_t j = 0; j < o.size(); ++j) {
+    if (j == ix) continue;
+    const double d = distance(position[inner[ic2]], position[o[j]]);
+    if (d < d_best) {
+      d_best = d;
+      ix2 = j;
+    }
+  }
+  if (ix2 == o.size() || ic2 == ic) return false;
+  // Bridges no longer than the largest line spacing: the loops must be neighbours.
+  if (distance(position[inner[ic]], position[o[ix]]) > s_.max_spacing ||
+      distance(position[inner[ic2]], position[o[ix2]]) > s_.max_spacing)
+    return false;
+  auto walk = [](const std::vector<uint32_t>& loop, size_t from, size_t to, std::vector<uint32_t>& out) {
+    for (size_t k = from;; k = (k + 1) % loop.size()) {
+      out.push_back(loop[k]);
+      if (k == to) break;
+    }
+  };
+  std::vector<uint32_t> a, b;
+  walk(o, ix, ix2, a);       // O from x to x2, then C from c2 to c
+  walk(inner, ic2, ic, a);
+  walk(o, ix2, ix, b);       // O from x2 to x, then C from c to c2
+  walk(inner, ic, ic2, b);
+  faces[best] = std::move(a);
+  faces.push_back(std::move(b));
+  return true;
 }
 
 

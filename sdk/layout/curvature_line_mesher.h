@@ -17,8 +17,9 @@
 // - Faces: the cycles of `next`. A cycle is rejected when it contains a removed half-edge,
 //   repeats a vertex or runs clockwise about the normals; if any are rejected, the edges whose
 //   two half-edges both lie on rejected cycles are deleted (the thesis's "inconsistently oriented
-//   edges") and the structure is traced once more. Half-edges still on rejected cycles leave holes
-//   (counted in `unclosed_half_edges`).
+//   edges") and the structure is traced again (up to 4 rounds). A clockwise cycle left over is
+//   the inner boundary of an annular region: it is joined to the face around it by two bridge
+//   edges (two faces). Half-edges still on rejected cycles leave holes (`unclosed_half_edges`).
 #include <cstdint>
 #include <vector>
 
@@ -49,6 +50,7 @@ struct LineMesh {
   std::vector<Edge> edges;
   size_t intersections = 0, merged_vertices = 0, dangling_edges_removed = 0, inconsistent_edges_removed = 0;
   size_t unclosed_half_edges = 0;
+  size_t bridged_loops = 0;  // annular regions split by two bridge edges
   PartitionStats partition;
   double seconds = 0.0;
 };

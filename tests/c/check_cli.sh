@@ -150,7 +150,7 @@ if [ -f "$fandisk" ]; then
      [ "$(json "$tmp/fan-aniso.json" "all(k in d for k in '$remesh_keys'.split()) and d['max_face_valence'] <= 5 and d['creases'] > 100 and d['quads_pct'] > 50 and d['min_scaled_jacobian'] >= 0 and d['hausdorff_sym_rel'] < 0.02")" = True ] &&
      "$cli" info "$tmp/fan-aniso.obj" --json >"$tmp/fan-aniso-info.json" && [ "$(json "$tmp/fan-aniso-info.json" "d['valid'] and d['genus'] == 0")" = True ]
   then pass "remesh --method anisotropic: fandisk quad-dominant, creases kept, valid, genus 0"; else cat "$tmp/fan-aniso.json"; fail "remesh anisotropic"; fi
-  if "$cli" pipeline "$fandisk" "$tmp/fan-pipe" --method anisotropic --tolerance 0.003 --passes 2 --quiet &&
+  if "$cli" pipeline "$fandisk" "$tmp/fan-pipe" --method anisotropic --tolerance 0.002 --passes 2 --quiet &&
      [ "$(json "$tmp/fan-pipe/report.json" "d['remesh']['method'] == 'anisotropic' and d['limit']['error']['hausdorff_sym_rel'] < 0.02")" = True ]
   then pass "pipeline --method anisotropic: remesh -> fit -> limit within 2% of the diagonal"; else cat "$tmp/fan-pipe/report.json"; fail "pipeline anisotropic"; fi
 else
