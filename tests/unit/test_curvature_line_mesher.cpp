@@ -245,6 +245,28 @@ TEST(CurvatureLineMesher, CylinderGivesAlignedQuads) {
     }
   std::printf("cylinder: %.1f%% of edges within 10 deg of the axis or the circles\n", 100.0 * double(aligned) / double(total));
   EXPECT_GE(double(aligned), 0.9 * double(total));
+  // AC5-8: the two boundary circles are reproduced: every output boundary edge joins two points
+  // of the same input boundary circle, and the output boundary is as long as the inscribed polygons.
+  std::map<std::pair<uint32_t, uint32_t>, int> uses;
+  for (size_t f = 0; f < m.num_faces(); ++f)
+    for (uint32_t k = 0; k < m.face_size(f); ++k) {
+      const uint32_t a = m.face_vertex(f, k), b = m.face_vertex(f, (k + 1) % m.face_size(f));
+      ++uses[{std::min(a, b), std::max(a, b)}];
+    }
+  double boundary_length = 0.0;
+  size_t off_circle = 0;
+  for (const auto& [e, n] : uses) {
+    if (n != 1) continue;
+    const Vec3 a = m.positions[e.first], b = m.positions[e.second];
+    boundary_length += cagekit::distance(a, b);
+    const bool same_circle = (std::fabs(a.z) < 1e-9 && std::fabs(b.z) < 1e-9) ||
+                             (std::fabs(a.z - 4.0) < 1e-9 && std::fabs(b.z - 4.0) < 1e-9);
+    off_circle += !same_circle;
+  }
+  const double input_perimeter = 2 * 96 * 2 * std::sin(kPi / 96);  // two 96-gons of radius 1
+  std::printf("cylinder: output boundary length %.4f (input boundary %.4f)\n", boundary_length, input_perimeter);
+  EXPECT_EQ(off_circle, 0u);
+  EXPECT_NEAR(boundary_length, input_perimeter, 0.01 * input_perimeter);
 }
 
 TEST(CurvatureLineMesher, TorusIsClosedGenusOneAndAligned) {
