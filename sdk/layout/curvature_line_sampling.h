@@ -46,7 +46,7 @@ struct LineSamplingOptions {
   int initial_seeds = 8;           // sparse random seeds [J]
   uint32_t random_seed = 1;
   size_t max_lines = 200000;       // hard bounds: never loop forever
-  size_t max_segments = 50000000;
+  size_t max_segments = 5000000;  // ~0.5 GB of segments and list nodes
   int max_steps_per_pass = 200000;
 };
 

@@ -1329,6 +1329,16 @@ static void anisotropic_remesh_follows_a_cylinder(void) {
     cagekit_mesh_release(mesh);
   }
   cagekit_context_release(context);
+  {
+    /* A 1 MB budget: the estimate (~560 bytes per triangle) fails before anything is allocated. */
+    cagekit_context_desc desc = CAGEKIT_CONTEXT_DESC_INIT;
+    desc.memory_budget_bytes = 1u << 20;
+    CHECK_OK(cagekit_context_create(&desc, &context));
+    mesh = new_triangle_cylinder(context, 96, 96);
+    CHECK_STATUS(cagekit_mesh_remesh(mesh, NULL, &cage, NULL), CAGEKIT_ERROR_OUT_OF_MEMORY);
+    cagekit_mesh_release(mesh);
+    cagekit_context_release(context);
+  }
 }
 
 int main(void) {
