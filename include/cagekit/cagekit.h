@@ -1211,7 +1211,8 @@ typedef struct cagekit_remesh_options {
   uint32_t max_face_valence;      /* faces with more corners are split, >= 3 (default 5) */
   uint32_t threads;               /* worker threads for the curvature field, 0 = all cores (default 0) */
   double curvature_radius;        /* curvature averaging radius relative to the bbox diagonal (thesis:
-                                     0.01); 0: three mean edge lengths (default 0.01) */
+                                     0.01), capped at 6 mean edge lengths (bounded cost on dense meshes);
+                                     0: three mean edge lengths (default 0.01) */
 } cagekit_remesh_options;
 
 #define CAGEKIT_REMESH_OPTIONS_INIT \

@@ -151,7 +151,18 @@ AnisotropicRemeshResult remesh_anisotropic(const PolygonMesh& input, const Aniso
 
   AnisotropicRemeshResult r;
   CurvatureOptions co;
-  co.disk_radius_bbox = o.disk_radius_bbox > 0.0 ? o.disk_radius_bbox : 0.0;
+  // The thesis's radius (a fraction of the diagonal), capped at 6 mean edge lengths [J]: on dense
+  // meshes 1% of the diagonal spans tens of edges and the disk traversal dominates the run time
+  // (1M-triangle torus: 32 s at 1% = 15 edges, 8.5 s at 3 edges).
+  co.disk_radius_bbox = 0.0;
+  if (o.disk_radius_bbox > 0.0) {
+    double edge_sum = 0.0;
+    for (size_t c = 0; c < tri.num_face_vertices(); ++c)
+      edge_sum += distance(tri.positions[tri.face_vertices[c]], tri.positions[tri.face_vertices[c % 3 == 2 ? c - 2 : c + 1]]);
+    const double mean_edge = edge_sum / double(std::max<size_t>(1, tri.num_face_vertices()));
+    const double diagonal = tri.bounding_box().diagonal();
+    co.disk_radius_bbox = diagonal > 0.0 ? std::min(o.disk_radius_bbox, 6.0 * mean_edge / diagonal) : o.disk_radius_bbox;
+  }
   co.threads = o.threads;
   co.feature_angle_degrees = -1.0;
   const CurvatureField field = estimate_curvature_field(tri, co, features.empty() ? nullptr : &features, monitor);

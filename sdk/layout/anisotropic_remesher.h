@@ -16,7 +16,8 @@ struct AnisotropicRemeshOptions {
   double tolerance = 0.002;            // ε of (5.10), relative to the bbox diagonal (> 0)
   double feature_angle_degrees = 40.0; // dihedral angle above which edges are feature lines; < 0: none
   int max_face_valence = 5;            // >= 3
-  double disk_radius_bbox = 0.01;      // curvature averaging radius / bbox diagonal (thesis: 1%); <= 0: 3 edges
+  double disk_radius_bbox = 0.01;      // curvature averaging radius / bbox diagonal (thesis: 1%), capped at
+                                       // 6 mean edge lengths; <= 0: 3 mean edge lengths
   int threads = 0;                     // curvature field workers (0 = hardware concurrency)
 };
 
