@@ -30,6 +30,7 @@ from .fit import LsqSolver, ProjectionMode, fit
 from .limit_patches import LimitPatches, limit_patches
 from .mesh import Mesh, MeshIssue, RepairSteps
 from .multires import Binding, CpuDeformer, DisplacementMode, NormalMode, bind
+from .remesh import RemeshMethod, remesh
 from .simplify import Hierarchy, LevelQuery, simplify
 from .surface import Surface
 
@@ -54,7 +55,7 @@ __all__ = [
     "CancelledError", "Context", "CpuDeformer", "DisplacementMode", "FileFormat", "FileIOError", "Hierarchy",
     "InternalError", "InvalidArgumentError", "InvalidHandleError", "InvalidMeshError", "LevelQuery",
     "LimitExceededError", "LimitPatches", "LogLevel", "LsqSolver", "Mesh", "MeshIssue", "NormalMode",
-    "OutOfMemoryError", "ParseError", "ProjectionMode", "Record", "RepairSteps", "SizeInsufficientError", "Surface",
+    "OutOfMemoryError", "ParseError", "ProjectionMode", "Record", "RemeshMethod", "RepairSteps", "SizeInsufficientError", "Surface",
     "UnsupportedFormatError", "VersionMismatchError", "abi_version", "bind", "default_context", "fit",
-    "library_path", "limit_patches", "live_handles", "simplify", "version",
+    "library_path", "limit_patches", "live_handles", "remesh", "simplify", "version",
 ]

@@ -1,0 +1,67 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Remeshing a triangle mesh into a quad-dominant cage (cagekit_mesh_remesh).
+
+    cage, report = cagekit.remesh(mesh, method="anisotropic", tolerance=0.002)
+    report.faces, report.quads, report.mean_alignment_deg, report.min_scaled_jacobian
+
+Method "anisotropic" (thesis ch. 5): curvature-line remeshing; edges on feature lines are tagged
+as infinitely sharp creases in the returned Cage. Long operation (progress stages "curvature
+field", "curvature lines", "meshing"; cancel); the GIL is released for the whole call.
+
+The C declarations of this part of the header are made here and added to _lib.PROTOTYPES and
+_lib.STRUCTS, so that tests/test_abi.py checks them with the rest.
+"""
+import ctypes
+import enum
+from ctypes import POINTER, c_double, c_size_t, c_uint32, c_uint64, c_void_p
+
+from . import _lib
+from ._records import enum_value as _enum, from_struct
+from .cage import Cage
+
+
+class RemeshMethod(enum.IntEnum):
+    ANISOTROPIC = 0  # curvature-line remeshing (thesis ch. 5)
+
+
+# --- declarations (include/cagekit/cagekit.h, "remeshing") ---------------------------------------
+class RemeshOptions(_lib._Versioned):
+    _fields_ = [("struct_size", c_size_t), ("method", _lib.c_enum), ("tolerance", c_double),
+                ("feature_angle_degrees", c_double), ("max_face_valence", c_uint32), ("threads", c_uint32),
+                ("curvature_radius", c_double)]
+    _defaults = {"method": 0, "tolerance": 0.002, "feature_angle_degrees": 40.0, "max_face_valence": 5,
+                 "threads": 0, "curvature_radius": 0.01}
+
+
+class RemeshReport(_lib._Versioned):
+    _fields_ = [("struct_size", c_size_t), ("faces", c_uint64), ("vertices", c_uint64), ("quads", c_uint64),
+                ("interior_vertices", c_uint64), ("valence4_vertices", c_uint64), ("max_face_valence", c_uint32),
+                ("max_vertex_valence", c_uint32), ("creases", c_uint64), ("regions", c_uint64), ("lines", c_uint64),
+                ("holes", c_uint64), ("mean_alignment_deg", c_double), ("min_scaled_jacobian", c_double),
+                ("seconds", c_double)]
+
+
+_lib.STRUCTS.update({"cagekit_remesh_options": RemeshOptions, "cagekit_remesh_report": RemeshReport})
+_lib.PROTOTYPES.update({
+    "cagekit_mesh_remesh": (_lib.c_status, [c_void_p, POINTER(RemeshOptions), POINTER(c_void_p),
+                                            POINTER(RemeshReport)]),
+})
+_lib._declare(_lib.lib)  # ImportError naming the function when the loaded library lacks one
+
+
+def remesh(mesh, method=RemeshMethod.ANISOTROPIC, tolerance=0.002, feature_angle_degrees=40.0, max_face_valence=5,
+           threads=0, curvature_radius=0.01):
+    """Remeshes `mesh` (an oriented 2-manifold Mesh; polygons are fan-triangulated first) into a
+    new Cage with crease tags on feature lines. Returns (cage, report); the report holds faces,
+    vertices, quads, interior_vertices, valence4_vertices, max_face_valence, max_vertex_valence,
+    creases, regions, lines, holes, mean_alignment_deg, min_scaled_jacobian, seconds. Option
+    values as the C API's cagekit_remesh_options (method also as a name)."""
+    options = RemeshOptions.new(method=int(_enum(RemeshMethod, method)), tolerance=float(tolerance),
+                                feature_angle_degrees=float(feature_angle_degrees),
+                                max_face_valence=int(max_face_valence), threads=int(threads),
+                                curvature_radius=float(curvature_radius))
+    report = RemeshReport.new()
+    out = ctypes.c_void_p()
+    mesh._context._call(_lib.lib.cagekit_mesh_remesh, mesh._handle, ctypes.byref(options), ctypes.byref(out),
+                        ctypes.byref(report), outs=[(out, Cage._release_name)])
+    return Cage._wrap(out.value, mesh._context), from_struct(report, "RemeshReport")

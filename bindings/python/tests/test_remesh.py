@@ -1,0 +1,53 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""cagekit.remesh (cagekit_mesh_remesh): the anisotropic method on an open cylinder, the report,
+and bad input / options as exceptions."""
+import math
+
+import numpy as np
+
+import cagekit
+from support import HandleCheck, grid_cube
+
+
+def open_cylinder(rings=40, segments=64, radius=1.0, height=3.0):
+    """A triangulated open cylinder around the z axis (boundary circles at z = 0 and z = height)."""
+    pts = [(radius * math.cos(2 * math.pi * k / segments), radius * math.sin(2 * math.pi * k / segments),
+            height * r / rings) for r in range(rings + 1) for k in range(segments)]
+    tris = []
+    for r in range(rings):
+        for k in range(segments):
+            a, b = r * segments + k, r * segments + (k + 1) % segments
+            c, d = a + segments, b + segments
+            tris += [(a, b, d), (a, d, c)]
+    return np.array(pts, dtype=np.float64), np.array(tris, dtype=np.uint32)
+
+
+class Remesh(HandleCheck):
+    def test_a_cylinder_becomes_quads_along_its_curvature_lines(self):
+        positions, triangles = open_cylinder()
+        with cagekit.Mesh.from_arrays(positions, triangles) as mesh:
+            cage, report = cagekit.remesh(mesh, method="anisotropic", tolerance=0.002, feature_angle_degrees=-1)
+            with cage:
+                info = cage.info()
+                self.assertEqual((info.faces, info.vertices), (report.faces, report.vertices))
+                self.assertGreater(report.faces, 50)
+                self.assertGreater(report.quads, 0.8 * report.faces)  # curvature lines: a grid of quads
+                self.assertLessEqual(report.max_face_valence, 5)
+                self.assertLess(report.mean_alignment_deg, 5.0)
+                self.assertEqual(report.holes, 0)
+                self.assertGreater(report.min_scaled_jacobian, 0.0)  # no concave corner
+                self.assertLess(mesh.measure_error(cage).hausdorff_rel, 0.02)
+
+    def test_bad_options_and_input_are_exceptions(self):
+        positions, triangles = grid_cube(4)
+        with cagekit.Mesh.from_arrays(positions, triangles) as mesh:
+            with self.assertRaises(cagekit.InvalidArgumentError):
+                cagekit.remesh(mesh, tolerance=0.0)
+            with self.assertRaises(cagekit.InvalidArgumentError):
+                cagekit.remesh(mesh, max_face_valence=2)
+            with self.assertRaises(ValueError):
+                cagekit.remesh(mesh, method="no-such-method")
+        bad = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, float("nan")]], dtype=np.float64)
+        with cagekit.Mesh.from_arrays(bad, np.array([[0, 1, 2], [0, 2, 3], [0, 3, 1], [1, 3, 2]], dtype=np.uint32)) as m:
+            with self.assertRaises(cagekit.InvalidMeshError):
+                cagekit.remesh(m)
