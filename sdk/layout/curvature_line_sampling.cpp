@@ -675,10 +675,7 @@ LineSampling sample_curvature_lines(const PolygonMesh& mesh, const CurvatureFiel
     fail(Status::invalid_argument, "curvature-line sampling: the curvature field belongs to another mesh");
   out.database = std::make_shared<LineSampleDatabase>(mesh, *out.adjacency);
   out.bbox_diagonal = mesh.bounding_box().diagonal();
-  double edge_sum = 0.0;
-  for (uint32_t c = 0; c < mesh.num_face_vertices(); ++c)
-    edge_sum += distance(mesh.positions[mesh.face_vertices[c]], mesh.positions[mesh.face_vertices[TriangleAdjacency::next(c)]]);
-  const double mean_edge = edge_sum / double(mesh.num_face_vertices());
+  const double mean_edge = mesh.mean_edge_length();
   if (!(out.bbox_diagonal > 0.0) || !(mean_edge > 0.0))
     fail(Status::invalid_mesh, "curvature-line sampling: the mesh has zero extent");
   out.epsilon = o.tolerance * out.bbox_diagonal;
