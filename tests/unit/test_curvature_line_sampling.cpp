@@ -322,3 +322,50 @@ TEST(CurvatureLineSampling, RejectsUnsupportedInputWithPreciseErrors) {
   const auto dfield = cagekit::estimate_curvature_field(deg, CurvatureOptions{});
   EXPECT_EQ(status_of([&] { cagekit::sample_curvature_lines(deg, dfield, lo); }), Status::success);
 }
+
+TEST(CurvatureLineSampling, TrustedDirectionsBridgeAnUnreliableBand) {
+  // §5.5.5: faces touching the band 1.5 < z < 2.5 are marked unreliable (Λ = 0) and the vertex
+  // directions in its middle (1.7 < z < 2.3) scrambled; axial lines must cross the band straight
+  // (geodesics along t_tr) and continue as min lines on the other side.
+  const double H = 4.0;
+  PolygonMesh mesh = cylinder(1.0, H, 96, 96);
+  auto field = cagekit::estimate_curvature_field(mesh, CurvatureOptions{});
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> angle(0.0, 2 * kPi);
+  for (size_t v = 0; v < mesh.num_vertices(); ++v) {
+    const Vec3 p = mesh.positions[v];
+    if (p.z <= 1.7 || p.z >= 2.3) continue;
+    const Vec3 n = field.vertex_normal[v], axis{0, 0, 1}, around = cagekit::cross(n, axis);
+    const double a = angle(rng);
+    field.vertex_t_min[v] = std::cos(a) * axis + std::sin(a) * around;
+    field.vertex_t_max[v] = cagekit::cross(n, field.vertex_t_min[v]);
+  }
+  for (size_t f = 0; f < mesh.num_faces(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const double z = mesh.positions[mesh.face_vertex(f, k)].z;
+      if (z > 1.5 && z < 2.5) field.face_confidence[f] = 0.0;
+    }
+  LineSamplingOptions lo;
+  lo.tolerance = 0.001;
+  const LineSampling ls = cagekit::sample_curvature_lines(mesh, field, lo);
+  size_t untrusted = 0, off_axis = 0, crossing = 0;
+  for (const auto& seg : ls.database->segments()) {
+    if (seg.line == cagekit::detail::kNone || seg.trusted || seg.type != LineType::min_curvature) continue;
+    ++untrusted;
+    off_axis += line_angle_deg(seg.b - seg.a, {0, 0, 1}) > 3.0;
+  }
+  for (size_t l = 0; l < ls.lines.size(); ++l) {
+    if (ls.lines[l].type != LineType::min_curvature) continue;
+    double zmin = 1e9, zmax = -1e9;
+    for (uint32_t id : ls.lines[l].segments) {
+      zmin = std::min({zmin, ls.database->segment(id).a.z, ls.database->segment(id).b.z});
+      zmax = std::max({zmax, ls.database->segment(id).a.z, ls.database->segment(id).b.z});
+    }
+    crossing += zmin < 1.0 && zmax > 3.0;
+  }
+  std::printf("unreliable band: %zu untrusted axial segments, %zu more than 3 deg off the axis; %zu min lines cross "
+              "the band\n", untrusted, off_axis, crossing);
+  EXPECT_GT(untrusted, 100u);
+  EXPECT_EQ(off_axis, 0u);
+  EXPECT_GE(crossing, 20u);
+}
