@@ -563,7 +563,7 @@ CAGEKIT_API cagekit_status cagekit_surface_evaluate_basis(cagekit_surface surfac
  * points by least squares), and a square is split into 4 while its measured error exceeds the
  * tolerance and max_depth allows. Crease edges and ptex face borders are always patch borders, so
  * sharp features are kept. The error of a patch is measured as the largest distance between patch
- * and limit surface at equal parameters on a 17 x 17 grid (not a bound between the samples).
+ * and limit surface at equal parameters on a 33 x 33 grid (not a bound between the samples).
  * Neighbouring patches meet exactly when both are exact or both approximated on equal squares, and
  * within the sum of their errors otherwise (sew with a tolerance of 2 x max_error). */
 typedef struct cagekit_limit_patches_t* cagekit_limit_patches;

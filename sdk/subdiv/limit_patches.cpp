@@ -14,9 +14,11 @@ CAGEKIT_NAMESPACE_BEGIN
 
 namespace {
 
-// Samples per side of the grid the error is measured on; the fit uses every other one.
-constexpr int kGrid = 17;
-constexpr int kFit = (kGrid + 1) / 2;  // 9
+// Samples per side of the grid the error of an approximated patch is measured on; the fit uses
+// every kStride-th one (9 per side). Exact patches are checked on the 9 x 9 fit grid.
+constexpr int kGrid = 33;
+constexpr int kFit = 9;
+constexpr int kStride = (kGrid - 1) / (kFit - 1);  // 4
 
 double bernstein(int i, double s) {
   const double r = 1.0 - s;
@@ -181,19 +183,19 @@ class PatchBuilder {
     out.push_back(patch);
   }
 
-  // The limit surface on the square's 17 x 17 grid.
-  void sample(const LimitPatch& p) {
+  // The limit surface on the square's kGrid x kGrid grid, or only on every stride-th point.
+  void sample(const LimitPatch& p, int stride = 1) {
     const double size = p.u1 - p.u0;
-    for (int tb = 0; tb < kGrid; ++tb)
-      for (int sa = 0; sa < kGrid; ++sa)
+    for (int tb = 0; tb < kGrid; tb += stride)
+      for (int sa = 0; sa < kGrid; sa += stride)
         grid_[tb][sa] = limit(p.u0 + size * sa / double(kGrid - 1), p.v0 + size * tb / double(kGrid - 1));
   }
 
-  double measure(const LimitPatch& p) const {
+  double measure(const LimitPatch& p, int stride = 1) const {
     const BezierFitMatrices& m = matrices();
     double worst = 0;
-    for (int tb = 0; tb < kGrid; ++tb)
-      for (int sa = 0; sa < kGrid; ++sa) {
+    for (int tb = 0; tb < kGrid; tb += stride)
+      for (int sa = 0; sa < kGrid; sa += stride) {
         Vec3 x;
         for (int j = 0; j < 4; ++j)
           for (int i = 0; i < 4; ++i) x += p.points[4 * j + i] * (m.g[sa][i] * m.g[tb][j]);
@@ -222,8 +224,8 @@ class PatchBuilder {
         p.points[4 * j + i] = s;
       }
     p.exact = true;
-    sample(p);
-    p.error = measure(p);
+    sample(p, kStride);
+    p.error = measure(p, kStride);
   }
 
   // Border curves by least squares with interpolated corners, then the inner points.
@@ -244,15 +246,15 @@ class PatchBuilder {
       p.points[c0 + 2 * dc] = r1 * m.edge[1][0] + r2 * m.edge[1][1];
       p.points[c0 + 3 * dc] = p3;
     };
-    border(0, 1, [&](int a) { return grid_[0][2 * a]; });                 // t = 0
-    border(12, 1, [&](int a) { return grid_[kGrid - 1][2 * a]; });        // t = 1
-    border(0, 4, [&](int a) { return grid_[2 * a][0]; });                 // s = 0
-    border(3, 4, [&](int a) { return grid_[2 * a][kGrid - 1]; });         // s = 1
+    border(0, 1, [&](int a) { return grid_[0][kStride * a]; });           // t = 0
+    border(12, 1, [&](int a) { return grid_[kGrid - 1][kStride * a]; });  // t = 1
+    border(0, 4, [&](int a) { return grid_[kStride * a][0]; });           // s = 0
+    border(3, 4, [&](int a) { return grid_[kStride * a][kGrid - 1]; });   // s = 1
     static constexpr int kInner[4] = {5, 6, 9, 10};  // (1,1) (2,1) (1,2) (2,2)
     Vec3 rhs[4];
     for (int tb = 1; tb < kFit - 1; ++tb)
       for (int sa = 1; sa < kFit - 1; ++sa) {
-        Vec3 r = grid_[2 * tb][2 * sa];
+        Vec3 r = grid_[kStride * tb][kStride * sa];
         for (int j = 0; j < 4; ++j)
           for (int i = 0; i < 4; ++i) {
             const int k = 4 * j + i;

@@ -14,7 +14,7 @@
 // share its curve, and the corner points are on the surface), the 4 inner control points are the
 // least-squares fit to a 9 x 9 grid of limit points; the square is split into 4 while its
 // measured error is above the tolerance and the depth allows. The error of a patch is the largest
-// distance between patch and limit surface at the same parameters over a 17 x 17 grid (an upper
+// distance between patch and limit surface at the same parameters over a 33 x 33 grid (an upper
 // bound of the geometric distance at those samples; between samples it is not a bound).
 //
 // Crease edges, boundaries and the borders of ptex faces are always borders of patches, so sharp

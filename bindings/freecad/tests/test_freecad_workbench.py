@@ -240,7 +240,7 @@ def main(out_dir):
     exact = patches.exact
     slack = 1e-9 * diag
     ex = exact[k]
-    # the SDK measures a patch's error on a 17 x 17 grid, not between the samples: 2x there
+    # the SDK measures a patch's error on a 33 x 33 grid, not between the samples: 2x there
     check(np.all(pointwise <= 2.0 * errors[k] + slack) and pointwise.max() <= TOLERANCE * diag * 2.0 + slack,
           "%d limit points vs their STEP face at equal parameters: max %.2e of the diagonal (patch errors "
           "up to %.2e)" % (SAMPLES, pointwise.max() / diag, info.max_error_rel))
