@@ -35,28 +35,6 @@ namespace {
 
 const double kPi = 3.14159265358979323846;
 
-PolygonMesh cylinder(double R, double H, int n_around, int n_along) {
-  PolygonMesh m;
-  for (int j = 0; j <= n_along; ++j)
-    for (int i = 0; i < n_around; ++i) {
-      const double a = 2 * kPi * i / n_around;
-      m.add_vertex({R * std::cos(a), R * std::sin(a), H * j / n_along});
-    }
-  auto id = [&](int i, int j) { return uint32_t(j * n_around + (i % n_around)); };
-  for (int j = 0; j < n_along; ++j)
-    for (int i = 0; i < n_around; ++i) {
-      const uint32_t a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
-      if ((i + j) % 2) {
-        m.add_face({a, b, d});
-        m.add_face({b, c, d});
-      } else {
-        m.add_face({a, b, c});
-        m.add_face({a, c, d});
-      }
-    }
-  return m;
-}
-
 // Torus about the z axis: ring radius R, tube radius r, outward-oriented triangles.
 PolygonMesh torus(double R, double r, int n_u, int n_v) {
   PolygonMesh m;
@@ -223,7 +201,7 @@ double line_angle_deg(const Vec3& a, const Vec3& b) {
 
 TEST(CurvatureLineMesher, CylinderGivesAlignedQuads) {
   // AC5-6-like: an open cylinder (R = 1, H = 4, 18K triangles).
-  Result r = remesh(cylinder(1.0, 4.0, 96, 96), 0.001);
+  Result r = remesh(cagekit_test::triangle_cylinder(1.0, 4.0, 96, 96), 0.001);
   const Topology t = topology(r.out);
   print("cylinder", r, t);
   EXPECT_GT(t.F, 300);
@@ -340,11 +318,11 @@ TEST(CurvatureLineMesher, FandiskCreasesAreMeshEdges) {
 }
 
 TEST(CurvatureLineMesher, RejectsBadOptions) {
-  Result r = remesh(cylinder(1.0, 2.0, 24, 8), 0.01);
+  Result r = remesh(cagekit_test::triangle_cylinder(1.0, 2.0, 24, 8), 0.01);
   LineMeshOptions o;
   o.max_face_valence = 2;
   EXPECT_EQ(status_of([&] { cagekit::mesh_curvature_lines(r.input, r.field, r.lines, o); }), Status::invalid_argument);
-  const PolygonMesh other = cylinder(1.0, 2.0, 20, 8);
+  const PolygonMesh other = cagekit_test::triangle_cylinder(1.0, 2.0, 20, 8);
   EXPECT_EQ(status_of([&] { cagekit::mesh_curvature_lines(other, r.field, r.lines, LineMeshOptions{}); }),
             Status::invalid_argument);
 }
@@ -465,12 +443,12 @@ TEST(AnisotropicRemesher, HostileInputFailsCleanly) {
   // Options.
   cagekit::AnisotropicRemeshOptions bad;
   bad.tolerance = -1.0;
-  EXPECT_EQ(status_of([&] { cagekit::remesh_anisotropic(cylinder(1, 2, 24, 8), bad); }), Status::invalid_argument);
+  EXPECT_EQ(status_of([&] { cagekit::remesh_anisotropic(cagekit_test::triangle_cylinder(1, 2, 24, 8), bad); }), Status::invalid_argument);
   bad = {};
   bad.max_face_valence = 2;
-  EXPECT_EQ(status_of([&] { cagekit::remesh_anisotropic(cylinder(1, 2, 24, 8), bad); }), Status::invalid_argument);
+  EXPECT_EQ(status_of([&] { cagekit::remesh_anisotropic(cagekit_test::triangle_cylinder(1, 2, 24, 8), bad); }), Status::invalid_argument);
   // A face with two vertices.
-  PolygonMesh two = cylinder(1, 2, 24, 8);
+  PolygonMesh two = cagekit_test::triangle_cylinder(1, 2, 24, 8);
   two.add_face({0, 1});
   EXPECT_EQ(status_of([&] { cagekit::remesh_anisotropic(two, cagekit::AnisotropicRemeshOptions{}); }),
             Status::invalid_mesh);

@@ -33,29 +33,6 @@ double line_angle_deg(const Vec3& a, const Vec3& b) {
   return std::acos(std::min(1.0, c)) * 180.0 / kPi;
 }
 
-// Open cylinder of radius R about the z axis, z in [0, H], alternating diagonals, outward.
-PolygonMesh cylinder(double R, double H, int n_around, int n_along) {
-  PolygonMesh m;
-  for (int j = 0; j <= n_along; ++j)
-    for (int i = 0; i < n_around; ++i) {
-      const double a = 2 * kPi * i / n_around;
-      m.add_vertex({R * std::cos(a), R * std::sin(a), H * j / n_along});
-    }
-  auto id = [&](int i, int j) { return uint32_t(j * n_around + (i % n_around)); };
-  for (int j = 0; j < n_along; ++j)
-    for (int i = 0; i < n_around; ++i) {
-      const uint32_t a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
-      if ((i + j) % 2) {
-        m.add_face({a, b, d});
-        m.add_face({b, c, d});
-      } else {
-        m.add_face({a, b, c});
-        m.add_face({a, c, d});
-      }
-    }
-  return m;
-}
-
 struct Sampled {
   PolygonMesh mesh;
   cagekit::CurvatureField field;
@@ -93,7 +70,7 @@ TEST(CurvatureLineSampling, SpacingFollowsChordHeightRule) {
 
 TEST(CurvatureLineSampling, CylinderLinesFollowAxisAndCircles) {
   const double R = 1.0, H = 4.0;
-  Sampled s = sample(cylinder(R, H, 96, 96), 0.001);
+  Sampled s = sample(cagekit_test::triangle_cylinder(R, H, 96, 96), 0.001);
   const LineSampling& ls = s.lines;
   std::printf("cylinder: %zu lines (min %zu, max %zu, boundary %zu), %zu segments, %zu steps, %.3f s\n",
               ls.lines.size(), ls.lines_by_type[0], ls.lines_by_type[1], ls.lines_by_type[3],
@@ -145,7 +122,7 @@ TEST(CurvatureLineSampling, CylinderLinesFollowAxisAndCircles) {
 TEST(CurvatureLineSampling, LineCountFollowsTheDensityRule) {
   // AC5-5 at three tolerances: about ⌈2πR / D(ε)⌉ axial lines each time.
   const double R = 1.0, H = 4.0;
-  const PolygonMesh mesh = cylinder(R, H, 128, 96);
+  const PolygonMesh mesh = cagekit_test::triangle_cylinder(R, H, 128, 96);
   int previous = 0;
   for (double tol : {0.002, 0.0005, 0.000125}) {
     Sampled s = sample(mesh, tol);
@@ -167,7 +144,7 @@ TEST(CurvatureLineSampling, SameTypeLinesKeepTheirSpacing) {
   // Lines stop when a same-type line is within collision_factor · D, so away from their ends
   // no two min lines come closer than that (AC5-5 asks for about 0.9 D; the default factor is 0.8).
   const double R = 1.0, H = 4.0;
-  Sampled s = sample(cylinder(R, H, 96, 96), 0.001);
+  Sampled s = sample(cagekit_test::triangle_cylinder(R, H, 96, 96), 0.001);
   const LineSampling& ls = s.lines;
   const double D = cagekit::line_spacing(1.0 / R, ls.epsilon, ls.min_spacing, ls.max_spacing);
   const auto& segs = ls.database->segments();
@@ -190,7 +167,7 @@ TEST(CurvatureLineSampling, SameTypeLinesKeepTheirSpacing) {
 
 TEST(CurvatureLineSampling, ProximityQueriesMatchBruteForce) {
   // AC5-4: the p-cell answer equals a scan over all segments.
-  Sampled s = sample(cylinder(1.0, 4.0, 96, 96), 0.001);
+  Sampled s = sample(cagekit_test::triangle_cylinder(1.0, 4.0, 96, 96), 0.001);
   cagekit::LineSampleDatabase& db = *s.lines.database;
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u01(0.0, 1.0);
@@ -306,7 +283,7 @@ TEST(CurvatureLineSampling, RejectsUnsupportedInputWithPreciseErrors) {
   fan.add_face({0, 1, 4});
   EXPECT_EQ(status_of([&] { cagekit::sample_curvature_lines(fan, none, lo); }), Status::invalid_mesh);
   // Options and a field of another mesh.
-  PolygonMesh cyl = cylinder(1.0, 2.0, 24, 8);
+  PolygonMesh cyl = cagekit_test::triangle_cylinder(1.0, 2.0, 24, 8);
   const auto field = cagekit::estimate_curvature_field(cyl, CurvatureOptions{});
   LineSamplingOptions bad = lo;
   bad.tolerance = 0.0;
@@ -314,10 +291,10 @@ TEST(CurvatureLineSampling, RejectsUnsupportedInputWithPreciseErrors) {
   bad = lo;
   bad.collision_factor = 2.0;
   EXPECT_EQ(status_of([&] { cagekit::sample_curvature_lines(cyl, field, bad); }), Status::invalid_argument);
-  PolygonMesh other = cylinder(1.0, 2.0, 20, 8);
+  PolygonMesh other = cagekit_test::triangle_cylinder(1.0, 2.0, 20, 8);
   EXPECT_EQ(status_of([&] { cagekit::sample_curvature_lines(other, field, lo); }), Status::invalid_argument);
   // Degenerate (zero-area) triangles inside a valid mesh do not crash or hang.
-  PolygonMesh deg = cylinder(1.0, 2.0, 24, 8);
+  PolygonMesh deg = cagekit_test::triangle_cylinder(1.0, 2.0, 24, 8);
   deg.positions[30] = deg.positions[31];
   const auto dfield = cagekit::estimate_curvature_field(deg, CurvatureOptions{});
   EXPECT_EQ(status_of([&] { cagekit::sample_curvature_lines(deg, dfield, lo); }), Status::success);
@@ -328,7 +305,7 @@ TEST(CurvatureLineSampling, TrustedDirectionsBridgeAnUnreliableBand) {
   // directions in its middle (1.7 < z < 2.3) scrambled; axial lines must cross the band straight
   // (geodesics along t_tr) and continue as min lines on the other side.
   const double H = 4.0;
-  PolygonMesh mesh = cylinder(1.0, H, 96, 96);
+  PolygonMesh mesh = cagekit_test::triangle_cylinder(1.0, H, 96, 96);
   auto field = cagekit::estimate_curvature_field(mesh, CurvatureOptions{});
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> angle(0.0, 2 * kPi);

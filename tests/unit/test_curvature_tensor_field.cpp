@@ -42,21 +42,6 @@ void add_quad(PolygonMesh& m, uint32_t a, uint32_t b, uint32_t c, uint32_t d, bo
   }
 }
 
-// Open cylinder of radius R about the z axis, z in [0, H]; n_around x n_along quads split into
-// triangles (diagonals alternate), outward-oriented.
-PolygonMesh cylinder(double R, double H, int n_around, int n_along) {
-  PolygonMesh m;
-  for (int j = 0; j <= n_along; ++j)
-    for (int i = 0; i < n_around; ++i) {
-      const double a = 2 * kPi * i / n_around;
-      m.add_vertex({R * std::cos(a), R * std::sin(a), H * j / n_along});
-    }
-  auto id = [&](int i, int j) { return uint32_t(j * n_around + (i % n_around)); };
-  for (int j = 0; j < n_along; ++j)
-    for (int i = 0; i < n_around; ++i) add_quad(m, id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1), (i + j) % 2);
-  return m;
-}
-
 // Torus: ring radius R, tube radius r; u around the ring (n_u), v around the tube (n_v).
 PolygonMesh torus(double R, double r, int n_u, int n_v) {
   PolygonMesh m;
@@ -118,7 +103,7 @@ double mean(const std::vector<T>& v) {
 // the swapped pairing of (5.6)) along the axis; AC5-3: Λ ≥ cos(π/6) on ≥ 95% of the faces.
 TEST(CurvatureTensorField, CylinderPrincipalCurvaturesAndAxis) {
   const double R = 2.0, H = 6.0;
-  const PolygonMesh m = cylinder(R, H, 96, 46);
+  const PolygonMesh m = cagekit_test::triangle_cylinder(R, H, 96, 46);
   CurvatureOptions o;
   o.smoothing_iterations = 0;
   const CurvatureField f = cagekit::estimate_curvature_field(m, o);
@@ -271,7 +256,7 @@ TEST(CurvatureTensorField, BoxFeatureEdgesTrimTheDisks) {
 // axis), and leaves the directions of confident faces away from the patch unchanged.
 TEST(CurvatureTensorField, SmoothingPropagatesConfidentDirections) {
   const double R = 2.0, H = 6.0;
-  PolygonMesh m = cylinder(R, H, 96, 46);
+  PolygonMesh m = cagekit_test::triangle_cylinder(R, H, 96, 46);
   std::mt19937 rng(7);
   std::normal_distribution<double> noise(0.0, 0.02);  // ~15% of an edge length, radial
   std::vector<uint8_t> noisy(m.num_vertices(), 0);
@@ -330,7 +315,7 @@ TEST(CurvatureTensorField, SmoothingPropagatesConfidentDirections) {
 // Flattening (5.7) and interpolation (5.3) on the cylinder: the flattened t_min, mapped back
 // through the face's unfolding, is the axis; T̄ has eigenvalue k_max along t̄_min.
 TEST(CurvatureTensorField, FlatteningAndInterpolation) {
-  const PolygonMesh m = cylinder(2.0, 6.0, 96, 46);
+  const PolygonMesh m = cagekit_test::triangle_cylinder(2.0, 6.0, 96, 46);
   CurvatureOptions o;
   const CurvatureField f = cagekit::estimate_curvature_field(m, o);
   int checked = 0;
@@ -376,7 +361,7 @@ TEST(CurvatureTensorField, ThreadCountDoesNotChangeResults) {
 }
 
 TEST(CurvatureTensorField, BadInputIsAnErrorNotACrash) {
-  const PolygonMesh good = cylinder(1.0, 2.0, 16, 4);
+  const PolygonMesh good = cagekit_test::triangle_cylinder(1.0, 2.0, 16, 4);
   const CurvatureOptions o;
   auto run = [&](const PolygonMesh& m, const CurvatureOptions& opt, const std::vector<uint8_t>* host = nullptr) {
     return status_of([&] { cagekit::estimate_curvature_field(m, opt, host); });

@@ -123,4 +123,27 @@ cagekit::Status status_of(const std::function<void()>& f) {
   return cagekit::Status::success;
 }
 
+cagekit::PolygonMesh triangle_cylinder(double radius, double height, int n_around, int n_along) {
+  const double pi = 3.14159265358979323846;
+  cagekit::PolygonMesh m;
+  for (int j = 0; j <= n_along; ++j)
+    for (int i = 0; i < n_around; ++i) {
+      const double a = 2 * pi * i / n_around;
+      m.add_vertex({radius * std::cos(a), radius * std::sin(a), height * j / n_along});
+    }
+  auto id = [&](int i, int j) { return uint32_t(j * n_around + (i % n_around)); };
+  for (int j = 0; j < n_along; ++j)
+    for (int i = 0; i < n_around; ++i) {
+      const uint32_t a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
+      if ((i + j) % 2) {
+        m.add_face({a, b, d});
+        m.add_face({b, c, d});
+      } else {
+        m.add_face({a, b, c});
+        m.add_face({a, c, d});
+      }
+    }
+  return m;
+}
+
 }  // namespace cagekit_test

@@ -30,6 +30,10 @@ cagekit::PolygonMesh quad_grid(int nx, int ny, double (*height)(double x, double
 // vertices (non-manifold edges and vertices, inconsistent orientation: for crash tests).
 cagekit::PolygonMesh random_polygon_soup(std::mt19937& rng);
 
+// An open cylinder of radius r about the z axis, z in [0, height]: n_around x n_along quads, each
+// split into two triangles with diagonals alternating like a checkerboard, outward-oriented.
+cagekit::PolygonMesh triangle_cylinder(double radius, double height, int n_around, int n_along);
+
 // A UV-sphere-like closed mesh of triangles (an octahedron subdivided `levels` times, projected).
 cagekit::PolygonMesh triangle_sphere(int levels);
 
