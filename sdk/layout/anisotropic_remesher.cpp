@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <string>
-#include <unordered_map>
 #include <unordered_set>
 
 #include "core/edge_map.h"
@@ -15,6 +14,7 @@
 #include "layout/curvature_line_sampling.h"
 #include "layout/curvature_tensor_field.h"
 #include "layout/feature_edges.h"
+#include "layout/remesh_quality.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 
@@ -64,72 +64,59 @@ uint64_t confident_regions(const PolygonMesh& tri, const CurvatureField& field, 
   return regions;
 }
 
-double line_angle_deg(const Vec3& a, const Vec3& b) {
-  const double la = norm(a), lb = norm(b);
-  if (!(la > 0.0) || !(lb > 0.0)) return 0.0;
-  return std::acos(std::min(1.0, std::fabs(dot(a, b)) / (la * lb))) * 180.0 / kPi;
-}
-
-void measure(const PolygonMesh& tri, const CurvatureField& field, const LineMesh& lm, AnisotropicRemeshResult& r) {
+void measure(const CurvatureField& field, const LineMesh& lm, AnisotropicRemeshResult& r) {
   const PolygonMesh& m = lm.mesh;
-  const double lambda_min = std::cos(kPi / 6.0);
-  r.faces = m.num_faces();
-  r.vertices = m.num_vertices();
-  std::unordered_map<uint64_t, int> edge_use;
+  const PolygonMeshFigures figures = polygon_mesh_figures(m);
+  r.faces = figures.faces;
+  r.vertices = figures.vertices;
+  r.quads = figures.quads;
+  r.interior_vertices = figures.interior_vertices;
+  r.valence4_vertices = figures.valence4_vertices;
+  r.max_face_valence = figures.max_face_valence;
+  r.max_vertex_valence = figures.max_vertex_valence;
   r.min_scaled_jacobian = m.num_faces() ? 1.0 : 0.0;
   std::vector<uint32_t> loop;
   for (size_t f = 0; f < m.num_faces(); ++f) {
     const uint32_t n = m.face_size(f);
-    r.quads += n == 4;
-    r.max_face_valence = std::max(r.max_face_valence, n);
     loop.assign(m.face_begin(f), m.face_begin(f) + n);
     const Vec3 fn = loop_normal(m.positions, loop);
     for (uint32_t k = 0; k < n; ++k) {
-      ++edge_use[edge_key(loop[k], loop[(k + 1) % n])];
       // T-joint vertices (angles within 10° of π) are not corners of the element.
       const double angle = corner_angle(m.positions, lm.vertex_normals, loop, k, fn);
       if (std::fabs(angle - kPi) > kPi / 18.0) r.min_scaled_jacobian = std::min(r.min_scaled_jacobian, std::sin(angle));
     }
   }
-  std::vector<uint32_t> valence(m.num_vertices(), 0);
-  std::vector<uint8_t> boundary(m.num_vertices(), 0);
-  for (const auto& [key, uses] : edge_use) {
-    const uint32_t a = uint32_t(key >> 32), b = uint32_t(key & 0xffffffffu);
-    ++valence[a];
-    ++valence[b];
-    if (uses == 1) boundary[a] = boundary[b] = 1;
-  }
-  // Alignment of the edges along curvature lines whose two ends lie on confident faces, against
-  // the nearer principal direction of each end's face (feature lines and partition diagonals are
-  // not meant to follow the field).
-  double angle_sum = 0.0;
-  uint64_t angle_count = 0;
+  // Alignment of the edges along curvature lines (feature lines and partition diagonals are not
+  // meant to follow the field), scored against the faces their two ends lie on: the chord of a
+  // curved edge is parallel to the tangent at its middle, approximated by the sign-aligned mean
+  // of the nearer principal directions at the two ends.
+  std::unordered_set<uint64_t> face_edges;
+  for (const auto& [a, b] : figures.edges) face_edges.insert(edge_key(a, b));
+  std::vector<AlignmentSample> samples;
   for (const LineMesh::Edge& e : lm.edges) {
-    if (!is_curvature_line(e.type) || !edge_use.count(edge_key(e.a, e.b))) continue;
-    const uint32_t fa = lm.vertex_face[e.a], fb = lm.vertex_face[e.b];
-    if (field.face_confidence[fa] < lambda_min || field.face_confidence[fb] < lambda_min) continue;
-    // The chord of a curved edge is parallel to the tangent at its middle, approximated by the
-    // sign-aligned mean of the nearer principal directions at the two ends.
-    const Vec3 d = m.positions[e.b] - m.positions[e.a];
-    auto nearer = [&](uint32_t g) {
-      const Vec3 t1 = field.face_t_min[g], t2 = field.face_t_max[g];
-      return line_angle_deg(d, t1) <= line_angle_deg(d, t2) ? t1 : t2;
-    };
-    const Vec3 pa = nearer(fa), pb = nearer(fb);
-    angle_sum += line_angle_deg(d, pa + (dot(pa, pb) < 0.0 ? -1.0 : 1.0) * pb);
-    ++angle_count;
+    if (!is_curvature_line(e.type) || !face_edges.count(edge_key(e.a, e.b))) continue;
+    samples.push_back({m.positions[e.b] - m.positions[e.a], lm.vertex_face[e.a], lm.vertex_face[e.b]});
   }
-  r.mean_alignment_deg = angle_count ? angle_sum / double(angle_count) : 0.0;
-  for (size_t v = 0; v < m.num_vertices(); ++v) {
-    r.max_vertex_valence = std::max(r.max_vertex_valence, valence[v]);
-    if (boundary[v]) continue;
-    ++r.interior_vertices;
-    r.valence4_vertices += valence[v] == 4;
-  }
-  (void)tri;
+  r.mean_alignment_deg = measure_principal_alignment(field, samples).mean_deg;
 }
 
 }  // namespace
+
+CurvatureOptions anisotropic_curvature_options(const PolygonMesh& triangles, const AnisotropicRemeshOptions& o) {
+  CurvatureOptions co;
+  // The thesis's radius (a fraction of the diagonal), capped at 6 mean edge lengths [J]: on dense
+  // meshes 1% of the diagonal spans tens of edges and the disk traversal dominates the run time
+  // (1M-triangle torus: 32 s at 1% = 15 edges, 8.5 s at 3 edges).
+  co.disk_radius_bbox = 0.0;
+  if (o.disk_radius_bbox > 0.0) {
+    const double mean_edge = triangles.mean_edge_length();
+    const double diagonal = triangles.bounding_box().diagonal();
+    co.disk_radius_bbox = diagonal > 0.0 ? std::min(o.disk_radius_bbox, 6.0 * mean_edge / diagonal) : o.disk_radius_bbox;
+  }
+  co.threads = o.threads;
+  co.feature_angle_degrees = -1.0;  // the features are detected once and passed as host flags
+  return co;
+}
 
 AnisotropicRemeshResult remesh_anisotropic(const PolygonMesh& input, const AnisotropicRemeshOptions& o,
                                            const TaskMonitor& monitor) {
@@ -150,18 +137,7 @@ AnisotropicRemeshResult remesh_anisotropic(const PolygonMesh& input, const Aniso
   if (o.feature_angle_degrees >= 0.0) features = detect_feature_edges(tri, o.feature_angle_degrees);
 
   AnisotropicRemeshResult r;
-  CurvatureOptions co;
-  // The thesis's radius (a fraction of the diagonal), capped at 6 mean edge lengths [J]: on dense
-  // meshes 1% of the diagonal spans tens of edges and the disk traversal dominates the run time
-  // (1M-triangle torus: 32 s at 1% = 15 edges, 8.5 s at 3 edges).
-  co.disk_radius_bbox = 0.0;
-  if (o.disk_radius_bbox > 0.0) {
-    const double mean_edge = tri.mean_edge_length();
-    const double diagonal = tri.bounding_box().diagonal();
-    co.disk_radius_bbox = diagonal > 0.0 ? std::min(o.disk_radius_bbox, 6.0 * mean_edge / diagonal) : o.disk_radius_bbox;
-  }
-  co.threads = o.threads;
-  co.feature_angle_degrees = -1.0;
+  const CurvatureOptions co = anisotropic_curvature_options(tri, o);
   const CurvatureField field = estimate_curvature_field(tri, co, features.empty() ? nullptr : &features, monitor);
   r.field_seconds = seconds_since(start);
 
@@ -177,7 +153,7 @@ AnisotropicRemeshResult remesh_anisotropic(const PolygonMesh& input, const Aniso
   r.meshing_seconds = lm.seconds;
   r.holes = lm.unclosed_half_edges;
   r.regions = confident_regions(tri, field, *lines.adjacency);
-  measure(tri, field, lm, r);
+  measure(field, lm, r);
 
   r.cage.mesh = lm.mesh;
   std::unordered_set<uint64_t> face_edges;

@@ -9,6 +9,7 @@
 #include "core/cage.h"
 #include "core/polygon_mesh.h"
 #include "core/task_monitor.h"
+#include "layout/curvature_tensor_field.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 
@@ -42,5 +43,11 @@ struct AnisotropicRemeshResult {
 // cancelled (monitor). An input on which no two lines intersect gives an empty cage, not an error.
 AnisotropicRemeshResult remesh_anisotropic(const PolygonMesh& input, const AnisotropicRemeshOptions& options,
                                            const TaskMonitor& monitor = {});
+
+// The curvature-field options remesh_anisotropic uses on `triangles` (its fan-triangulated input)
+// with `options`: the radius of options.disk_radius_bbox capped at 6 mean edge lengths, the
+// threads, no detection of its own (the remesher passes its feature edges as host flags). For
+// measuring other outputs against the same field (tests/bench/bench_remesh).
+CurvatureOptions anisotropic_curvature_options(const PolygonMesh& triangles, const AnisotropicRemeshOptions& options);
 
 CAGEKIT_NAMESPACE_END

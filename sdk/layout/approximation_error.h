@@ -3,6 +3,9 @@
 // Distances between an input mesh and its approximation (a simplified level or a cage's
 // control mesh), relative to the input's bounding-box diagonal — the definitions used by
 // ../shared/spec/peer-measurements.md so CageKit's numbers compare with the peers'.
+#include <cstdint>
+#include <vector>
+
 #include "core/polygon_mesh.h"
 #include "core/task_monitor.h"
 
@@ -22,5 +25,9 @@ struct ApproximationError {
 // Both meshes need valid indices; faces with fewer than 3 vertices are ignored.
 ApproximationError measure_approximation_error(const PolygonMesh& input, const PolygonMesh& approximation,
                                                int samples_per_edge = 4, const TaskMonitor& monitor = {});
+
+// For each point, the face of `mesh` (polygons fan-split from their first corner) nearest to it,
+// or UINT32_MAX when the mesh has no non-degenerate triangle. One CGAL AABB tree over the mesh.
+std::vector<uint32_t> nearest_faces(const PolygonMesh& mesh, const std::vector<Vec3>& points);
 
 CAGEKIT_NAMESPACE_END

@@ -26,8 +26,9 @@ using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
 
 Point to_point(const Vec3& v) { return Point(v.x, v.y, v.z); }
 
-// Fan triangles of every face (from its first corner), skipping faces with bad indices.
-TriangleList fan_triangles(const PolygonMesh& mesh) {
+// Fan triangles of every face (from its first corner), skipping faces with bad indices;
+// face_of (optional): the face of each triangle.
+TriangleList fan_triangles(const PolygonMesh& mesh, std::vector<uint32_t>* face_of = nullptr) {
   TriangleList triangles;
   triangles.reserve(mesh.num_face_vertices());
   for (size_t f = 0; f < mesh.num_faces(); ++f) {
@@ -36,13 +37,28 @@ TriangleList fan_triangles(const PolygonMesh& mesh) {
     if (n < 3 || std::any_of(v, v + n, [&](uint32_t i) { return i >= mesh.num_vertices(); })) continue;
     for (uint32_t k = 1; k + 1 < n; ++k) {
       Triangle t(to_point(mesh.positions[v[0]]), to_point(mesh.positions[v[k]]), to_point(mesh.positions[v[k + 1]]));
-      if (!t.is_degenerate()) triangles.push_back(t);
+      if (t.is_degenerate()) continue;
+      triangles.push_back(t);
+      if (face_of) face_of->push_back(uint32_t(f));
     }
   }
   return triangles;
 }
 
 }  // namespace
+
+std::vector<uint32_t> nearest_faces(const PolygonMesh& mesh, const std::vector<Vec3>& points) {
+  check_memory_estimate(estimate_product(mesh.num_face_vertices(), 250), "finding nearest faces");
+  std::vector<uint32_t> face_of;
+  const TriangleList triangles = fan_triangles(mesh, &face_of);
+  std::vector<uint32_t> result(points.size(), UINT32_MAX);
+  if (triangles.empty()) return result;
+  Tree tree(triangles.begin(), triangles.end());
+  tree.accelerate_distance_queries();
+  for (size_t i = 0; i < points.size(); ++i)
+    result[i] = face_of[size_t(tree.closest_point_and_primitive(to_point(points[i])).second - triangles.begin())];
+  return result;
+}
 
 ApproximationError measure_approximation_error(const PolygonMesh& input, const PolygonMesh& approximation,
                                                int samples_per_edge, const TaskMonitor& monitor) {

@@ -54,11 +54,9 @@ using bench::status_kib;
 
 using Clock = std::chrono::steady_clock;
 
-struct OmTraits : OpenMesh::DefaultTraits {
-  typedef OpenMesh::Vec3d Point;
-  typedef OpenMesh::Vec3d Normal;
-};
-using OmMesh = OpenMesh::TriMesh_ArrayKernelT<OmTraits>;
+using bench::dense_bunny;
+using bench::OmMesh;
+using bench::to_openmesh;
 
 // --- measurement helpers (each benchmark is self-contained) ---
 
@@ -120,38 +118,6 @@ std::string shared_mesh(const char* name) {
 
 // --- conversions (outside the timed regions) ---
 
-OmMesh to_openmesh(const cagekit::PolygonMesh& mesh, size_t* rejected_faces = nullptr) {
-  OmMesh om;
-  std::vector<OmMesh::VertexHandle> vh;
-  vh.reserve(mesh.num_vertices());
-  for (const cagekit::Vec3& p : mesh.positions) vh.push_back(om.add_vertex(OmMesh::Point(p.x, p.y, p.z)));
-  size_t rejected = 0;
-  std::vector<OmMesh::VertexHandle> face;
-  for (size_t f = 0; f < mesh.num_faces(); ++f) {
-    face.clear();
-    for (uint32_t k = 0; k < mesh.face_size(f); ++k) face.push_back(vh[mesh.face_vertex(f, k)]);
-    if (!om.add_face(face).is_valid()) ++rejected;
-  }
-  if (rejected_faces) *rejected_faces = rejected;
-  return om;
-}
-
-cagekit::PolygonMesh from_openmesh(const OmMesh& om) {
-  cagekit::PolygonMesh mesh;
-  mesh.reserve(om.n_vertices(), om.n_faces(), 3 * om.n_faces());
-  for (const auto v : om.vertices()) {
-    const OmMesh::Point& p = om.point(v);
-    mesh.add_vertex({p[0], p[1], p[2]});
-  }
-  uint32_t tri[3];
-  for (const auto f : om.faces()) {
-    int k = 0;
-    for (const auto v : om.fv_range(f)) tri[k++] = static_cast<uint32_t>(v.idx());
-    mesh.add_face(tri, 3);
-  }
-  return mesh;
-}
-
 // Positions only (float32), identity point mapping, the same triangles in the same order.
 std::unique_ptr<draco::Mesh> to_draco(const cagekit::PolygonMesh& mesh) {
   auto d = std::make_unique<draco::Mesh>();
@@ -169,26 +135,6 @@ std::unique_ptr<draco::Mesh> to_draco(const cagekit::PolygonMesh& mesh) {
                 draco::PointIndex(mesh.face_vertex(f, 2))});
   }
   return d;
-}
-
-// The bunny Loop-subdivided twice (OpenMesh LoopT) + seeded Gaussian noise along the vertex
-// normals, sigma = 1e-4 of the bounding-box diagonal.
-cagekit::PolygonMesh dense_bunny(const cagekit::PolygonMesh& bunny) {
-  size_t rejected = 0;
-  OmMesh om = to_openmesh(bunny, &rejected);
-  if (rejected) std::printf("  (OpenMesh rejected %zu bunny faces while building the dense mesh)\n", rejected);
-  OpenMesh::Subdivider::Uniform::LoopT<OmMesh, double> loop;
-  loop.attach(om);
-  loop(2);
-  loop.detach();
-  om.request_face_normals();
-  om.request_vertex_normals();
-  om.update_normals();
-  const double sigma = 1e-4 * bunny.bounding_box().diagonal();
-  std::mt19937_64 rng(20261123);
-  std::normal_distribution<double> noise(0.0, sigma);
-  for (const auto v : om.vertices()) om.set_point(v, om.point(v) + om.normal(v) * noise(rng));
-  return from_openmesh(om);
 }
 
 // --- the benchmark ---

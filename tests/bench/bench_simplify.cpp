@@ -94,37 +94,16 @@ namespace SMS = CGAL::Surface_mesh_simplification;
 namespace VSA = CGAL::Surface_mesh_approximation;
 using Triangles = std::vector<std::array<size_t, 3>>;
 
-struct OmTraits : OpenMesh::DefaultTraits {
-  typedef OpenMesh::Vec3d Point;
-  typedef OpenMesh::Vec3d Normal;
-};
-using OmMesh = OpenMesh::TriMesh_ArrayKernelT<OmTraits>;
+using bench::dense_bunny;
+using bench::Meter;
+using bench::from_openmesh;
+using bench::OmMesh;
 
 // --- measurement helpers (each benchmark is self-contained) ---
 
 
 
 
-
-// Brackets the timed library call in a child: RSS before (after malloc_trim + VmHWM reset), wall
-// and CPU time, VmHWM right after.
-struct Meter {
-  long before_kib = 0, peak_kib = 0;
-  Clock::time_point start;
-  double cpu0 = 0, wall = 0, cpu = 0;
-  void begin() {
-    malloc_trim(0);
-    std::ofstream("/proc/self/clear_refs") << "5";
-    before_kib = status_kib("VmRSS");
-    cpu0 = cpu_seconds();
-    start = Clock::now();
-  }
-  void end() {
-    wall = seconds_since(start);
-    cpu = cpu_seconds() - cpu0;
-    peak_kib = status_kib("VmHWM");
-  }
-};
 
 // Everything a child reports about one output (trivially copyable: it goes through a pipe).
 struct Result {
@@ -145,54 +124,8 @@ struct Result {
   char error[96] = {0};
 };
 
-// Runs `f` in a forked child; the child fills `n` Results that come back through a pipe.
 std::vector<Result> in_child(size_t n, const std::function<void(std::vector<Result>&)>& f) {
-  std::vector<Result> results(n);
-  int fd[2];
-  if (pipe(fd) != 0) std::abort();
-  std::fflush(stdout);
-  std::fflush(stderr);
-  const pid_t pid = fork();
-  if (pid == 0) {
-    close(fd[0]);
-    alarm(600);  // a hung tool ends as 'child died', not as a hung benchmark
-    try {
-      f(results);
-    } catch (const std::exception& e) {
-      for (Result& r : results) {
-        r.ok = false;
-        std::snprintf(r.error, sizeof r.error, "%s", e.what());
-      }
-    }
-    const char* p = reinterpret_cast<const char*>(results.data());
-    size_t left = n * sizeof(Result);
-    while (left > 0) {
-      const ssize_t w = write(fd[1], p, left);
-      if (w <= 0) break;
-      p += w;
-      left -= size_t(w);
-    }
-    close(fd[1]);
-    std::fflush(stdout);
-    _exit(0);
-  }
-  close(fd[1]);
-  char* p = reinterpret_cast<char*>(results.data());
-  size_t got = 0;
-  while (got < n * sizeof(Result)) {
-    const ssize_t r = read(fd[0], p + got, n * sizeof(Result) - got);
-    if (r <= 0) break;
-    got += size_t(r);
-  }
-  close(fd[0]);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  if (got != n * sizeof(Result)) {
-    results.assign(n, Result{});
-    for (Result& r : results)
-      std::snprintf(r.error, sizeof r.error, "child died (status %d)", status);
-  }
-  return results;
+  return bench::in_child<Result>(n, f);
 }
 
 // `runs` children; per output: the median wall / CPU time, everything else from the first child.
@@ -236,32 +169,12 @@ SurfaceMesh to_surface_mesh(const cagekit::PolygonMesh& mesh) {
   return sm;
 }
 
+// Every face or an exception (the decimater must see the same triangles as the others).
 OmMesh to_openmesh(const cagekit::PolygonMesh& mesh) {
-  OmMesh om;
-  std::vector<OmMesh::VertexHandle> vh;
-  for (const cagekit::Vec3& p : mesh.positions) vh.push_back(om.add_vertex(OmMesh::Point(p.x, p.y, p.z)));
-  std::vector<OmMesh::VertexHandle> face;
-  for (size_t f = 0; f < mesh.num_faces(); ++f) {
-    face.clear();
-    for (uint32_t k = 0; k < mesh.face_size(f); ++k) face.push_back(vh[mesh.face_vertex(f, k)]);
-    if (!om.add_face(face).is_valid()) throw std::runtime_error("OpenMesh rejected a face");
-  }
+  size_t rejected = 0;
+  OmMesh om = bench::to_openmesh(mesh, &rejected);
+  if (rejected) throw std::runtime_error("OpenMesh rejected a face");
   return om;
-}
-
-cagekit::PolygonMesh from_openmesh(const OmMesh& om) {
-  cagekit::PolygonMesh mesh;
-  for (const auto v : om.vertices()) {
-    const OmMesh::Point& p = om.point(v);
-    mesh.add_vertex({p[0], p[1], p[2]});
-  }
-  for (const auto f : om.faces()) {
-    uint32_t tri[3];
-    int k = 0;
-    for (const auto v : om.fv_range(f)) tri[k++] = static_cast<uint32_t>(v.idx());
-    mesh.add_face(tri, 3);
-  }
-  return mesh;
 }
 
 cagekit::PolygonMesh from_soup(const std::vector<Point3>& points, const Triangles& tris) {
@@ -276,24 +189,6 @@ void to_soup(const cagekit::PolygonMesh& mesh, std::vector<Point3>& points, Tria
   for (size_t f = 0; f < mesh.num_faces(); ++f)
     for (uint32_t k = 1; k + 1 < mesh.face_size(f); ++k)
       tris.push_back({mesh.face_vertex(f, 0), mesh.face_vertex(f, k), mesh.face_vertex(f, k + 1)});
-}
-
-// The bunny Loop-subdivided twice (OpenMesh LoopT) + seeded Gaussian noise along the vertex
-// normals, sigma = 1e-4 of the bounding-box diagonal (as bench_io).
-cagekit::PolygonMesh dense_bunny(const cagekit::PolygonMesh& bunny) {
-  OmMesh om = to_openmesh(bunny);
-  OpenMesh::Subdivider::Uniform::LoopT<OmMesh, double> loop;
-  loop.attach(om);
-  loop(2);
-  loop.detach();
-  om.request_face_normals();
-  om.request_vertex_normals();
-  om.update_normals();
-  const double sigma = 1e-4 * bunny.bounding_box().diagonal();
-  std::mt19937_64 rng(20261123);
-  std::normal_distribution<double> noise(0.0, sigma);
-  for (const auto v : om.vertices()) om.set_point(v, om.point(v) + om.normal(v) * noise(rng));
-  return from_openmesh(om);
 }
 
 // --- output quality (after the timed call and after the peak RSS was read) ---

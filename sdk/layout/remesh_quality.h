@@ -1,0 +1,70 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// Quality figures of a remeshed output against its input, shared by the remeshers' reports and
+// tests/bench/bench_remesh (one definition for CageKit's and a peer's output):
+// - polygon_mesh_figures: faces, quads, vertex valences (valence = number of distinct edges at a
+//   vertex; interior = not on an edge used by one face only);
+// - measure_principal_alignment: mean angle between output edge chords and the nearer principal
+//   direction of the input's curvature field (thesis ch. 5, confident faces only);
+// - measure_feature_alignment: the share of the input's sharp edges that an output edge follows.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/polygon_mesh.h"
+#include "layout/curvature_tensor_field.h"
+
+CAGEKIT_NAMESPACE_BEGIN
+
+struct PolygonMeshFigures {
+  uint64_t faces = 0, vertices = 0, quads = 0;
+  uint64_t interior_vertices = 0, valence4_vertices = 0;  // interior: not on a boundary edge
+  uint32_t max_face_valence = 0, max_vertex_valence = 0;
+  // The mesh's distinct undirected edges (a < b) and how many face sides use each.
+  std::vector<std::array<uint32_t, 2>> edges;
+  std::vector<uint32_t> edge_uses;
+  double quads_pct() const { return faces ? 100.0 * double(quads) / double(faces) : 0.0; }
+  double valence4_pct() const {
+    return interior_vertices ? 100.0 * double(valence4_vertices) / double(interior_vertices) : 0.0;
+  }
+};
+
+// Faces need valid indices (< num_vertices). Vertices on no face count neither as interior nor
+// as boundary vertices.
+PolygonMeshFigures polygon_mesh_figures(const PolygonMesh& mesh);
+
+// One output edge to score: its chord and the input faces whose principal directions it is
+// compared with (the remesher: the faces its two ends lie on; a peer's output: the face its
+// midpoint projects to, twice).
+struct AlignmentSample {
+  Vec3 chord;
+  uint32_t face_a = 0, face_b = 0;
+};
+
+struct PrincipalAlignment {
+  double mean_deg = 0.0;   // mean over the measured samples; 0 when none
+  uint64_t measured = 0;   // samples whose two faces are confident (Λ(f) >= cos π/6)
+  uint64_t samples = 0;    // all samples given
+};
+
+// For each sample whose two faces are confident: the angle (0..90°) between the chord and the
+// sign-aligned mean of the nearer principal direction (t_min or t_max, whichever makes the
+// smaller angle with the chord) of each face — the tangent at the middle of a curved edge when the
+// faces are its ends', the direction at the midpoint when both are the midpoint's face. Faces out
+// of range are skipped (not measured).
+PrincipalAlignment measure_principal_alignment(const CurvatureField& field, const std::vector<AlignmentSample>& samples);
+
+struct FeatureAlignment {
+  uint64_t sharp_edges = 0;  // distinct input edges flagged sharp
+  uint64_t followed = 0;     // ... whose midpoint lies within delta / 4 of an output edge
+  double delta = 0.0;        // mean output edge length (model units)
+  double share() const { return sharp_edges ? double(followed) / double(sharp_edges) : 1.0; }
+};
+
+// input: a mesh whose faces have valid indices; sharp_corners: per-corner flags as
+// detect_feature_edges returns them (size input.num_face_vertices()); output: a polygon mesh in
+// the same units. An edge counts once however many of its corners are flagged.
+FeatureAlignment measure_feature_alignment(const PolygonMesh& input, const std::vector<uint8_t>& sharp_corners,
+                                           const PolygonMesh& output);
+
+CAGEKIT_NAMESPACE_END

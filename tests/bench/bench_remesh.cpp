@@ -1,0 +1,497 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// bench_remesh: CageKit's remeshing (cagekit_mesh_remesh; today the anisotropic curvature-line
+// method of thesis ch. 5, issue #8) against QuadriFlow as Blender 3.4 runs it
+// (bpy.ops.object.quadriflow_remesh, ../shared/spec/peer-measurements.md §3), at CageKit's output
+// face count, on the same input.
+//
+// Meshes: rocker-arm, the Stanford bunny (unreferenced vertices dropped) and bunny-1.1M (the bunny
+// Loop-subdivided twice with seeded normal noise, bench_support.h). QuadriFlow refuses edges
+// shorter than 1e-4 in absolute units; bunny-1.1M's are, so Blender gets that input scaled x100
+// (tests/bench/quadriflow_blender.py scales inside Blender and writes the output scaled back).
+//
+// Method: CageKit runs in-process through the C API in a fork()ed child (the input already a
+// cagekit_mesh; malloc_trim(0), VmHWM reset through /proc/self/clear_refs, VmRSS read, then only
+// cagekit_mesh_remesh is timed, wall and process CPU; VmHWM right after); median of 3 children (1
+// for bunny-1.1M), peak memory from the first. The child writes the cage with
+// cagekit_cage_write_file. QuadriFlow: `blender -b --factory-startup --python
+// quadriflow_blender.py -- IN OUT TARGET SCALE RUNS` (std::system), timing the operator only with
+// time.perf_counter (median of 3 calls on fresh copies, 1 for bunny-1.1M), Blender's VmHWM
+// (Blender itself included). Skipped with a message when `blender` is not on PATH.
+//
+// Both outputs are read back from their OBJ files and scored by the same code
+// (sdk/layout/remesh_quality.h, approximation_error.h): faces, quads, valence-4 share of the
+// interior vertices, Hausdorff input -> output and symmetric (/ input bbox diagonal), mean angle
+// between every output edge and the nearer principal direction of the input's curvature field
+// (computed once per input exactly as the anisotropic remesher computes it) at the input face
+// nearest to the edge's midpoint, over edges whose face is confident (Λ >= cos π/6), and the
+// share of the input's sharp edges (dihedral > 40°) whose midpoint lies within δ/4 of an output
+// edge (δ = mean output edge length). Timing is never a failure; a remesh error or a crashed
+// child is reported in the table and makes the exit code 1.
+//
+// Usage: bench_remesh [--quick] [--tolerance REL]...   (--quick: 1 run per tool, no bunny-1.1M;
+// --tolerance: the anisotropic tolerances to run, default 0.002)
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <cagekit/cagekit.h>
+
+#include "core/cage.h"
+#include "core/io/mesh_io.h"
+#include "core/mesh_repair.h"
+#include "layout/anisotropic_remesher.h"
+#include "layout/approximation_error.h"
+#include "layout/curvature_tensor_field.h"
+#include "layout/feature_edges.h"
+#include "layout/remesh_quality.h"
+
+#include "bench_support.h"
+
+namespace {
+
+using bench::Clock;
+using bench::load_average;
+using bench::Meter;
+using bench::seconds_since;
+
+// The CageKit methods compared with QuadriFlow. A new method (e.g. the ch. 6 quad method) is one
+// more entry here; its rows, QuadriFlow runs at its face counts and ratios follow.
+struct Method {
+  const char* name;
+  cagekit_remesh_method method;
+};
+const Method kMethods[] = {
+    {"anisotropic", CAGEKIT_REMESH_ANISOTROPIC},
+};
+
+constexpr double kSharpAngle = 40.0;  // sharp input edges for the feature-alignment figure
+
+struct Input {
+  std::string name;
+  cagekit::PolygonMesh mesh;
+  int runs = 3;          // CageKit children and QuadriFlow calls
+  double qf_scale = 1;   // QuadriFlow input scale
+  std::string obj_path;  // the input as Blender reads it
+};
+
+// What a CageKit child reports (through a pipe).
+struct RunResult {
+  bool ok = false;
+  double wall = 0, cpu = 0, peak_mib = 0, before_mib = 0;
+  uint64_t faces = 0, holes = 0;
+  double report_alignment = 0;  // the remesher's own figure (curvature-line edges, end faces)
+  char error[200] = {0};
+};
+
+// The same figures for every output.
+struct Quality {
+  uint64_t faces = 0;
+  double quads_pct = 0, valence4_pct = 0;
+  uint32_t max_face_valence = 0;
+  double hausdorff = 0, hausdorff_sym = 0;
+  double alignment_deg = 0;
+  uint64_t aligned_edges = 0, edges = 0;
+  uint64_t sharp = 0, sharp_followed = 0;
+};
+
+// Per input: the field and sharp edges every output is scored against.
+struct Reference {
+  const cagekit::PolygonMesh* input = nullptr;
+  cagekit::CurvatureField field;
+  std::vector<uint8_t> sharp;
+};
+
+Quality score(const Reference& ref, const cagekit::PolygonMesh& out) {
+  Quality q;
+  const cagekit::PolygonMeshFigures fig = cagekit::polygon_mesh_figures(out);
+  q.faces = fig.faces;
+  q.quads_pct = fig.quads_pct();
+  q.valence4_pct = fig.valence4_pct();
+  q.max_face_valence = fig.max_face_valence;
+  const cagekit::ApproximationError e = cagekit::measure_approximation_error(*ref.input, out);
+  q.hausdorff = e.hausdorff_rel;
+  q.hausdorff_sym = e.hausdorff_sym_rel;
+  std::vector<cagekit::Vec3> midpoints;
+  midpoints.reserve(fig.edges.size());
+  for (const auto& [a, b] : fig.edges) midpoints.push_back(0.5 * (out.positions[a] + out.positions[b]));
+  const std::vector<uint32_t> faces = cagekit::nearest_faces(*ref.input, midpoints);
+  std::vector<cagekit::AlignmentSample> samples;
+  samples.reserve(fig.edges.size());
+  for (size_t i = 0; i < fig.edges.size(); ++i)
+    samples.push_back({out.positions[fig.edges[i][1]] - out.positions[fig.edges[i][0]], faces[i], faces[i]});
+  const cagekit::PrincipalAlignment al = cagekit::measure_principal_alignment(ref.field, samples);
+  q.alignment_deg = al.mean_deg;
+  q.aligned_edges = al.measured;
+  q.edges = al.samples;
+  const cagekit::FeatureAlignment fa = cagekit::measure_feature_alignment(*ref.input, ref.sharp, out);
+  q.sharp = fa.sharp_edges;
+  q.sharp_followed = fa.followed;
+  return q;
+}
+
+// One CageKit remesh in a child: the C API call timed, the cage written to out_path.
+RunResult remesh_child(const cagekit::PolygonMesh& mesh, const Method& method, double tolerance,
+                       const std::string& out_path) {
+  return bench::in_child<RunResult>(1, [&](std::vector<RunResult>& results) {
+    RunResult& r = results[0];
+    cagekit_context ctx = nullptr;
+    if (cagekit_context_create(nullptr, &ctx) != CAGEKIT_SUCCESS) throw std::runtime_error("context");
+    cagekit_mesh_desc desc = CAGEKIT_MESH_DESC_INIT;
+    desc.vertex_count = uint32_t(mesh.num_vertices());
+    desc.positions = mesh.positions.data();
+    desc.position_type = CAGEKIT_SCALAR_FLOAT64;
+    desc.position_stride = sizeof(cagekit::Vec3);
+    desc.face_count = uint32_t(mesh.num_faces());
+    desc.face_sizes = nullptr;
+    desc.uniform_face_size = 3;
+    desc.face_indices = mesh.face_vertices.data();
+    cagekit_mesh handle = nullptr;
+    if (cagekit_mesh_create(ctx, &desc, &handle) != CAGEKIT_SUCCESS)
+      throw std::runtime_error(std::string("mesh_create: ") + cagekit_last_error_message(ctx));
+    cagekit_remesh_options options = CAGEKIT_REMESH_OPTIONS_INIT;
+    options.method = method.method;
+    options.tolerance = tolerance;
+    cagekit_remesh_report report;
+    std::memset(&report, 0, sizeof report);
+    report.struct_size = sizeof report;
+    cagekit_cage cage = nullptr;
+    Meter m;
+    m.begin();
+    const cagekit_status status = cagekit_mesh_remesh(handle, &options, &cage, &report);
+    m.end();
+    if (status != CAGEKIT_SUCCESS) {
+      std::snprintf(r.error, sizeof r.error, "%s", cagekit_last_error_message(ctx));
+    } else {
+      r.ok = true;
+      r.wall = m.wall;
+      r.cpu = m.cpu;
+      r.peak_mib = double(m.peak_kib) / 1024.0;
+      r.before_mib = double(m.before_kib) / 1024.0;
+      r.faces = report.faces;
+      r.holes = report.holes;
+      r.report_alignment = report.mean_alignment_deg;
+      if (cagekit_cage_write_file(cage, out_path.c_str(), nullptr, nullptr) != CAGEKIT_SUCCESS) {
+        r.ok = false;
+        std::snprintf(r.error, sizeof r.error, "write: %s", cagekit_last_error_message(ctx));
+      }
+      cagekit_cage_release(cage);
+    }
+    cagekit_mesh_release(handle);
+    cagekit_context_release(ctx);
+  })[0];
+}
+
+// --- QuadriFlow through Blender ---
+
+struct PeerResult {
+  bool ran = false, ok = false;
+  double wall = 0, cpu = 0, peak_mib = 0, import_mib = 0;
+  std::string message;
+};
+
+// "key": number in the flat JSON the Blender script writes; NaN when absent.
+double json_number(const std::string& text, const std::string& key) {
+  const size_t at = text.find("\"" + key + "\":");
+  if (at == std::string::npos) return std::nan("");
+  return std::strtod(text.c_str() + at + key.size() + 3, nullptr);
+}
+
+std::string json_string(const std::string& text, const std::string& key) {
+  size_t at = text.find("\"" + key + "\": \"");
+  if (at == std::string::npos) return {};
+  at += key.size() + 5;
+  std::string value;
+  for (size_t i = at; i < text.size() && text[i] != '"'; ++i) {
+    if (text[i] == '\\' && i + 1 < text.size()) ++i;
+    value += text[i];
+  }
+  return value;
+}
+
+bool have_blender() { return std::system("command -v blender > /dev/null 2>&1") == 0; }
+
+PeerResult run_quadriflow(const Input& in, uint64_t target, const std::string& out_path, int runs) {
+  PeerResult p;
+  std::filesystem::remove(out_path);
+  std::filesystem::remove(out_path + ".json");
+  std::ostringstream cmd;
+  cmd << "blender -b --factory-startup --python '" << CAGEKIT_BENCH_DIR << "/quadriflow_blender.py' -- '"
+      << in.obj_path << "' '" << out_path << "' " << target << " " << in.qf_scale << " " << runs << " > '"
+      << out_path << ".log' 2>&1";
+  std::fflush(stdout);
+  const int rc = std::system(cmd.str().c_str());
+  std::ifstream json(out_path + ".json");
+  if (!json) {
+    p.message = "blender exited with " + std::to_string(rc) + ", no report (see " + out_path + ".log)";
+    return p;
+  }
+  std::stringstream text;
+  text << json.rdbuf();
+  const std::string t = text.str();
+  p.ran = true;
+  p.ok = json_string(t, "status") == "ok";
+  p.message = json_string(t, "message");
+  p.wall = json_number(t, "median_seconds");
+  p.cpu = json_number(t, "median_cpu_seconds");
+  p.peak_mib = json_number(t, "peak_mib");
+  p.import_mib = json_number(t, "import_mib");
+  return p;
+}
+
+// --- the benchmark ---
+
+struct Row {
+  std::string mesh, method;
+  size_t triangles = 0;
+  double tolerance = 0;
+  RunResult ck;
+  Quality ck_q;
+  bool ck_scored = false;
+  PeerResult qf;
+  uint64_t qf_target = 0;
+  Quality qf_q;
+  bool qf_scored = false;
+};
+
+std::string shared_mesh(const std::string& name) {
+  const std::string path = std::string(CAGEKIT_SHARED_MESHES) + "/" + name;
+  return std::ifstream(path).good() ? path : std::string();
+}
+
+std::string time_cell(double wall, double cpu) {
+  char b[64];
+  if (std::isnan(cpu)) std::snprintf(b, sizeof b, "%.2f s", wall);
+  else std::snprintf(b, sizeof b, "%.2f s (%.2f)", wall, cpu);
+  return b;
+}
+
+std::string ratio_cell(double a, double b) {
+  char s[32];
+  if (!(b > 0) || std::isnan(a)) return "–";
+  std::snprintf(s, sizeof s, "%.2f", a / b);
+  return s;
+}
+
+void print_quality(const char* tool, const Row& r, const Quality& q, uint64_t holes, bool has_holes) {
+  std::printf("| %s | %g | %s | %llu | %.1f%% | %.1f%% | %u | %.3f%% | %.3f%% | %.2f° (%llu/%llu) | %.1f%% (%llu/%llu) | %s |\n",
+              r.mesh.c_str(), r.tolerance, tool, (unsigned long long)q.faces, q.quads_pct, q.valence4_pct,
+              q.max_face_valence, 100.0 * q.hausdorff, 100.0 * q.hausdorff_sym, q.alignment_deg,
+              (unsigned long long)q.aligned_edges, (unsigned long long)q.edges,
+              q.sharp ? 100.0 * double(q.sharp_followed) / double(q.sharp) : 100.0,
+              (unsigned long long)q.sharp_followed, (unsigned long long)q.sharp,
+              has_holes ? std::to_string(holes).c_str() : "–");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool quick = false;
+  std::vector<double> tolerances;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--quick")) {
+      quick = true;
+    } else if (!std::strcmp(argv[i], "--tolerance") && i + 1 < argc) {
+      tolerances.push_back(std::atof(argv[++i]));
+    } else {
+      std::fprintf(stderr, "usage: bench_remesh [--quick] [--tolerance REL]...\n");
+      return 64;
+    }
+  }
+  if (tolerances.empty()) tolerances = {0.002};
+  const bool blender = have_blender();
+  std::printf("# bench_remesh: CageKit remeshing vs QuadriFlow (Blender)\n\nload average at start: %s\n",
+              load_average().c_str());
+  if (!blender) std::printf("blender not found on PATH: the QuadriFlow rows are skipped\n");
+
+  const std::filesystem::path tmp = std::filesystem::temp_directory_path() /
+                                    ("cagekit_bench_remesh_" + std::to_string(getpid()));
+  std::filesystem::create_directories(tmp);
+
+  cagekit::RepairOptions drop_unused;
+  drop_unused.weld_tolerance = -1;
+  drop_unused.drop_invalid_faces = drop_unused.drop_degenerate_faces = drop_unused.drop_duplicate_faces = false;
+  drop_unused.split_non_manifold = drop_unused.orient_consistently = false;
+  drop_unused.remove_unreferenced_vertices = true;
+
+  std::vector<Row> rows;
+  int exit_code = 0;
+  cagekit::PolygonMesh bunny;
+  for (const std::string name : {"rocker-arm", "bunny", "bunny-1.1M"}) {
+    Input in;
+    in.name = name;
+    in.runs = quick ? 1 : 3;
+    if (name == "bunny-1.1M") {
+      if (quick || bunny.num_faces() == 0) {
+        std::printf("skipped bunny-1.1M (%s)\n", quick ? "--quick" : "no bunny");
+        continue;
+      }
+      const auto start = Clock::now();
+      in.mesh = bench::dense_bunny(bunny);
+      in.runs = 1;
+      in.qf_scale = 100;
+      std::printf("generated bunny-1.1M (Loop x2 + noise): %zu vertices, %zu triangles in %.1f s\n",
+                  in.mesh.num_vertices(), in.mesh.num_faces(), seconds_since(start));
+    } else {
+      const std::string file = name == "bunny" ? "stanford-bunny.obj" : name + ".obj";
+      const std::string path = shared_mesh(file);
+      if (path.empty()) {
+        std::printf("skipped %s: %s/%s not found\n", name.c_str(), CAGEKIT_SHARED_MESHES, file.c_str());
+        continue;
+      }
+      in.mesh = cagekit::repair_mesh(cagekit::read_cage_from_file(path).mesh, drop_unused);
+      if (name == "bunny") bunny = in.mesh;
+    }
+    in.obj_path = (tmp / (name + ".obj")).string();
+    {
+      cagekit::Cage c;
+      c.mesh = in.mesh;
+      cagekit::WriteOptions w;
+      w.format = cagekit::FileFormat::obj;
+      w.obj_precision = 9;
+      cagekit::write_cage_to_file(in.obj_path, c, w);
+    }
+
+    // The reference field, as the anisotropic remesher computes it (default options).
+    const auto field_start = Clock::now();
+    Reference ref;
+    ref.input = &in.mesh;
+    ref.sharp = cagekit::detect_feature_edges(in.mesh, kSharpAngle);
+    {
+      const cagekit::AnisotropicRemeshOptions defaults;
+      const std::vector<uint8_t> barriers = cagekit::detect_feature_edges(in.mesh, defaults.feature_angle_degrees);
+      ref.field = cagekit::estimate_curvature_field(in.mesh, cagekit::anisotropic_curvature_options(in.mesh, defaults),
+                                                    &barriers);
+    }
+    std::printf("%s: %zu triangles; reference curvature field in %.1f s (not timed in any table)\n", name.c_str(),
+                in.mesh.num_faces(), seconds_since(field_start));
+
+    for (const Method& method : kMethods)
+      for (double tolerance : tolerances) {
+        Row row;
+        row.mesh = name;
+        row.method = method.name;
+        row.triangles = in.mesh.num_faces();
+        row.tolerance = tolerance;
+        const std::string ck_path = (tmp / (name + "-" + method.name + "-ck.obj")).string();
+        std::vector<RunResult> runs;
+        for (int i = 0; i < in.runs; ++i) runs.push_back(remesh_child(in.mesh, method, tolerance, ck_path));
+        row.ck = runs[0];
+        if (row.ck.ok) {
+          std::vector<double> walls, cpus;
+          for (const RunResult& r : runs) {
+            if (!r.ok) continue;
+            walls.push_back(r.wall);
+            cpus.push_back(r.cpu);
+          }
+          std::sort(walls.begin(), walls.end());
+          std::sort(cpus.begin(), cpus.end());
+          row.ck.wall = walls[walls.size() / 2];
+          row.ck.cpu = cpus[cpus.size() / 2];
+          row.ck_q = score(ref, cagekit::read_cage_from_file(ck_path).mesh);
+          row.ck_scored = true;
+        } else {
+          exit_code = 1;
+        }
+        std::printf("  CageKit %s tol %g: %s\n", method.name, tolerance,
+                    row.ck.ok ? (std::to_string(row.ck.faces) + " faces, " + time_cell(row.ck.wall, row.ck.cpu)).c_str()
+                              : row.ck.error);
+        if (blender && row.ck.ok && row.ck.faces > 0) {
+          row.qf_target = row.ck.faces;
+          const std::string qf_path = (tmp / (name + "-" + method.name + "-qf.obj")).string();
+          row.qf = run_quadriflow(in, row.qf_target, qf_path, in.runs);
+          if (row.qf.ok) {
+            row.qf_q = score(ref, cagekit::read_cage_from_file(qf_path).mesh);
+            row.qf_scored = true;
+          }
+          std::printf("  QuadriFlow target %llu: %s\n", (unsigned long long)row.qf_target,
+                      row.qf.ok ? (std::to_string(row.qf_q.faces) + " faces, " + time_cell(row.qf.wall, row.qf.cpu)).c_str()
+                                : ("failed: " + row.qf.message).c_str());
+        }
+        rows.push_back(row);
+      }
+  }
+  std::filesystem::remove_all(tmp);
+
+  std::printf("\n## Time and memory\n\n");
+  std::printf("| mesh | triangles | method | tolerance | CageKit faces | CageKit time (CPU) | CageKit peak (before) | "
+              "QuadriFlow target → faces | QuadriFlow time (CPU) | Blender peak (after import) | time ratio CageKit / QF (CPU) |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const Row& r : rows) {
+    std::string ck = r.ck.ok ? time_cell(r.ck.wall, r.ck.cpu) : std::string("**failed**: ") + r.ck.error;
+    char peak[64] = "–";
+    if (r.ck.ok) std::snprintf(peak, sizeof peak, "%.0f MiB (%.0f)", r.ck.peak_mib, r.ck.before_mib);
+    std::string qf = "–", qf_faces = "–", qf_peak = "–", ratio = "–";
+    if (!blender) {
+      qf = "skipped (no blender)";
+    } else if (r.qf.ok) {
+      qf = time_cell(r.qf.wall, r.qf.cpu);
+      qf_faces = std::to_string(r.qf_target) + " → " + std::to_string(r.qf_q.faces);
+      char b[64];
+      std::snprintf(b, sizeof b, "%.0f MiB (%.0f)", r.qf.peak_mib, r.qf.import_mib);
+      qf_peak = b;
+      ratio = ratio_cell(r.ck.wall, r.qf.wall) + " (" + ratio_cell(r.ck.cpu, r.qf.cpu) + ")";
+    } else if (r.qf_target) {
+      qf = "**failed**: " + r.qf.message;
+      qf_faces = std::to_string(r.qf_target) + " → –";
+    }
+    std::printf("| %s%s | %zu | %s | %g | %llu | %s | %s | %s | %s | %s | %s |\n", r.mesh.c_str(),
+                r.qf_target && r.mesh == "bunny-1.1M" ? " (QF input ×100)" : "", r.triangles, r.method.c_str(),
+                r.tolerance, (unsigned long long)r.ck.faces, ck.c_str(), peak, qf_faces.c_str(), qf.c_str(),
+                qf_peak.c_str(), ratio.c_str());
+  }
+
+  std::printf("\n## Output quality (the same code for both outputs)\n\n");
+  std::printf("| mesh | tolerance | tool | faces | quads | valence-4 (interior) | max face valence | Hausdorff in→out | "
+              "Hausdorff sym | alignment (scored/edges) | sharp edges followed | holes |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const Row& r : rows) {
+    const std::string ck_name = std::string("CageKit ") + r.method;
+    if (r.ck_scored) print_quality(ck_name.c_str(), r, r.ck_q, r.ck.holes, true);
+    if (r.qf_scored) print_quality("QuadriFlow", r, r.qf_q, 0, false);
+  }
+
+  std::printf("\n## Ratios CageKit / QuadriFlow (same mesh, QuadriFlow at CageKit's face count)\n\n");
+  std::printf("| mesh | method | tolerance | faces | time (CPU) | Hausdorff in→out | Hausdorff sym | alignment | "
+              "quads (points) | valence-4 (points) | sharp edges followed (points) |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const Row& r : rows) {
+    if (!r.ck_scored || !r.qf_scored) continue;
+    const Quality &a = r.ck_q, &b = r.qf_q;
+    const double fa = a.sharp ? 100.0 * double(a.sharp_followed) / double(a.sharp) : 100.0;
+    const double fb = b.sharp ? 100.0 * double(b.sharp_followed) / double(b.sharp) : 100.0;
+    std::printf("| %s | %s | %g | %s | %s (%s) | %s | %s | %s | %+.1f | %+.1f | %+.1f |\n", r.mesh.c_str(),
+                r.method.c_str(), r.tolerance, ratio_cell(double(a.faces), double(b.faces)).c_str(),
+                ratio_cell(r.ck.wall, r.qf.wall).c_str(), ratio_cell(r.ck.cpu, r.qf.cpu).c_str(),
+                ratio_cell(a.hausdorff, b.hausdorff).c_str(), ratio_cell(a.hausdorff_sym, b.hausdorff_sym).c_str(),
+                ratio_cell(a.alignment_deg, b.alignment_deg).c_str(), a.quads_pct - b.quads_pct,
+                a.valence4_pct - b.valence4_pct, fa - fb);
+  }
+
+  std::printf("\n## Targets (issue #8)\n\n");
+  for (const Row& r : rows) {
+    if (r.mesh == "bunny-1.1M" && r.ck.ok)
+      std::printf("- %s %s tol %g: %.1f s wall (< 30 s: %s), peak %.0f MiB (< 1 GB = 1000 MB = 954 MiB: %s)\n",
+                  r.mesh.c_str(), r.method.c_str(), r.tolerance, r.ck.wall, r.ck.wall < 30 ? "yes" : "**no**",
+                  r.ck.peak_mib, r.ck.peak_mib * 1048576.0 < 1e9 ? "yes" : "**no**");
+    if (r.ck_scored && r.qf_scored)
+      std::printf("- %s %s tol %g: mean alignment %.2f° vs QuadriFlow %.2f° (better: %s)\n", r.mesh.c_str(),
+                  r.method.c_str(), r.tolerance, r.ck_q.alignment_deg, r.qf_q.alignment_deg,
+                  r.ck_q.alignment_deg < r.qf_q.alignment_deg ? "yes" : "**no**");
+  }
+  std::printf("\nCageKit: median of %d children (1 for bunny-1.1M), cagekit_mesh_remesh only (threads: all cores for "
+              "the curvature field); peak = the first child's VmHWM after the call, 'before' = its VmRSS before. "
+              "QuadriFlow: Blender %s, operator only, median of %d calls (1 for bunny-1.1M); Blender's peak includes "
+              "Blender and the imported mesh. Alignment: every output edge, at the input face nearest its midpoint, "
+              "confident faces only; Hausdorff / bbox diagonal of the input.\n",
+              quick ? 1 : 3, blender ? "3.4 (bpy.ops.object.quadriflow_remesh)" : "(absent)", quick ? 1 : 3);
+  std::printf("load average at end: %s\n", load_average().c_str());
+  return exit_code;
+}
