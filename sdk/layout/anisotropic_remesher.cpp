@@ -15,6 +15,8 @@
 #include "layout/curvature_line_sampling.h"
 #include "layout/curvature_tensor_field.h"
 #include "layout/feature_edges.h"
+#include "layout/remesh_quality.h"
+#include "layout/triangle_mesh_input.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 
@@ -24,19 +26,6 @@ constexpr double kPi = 3.14159265358979323846;
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
-
-PolygonMesh fan_triangulated(const PolygonMesh& input) {
-  detail::check_mesh_arrays(input);
-  PolygonMesh tri;
-  tri.positions = input.positions;
-  for (size_t f = 0; f < input.num_faces(); ++f) {
-    const uint32_t n = input.face_size(f);
-    if (n < 3) fail(Status::invalid_mesh, "anisotropic remeshing: face " + std::to_string(f) + " has fewer than 3 vertices");
-    const uint32_t* v = input.face_begin(f);
-    for (uint32_t k = 1; k + 1 < n; ++k) tri.add_face({v[0], v[k], v[k + 1]});
-  }
-  return tri;
 }
 
 // Connected regions of confident faces (edge-adjacent).
@@ -70,42 +59,21 @@ double line_angle_deg(const Vec3& a, const Vec3& b) {
   return std::acos(std::min(1.0, std::fabs(dot(a, b)) / (la * lb))) * 180.0 / kPi;
 }
 
-void measure(const PolygonMesh& tri, const CurvatureField& field, const LineMesh& lm, AnisotropicRemeshResult& r) {
+void measure(const CurvatureField& field, const LineMesh& lm, AnisotropicRemeshResult& r) {
   const PolygonMesh& m = lm.mesh;
   const double lambda_min = std::cos(kPi / 6.0);
-  r.faces = m.num_faces();
-  r.vertices = m.num_vertices();
-  std::unordered_map<uint64_t, int> edge_use;
-  r.min_scaled_jacobian = m.num_faces() ? 1.0 : 0.0;
-  std::vector<uint32_t> loop;
-  for (size_t f = 0; f < m.num_faces(); ++f) {
-    const uint32_t n = m.face_size(f);
-    r.quads += n == 4;
-    r.max_face_valence = std::max(r.max_face_valence, n);
-    loop.assign(m.face_begin(f), m.face_begin(f) + n);
-    const Vec3 fn = loop_normal(m.positions, loop);
-    for (uint32_t k = 0; k < n; ++k) {
-      ++edge_use[edge_key(loop[k], loop[(k + 1) % n])];
-      // T-joint vertices (angles within 10° of π) are not corners of the element.
-      const double angle = corner_angle(m.positions, lm.vertex_normals, loop, k, fn);
-      if (std::fabs(angle - kPi) > kPi / 18.0) r.min_scaled_jacobian = std::min(r.min_scaled_jacobian, std::sin(angle));
-    }
-  }
-  std::vector<uint32_t> valence(m.num_vertices(), 0);
-  std::vector<uint8_t> boundary(m.num_vertices(), 0);
-  for (const auto& [key, uses] : edge_use) {
-    const uint32_t a = uint32_t(key >> 32), b = uint32_t(key & 0xffffffffu);
-    ++valence[a];
-    ++valence[b];
-    if (uses == 1) boundary[a] = boundary[b] = 1;
-  }
+  static_cast<RemeshQuality&>(r) = measure_remesh_quality(m, lm.vertex_normals);
+  std::unordered_set<uint64_t> face_edges;
+  for (size_t f = 0; f < m.num_faces(); ++f)
+    for (uint32_t k = 0, n = m.face_size(f); k < n; ++k)
+      face_edges.insert(edge_key(m.face_vertex(f, k), m.face_vertex(f, (k + 1) % n)));
   // Alignment of the edges along curvature lines whose two ends lie on confident faces, against
   // the nearer principal direction of each end's face (feature lines and partition diagonals are
   // not meant to follow the field).
   double angle_sum = 0.0;
   uint64_t angle_count = 0;
   for (const LineMesh::Edge& e : lm.edges) {
-    if (!is_curvature_line(e.type) || !edge_use.count(edge_key(e.a, e.b))) continue;
+    if (!is_curvature_line(e.type) || !face_edges.count(edge_key(e.a, e.b))) continue;
     const uint32_t fa = lm.vertex_face[e.a], fb = lm.vertex_face[e.b];
     if (field.face_confidence[fa] < lambda_min || field.face_confidence[fb] < lambda_min) continue;
     // The chord of a curved edge is parallel to the tangent at its middle, approximated by the
@@ -120,13 +88,6 @@ void measure(const PolygonMesh& tri, const CurvatureField& field, const LineMesh
     ++angle_count;
   }
   r.mean_alignment_deg = angle_count ? angle_sum / double(angle_count) : 0.0;
-  for (size_t v = 0; v < m.num_vertices(); ++v) {
-    r.max_vertex_valence = std::max(r.max_vertex_valence, valence[v]);
-    if (boundary[v]) continue;
-    ++r.interior_vertices;
-    r.valence4_vertices += valence[v] == 4;
-  }
-  (void)tri;
 }
 
 }  // namespace
@@ -141,7 +102,7 @@ AnisotropicRemeshResult remesh_anisotropic(const PolygonMesh& input, const Aniso
   if (o.max_face_valence < 3) fail(Status::invalid_argument, "anisotropic remeshing: max face valence must be >= 3");
   if (!std::isfinite(o.disk_radius_bbox) || o.disk_radius_bbox > 1.0 || o.threads < 0)
     fail(Status::invalid_argument, "anisotropic remeshing: disk radius must be <= 1 and threads >= 0");
-  const PolygonMesh tri = fan_triangulated(input);
+  const PolygonMesh tri = fan_triangulated(input, "anisotropic remeshing");
   // Dominant arrays: field (~300 B per triangle), adjacency and database (~150 B), meshing; the
   // 1M-triangle torus peaked at 532 MB of resident memory.
   check_memory_estimate(estimate_sum(estimate_product(tri.num_faces(), 560), estimate_product(tri.num_vertices(), 64)),
@@ -177,7 +138,7 @@ AnisotropicRemeshResult remesh_anisotropic(const PolygonMesh& input, const Aniso
   r.meshing_seconds = lm.seconds;
   r.holes = lm.unclosed_half_edges;
   r.regions = confident_regions(tri, field, *lines.adjacency);
-  measure(tri, field, lm, r);
+  measure(field, lm, r);
 
   r.cage.mesh = lm.mesh;
   std::unordered_set<uint64_t> face_edges;
