@@ -15,6 +15,7 @@
 #include "layout/curvature_tensor_field.h"
 #include "layout/feature_edges.h"
 #include "layout/remesh_quality.h"
+#include "layout/triangle_mesh_input.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 
@@ -24,19 +25,6 @@ constexpr double kPi = 3.14159265358979323846;
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
-
-PolygonMesh fan_triangulated(const PolygonMesh& input) {
-  detail::check_mesh_arrays(input);
-  PolygonMesh tri;
-  tri.positions = input.positions;
-  for (size_t f = 0; f < input.num_faces(); ++f) {
-    const uint32_t n = input.face_size(f);
-    if (n < 3) fail(Status::invalid_mesh, "anisotropic remeshing: face " + std::to_string(f) + " has fewer than 3 vertices");
-    const uint32_t* v = input.face_begin(f);
-    for (uint32_t k = 1; k + 1 < n; ++k) tri.add_face({v[0], v[k], v[k + 1]});
-  }
-  return tri;
 }
 
 // Connected regions of confident faces (edge-adjacent).
@@ -66,26 +54,8 @@ uint64_t confident_regions(const PolygonMesh& tri, const CurvatureField& field, 
 
 void measure(const CurvatureField& field, const LineMesh& lm, AnisotropicRemeshResult& r) {
   const PolygonMesh& m = lm.mesh;
+  static_cast<RemeshQuality&>(r) = measure_remesh_quality(m, lm.vertex_normals);
   const PolygonMeshFigures figures = polygon_mesh_figures(m);
-  r.faces = figures.faces;
-  r.vertices = figures.vertices;
-  r.quads = figures.quads;
-  r.interior_vertices = figures.interior_vertices;
-  r.valence4_vertices = figures.valence4_vertices;
-  r.max_face_valence = figures.max_face_valence;
-  r.max_vertex_valence = figures.max_vertex_valence;
-  r.min_scaled_jacobian = m.num_faces() ? 1.0 : 0.0;
-  std::vector<uint32_t> loop;
-  for (size_t f = 0; f < m.num_faces(); ++f) {
-    const uint32_t n = m.face_size(f);
-    loop.assign(m.face_begin(f), m.face_begin(f) + n);
-    const Vec3 fn = loop_normal(m.positions, loop);
-    for (uint32_t k = 0; k < n; ++k) {
-      // T-joint vertices (angles within 10° of π) are not corners of the element.
-      const double angle = corner_angle(m.positions, lm.vertex_normals, loop, k, fn);
-      if (std::fabs(angle - kPi) > kPi / 18.0) r.min_scaled_jacobian = std::min(r.min_scaled_jacobian, std::sin(angle));
-    }
-  }
   // Alignment of the edges along curvature lines (feature lines and partition diagonals are not
   // meant to follow the field), scored against the faces their two ends lie on: the chord of a
   // curved edge is parallel to the tangent at its middle, approximated by the sign-aligned mean
@@ -128,7 +98,7 @@ AnisotropicRemeshResult remesh_anisotropic(const PolygonMesh& input, const Aniso
   if (o.max_face_valence < 3) fail(Status::invalid_argument, "anisotropic remeshing: max face valence must be >= 3");
   if (!std::isfinite(o.disk_radius_bbox) || o.disk_radius_bbox > 1.0 || o.threads < 0)
     fail(Status::invalid_argument, "anisotropic remeshing: disk radius must be <= 1 and threads >= 0");
-  const PolygonMesh tri = fan_triangulated(input);
+  const PolygonMesh tri = fan_triangulated(input, "anisotropic remeshing");
   // Dominant arrays: field (~300 B per triangle), adjacency and database (~150 B), meshing; the
   // 1M-triangle torus peaked at 532 MB of resident memory.
   check_memory_estimate(estimate_sum(estimate_product(tri.num_faces(), 560), estimate_product(tri.num_vertices(), 64)),

@@ -10,6 +10,7 @@
 #include "core/polygon_mesh.h"
 #include "core/task_monitor.h"
 #include "layout/curvature_tensor_field.h"
+#include "layout/remesh_quality.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 
@@ -22,17 +23,14 @@ struct AnisotropicRemeshOptions {
   int threads = 0;                     // curvature field workers (0 = hardware concurrency)
 };
 
-struct AnisotropicRemeshResult {
+// The RemeshQuality part: faces, vertices, quads, valences, min scaled Jacobian of cage.mesh.
+struct AnisotropicRemeshResult : RemeshQuality {
   Cage cage;  // the output mesh; feature-line edges tagged infinitely sharp
-  uint64_t faces = 0, vertices = 0, quads = 0;
-  uint64_t interior_vertices = 0, valence4_vertices = 0;  // interior: not on a boundary edge
-  uint32_t max_face_valence = 0, max_vertex_valence = 0;
   uint64_t creases = 0;        // output edges on feature lines
   uint64_t regions = 0;        // connected regions of confident input faces (Λ >= cos π/6)
   uint64_t lines = 0;          // sampled lines of all types
   uint64_t holes = 0;          // half-edges left on rejected face cycles (0 expected)
   double mean_alignment_deg = 0.0;   // curvature-line edges vs the nearer principal direction (confident ends)
-  double min_scaled_jacobian = 0.0;  // min sin(corner angle) over corners (T-joints excluded), < 0: concave
   double field_seconds = 0.0, sampling_seconds = 0.0, meshing_seconds = 0.0, seconds = 0.0;
 };
 

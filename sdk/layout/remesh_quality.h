@@ -6,7 +6,9 @@
 //   vertex; interior = not on an edge used by one face only);
 // - measure_principal_alignment: mean angle between output edge chords and the nearer principal
 //   direction of the input's curvature field (thesis ch. 5, confident faces only);
-// - measure_feature_alignment: the share of the input's sharp edges that an output edge follows.
+// - measure_feature_alignment: the share of the input's sharp edges that an output edge follows;
+// - measure_remesh_quality: the figures the remeshers report (quad_remesher.h,
+//   anisotropic_remesher.h; the C API's cagekit_remesh_report), counts plus the scaled Jacobian.
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -32,6 +34,19 @@ struct PolygonMeshFigures {
 // Faces need valid indices (< num_vertices). Vertices on no face count neither as interior nor
 // as boundary vertices.
 PolygonMeshFigures polygon_mesh_figures(const PolygonMesh& mesh);
+
+struct RemeshQuality {
+  uint64_t faces = 0, vertices = 0, quads = 0;
+  uint64_t interior_vertices = 0, valence4_vertices = 0;  // interior: not on a boundary edge
+  uint32_t max_face_valence = 0, max_vertex_valence = 0;  // vertex valence: incident edges
+  // min sin(corner angle) over corners (T-joints, within 10° of π, excluded); < 0: a concave corner.
+  double min_scaled_jacobian = 0.0;
+};
+
+// The counts of polygon_mesh_figures plus the scaled Jacobian; `vertex_normals` (per vertex of
+// `mesh`) orient the corner angles (corner_angle in convex_face_partition.h). Indices must be in
+// range.
+RemeshQuality measure_remesh_quality(const PolygonMesh& mesh, const std::vector<Vec3>& vertex_normals);
 
 // One output edge to score: its chord and the input faces whose principal directions it is
 // compared with (the remesher: the faces its two ends lie on; a peer's output: the face its

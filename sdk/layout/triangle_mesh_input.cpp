@@ -7,6 +7,19 @@
 
 CAGEKIT_NAMESPACE_BEGIN
 
+PolygonMesh fan_triangulated(const PolygonMesh& input, const char* who) {
+  detail::check_mesh_arrays(input);
+  PolygonMesh tri;
+  tri.positions = input.positions;
+  for (size_t f = 0; f < input.num_faces(); ++f) {
+    const uint32_t n = input.face_size(f);
+    if (n < 3) fail(Status::invalid_mesh, std::string(who) + ": face " + std::to_string(f) + " has fewer than 3 vertices");
+    const uint32_t* v = input.face_begin(f);
+    for (uint32_t k = 1; k + 1 < n; ++k) tri.add_face({v[0], v[k], v[k + 1]});
+  }
+  return tri;
+}
+
 void require_triangle_mesh(const PolygonMesh& mesh, const char* who) {
   detail::check_mesh_arrays(mesh);
   if (mesh.num_faces() == 0) fail(Status::invalid_mesh, std::string(who) + ": the mesh has no faces");

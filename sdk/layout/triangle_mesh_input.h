@@ -15,6 +15,10 @@ CAGEKIT_NAMESPACE_BEGIN
 // position is finite. Zero-area triangles are allowed (callers give them zero weight).
 void require_triangle_mesh(const PolygonMesh& mesh, const char* who);
 
+// The faces of `input` fan-triangulated (v0, vk, vk+1), positions shared. Error(invalid_mesh),
+// naming `who`, for bad face arrays (check_mesh_arrays) or a face with fewer than 3 vertices.
+PolygonMesh fan_triangulated(const PolygonMesh& input, const char* who);
+
 // Edge map over all faces plus, per face, its edge-adjacent faces (faces sharing an edge of any
 // valence). Used for region flooding and connectivity.
 struct FaceAdjacency {

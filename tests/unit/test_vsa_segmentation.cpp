@@ -533,7 +533,7 @@ TEST(ArcFit, CircleArcIsFittedClosely) {
   const double rms = cagekit::arc_fit_rms(c, points, s);
   EXPECT_LT(rms, 2e-3);
   const cagekit::ArcSamples samples = cagekit::sample_arc_cubic(c, 0.1);
-  // len ≈ π/2 → r = round(15.7) − 1 = 15 interior samples.
+  // len ≈ π/2 → r = ⌈15.7⌉ − 1 = 15 interior samples.
   ASSERT_EQ(samples.position.size(), 17u);
   EXPECT_EQ(samples.position.front(), points.front());
   EXPECT_EQ(samples.position.back(), points.back());
@@ -562,7 +562,7 @@ TEST(ArcFit, ReproducesAStraightLineAndIsExactForLinearData) {
   const cagekit::ArcCubic c = cagekit::fit_arc_cubic(points, s);
   EXPECT_LT(cagekit::arc_fit_rms(c, points, s), 1e-12);
   EXPECT_NEAR(cagekit::arc_cubic_length(c), 9.0, 1e-10);
-  const cagekit::ArcSamples samples = cagekit::sample_arc_cubic(c, 1.8);  // r = round(9 / 1.8) - 1 = 4
+  const cagekit::ArcSamples samples = cagekit::sample_arc_cubic(c, 1.8);  // r = ⌈9 / 1.8⌉ - 1 = 4
   ASSERT_EQ(samples.position.size(), 6u);
   for (size_t k = 0; k < samples.position.size(); ++k)
     EXPECT_LT(cagekit::distance(samples.position[k], Vec3(3, 6, 6) * (double(k) / 5)), 1e-9);

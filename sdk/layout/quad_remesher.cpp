@@ -1,0 +1,406 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The two-step quad-dominant remesher end to end; see quad_remesher.h.
+#include "layout/quad_remesher.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "core/mesh_validation.h"
+#include "core/status.h"
+#include "layout/convex_face_partition.h"
+#include "layout/quad_region_selection.h"
+#include "layout/remesh_constraints.h"
+#include "layout/triangle_mesh_input.h"
+#include "layout/vsa_segmentation.h"
+
+CAGEKIT_NAMESPACE_BEGIN
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+void check_options(const QuadRemeshOptions& o) {
+  const char* who = "quad-dominant remeshing: ";
+  if (o.regions < 0) fail(Status::invalid_argument, std::string(who) + "regions must be >= 0 (0: by tolerance)");
+  if (o.regions == 0 && (!(o.region_tolerance >= 0.0) || !std::isfinite(o.region_tolerance) || o.max_regions < 1))
+    fail(Status::invalid_argument, std::string(who) + "region tolerance must be finite and >= 0, max regions >= 1");
+  if (!(o.edge_length > 0.0) || !(o.edge_length <= 1.0))
+    fail(Status::invalid_argument, std::string(who) + "edge length must be in (0, 1] (relative to the bbox diagonal)");
+  for (double w : {o.triangle_weight, o.pentagon_weight, o.t_joint_weight})
+    if (!(w > 0.0) || !std::isfinite(w))
+      fail(Status::invalid_argument, std::string(who) + "the triangle, pentagon and T-joint weights must be positive");
+  if (std::isnan(o.crease_angle_degrees) || o.crease_angle_degrees > 180.0)
+    fail(Status::invalid_argument, std::string(who) + "crease angle must be <= 180 degrees (< 0: no creases)");
+  if (o.relaxation_iterations < 0 || o.relaxation_iterations > 100000)
+    fail(Status::invalid_argument, std::string(who) + "relaxation iterations must be in [0, 100000]");
+  if (o.threads < 0 || o.threads > 1024) fail(Status::invalid_argument, std::string(who) + "threads must be in [0, 1024]");
+}
+
+// Constrained points of all arcs with global ids: the anchors first (in RegionBoundaries::anchors
+// order), then every arc's interior samples.
+struct GlobalSamples {
+  std::vector<Vec3> positions;
+  std::vector<uint32_t> arc_first;  // id of arc a's sample 1
+
+  uint32_t id(const RemeshConstraints& c, uint32_t arc, size_t k) const {
+    const std::vector<uint32_t>& v = c.boundaries.arcs[arc].vertices;
+    const size_t last = c.arcs[arc].samples.position.size() - 1;
+    if (k == 0 || k == last) {
+      const uint32_t vertex = k == 0 ? v.front() : v.back();
+      const auto it = std::lower_bound(c.boundaries.anchors.begin(), c.boundaries.anchors.end(), vertex);
+      return uint32_t(it - c.boundaries.anchors.begin());
+    }
+    return arc_first[arc] + uint32_t(k - 1);
+  }
+  // Sample ids of arc a from first to last.
+  std::vector<uint32_t> arc_ids(const RemeshConstraints& c, uint32_t arc) const {
+    std::vector<uint32_t> out;
+    for (size_t k = 0; k < c.arcs[arc].samples.position.size(); ++k) out.push_back(id(c, arc, k));
+    return out;
+  }
+};
+
+GlobalSamples global_samples(const PolygonMesh& tri, const RemeshConstraints& c) {
+  GlobalSamples g;
+  for (uint32_t v : c.boundaries.anchors) g.positions.push_back(tri.positions[v]);
+  for (uint32_t a = 0; a < c.arcs.size(); ++a) {
+    g.arc_first.push_back(uint32_t(g.positions.size()));
+    const std::vector<Vec3>& p = c.arcs[a].samples.position;
+    for (size_t k = 1; k + 1 < p.size(); ++k) g.positions.push_back(p[k]);
+  }
+  return g;
+}
+
+// Global sample ids of region r's network points (the loops' samples concatenated in the order of
+// RemeshConstraints::loop_samples_uv: each arc first to last or reversed, without its last point).
+std::vector<uint32_t> region_point_ids(const RemeshConstraints& c, const GlobalSamples& g, uint32_t r) {
+  std::vector<uint32_t> out;
+  for (const RegionLoop& loop : c.boundaries.region_loops[r])
+    for (size_t k = 0; k < loop.arcs.size(); ++k) {
+      std::vector<uint32_t> ids = g.arc_ids(c, loop.arcs[k]);
+      if (loop.reversed[k]) std::reverse(ids.begin(), ids.end());
+      out.insert(out.end(), ids.begin(), ids.end() - 1);
+    }
+  return out;
+}
+
+double cross2(const Point2& o, const Point2& a, const Point2& b) {
+  return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+}
+
+// Laplacian relaxation of the region mesh's inner vertices (vertex_point < 0) in Ω; see the header.
+void relax_region(const QuadSelection& s, int sweeps, std::vector<Point2>& uv) {
+  uv = s.vertices;
+  const size_t n = uv.size();
+  std::vector<std::vector<uint32_t>> neighbours(n), faces_of(n);
+  for (uint32_t f = 0; f < s.faces.size(); ++f) {
+    const std::vector<uint32_t>& face = s.faces[f];
+    for (size_t k = 0; k < face.size(); ++k) {
+      const uint32_t a = face[k], b = face[(k + 1) % face.size()];
+      neighbours[a].push_back(b);
+      neighbours[b].push_back(a);
+      faces_of[a].push_back(f);
+    }
+  }
+  for (auto& list : neighbours) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+  }
+  std::vector<Point2> polygon;
+  // Signed area > 0 and, at v and its two neighbours on the face, convex corners stay convex.
+  auto acceptable = [&](uint32_t v) {
+    for (uint32_t f : faces_of[v]) {
+      const std::vector<uint32_t>& face = s.faces[f];
+      const size_t m = face.size();
+      polygon.clear();
+      for (uint32_t w : face) polygon.push_back(uv[w]);
+      if (!(plane2::signed_area(polygon) > 0.0)) return false;
+      const size_t i = size_t(std::find(face.begin(), face.end(), v) - face.begin());
+      for (size_t d : {m - 1, size_t(0), size_t(1)}) {
+        const size_t k = (i + d) % m;
+        const uint32_t a = face[(k + m - 1) % m], b = face[k], c = face[(k + 1) % m];
+        const bool was_convex = cross2(s.vertices[a], s.vertices[b], s.vertices[c]) > 0.0;
+        if (was_convex && !(cross2(uv[a], uv[b], uv[c]) > 0.0)) return false;
+      }
+    }
+    return true;
+  };
+  for (int sweep = 0; sweep < sweeps; ++sweep) {
+    for (uint32_t v = 0; v < n; ++v) {
+      if (s.vertex_point[v] >= 0 || neighbours[v].empty()) continue;
+      Point2 target{0.0, 0.0};
+      for (uint32_t w : neighbours[v]) target = plane2::add(target, uv[w]);
+      target = plane2::scale(target, 1.0 / double(neighbours[v].size()));
+      const Point2 old = uv[v];
+      uv[v] = target;
+      if (acceptable(v)) continue;
+      uv[v] = plane2::scale(plane2::add(old, target), 0.5);
+      if (!acceptable(v)) uv[v] = old;
+    }
+  }
+}
+
+// A region's parameterised input triangles in Ω_i, for point location.
+struct RegionLocator {
+  const PolygonMesh* tri = nullptr;
+  const RegionParameterization* domain = nullptr;
+  std::vector<Vec3> face_normals;  // of the input mesh
+
+  struct Hit {
+    uint32_t face = 0;
+    std::array<double, 3> weights{};
+    bool inside = false;
+  };
+
+  // Closest point of triangle (a, b, c) to q, as barycentric weights, and its squared distance.
+  static double closest(const Point2& q, const Point2& a, const Point2& b, const Point2& c, std::array<double, 3>& w) {
+    const double area = cross2(a, b, c);
+    if (area != 0.0) {
+      const double wa = cross2(q, b, c) / area, wb = cross2(a, q, c) / area, wc = 1.0 - wa - wb;
+      if (wa >= 0.0 && wb >= 0.0 && wc >= 0.0) {
+        w = {wa, wb, wc};
+        return 0.0;
+      }
+    }
+    double best = HUGE_VAL;
+    const Point2* p[3] = {&a, &b, &c};
+    for (int e = 0; e < 3; ++e) {
+      const Point2& u = *p[e];
+      const Point2& v = *p[(e + 1) % 3];
+      const Point2 d = plane2::sub(v, u);
+      const double len2 = plane2::dot(d, d);
+      const double t = len2 > 0.0 ? std::clamp(plane2::dot(plane2::sub(q, u), d) / len2, 0.0, 1.0) : 0.0;
+      const Point2 x = plane2::add(u, plane2::scale(d, t));
+      const Point2 r = plane2::sub(q, x);
+      const double d2 = plane2::dot(r, r);
+      if (d2 < best) {
+        best = d2;
+        w = {0.0, 0.0, 0.0};
+        w[size_t(e)] = 1.0 - t;
+        w[size_t((e + 1) % 3)] = t;
+      }
+    }
+    return best;
+  }
+
+  Hit locate(const Point2& q) const {
+    Hit hit;
+    double best = HUGE_VAL;
+    for (uint32_t f : domain->faces) {
+      const uint32_t* v = tri->face_begin(f);
+      std::array<double, 3> w{};
+      const double d2 = closest(q, domain->uv_of(v[0]), domain->uv_of(v[1]), domain->uv_of(v[2]), w);
+      if (d2 < best) {
+        best = d2;
+        hit.face = f;
+        hit.weights = w;
+        if (d2 == 0.0) break;
+      }
+    }
+    hit.inside = best == 0.0;
+    return hit;
+  }
+
+  Vec3 position(const Hit& h) const {
+    const uint32_t* v = tri->face_begin(h.face);
+    return h.weights[0] * tri->positions[v[0]] + h.weights[1] * tri->positions[v[1]] + h.weights[2] * tri->positions[v[2]];
+  }
+};
+
+// Per piece [t_k, t_{k+1}] between consecutive samples of an arc: the length-weighted mean
+// dihedral angle (degrees) of the arc's input edges whose middle (in the arc-length parameter s
+// of the cubic) lies in it; a piece containing no edge middle takes the edge around its middle.
+std::vector<double> piece_dihedral_degrees(const std::vector<Vec3>& normals,
+                                           const std::unordered_map<uint64_t, uint32_t>& directed_face,
+                                           const RegionArc& arc, const ArcConstraint& constraint) {
+  const std::vector<double>& t = constraint.samples.t;
+  const size_t pieces = t.size() - 1;
+  std::vector<double> sum(pieces, 0.0), length(pieces, 0.0);
+  std::vector<double> edge_angle(arc.vertices.size() - 1, 0.0);
+  for (size_t k = 0; k + 1 < arc.vertices.size(); ++k) {
+    const uint32_t a = arc.vertices[k], b = arc.vertices[k + 1];
+    const auto left = directed_face.find((uint64_t(a) << 32) | b);
+    const auto right = directed_face.find((uint64_t(b) << 32) | a);
+    if (left == directed_face.end() || right == directed_face.end()) continue;
+    const double c = std::clamp(dot(normals[left->second], normals[right->second]), -1.0, 1.0);
+    edge_angle[k] = std::acos(c) * 180.0 / kPi;
+    const double middle = 0.5 * (constraint.s[k] + constraint.s[k + 1]);
+    const size_t piece = std::min<size_t>(
+        pieces - 1, size_t(std::max<long>(0, long(std::upper_bound(t.begin(), t.end(), middle) - t.begin()) - 1)));
+    const double l = constraint.s[k + 1] - constraint.s[k];
+    sum[piece] += l * edge_angle[k];
+    length[piece] += l;
+  }
+  std::vector<double> out(pieces, 0.0);
+  for (size_t p = 0; p < pieces; ++p) {
+    if (length[p] > 0.0) {
+      out[p] = sum[p] / length[p];
+      continue;
+    }
+    const double middle = 0.5 * (t[p] + t[p + 1]);
+    const size_t k = std::min<size_t>(
+        edge_angle.size() - 1,
+        size_t(std::max<long>(0, long(std::upper_bound(constraint.s.begin(), constraint.s.end(), middle) -
+                                       constraint.s.begin()) - 1)));
+    out[p] = edge_angle[k];
+  }
+  return out;
+}
+
+}  // namespace
+
+QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemeshOptions& o, const TaskMonitor& monitor) {
+  const auto start = std::chrono::steady_clock::now();
+  check_options(o);
+  const PolygonMesh tri = fan_triangulated(input, "quad-dominant remeshing");
+  require_triangle_mesh(tri, "quad-dominant remeshing");
+  QuadRemeshResult r;
+
+  VsaOptions vo;
+  if (o.regions > 0) {
+    vo.region_count = o.regions;
+  } else {
+    vo.region_count = o.max_regions;
+    vo.tolerance = o.region_tolerance;
+  }
+  if (size_t(vo.region_count) > tri.num_faces())
+    fail(Status::invalid_argument, "quad-dominant remeshing: " + std::to_string(vo.region_count) +
+                                       " regions requested but the mesh has " + std::to_string(tri.num_faces()) +
+                                       " triangles");
+  const VsaSegmentation segmentation = segment_vsa(tri, vo, monitor);
+  r.regions = segmentation.num_regions();
+  r.l21_error = segmentation.total_area > 0.0 ? segmentation.total_error / segmentation.total_area : 0.0;
+  r.segmentation_seconds = seconds_since(start);
+
+  auto t = std::chrono::steady_clock::now();
+  ConstraintOptions co;
+  co.spacing = spacing_from_bbox_fraction(tri, o.edge_length);
+  const RemeshConstraints constraints =
+      compute_remesh_constraints(tri, segmentation.face_region, segmentation.num_regions(), co, monitor);
+  r.constraint_seconds = seconds_since(t);
+
+  t = std::chrono::steady_clock::now();
+  SelectionOptions so;
+  so.weights.triangle = o.triangle_weight;
+  so.weights.pentagon = o.pentagon_weight;
+  so.weights.t_joint = o.t_joint_weight;
+  const RegionQuadMeshes meshes = select_region_quads(constraints, CurveNetworkOptions{}, so, o.threads, monitor);
+  r.selection_seconds = seconds_since(t);
+  r.energy = meshes.energy;
+  for (const QuadSelection& s : meshes.selections) r.phase1_energy += s.phase1_energy;
+
+  // Post-processing.
+  t = std::chrono::steady_clock::now();
+  const GlobalSamples samples = global_samples(tri, constraints);
+  r.arcs = constraints.arcs.size();
+  r.samples = samples.positions.size();
+  std::vector<Vec3> normals;
+  std::vector<double> areas;
+  triangle_normals_and_areas(tri, normals, areas);
+
+  PolygonMesh glued;
+  glued.positions = samples.positions;
+  std::vector<Vec3> reference_normal;  // per glued face: the input normal under its centroid
+  const size_t regions = constraints.domains.size();
+  for (uint32_t region = 0; region < regions; ++region) {
+    monitor.report("post-processing", 0.9 * double(region) / double(std::max<size_t>(1, regions)));
+    const QuadSelection& s = meshes.selections[region];
+    if (s.invalid_faces > 0)
+      fail(Status::internal_error, "quad-dominant remeshing: region " + std::to_string(region) + " has " +
+                                       std::to_string(s.invalid_faces) + " invalid (flipped or hole) faces");
+    const std::vector<uint32_t> point_ids = region_point_ids(constraints, samples, region);
+    if (point_ids.size() != meshes.networks[region].points.size())
+      fail(Status::internal_error, "quad-dominant remeshing: region " + std::to_string(region) +
+                                       ": network points do not match the constrained samples");
+    std::vector<Point2> uv;
+    relax_region(s, o.relaxation_iterations, uv);
+    RegionLocator locator{&tri, &constraints.domains[region], {}};
+    std::vector<uint32_t> global(uv.size());
+    for (size_t v = 0; v < uv.size(); ++v) {
+      if (s.vertex_point[v] >= 0) {
+        global[v] = point_ids[size_t(s.vertex_point[v])];
+        continue;
+      }
+      const RegionLocator::Hit hit = locator.locate(uv[v]);
+      r.outside_domain_vertices += !hit.inside;
+      global[v] = glued.add_vertex(locator.position(hit));
+    }
+    for (const std::vector<uint32_t>& face : s.faces) {
+      std::vector<uint32_t> ids;
+      Point2 centroid{0.0, 0.0};
+      for (uint32_t v : face) {
+        ids.push_back(global[v]);
+        centroid = plane2::add(centroid, uv[v]);
+      }
+      glued.add_face(ids.data(), ids.size());
+      reference_normal.push_back(normals[locator.locate(plane2::scale(centroid, 1.0 / double(face.size()))).face]);
+    }
+  }
+
+  // Drop samples no face uses (none expected: every boundary edge of a region is a face edge).
+  std::vector<uint32_t> remap(glued.num_vertices(), 0xffffffffu);
+  PolygonMesh& mesh = r.cage.mesh;
+  for (uint32_t& v : glued.face_vertices) {
+    if (remap[v] == 0xffffffffu) remap[v] = mesh.add_vertex(glued.positions[v]);
+    v = remap[v];
+  }
+  mesh.face_offsets = glued.face_offsets;
+  mesh.face_vertices = glued.face_vertices;
+
+  std::vector<Vec3> vertex_normals(mesh.num_vertices(), Vec3{});
+  std::vector<uint32_t> loop;
+  for (size_t f = 0; f < mesh.num_faces(); ++f) {
+    const Vec3 area = mesh.face_vector_area(f);
+    for (uint32_t k = 0; k < mesh.face_size(f); ++k) vertex_normals[mesh.face_vertex(f, k)] += area;
+    loop.assign(mesh.face_begin(f), mesh.face_begin(f) + mesh.face_size(f));
+    r.flipped_faces += !(dot(loop_normal(mesh.positions, loop), reference_normal[f]) > 0.0);
+  }
+  for (Vec3& n : vertex_normals) n = normalized(n);
+
+  // Creases on sharp interior arcs.
+  if (o.crease_angle_degrees >= 0.0) {
+    std::unordered_map<uint64_t, uint32_t> directed_face;
+    for (uint32_t f = 0; f < tri.num_faces(); ++f)
+      for (uint32_t k = 0; k < 3; ++k)
+        directed_face.emplace((uint64_t(tri.face_vertex(f, k)) << 32) | tri.face_vertex(f, (k + 1) % 3), f);
+    std::unordered_set<uint64_t> tagged;
+    for (uint32_t a = 0; a < constraints.arcs.size(); ++a) {
+      const RegionArc& arc = constraints.boundaries.arcs[a];
+      if (arc.right_region == kMeshBorder) continue;
+      const std::vector<double> angle =
+          piece_dihedral_degrees(normals, directed_face, arc, constraints.arcs[a]);
+      const std::vector<uint32_t> ids = samples.arc_ids(constraints, a);
+      bool sharp = false;
+      for (size_t k = 0; k + 1 < ids.size(); ++k) {
+        if (!(angle[k] > o.crease_angle_degrees)) continue;
+        sharp = true;
+        const uint32_t v0 = remap[ids[k]], v1 = remap[ids[k + 1]];
+        if (v0 == 0xffffffffu || v1 == 0xffffffffu || !tagged.insert(edge_key(v0, v1)).second) continue;
+        r.cage.creases.push_back({v0, v1, kSharpnessInfinite});
+      }
+      r.crease_arcs += sharp;
+    }
+  }
+  r.creases = r.cage.creases.size();
+  monitor.report("post-processing", 0.95);
+
+  const ValidationReport check = validate_cage(r.cage, 4);
+  if (!check.ok())
+    fail(Status::internal_error, "quad-dominant remeshing produced an invalid mesh: " + check.summary());
+  static_cast<RemeshQuality&>(r) = measure_remesh_quality(mesh, vertex_normals);
+  r.postprocess_seconds = seconds_since(t);
+  monitor.report("post-processing", 1.0);
+  r.seconds = seconds_since(start);
+  return r;
+}
+
+CAGEKIT_NAMESPACE_END

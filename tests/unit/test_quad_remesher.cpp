@@ -1,0 +1,222 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The two-step quad-dominant remesher end to end (issue #7 deliverables 5 and 7): the glued cage
+// is a valid oriented 2-manifold with the input's genus, no face is flipped against the input
+// surface, every region boundary is a chain of cage edges, the selection is never worse than its
+// Phase I, fandisk's sharp feature lines lie on crease-tagged cage edges; bad options and input
+// are errors.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <set>
+#include <string>
+
+#include "core/mesh_statistics.h"
+#include "core/mesh_validation.h"
+#include "layout/feature_edges.h"
+#include "layout/quad_remesher.h"
+#include "layout/remesh_constraints.h"
+#include "layout/vsa_segmentation.h"
+#include "test_support.h"
+
+using cagekit::Error;
+using cagekit::PolygonMesh;
+using cagekit::QuadRemeshOptions;
+using cagekit::QuadRemeshResult;
+using cagekit::Status;
+using cagekit::Vec3;
+
+namespace {
+
+using PositionKey = std::array<double, 3>;
+PositionKey key_of(const Vec3& p) { return {p.x, p.y, p.z}; }
+uint64_t undirected(uint32_t a, uint32_t b) { return a < b ? (uint64_t(a) << 32) | b : (uint64_t(b) << 32) | a; }
+
+// Distance from p to segment [a, b].
+double segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 d = b - a;
+  const double len2 = cagekit::dot(d, d);
+  const double t = len2 > 0.0 ? std::clamp(cagekit::dot(p - a, d) / len2, 0.0, 1.0) : 0.0;
+  return cagekit::distance(p, a + t * d);
+}
+
+struct Checked {
+  QuadRemeshResult result;
+  double seconds = 0.0;
+};
+
+// Runs the remesher and checks what holds for every input: validity, genus, orientation against
+// the input, region boundaries reproduced (by recomputing the deterministic segmentation and
+// constraints), energy not above Phase I.
+Checked run_and_check(const PolygonMesh& mesh, const QuadRemeshOptions& options, const char* name) {
+  Checked out;
+  const auto start = std::chrono::steady_clock::now();
+  out.result = cagekit::remesh_quad_dominant(mesh, options);
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const QuadRemeshResult& r = out.result;
+  const PolygonMesh& cage = r.cage.mesh;
+
+  const cagekit::ValidationReport check = cagekit::validate_cage(r.cage);
+  EXPECT_TRUE(check.ok()) << name << ": " << check.summary();
+  EXPECT_EQ(check.count(cagekit::MeshIssue::unreferenced_vertex), 0u) << name;
+  const cagekit::MeshStatistics in = cagekit::compute_mesh_statistics(mesh);
+  const cagekit::MeshStatistics outs = cagekit::compute_mesh_statistics(cage);
+  EXPECT_TRUE(outs.manifold) << name;
+  EXPECT_EQ(outs.genus, in.genus) << name;
+  EXPECT_EQ(outs.boundary_loops, in.boundary_loops) << name;
+  EXPECT_EQ(outs.components, in.components) << name;
+  EXPECT_EQ(r.flipped_faces, 0u) << name;
+  EXPECT_GT(r.faces, 0u) << name;
+  EXPECT_EQ(r.faces, cage.num_faces()) << name;
+  // The selection keeps the best configuration seen, Phase I's included.
+  EXPECT_LE(r.energy, r.phase1_energy + 1e-9 * (1.0 + r.phase1_energy)) << name;
+
+  // Every region boundary (every arc's chain of samples) is a chain of cage edges.
+  cagekit::VsaOptions vo;
+  vo.region_count = options.regions;
+  const cagekit::VsaSegmentation seg = cagekit::segment_vsa(mesh, vo);
+  cagekit::ConstraintOptions co;
+  co.spacing = cagekit::spacing_from_bbox_fraction(mesh, options.edge_length);
+  const cagekit::RemeshConstraints c =
+      cagekit::compute_remesh_constraints(mesh, seg.face_region, seg.num_regions(), co);
+  EXPECT_EQ(r.regions, seg.num_regions()) << name;
+  EXPECT_EQ(r.arcs, c.arcs.size()) << name;
+  std::map<PositionKey, uint32_t> vertex_at;
+  for (uint32_t v = 0; v < cage.num_vertices(); ++v) vertex_at.emplace(key_of(cage.positions[v]), v);
+  std::set<uint64_t> edges;
+  for (size_t f = 0; f < cage.num_faces(); ++f)
+    for (uint32_t k = 0, n = cage.face_size(f); k < n; ++k)
+      edges.insert(undirected(cage.face_vertex(f, k), cage.face_vertex(f, (k + 1) % n)));
+  size_t missing_samples = 0, missing_edges = 0;
+  for (const cagekit::ArcConstraint& arc : c.arcs) {
+    const std::vector<Vec3>& p = arc.samples.position;
+    for (size_t k = 0; k + 1 < p.size(); ++k) {
+      const auto a = vertex_at.find(key_of(p[k])), b = vertex_at.find(key_of(p[k + 1]));
+      if (a == vertex_at.end() || b == vertex_at.end()) {
+        ++missing_samples;
+        continue;
+      }
+      missing_edges += !edges.count(undirected(a->second, b->second));
+    }
+  }
+  EXPECT_EQ(missing_samples, 0u) << name;
+  EXPECT_EQ(missing_edges, 0u) << name;
+
+  const cagekit::RemeshQuality& q = r;
+  std::printf("%s |S| = %d, δ = %.0f%%, w = %g/%g/%g: %llu faces (%.1f%% quads), %llu vertices (%.1f%% of %llu interior "
+              "valence 4), max valence F/V %u/%u, %llu creases on %llu arcs, min scaled Jacobian %.3f, %llu inner "
+              "vertices outside Ω; E %.1f (Phase I %.1f); %.2f s (VSA %.2f, constraints %.2f, selection %.2f, post %.3f)\n",
+              name, options.regions, 100.0 * options.edge_length, options.triangle_weight, options.pentagon_weight,
+              options.t_joint_weight, (unsigned long long)q.faces, 100.0 * double(q.quads) / double(q.faces),
+              (unsigned long long)q.vertices,
+              q.interior_vertices ? 100.0 * double(q.valence4_vertices) / double(q.interior_vertices) : 0.0,
+              (unsigned long long)q.interior_vertices, q.max_face_valence, q.max_vertex_valence,
+              (unsigned long long)r.creases, (unsigned long long)r.crease_arcs, q.min_scaled_jacobian,
+              (unsigned long long)r.outside_domain_vertices, r.energy, r.phase1_energy, out.seconds,
+              r.segmentation_seconds, r.constraint_seconds, r.selection_seconds, r.postprocess_seconds);
+  return out;
+}
+
+QuadRemeshOptions table_six_one(int regions, double delta, double w_tri, double w_pent, double w_t) {
+  QuadRemeshOptions o;
+  o.regions = regions;
+  o.edge_length = delta;
+  o.triangle_weight = w_tri;
+  o.pentagon_weight = w_pent;
+  o.t_joint_weight = w_t;
+  return o;
+}
+
+}  // namespace
+
+TEST(QuadRemesher, FandiskTableSixOneValidCageWithCreasesOnFeatures) {
+  const std::string path = cagekit_test::shared_mesh_path("fandisk.obj");
+  if (path.empty()) GTEST_SKIP() << "../shared/meshes/fandisk.obj not present";
+  const PolygonMesh mesh = cagekit_test::load_mesh(path);
+  const QuadRemeshOptions options = table_six_one(30, 0.10, 500, 500, 500);
+  const Checked run = run_and_check(mesh, options, "fandisk");
+  const QuadRemeshResult& r = run.result;
+  EXPECT_GT(r.creases, 0u);
+
+  // Every sharp input edge (dihedral above the crease angle) lies within δ/4 of a crease-tagged
+  // cage edge (the arc cubics follow the boundary within the (6.1) fit, max RMS δ/4).
+  const std::vector<uint8_t> sharp = cagekit::detect_feature_edges(mesh, options.crease_angle_degrees);
+  const double delta = cagekit::spacing_from_bbox_fraction(mesh, options.edge_length);
+  size_t sharp_edges = 0, off = 0;
+  double worst = 0.0;
+  for (size_t f = 0; f < mesh.num_faces(); ++f)
+    for (uint32_t k = 0; k < 3; ++k) {
+      if (!sharp[3 * f + k]) continue;
+      const uint32_t a = mesh.face_vertex(f, k), b = mesh.face_vertex(f, (k + 1) % 3);
+      if (a > b) continue;  // each edge once
+      ++sharp_edges;
+      const Vec3 mid = 0.5 * (mesh.positions[a] + mesh.positions[b]);
+      double d = HUGE_VAL;
+      for (const cagekit::EdgeCrease& e : r.cage.creases)
+        d = std::min(d, segment_distance(mid, r.cage.mesh.positions[e.v0], r.cage.mesh.positions[e.v1]));
+      worst = std::max(worst, d);
+      off += d > 0.25 * delta;
+      if (d > 0.25 * delta) std::printf("  edge %u-%u: %.3f δ from the nearest crease edge\n", a, b, d / delta);
+    }
+  std::printf("fandisk: %zu sharp input edges, %zu farther than δ/4 from a crease edge, worst %.4f δ\n", sharp_edges,
+              off, worst / delta);
+  EXPECT_GT(sharp_edges, 0u);
+  EXPECT_EQ(off, 0u);
+}
+
+TEST(QuadRemesher, RockerArmTableSixOneValidCage) {
+  const std::string path = cagekit_test::shared_mesh_path("rocker-arm.obj");
+  if (path.empty()) GTEST_SKIP() << "../shared/meshes/rocker-arm.obj not present";
+  const PolygonMesh mesh = cagekit_test::load_mesh(path);
+  run_and_check(mesh, table_six_one(41, 0.06, 20, 70, 70), "rocker-arm");
+}
+
+// An open surface (mesh border arcs) with a few regions.
+TEST(QuadRemesher, OpenCylinderValidCage) {
+  const PolygonMesh mesh = cagekit_test::triangle_cylinder(1.0, 3.0, 32, 24);
+  QuadRemeshOptions o;
+  o.regions = 6;
+  o.edge_length = 0.08;
+  const Checked run = run_and_check(mesh, o, "cylinder");
+  // A smooth surface: no region boundary is sharp.
+  EXPECT_EQ(run.result.creases, 0u);
+}
+
+TEST(QuadRemesher, BadOptionsAndInputAreErrors) {
+  const PolygonMesh cylinder = cagekit_test::triangle_cylinder(1.0, 3.0, 16, 8);
+  auto status_of = [](const PolygonMesh& m, const QuadRemeshOptions& o) {
+    try {
+      cagekit::remesh_quad_dominant(m, o);
+    } catch (const Error& e) {
+      return e.status();
+    }
+    return Status::success;
+  };
+  QuadRemeshOptions o;
+  o.regions = 4;
+  o.edge_length = 0.0;
+  EXPECT_EQ(status_of(cylinder, o), Status::invalid_argument);
+  o.edge_length = 0.1;
+  o.triangle_weight = -1.0;
+  EXPECT_EQ(status_of(cylinder, o), Status::invalid_argument);
+  o.triangle_weight = 40.0;
+  o.regions = -1;
+  EXPECT_EQ(status_of(cylinder, o), Status::invalid_argument);
+  o.regions = 100000;  // more regions than triangles
+  EXPECT_EQ(status_of(cylinder, o), Status::invalid_argument);
+  o.regions = 4;
+  PolygonMesh broken = cylinder;
+  broken.face_vertices[5] = 100000;  // out of range
+  EXPECT_EQ(status_of(broken, o), Status::invalid_mesh);
+  PolygonMesh flipped = cylinder;
+  std::swap(flipped.face_vertices[0], flipped.face_vertices[1]);  // inconsistent orientation
+  EXPECT_EQ(status_of(flipped, o), Status::invalid_mesh);
+  PolygonMesh nan = cylinder;
+  nan.positions[3].x = std::nan("");
+  EXPECT_EQ(status_of(nan, o), Status::invalid_mesh);
+  EXPECT_EQ(status_of(PolygonMesh{}, o), Status::invalid_mesh);
+}
