@@ -28,9 +28,11 @@
 // edge (δ = mean output edge length). Timing is never a failure; a remesh error or a crashed
 // child is reported in the table and makes the exit code 1.
 //
-// Usage: bench_remesh [--quick] [--no-quadriflow] [--tolerance REL]... [--mesh NAME]...
+// Usage: bench_remesh [--quick] [--no-quadriflow] [--tolerance REL]... [--curvature-radius REL]
+//                     [--mesh NAME]...
 // (--quick: 1 run per tool, no bunny-1.1M; --tolerance: the tolerances to run, default 0.002;
-// --mesh: only these of rocker-arm, bunny, bunny-1.1M)
+// --curvature-radius: cagekit_remesh_options.curvature_radius, default 0.01, 0 = 3 mean edges —
+// the scoring field keeps the default; --mesh: only these of rocker-arm, bunny, bunny-1.1M)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -140,7 +142,7 @@ Quality score(const Reference& ref, const cagekit::PolygonMesh& out) {
 
 // One CageKit remesh in a child: the C API call timed, the cage written to out_path.
 RunResult remesh_child(const cagekit::PolygonMesh& mesh, const Method& method, double tolerance,
-                       const std::string& out_path) {
+                       double curvature_radius, const std::string& out_path) {
   return bench::in_child<RunResult>(1, [&](std::vector<RunResult>& results) {
     RunResult& r = results[0];
     cagekit_context ctx = nullptr;
@@ -160,6 +162,7 @@ RunResult remesh_child(const cagekit::PolygonMesh& mesh, const Method& method, d
     cagekit_remesh_options options = CAGEKIT_REMESH_OPTIONS_INIT;
     options.method = method.method;
     options.tolerance = tolerance;
+    options.curvature_radius = curvature_radius;
     cagekit_remesh_report report;
     std::memset(&report, 0, sizeof report);
     report.struct_size = sizeof report;
@@ -296,6 +299,7 @@ void print_quality(const char* tool, const Row& r, const Quality& q, uint64_t ho
 
 int main(int argc, char** argv) {
   bool quick = false, peer = true;
+  double curvature_radius = 0.01;  // cagekit_remesh_options default
   std::vector<double> tolerances;
   std::vector<std::string> only;
   for (int i = 1; i < argc; ++i) {
@@ -305,17 +309,20 @@ int main(int argc, char** argv) {
       peer = false;
     } else if (!std::strcmp(argv[i], "--tolerance") && i + 1 < argc) {
       tolerances.push_back(std::atof(argv[++i]));
+    } else if (!std::strcmp(argv[i], "--curvature-radius") && i + 1 < argc) {
+      curvature_radius = std::atof(argv[++i]);
     } else if (!std::strcmp(argv[i], "--mesh") && i + 1 < argc) {
       only.push_back(argv[++i]);
     } else {
-      std::fprintf(stderr, "usage: bench_remesh [--quick] [--no-quadriflow] [--tolerance REL]... [--mesh NAME]...\n");
+      std::fprintf(stderr, "usage: bench_remesh [--quick] [--no-quadriflow] [--tolerance REL]... [--curvature-radius REL] [--mesh NAME]...\n");
       return 64;
     }
   }
   if (tolerances.empty()) tolerances = {0.002};
   const bool blender = peer && have_blender();
-  std::printf("# bench_remesh: CageKit remeshing vs QuadriFlow (Blender)\n\nload average at start: %s\n",
-              load_average().c_str());
+  std::printf("# bench_remesh: CageKit remeshing vs QuadriFlow (Blender)\n\nload average at start: %s\n"
+              "CageKit options: cagekit_remesh_options defaults, curvature_radius %g%s\n",
+              load_average().c_str(), curvature_radius, curvature_radius == 0.01 ? " (the default)" : "");
   if (!blender)
     std::printf("%s: the QuadriFlow rows are skipped\n", peer ? "blender not found on PATH" : "--no-quadriflow");
 
@@ -386,7 +393,7 @@ int main(int argc, char** argv) {
         row.ck_path = stem + "-ck.obj";
         row.qf_path = stem + "-qf.obj";
         std::vector<RunResult> runs;
-        for (int i = 0; i < in.runs; ++i) runs.push_back(remesh_child(in.mesh, method, tolerance, row.ck_path));
+        for (int i = 0; i < in.runs; ++i) runs.push_back(remesh_child(in.mesh, method, tolerance, curvature_radius, row.ck_path));
         row.ck = runs[0];
         if (row.ck.ok) {
           std::vector<double> walls, cpus;
