@@ -62,6 +62,7 @@ class LineGraph {
   void remove_dangling(LineMesh& out);
   bool trace_pass(std::vector<std::vector<uint32_t>>& faces, std::vector<uint8_t>& failed, bool split_repeated);
   bool bridge_annulus(const std::vector<uint32_t>& inner, std::vector<std::vector<uint32_t>>& faces) const;
+  size_t unfold(const std::vector<const std::vector<uint32_t>*>& folds, const std::vector<std::vector<uint32_t>>& faces);
   std::vector<std::vector<uint32_t>> inner_loops_;  // rejected clockwise cycles without repeats (last pass)
 
   const LineSampling& s_;
@@ -377,20 +378,97 @@ void LineGraph::trace(LineMesh& out, std::vector<std::vector<uint32_t>>& faces) 
   }
   // Last pass [J]: cycles through a vertex twice are split there into simple loops; clockwise
   // loops left are inner boundaries of annular regions (a band no line crosses, e.g. around a
-  // crease loop): each is bridged to the face around it.
-  faces.clear();
-  inner_loops_.clear();
-  std::fill(failed.begin(), failed.end(), 0);
-  trace_pass(faces, failed, true);
+  // crease loop): each is bridged to the face around it. A clockwise loop that no face contains
+  // is a fold (lines crossing in an order their end tangents get wrong, e.g. a small inverted
+  // triangle): one of its edges is deleted, merging it into the face across, and the pass
+  // repeats (up to 4 rounds).
   size_t bridged = 0;
-  for (const auto& inner : inner_loops_)
-    if (bridge_annulus(inner, faces)) {
-      bridged += inner.size();
-      ++out.bridged_loops;
-    }
+  for (int round = 0;; ++round) {
+    faces.clear();
+    inner_loops_.clear();
+    std::fill(failed.begin(), failed.end(), 0);
+    trace_pass(faces, failed, true);
+    bridged = 0;
+    out.bridged_loops = 0;
+    std::vector<const std::vector<uint32_t>*> folds;
+    for (const auto& inner : inner_loops_)
+      if (bridge_annulus(inner, faces)) {
+        bridged += inner.size();
+        ++out.bridged_loops;
+      } else {
+        folds.push_back(&inner);
+      }
+    if (folds.empty() || round == 4) break;
+    const size_t removed = unfold(folds, faces);
+    if (removed == 0) break;
+    out.fold_edges_removed += removed;
+    remove_dangling(out);
+  }
   for (uint32_t h = 0; h < failed.size(); ++h)
     if (failed[h] && edges[h / 2].alive) ++out.unclosed_half_edges;
   out.unclosed_half_edges -= std::min(out.unclosed_half_edges, bridged);
+}
+
+// For each fold (a clockwise simple loop, vertices in loop order), deletes the one edge whose
+// removal merges it with the accepted face across into a counter-clockwise cycle (vector area
+// against the summed vertex normals), choosing the smallest such face; boundary and feature
+// lines are kept. An island (the loop's other side is the loop itself: a closed chain connected
+// to nothing else) is deleted whole. Returns the number of edges deleted.
+size_t LineGraph::unfold(const std::vector<const std::vector<uint32_t>*>& folds,
+                         const std::vector<std::vector<uint32_t>>& faces) {
+  std::unordered_map<uint64_t, uint32_t> edge_of;
+  for (uint32_t e = 0; e < edges.size(); ++e)
+    if (edges[e].alive) edge_of[edge_key(edges[e].a, edges[e].b)] = e;
+  std::unordered_map<uint64_t, uint32_t> face_of;  // directed (a, b) -> face
+  auto directed = [](uint32_t a, uint32_t b) { return (uint64_t(a) << 32) | b; };
+  for (uint32_t f = 0; f < faces.size(); ++f)
+    for (size_t k = 0; k < faces[f].size(); ++k) face_of[directed(faces[f][k], faces[f][(k + 1) % faces[f].size()])] = f;
+  auto vector_area = [&](const std::vector<uint32_t>& loop, Vec3& area, Vec3& nsum) {
+    for (size_t k = 0; k < loop.size(); ++k) {
+      area = area + cross(position[loop[k]], position[loop[(k + 1) % loop.size()]]);
+      nsum = nsum + normalized(normal[loop[k]]);
+    }
+  };
+  size_t removed = 0;
+  for (const std::vector<uint32_t>* fold : folds) {
+    const std::vector<uint32_t>& loop = *fold;
+    Vec3 loop_area{}, loop_n{};
+    vector_area(loop, loop_area, loop_n);
+    uint32_t best = kNone;
+    size_t best_size = SIZE_MAX;
+    bool island = true;  // the face across every edge is the loop itself, reversed
+    std::vector<uint32_t> loop_edges;
+    for (size_t k = 0; k < loop.size(); ++k) {
+      const uint32_t a = loop[k], b = loop[(k + 1) % loop.size()];
+      const auto e = edge_of.find(edge_key(a, b));
+      const auto f = face_of.find(directed(b, a));
+      if (e != edge_of.end()) loop_edges.push_back(e->second);
+      island &= f != face_of.end() && faces[f->second].size() == loop.size() &&
+                std::all_of(loop.begin(), loop.end(), [&](uint32_t v) {
+                  return std::find(faces[f->second].begin(), faces[f->second].end(), v) != faces[f->second].end();
+                });
+      if (e == edge_of.end() || f == face_of.end() || !edges[e->second].alive) continue;
+      const GraphEdge& g = edges[e->second];
+      if (g.boundary || s_.lines[g.line].type == LineType::feature) continue;
+      Vec3 area = loop_area, n = loop_n;
+      vector_area(faces[f->second], area, n);
+      if (!(dot(area, n) > 0.0) || faces[f->second].size() >= best_size) continue;
+      best = e->second;
+      best_size = faces[f->second].size();
+    }
+    if (island && loop_edges.size() == loop.size()) {
+      // A closed chain of lines that no other line crosses and no face around it could be bridged
+      // to (e.g. a small triangle of a feature fragment and two line ends): dropped, the face
+      // around it covers its place.
+      for (uint32_t e : loop_edges) edges[e].alive = false;
+      removed += loop_edges.size();
+      continue;
+    }
+    if (best == kNone) continue;
+    edges[best].alive = false;
+    ++removed;
+  }
+  return removed;
 }
 
 // The annulus between a face O and a clockwise loop C inside it (both with the region on their

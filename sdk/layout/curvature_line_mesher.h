@@ -19,7 +19,8 @@
 //   two half-edges both lie on rejected cycles are deleted (the thesis's "inconsistently oriented
 //   edges") and the structure is traced again (up to 4 rounds). A clockwise cycle left over is
 //   the inner boundary of an annular region: it is joined to the face around it by two bridge
-//   edges (two faces). Half-edges still on rejected cycles leave holes (`unclosed_half_edges`).
+//   edges (two faces); one that no face contains is a fold, merged into the face across one of its
+//   edges (that edge is deleted). Half-edges still on rejected cycles leave holes (`unclosed_half_edges`).
 #include <cstdint>
 #include <vector>
 
@@ -51,6 +52,7 @@ struct LineMesh {
   size_t intersections = 0, merged_vertices = 0, dangling_edges_removed = 0, inconsistent_edges_removed = 0;
   size_t unclosed_half_edges = 0;
   size_t bridged_loops = 0;  // annular regions split by two bridge edges
+  size_t fold_edges_removed = 0;  // edges deleted to merge folds (clockwise loops no face contains)
   PartitionStats partition;
   double seconds = 0.0;
 };

@@ -28,8 +28,11 @@
 // edge (δ = mean output edge length). Timing is never a failure; a remesh error or a crashed
 // child is reported in the table and makes the exit code 1.
 //
-// Usage: bench_remesh [--quick] [--tolerance REL]...   (--quick: 1 run per tool, no bunny-1.1M;
-// --tolerance: the anisotropic tolerances to run, default 0.002)
+// Usage: bench_remesh [--quick] [--no-quadriflow] [--tolerance REL]... [--curvature-radius REL]
+//                     [--mesh NAME]...
+// (--quick: 1 run per tool, no bunny-1.1M; --tolerance: the tolerances to run, default 0.002;
+// --curvature-radius: cagekit_remesh_options.curvature_radius, default 0.01, 0 = 3 mean edges —
+// the scoring field keeps the default; --mesh: only these of rocker-arm, bunny, bunny-1.1M)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -139,7 +142,7 @@ Quality score(const Reference& ref, const cagekit::PolygonMesh& out) {
 
 // One CageKit remesh in a child: the C API call timed, the cage written to out_path.
 RunResult remesh_child(const cagekit::PolygonMesh& mesh, const Method& method, double tolerance,
-                       const std::string& out_path) {
+                       double curvature_radius, const std::string& out_path) {
   return bench::in_child<RunResult>(1, [&](std::vector<RunResult>& results) {
     RunResult& r = results[0];
     cagekit_context ctx = nullptr;
@@ -159,6 +162,7 @@ RunResult remesh_child(const cagekit::PolygonMesh& mesh, const Method& method, d
     cagekit_remesh_options options = CAGEKIT_REMESH_OPTIONS_INIT;
     options.method = method.method;
     options.tolerance = tolerance;
+    options.curvature_radius = curvature_radius;
     cagekit_remesh_report report;
     std::memset(&report, 0, sizeof report);
     report.struct_size = sizeof report;
@@ -257,6 +261,7 @@ struct Row {
   bool ck_scored = false;
   PeerResult qf;
   uint64_t qf_target = 0;
+  std::string ck_path, qf_path;  // the outputs (OBJ), scored after both tools ran
   Quality qf_q;
   bool qf_scored = false;
 };
@@ -293,23 +298,33 @@ void print_quality(const char* tool, const Row& r, const Quality& q, uint64_t ho
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool quick = false;
+  bool quick = false, peer = true;
+  double curvature_radius = 0.01;  // cagekit_remesh_options default
   std::vector<double> tolerances;
+  std::vector<std::string> only;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--quick")) {
       quick = true;
+    } else if (!std::strcmp(argv[i], "--no-quadriflow")) {
+      peer = false;
     } else if (!std::strcmp(argv[i], "--tolerance") && i + 1 < argc) {
       tolerances.push_back(std::atof(argv[++i]));
+    } else if (!std::strcmp(argv[i], "--curvature-radius") && i + 1 < argc) {
+      curvature_radius = std::atof(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--mesh") && i + 1 < argc) {
+      only.push_back(argv[++i]);
     } else {
-      std::fprintf(stderr, "usage: bench_remesh [--quick] [--tolerance REL]...\n");
+      std::fprintf(stderr, "usage: bench_remesh [--quick] [--no-quadriflow] [--tolerance REL]... [--curvature-radius REL] [--mesh NAME]...\n");
       return 64;
     }
   }
   if (tolerances.empty()) tolerances = {0.002};
-  const bool blender = have_blender();
-  std::printf("# bench_remesh: CageKit remeshing vs QuadriFlow (Blender)\n\nload average at start: %s\n",
-              load_average().c_str());
-  if (!blender) std::printf("blender not found on PATH: the QuadriFlow rows are skipped\n");
+  const bool blender = peer && have_blender();
+  std::printf("# bench_remesh: CageKit remeshing vs QuadriFlow (Blender)\n\nload average at start: %s\n"
+              "CageKit options: cagekit_remesh_options defaults, curvature_radius %g%s\n",
+              load_average().c_str(), curvature_radius, curvature_radius == 0.01 ? " (the default)" : "");
+  if (!blender)
+    std::printf("%s: the QuadriFlow rows are skipped\n", peer ? "blender not found on PATH" : "--no-quadriflow");
 
   const std::filesystem::path tmp = std::filesystem::temp_directory_path() /
                                     ("cagekit_bench_remesh_" + std::to_string(getpid()));
@@ -325,6 +340,9 @@ int main(int argc, char** argv) {
   int exit_code = 0;
   cagekit::PolygonMesh bunny;
   for (const std::string name : {"rocker-arm", "bunny", "bunny-1.1M"}) {
+    if (!only.empty() && std::find(only.begin(), only.end(), name) == only.end() &&
+        !(name == "bunny" && std::find(only.begin(), only.end(), "bunny-1.1M") != only.end()))
+      continue;
     Input in;
     in.name = name;
     in.runs = quick ? 1 : 3;
@@ -348,7 +366,9 @@ int main(int argc, char** argv) {
       }
       in.mesh = cagekit::repair_mesh(cagekit::read_cage_from_file(path).mesh, drop_unused);
       if (name == "bunny") bunny = in.mesh;
+      if (!only.empty() && std::find(only.begin(), only.end(), name) == only.end()) continue;  // bunny for 1.1M only
     }
+    std::printf("%s: %zu triangles\n", name.c_str(), in.mesh.num_faces());
     in.obj_path = (tmp / (name + ".obj")).string();
     {
       cagekit::Cage c;
@@ -359,20 +379,9 @@ int main(int argc, char** argv) {
       cagekit::write_cage_to_file(in.obj_path, c, w);
     }
 
-    // The reference field, as the anisotropic remesher computes it (default options).
-    const auto field_start = Clock::now();
-    Reference ref;
-    ref.input = &in.mesh;
-    ref.sharp = cagekit::detect_feature_edges(in.mesh, kSharpAngle);
-    {
-      const cagekit::AnisotropicRemeshOptions defaults;
-      const std::vector<uint8_t> barriers = cagekit::detect_feature_edges(in.mesh, defaults.feature_angle_degrees);
-      ref.field = cagekit::estimate_curvature_field(in.mesh, cagekit::anisotropic_curvature_options(in.mesh, defaults),
-                                                    &barriers);
-    }
-    std::printf("%s: %zu triangles; reference curvature field in %.1f s (not timed in any table)\n", name.c_str(),
-                in.mesh.num_faces(), seconds_since(field_start));
-
+    // The tools first (CageKit's children are forked from this process: its memory is their
+    // baseline, so the reference field is computed only afterwards).
+    const size_t first_row = rows.size();
     for (const Method& method : kMethods)
       for (double tolerance : tolerances) {
         Row row;
@@ -380,9 +389,11 @@ int main(int argc, char** argv) {
         row.method = method.name;
         row.triangles = in.mesh.num_faces();
         row.tolerance = tolerance;
-        const std::string ck_path = (tmp / (name + "-" + method.name + "-ck.obj")).string();
+        const std::string stem = (tmp / (name + "-" + method.name + "-" + std::to_string(rows.size()))).string();
+        row.ck_path = stem + "-ck.obj";
+        row.qf_path = stem + "-qf.obj";
         std::vector<RunResult> runs;
-        for (int i = 0; i < in.runs; ++i) runs.push_back(remesh_child(in.mesh, method, tolerance, ck_path));
+        for (int i = 0; i < in.runs; ++i) runs.push_back(remesh_child(in.mesh, method, tolerance, curvature_radius, row.ck_path));
         row.ck = runs[0];
         if (row.ck.ok) {
           std::vector<double> walls, cpus;
@@ -395,8 +406,6 @@ int main(int argc, char** argv) {
           std::sort(cpus.begin(), cpus.end());
           row.ck.wall = walls[walls.size() / 2];
           row.ck.cpu = cpus[cpus.size() / 2];
-          row.ck_q = score(ref, cagekit::read_cage_from_file(ck_path).mesh);
-          row.ck_scored = true;
         } else {
           exit_code = 1;
         }
@@ -405,18 +414,37 @@ int main(int argc, char** argv) {
                               : row.ck.error);
         if (blender && row.ck.ok && row.ck.faces > 0) {
           row.qf_target = row.ck.faces;
-          const std::string qf_path = (tmp / (name + "-" + method.name + "-qf.obj")).string();
-          row.qf = run_quadriflow(in, row.qf_target, qf_path, in.runs);
-          if (row.qf.ok) {
-            row.qf_q = score(ref, cagekit::read_cage_from_file(qf_path).mesh);
-            row.qf_scored = true;
-          }
+          row.qf = run_quadriflow(in, row.qf_target, row.qf_path, in.runs);
           std::printf("  QuadriFlow target %llu: %s\n", (unsigned long long)row.qf_target,
-                      row.qf.ok ? (std::to_string(row.qf_q.faces) + " faces, " + time_cell(row.qf.wall, row.qf.cpu)).c_str()
-                                : ("failed: " + row.qf.message).c_str());
+                      row.qf.ok ? time_cell(row.qf.wall, row.qf.cpu).c_str() : ("failed: " + row.qf.message).c_str());
         }
         rows.push_back(row);
       }
+
+    // The reference field, as the anisotropic remesher computes it (default options), and the
+    // same scoring of every output.
+    const auto field_start = Clock::now();
+    Reference ref;
+    ref.input = &in.mesh;
+    ref.sharp = cagekit::detect_feature_edges(in.mesh, kSharpAngle);
+    {
+      const cagekit::AnisotropicRemeshOptions defaults;
+      const std::vector<uint8_t> barriers = cagekit::detect_feature_edges(in.mesh, defaults.feature_angle_degrees);
+      ref.field = cagekit::estimate_curvature_field(in.mesh, cagekit::anisotropic_curvature_options(in.mesh, defaults),
+                                                    &barriers);
+    }
+    std::printf("  reference curvature field in %.1f s (not timed in any table)\n", seconds_since(field_start));
+    for (size_t i = first_row; i < rows.size(); ++i) {
+      Row& row = rows[i];
+      if (row.ck.ok) {
+        row.ck_q = score(ref, cagekit::read_cage_from_file(row.ck_path).mesh);
+        row.ck_scored = true;
+      }
+      if (row.qf.ok) {
+        row.qf_q = score(ref, cagekit::read_cage_from_file(row.qf_path).mesh);
+        row.qf_scored = true;
+      }
+    }
   }
   std::filesystem::remove_all(tmp);
 
