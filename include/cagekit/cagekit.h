@@ -1275,7 +1275,7 @@ typedef struct cagekit_remesh_report {
  * intersect (ANISOTROPIC, too large a tolerance for its size) is INVALID_MESH with a message
  * saying so. `report` may be NULL.
  * Long operation (progress stages ANISOTROPIC "curvature field", "curvature lines", "meshing";
- * QUAD "segmentation", "remesh constraints", "quad region selection", "post-processing";
+ * QUAD "vsa segmentation", "remesh constraints", "quad region selection", "post-processing";
  * cancel). Reads `mesh`; thread-safe for distinct outputs. */
 CAGEKIT_API cagekit_status cagekit_mesh_remesh(cagekit_mesh mesh, const cagekit_remesh_options* options,
                                                cagekit_cage* out, cagekit_remesh_report* report);

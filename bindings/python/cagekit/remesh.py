@@ -11,7 +11,7 @@ field", "curvature lines", "meshing"; cancel); the GIL is released for the whole
 Method "quad" (thesis ch. 6): two-step quad-dominant remeshing: `regions` VSA regions (0: by
 `region_tolerance`), boundary samples `edge_length` (relative to the bbox diagonal) apart,
 `weights` = (w_tri, w_PT, w_T) of Table 6.1; region boundaries sharper than
-`feature_angle_degrees` are tagged as creases (progress stages "segmentation", "remesh
+`feature_angle_degrees` are tagged as creases (progress stages "vsa segmentation", "remesh
 constraints", "quad region selection", "post-processing"; cancel).
 
 The C declarations of this part of the header are made here and added to _lib.PROTOTYPES and
