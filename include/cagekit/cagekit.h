@@ -1189,34 +1189,57 @@ CAGEKIT_API cagekit_status cagekit_gl_deformer_read_back(cagekit_gl_deformer def
                                                          double* positions, double* normals);
 
 /* ------------------------------------------------------------------------------------------ */
-/* Remeshing (thesis chapter 5: anisotropic, curvature-line based)                            */
+/* Remeshing (thesis chapter 5: anisotropic; chapter 6: two-step quad-dominant)              */
 /* ------------------------------------------------------------------------------------------ */
 
 /* Remeshing methods. ANISOTROPIC samples the surface with lines of principal curvature (plus
  * feature and boundary lines) and meshes their intersections into a quad-dominant mesh whose
- * edges follow the principal directions (thesis ch. 5, sdk/layout/README.md). Other methods may
- * be added with new values; options and report are shared. */
+ * edges follow the principal directions (thesis ch. 5, sdk/layout/README.md). QUAD is the
+ * two-step quad-dominant remesher (thesis ch. 6): a VSA segmentation into `regions` nearly flat
+ * regions, samples at spacing `edge_length` on the region boundaries (shared by both
+ * neighbours), per region a curve network in a conformal parameterisation and an energy-driven
+ * selection of its curves (weights of Table 6.1), Laplacian relaxation, mapping back to the
+ * surface and gluing the regions; region boundaries whose dihedral angle exceeds
+ * `feature_angle_degrees` become crease tags. Other methods may be added with new values;
+ * options and report are shared. */
 typedef enum cagekit_remesh_method {
   CAGEKIT_REMESH_ANISOTROPIC = 0,
+  CAGEKIT_REMESH_QUAD = 1,
   CAGEKIT_REMESH_METHOD_MAX_ENUM = 0x7fffffff
 } cagekit_remesh_method;
 
 typedef struct cagekit_remesh_options {
   size_t struct_size;             /* sizeof(cagekit_remesh_options) */
   cagekit_remesh_method method;   /* default CAGEKIT_REMESH_ANISOTROPIC */
-  double tolerance;               /* approximation tolerance relative to the bbox diagonal, in (0, 1]; the
-                                     line spacing follows the chord-height rule (5.10) (default 0.002) */
-  double feature_angle_degrees;   /* edges whose faces' normals differ by more than this become feature
-                                     lines and crease tags; < 0: none; <= 180 (default 40) */
-  uint32_t max_face_valence;      /* faces with more corners are split, >= 3 (default 5) */
-  uint32_t threads;               /* worker threads for the curvature field, 0 = all cores (default 0) */
-  double curvature_radius;        /* curvature averaging radius relative to the bbox diagonal (thesis:
-                                     0.01), capped at 6 mean edge lengths (bounded cost on dense meshes);
-                                     0: three mean edge lengths (default 0.01) */
+  double tolerance;               /* ANISOTROPIC: approximation tolerance relative to the bbox diagonal, in
+                                     (0, 1]; the line spacing follows the chord-height rule (5.10) (default
+                                     0.002). QUAD: unused */
+  double feature_angle_degrees;   /* ANISOTROPIC: edges whose faces' normals differ by more than this become
+                                     feature lines and crease tags. QUAD: region boundaries whose input edges'
+                                     length-weighted mean dihedral angle exceeds this become crease tags.
+                                     < 0: none; <= 180 (default 40) */
+  uint32_t max_face_valence;      /* ANISOTROPIC: faces with more corners are split, >= 3 (default 5). QUAD:
+                                     checked, unused (the selection's energy keeps valences low) */
+  uint32_t threads;               /* worker threads (ANISOTROPIC: curvature field; QUAD: regions of the curve
+                                     selection), 0 = all cores (default 0) */
+  double curvature_radius;        /* ANISOTROPIC: curvature averaging radius relative to the bbox diagonal
+                                     (thesis: 0.01), capped at 6 mean edge lengths (bounded cost on dense
+                                     meshes); 0: three mean edge lengths (default 0.01). QUAD: unused */
+  /* Members below were appended for CAGEKIT_REMESH_QUAD; a caller whose struct_size ends before
+   * them gets their defaults. */
+  double edge_length;             /* QUAD: δ, the spacing of the samples on the region boundaries relative
+                                     to the bbox diagonal, in (0, 1] (thesis: 0.02-0.10; default 0.05) */
+  uint32_t regions;               /* QUAD: number of VSA regions |S|, <= the triangle count; 0: the first
+                                     count (up to 200) whose L2,1 error / area <= region_tolerance
+                                     (default 30) */
+  double region_tolerance;        /* QUAD with regions = 0: a mean of |n_f - N|^2, >= 0 (default 0.01) */
+  double triangle_weight;         /* QUAD: w_tri of Table 6.1, the cost of a triangle, > 0 (default 40) */
+  double pentagon_weight;         /* QUAD: w_PT, the cost of a pentagon, > 0 (default 40) */
+  double t_joint_weight;          /* QUAD: w_T, the cost of a T-joint, > 0 (default 100) */
 } cagekit_remesh_options;
 
 #define CAGEKIT_REMESH_OPTIONS_INIT \
-  { sizeof(cagekit_remesh_options), CAGEKIT_REMESH_ANISOTROPIC, 0.002, 40.0, 5, 0, 0.01 }
+  { sizeof(cagekit_remesh_options), CAGEKIT_REMESH_ANISOTROPIC, 0.002, 40.0, 5, 0, 0.01, 0.05, 30, 0.01, 40.0, 40.0, 100.0 }
 
 typedef struct cagekit_remesh_report {
   size_t struct_size;             /* sizeof(cagekit_remesh_report) */
@@ -1224,9 +1247,10 @@ typedef struct cagekit_remesh_report {
   uint64_t interior_vertices;     /* vertices not on a boundary edge of the output */
   uint64_t valence4_vertices;     /* interior vertices with 4 edges */
   uint32_t max_face_valence, max_vertex_valence;
-  uint64_t creases;               /* output edges on feature lines (tagged infinitely sharp) */
-  uint64_t regions;               /* anisotropic: connected regions of confident input faces */
-  uint64_t lines;                 /* anisotropic: sampled lines of all types */
+  uint64_t creases;               /* output edges on feature lines / sharp region boundaries (tagged
+                                     infinitely sharp) */
+  uint64_t regions;               /* anisotropic: connected regions of confident input faces; quad: VSA regions */
+  uint64_t lines;                 /* anisotropic: sampled lines of all types; quad: region-boundary arcs */
   uint64_t holes;                 /* half-edges that could not be closed into faces (0 expected) */
   double mean_alignment_deg;      /* anisotropic: mean angle between the output edges along curvature lines and
                                      the nearer principal direction (mean of the two ends' directions, i.e. the
@@ -1239,15 +1263,20 @@ typedef struct cagekit_remesh_report {
 } cagekit_remesh_report;
 
 /* Remeshes `mesh` with `options` (NULL: defaults) into a new cage: the output polygon mesh, with
- * the edges on feature lines tagged as infinitely sharp creases. The mesh must be an oriented
+ * the edges on feature lines (ANISOTROPIC) or sharp region boundaries (QUAD) tagged as infinitely
+ * sharp creases; the output is a valid oriented 2-manifold. The mesh must be an oriented
  * 2-manifold (boundary allowed) with finite positions; faces with more than 3 vertices are
- * fan-triangulated first. Errors: INVALID_ARGUMENT (NULL out, bad options or method), INVALID_MESH
- * (naming the problem: faces with < 3 or repeated vertices, bad indices, non-manifold or
- * inconsistently oriented edges, non-finite positions, an empty or zero-extent mesh), CANCELLED,
- * OUT_OF_MEMORY. An input on which no lines intersect (too large a tolerance for its size) is
- * INVALID_MESH with a message saying so. `report` may be NULL.
- * Long operation (progress stages "curvature field", "curvature lines", "meshing", cancel).
- * Reads `mesh`; thread-safe for distinct outputs. */
+ * fan-triangulated first. Errors: INVALID_ARGUMENT (NULL out, bad options or method; QUAD: more
+ * regions than triangles, or fewer than the mesh's connected components), INVALID_MESH (naming
+ * the problem: faces with < 3 or repeated vertices, bad indices, non-manifold or inconsistently
+ * oriented edges, non-finite positions, an empty or zero-extent mesh; QUAD: a region with a
+ * handle, which its parameterisation cannot flatten: use more regions), CANCELLED,
+ * OUT_OF_MEMORY, INTERNAL (the result failed its validity check). An input on which no lines
+ * intersect (ANISOTROPIC, too large a tolerance for its size) is INVALID_MESH with a message
+ * saying so. `report` may be NULL.
+ * Long operation (progress stages ANISOTROPIC "curvature field", "curvature lines", "meshing";
+ * QUAD "vsa segmentation", "remesh constraints", "quad region selection", "post-processing";
+ * cancel). Reads `mesh`; thread-safe for distinct outputs. */
 CAGEKIT_API cagekit_status cagekit_mesh_remesh(cagekit_mesh mesh, const cagekit_remesh_options* options,
                                                cagekit_cage* out, cagekit_remesh_report* report);
 

@@ -78,9 +78,13 @@ int command_convert(Args& args);
 int command_subdivide(Args& args);
 int command_simplify(Args& args);
 int command_remesh(Args& args);
-// --method/--tolerance/--feature-angle/... of remesh and `pipeline --method anisotropic` (values out
-// of range: Failure with kExitBadInput).
+// --method/--tolerance/--feature-angle/... (anisotropic) and --edge-length/--regions/--weights/...
+// (quad) of remesh and `pipeline --method anisotropic|quad` (values out of range: Failure with
+// kExitBadInput).
 cagekit_remesh_options parse_remesh_options(Args& args, const std::string& method);
+// The method and its main settings as JSON fields (no braces): "method": "anisotropic",
+// "tolerance": ... or "method": "quad", "edge_length": ..., "weights": [tri, pent, tjoint].
+std::string remesh_method_json(const cagekit_remesh_options& options);
 // The report's JSON fields (no braces): faces, vertices, quads_pct, ..., mean_alignment_deg.
 std::string remesh_json_fields(const cagekit_remesh_report& report, const cagekit_approximation_error& error);
 int command_demo(Args& args);

@@ -3,6 +3,8 @@
 //             [--keep-creases] [--threads N] [--json] [--quiet]
 // cagekit pipeline SCAN OUTDIR [--method simplify] (--faces N | --vertices N) [--passes N] ...
 // cagekit pipeline SCAN OUTDIR --method anisotropic [--tolerance REL] [--fit-tolerance T] [--passes N] ...
+// cagekit pipeline SCAN OUTDIR --method quad [--edge-length REL] [--regions N] [--weights TRI,PENT,TJOINT]
+//                  [--fit-tolerance T] [--passes N] ...
 #include <cstdio>
 #include <string>
 
@@ -53,7 +55,9 @@ int command_fit(Args& args) {
 int command_pipeline(Args& args) {
   const char* usage =
       "cagekit pipeline SCAN OUTDIR ([--method simplify] (--faces N | --vertices N) [--crease-angle DEG] [--input-crease-angle DEG] "
-      "| --method anisotropic [--tolerance REL] [--feature-angle DEG] [--max-face-valence N] [--fit-tolerance T]) "
+      "| --method anisotropic [--tolerance REL] [--feature-angle DEG] [--max-face-valence N] [--fit-tolerance T] "
+      "| --method quad [--edge-length REL] [--regions N] [--weights TRI,PENT,TJOINT] [--feature-angle DEG] "
+      "[--fit-tolerance T]) "
       "[--passes N] [--tolerance T] [--projection exact|linear] [--fairing F] [--keep-creases] [--threads N] "
       "[--limit-levels L] [--json] [--quiet]";
   const bool quiet = args.flag("--quiet");
@@ -64,7 +68,8 @@ int command_pipeline(Args& args) {
   double fit_tolerance = -1.0;
   try {
     method = args.option("--method", "simplify");
-    if (method == "anisotropic") {  // --tolerance is the remeshing tolerance; the fit's is --fit-tolerance
+    const bool remesh = method == "anisotropic" || method == "quad";
+    if (remesh) {  // anisotropic: --tolerance is the remeshing tolerance; the fit's is --fit-tolerance
       settings.remesh = parse_remesh_options(args, method);
       fit_tolerance = args.real("--fit-tolerance", 1e-4, 0.0, 1.0);
     }
@@ -76,15 +81,15 @@ int command_pipeline(Args& args) {
   } catch (const Failure& f) {  // option values are input of this command: exit code 2
     throw Failure(f.code == kExitUsage ? kExitBadInput : f.code, f.what());
   }
-  if (method != "simplify" && method != "anisotropic")
-    throw Failure(kExitBadInput, "--method must be 'simplify' or 'anisotropic', not '" + method + "'");
+  if (method != "simplify" && method != "anisotropic" && method != "quad")
+    throw Failure(kExitBadInput, "--method must be 'simplify', 'anisotropic' or 'quad', not '" + method + "'");
   settings.method = method;
   settings.fit = parse_fit_options(args);
   if (fit_tolerance >= 0.0) settings.fit.tolerance = fit_tolerance;
   const auto files = args.positional(2, 2, usage);
-  if (method == "anisotropic" ? (faces > 0 || vertices > 0) : ((faces < 0) == (vertices < 0)))
+  if (method != "simplify" ? (faces > 0 || vertices > 0) : ((faces < 0) == (vertices < 0)))
     throw Failure(kExitUsage, std::string("usage: ") + usage);
-  settings.query = faces > 0 ? CAGEKIT_LEVEL_BY_FACES : CAGEKIT_LEVEL_BY_VERTICES;  // (unused by anisotropic)
+  settings.query = faces > 0 ? CAGEKIT_LEVEL_BY_FACES : CAGEKIT_LEVEL_BY_VERTICES;  // (unused by remeshing)
   settings.target = faces > 0 ? faces : vertices;
   settings.limit_levels = static_cast<uint32_t>(limit_levels);
 
@@ -100,7 +105,14 @@ int command_pipeline(Args& args) {
     std::fputs(result.json.c_str(), stdout);
   } else if (!quiet) {
     std::printf("%s -> %s/\n", files[0].c_str(), files[1].c_str());
-    if (method == "anisotropic") {
+    if (method == "quad") {
+      const cagekit_remesh_report& m = result.remesh_report;
+      std::printf("  remesh    quad, %llu regions, edge length %g: %llu faces (%llu quads), %llu creases, "
+                  "Hausdorff %.3g of the diagonal (%.2f s)\n",
+                  (unsigned long long)m.regions, settings.remesh.edge_length, (unsigned long long)m.faces,
+                  (unsigned long long)m.quads, (unsigned long long)m.creases, result.level_error.hausdorff_sym_rel,
+                  result.simplify_seconds);
+    } else if (method == "anisotropic") {
       const cagekit_remesh_report& m = result.remesh_report;
       std::printf("  remesh    anisotropic, tolerance %g: %llu faces (%llu quads), %llu creases, mean alignment %.2f deg, "
                   "Hausdorff %.3g of the diagonal (%.2f s)\n",

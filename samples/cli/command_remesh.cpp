@@ -1,8 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // cagekit remesh IN OUT --method anisotropic [--tolerance REL] [--feature-angle DEG]
 //                [--max-face-valence N] [--curvature-radius REL] [--threads N] [--json] [--quiet]
+// cagekit remesh IN OUT --method quad [--edge-length REL] [--regions N] [--region-tolerance T]
+//                [--weights TRI,PENT,TJOINT] [--feature-angle DEG] [--threads N] [--json] [--quiet]
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include "cli_context.h"
@@ -15,20 +19,60 @@ double percent(uint64_t part, uint64_t whole) { return whole ? 100.0 * double(pa
 
 }  // namespace
 
+namespace {
+
+// "--weights TRI,PENT,TJOINT": three positive finite numbers.
+void parse_weights(const std::string& text, cagekit_remesh_options& o) {
+  double w[3];
+  const char* p = text.c_str();
+  for (int i = 0; i < 3; ++i) {
+    char* end = nullptr;
+    w[i] = std::strtod(p, &end);
+    if (end == p || !std::isfinite(w[i]) || !(w[i] > 0.0) || (i < 2 ? *end != ',' : *end != '\0'))
+      throw Failure(kExitBadInput, "--weights must be three positive numbers TRI,PENT,TJOINT, not '" + text + "'");
+    p = end + 1;
+  }
+  o.triangle_weight = w[0];
+  o.pentagon_weight = w[1];
+  o.t_joint_weight = w[2];
+}
+
+}  // namespace
+
 cagekit_remesh_options parse_remesh_options(Args& args, const std::string& method) {
   cagekit_remesh_options o = CAGEKIT_REMESH_OPTIONS_INIT;
-  if (method != "anisotropic") throw Failure(kExitBadInput, "--method must be 'anisotropic', not '" + method + "'");
-  o.method = CAGEKIT_REMESH_ANISOTROPIC;
+  if (method != "anisotropic" && method != "quad")
+    throw Failure(kExitBadInput, "--method must be 'anisotropic' or 'quad', not '" + method + "'");
   try {
-    o.tolerance = args.real("--tolerance", 0.002, 1e-7, 1.0);
+    if (method == "quad") {
+      o.method = CAGEKIT_REMESH_QUAD;
+      o.edge_length = args.real("--edge-length", 0.05, 1e-4, 1.0);
+      o.regions = static_cast<uint32_t>(args.integer("--regions", 30, 0, 1000000));
+      o.region_tolerance = args.real("--region-tolerance", 0.01, 0.0, 4.0);
+      const std::string weights = args.option("--weights", "");
+      if (!weights.empty()) parse_weights(weights, o);
+    } else {
+      o.method = CAGEKIT_REMESH_ANISOTROPIC;
+      o.tolerance = args.real("--tolerance", 0.002, 1e-7, 1.0);
+      o.max_face_valence = static_cast<uint32_t>(args.integer("--max-face-valence", 5, 3, 1000));
+      o.curvature_radius = args.real("--curvature-radius", 0.01, 0.0, 1.0);
+    }
     o.feature_angle_degrees = args.real("--feature-angle", 40.0, -1.0, 180.0);
-    o.max_face_valence = static_cast<uint32_t>(args.integer("--max-face-valence", 5, 3, 1000));
-    o.curvature_radius = args.real("--curvature-radius", 0.01, 0.0, 1.0);
     o.threads = static_cast<uint32_t>(args.integer("--threads", 0, 0, 1024));
   } catch (const Failure& f) {  // option values are input: exit code 2
     throw Failure(f.code == kExitUsage ? kExitBadInput : f.code, f.what());
   }
   return o;
+}
+
+std::string remesh_method_json(const cagekit_remesh_options& o) {
+  char buffer[256];
+  if (o.method == CAGEKIT_REMESH_QUAD)
+    std::snprintf(buffer, sizeof(buffer), "\"method\": \"quad\", \"edge_length\": %.9g, \"weights\": [%.9g, %.9g, %.9g]",
+                  o.edge_length, o.triangle_weight, o.pentagon_weight, o.t_joint_weight);
+  else
+    std::snprintf(buffer, sizeof(buffer), "\"method\": \"anisotropic\", \"tolerance\": %.9g", o.tolerance);
+  return buffer;
 }
 
 std::string remesh_json_fields(const cagekit_remesh_report& r, const cagekit_approximation_error& e) {
@@ -48,8 +92,9 @@ std::string remesh_json_fields(const cagekit_remesh_report& r, const cagekit_app
 
 int command_remesh(Args& args) {
   const char* usage =
-      "cagekit remesh IN OUT --method anisotropic [--tolerance REL] [--feature-angle DEG] [--max-face-valence N] "
-      "[--curvature-radius REL] [--threads N] [--json] [--quiet]";
+      "cagekit remesh IN OUT (--method anisotropic [--tolerance REL] [--max-face-valence N] [--curvature-radius REL] "
+      "| --method quad [--edge-length REL] [--regions N] [--region-tolerance T] [--weights TRI,PENT,TJOINT]) "
+      "[--feature-angle DEG] [--threads N] [--json] [--quiet]";
   const bool quiet = args.flag("--quiet");
   const bool json = args.flag("--json");
   const std::string method = args.option("--method", "");
@@ -78,15 +123,22 @@ int command_remesh(Args& args) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   if (json) {
-    std::printf("{\"method\": \"%s\", \"tolerance\": %.9g, %s, \"remesh_seconds\": %.3f, \"seconds\": %.3f}\n",
-                method.c_str(), options.tolerance, remesh_json_fields(report, error).c_str(), report.seconds, seconds);
+    std::printf("{%s, %s, \"remesh_seconds\": %.3f, \"seconds\": %.3f}\n", remesh_method_json(options).c_str(),
+                remesh_json_fields(report, error).c_str(), report.seconds, seconds);
   } else if (!quiet) {
-    std::printf("%s -> %s (%s, tolerance %g): %llu faces (%.1f%% quads), %llu vertices (%.1f%% interior valence 4), "
-                "%llu creases, mean alignment %.2f deg, Hausdorff %.3g of the diagonal, %.2f s\n",
-                files[0].c_str(), files[1].c_str(), method.c_str(), options.tolerance, (unsigned long long)report.faces,
+    char settings[128];
+    if (options.method == CAGEKIT_REMESH_QUAD)
+      std::snprintf(settings, sizeof(settings), "%llu regions, edge length %g", (unsigned long long)report.regions,
+                    options.edge_length);
+    else
+      std::snprintf(settings, sizeof(settings), "tolerance %g", options.tolerance);
+    std::printf("%s -> %s (%s, %s): %llu faces (%.1f%% quads), %llu vertices (%.1f%% interior valence 4), "
+                "%llu creases, ",
+                files[0].c_str(), files[1].c_str(), method.c_str(), settings, (unsigned long long)report.faces,
                 percent(report.quads, report.faces), (unsigned long long)report.vertices,
-                percent(report.valence4_vertices, report.interior_vertices), (unsigned long long)report.creases,
-                report.mean_alignment_deg, error.hausdorff_sym_rel, seconds);
+                percent(report.valence4_vertices, report.interior_vertices), (unsigned long long)report.creases);
+    if (options.method == CAGEKIT_REMESH_ANISOTROPIC) std::printf("mean alignment %.2f deg, ", report.mean_alignment_deg);
+    std::printf("Hausdorff %.3g of the diagonal, %.2f s\n", error.hausdorff_sym_rel, seconds);
   }
   return kExitOk;
 }

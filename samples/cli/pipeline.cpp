@@ -164,8 +164,9 @@ void run_pipeline(const Session& session, cagekit_mesh scan, const std::string& 
   const auto start = std::chrono::steady_clock::now();
   make_directories(dir);
 
-  if (settings.method == "anisotropic") {
-    // 1. Anisotropic remeshing (thesis ch. 5): a quad-dominant cage with feature lines as creases.
+  if (settings.method == "anisotropic" || settings.method == "quad") {
+    // 1. Remeshing: anisotropic (thesis ch. 5, feature lines as creases) or two-step quad-dominant
+    // (thesis ch. 6, sharp region boundaries as creases).
     result->remesh_report.struct_size = sizeof(result->remesh_report);
     session.check(cagekit_mesh_remesh(scan, &settings.remesh, result->initial_cage.out(), &result->remesh_report),
                   scan_name);
@@ -175,8 +176,8 @@ void run_pipeline(const Session& session, cagekit_mesh scan, const std::string& 
     session.check(cagekit_mesh_measure_error(scan, result->polygons.get(), &result->level_error), scan_name);
     fit_and_limit(session, scan, scan_name, settings, dir, result);
     result->seconds = seconds_since(start);
-    result->json = std::string("{\"remesh\": {\"method\": \"anisotropic\", \"tolerance\": ") +
-                   number(settings.remesh.tolerance) + ", " + remesh_json_fields(result->remesh_report, result->level_error) +
+    result->json = "{\"remesh\": {" + remesh_method_json(settings.remesh) + ", " +
+                   remesh_json_fields(result->remesh_report, result->level_error) +
                    ", \"seconds\": " + number(result->simplify_seconds) + "},\n \"fit\": " +
                    fit_json(result->fit, settings.fit) + ",\n \"limit\": " + limit_json(settings, *result) +
                    ",\n \"seconds\": " + number(result->seconds) + "}\n";

@@ -27,7 +27,8 @@ void run_fit(const Session& session, cagekit_cage cage, cagekit_mesh scan, const
 std::string fit_json(const FitResult& fit, const cagekit_fit_options& options);
 
 struct PipelineSettings {
-  // Step 1: "simplify" (thesis ch. 3, target below) or "anisotropic" (ch. 5 remeshing, `remesh`).
+  // Step 1: "simplify" (thesis ch. 3, target below), "anisotropic" (ch. 5 remeshing) or "quad"
+  // (ch. 6 two-step quad-dominant remeshing), the last two with `remesh`.
   std::string method = "simplify";
   cagekit_remesh_options remesh = CAGEKIT_REMESH_OPTIONS_INIT;
   cagekit_level_query query = CAGEKIT_LEVEL_BY_FACES;  // BY_FACES or BY_VERTICES
@@ -46,7 +47,7 @@ struct PipelineResult {
   cagekit_polygonal_level_info level_info{};
   cagekit_cage_report cage_report{};
   cagekit_approximation_error level_error{};  // scan vs the level's polygons (or the remeshed mesh)
-  cagekit_remesh_report remesh_report{};      // method "anisotropic"
+  cagekit_remesh_report remesh_report{};      // methods "anisotropic" and "quad"
   double simplify_seconds = 0;
   Mesh polygons;       // the level as a polygon mesh
   Cage initial_cage;   // quad-dominant cage with creases, before the fit

@@ -70,7 +70,7 @@ struct QuadRemeshResult : RemeshQuality {
 };
 
 // Remeshes `input` (faces with more than 3 vertices are fan-triangulated). Progress stages:
-// "segmentation", "remesh constraints", "quad region selection", "post-processing".
+// "vsa segmentation", "remesh constraints", "quad region selection", "post-processing".
 QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemeshOptions& options,
                                       const TaskMonitor& monitor = {});
 

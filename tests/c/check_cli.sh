@@ -153,9 +153,20 @@ if [ -f "$fandisk" ]; then
   if "$cli" pipeline "$fandisk" "$tmp/fan-pipe" --method anisotropic --tolerance 0.002 --passes 2 --quiet &&
      [ "$(json "$tmp/fan-pipe/report.json" "d['remesh']['method'] == 'anisotropic' and d['limit']['error']['hausdorff_sym_rel'] < 0.02")" = True ]
   then pass "pipeline --method anisotropic: remesh -> fit -> limit within 2% of the diagonal"; else cat "$tmp/fan-pipe/report.json"; fail "pipeline anisotropic"; fi
+  # 8c. two-step quad-dominant remeshing (thesis ch. 6), Table 6.1 settings for fandisk
+  if "$cli" remesh "$fandisk" "$tmp/fan-quad.obj" --method quad --edge-length 0.10 --regions 30 --weights 500,500,500 --json --quiet >"$tmp/fan-quad.json" &&
+     [ "$(json "$tmp/fan-quad.json" "all(k in d for k in '$remesh_keys'.split()) and d['method'] == 'quad' and d['regions'] == 30 and d['creases'] > 50 and d['quads_pct'] > 80 and d['max_face_valence'] <= 6 and d['hausdorff_sym_rel'] < 0.03")" = True ] &&
+     "$cli" info "$tmp/fan-quad.obj" --json >"$tmp/fan-quad-info.json" && [ "$(json "$tmp/fan-quad-info.json" "d['valid'] and d['genus'] == 0 and d['boundary_edges'] == 0")" = True ]
+  then pass "remesh --method quad: fandisk quad-dominant, creases on sharp region boundaries, valid, closed, genus 0"; else cat "$tmp/fan-quad.json"; fail "remesh quad"; fi
+  if "$cli" pipeline "$fandisk" "$tmp/fan-pipe-quad" --method quad --edge-length 0.10 --passes 2 --quiet &&
+     [ "$(json "$tmp/fan-pipe-quad/report.json" "d['remesh']['method'] == 'quad' and d['limit']['error']['hausdorff_sym_rel'] < 0.02")" = True ]
+  then pass "pipeline --method quad: remesh -> fit -> limit within 2% of the diagonal"; else cat "$tmp/fan-pipe-quad/report.json"; fail "pipeline quad"; fi
 else
   echo "[ SKIP ] remesh checks: $fandisk not present"
 fi
+expect_bad "remesh --method quad with two weights" "$cli" remesh "$tmp/cube.obj" "$tmp/out.obj" --method quad --weights 1,2 --quiet
+expect_bad "remesh --method quad with a zero edge length" "$cli" remesh "$tmp/cube.obj" "$tmp/out.obj" --method quad --edge-length 0 --quiet
+expect_bad "remesh --method quad with more regions than triangles" "$cli" remesh "$tmp/cube.obj" "$tmp/out.obj" --method quad --regions 100000 --quiet
 "$cli" remesh "$tmp/cube.obj" "$tmp/out.obj" --quiet 2>"$tmp/usage.err"; code=$?
 if [ "$code" -eq 64 ] && grep -q "method is required" "$tmp/usage.err"; then pass "usage: remesh without --method (exit 64)"; else cat "$tmp/usage.err"; fail "remesh without --method"; fi
 expect_bad "remesh with an unknown method" "$cli" remesh "$tmp/cube.obj" "$tmp/out.obj" --method quadx --quiet

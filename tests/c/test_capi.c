@@ -3,6 +3,7 @@
 #include <cagekit/cagekit.h>
 
 #include <math.h>
+#include <stddef.h>
 #include <pthread.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -1275,6 +1276,21 @@ static cagekit_mesh new_triangle_cylinder(cagekit_context context, int n_around,
   return mesh;
 }
 
+/* Three triangles on one edge: not a 2-manifold. */
+static cagekit_mesh new_three_triangles_on_one_edge(cagekit_context context) {
+  static const double p[15] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1};
+  static const uint32_t f[9] = {0, 1, 2, 1, 0, 3, 0, 1, 4};
+  cagekit_mesh_desc desc = CAGEKIT_MESH_DESC_INIT;
+  cagekit_mesh mesh = NULL;
+  desc.vertex_count = 5;
+  desc.positions = p;
+  desc.face_count = 3;
+  desc.uniform_face_size = 3;
+  desc.face_indices = f;
+  CHECK_OK(cagekit_mesh_create(context, &desc, &mesh));
+  return mesh;
+}
+
 static void anisotropic_remesh_follows_a_cylinder(void) {
   cagekit_context context = new_context();
   cagekit_mesh mesh = new_triangle_cylinder(context, 96, 96);
@@ -1312,22 +1328,11 @@ static void anisotropic_remesh_follows_a_cylinder(void) {
   CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK_STATUS(cagekit_mesh_remesh(mesh, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   cagekit_mesh_release(mesh);
-  {
-    /* Three triangles on one edge: not a 2-manifold. */
-    static const double p[15] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1};
-    static const uint32_t f[9] = {0, 1, 2, 1, 0, 3, 0, 1, 4};
-    cagekit_mesh_desc desc = CAGEKIT_MESH_DESC_INIT;
-    desc.vertex_count = 5;
-    desc.positions = p;
-    desc.face_count = 3;
-    desc.uniform_face_size = 3;
-    desc.face_indices = f;
-    CHECK_OK(cagekit_mesh_create(context, &desc, &mesh));
-    CHECK_STATUS(cagekit_mesh_remesh(mesh, NULL, &cage, NULL), CAGEKIT_ERROR_INVALID_MESH);
-    CHECK(strstr(cagekit_last_error_message(context), "manifold") != NULL ||
-          strstr(cagekit_last_error_message(context), "edge") != NULL);
-    cagekit_mesh_release(mesh);
-  }
+  mesh = new_three_triangles_on_one_edge(context);
+  CHECK_STATUS(cagekit_mesh_remesh(mesh, NULL, &cage, NULL), CAGEKIT_ERROR_INVALID_MESH);
+  CHECK(strstr(cagekit_last_error_message(context), "manifold") != NULL ||
+        strstr(cagekit_last_error_message(context), "edge") != NULL);
+  cagekit_mesh_release(mesh);
   cagekit_context_release(context);
   {
     /* A 1 MB budget: the estimate (~560 bytes per triangle) fails before anything is allocated. */
@@ -1339,6 +1344,67 @@ static void anisotropic_remesh_follows_a_cylinder(void) {
     cagekit_mesh_release(mesh);
     cagekit_context_release(context);
   }
+}
+
+static void quad_remesh_of_a_cylinder(void) {
+  cagekit_context context = new_context();
+  cagekit_mesh mesh = new_triangle_cylinder(context, 32, 24);
+  cagekit_remesh_options options = CAGEKIT_REMESH_OPTIONS_INIT;
+  cagekit_remesh_report report;
+  cagekit_cage cage = NULL;
+  cagekit_mesh_info info;
+  CHECK(options.edge_length == 0.05 && options.regions == 30 && options.t_joint_weight == 100.0);
+  memset(&report, 0, sizeof(report));
+  report.struct_size = sizeof(report);
+  options.method = CAGEKIT_REMESH_QUAD;
+  options.regions = 6;
+  options.edge_length = 0.08;
+  CHECK_OK(cagekit_mesh_remesh(mesh, &options, &cage, &report));
+  CHECK(report.regions == 6);
+  CHECK(report.faces > 50);
+  CHECK(report.quads >= report.faces * 90 / 100);
+  CHECK(report.creases == 0); /* a smooth surface: no sharp region boundary */
+  CHECK(report.min_scaled_jacobian > 0.0);
+  memset(&info, 0, sizeof(info));
+  info.struct_size = sizeof(info);
+  CHECK_OK(cagekit_cage_get_info(cage, &info));
+  CHECK(info.faces == report.faces && info.vertices == report.vertices);
+  cagekit_cage_release(cage);
+  {
+    /* A caller built before the QUAD members: struct_size ends at curvature_radius, so
+     * edge_length, regions and the weights take their defaults (30 regions, 5% spacing). */
+    cagekit_remesh_options old = CAGEKIT_REMESH_OPTIONS_INIT;
+    old.struct_size = offsetof(cagekit_remesh_options, edge_length);
+    old.method = CAGEKIT_REMESH_QUAD;
+    old.edge_length = -1.0; /* not read */
+    CHECK_OK(cagekit_mesh_remesh(mesh, &old, &cage, &report));
+    CHECK(report.regions == 30);
+    cagekit_cage_release(cage);
+  }
+  /* Bad options: precise errors, out stays NULL. */
+  cage = (cagekit_cage)1;
+  options.edge_length = 0.0;
+  CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(cage == NULL);
+  CHECK(strstr(cagekit_last_error_message(context), "edge_length") != NULL);
+  options.edge_length = 0.08;
+  options.pentagon_weight = -5.0;
+  CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context), "weight") != NULL);
+  options.pentagon_weight = 40.0;
+  options.regions = 1000000; /* more regions than triangles */
+  CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context), "regions") != NULL);
+  options.regions = 0;
+  options.region_tolerance = -1.0;
+  CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  cagekit_mesh_release(mesh);
+  mesh = new_three_triangles_on_one_edge(context);
+  options.regions = 1;
+  CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_MESH);
+  CHECK(strstr(cagekit_last_error_message(context), "edge") != NULL);
+  cagekit_mesh_release(mesh);
+  cagekit_context_release(context);
 }
 
 int main(void) {
@@ -1370,6 +1436,7 @@ int main(void) {
       {"fit_keeps_tags_and_pinned_crease_vertices", fit_keeps_tags_and_pinned_crease_vertices},
       {"fit_rejects_bad_arguments_and_can_be_cancelled", fit_rejects_bad_arguments_and_can_be_cancelled},
       {"anisotropic_remesh_follows_a_cylinder", anisotropic_remesh_follows_a_cylinder},
+      {"quad_remesh_of_a_cylinder", quad_remesh_of_a_cylinder},
   };
   return run_tests(tests, (int)(sizeof(tests) / sizeof(tests[0])));
 }

@@ -220,3 +220,36 @@ TEST(QuadRemesher, BadOptionsAndInputAreErrors) {
   EXPECT_EQ(status_of(nan, o), Status::invalid_mesh);
   EXPECT_EQ(status_of(PolygonMesh{}, o), Status::invalid_mesh);
 }
+
+// Progress runs through the four stages in order and a cancel in any of them is Status::cancelled.
+TEST(QuadRemesher, ProgressStagesAndCancellation) {
+  const PolygonMesh cylinder = cagekit_test::triangle_cylinder(1.0, 3.0, 16, 12);
+  QuadRemeshOptions o;
+  o.regions = 4;
+  o.edge_length = 0.1;
+  std::vector<std::string> stages;
+  const cagekit::TaskMonitor record(
+      [&](const char* stage, double) {
+        if (stages.empty() || stages.back() != stage) stages.push_back(stage);
+        return true;
+      },
+      nullptr);
+  cagekit::remesh_quad_dominant(cylinder, o, record);
+  const std::vector<std::string> expected{"vsa segmentation", "remesh constraints", "quad region selection",
+                                          "post-processing"};
+  std::vector<std::string> distinct;
+  for (const std::string& s : stages)
+    if (std::find(distinct.begin(), distinct.end(), s) == distinct.end()) distinct.push_back(s);
+  for (const std::string& want : expected)
+    EXPECT_NE(std::find(distinct.begin(), distinct.end(), want), distinct.end()) << want;
+  for (const std::string& stop : expected) {
+    const cagekit::TaskMonitor cancel([&](const char* stage, double) { return stop != stage; }, nullptr);
+    Status status = Status::success;
+    try {
+      cagekit::remesh_quad_dominant(cylinder, o, cancel);
+    } catch (const Error& e) {
+      status = e.status();
+    }
+    EXPECT_EQ(status, Status::cancelled) << stop;
+  }
+}

@@ -2,11 +2,17 @@
 """Remeshing a triangle mesh into a quad-dominant cage (cagekit_mesh_remesh).
 
     cage, report = cagekit.remesh(mesh, method="anisotropic", tolerance=0.002)
-    report.faces, report.quads, report.mean_alignment_deg, report.min_scaled_jacobian
+    cage, report = cagekit.remesh(mesh, method="quad", edge_length=0.10, regions=30, weights=(500, 500, 500))
+    report.faces, report.quads, report.valence4_vertices, report.min_scaled_jacobian
 
 Method "anisotropic" (thesis ch. 5): curvature-line remeshing; edges on feature lines are tagged
 as infinitely sharp creases in the returned Cage. Long operation (progress stages "curvature
 field", "curvature lines", "meshing"; cancel); the GIL is released for the whole call.
+Method "quad" (thesis ch. 6): two-step quad-dominant remeshing: `regions` VSA regions (0: by
+`region_tolerance`), boundary samples `edge_length` (relative to the bbox diagonal) apart,
+`weights` = (w_tri, w_PT, w_T) of Table 6.1; region boundaries sharper than
+`feature_angle_degrees` are tagged as creases (progress stages "vsa segmentation", "remesh
+constraints", "quad region selection", "post-processing"; cancel).
 
 The C declarations of this part of the header are made here and added to _lib.PROTOTYPES and
 _lib.STRUCTS, so that tests/test_abi.py checks them with the rest.
@@ -22,15 +28,19 @@ from .cage import Cage
 
 class RemeshMethod(enum.IntEnum):
     ANISOTROPIC = 0  # curvature-line remeshing (thesis ch. 5)
+    QUAD = 1         # two-step quad-dominant remeshing (thesis ch. 6)
 
 
 # --- declarations (include/cagekit/cagekit.h, "remeshing") ---------------------------------------
 class RemeshOptions(_lib._Versioned):
     _fields_ = [("struct_size", c_size_t), ("method", _lib.c_enum), ("tolerance", c_double),
                 ("feature_angle_degrees", c_double), ("max_face_valence", c_uint32), ("threads", c_uint32),
-                ("curvature_radius", c_double)]
+                ("curvature_radius", c_double), ("edge_length", c_double), ("regions", c_uint32),
+                ("region_tolerance", c_double), ("triangle_weight", c_double), ("pentagon_weight", c_double),
+                ("t_joint_weight", c_double)]
     _defaults = {"method": 0, "tolerance": 0.002, "feature_angle_degrees": 40.0, "max_face_valence": 5,
-                 "threads": 0, "curvature_radius": 0.01}
+                 "threads": 0, "curvature_radius": 0.01, "edge_length": 0.05, "regions": 30, "region_tolerance": 0.01,
+                 "triangle_weight": 40.0, "pentagon_weight": 40.0, "t_joint_weight": 100.0}
 
 
 class RemeshReport(_lib._Versioned):
@@ -50,16 +60,24 @@ _lib._declare(_lib.lib)  # ImportError naming the function when the loaded libra
 
 
 def remesh(mesh, method=RemeshMethod.ANISOTROPIC, tolerance=0.002, feature_angle_degrees=40.0, max_face_valence=5,
-           threads=0, curvature_radius=0.01):
+           threads=0, curvature_radius=0.01, edge_length=0.05, regions=30, region_tolerance=0.01,
+           weights=(40.0, 40.0, 100.0)):
     """Remeshes `mesh` (an oriented 2-manifold Mesh; polygons are fan-triangulated first) into a
-    new Cage with crease tags on feature lines. Returns (cage, report); the report holds faces,
-    vertices, quads, interior_vertices, valence4_vertices, max_face_valence, max_vertex_valence,
-    creases, regions, lines, holes, mean_alignment_deg, min_scaled_jacobian, seconds. Option
-    values as the C API's cagekit_remesh_options (method also as a name)."""
+    new Cage with crease tags on feature lines (anisotropic) or sharp region boundaries (quad).
+    Returns (cage, report); the report holds faces, vertices, quads, interior_vertices,
+    valence4_vertices, max_face_valence, max_vertex_valence, creases, regions, lines, holes,
+    mean_alignment_deg, min_scaled_jacobian, seconds. Option values as the C API's
+    cagekit_remesh_options (method also as a name; weights = (triangle_weight, pentagon_weight,
+    t_joint_weight))."""
+    if len(weights) != 3:
+        raise ValueError("weights must be (triangle, pentagon, t_joint)")
     options = RemeshOptions.new(method=int(_enum(RemeshMethod, method)), tolerance=float(tolerance),
                                 feature_angle_degrees=float(feature_angle_degrees),
                                 max_face_valence=int(max_face_valence), threads=int(threads),
-                                curvature_radius=float(curvature_radius))
+                                curvature_radius=float(curvature_radius), edge_length=float(edge_length),
+                                regions=int(regions), region_tolerance=float(region_tolerance),
+                                triangle_weight=float(weights[0]), pentagon_weight=float(weights[1]),
+                                t_joint_weight=float(weights[2]))
     report = RemeshReport.new()
     out = ctypes.c_void_p()
     mesh._context._call(_lib.lib.cagekit_mesh_remesh, mesh._handle, ctypes.byref(options), ctypes.byref(out),

@@ -38,6 +38,27 @@ class Remesh(HandleCheck):
                 self.assertGreater(report.min_scaled_jacobian, 0.0)  # no concave corner
                 self.assertLess(mesh.measure_error(cage).hausdorff_rel, 0.02)
 
+    def test_quad_method_gives_a_closed_quad_dominant_cage(self):
+        positions, triangles = grid_cube(6)
+        with cagekit.Mesh.from_arrays(positions, triangles) as mesh:
+            cage, report = cagekit.remesh(mesh, method="quad", regions=6, edge_length=0.1, weights=(100, 100, 100))
+            with cage:
+                info = cage.info()
+                self.assertEqual((info.faces, info.vertices), (report.faces, report.vertices))
+                self.assertTrue(info.manifold)
+                self.assertEqual((info.genus, info.boundary_edges), (0, 0))
+                self.assertEqual(report.regions, 6)  # the six sides
+                self.assertGreater(report.quads, 0.9 * report.faces)
+                self.assertEqual(report.creases, info.creases)
+                self.assertGreater(report.creases, 0)  # the twelve 90° edges are sharp region boundaries
+                self.assertLess(mesh.measure_error(cage).hausdorff_rel, 0.02)
+            with self.assertRaises(cagekit.InvalidArgumentError):
+                cagekit.remesh(mesh, method="quad", edge_length=0.0)
+            with self.assertRaises(cagekit.InvalidArgumentError):
+                cagekit.remesh(mesh, method="quad", weights=(1, -1, 1))
+            with self.assertRaises(ValueError):
+                cagekit.remesh(mesh, method="quad", weights=(1, 1))
+
     def test_bad_options_and_input_are_exceptions(self):
         positions, triangles = grid_cube(4)
         with cagekit.Mesh.from_arrays(positions, triangles) as mesh:
