@@ -127,12 +127,17 @@ double arc_cubic_length(const ArcCubic& cubic) {
 ArcSamples sample_arc_cubic(const ArcCubic& cubic, double spacing) {
   if (!(spacing > 0.0) || !std::isfinite(spacing))
     fail(Status::invalid_argument, "arc samples: the spacing must be positive and finite");
+  const double len = arc_cubic_length(cubic);
+  return sample_arc_cubic_count(cubic, std::max(0L, long(std::ceil(len / spacing - 1e-9)) - 1));
+}
+
+ArcSamples sample_arc_cubic_count(const ArcCubic& cubic, long r) {
+  if (r < 0) fail(Status::invalid_argument, "arc samples: the sample count must not be negative");
   const double S = cubic.parameter_length;
   std::vector<double> table(kIntervals + 1, 0.0);
   for (int k = 0; k < kIntervals; ++k)
     table[k + 1] = table[k] + length_gauss(cubic, S * k / kIntervals, S * (k + 1) / kIntervals);
   const double len = table[kIntervals];
-  const long r = std::max(0L, long(std::ceil(len / spacing - 1e-9)) - 1);
   ArcSamples out;
   out.t.push_back(0.0);
   for (long k = 1; k <= r; ++k) {

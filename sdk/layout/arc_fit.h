@@ -51,6 +51,8 @@ double arc_cubic_length(const ArcCubic& cubic);
 
 // The r + 2 samples at spacing at most δ (see the header comment).
 ArcSamples sample_arc_cubic(const ArcCubic& cubic, double spacing);
+// The same with a given number r >= 0 of interior samples (equidistant in arc length).
+ArcSamples sample_arc_cubic_count(const ArcCubic& cubic, long r);
 
 // C̄(t_k) for a cubic fitted to other points (e.g. the arc's (u, v)) with the same parameters.
 std::vector<Vec3> evaluate_at(const ArcCubic& cubic, const std::vector<double>& t);

@@ -6,7 +6,9 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <string>
+#include <thread>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -21,6 +23,163 @@
 CAGEKIT_NAMESPACE_BEGIN
 
 namespace {
+
+// Steps 3-4 of one region (as select_region_quads does for each).
+void select_region(const RemeshConstraints& constraints, uint32_t r, const SelectionOptions& options,
+                   CurveNetwork& network, QuadSelection& selection) {
+  std::vector<std::vector<Point2>> loops;
+  for (size_t l = 0; l < constraints.boundaries.region_loops[r].size(); ++l)
+    loops.push_back(constraints.loop_samples_uv(r, l));
+  CurveNetworkOptions network_options;
+  network_options.threads = 1;
+  network = build_curve_network(loops, network_options);
+  selection = select_quad_curves(network, options);
+}
+
+// A region's share of the glued mesh's irregularity: its non-quad faces, over its arc-interior
+// samples how far the number of selected curves ending there is from one (valence 4 needs one on
+// each side), and per anchor the number of selected curves ending there (`anchor_curves`).
+double region_irregularity(const RemeshConstraints& constraints, uint32_t r, const CurveNetwork& network,
+                           const QuadSelection& selection, std::vector<std::pair<uint32_t, int>>& anchor_curves) {
+  std::vector<int> used(network.points.size(), 0);
+  for (uint32_t c : selection.curves)
+    for (uint32_t p : network.curves[c].ports) ++used[network.ports[p].point];
+  std::vector<uint8_t> anchor(network.points.size(), 0);
+  anchor_curves.clear();
+  size_t point = 0;
+  for (const RegionLoop& loop : constraints.boundaries.region_loops[r])
+    for (size_t k = 0; k < loop.arcs.size(); ++k) {
+      const std::vector<uint32_t>& vertices = constraints.boundaries.arcs[loop.arcs[k]].vertices;
+      anchor[point] = 1;
+      anchor_curves.emplace_back(loop.reversed[k] ? vertices.back() : vertices.front(), used[point]);
+      point += constraints.arcs[loop.arcs[k]].samples.t.size() - 1;
+    }
+  double irregular = double(selection.faces.size() - selection.quads);
+  for (size_t i = 0; i < used.size(); ++i)
+    if (!anchor[i]) irregular += std::abs(used[i] - 1);
+  return irregular;
+}
+
+// Sample-count refinement (not in the thesis, which samples every arc independently): an arc
+// next to an irregular region gets one segment more or less (within ±1 of ⌈len/δ⌉) when
+// re-selecting its one or two regions lowers the irregularity of the glued mesh there (non-quad
+// faces, samples without exactly one curve per side, anchors of valence != 4), ties broken by
+// Σ E(L); first improvement, arcs in id order, at most `passes` sweeps. Arcs next to a region
+// with more than `max_curves` candidate curves are not tried (its selection is the costly part).
+// An arc whose regions are unchanged since its last try is not tried again.
+void refine_sample_counts(RemeshConstraints& constraints, RegionQuadMeshes& meshes, const SelectionOptions& options,
+                          int passes, size_t max_curves, int threads, const TaskMonitor& monitor) {
+  const size_t regions = meshes.selections.size();
+  std::unordered_map<uint32_t, int> anchor_degree, anchor_total;  // arcs at an anchor; curves ending there
+  for (const RegionArc& arc : constraints.boundaries.arcs) ++anchor_degree[arc.vertices.front()], ++anchor_degree[arc.vertices.back()];
+  std::vector<double> irregularity(regions);
+  std::vector<std::vector<std::pair<uint32_t, int>>> anchors(regions);
+  for (uint32_t r = 0; r < regions; ++r) {
+    irregularity[r] = region_irregularity(constraints, r, meshes.networks[r], meshes.selections[r], anchors[r]);
+    for (const auto& [v, n] : anchors[r]) anchor_total[v] += n;
+  }
+  // Σ |valence − 4| over the anchors of `touched` regions, with their anchor usages replaced.
+  auto anchor_cost = [&](const std::vector<uint32_t>& touched,
+                         const std::vector<std::vector<std::pair<uint32_t, int>>>& usage) {
+    std::unordered_map<uint32_t, int> total;
+    for (uint32_t r : touched)
+      for (const auto& [v, n] : anchors[r]) total.emplace(v, anchor_total[v]);
+    for (uint32_t r : touched)
+      for (const auto& [v, n] : anchors[r]) total[v] -= n;
+    for (const auto& u : usage)
+      for (const auto& [v, n] : u) total[v] += n;
+    double cost = 0.0;
+    for (const auto& [v, n] : total) cost += std::abs(anchor_degree[v] + n - 4);
+    return cost;
+  };
+  std::vector<uint64_t> version(regions, 1), tried(constraints.arcs.size(), 0);
+  uint64_t clock = 1;
+  for (int pass = 0; pass < passes; ++pass) {
+    bool changed = false;
+    for (uint32_t a = 0; a < constraints.arcs.size(); ++a) {
+      monitor.report("quad region selection", 1.0);
+      const RegionArc& arc = constraints.boundaries.arcs[a];
+      std::vector<uint32_t> touched{arc.left_region};
+      if (arc.right_region != kMeshBorder) touched.push_back(arc.right_region);
+      uint64_t stamp = 0;
+      for (uint32_t r : touched) stamp = std::max(stamp, version[r]);
+      if (tried[a] >= stamp) continue;
+      tried[a] = clock;
+      double before = 0.0, before_energy = 0.0;
+      std::vector<std::vector<std::pair<uint32_t, int>>> old_usage;
+      for (uint32_t r : touched) {
+        before += irregularity[r];
+        before_energy += meshes.selections[r].energy;
+        old_usage.push_back(anchors[r]);
+      }
+      if (before == 0.0) continue;  // faces all quads, samples all regular
+      bool expensive = false;  // re-selecting a region with many candidates costs the most
+      for (uint32_t r : touched) expensive |= meshes.networks[r].curves.size() > max_curves;
+      if (expensive) continue;
+      before += anchor_cost(touched, old_usage);
+      const uint32_t current = uint32_t(constraints.arcs[a].samples.t.size() - 1);
+      const uint32_t base = constraints.arcs[a].base_segments;
+      for (uint32_t value : {current - 1, current + 1}) {
+        if (value < 1 || value + 1 < base || value > base + 1) continue;
+        resample_arc(constraints, a, value);
+        std::vector<CurveNetwork> networks(touched.size());
+        std::vector<QuadSelection> selections(touched.size());
+        std::vector<std::vector<std::pair<uint32_t, int>>> usage(touched.size());
+        std::vector<double> region_cost(touched.size());
+        // The two regions are independent: the second on its own thread when allowed.
+        auto run = [&](size_t i) {
+          select_region(constraints, touched[i], options, networks[i], selections[i]);
+          region_cost[i] = region_irregularity(constraints, touched[i], networks[i], selections[i], usage[i]);
+        };
+        if (touched.size() == 2 && threads != 1) {
+          std::exception_ptr failure;
+          std::thread second([&] {
+            try {
+              run(1);
+            } catch (...) {
+              failure = std::current_exception();
+            }
+          });
+          try {
+            run(0);
+          } catch (...) {
+            second.join();
+            throw;
+          }
+          second.join();
+          if (failure) std::rethrow_exception(failure);
+        } else {
+          for (size_t i = 0; i < touched.size(); ++i) run(i);
+        }
+        double after = 0.0, after_energy = 0.0;
+        for (size_t i = 0; i < touched.size(); ++i) after += region_cost[i], after_energy += selections[i].energy;
+        after += anchor_cost(touched, usage);
+        if (after < before || (after == before && after_energy < before_energy - 1e-9 * (1.0 + before_energy))) {
+          for (size_t i = 0; i < touched.size(); ++i) {
+            const uint32_t r = touched[i];
+            for (const auto& [v, n] : anchors[r]) anchor_total[v] -= n;
+            for (const auto& [v, n] : usage[i]) anchor_total[v] += n;
+            anchors[r] = std::move(usage[i]);
+            irregularity[r] = region_cost[i];
+            meshes.networks[r] = std::move(networks[i]);
+            meshes.selections[r] = std::move(selections[i]);
+            version[r] = ++clock;
+          }
+          changed = true;
+          break;
+        }
+        resample_arc(constraints, a, current);
+      }
+    }
+    if (!changed) break;
+  }
+  meshes.energy = 0.0, meshes.faces = 0, meshes.quads = 0;
+  for (const QuadSelection& s : meshes.selections) {
+    meshes.energy += s.energy;
+    meshes.faces += s.faces.size();
+    meshes.quads += s.quads;
+  }
+}
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -43,6 +202,8 @@ void check_options(const QuadRemeshOptions& o) {
   if (o.relaxation_iterations < 0 || o.relaxation_iterations > 100000)
     fail(Status::invalid_argument, std::string(who) + "relaxation iterations must be in [0, 100000]");
   if (o.threads < 0 || o.threads > 1024) fail(Status::invalid_argument, std::string(who) + "threads must be in [0, 1024]");
+  if (o.sample_refinement_passes < 0 || o.sample_refinement_max_curves < 0)
+    fail(Status::invalid_argument, std::string(who) + "sample refinement passes and max curves must be >= 0");
 }
 
 // Constrained points of all arcs with global ids: the anchors first (in RegionBoundaries::anchors
@@ -284,7 +445,7 @@ QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemesh
   auto t = std::chrono::steady_clock::now();
   ConstraintOptions co;
   co.spacing = spacing_from_bbox_fraction(tri, o.edge_length);
-  const RemeshConstraints constraints =
+  RemeshConstraints constraints =
       compute_remesh_constraints(tri, segmentation.face_region, segmentation.num_regions(), co, monitor);
   r.constraint_seconds = seconds_since(t);
 
@@ -293,7 +454,10 @@ QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemesh
   so.weights.triangle = o.triangle_weight;
   so.weights.pentagon = o.pentagon_weight;
   so.weights.t_joint = o.t_joint_weight;
-  const RegionQuadMeshes meshes = select_region_quads(constraints, CurveNetworkOptions{}, so, o.threads, monitor);
+  RegionQuadMeshes meshes = select_region_quads(constraints, CurveNetworkOptions{}, so, o.threads, monitor);
+  if (o.sample_refinement_passes > 0)
+    refine_sample_counts(constraints, meshes, so, o.sample_refinement_passes, size_t(o.sample_refinement_max_curves),
+                         o.threads, monitor);
   r.selection_seconds = seconds_since(t);
   r.energy = meshes.energy;
   for (const QuadSelection& s : meshes.selections) r.phase1_energy += s.phase1_energy;
@@ -302,6 +466,7 @@ QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemesh
   t = std::chrono::steady_clock::now();
   const GlobalSamples samples = global_samples(tri, constraints);
   r.arcs = constraints.arcs.size();
+  for (const ArcConstraint& arc : constraints.arcs) r.arc_segments.push_back(uint32_t(arc.samples.t.size() - 1));
   r.samples = samples.positions.size();
   std::vector<Vec3> normals;
   std::vector<double> areas;

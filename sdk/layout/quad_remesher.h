@@ -50,6 +50,12 @@ struct QuadRemeshOptions {
   double crease_angle_degrees = 40.0;  // dihedral angle of a sharp region-boundary piece; < 0: no creases
   int relaxation_iterations = 20;      // Gauss-Seidel sweeps of the Laplacian relaxation (>= 0)
   int threads = 0;                     // selection workers (0 = hardware concurrency)
+  // Sample-count refinement after the selection (not in the thesis): an arc next to an irregular
+  // region gets one sample more or less when re-selecting its regions makes the glued mesh more
+  // regular there (non-quad faces, boundary samples and anchors of valence != 4). Sweeps over the
+  // arcs (0: none); arcs next to a region with more than `max_curves` candidate curves are skipped.
+  int sample_refinement_passes = 1;
+  int sample_refinement_max_curves = 200;
 };
 
 // The RemeshQuality part: faces, vertices, quads, valences, min scaled Jacobian of cage.mesh.
@@ -57,6 +63,9 @@ struct QuadRemeshResult : RemeshQuality {
   Cage cage;              // the glued mesh; sharp region-boundary edges tagged infinitely sharp
   uint64_t regions = 0;   // VSA regions
   uint64_t arcs = 0, samples = 0;  // arcs after splitting; constrained points (anchors included)
+  // Per arc, its final number of sample segments (after the allocation and the refinement);
+  // resample_arc(constraints, a, arc_segments[a]) reproduces the samples from the constraints.
+  std::vector<uint32_t> arc_segments;
   uint64_t creases = 0;            // tagged cage edges
   uint64_t crease_arcs = 0;        // interior arcs with at least one tagged edge
   // Output faces whose normal disagrees (dot <= 0) with the normal of the input triangle under

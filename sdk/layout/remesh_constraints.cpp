@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <string>
 
 #include "core/status.h"
@@ -41,7 +42,6 @@ RemeshConstraints compute_remesh_constraints(const PolygonMesh& triangles, const
         split_arc(out.boundaries, a, middle);
         continue;
       }
-      c.samples = sample_arc_cubic(c.cubic, options.spacing);
       out.arcs.push_back(std::move(c));
       break;
     }
@@ -76,14 +76,209 @@ RemeshConstraints compute_remesh_constraints(const PolygonMesh& triangles, const
         RegionArcDomain entry;
         entry.arc = arc;
         entry.planar = fit_arc_cubic(uv, constraint.s);
-        for (const Vec3& p : evaluate_at(entry.planar, constraint.samples.t)) entry.samples_uv.push_back({p.x, p.y});
-        entry.samples_uv.front() = {uv.front().x, uv.front().y};
-        entry.samples_uv.back() = {uv.back().x, uv.back().y};
         out.region_arcs[r].push_back(std::move(entry));
       }
-    monitor.report("remesh constraints", 0.1 + 0.9 * double(r + 1) / double(num_regions));
+    monitor.report("remesh constraints", 0.1 + 0.85 * double(r + 1) / double(num_regions));
   }
+
+  // Sample counts: ⌈len/δ⌉ segments per arc, or the joint allocation.
+  std::vector<double> ideal(out.arcs.size());
+  for (size_t a = 0; a < out.arcs.size(); ++a) ideal[a] = arc_cubic_length(out.arcs[a].cubic) / options.spacing;
+  std::vector<uint32_t> segments(out.arcs.size());
+  if (options.balance_samples) {
+    std::vector<SegmentAllocationRegion> problem(num_regions);
+    for (uint32_t r = 0; r < num_regions; ++r) {
+      const std::vector<RegionLoop>& loops = out.boundaries.region_loops[r];
+      size_t entry = 0;
+      for (const RegionLoop& loop : loops) {
+        const size_t n = loop.arcs.size();
+        // Direction in Ω_i leaving the loop's k-th anchor along arc k (walk direction), and
+        // arriving at anchor k + 1 along it: chords to the point δ along the arc's parameter.
+        std::vector<std::array<double, 2>> leave(n), arrive(n);
+        for (size_t k = 0; k < n; ++k) {
+          const ArcCubic& planar = out.region_arcs[r][entry + k].planar;
+          const double S = planar.parameter_length, h = std::min(S, options.spacing);
+          const Vec3 p0 = planar.evaluate(0.0), p1 = planar.evaluate(h), q0 = planar.evaluate(S - h),
+                     q1 = planar.evaluate(S);
+          std::array<double, 2> start{p1.x - p0.x, p1.y - p0.y}, end{q1.x - q0.x, q1.y - q0.y};
+          if (loop.reversed[k]) {
+            leave[k] = {-end[0], -end[1]};
+            arrive[k] = {-start[0], -start[1]};
+          } else {
+            leave[k] = start;
+            arrive[k] = end;
+          }
+        }
+        std::vector<size_t> corners;  // k: the anchor where arc k starts is a corner
+        for (size_t k = 0; k < n; ++k) {
+          const std::array<double, 2>& in = arrive[(k + n - 1) % n];
+          const std::array<double, 2>& outd = leave[k];
+          const double cross = in[0] * outd[1] - in[1] * outd[0], dot = in[0] * outd[0] + in[1] * outd[1];
+          if (cross == 0.0 && dot == 0.0) continue;
+          const double internal = M_PI - std::atan2(cross, dot);  // region on the left
+          if (internal < options.corner_angle) corners.push_back(k);
+        }
+        const size_t first = corners.empty() ? 0 : corners.front();
+        std::vector<std::vector<uint32_t>> sides;
+        for (size_t i = 0; i < n; ++i) {
+          const size_t k = (first + i) % n;
+          if (sides.empty() || std::find(corners.begin(), corners.end(), k) != corners.end()) sides.emplace_back();
+          sides.back().push_back(loop.arcs[k]);
+        }
+        for (auto& side : sides) problem[r].sides.push_back(std::move(side));
+        entry += n;
+      }
+      problem[r].quad_like = loops.size() == 1 && problem[r].sides.size() == 4;
+    }
+    segments = allocate_arc_segments(ideal, problem);
+  } else {
+    for (size_t a = 0; a < ideal.size(); ++a) segments[a] = uint32_t(std::max(1L, long(std::ceil(ideal[a] - 1e-9))));
+  }
+  for (uint32_t a = 0; a < out.arcs.size(); ++a) {
+    out.arcs[a].base_segments = uint32_t(std::max(1L, long(std::ceil(ideal[a] - 1e-9))));
+    resample_arc(out, a, segments[a]);
+  }
+  monitor.report("remesh constraints", 1.0);
   return out;
+}
+
+void resample_arc(RemeshConstraints& constraints, uint32_t arc, uint32_t segments) {
+  if (arc >= constraints.arcs.size()) fail(Status::invalid_argument, "resample_arc: arc id out of range");
+  if (segments == 0) fail(Status::invalid_argument, "resample_arc: at least one segment");
+  ArcConstraint& c = constraints.arcs[arc];
+  c.samples = sample_arc_cubic_count(c.cubic, long(segments) - 1);
+  const RegionArc& ra = constraints.boundaries.arcs[arc];
+  for (uint32_t r : {ra.left_region, ra.right_region}) {
+    if (r >= constraints.region_arcs.size()) continue;  // mesh border
+    for (RegionArcDomain& entry : constraints.region_arcs[r]) {
+      if (entry.arc != arc) continue;
+      entry.samples_uv.clear();
+      for (const Vec3& p : evaluate_at(entry.planar, c.samples.t)) entry.samples_uv.push_back({p.x, p.y});
+      const auto& a = constraints.domains[r].uv_of(ra.vertices.front());
+      const auto& b = constraints.domains[r].uv_of(ra.vertices.back());
+      entry.samples_uv.front() = {a[0], a[1]};
+      entry.samples_uv.back() = {b[0], b[1]};
+    }
+  }
+}
+
+namespace {
+
+uint32_t base_segments(double ideal) { return uint32_t(std::max(1L, long(std::ceil(ideal - 1e-9)))); }
+
+struct AllocationState {
+  const std::vector<double>& ideal;
+  const std::vector<SegmentAllocationRegion>& regions;
+  const SegmentAllocationOptions& options;
+  std::vector<std::vector<uint32_t>> arc_regions;  // per arc, the regions having it (with repeats)
+
+  double region_cost(uint32_t r, const std::vector<uint32_t>& n) const {
+    const SegmentAllocationRegion& region = regions[r];
+    long total = 0;
+    std::vector<long> side(region.sides.size(), 0);
+    for (size_t s = 0; s < region.sides.size(); ++s)
+      for (uint32_t a : region.sides[s]) side[s] += long(n[a]);
+    for (long x : side) total += x;
+    double cost = (total % 2 != 0) ? options.odd_cost : 0.0;
+    if (region.quad_like && side.size() == 4)
+      cost += options.mismatch_cost * double(std::labs(side[0] - side[2]) + std::labs(side[1] - side[3]));
+    return cost;
+  }
+  double arc_cost(uint32_t a, uint32_t n) const {
+    return options.deviation_cost * std::abs(double(n) - double(base_segments(ideal[a])));
+  }
+  // Cost change when arc a goes from n[a] to value.
+  double delta(uint32_t a, uint32_t value, std::vector<uint32_t>& n) const {
+    const uint32_t old = n[a];
+    double before = arc_cost(a, old), after = arc_cost(a, value);
+    std::vector<uint32_t> seen;
+    for (uint32_t r : arc_regions[a]) {
+      if (std::find(seen.begin(), seen.end(), r) != seen.end()) continue;
+      seen.push_back(r);
+      before += region_cost(r, n);
+    }
+    n[a] = value;
+    for (uint32_t r : seen) after += region_cost(r, n);
+    n[a] = old;
+    return after - before;
+  }
+};
+
+void check_allocation_input(const std::vector<double>& ideal, const std::vector<SegmentAllocationRegion>& regions) {
+  for (double x : ideal)
+    if (!std::isfinite(x) || x < 0.0) fail(Status::invalid_argument, "segment allocation: ideal counts must be finite and >= 0");
+  for (const SegmentAllocationRegion& region : regions)
+    for (const auto& side : region.sides)
+      for (uint32_t a : side)
+        if (a >= ideal.size()) fail(Status::invalid_argument, "segment allocation: arc id out of range");
+}
+
+}  // namespace
+
+double segment_allocation_cost(const std::vector<uint32_t>& segments, const std::vector<double>& ideal,
+                               const std::vector<SegmentAllocationRegion>& regions,
+                               const SegmentAllocationOptions& options) {
+  check_allocation_input(ideal, regions);
+  if (segments.size() != ideal.size()) fail(Status::invalid_argument, "segment allocation: wrong number of counts");
+  AllocationState state{ideal, regions, options, {}};
+  double cost = 0.0;
+  for (uint32_t a = 0; a < ideal.size(); ++a) cost += state.arc_cost(a, segments[a]);
+  for (uint32_t r = 0; r < regions.size(); ++r) cost += state.region_cost(r, segments);
+  return cost;
+}
+
+std::vector<uint32_t> allocate_arc_segments(const std::vector<double>& ideal,
+                                            const std::vector<SegmentAllocationRegion>& regions,
+                                            const SegmentAllocationOptions& options) {
+  check_allocation_input(ideal, regions);
+  if (options.max_change < 0) fail(Status::invalid_argument, "segment allocation: max_change must be >= 0");
+  AllocationState state{ideal, regions, options, std::vector<std::vector<uint32_t>>(ideal.size())};
+  for (uint32_t r = 0; r < regions.size(); ++r)
+    for (const auto& side : regions[r].sides)
+      for (uint32_t a : side) state.arc_regions[a].push_back(r);
+  const size_t m = ideal.size();
+  std::vector<uint32_t> base(m), lo(m), hi(m);
+  for (size_t a = 0; a < m; ++a) {
+    base[a] = base_segments(ideal[a]);
+    lo[a] = uint32_t(std::max(1L, long(base[a]) - long(options.max_change)));
+    hi[a] = base[a] + uint32_t(options.max_change);
+  }
+  std::vector<uint32_t> n = base;
+  // Greedy descent: the best single-arc change while one lowers the cost.
+  for (;;) {
+    double best = -1e-12;
+    uint32_t best_arc = 0, best_value = 0;
+    for (uint32_t a = 0; a < m; ++a)
+      for (uint32_t v = lo[a]; v <= hi[a]; ++v) {
+        if (v == n[a]) continue;
+        const double d = state.delta(a, v, n);
+        if (d < best) best = d, best_arc = a, best_value = v;
+      }
+    if (best >= -1e-12) break;
+    n[best_arc] = best_value;
+  }
+  // Annealing over single-arc moves (deterministic), keeping the best configuration seen.
+  std::vector<uint32_t> best_n = n;
+  double cost = segment_allocation_cost(n, ideal, regions, options), best_cost = cost;
+  if (m > 0 && options.anneal_steps > 0) {
+    std::mt19937 rng(12345u);
+    const double t0 = 0.5 * std::max(options.odd_cost, options.mismatch_cost), t1 = 0.01;
+    for (int step = 0; step < options.anneal_steps; ++step) {
+      const double temperature = t0 * std::pow(t1 / t0, double(step) / double(options.anneal_steps));
+      const uint32_t a = uint32_t(rng() % m);
+      const uint32_t span = hi[a] - lo[a] + 1;
+      uint32_t v = lo[a] + uint32_t(rng() % span);
+      if (v == n[a]) continue;
+      const double d = state.delta(a, v, n);
+      const double u = double(rng() % 1000000u) / 1e6;
+      if (d <= 0.0 || u < std::exp(-d / temperature)) {
+        n[a] = v;
+        cost += d;
+        if (cost < best_cost - 1e-12) best_cost = cost, best_n = n;
+      }
+    }
+  }
+  return best_n;
 }
 
 namespace {

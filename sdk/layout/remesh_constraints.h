@@ -2,7 +2,8 @@
 #pragma once
 // The constraints of the two-step quad-dominant remeshing (thesis §6.4, spec thesis-ch4-6.md
 // §2.3-2.5), assembled from a segmentation: the region boundaries (anchors, arcs, loops), per arc
-// the 3D cubic (6.1) and its samples at spacing δ (shared by both neighbouring regions), per
+// the 3D cubic (6.1) and its samples at spacing about δ (⌈len/δ⌉ ± 1 segments, chosen jointly
+// over the arcs by allocate_arc_segments; shared by both neighbouring regions), per
 // region its LSCM domain Ω_i and, per arc of the region, the planar pre-image C̄ fitted to the
 // arc's (u, v) with the same 3D parameters s_j, evaluated at the same t_k (§6.4.3).
 //
@@ -31,6 +32,7 @@ struct ArcConstraint {
   double fit_rms = 0.0;    // arc_fit_rms of the cubic
   double fit_max_deviation = 0.0;  // max over the arc's vertices of ‖v_i − C(s_i)‖
   ArcSamples samples;      // c_0 .. c_{r+1} and their t_k
+  uint32_t base_segments = 1;  // max(1, ⌈len(C)/δ⌉): the segment count at spacing at most δ
 };
 
 struct RegionArcDomain {
@@ -61,7 +63,52 @@ struct ConstraintOptions {
   // zig-zag of a region boundary along input edges deviates by about half an edge length from
   // any smooth curve, and splitting cannot remove it. <= 0: never split.
   double max_fit_rms = 0.25;
+  // Joint choice of the arcs' sample counts (not in the thesis, which samples every arc
+  // independently at spacing δ): each arc's number of segments (interior samples + 1) is chosen
+  // within ±1 of ⌈len/δ⌉ so that every region's boundary has an even number of samples (a
+  // quad-only mesh of the region needs it) and, on a region with four corners, opposite sides
+  // get equal counts. See allocate_arc_segments. false: ⌈len/δ⌉ per arc.
+  bool balance_samples = true;
+  // Internal angle in Ω_i (radians, between the chords of C̄ from the anchor to the points δ
+  // along its two arcs) below which an anchor is a corner of its region (sides are separated there).
+  double corner_angle = 2.6;  // ~149°
 };
+
+// Re-samples arc `arc` with `segments` (>= 1) equidistant segments: its 3D samples and, in both
+// neighbouring regions, C̄(t_k) (ends kept at the anchors' (u, v)). Errors: invalid_argument for
+// an arc id out of range or segments == 0.
+void resample_arc(RemeshConstraints& constraints, uint32_t arc, uint32_t segments);
+
+// The sample-count problem: per arc the ideal number of segments len/δ and per region its sides
+// (runs of arcs between two corners; a loop without corners is one side). A region with
+// `quad_like` (exactly four sides, one loop) also pays for unequal opposite sides.
+struct SegmentAllocationRegion {
+  std::vector<std::vector<uint32_t>> sides;  // arc ids; every arc of the region exactly once
+  bool quad_like = false;
+};
+
+struct SegmentAllocationOptions {
+  double odd_cost = 4.0;       // per region with an odd boundary sample count
+  double mismatch_cost = 8.0;  // per unit of |side_0 − side_2| + |side_1 − side_3| (quad-like)
+  double deviation_cost = 1.0; // per unit of |n_a − b_a| on an arc
+  int max_change = 1;          // n_a within ±max_change of b_a (>= 0)
+  int anneal_steps = 20000;    // randomised single-arc moves after the greedy descent (fixed seed)
+};
+
+// Per arc a segment count n_a with max(1, b_a − max_change) <= n_a <= b_a + max_change,
+// b_a = max(1, ⌈ideal_a⌉) (ideal within 1e-9 of an integer counts as that integer), minimising
+// Σ_regions (odd_cost·[odd] + mismatch_cost·mismatch) + deviation_cost·Σ_arcs |n_a − b_a|:
+// greedy single-arc descent from n = b, then simulated annealing over single-arc moves from the
+// best found (deterministic: fixed seed); the best configuration seen is returned, never worse
+// than n = b. Errors: invalid_argument for an arc id out of range or a non-finite / negative ideal.
+std::vector<uint32_t> allocate_arc_segments(const std::vector<double>& ideal,
+                                            const std::vector<SegmentAllocationRegion>& regions,
+                                            const SegmentAllocationOptions& options = {});
+
+// The cost allocate_arc_segments minimises (for tests and reports).
+double segment_allocation_cost(const std::vector<uint32_t>& segments, const std::vector<double>& ideal,
+                               const std::vector<SegmentAllocationRegion>& regions,
+                               const SegmentAllocationOptions& options = {});
 
 // δ = fraction * bounding-box diagonal (the thesis gives δ as 2%-10% of the diagonal).
 double spacing_from_bbox_fraction(const PolygonMesh& mesh, double fraction);

@@ -81,10 +81,23 @@ Checked run_and_check(const PolygonMesh& mesh, const QuadRemeshOptions& options,
   const cagekit::VsaSegmentation seg = cagekit::segment_vsa(mesh, vo);
   cagekit::ConstraintOptions co;
   co.spacing = cagekit::spacing_from_bbox_fraction(mesh, options.edge_length);
-  const cagekit::RemeshConstraints c =
-      cagekit::compute_remesh_constraints(mesh, seg.face_region, seg.num_regions(), co);
+  cagekit::RemeshConstraints c = cagekit::compute_remesh_constraints(mesh, seg.face_region, seg.num_regions(), co);
   EXPECT_EQ(r.regions, seg.num_regions()) << name;
   EXPECT_EQ(r.arcs, c.arcs.size()) << name;
+  // The refinement changed some sample counts, by at most one from ⌈len/δ⌉ each; with them the
+  // constraints give the cage's samples.
+  EXPECT_EQ(r.arc_segments.size(), c.arcs.size()) << name;
+  size_t refined = 0;
+  for (uint32_t a = 0; a < c.arcs.size() && a < r.arc_segments.size(); ++a) {
+    EXPECT_LE(r.arc_segments[a], c.arcs[a].base_segments + 1) << name << " arc " << a;
+    EXPECT_GE(r.arc_segments[a] + 1, c.arcs[a].base_segments) << name << " arc " << a;
+    EXPECT_GE(r.arc_segments[a], 1u) << name << " arc " << a;
+    if (r.arc_segments[a] + 1 != c.arcs[a].samples.t.size()) {
+      ++refined;
+      cagekit::resample_arc(c, a, r.arc_segments[a]);
+    }
+  }
+  std::printf("%s: %zu arcs re-sampled by the refinement\n", name, refined);
   std::map<PositionKey, uint32_t> vertex_at;
   for (uint32_t v = 0; v < cage.num_vertices(); ++v) vertex_at.emplace(key_of(cage.positions[v]), v);
   std::set<uint64_t> edges;
@@ -141,6 +154,11 @@ TEST(QuadRemesher, FandiskTableSixOneValidCageWithCreasesOnFeatures) {
   const Checked run = run_and_check(mesh, options, "fandisk");
   const QuadRemeshResult& r = run.result;
   EXPECT_GT(r.creases, 0u);
+  // Table 6.1's regularity (94 % quads, 76 % valence-4 vertices), with the face count within ±30 %
+  // of its 185.
+  EXPECT_GE(double(r.quads), 0.94 * double(r.faces));
+  EXPECT_GE(double(r.valence4_vertices), 0.76 * double(r.interior_vertices));
+  EXPECT_NEAR(double(r.faces), 185.0, 0.3 * 185.0);
 
   // Every sharp input edge (dihedral above the crease angle) lies within δ/4 of a crease-tagged
   // cage edge (the arc cubics follow the boundary within the (6.1) fit, max RMS δ/4).
@@ -172,7 +190,12 @@ TEST(QuadRemesher, RockerArmTableSixOneValidCage) {
   const std::string path = cagekit_test::shared_mesh_path("rocker-arm.obj");
   if (path.empty()) GTEST_SKIP() << "../shared/meshes/rocker-arm.obj not present";
   const PolygonMesh mesh = cagekit_test::load_mesh(path);
-  run_and_check(mesh, table_six_one(41, 0.06, 20, 70, 70), "rocker-arm");
+  // Without the sample-count refinement (about 6 s here, too much for the test budget; the
+  // fandisk test covers it): the allocated sample counts as they are.
+  QuadRemeshOptions o = table_six_one(41, 0.06, 20, 70, 70);
+  o.sample_refinement_passes = 0;
+  const QuadRemeshResult r = run_and_check(mesh, o, "rocker-arm").result;
+  EXPECT_NEAR(double(r.faces), 431.0, 0.3 * 431.0);
 }
 
 // An open surface (mesh border arcs) with a few regions.
@@ -209,6 +232,9 @@ TEST(QuadRemesher, BadOptionsAndInputAreErrors) {
   o.regions = 100000;  // more regions than triangles
   EXPECT_EQ(status_of(cylinder, o), Status::invalid_argument);
   o.regions = 4;
+  o.sample_refinement_passes = -1;
+  EXPECT_EQ(status_of(cylinder, o), Status::invalid_argument);
+  o.sample_refinement_passes = 1;
   PolygonMesh broken = cylinder;
   broken.face_vertices[5] = 100000;  // out of range
   EXPECT_EQ(status_of(broken, o), Status::invalid_mesh);

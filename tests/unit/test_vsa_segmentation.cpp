@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <random>
 #include <set>
 
 #include "core/edge_map.h"
@@ -819,3 +820,132 @@ TEST(RemeshConstraints, TorusRegionsAreDisksOrAnnuliWithValidDomains) {
 
 TEST(RemeshConstraints, FandiskThirtyRegions) { check_real_mesh_constraints("fandisk.obj", 30, 0.05); }
 TEST(RemeshConstraints, RockerArmFortyOneRegions) { check_real_mesh_constraints("rocker-arm.obj", 41, 0.03); }
+
+// ---------------------------------------------------------------------------------------------
+// Joint sample counts (allocate_arc_segments) and re-sampling one arc
+
+namespace {
+
+// A g x g grid of square regions: region (i, j) has sides bottom h[i][j], right v[i][j + 1],
+// top h[i + 1][j], left v[i][j] (one arc each; the outer arcs are mesh border).
+struct GridProblem {
+  std::vector<double> ideal;
+  std::vector<cagekit::SegmentAllocationRegion> regions;
+};
+
+GridProblem grid_problem(int g) {
+  GridProblem p;
+  auto h = [g](int i, int j) { return uint32_t(i * g + j); };                    // (g + 1) x g
+  auto v = [g](int i, int j) { return uint32_t((g + 1) * g + i * (g + 1) + j); };  // g x (g + 1)
+  p.ideal.resize(size_t(2 * g * (g + 1)));
+  // Rows of horizontal arcs alternate 2.9 / 3.2 (⌈⌉ 3 / 4): every region starts with top and
+  // bottom unequal; vertical arcs 2.2 in every third column, else 1.5 (⌈⌉ 3 / 2), so some
+  // regions start with an odd total.
+  for (int i = 0; i <= g; ++i)
+    for (int j = 0; j < g; ++j) p.ideal[h(i, j)] = (i % 2) ? 3.2 : 2.9;
+  for (int i = 0; i < g; ++i)
+    for (int j = 0; j <= g; ++j) p.ideal[v(i, j)] = (j % 3 == 0) ? 2.2 : 1.5;
+  for (int i = 0; i < g; ++i)
+    for (int j = 0; j < g; ++j) {
+      cagekit::SegmentAllocationRegion r;
+      r.sides = {{h(i, j)}, {v(i, j + 1)}, {h(i + 1, j)}, {v(i, j)}};
+      r.quad_like = true;
+      p.regions.push_back(r);
+    }
+  return p;
+}
+
+long side_total(const std::vector<uint32_t>& n, const std::vector<uint32_t>& side) {
+  long t = 0;
+  for (uint32_t a : side) t += long(n[a]);
+  return t;
+}
+
+}  // namespace
+
+TEST(SegmentAllocation, GridRegionsGetEvenCountsAndMatchingOppositeSides) {
+  const GridProblem p = grid_problem(4);
+  std::vector<uint32_t> base(p.ideal.size());
+  for (size_t a = 0; a < base.size(); ++a) base[a] = uint32_t(std::ceil(p.ideal[a]));
+  const std::vector<uint32_t> n = cagekit::allocate_arc_segments(p.ideal, p.regions);
+  ASSERT_EQ(n.size(), p.ideal.size());
+  for (size_t a = 0; a < n.size(); ++a) {
+    EXPECT_GE(n[a] + 1, base[a]) << "arc " << a;  // within ±1 of ⌈ideal⌉
+    EXPECT_LE(n[a], base[a] + 1) << "arc " << a;
+  }
+  size_t odd_before = 0;
+  for (const auto& r : p.regions) {
+    long total = 0, total_before = 0;
+    for (const auto& side : r.sides) total += side_total(n, side), total_before += side_total(base, side);
+    odd_before += total_before % 2 != 0;
+    EXPECT_EQ(total % 2, 0);
+    EXPECT_EQ(side_total(n, r.sides[0]), side_total(n, r.sides[2]));
+    EXPECT_EQ(side_total(n, r.sides[1]), side_total(n, r.sides[3]));
+  }
+  EXPECT_GT(odd_before, 0u);  // the test starts from odd regions
+  EXPECT_LT(cagekit::segment_allocation_cost(n, p.ideal, p.regions),
+            cagekit::segment_allocation_cost(base, p.ideal, p.regions));
+  EXPECT_EQ(cagekit::allocate_arc_segments(p.ideal, p.regions), n);  // deterministic
+}
+
+TEST(SegmentAllocation, RandomProblemsStayInBoundsAndNeverCostMoreThanCeil) {
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 50; ++trial) {
+    const size_t arcs = 3 + rng() % 30;
+    std::vector<double> ideal(arcs);
+    for (double& x : ideal) x = double(rng() % 600) / 100.0;  // [0, 6), small and integer ones included
+    std::vector<int> uses(arcs, 0);
+    std::vector<cagekit::SegmentAllocationRegion> regions(1 + rng() % 8);
+    for (auto& r : regions) {
+      const size_t sides = 1 + rng() % 6;
+      r.sides.resize(sides);
+      for (auto& side : r.sides) {
+        const uint32_t a = uint32_t(rng() % arcs);
+        if (uses[a] < 2) ++uses[a], side.push_back(a);
+      }
+      r.quad_like = sides == 4;
+    }
+    cagekit::SegmentAllocationOptions o;
+    o.anneal_steps = 2000;
+    const std::vector<uint32_t> n = cagekit::allocate_arc_segments(ideal, regions, o);
+    std::vector<uint32_t> base(arcs);
+    for (size_t a = 0; a < arcs; ++a) {
+      base[a] = std::max(1u, uint32_t(std::ceil(ideal[a] - 1e-9)));
+      EXPECT_GE(n[a], 1u);
+      EXPECT_GE(n[a] + 1, base[a]);
+      EXPECT_LE(n[a], base[a] + 1);
+    }
+    EXPECT_LE(cagekit::segment_allocation_cost(n, ideal, regions, o),
+              cagekit::segment_allocation_cost(base, ideal, regions, o) + 1e-12);
+  }
+  EXPECT_THROW(cagekit::allocate_arc_segments({1.0}, {cagekit::SegmentAllocationRegion{{{3}}, false}}), cagekit::Error);
+  EXPECT_THROW(cagekit::allocate_arc_segments({-1.0}, {}), cagekit::Error);
+  EXPECT_THROW(cagekit::segment_allocation_cost({1, 1}, {1.0}, {}), cagekit::Error);
+}
+
+TEST(RemeshConstraints, ResampleArcChangesBothNeighboursSamples) {
+  const PolygonMesh m = box(4, 0.25);
+  const VsaSegmentation seg = segment(m, 6);
+  cagekit::ConstraintOptions constraint_options;
+  constraint_options.spacing = 0.25;
+  cagekit::RemeshConstraints c = cagekit::compute_remesh_constraints(m, seg.face_region, 6, constraint_options);
+  ASSERT_EQ(c.arcs.size(), 12u);
+  const cagekit::RegionArc& arc = c.boundaries.arcs[0];
+  ASSERT_NE(arc.right_region, cagekit::kMeshBorder);
+  const size_t left_before = c.loop_samples(arc.left_region, 0).size();
+  const size_t right_before = c.loop_samples(arc.right_region, 0).size();
+  const size_t segments = c.arcs[0].samples.t.size() - 1;
+  EXPECT_EQ(c.arcs[0].base_segments, 4u);  // a unit edge at δ = 0.25
+  cagekit::resample_arc(c, 0, uint32_t(segments + 1));
+  EXPECT_EQ(c.arcs[0].samples.position.size(), segments + 2);
+  EXPECT_EQ(c.loop_samples(arc.left_region, 0).size(), left_before + 1);
+  EXPECT_EQ(c.loop_samples(arc.right_region, 0).size(), right_before + 1);
+  EXPECT_EQ(c.loop_samples_uv(arc.left_region, 0).size(), left_before + 1);
+  EXPECT_EQ(c.loop_samples_uv(arc.right_region, 0).size(), right_before + 1);
+  // Equidistant on the straight edge: the middle sample of 5 segments at 0.4 / 0.6 of it.
+  const Vec3 a = c.arcs[0].samples.position.front(), b = c.arcs[0].samples.position.back();
+  EXPECT_NEAR(distance(c.arcs[0].samples.position[2], a), 0.4, 1e-9);
+  EXPECT_NEAR(distance(c.arcs[0].samples.position[3], b), 0.4, 1e-9);
+  EXPECT_THROW(cagekit::resample_arc(c, 0, 0), cagekit::Error);
+  EXPECT_THROW(cagekit::resample_arc(c, 12, 2), cagekit::Error);
+}
