@@ -181,8 +181,23 @@ struct Context {
   std::vector<uint32_t> vf_offsets, vf;  // vertex -> incident faces
   std::vector<uint32_t> vv_offsets, vv;  // vertex -> neighbour vertices (one ring)
   std::vector<uint8_t> on_feature;     // vertex incident to a barrier edge
-  std::vector<double> edge_length;     // |hi - lo|, as segment_ball_length computes it for a whole edge
-  std::vector<double> face_area;       // 0.5 |(q1 - q0) x (q2 - q0)|, as vertex_tensor computes it
+  // What the disk traversal reads per edge and per face, packed (one or two cache lines each).
+  struct DiskEdge {
+    uint32_t lo, hi;
+    uint32_t face[2];  // the two faces in the edge map's corner order (non-barrier edges only)
+    double theta;      // edge_theta
+    double length;     // |hi - lo|, as segment_ball_length computes it for a whole edge
+    Vec3 dir;          // edge_dir
+    uint8_t barrier;
+  };
+  struct DiskFace {
+    Vec3 normal;     // face_normal
+    double area;     // 0.5 |(q1 - q0) x (q2 - q0)|
+    uint32_t v[3];   // corners
+    uint32_t e[3];   // edges of the corners' half-edges
+  };
+  std::vector<DiskEdge> disk_edge;
+  std::vector<DiskFace> disk_face;
   int threads = 1;                     // workers of the per-vertex / per-face loops
 
   explicit Context(const PolygonMesh& m) : mesh(m) {}
@@ -217,14 +232,9 @@ void build_context(Context& cx, const CurvatureOptions& o, const std::vector<uin
   }
   cx.edge_theta.assign(ne, 0.0);
   cx.edge_dir.resize(ne);
-  cx.edge_length.resize(ne);
   for (size_t e = 0; e < ne; ++e) {
     const Vec3 a = mesh.positions[map.edge_lo[e]], b = mesh.positions[map.edge_hi[e]];
     cx.edge_dir[e] = normalized(b - a);
-    {
-      const Vec3 d = b - a;
-      cx.edge_length[e] = std::sqrt(dot(d, d));
-    }
     if (map.valence(e) != 2) {
       cx.barrier[e] = 1;
       continue;
@@ -244,13 +254,35 @@ void build_context(Context& cx, const CurvatureOptions& o, const std::vector<uin
     cx.edge_theta[e] = std::atan2(dot(cross(n0, n1), e0), dot(n0, n1));
   }
 
-  cx.face_area.resize(nf);
+  cx.disk_edge.resize(ne);
+  for (size_t e = 0; e < ne; ++e) {
+    Context::DiskEdge& de = cx.disk_edge[e];
+    de.lo = map.edge_lo[e];
+    de.hi = map.edge_hi[e];
+    const Vec3 d = mesh.positions[de.hi] - mesh.positions[de.lo];
+    de.length = std::sqrt(dot(d, d));
+    de.theta = cx.edge_theta[e];
+    de.dir = cx.edge_dir[e];
+    de.barrier = cx.barrier[e];
+    de.face[0] = de.face[1] = kNone;
+    if (!de.barrier) {  // valence 2 (other valences are barriers)
+      de.face[0] = map.corner_face[map.corners_begin(e)[0]];
+      de.face[1] = map.corner_face[map.corners_begin(e)[1]];
+    }
+  }
+  cx.disk_face.resize(nf);
   for (size_t f = 0; f < nf; ++f) {
+    Context::DiskFace& df = cx.disk_face[f];
     const uint32_t c0 = mesh.face_offsets[f];
-    const Vec3& q0 = mesh.positions[mesh.face_vertices[c0]];
-    const Vec3& q1 = mesh.positions[mesh.face_vertices[c0 + 1]];
-    const Vec3& q2 = mesh.positions[mesh.face_vertices[c0 + 2]];
-    cx.face_area[f] = 0.5 * norm(cross(q1 - q0, q2 - q0));
+    for (int k = 0; k < 3; ++k) {
+      df.v[k] = mesh.face_vertices[c0 + k];
+      df.e[k] = map.corner_edge[c0 + k];
+    }
+    const Vec3& q0 = mesh.positions[df.v[0]];
+    const Vec3& q1 = mesh.positions[df.v[1]];
+    const Vec3& q2 = mesh.positions[df.v[2]];
+    df.normal = cx.face_normal[f];
+    df.area = 0.5 * norm(cross(q1 - q0, q2 - q0));
   }
 
   // Vertex -> faces and vertex -> vertices (CSR).
@@ -284,20 +316,25 @@ void build_context(Context& cx, const CurvatureOptions& o, const std::vector<uin
 // Per-worker scratch of the disk traversal: stamps per face, edge and vertex, the face queue,
 // and per vertex its squared distance to the disk's centre (valid where vertex_stamp matches).
 struct DiskScratch {
-  std::vector<uint32_t> face_stamp, edge_stamp, vertex_stamp, queue;
-  std::vector<double> vertex_d2;
+  struct VertexDistance {
+    uint32_t stamp;
+    double d2;
+  };
+  std::vector<uint32_t> face_stamp, edge_stamp, queue;
+  std::vector<VertexDistance> vertex;
   uint32_t stamp = 0;
 };
 
 // Squared distance of vertex u to c, computed once per disk: dot(q - c, q - c) as every test of
 // the traversal spells it.
 inline double disk_d2(const PolygonMesh& mesh, DiskScratch& s, uint32_t u, const Vec3& c, uint32_t st) {
-  if (s.vertex_stamp[u] != st) {
-    s.vertex_stamp[u] = st;
+  DiskScratch::VertexDistance& vd = s.vertex[u];
+  if (vd.stamp != st) {
+    vd.stamp = st;
     const Vec3 q = mesh.positions[u];
-    s.vertex_d2[u] = dot(q - c, q - c);
+    vd.d2 = dot(q - c, q - c);
   }
-  return s.vertex_d2[u];
+  return vd.d2;
 }
 
 // (5.2) at vertex v: Γ is the connected part of M ∩ Ball(p_v, r) that contains v, where
@@ -308,11 +345,10 @@ inline double disk_d2(const PolygonMesh& mesh, DiskScratch& s, uint32_t u, const
 // clipping of edges (|e ∩ Γ|) and faces (|Γ|) to a ball is exact.
 Tensor vertex_tensor(const Context& cx, uint32_t v, double r, DiskScratch& s) {
   const PolygonMesh& mesh = cx.mesh;
-  const detail::EdgeMap& map = cx.map;
   if (++s.stamp == 0) {  // wrapped: clear
     std::fill(s.face_stamp.begin(), s.face_stamp.end(), 0);
     std::fill(s.edge_stamp.begin(), s.edge_stamp.end(), 0);
-    std::fill(s.vertex_stamp.begin(), s.vertex_stamp.end(), 0);
+    for (DiskScratch::VertexDistance& vd : s.vertex) vd.stamp = 0;
     s.stamp = 1;
   }
   const uint32_t st = s.stamp;
@@ -334,28 +370,27 @@ Tensor vertex_tensor(const Context& cx, uint32_t v, double r, DiskScratch& s) {
   const double r2_inner = r2 * (1.0 - 1e-6);
   for (size_t qi = 0; qi < s.queue.size(); ++qi) {
     const uint32_t f = s.queue[qi];
-    const uint32_t c0 = mesh.face_offsets[f];
-    const Vec3& n = cx.face_normal[f];
-    const uint32_t v0 = mesh.face_vertices[c0], v1 = mesh.face_vertices[c0 + 1], v2 = mesh.face_vertices[c0 + 2];
+    const Context::DiskFace& df = cx.disk_face[f];
+    const Vec3& n = df.normal;
+    const uint32_t v0 = df.v[0], v1 = df.v[1], v2 = df.v[2];
     if (dot(n, n) > 0.0) {  // zero-area faces add no area
       if (disk_d2(mesh, s, v0, c, st) <= r2 && disk_d2(mesh, s, v1, c, st) <= r2 && disk_d2(mesh, s, v2, c, st) <= r2)
-        area += cx.face_area[f];  // the ball is convex: the whole face is inside
+        area += df.area;  // the ball is convex: the whole face is inside
       else
         area += triangle_ball_area(mesh.positions[v0], mesh.positions[v1], mesh.positions[v2], n, c, r);
     }
     for (uint32_t k = 0; k < 3; ++k) {
-      const uint32_t e = map.corner_edge[c0 + k];
+      const uint32_t e = df.e[k];
       if (s.edge_stamp[e] == st) continue;
       s.edge_stamp[e] = st;
-      const uint32_t lo = map.edge_lo[e], hi = map.edge_hi[e];
-      const double len = disk_d2(mesh, s, lo, c, st) <= r2_inner && disk_d2(mesh, s, hi, c, st) <= r2_inner
-                             ? cx.edge_length[e]
-                             : segment_ball_length(mesh.positions[lo], mesh.positions[hi], c, r);
+      const Context::DiskEdge& de = cx.disk_edge[e];
+      const double len = disk_d2(mesh, s, de.lo, c, st) <= r2_inner && disk_d2(mesh, s, de.hi, c, st) <= r2_inner
+                             ? de.length
+                             : segment_ball_length(mesh.positions[de.lo], mesh.positions[de.hi], c, r);
       if (len <= 0.0) continue;
-      if (cx.edge_theta[e] != 0.0) add_outer(t, cx.edge_dir[e], len * cx.edge_theta[e]);
-      if (cx.barrier[e]) continue;
-      for (const uint32_t* h = map.corners_begin(e); h != map.corners_end(e); ++h) {
-        const uint32_t g = map.corner_face[*h];
+      if (de.theta != 0.0) add_outer(t, de.dir, len * de.theta);
+      if (de.barrier) continue;
+      for (const uint32_t g : de.face) {
         if (s.face_stamp[g] != st) {
           s.face_stamp[g] = st;
           s.queue.push_back(g);
@@ -508,8 +543,7 @@ CurvatureField estimate_curvature_field(const PolygonMesh& mesh, const Curvature
       if (s.face_stamp.size() != nf) {
         s.face_stamp.assign(nf, 0);
         s.edge_stamp.assign(ne, 0);
-        s.vertex_stamp.assign(nv, 0);
-        s.vertex_d2.assign(nv, 0.0);
+        s.vertex.assign(nv, DiskScratch::VertexDistance{0, 0.0});
       }
       for (size_t i = begin + b; i < begin + e; ++i) tensors[order[i]] = vertex_tensor(cx, order[i], r, s);
     });
