@@ -9,6 +9,7 @@
 #include "core/parallel_for.h"
 #include "core/status.h"
 #include "layout/feature_edges.h"
+#include "layout/morton_order.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 namespace {
@@ -180,6 +181,24 @@ struct Context {
   std::vector<uint32_t> vf_offsets, vf;  // vertex -> incident faces
   std::vector<uint32_t> vv_offsets, vv;  // vertex -> neighbour vertices (one ring)
   std::vector<uint8_t> on_feature;     // vertex incident to a barrier edge
+  // What the disk traversal reads per edge and per face, packed (one or two cache lines each).
+  struct DiskEdge {
+    uint32_t lo, hi;
+    uint32_t face[2];  // the two faces in the edge map's corner order (non-barrier edges only)
+    double theta;      // edge_theta
+    double length;     // |hi - lo|, as segment_ball_length computes it for a whole edge
+    Vec3 dir;          // edge_dir
+    uint8_t barrier;
+  };
+  struct DiskFace {
+    Vec3 normal;     // face_normal
+    double area;     // 0.5 |(q1 - q0) x (q2 - q0)|
+    uint32_t v[3];   // corners
+    uint32_t e[3];   // edges of the corners' half-edges
+  };
+  std::vector<DiskEdge> disk_edge;
+  std::vector<DiskFace> disk_face;
+  int threads = 1;                     // workers of the per-vertex / per-face loops
 
   explicit Context(const PolygonMesh& m) : mesh(m) {}
 };
@@ -235,6 +254,37 @@ void build_context(Context& cx, const CurvatureOptions& o, const std::vector<uin
     cx.edge_theta[e] = std::atan2(dot(cross(n0, n1), e0), dot(n0, n1));
   }
 
+  cx.disk_edge.resize(ne);
+  for (size_t e = 0; e < ne; ++e) {
+    Context::DiskEdge& de = cx.disk_edge[e];
+    de.lo = map.edge_lo[e];
+    de.hi = map.edge_hi[e];
+    const Vec3 d = mesh.positions[de.hi] - mesh.positions[de.lo];
+    de.length = std::sqrt(dot(d, d));
+    de.theta = cx.edge_theta[e];
+    de.dir = cx.edge_dir[e];
+    de.barrier = cx.barrier[e];
+    de.face[0] = de.face[1] = kNone;
+    if (!de.barrier) {  // valence 2 (other valences are barriers)
+      de.face[0] = map.corner_face[map.corners_begin(e)[0]];
+      de.face[1] = map.corner_face[map.corners_begin(e)[1]];
+    }
+  }
+  cx.disk_face.resize(nf);
+  for (size_t f = 0; f < nf; ++f) {
+    Context::DiskFace& df = cx.disk_face[f];
+    const uint32_t c0 = mesh.face_offsets[f];
+    for (int k = 0; k < 3; ++k) {
+      df.v[k] = mesh.face_vertices[c0 + k];
+      df.e[k] = map.corner_edge[c0 + k];
+    }
+    const Vec3& q0 = mesh.positions[df.v[0]];
+    const Vec3& q1 = mesh.positions[df.v[1]];
+    const Vec3& q2 = mesh.positions[df.v[2]];
+    df.normal = cx.face_normal[f];
+    df.area = 0.5 * norm(cross(q1 - q0, q2 - q0));
+  }
+
   // Vertex -> faces and vertex -> vertices (CSR).
   cx.vf_offsets.assign(nv + 1, 0);
   for (uint32_t v : mesh.face_vertices) ++cx.vf_offsets[v + 1];
@@ -263,11 +313,29 @@ void build_context(Context& cx, const CurvatureOptions& o, const std::vector<uin
   }
 }
 
-// Per-worker scratch of the disk traversal: stamps per face and edge, the face queue.
+// Per-worker scratch of the disk traversal: stamps per face, edge and vertex, the face queue,
+// and per vertex its squared distance to the disk's centre (valid where vertex_stamp matches).
 struct DiskScratch {
+  struct VertexDistance {
+    uint32_t stamp;
+    double d2;
+  };
   std::vector<uint32_t> face_stamp, edge_stamp, queue;
+  std::vector<VertexDistance> vertex;
   uint32_t stamp = 0;
 };
+
+// Squared distance of vertex u to c, computed once per disk: dot(q - c, q - c) as every test of
+// the traversal spells it.
+inline double disk_d2(const PolygonMesh& mesh, DiskScratch& s, uint32_t u, const Vec3& c, uint32_t st) {
+  DiskScratch::VertexDistance& vd = s.vertex[u];
+  if (vd.stamp != st) {
+    vd.stamp = st;
+    const Vec3 q = mesh.positions[u];
+    vd.d2 = dot(q - c, q - c);
+  }
+  return vd.d2;
+}
 
 // (5.2) at vertex v: Γ is the connected part of M ∩ Ball(p_v, r) that contains v, where
 // "connected" means reachable from v's incident faces by crossing non-barrier edges through the
@@ -277,10 +345,10 @@ struct DiskScratch {
 // clipping of edges (|e ∩ Γ|) and faces (|Γ|) to a ball is exact.
 Tensor vertex_tensor(const Context& cx, uint32_t v, double r, DiskScratch& s) {
   const PolygonMesh& mesh = cx.mesh;
-  const detail::EdgeMap& map = cx.map;
   if (++s.stamp == 0) {  // wrapped: clear
     std::fill(s.face_stamp.begin(), s.face_stamp.end(), 0);
     std::fill(s.edge_stamp.begin(), s.edge_stamp.end(), 0);
+    for (DiskScratch::VertexDistance& vd : s.vertex) vd.stamp = 0;
     s.stamp = 1;
   }
   const uint32_t st = s.stamp;
@@ -295,30 +363,34 @@ Tensor vertex_tensor(const Context& cx, uint32_t v, double r, DiskScratch& s) {
   }
   Tensor t{};
   double area = 0.0;
+  const double r2 = r * r;
+  // An edge whose two ends lie inside the ball by this relative margin is inside whole: there
+  // segment_ball_length's clamped roots are exactly 0 and 1 (their rounding error is ~1e-16 of
+  // the margin's effect), so its value is the edge length, bit for bit.
+  const double r2_inner = r2 * (1.0 - 1e-6);
   for (size_t qi = 0; qi < s.queue.size(); ++qi) {
     const uint32_t f = s.queue[qi];
-    const uint32_t c0 = mesh.face_offsets[f];
-    const Vec3& n = cx.face_normal[f];
-    const Vec3& q0 = mesh.positions[mesh.face_vertices[c0]];
-    const Vec3& q1 = mesh.positions[mesh.face_vertices[c0 + 1]];
-    const Vec3& q2 = mesh.positions[mesh.face_vertices[c0 + 2]];
-    const double r2 = r * r;
+    const Context::DiskFace& df = cx.disk_face[f];
+    const Vec3& n = df.normal;
+    const uint32_t v0 = df.v[0], v1 = df.v[1], v2 = df.v[2];
     if (dot(n, n) > 0.0) {  // zero-area faces add no area
-      if (dot(q0 - c, q0 - c) <= r2 && dot(q1 - c, q1 - c) <= r2 && dot(q2 - c, q2 - c) <= r2)
-        area += 0.5 * norm(cross(q1 - q0, q2 - q0));  // the ball is convex: the whole face is inside
+      if (disk_d2(mesh, s, v0, c, st) <= r2 && disk_d2(mesh, s, v1, c, st) <= r2 && disk_d2(mesh, s, v2, c, st) <= r2)
+        area += df.area;  // the ball is convex: the whole face is inside
       else
-        area += triangle_ball_area(q0, q1, q2, n, c, r);
+        area += triangle_ball_area(mesh.positions[v0], mesh.positions[v1], mesh.positions[v2], n, c, r);
     }
     for (uint32_t k = 0; k < 3; ++k) {
-      const uint32_t e = map.corner_edge[c0 + k];
+      const uint32_t e = df.e[k];
       if (s.edge_stamp[e] == st) continue;
       s.edge_stamp[e] = st;
-      const double len = segment_ball_length(mesh.positions[map.edge_lo[e]], mesh.positions[map.edge_hi[e]], c, r);
+      const Context::DiskEdge& de = cx.disk_edge[e];
+      const double len = disk_d2(mesh, s, de.lo, c, st) <= r2_inner && disk_d2(mesh, s, de.hi, c, st) <= r2_inner
+                             ? de.length
+                             : segment_ball_length(mesh.positions[de.lo], mesh.positions[de.hi], c, r);
       if (len <= 0.0) continue;
-      if (cx.edge_theta[e] != 0.0) add_outer(t, cx.edge_dir[e], len * cx.edge_theta[e]);
-      if (cx.barrier[e]) continue;
-      for (const uint32_t* h = map.corners_begin(e); h != map.corners_end(e); ++h) {
-        const uint32_t g = map.corner_face[*h];
+      if (de.theta != 0.0) add_outer(t, de.dir, len * de.theta);
+      if (de.barrier) continue;
+      for (const uint32_t g : de.face) {
         if (s.face_stamp[g] != st) {
           s.face_stamp[g] = st;
           s.queue.push_back(g);
@@ -403,21 +475,28 @@ void directions_and_confidence(const Context& cx, const std::vector<Tensor>& ten
   const size_t nv = mesh.num_vertices(), nf = mesh.num_faces();
   frames.resize(nv);
   t_min.resize(nv);
-  for (size_t v = 0; v < nv; ++v) {
-    frames[v] = decompose(tensors[v], cx.vertex_normal[v]);
-    t_min[v] = frames[v].t_min;
-  }
+  // Every entry depends on its own index only: contiguous ranges per worker, any thread count.
+  parallel_ranges(nv, cx.threads, [&](size_t begin, size_t end) {
+    for (size_t v = begin; v < end; ++v) {
+      frames[v] = decompose(tensors[v], cx.vertex_normal[v]);
+      t_min[v] = frames[v].t_min;
+    }
+  });
   face_conf.resize(nf);
-  for (size_t f = 0; f < nf; ++f)
-    face_conf[f] = face_confidence(mesh, cx.face_normal, cx.vertex_normal, t_min, uint32_t(f));
+  parallel_ranges(nf, cx.threads, [&](size_t begin, size_t end) {
+    for (size_t f = begin; f < end; ++f)
+      face_conf[f] = face_confidence(mesh, cx.face_normal, cx.vertex_normal, t_min, uint32_t(f));
+  });
   vertex_conf.assign(nv, 0.0);
-  for (size_t v = 0; v < nv; ++v) {
-    const uint32_t b = cx.vf_offsets[v], e = cx.vf_offsets[v + 1];
-    if (b == e) continue;
-    double sum = 0.0;
-    for (uint32_t i = b; i < e; ++i) sum += face_conf[cx.vf[i]];
-    vertex_conf[v] = sum / double(e - b);
-  }
+  parallel_ranges(nv, cx.threads, [&](size_t begin, size_t end) {
+    for (size_t v = begin; v < end; ++v) {
+      const uint32_t b = cx.vf_offsets[v], e = cx.vf_offsets[v + 1];
+      if (b == e) continue;
+      double sum = 0.0;
+      for (uint32_t i = b; i < e; ++i) sum += face_conf[cx.vf[i]];
+      vertex_conf[v] = sum / double(e - b);
+    }
+  });
 }
 
 }  // namespace
@@ -427,6 +506,7 @@ CurvatureField estimate_curvature_field(const PolygonMesh& mesh, const Curvature
   check_input(mesh, options, host_feature_edges);
   monitor.report("curvature field", 0.0);
   Context cx(mesh);
+  cx.threads = resolve_threads(options.threads);
   build_context(cx, options, host_feature_edges);
   const detail::EdgeMap& map = cx.map;
   const size_t nv = mesh.num_vertices(), nf = mesh.num_faces(), ne = map.num_edges();
@@ -448,29 +528,7 @@ CurvatureField estimate_curvature_field(const PolygonMesh& mesh, const Curvature
   // Vertices are visited in Morton (Z-curve) order of their positions: consecutive disks then
   // touch mostly the same faces, edges and stamps (cache-resident), whatever the input's vertex
   // order; each tensor depends on its own vertex only, so the order changes no result.
-  std::vector<uint32_t> order(nv);
-  {
-    const BoundingBox box = mesh.bounding_box();
-    const Vec3 extent = box.max - box.min;
-    const double scale = std::max({extent.x, extent.y, extent.z, 1e-300});
-    auto spread = [](uint64_t x) {  // 21 bits -> every third bit
-      x &= 0x1fffff;
-      x = (x | x << 32) & 0x1f00000000ffffull;
-      x = (x | x << 16) & 0x1f0000ff0000ffull;
-      x = (x | x << 8) & 0x100f00f00f00f00full;
-      x = (x | x << 4) & 0x10c30c30c30c30c3ull;
-      x = (x | x << 2) & 0x1249249249249249ull;
-      return x;
-    };
-    std::vector<uint64_t> code(nv);
-    for (size_t v = 0; v < nv; ++v) {
-      const Vec3 q = (1.0 / scale) * (mesh.positions[v] - box.min);
-      auto cell = [](double t) { return uint64_t(std::clamp(t, 0.0, 1.0) * 2097151.0); };
-      code[v] = spread(cell(q.x)) | spread(cell(q.y)) << 1 | spread(cell(q.z)) << 2;
-      order[v] = uint32_t(v);
-    }
-    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return code[a] < code[b] || (code[a] == code[b] && a < b); });
-  }
+  const std::vector<uint32_t> order = detail::morton_order(mesh.positions, mesh.bounding_box());
   std::vector<Tensor> tensors(nv);
   const int threads = resolve_threads(options.threads);
   const size_t workers = size_t(std::max(1, threads));
@@ -485,6 +543,7 @@ CurvatureField estimate_curvature_field(const PolygonMesh& mesh, const Curvature
       if (s.face_stamp.size() != nf) {
         s.face_stamp.assign(nf, 0);
         s.edge_stamp.assign(ne, 0);
+        s.vertex.assign(nv, DiskScratch::VertexDistance{0, 0.0});
       }
       for (size_t i = begin + b; i < begin + e; ++i) tensors[order[i]] = vertex_tensor(cx, order[i], r, s);
     });
@@ -506,30 +565,32 @@ CurvatureField estimate_curvature_field(const PolygonMesh& mesh, const Curvature
   std::vector<Tensor> next(nv);
   for (int it = 0; it < options.smoothing_iterations; ++it) {
     monitor.report("curvature field: smoothing", 0.8 + 0.15 * double(it) / double(options.smoothing_iterations));
-    for (size_t v = 0; v < nv; ++v) {
-      Tensor sum{}, plain{};
-      double wsum = 0.0;
-      int count = 0;
-      for (uint32_t i = cx.vv_offsets[v]; i < cx.vv_offsets[v + 1]; ++i) {
-        const uint32_t u = cx.vv[i];
-        if (!cx.on_feature[v] && cx.on_feature[u]) continue;
-        add_scaled(sum, tensors[u], vertex_conf[u]);
-        add_scaled(plain, tensors[u], 1.0);
-        wsum += vertex_conf[u];
-        ++count;
+    parallel_ranges(nv, cx.threads, [&](size_t vbegin, size_t vend) {
+      for (size_t v = vbegin; v < vend; ++v) {
+        Tensor sum{}, plain{};
+        double wsum = 0.0;
+        int count = 0;
+        for (uint32_t i = cx.vv_offsets[v]; i < cx.vv_offsets[v + 1]; ++i) {
+          const uint32_t u = cx.vv[i];
+          if (!cx.on_feature[v] && cx.on_feature[u]) continue;
+          add_scaled(sum, tensors[u], vertex_conf[u]);
+          add_scaled(plain, tensors[u], 1.0);
+          wsum += vertex_conf[u];
+          ++count;
+        }
+        if (count == 0) {
+          next[v] = tensors[v];
+          continue;
+        }
+        Tensor mean = plain;
+        if (wsum > 0.0)
+          for (int k = 0; k < 6; ++k) mean[k] = sum[k] / wsum;
+        else
+          for (int k = 0; k < 6; ++k) mean[k] = plain[k] / double(count);
+        const double self = 0.5 * vertex_conf[v];
+        for (int k = 0; k < 6; ++k) next[v][k] = self * tensors[v][k] + (1.0 - self) * mean[k];
       }
-      if (count == 0) {
-        next[v] = tensors[v];
-        continue;
-      }
-      Tensor mean = plain;
-      if (wsum > 0.0)
-        for (int k = 0; k < 6; ++k) mean[k] = sum[k] / wsum;
-      else
-        for (int k = 0; k < 6; ++k) mean[k] = plain[k] / double(count);
-      const double self = 0.5 * vertex_conf[v];
-      for (int k = 0; k < 6; ++k) next[v][k] = self * tensors[v][k] + (1.0 - self) * mean[k];
-    }
+    });
     tensors.swap(next);
     directions_and_confidence(cx, tensors, frames, t_min, face_conf, vertex_conf);
   }
@@ -560,16 +621,18 @@ CurvatureField estimate_curvature_field(const PolygonMesh& mesh, const Curvature
   out.face_t_max.resize(nf);
   out.face_k_min.resize(nf);
   out.face_k_max.resize(nf);
-  for (size_t f = 0; f < nf; ++f) {
-    Tensor t{};
-    for (int i = 0; i < 3; ++i) add_scaled(t, out.vertex_tensor[mesh.face_vertex(f, i)], 1.0 / 3.0);
-    out.face_tensor[f] = t;
-    const Frame fr = decompose(t, cx.face_normal[f]);
-    out.face_t_min[f] = fr.t_min;
-    out.face_t_max[f] = fr.t_max;
-    out.face_k_min[f] = fr.k_min;
-    out.face_k_max[f] = fr.k_max;
-  }
+  parallel_ranges(nf, cx.threads, [&](size_t fbegin, size_t fend) {
+    for (size_t f = fbegin; f < fend; ++f) {
+      Tensor t{};
+      for (int i = 0; i < 3; ++i) add_scaled(t, out.vertex_tensor[mesh.face_vertex(f, i)], 1.0 / 3.0);
+      out.face_tensor[f] = t;
+      const Frame fr = decompose(t, cx.face_normal[f]);
+      out.face_t_min[f] = fr.t_min;
+      out.face_t_max[f] = fr.t_max;
+      out.face_k_min[f] = fr.k_min;
+      out.face_k_max[f] = fr.k_max;
+    }
+  });
 
   out.barrier_edges.resize(mesh.num_face_vertices());
   for (size_t c = 0; c < out.barrier_edges.size(); ++c) out.barrier_edges[c] = cx.barrier[map.corner_edge[c]];

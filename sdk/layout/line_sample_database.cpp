@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/status.h"
+#include "layout/morton_order.h"
 #include "layout/triangle_mesh_input.h"
 
 CAGEKIT_NAMESPACE_BEGIN
@@ -38,74 +39,122 @@ void TriangleAdjacency::build(const PolygonMesh& mesh, const std::vector<uint8_t
   }
 }
 
-double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
+namespace {
+
+// point_segment_distance squared: the same arithmetic up to the square root, so sqrt of it is
+// point_segment_distance's value bit for bit.
+inline double point_segment_distance2(const Vec3& p, const Vec3& a, const Vec3& b) {
   const Vec3 d = b - a;
   const double dd = dot(d, d);
   double t = dd > 0.0 ? dot(p - a, d) / dd : 0.0;
   t = std::clamp(t, 0.0, 1.0);
-  return distance(p, a + t * d);
+  const Vec3 x = p - (a + t * d);
+  return dot(x, x);
+}
+
+}  // namespace
+
+double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
+  return std::sqrt(point_segment_distance2(p, a, b));
 }
 
 LineSampleDatabase::LineSampleDatabase(const PolygonMesh& mesh, const TriangleAdjacency& adjacency)
     : mesh_(mesh), adjacency_(adjacency) {
-  face_head_.assign(mesh.num_faces(), detail::kNone);
-  vertex_head_.assign(mesh.num_vertices(), detail::kNone);
-  face_stamp_.assign(mesh.num_faces(), 0);
+  const size_t nf = mesh.num_faces(), nv = mesh.num_vertices();
+  vertex_head_.assign(nv, detail::kNone);
+  // Traversal copy in Morton order (faces by centroid, vertices by position).
+  const BoundingBox box = mesh.bounding_box();
+  const std::vector<uint32_t> vertex_order = detail::morton_order(mesh.positions, box);
+  std::vector<uint32_t> vertex_slot(nv);
+  positions_.resize(nv);
+  for (size_t i = 0; i < nv; ++i) {
+    vertex_slot[vertex_order[i]] = uint32_t(i);
+    positions_[i] = mesh.positions[vertex_order[i]];
+  }
+  std::vector<uint32_t> face_order;
+  {
+    std::vector<Vec3> centroid(nf);
+    for (size_t f = 0; f < nf; ++f)
+      centroid[f] = (1.0 / 3.0) * (mesh.positions[mesh.face_vertices[3 * f]] + mesh.positions[mesh.face_vertices[3 * f + 1]] +
+                                   mesh.positions[mesh.face_vertices[3 * f + 2]]);
+    face_order = detail::morton_order(centroid, box);
+  }
+  slot_of_face_.resize(nf);
+  for (size_t i = 0; i < nf; ++i) slot_of_face_[face_order[i]] = uint32_t(i);
+  slots_.resize(nf);
+  for (size_t i = 0; i < nf; ++i) {
+    const uint32_t f = face_order[i];
+    Slot& sl = slots_[i];
+    for (uint32_t k = 0; k < 3; ++k) {
+      const uint32_t t = adjacency.twin[3 * f + k];
+      sl.twin[k] = t == detail::kNone ? detail::kNone : slot_of_face_[t / 3];
+      sl.vertex[k] = vertex_slot[mesh.face_vertices[3 * f + k]];
+    }
+    sl.head = detail::kNone;
+    sl.stamp = 0;
+  }
 }
 
-void LineSampleDatabase::link(std::vector<uint32_t>& head, uint32_t key, uint32_t segment) {
-  nodes_.push_back({segment, head[key]});
-  head[key] = uint32_t(nodes_.size() - 1);
+void LineSampleDatabase::link(uint32_t& head, uint32_t segment) {
+  nodes_.push_back({segment, head});
+  head = uint32_t(nodes_.size() - 1);
 }
 
 uint32_t LineSampleDatabase::insert(const LineSegment& s, uint32_t also_face) {
-  if (s.face >= face_head_.size() || (also_face != detail::kNone && also_face >= face_head_.size()))
+  if (s.face >= slots_.size() || (also_face != detail::kNone && also_face >= slots_.size()))
     fail(Status::internal_error, "line-sample database: segment face out of range");
   if (segments_.size() >= 0xfffffff0u) fail(Status::limit_exceeded, "line-sample database: too many segments");
   const uint32_t id = uint32_t(segments_.size());
   segments_.push_back(s);
   segment_stamp_.push_back(0);
-  link(face_head_, s.face, id);
-  if (also_face != detail::kNone && also_face != s.face) link(face_head_, also_face, id);
-  if (s.vertex_a != detail::kNone) link(vertex_head_, s.vertex_a, id);
-  if (s.vertex_b != detail::kNone && s.vertex_b != s.vertex_a) link(vertex_head_, s.vertex_b, id);
+  link(slots_[slot_of_face_[s.face]].head, id);
+  if (also_face != detail::kNone && also_face != s.face) link(slots_[slot_of_face_[also_face]].head, id);
+  if (s.vertex_a != detail::kNone) link(vertex_head_[s.vertex_a], id);
+  if (s.vertex_b != detail::kNone && s.vertex_b != s.vertex_a) link(vertex_head_[s.vertex_b], id);
   return id;
 }
 
 size_t LineSampleDatabase::query(uint32_t face, const Vec3& p, double r,
                                  const std::function<bool(uint32_t, double)>& visit) {
   ++queries_;
-  if (face >= face_head_.size()) fail(Status::internal_error, "line-sample database: query face out of range");
+  if (face >= slots_.size()) fail(Status::internal_error, "line-sample database: query face out of range");
   if (++generation_ == 0) {  // wrapped: clear the stamps once every 2^32 queries
-    std::fill(face_stamp_.begin(), face_stamp_.end(), 0);
+    for (Slot& sl : slots_) sl.stamp = 0;
     std::fill(segment_stamp_.begin(), segment_stamp_.end(), 0);
     generation_ = 1;
   }
+  // Distances are compared squared where that decides (sqrt is monotone and correctly rounded:
+  // outside these relative margins of r² the comparison of sqrt(d2) with r cannot differ);
+  // within them, and for every visit, the square root is taken as point_segment_distance does.
+  const double r2 = r * r, r2_lo = r2 * (1.0 - 1e-9), r2_hi = r2 * (1.0 + 1e-9);
+  auto beyond = [&](double d2) { return d2 > r2_hi || (d2 >= r2_lo && std::sqrt(d2) > r); };     // d > r
+  auto within = [&](double d2) { return d2 < r2_lo || (d2 <= r2_hi && std::sqrt(d2) <= r); };  // d <= r
   size_t cell = 0;
   stack_.clear();
-  stack_.push_back(face);
-  face_stamp_[face] = generation_;
+  const uint32_t start = slot_of_face_[face];
+  stack_.push_back(start);
+  slots_[start].stamp = generation_;
   while (!stack_.empty()) {
-    const uint32_t f = stack_.back();
+    const Slot& sl = slots_[stack_.back()];
     stack_.pop_back();
     ++cell;
-    for (uint32_t n = face_head_[f]; n != detail::kNone; n = nodes_[n].next) {
+    for (uint32_t n = sl.head; n != detail::kNone; n = nodes_[n].next) {
       const uint32_t id = nodes_[n].segment;
       if (segment_stamp_[id] == generation_) continue;
       segment_stamp_[id] = generation_;
-      const double d = point_segment_distance(p, segments_[id].a, segments_[id].b);
-      if (d <= r && !visit(id, d)) return cell;
+      const double d2 = point_segment_distance2(p, segments_[id].a, segments_[id].b);
+      if (!within(d2)) continue;
+      if (!visit(id, std::sqrt(d2))) return cell;
     }
     for (uint32_t k = 0; k < 3; ++k) {
-      const uint32_t c = 3 * f + k;
-      const uint32_t t = adjacency_.twin[c];
-      if (t == detail::kNone) continue;
-      const uint32_t g = t / 3;
-      if (face_stamp_[g] == generation_) continue;
-      const Vec3& a = mesh_.positions[mesh_.face_vertices[c]];
-      const Vec3& b = mesh_.positions[mesh_.face_vertices[TriangleAdjacency::next(c)]];
-      if (point_segment_distance(p, a, b) > r) continue;
-      face_stamp_[g] = generation_;
+      const uint32_t g = sl.twin[k];
+      if (g == detail::kNone) continue;
+      Slot& sg = slots_[g];
+      if (sg.stamp == generation_) continue;
+      const Vec3& a = positions_[sl.vertex[k]];
+      const Vec3& b = positions_[sl.vertex[k == 2 ? 0 : k + 1]];
+      if (beyond(point_segment_distance2(p, a, b))) continue;
+      sg.stamp = generation_;
       stack_.push_back(g);
     }
   }

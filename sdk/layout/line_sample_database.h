@@ -10,7 +10,10 @@
 // thesis: "at least one vertex within r"). The edge test also reaches segments in very large
 // faces whose vertices are all farther than r, the pitfall the thesis solves by pre-splitting.
 // The cell is rebuilt per query with a generation stamp (O(cell) per query); the thesis's
-// incremental p-cell update between consecutive queries is not implemented.
+// incremental p-cell update between consecutive queries is not implemented. For locality the
+// traversal runs on a copy of the adjacency whose faces ("slots") and vertices are numbered in
+// Morton order of their positions; the walk, and so the order of the visits, is that of the
+// input numbering (neighbours in corner order 0, 1, 2, depth first).
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -78,7 +81,7 @@ class LineSampleDatabase {
   // Segment ids listed in face f / at vertex v.
   template <class Fn>
   void for_each_in_face(uint32_t f, Fn&& fn) const {
-    for (uint32_t n = face_head_[f]; n != detail::kNone; n = nodes_[n].next) fn(nodes_[n].segment);
+    for (uint32_t n = slots_[slot_of_face_[f]].head; n != detail::kNone; n = nodes_[n].next) fn(nodes_[n].segment);
   }
   template <class Fn>
   void for_each_at_vertex(uint32_t v, Fn&& fn) const {
@@ -90,14 +93,25 @@ class LineSampleDatabase {
   struct Node {
     uint32_t segment, next;
   };
-  void link(std::vector<uint32_t>& head, uint32_t key, uint32_t segment);
+  // One face of the traversal copy: the slots across its corners' edges (kNone on a boundary),
+  // its corners' vertices (renumbered), its segment list and its generation stamp.
+  struct Slot {
+    uint32_t twin[3];
+    uint32_t vertex[3];
+    uint32_t head;
+    uint32_t stamp;
+  };
+  void link(uint32_t& head, uint32_t segment);
 
   const PolygonMesh& mesh_;
   const TriangleAdjacency& adjacency_;
   std::vector<LineSegment> segments_;
   std::vector<Node> nodes_;
-  std::vector<uint32_t> face_head_, vertex_head_;
-  std::vector<uint32_t> face_stamp_, segment_stamp_;
+  std::vector<Slot> slots_;             // by slot
+  std::vector<uint32_t> slot_of_face_;  // input face -> slot
+  std::vector<Vec3> positions_;         // by renumbered vertex
+  std::vector<uint32_t> vertex_head_;
+  std::vector<uint32_t> segment_stamp_;
   std::vector<uint32_t> stack_;
   uint32_t generation_ = 0;
   uint64_t queries_ = 0;
