@@ -122,6 +122,12 @@ void refine_sample_counts(RemeshConstraints& constraints, RegionQuadMeshes& mesh
       for (uint32_t value : {current - 1, current + 1}) {
         if (value < 1 || value + 1 < base || value > base + 1) continue;
         resample_arc(constraints, a, value);
+        bool polygons = true;  // every loop keeps >= 3 points (a curve-network polygon)
+        for (uint32_t r : touched) polygons &= fewest_loop_points(constraints, r) >= 3;
+        if (!polygons) {
+          resample_arc(constraints, a, current);
+          continue;
+        }
         std::vector<CurveNetwork> networks(touched.size());
         std::vector<QuadSelection> selections(touched.size());
         std::vector<std::vector<std::pair<uint32_t, int>>> usage(touched.size());

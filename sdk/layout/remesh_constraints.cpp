@@ -134,12 +134,30 @@ RemeshConstraints compute_remesh_constraints(const PolygonMesh& triangles, const
   } else {
     for (size_t a = 0; a < ideal.size(); ++a) segments[a] = uint32_t(std::max(1L, long(std::ceil(ideal[a] - 1e-9))));
   }
+  // A loop is a polygon of the curve network: it needs at least 3 constrained points (the sum of
+  // its arcs' segment counts); short closed loops get their arcs' counts raised in turn.
+  for (const std::vector<RegionLoop>& loops : out.boundaries.region_loops)
+    for (const RegionLoop& loop : loops) {
+      uint64_t points = 0;
+      for (uint32_t a : loop.arcs) points += segments[a];
+      for (size_t k = 0; points < 3 && !loop.arcs.empty(); ++k, ++points) ++segments[loop.arcs[k % loop.arcs.size()]];
+    }
   for (uint32_t a = 0; a < out.arcs.size(); ++a) {
     out.arcs[a].base_segments = uint32_t(std::max(1L, long(std::ceil(ideal[a] - 1e-9))));
     resample_arc(out, a, segments[a]);
   }
   monitor.report("remesh constraints", 1.0);
   return out;
+}
+
+uint64_t fewest_loop_points(const RemeshConstraints& constraints, uint32_t region) {
+  uint64_t fewest = UINT64_MAX;
+  for (const RegionLoop& loop : constraints.boundaries.region_loops.at(region)) {
+    uint64_t points = 0;
+    for (uint32_t a : loop.arcs) points += constraints.arcs[a].samples.t.size() - 1;
+    fewest = std::min(fewest, points);
+  }
+  return fewest;
 }
 
 void resample_arc(RemeshConstraints& constraints, uint32_t arc, uint32_t segments) {

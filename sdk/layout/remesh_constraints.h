@@ -79,6 +79,11 @@ struct ConstraintOptions {
 // an arc id out of range or segments == 0.
 void resample_arc(RemeshConstraints& constraints, uint32_t arc, uint32_t segments);
 
+// The fewest constrained points on one loop of `region` (Σ of its arcs' segment counts; the
+// curve network needs >= 3 per loop; compute_remesh_constraints guarantees that). UINT64_MAX
+// for a region without loops; std::out_of_range for a bad region id.
+uint64_t fewest_loop_points(const RemeshConstraints& constraints, uint32_t region);
+
 // The sample-count problem: per arc the ideal number of segments len/δ and per region its sides
 // (runs of arcs between two corners; a loop without corners is one side). A region with
 // `quad_like` (exactly four sides, one loop) also pays for unequal opposite sides.

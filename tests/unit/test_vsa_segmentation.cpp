@@ -784,6 +784,32 @@ TEST(RemeshConstraints, CubeSidesShareTheirSamplesAndCancelCleanly) {
             Status::invalid_argument);
 }
 
+TEST(RemeshConstraints, EveryLoopKeepsThreePointsAtCoarseSpacing) {
+  // A flat square split into its left and right halves: each half's loop is two arcs (its part
+  // of the border and the shared arc) between the two anchors; with δ larger than the square
+  // every arc wants one segment, a 2-point loop the curve network cannot use — each loop must
+  // get >= 3 points.
+  const PolygonMesh m = triangle_grid(8, 8);
+  std::vector<uint32_t> face_region(m.num_faces());
+  const double mid = 0.5 * (m.bounding_box().min.x + m.bounding_box().max.x);
+  for (size_t f = 0; f < m.num_faces(); ++f) {
+    double x = 0.0;
+    for (uint32_t k = 0; k < 3; ++k) x += m.positions[m.face_vertex(f, k)].x / 3.0;
+    face_region[f] = x < mid ? 0 : 1;
+  }
+  for (bool balance : {true, false}) {
+    cagekit::ConstraintOptions constraint_options;
+    constraint_options.spacing = 2.0 * m.bounding_box().diagonal();
+    constraint_options.balance_samples = balance;
+    const cagekit::RemeshConstraints c = cagekit::compute_remesh_constraints(m, face_region, 2, constraint_options);
+    for (uint32_t r = 0; r < 2; ++r) {
+      ASSERT_EQ(c.boundaries.region_loops[r].size(), 1u);
+      EXPECT_EQ(c.boundaries.region_loops[r][0].arcs.size(), 2u) << "the case needs a loop of two arcs";
+      EXPECT_GE(cagekit::fewest_loop_points(c, r), 3u) << "region " << r << (balance ? " balanced" : "");
+    }
+  }
+}
+
 TEST(RemeshConstraints, TorusRegionsAreDisksOrAnnuliWithValidDomains) {
   // A closed genus-1 surface: with a few regions some wrap around the tube or the ring
   // (annuli: two loops, genus 0); every region gets a flip-free LSCM domain.
