@@ -1236,10 +1236,15 @@ typedef struct cagekit_remesh_options {
   double triangle_weight;         /* QUAD: w_tri of Table 6.1, the cost of a triangle, > 0 (default 40) */
   double pentagon_weight;         /* QUAD: w_PT, the cost of a pentagon, > 0 (default 40) */
   double t_joint_weight;          /* QUAD: w_T, the cost of a T-joint, > 0 (default 100) */
+  uint32_t refinement_passes;     /* QUAD: sweeps of the sample-count refinement (not in the thesis): an arc
+                                     next to an irregular region gets one sample more or fewer when
+                                     re-selecting its regions makes the cage more regular there; <= 16.
+                                     0: off, 3-10x faster, a few points fewer quads / valence-4 vertices
+                                     (tests/bench/RESULTS.md) (default 1) */
 } cagekit_remesh_options;
 
 #define CAGEKIT_REMESH_OPTIONS_INIT \
-  { sizeof(cagekit_remesh_options), CAGEKIT_REMESH_ANISOTROPIC, 0.002, 40.0, 5, 0, 0.01, 0.05, 30, 0.01, 40.0, 40.0, 100.0 }
+  { sizeof(cagekit_remesh_options), CAGEKIT_REMESH_ANISOTROPIC, 0.002, 40.0, 5, 0, 0.01, 0.05, 30, 0.01, 40.0, 40.0, 100.0, 1 }
 
 typedef struct cagekit_remesh_report {
   size_t struct_size;             /* sizeof(cagekit_remesh_report) */

@@ -3,7 +3,7 @@
 //             [--keep-creases] [--threads N] [--json] [--quiet]
 // cagekit pipeline SCAN OUTDIR [--method simplify] (--faces N | --vertices N) [--passes N] ...
 // cagekit pipeline SCAN OUTDIR --method anisotropic [--tolerance REL] [--fit-tolerance T] [--passes N] ...
-// cagekit pipeline SCAN OUTDIR --method quad [--edge-length REL] [--regions N] [--weights TRI,PENT,TJOINT]
+// cagekit pipeline SCAN OUTDIR --method quad [--edge-length REL] [--regions N] [--weights TRI,PENT,TJOINT] [--refinement-passes N]
 //                  [--fit-tolerance T] [--passes N] ...
 #include <cstdio>
 #include <string>
@@ -56,7 +56,7 @@ int command_pipeline(Args& args) {
   const char* usage =
       "cagekit pipeline SCAN OUTDIR ([--method simplify] (--faces N | --vertices N) [--crease-angle DEG] [--input-crease-angle DEG] "
       "| --method anisotropic [--tolerance REL] [--feature-angle DEG] [--max-face-valence N] [--fit-tolerance T] "
-      "| --method quad [--edge-length REL] [--regions N] [--weights TRI,PENT,TJOINT] [--feature-angle DEG] "
+      "| --method quad [--edge-length REL] [--regions N] [--weights TRI,PENT,TJOINT] [--refinement-passes N] [--feature-angle DEG] "
       "[--fit-tolerance T]) "
       "[--passes N] [--tolerance T] [--projection exact|linear] [--fairing F] [--keep-creases] [--threads N] "
       "[--limit-levels L] [--json] [--quiet]";

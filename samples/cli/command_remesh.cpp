@@ -2,7 +2,7 @@
 // cagekit remesh IN OUT --method anisotropic [--tolerance REL] [--feature-angle DEG]
 //                [--max-face-valence N] [--curvature-radius REL] [--threads N] [--json] [--quiet]
 // cagekit remesh IN OUT --method quad [--edge-length REL] [--regions N] [--region-tolerance T]
-//                [--weights TRI,PENT,TJOINT] [--feature-angle DEG] [--threads N] [--json] [--quiet]
+//                [--weights TRI,PENT,TJOINT] [--refinement-passes N] [--feature-angle DEG] [--threads N] [--json] [--quiet]
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -51,6 +51,7 @@ cagekit_remesh_options parse_remesh_options(Args& args, const std::string& metho
       o.region_tolerance = args.real("--region-tolerance", 0.01, 0.0, 4.0);
       const std::string weights = args.option("--weights", "");
       if (!weights.empty()) parse_weights(weights, o);
+      o.refinement_passes = static_cast<uint32_t>(args.integer("--refinement-passes", 1, 0, 16));
     } else {
       o.method = CAGEKIT_REMESH_ANISOTROPIC;
       o.tolerance = args.real("--tolerance", 0.002, 1e-7, 1.0);
@@ -68,8 +69,9 @@ cagekit_remesh_options parse_remesh_options(Args& args, const std::string& metho
 std::string remesh_method_json(const cagekit_remesh_options& o) {
   char buffer[256];
   if (o.method == CAGEKIT_REMESH_QUAD)
-    std::snprintf(buffer, sizeof(buffer), "\"method\": \"quad\", \"edge_length\": %.9g, \"weights\": [%.9g, %.9g, %.9g]",
-                  o.edge_length, o.triangle_weight, o.pentagon_weight, o.t_joint_weight);
+    std::snprintf(buffer, sizeof(buffer), "\"method\": \"quad\", \"edge_length\": %.9g, \"weights\": [%.9g, %.9g, %.9g], "
+                  "\"refinement_passes\": %u",
+                  o.edge_length, o.triangle_weight, o.pentagon_weight, o.t_joint_weight, o.refinement_passes);
   else
     std::snprintf(buffer, sizeof(buffer), "\"method\": \"anisotropic\", \"tolerance\": %.9g", o.tolerance);
   return buffer;
@@ -93,7 +95,7 @@ std::string remesh_json_fields(const cagekit_remesh_report& r, const cagekit_app
 int command_remesh(Args& args) {
   const char* usage =
       "cagekit remesh IN OUT (--method anisotropic [--tolerance REL] [--max-face-valence N] [--curvature-radius REL] "
-      "| --method quad [--edge-length REL] [--regions N] [--region-tolerance T] [--weights TRI,PENT,TJOINT]) "
+      "| --method quad [--edge-length REL] [--regions N] [--region-tolerance T] [--weights TRI,PENT,TJOINT] [--refinement-passes N]) "
       "[--feature-angle DEG] [--threads N] [--json] [--quiet]";
   const bool quiet = args.flag("--quiet");
   const bool json = args.flag("--json");

@@ -55,6 +55,7 @@ CAGEKIT_API cagekit_status cagekit_mesh_remesh(cagekit_mesh mesh, const cagekit_
       if (!(o.triangle_weight > 0.0) || !(o.pentagon_weight > 0.0) || !(o.t_joint_weight > 0.0) ||
           !std::isfinite(o.triangle_weight) || !std::isfinite(o.pentagon_weight) || !std::isfinite(o.t_joint_weight))
         fail(Status::invalid_argument, "triangle_weight, pentagon_weight and t_joint_weight must be positive and finite");
+      if (o.refinement_passes > 16) fail(Status::invalid_argument, "refinement_passes must be <= 16");
       cagekit::QuadRemeshOptions qo;
       qo.regions = int(o.regions);
       qo.region_tolerance = o.region_tolerance;
@@ -62,6 +63,7 @@ CAGEKIT_API cagekit_status cagekit_mesh_remesh(cagekit_mesh mesh, const cagekit_
       qo.triangle_weight = o.triangle_weight;
       qo.pentagon_weight = o.pentagon_weight;
       qo.t_joint_weight = o.t_joint_weight;
+      qo.sample_refinement_passes = int(o.refinement_passes);
       qo.crease_angle_degrees = o.feature_angle_degrees;
       qo.threads = int(o.threads);
       cagekit::QuadRemeshResult r = cagekit::remesh_quad_dominant(m.mesh, qo, m.context->monitor());

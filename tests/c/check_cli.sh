@@ -158,6 +158,9 @@ if [ -f "$fandisk" ]; then
      [ "$(json "$tmp/fan-quad.json" "all(k in d for k in '$remesh_keys'.split()) and d['method'] == 'quad' and d['regions'] == 30 and d['creases'] > 50 and d['quads_pct'] > 80 and d['max_face_valence'] <= 6 and d['hausdorff_sym_rel'] < 0.03")" = True ] &&
      "$cli" info "$tmp/fan-quad.obj" --json >"$tmp/fan-quad-info.json" && [ "$(json "$tmp/fan-quad-info.json" "d['valid'] and d['genus'] == 0 and d['boundary_edges'] == 0")" = True ]
   then pass "remesh --method quad: fandisk quad-dominant, creases on sharp region boundaries, valid, closed, genus 0"; else cat "$tmp/fan-quad.json"; fail "remesh quad"; fi
+  if "$cli" remesh "$fandisk" "$tmp/fan-quad0.obj" --method quad --edge-length 0.10 --regions 30 --weights 500,500,500 --refinement-passes 0 --json --quiet >"$tmp/fan-quad0.json" &&
+     [ "$(json "$tmp/fan-quad0.json" "d['refinement_passes'] == 0 and d['regions'] == 30 and d['quads_pct'] > 80")" = True ]
+  then pass "remesh --method quad --refinement-passes 0: fandisk quad-dominant without the refinement"; else cat "$tmp/fan-quad0.json"; fail "remesh quad without refinement"; fi
   if "$cli" pipeline "$fandisk" "$tmp/fan-pipe-quad" --method quad --edge-length 0.10 --passes 2 --quiet &&
      [ "$(json "$tmp/fan-pipe-quad/report.json" "d['remesh']['method'] == 'quad' and d['limit']['error']['hausdorff_sym_rel'] < 0.02")" = True ]
   then pass "pipeline --method quad: remesh -> fit -> limit within 2% of the diagonal"; else cat "$tmp/fan-pipe-quad/report.json"; fail "pipeline quad"; fi
@@ -165,6 +168,7 @@ else
   echo "[ SKIP ] remesh checks: $fandisk not present"
 fi
 expect_bad "remesh --method quad with two weights" "$cli" remesh "$tmp/cube.obj" "$tmp/out.obj" --method quad --weights 1,2 --quiet
+expect_bad "remesh --method quad with 17 refinement passes" "$cli" remesh "$tmp/cube.obj" "$tmp/out.obj" --method quad --refinement-passes 17 --quiet
 expect_bad "remesh --method quad with a zero edge length" "$cli" remesh "$tmp/cube.obj" "$tmp/out.obj" --method quad --edge-length 0 --quiet
 expect_bad "remesh --method quad with more regions than triangles" "$cli" remesh "$tmp/cube.obj" "$tmp/out.obj" --method quad --regions 100000 --quiet
 "$cli" remesh "$tmp/cube.obj" "$tmp/out.obj" --quiet 2>"$tmp/usage.err"; code=$?

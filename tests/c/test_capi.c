@@ -1353,7 +1353,8 @@ static void quad_remesh_of_a_cylinder(void) {
   cagekit_remesh_report report;
   cagekit_cage cage = NULL;
   cagekit_mesh_info info;
-  CHECK(options.edge_length == 0.05 && options.regions == 30 && options.t_joint_weight == 100.0);
+  CHECK(options.edge_length == 0.05 && options.regions == 30 && options.t_joint_weight == 100.0 &&
+        options.refinement_passes == 1);
   memset(&report, 0, sizeof(report));
   report.struct_size = sizeof(report);
   options.method = CAGEKIT_REMESH_QUAD;
@@ -1395,6 +1396,11 @@ static void quad_remesh_of_a_cylinder(void) {
   options.regions = 1000000; /* more regions than triangles */
   CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK(strstr(cagekit_last_error_message(context), "regions") != NULL);
+  options.regions = 6;
+  options.refinement_passes = 17;
+  CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context), "refinement_passes") != NULL);
+  options.refinement_passes = 1;
   options.regions = 0;
   options.region_tolerance = -1.0;
   CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);

@@ -37,10 +37,10 @@ class RemeshOptions(_lib._Versioned):
                 ("feature_angle_degrees", c_double), ("max_face_valence", c_uint32), ("threads", c_uint32),
                 ("curvature_radius", c_double), ("edge_length", c_double), ("regions", c_uint32),
                 ("region_tolerance", c_double), ("triangle_weight", c_double), ("pentagon_weight", c_double),
-                ("t_joint_weight", c_double)]
+                ("t_joint_weight", c_double), ("refinement_passes", c_uint32)]
     _defaults = {"method": 0, "tolerance": 0.002, "feature_angle_degrees": 40.0, "max_face_valence": 5,
                  "threads": 0, "curvature_radius": 0.01, "edge_length": 0.05, "regions": 30, "region_tolerance": 0.01,
-                 "triangle_weight": 40.0, "pentagon_weight": 40.0, "t_joint_weight": 100.0}
+                 "triangle_weight": 40.0, "pentagon_weight": 40.0, "t_joint_weight": 100.0, "refinement_passes": 1}
 
 
 class RemeshReport(_lib._Versioned):
@@ -61,7 +61,7 @@ _lib._declare(_lib.lib)  # ImportError naming the function when the loaded libra
 
 def remesh(mesh, method=RemeshMethod.ANISOTROPIC, tolerance=0.002, feature_angle_degrees=40.0, max_face_valence=5,
            threads=0, curvature_radius=0.01, edge_length=0.05, regions=30, region_tolerance=0.01,
-           weights=(40.0, 40.0, 100.0)):
+           weights=(40.0, 40.0, 100.0), refinement_passes=1):
     """Remeshes `mesh` (an oriented 2-manifold Mesh; polygons are fan-triangulated first) into a
     new Cage with crease tags on feature lines (anisotropic) or sharp region boundaries (quad).
     Returns (cage, report); the report holds faces, vertices, quads, interior_vertices,
@@ -77,7 +77,7 @@ def remesh(mesh, method=RemeshMethod.ANISOTROPIC, tolerance=0.002, feature_angle
                                 curvature_radius=float(curvature_radius), edge_length=float(edge_length),
                                 regions=int(regions), region_tolerance=float(region_tolerance),
                                 triangle_weight=float(weights[0]), pentagon_weight=float(weights[1]),
-                                t_joint_weight=float(weights[2]))
+                                t_joint_weight=float(weights[2]), refinement_passes=int(refinement_passes))
     report = RemeshReport.new()
     out = ctypes.c_void_p()
     mesh._context._call(_lib.lib.cagekit_mesh_remesh, mesh._handle, ctypes.byref(options), ctypes.byref(out),
