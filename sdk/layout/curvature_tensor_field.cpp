@@ -176,8 +176,8 @@ struct Context {
   std::vector<Vec3> face_normal;       // unit (zero for zero-area faces)
   std::vector<Vec3> vertex_normal;     // unit area-weighted mean of the face normals
   std::vector<uint8_t> barrier;        // per edge
-  std::vector<double> edge_theta;      // signed dihedral angle (5.1), 0 on barriers
-  std::vector<Vec3> edge_dir;          // unit direction lo -> hi
+  std::vector<double> edge_theta;      // signed dihedral angle (5.1), 0 on barriers (freed once packed)
+  std::vector<Vec3> edge_dir;          // unit direction lo -> hi (freed once packed)
   std::vector<uint32_t> vf_offsets, vf;  // vertex -> incident faces
   std::vector<uint32_t> vv_offsets, vv;  // vertex -> neighbour vertices (one ring)
   std::vector<uint8_t> on_feature;     // vertex incident to a barrier edge
@@ -196,7 +196,7 @@ struct Context {
     uint32_t v[3];   // corners
     uint32_t e[3];   // edges of the corners' half-edges
   };
-  std::vector<DiskEdge> disk_edge;
+  std::vector<DiskEdge> disk_edge;     // freed after the vertex tensors
   std::vector<DiskFace> disk_face;
   int threads = 1;                     // workers of the per-vertex / per-face loops
 
@@ -270,6 +270,9 @@ void build_context(Context& cx, const CurvatureOptions& o, const std::vector<uin
       de.face[1] = map.corner_face[map.corners_begin(e)[1]];
     }
   }
+  // Only the packed copies are read from here on (memory: 1.6M edges on a 1M-triangle mesh).
+  std::vector<double>().swap(cx.edge_theta);
+  std::vector<Vec3>().swap(cx.edge_dir);
   cx.disk_face.resize(nf);
   for (size_t f = 0; f < nf; ++f) {
     Context::DiskFace& df = cx.disk_face[f];
@@ -549,6 +552,8 @@ CurvatureField estimate_curvature_field(const PolygonMesh& mesh, const Curvature
     });
   }
   scratch.clear();
+  std::vector<Context::DiskEdge>().swap(cx.disk_edge);  // not needed after (5.2)
+  std::vector<Context::DiskFace>().swap(cx.disk_face);
   out.raw_vertex_tensor = tensors;
 
   std::vector<Frame> frames;
