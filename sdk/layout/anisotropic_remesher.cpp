@@ -54,8 +54,8 @@ uint64_t confident_regions(const PolygonMesh& tri, const CurvatureField& field, 
 
 void measure(const CurvatureField& field, const LineMesh& lm, AnisotropicRemeshResult& r) {
   const PolygonMesh& m = lm.mesh;
-  static_cast<RemeshQuality&>(r) = measure_remesh_quality(m, lm.vertex_normals);
   const PolygonMeshFigures figures = polygon_mesh_figures(m);
+  static_cast<RemeshQuality&>(r) = measure_remesh_quality(m, lm.vertex_normals, &figures);
   // Alignment of the edges along curvature lines (feature lines and partition diagonals are not
   // meant to follow the field), scored against the faces their two ends lie on: the chord of a
   // curved edge is parallel to the tangent at its middle, approximated by the sign-aligned mean

@@ -93,8 +93,10 @@ PrincipalAlignment measure_principal_alignment(const CurvatureField& field, cons
   return r;
 }
 
-RemeshQuality measure_remesh_quality(const PolygonMesh& m, const std::vector<Vec3>& vertex_normals) {
-  const PolygonMeshFigures figures = polygon_mesh_figures(m);
+RemeshQuality measure_remesh_quality(const PolygonMesh& m, const std::vector<Vec3>& vertex_normals,
+                                     const PolygonMeshFigures* given) {
+  const PolygonMeshFigures computed = given ? PolygonMeshFigures() : polygon_mesh_figures(m);
+  const PolygonMeshFigures& figures = given ? *given : computed;
   RemeshQuality r;
   r.faces = figures.faces;
   r.vertices = figures.vertices;

@@ -45,8 +45,9 @@ struct RemeshQuality {
 
 // The counts of polygon_mesh_figures plus the scaled Jacobian; `vertex_normals` (per vertex of
 // `mesh`) orient the corner angles (corner_angle in convex_face_partition.h). Indices must be in
-// range.
-RemeshQuality measure_remesh_quality(const PolygonMesh& mesh, const std::vector<Vec3>& vertex_normals);
+// range. `figures`: polygon_mesh_figures(mesh) when the caller has them already (else computed).
+RemeshQuality measure_remesh_quality(const PolygonMesh& mesh, const std::vector<Vec3>& vertex_normals,
+                                     const PolygonMeshFigures* figures = nullptr);
 
 // One output edge to score: its chord and the input faces whose principal directions it is
 // compared with (the remesher: the faces its two ends lie on; a peer's output: the face its

@@ -21,17 +21,21 @@ static const double kCubeD[24] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 0, 0, 1, 1
 static const uint32_t kCubeQuads[24] = {0, 2, 3, 1, 4, 5, 7, 6, 0, 1, 5, 4, 2, 6, 7, 3, 0, 4, 6, 2, 1, 3, 7, 5};
 static const uint32_t kCubeEdges[24] = {0, 1, 2, 3, 4, 5, 6, 7, 0, 2, 1, 3, 4, 6, 5, 7, 0, 4, 1, 5, 2, 6, 3, 7};
 
-static cagekit_mesh new_cube(cagekit_context context) {
+/* A mesh of `face_count` faces of `face_size` vertices each from double xyz positions. */
+static cagekit_mesh new_uniform_mesh(cagekit_context context, uint32_t vertex_count, const double* positions,
+                                     uint32_t face_count, uint32_t face_size, const uint32_t* indices) {
   cagekit_mesh_desc desc = CAGEKIT_MESH_DESC_INIT;
   cagekit_mesh mesh = NULL;
-  desc.vertex_count = 8;
-  desc.positions = kCubeD;
-  desc.face_count = 6;
-  desc.uniform_face_size = 4;
-  desc.face_indices = kCubeQuads;
+  desc.vertex_count = vertex_count;
+  desc.positions = positions;
+  desc.face_count = face_count;
+  desc.uniform_face_size = face_size;
+  desc.face_indices = indices;
   CHECK_OK(cagekit_mesh_create(context, &desc, &mesh));
   return mesh;
 }
+
+static cagekit_mesh new_cube(cagekit_context context) { return new_uniform_mesh(context, 8, kCubeD, 6, 4, kCubeQuads); }
 
 static cagekit_cage new_creased_cube(cagekit_context context) {
   cagekit_mesh mesh = new_cube(context);
@@ -1247,7 +1251,6 @@ static cagekit_mesh new_triangle_cylinder(cagekit_context context, int n_around,
   double* positions = (double*)malloc(3 * nv * sizeof(double));
   uint32_t* faces = (uint32_t*)malloc(3 * nf * sizeof(uint32_t));
   uint32_t at = 0;
-  cagekit_mesh_desc desc = CAGEKIT_MESH_DESC_INIT;
   cagekit_mesh mesh = NULL;
   for (int j = 0; j <= n_along; ++j)
     for (int i = 0; i < n_around; ++i) {
@@ -1265,12 +1268,7 @@ static cagekit_mesh new_triangle_cylinder(cagekit_context context, int n_around,
       memcpy(faces + at, tri, sizeof(tri));
       at += 6;
     }
-  desc.vertex_count = nv;
-  desc.positions = positions;
-  desc.face_count = nf;
-  desc.uniform_face_size = 3;
-  desc.face_indices = faces;
-  CHECK_OK(cagekit_mesh_create(context, &desc, &mesh));
+  mesh = new_uniform_mesh(context, nv, positions, nf, 3, faces);
   free(positions);
   free(faces);
   return mesh;
@@ -1280,15 +1278,7 @@ static cagekit_mesh new_triangle_cylinder(cagekit_context context, int n_around,
 static cagekit_mesh new_three_triangles_on_one_edge(cagekit_context context) {
   static const double p[15] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1};
   static const uint32_t f[9] = {0, 1, 2, 1, 0, 3, 0, 1, 4};
-  cagekit_mesh_desc desc = CAGEKIT_MESH_DESC_INIT;
-  cagekit_mesh mesh = NULL;
-  desc.vertex_count = 5;
-  desc.positions = p;
-  desc.face_count = 3;
-  desc.uniform_face_size = 3;
-  desc.face_indices = f;
-  CHECK_OK(cagekit_mesh_create(context, &desc, &mesh));
-  return mesh;
+  return new_uniform_mesh(context, 5, p, 3, 3, f);
 }
 
 static void anisotropic_remesh_follows_a_cylinder(void) {
