@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <memory>
 #include <string>
 #include <thread>
 
@@ -100,26 +102,60 @@ CubicBezier2 connecting_bezier(const Point2& ci, const Point2& qi, const Point2&
   return {{ci, add(ci, scale(qi, lambda)), add(cj, scale(qj, mu)), cj}};
 }
 
+namespace {
+// Gauss-Legendre nodes of (6.3) over `intervals` equal pieces, with the Bernstein factors of b'
+// and the quadrature weight ½·h·w per node, computed with the same expressions (and so to the
+// same bits) as evaluating them node by node.
+struct QuadratureNodes {
+  std::vector<double> s, t, a, b, c, q;
+  explicit QuadratureNodes(int intervals) {
+    static const double kNode[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526};
+    static const double kWeight[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538};
+    const double h = 1.0 / intervals;
+    for (int k = 0; k < intervals; ++k)
+      for (int g = 0; g < 4; ++g) {
+        const double tt = h * (k + 0.5 * (kNode[g] + 1.0)), ss = 1.0 - tt;
+        t.push_back(tt), s.push_back(ss);
+        a.push_back(3 * ss * ss), b.push_back(6 * ss * tt), c.push_back(3 * tt * tt);
+        q.push_back(0.5 * h * kWeight[g]);
+      }
+  }
+};
+}  // namespace
+
 double bending_energy(const CubicBezier2& curve, int intervals) {
-  static const double kNode[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526};
-  static const double kWeight[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538};
+  static const QuadratureNodes kEight(8);  // the default, used by the minimisation
+  std::unique_ptr<QuadratureNodes> other;
+  if (intervals != 8) other = std::make_unique<QuadratureNodes>(intervals);
+  const QuadratureNodes& nodes = other ? *other : kEight;
   // b' and b'' as combinations of the control-polygon differences (the hot loop of the network).
   const Point2 d0 = sub(curve.control[1], curve.control[0]), d1 = sub(curve.control[2], curve.control[1]),
                d2 = sub(curve.control[3], curve.control[2]);
   const Point2 e0 = sub(d1, d0), e1 = sub(d2, d1);
-  const double h = 1.0 / intervals;
+  const size_t n = nodes.t.size();
+  // The terms first (independent: vectorisable), then summed in node order.
+  constexpr size_t kMaxStack = 64;
+  double stack_terms[kMaxStack];
+  std::vector<double> heap_terms(n > kMaxStack ? n : 0);
+  double* term = n > kMaxStack ? heap_terms.data() : stack_terms;
+  int degenerate = 0;
+  const double* S = nodes.s.data();
+  const double* T = nodes.t.data();
+  const double* A = nodes.a.data();
+  const double* B = nodes.b.data();
+  const double* C = nodes.c.data();
+  const double* Q = nodes.q.data();
+  for (size_t i = 0; i < n; ++i) {
+    const double x1 = A[i] * d0[0] + B[i] * d1[0] + C[i] * d2[0], y1 = A[i] * d0[1] + B[i] * d1[1] + C[i] * d2[1];
+    const double x2 = 6 * (S[i] * e0[0] + T[i] * e1[0]), y2 = 6 * (S[i] * e0[1] + T[i] * e1[1]);
+    const double speed2 = x1 * x1 + y1 * y1;
+    degenerate |= !(speed2 > 0.0);
+    const double cr = x1 * y2 - y1 * x2;
+    term[i] = Q[i] * cr * cr / (speed2 * speed2 * speed2);
+  }
+  if (degenerate) return std::numeric_limits<double>::infinity();
   double energy = 0.0;
-  for (int k = 0; k < intervals; ++k)
-    for (int g = 0; g < 4; ++g) {
-      const double t = h * (k + 0.5 * (kNode[g] + 1.0)), s = 1.0 - t;
-      const double a = 3 * s * s, b = 6 * s * t, c = 3 * t * t;
-      const double x1 = a * d0[0] + b * d1[0] + c * d2[0], y1 = a * d0[1] + b * d1[1] + c * d2[1];
-      const double x2 = 6 * (s * e0[0] + t * e1[0]), y2 = 6 * (s * e0[1] + t * e1[1]);
-      const double speed2 = x1 * x1 + y1 * y1;
-      if (!(speed2 > 0.0)) return std::numeric_limits<double>::infinity();
-      const double cr = x1 * y2 - y1 * x2;
-      energy += 0.5 * h * kWeight[g] * cr * cr / (speed2 * speed2 * speed2);
-    }
+  for (size_t i = 0; i < n; ++i) energy += term[i];
   return energy;
 }
 
@@ -185,14 +221,19 @@ BendingFit minimize_bending_energy(const Point2& ci, const Point2& qi, const Poi
     double e = seed[0], l = seed[1], u = seed[2];
     // Compass search: shrink the step when no axis move improves; bounded iterations.
     double step = 0.1 * d;
+    // The point the last move came from: its energy is above e, so a move back is skipped
+    // (it would be evaluated and rejected).
+    double from_l = std::numeric_limits<double>::quiet_NaN(), from_u = from_l;
     for (int iteration = 0; iteration < 400 && step > 1e-4 * d; ++iteration) {
       bool improved = false;
       const double moves[4][2] = {{step, 0}, {-step, 0}, {0, step}, {0, -step}};
       for (const auto& m : moves) {
         const double tl = std::max(lower, l + m[0]), tu = std::max(lower, u + m[1]);
         if (tl == l && tu == u) continue;
+        if (tl == from_l && tu == from_u) continue;
         const double te = energy_at(tl, tu);
         if (te < e) {
+          from_l = l, from_u = u;
           e = te, l = tl, u = tu, improved = true;
           break;
         }
@@ -203,6 +244,31 @@ BendingFit minimize_bending_energy(const Point2& ci, const Point2& qi, const Poi
   }
   fit.lambda = lambda, fit.mu = mu, fit.energy = best, fit.valid = true;
   return fit;
+}
+
+size_t BendingFitCache::KeyHash::operator()(const Key& k) const {
+  uint64_t h = 0x9e3779b97f4a7c15ull;
+  for (uint64_t v : k) {
+    h ^= v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+    h *= 0xff51afd7ed558ccdull;
+  }
+  return size_t(h ^ (h >> 33));
+}
+
+BendingFitCache::Key BendingFitCache::key(const Point2& ci, const Point2& qi, const Point2& cj, const Point2& qj) {
+  const double values[8] = {ci[0], ci[1], qi[0], qi[1], cj[0], cj[1], qj[0], qj[1]};
+  Key k;
+  std::memcpy(k.data(), values, sizeof values);
+  return k;
+}
+
+void BendingFitCache::use_segments(int segments) {
+  if (segments != segments_) entries_.clear(), segments_ = segments;
+}
+
+const BendingFitCache::Entry* BendingFitCache::find(const Key& k) const {
+  const auto it = entries_.find(k);
+  return it == entries_.end() ? nullptr : &it->second;
 }
 
 namespace {
@@ -238,32 +304,51 @@ bool polyline_crosses_itself(const std::vector<Point2>& line) {
 }
 
 // The curve meets a boundary edge anywhere but at its own end points (where it starts on the two
-// boundary edges incident to each end point).
+// boundary edges incident to each end point). The polyline's pieces are grouped in runs of
+// kRun with a box each, so that an edge is tested only against the pieces of runs whose box it
+// meets (a filter: the same answer as testing every piece).
 bool polyline_crosses_boundary(const CurveNetwork& net, const std::vector<Point2>& line, uint32_t p0, uint32_t p1) {
-  double lo[2] = {line[0][0], line[0][1]}, hi[2] = {lo[0], lo[1]};
-  for (const Point2& p : line)
-    for (int k = 0; k < 2; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+  constexpr size_t kRun = 4;
   const size_t n = line.size() - 1;
+  const size_t runs = (n + kRun - 1) / kRun;
+  struct Box {
+    double lo[2], hi[2];
+  };
+  Box boxes[4096 / kRun + 1];
+  Box all{{line[0][0], line[0][1]}, {line[0][0], line[0][1]}};
+  for (size_t r = 0; r < runs; ++r) {
+    Box& b = boxes[r];
+    const Point2& first = line[r * kRun];
+    b = {{first[0], first[1]}, {first[0], first[1]}};
+    for (size_t i = r * kRun + 1; i <= std::min(n, (r + 1) * kRun); ++i)
+      for (int k = 0; k < 2; ++k) b.lo[k] = std::min(b.lo[k], line[i][k]), b.hi[k] = std::max(b.hi[k], line[i][k]);
+    for (int k = 0; k < 2; ++k) all.lo[k] = std::min(all.lo[k], b.lo[k]), all.hi[k] = std::max(all.hi[k], b.hi[k]);
+  }
+  auto disjoint = [](const Box& box, const Point2& a, const Point2& b) {
+    return std::max(a[0], b[0]) < box.lo[0] || std::min(a[0], b[0]) > box.hi[0] || std::max(a[1], b[1]) < box.lo[1] ||
+           std::min(a[1], b[1]) > box.hi[1];
+  };
   for (uint32_t e = 0; e < net.points.size(); ++e) {
     const uint32_t f = net.points[e].next;
     const Point2 &a = net.points[e].uv, &b = net.points[f].uv;
-    if (std::max(a[0], b[0]) < lo[0] || std::min(a[0], b[0]) > hi[0] || std::max(a[1], b[1]) < lo[1] ||
-        std::min(a[1], b[1]) > hi[1])
-      continue;
+    if (disjoint(all, a, b)) continue;
     const bool at0 = e == p0 || f == p0, at1 = e == p1 || f == p1;
-    for (size_t s = 0; s < n; ++s) {
-      if (s == 0 && at0) {
-        // The first piece starts on this edge; only a touch away from c_i counts.
-        double u = 0, v = 0;
-        if (segments_intersect(line[0], line[1], a, b, &u, &v) && u > 1e-9) return true;
-        continue;
+    for (size_t r = 0; r < runs; ++r) {
+      if (disjoint(boxes[r], a, b)) continue;
+      for (size_t s = r * kRun; s < std::min(n, (r + 1) * kRun); ++s) {
+        if (s == 0 && at0) {
+          // The first piece starts on this edge; only a touch away from c_i counts.
+          double u = 0, v = 0;
+          if (segments_intersect(line[0], line[1], a, b, &u, &v) && u > 1e-9) return true;
+          continue;
+        }
+        if (s + 1 == n && at1) {
+          double u = 0, v = 0;
+          if (segments_intersect(line[s], line[s + 1], a, b, &u, &v) && u < 1.0 - 1e-9) return true;
+          continue;
+        }
+        if (segments_intersect(line[s], line[s + 1], a, b)) return true;
       }
-      if (s + 1 == n && at1) {
-        double u = 0, v = 0;
-        if (segments_intersect(line[s], line[s + 1], a, b, &u, &v) && u < 1.0 - 1e-9) return true;
-        continue;
-      }
-      if (segments_intersect(line[s], line[s + 1], a, b)) return true;
     }
   }
   return false;
@@ -272,7 +357,7 @@ bool polyline_crosses_boundary(const CurveNetwork& net, const std::vector<Point2
 }  // namespace
 
 CurveNetwork build_curve_network(const std::vector<std::vector<Point2>>& loops, const CurveNetworkOptions& options,
-                                 const TaskMonitor& monitor) {
+                                 const TaskMonitor& monitor, BendingFitCache* cache) {
   validate(loops, options);
   CurveNetwork net;
   net.loop_begin.push_back(0);
@@ -311,12 +396,14 @@ CurveNetwork build_curve_network(const std::vector<std::vector<Point2>>& loops, 
   }
   const uint32_t num_ports = static_cast<uint32_t>(net.ports.size());
   const int segments = options.polyline_segments;
+  if (cache) cache->use_segments(segments);
   // Per first port a, its curves and counters; ports are handed out dynamically (the work per
   // port falls with a) and the results concatenated in port order, so the network does not
   // depend on the thread count.
   struct PortResult {
     std::vector<NetworkCurve> curves;
-    size_t considered = 0, crossing = 0, self = 0, invalid = 0;
+    size_t considered = 0, crossing = 0, self = 0, invalid = 0, hits = 0;
+    std::vector<std::pair<BendingFitCache::Key, BendingFitCache::Entry>> new_fits;  // misses, for the cache
   };
   std::vector<PortResult> results(num_ports);
   std::atomic<uint32_t> next_port{0};
@@ -337,27 +424,46 @@ CurveNetwork build_curve_network(const std::vector<std::vector<Point2>>& loops, 
         // A chord behind either tangent needs a turn of more than π/2 at that end.
         if (!(dot(chord, pa.tangent) > 0.0) || !(dot(chord, pb.tangent) < 0.0)) continue;
         ++out.considered;
-        const BendingFit fit = minimize_bending_energy(ca.uv, pa.tangent, cb.uv, pb.tangent);
+        // The pair's fit, polyline and self-crossing test (from the cache when it has them).
+        BendingFitCache::Entry computed;
+        const BendingFitCache::Entry* entry = nullptr;
+        BendingFitCache::Key key{};
+        if (cache) {
+          key = BendingFitCache::key(ca.uv, pa.tangent, cb.uv, pb.tangent);
+          entry = cache->find(key);
+          out.hits += entry != nullptr;
+        }
+        if (!entry) {
+          computed.fit = minimize_bending_energy(ca.uv, pa.tangent, cb.uv, pb.tangent);
+          if (computed.fit.valid) {
+            const CubicBezier2 bezier =
+                connecting_bezier(ca.uv, pa.tangent, cb.uv, pb.tangent, computed.fit.lambda, computed.fit.mu);
+            computed.polyline.resize(segments + 1);
+            for (int k = 0; k <= segments; ++k) computed.polyline[k] = bezier.eval(double(k) / segments);
+            computed.polyline.front() = ca.uv, computed.polyline.back() = cb.uv;
+            computed.self_intersecting = polyline_crosses_itself(computed.polyline);
+          }
+          entry = &computed;
+        }
+        const BendingFit& fit = entry->fit;
         if (!fit.valid) {
           ++out.invalid;
-          continue;
-        }
-        NetworkCurve curve;
-        curve.ports = {a, b};
-        curve.lambda = fit.lambda, curve.mu = fit.mu, curve.energy = fit.energy;
-        curve.bezier = connecting_bezier(ca.uv, pa.tangent, cb.uv, pb.tangent, fit.lambda, fit.mu);
-        curve.polyline.resize(segments + 1);
-        for (int k = 0; k <= segments; ++k) curve.polyline[k] = curve.bezier.eval(double(k) / segments);
-        curve.polyline.front() = ca.uv, curve.polyline.back() = cb.uv;
-        if (polyline_crosses_itself(curve.polyline)) {
+        } else if (entry->self_intersecting) {
           ++out.self;
-          continue;
-        }
-        if (polyline_crosses_boundary(net, curve.polyline, pa.point, pb.point)) {
+        } else if (polyline_crosses_boundary(net, entry->polyline, pa.point, pb.point)) {
           ++out.crossing;
-          continue;
+        } else {
+          NetworkCurve curve;
+          curve.ports = {a, b};
+          curve.lambda = fit.lambda, curve.mu = fit.mu, curve.energy = fit.energy;
+          curve.bezier = connecting_bezier(ca.uv, pa.tangent, cb.uv, pb.tangent, fit.lambda, fit.mu);
+          if (entry == &computed && !cache)
+            curve.polyline = std::move(computed.polyline);
+          else
+            curve.polyline = entry->polyline;
+          out.curves.push_back(std::move(curve));
         }
-        out.curves.push_back(std::move(curve));
+        if (cache && entry == &computed) out.new_fits.emplace_back(key, std::move(computed));
       }
     }
   });
@@ -367,6 +473,11 @@ CurveNetwork build_curve_network(const std::vector<std::vector<Point2>>& loops, 
     net.discarded_self_intersection += r.self;
     net.discarded_invalid += r.invalid;
     for (NetworkCurve& c : r.curves) net.curves.push_back(std::move(c));
+    if (cache) {
+      cache->hits += r.hits;
+      cache->misses += r.new_fits.size();
+      for (auto& [key, entry] : r.new_fits) cache->insert(key, std::move(entry));
+    }
   }
   monitor.report("quad curve network", 1.0);
   return net;

@@ -28,6 +28,7 @@
 // counter-clockwise or bad options; cancelled from the monitor.
 #include <array>
 #include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 #include "core/task_monitor.h"
@@ -114,7 +115,40 @@ struct CurveNetwork {
   size_t num_loops() const { return loop_begin.size() - 1; }
 };
 
+// Memo of the per-pair work of build_curve_network, keyed by the exact bits of (c_i, q_i, c_j,
+// q_j): the minimisation of (6.3), the curve's polyline and whether it crosses itself (pure
+// functions of the key for a given polyline_segments), so a hit gives what a new computation
+// would. The sample-count refinement of the quad remesher rebuilds a region's network after
+// moving the samples of one arc; every pair of ports whose points and tangents did not move is
+// then a hit (the minimisation is ~90% of a network build); only the test against the region's
+// boundary (which moved) is repeated. Not thread-safe: one cache per region / concurrent caller.
+class BendingFitCache {
+ public:
+  using Key = std::array<uint64_t, 8>;
+  struct KeyHash {
+    size_t operator()(const Key& k) const;
+  };
+  struct Entry {
+    BendingFit fit;
+    bool self_intersecting = false;
+    std::vector<Point2> polyline;  // empty when !fit.valid
+  };
+  static Key key(const Point2& ci, const Point2& qi, const Point2& cj, const Point2& qj);
+  // The entries are for one polyline_segments value; another value empties the cache first.
+  void use_segments(int segments);
+  const Entry* find(const Key& k) const;
+  void insert(const Key& k, Entry entry) { entries_.emplace(k, std::move(entry)); }
+  size_t size() const { return entries_.size(); }
+  size_t hits = 0, misses = 0;
+
+ private:
+  int segments_ = 0;
+  std::unordered_map<Key, Entry, KeyHash> entries_;
+};
+
+// `cache` (optional) is read by the workers and extended after them, so the result is the same
+// with or without it and for any thread count.
 CurveNetwork build_curve_network(const std::vector<std::vector<Point2>>& loops, const CurveNetworkOptions& options = {},
-                                 const TaskMonitor& monitor = {});
+                                 const TaskMonitor& monitor = {}, BendingFitCache* cache = nullptr);
 
 CAGEKIT_NAMESPACE_END

@@ -390,23 +390,34 @@ class Arrangement {
     const size_t na = pa.size() - 1, nb = pb.size() - 1;
     const uint32_t ea[2] = {net_.ports[ca.ports[0]].point, net_.ports[ca.ports[1]].point};
     const uint32_t eb[2] = {net_.ports[cb.ports[0]].point, net_.ports[cb.ports[1]].point};
-    for (size_t s = 0; s < na; ++s)
-      for (size_t u = 0; u < nb; ++u) {
-        // Pieces at a shared end point touch there by construction.
-        const bool shared = (s == 0 || s + 1 == na) && (u == 0 || u + 1 == nb) &&
-                            ea[s == 0 ? 0 : 1] == eb[u == 0 ? 0 : 1];
-        if (shared) continue;
-        double sigma = 0, tau = 0;
-        if (!segments_intersect(pa[s], pa[s + 1], pb[u], pb[u + 1], &sigma, &tau)) continue;
-        Crossing x;
-        x.ta = (double(s) + sigma) / double(na);
-        x.tb = (double(u) + tau) / double(nb);
-        x.position = add(pa[s], scale(sub(pa[s + 1], pa[s]), sigma));
-        x.dir_a = sub(pa[s + 1], pa[s]);
-        x.dir_b = sub(pb[u + 1], pb[u]);
-        if (x.ta <= 0.0 || x.ta >= 1.0 || x.tb <= 0.0 || x.tb >= 1.0) continue;  // at an end point
-        found.push_back(x);
+    // Pieces are tested in runs of kRun whose boxes meet (a filter: the same crossings in the
+    // same order as testing every pair of pieces).
+    const CurveBoxes &ba = boxes(a), &bb = boxes(b);
+    if (ba.all.meets(bb.all)) {
+      for (size_t ra = 0; ra < ba.runs.size(); ++ra) {
+        if (!ba.runs[ra].meets(bb.all)) continue;
+        for (size_t s = ra * kRun; s < std::min(na, (ra + 1) * kRun); ++s)
+          for (size_t rb = 0; rb < bb.runs.size(); ++rb) {
+            if (!ba.runs[ra].meets(bb.runs[rb])) continue;
+            for (size_t u = rb * kRun; u < std::min(nb, (rb + 1) * kRun); ++u) {
+              // Pieces at a shared end point touch there by construction.
+              const bool shared = (s == 0 || s + 1 == na) && (u == 0 || u + 1 == nb) &&
+                                  ea[s == 0 ? 0 : 1] == eb[u == 0 ? 0 : 1];
+              if (shared) continue;
+              double sigma = 0, tau = 0;
+              if (!segments_intersect(pa[s], pa[s + 1], pb[u], pb[u + 1], &sigma, &tau)) continue;
+              Crossing x;
+              x.ta = (double(s) + sigma) / double(na);
+              x.tb = (double(u) + tau) / double(nb);
+              x.position = add(pa[s], scale(sub(pa[s + 1], pa[s]), sigma));
+              x.dir_a = sub(pa[s + 1], pa[s]);
+              x.dir_b = sub(pb[u + 1], pb[u]);
+              if (x.ta <= 0.0 || x.ta >= 1.0 || x.tb <= 0.0 || x.tb >= 1.0) continue;  // at an end point
+              found.push_back(x);
+            }
+          }
       }
+    }
     std::sort(found.begin(), found.end(), [](const Crossing& x, const Crossing& y) { return x.ta < y.ta; });
     // A crossing at a polyline vertex is reported by two neighbouring pieces.
     std::vector<Crossing> unique;
@@ -518,6 +529,41 @@ class Arrangement {
   std::vector<Face> faces_;
   std::unordered_map<HalfEdge, uint32_t, HalfEdgeHash> face_of_;
   std::unordered_map<uint64_t, std::vector<Crossing>> crossing_cache_;
+  // Bounding boxes of every curve's polyline and of its runs of kRun pieces (built on first use).
+  static constexpr size_t kRun = 4;
+  struct Box {
+    double lo[2], hi[2];
+    bool meets(const Box& o) const {
+      return lo[0] <= o.hi[0] && o.lo[0] <= hi[0] && lo[1] <= o.hi[1] && o.lo[1] <= hi[1];
+    }
+    void add(const Point2& p) {
+      for (int k = 0; k < 2; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+    }
+  };
+  struct CurveBoxes {
+    Box all;
+    std::vector<Box> runs;
+  };
+  std::vector<CurveBoxes> boxes_;
+  const CurveBoxes& boxes(uint32_t c) {
+    if (boxes_.empty()) {
+      boxes_.resize(net_.curves.size());
+      for (size_t k = 0; k < net_.curves.size(); ++k) {
+        const std::vector<Point2>& line = net_.curves[k].polyline;
+        const size_t n = line.size() - 1;
+        CurveBoxes& b = boxes_[k];
+        b.all = {{line[0][0], line[0][1]}, {line[0][0], line[0][1]}};
+        for (size_t r = 0; r * kRun < n; ++r) {
+          Box box{{line[r * kRun][0], line[r * kRun][1]}, {line[r * kRun][0], line[r * kRun][1]}};
+          for (size_t i = r * kRun + 1; i <= std::min(n, (r + 1) * kRun); ++i) box.add(line[i]);
+          b.runs.push_back(box);
+          b.all.add(Point2{box.lo[0], box.lo[1]});
+          b.all.add(Point2{box.hi[0], box.hi[1]});
+        }
+      }
+    }
+    return boxes_[c];
+  }
   std::unordered_map<std::vector<uint64_t>, double, CycleHash> energy_cache_;
   // (removed, added) curve ids, each pair sorted and padded with kNoCurve.
   using MoveKey = std::array<uint32_t, 4>;
@@ -809,6 +855,29 @@ QuadSelection select_quad_curves(const CurveNetwork& network, const SelectionOpt
   }
   result.tracked_energy = best_energy;
   arrangement.reset(best);  // the backup (§6.7.4)
+  result.curves = arrangement.selected();
+  result.energy = arrangement.energy();
+  arrangement.export_mesh(result);
+  monitor.report("quad curve selection", 1.0);
+  return result;
+}
+
+QuadSelection improve_quad_selection(const CurveNetwork& network, const std::vector<uint32_t>& initial,
+                                     const SelectionOptions& options, const TaskMonitor& monitor) {
+  if (network.points.size() < 3) fail(Status::invalid_argument, "quad selection: the network has no region loop");
+  validate_matching(network, initial);
+  QuadSelection result;
+  Optimizer optimizer(network, options, monitor, result);
+  Arrangement& arrangement = optimizer.arrangement();
+  arrangement.reset(initial);
+  result.phase1_energy = result.phase2_energy = result.phase3_energy = arrangement.energy();
+  std::vector<uint32_t> best = arrangement.selected();
+  double best_energy = arrangement.energy();
+  optimizer.polish_ = true;
+  optimizer.descend();
+  optimizer.remember(best, best_energy);
+  result.tracked_energy = best_energy;
+  arrangement.reset(best);
   result.curves = arrangement.selected();
   result.energy = arrangement.energy();
   arrangement.export_mesh(result);

@@ -81,6 +81,16 @@ struct QuadSelection {
 QuadSelection select_quad_curves(const CurveNetwork& network, const SelectionOptions& options = {},
                                  const TaskMonitor& monitor = {});
 
+// Local improvement of a given matching (not in the thesis; the quad remesher's sample-count
+// refinement uses it to rate a changed arc cheaply, starting from the region's previous
+// configuration carried over to the rebuilt network): the polish descent of select_quad_curves
+// (swap, reconnect, add and remove moves, steepest first) from `initial` until no move lowers E.
+// The result's E is at most that of `initial` (phase1..3_energy report the initial E).
+// Errors: invalid_argument if `initial` is not a matching of existing curves or the network has
+// no loop; cancelled from the monitor. Thread-safety: pure function.
+QuadSelection improve_quad_selection(const CurveNetwork& network, const std::vector<uint32_t>& initial,
+                                     const SelectionOptions& options = {}, const TaskMonitor& monitor = {});
+
 // E(L) of an arbitrary matching, rebuilt from scratch (no caches): the reference for tests.
 // Errors: invalid_argument if `curves` is not a matching of existing curves.
 double configuration_energy(const CurveNetwork& network, const std::vector<uint32_t>& curves,

@@ -15,12 +15,13 @@ CAGEKIT_NAMESPACE_BEGIN
 
 RegionQuadMeshes select_region_quads(const RemeshConstraints& constraints, const CurveNetworkOptions& network_options,
                                      const SelectionOptions& selection_options, int threads,
-                                     const TaskMonitor& monitor) {
+                                     const TaskMonitor& monitor, std::vector<BendingFitCache>* fit_caches) {
   if (threads < 0) fail(Status::invalid_argument, "select_region_quads: threads must be >= 0");
   const size_t regions = constraints.boundaries.region_loops.size();
   RegionQuadMeshes out;
   out.networks.resize(regions);
   out.selections.resize(regions);
+  if (fit_caches) fit_caches->assign(regions, BendingFitCache());
   // Largest regions (by constrained points) first, for the load balance.
   std::vector<size_t> samples(regions, 0), order(regions);
   for (uint32_t r = 0; r < regions; ++r)
@@ -41,7 +42,7 @@ RegionQuadMeshes select_region_quads(const RemeshConstraints& constraints, const
       for (size_t l = 0; l < constraints.boundaries.region_loops[r].size(); ++l)
         loops.push_back(constraints.loop_samples_uv(r, l));
       try {
-        out.networks[r] = build_curve_network(loops, per_region);
+        out.networks[r] = build_curve_network(loops, per_region, {}, fit_caches ? &(*fit_caches)[r] : nullptr);
         out.selections[r] = select_quad_curves(out.networks[r], selection_options);
       } catch (const Error& e) {
         fail(e.status(), "region " + std::to_string(r) + ": " + e.what());

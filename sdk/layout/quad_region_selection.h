@@ -25,8 +25,11 @@ struct RegionQuadMeshes {
   size_t faces = 0, quads = 0;            // over the region meshes (the glued mesh has the same faces)
 };
 
+// `fit_caches` (optional): resized to one BendingFitCache per region and filled by the network
+// builds, for later rebuilds of the same regions (the remesher's sample-count refinement).
 RegionQuadMeshes select_region_quads(const RemeshConstraints& constraints, const CurveNetworkOptions& network_options,
                                      const SelectionOptions& selection_options, int threads = 1,
-                                     const TaskMonitor& monitor = {});
+                                     const TaskMonitor& monitor = {},
+                                     std::vector<BendingFitCache>* fit_caches = nullptr);
 
 CAGEKIT_NAMESPACE_END

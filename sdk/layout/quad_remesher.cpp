@@ -24,16 +24,34 @@ CAGEKIT_NAMESPACE_BEGIN
 
 namespace {
 
-// Steps 3-4 of one region (as select_region_quads does for each).
-void select_region(const RemeshConstraints& constraints, uint32_t r, const SelectionOptions& options,
-                   CurveNetwork& network, QuadSelection& selection) {
+// Region r's candidate curves for the current samples (steps 3 of one region), with the bending
+// fits of unchanged port pairs taken from `cache`.
+CurveNetwork region_network(const RemeshConstraints& constraints, uint32_t r, BendingFitCache& cache) {
   std::vector<std::vector<Point2>> loops;
   for (size_t l = 0; l < constraints.boundaries.region_loops[r].size(); ++l)
     loops.push_back(constraints.loop_samples_uv(r, l));
   CurveNetworkOptions network_options;
   network_options.threads = 1;
-  network = build_curve_network(loops, network_options);
-  selection = select_quad_curves(network, options);
+  return build_curve_network(loops, network_options, {}, &cache);
+}
+
+BendingFitCache::Key curve_key(const CurveNetwork& network, const NetworkCurve& curve) {
+  const NetworkPort &a = network.ports[curve.ports[0]], &b = network.ports[curve.ports[1]];
+  return BendingFitCache::key(network.points[a.point].uv, a.tangent, network.points[b.point].uv, b.tangent);
+}
+
+// The curves of `selected` (in `from`) that `to` has too: same end points and tangents.
+std::vector<uint32_t> carried_curves(const CurveNetwork& from, const std::vector<uint32_t>& selected,
+                                     const CurveNetwork& to) {
+  std::unordered_map<BendingFitCache::Key, uint32_t, BendingFitCache::KeyHash> index;
+  for (uint32_t c = 0; c < to.curves.size(); ++c) index.emplace(curve_key(to, to.curves[c]), c);
+  std::vector<uint32_t> out;
+  for (uint32_t c : selected) {
+    const auto it = index.find(curve_key(from, from.curves[c]));
+    if (it != index.end()) out.push_back(it->second);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 // A region's share of the glued mesh's irregularity: its non-quad faces, over its arc-interior
@@ -60,6 +78,33 @@ double region_irregularity(const RemeshConstraints& constraints, uint32_t r, con
   return irregular;
 }
 
+
+// Runs work(0) .. work(n - 1), n <= 2, the second on its own thread when allowed; rethrows the
+// first failure after both finished.
+template <typename Work>
+void run_one_or_two(size_t n, int threads, Work&& work) {
+  if (n == 2 && threads != 1) {
+    std::exception_ptr failure;
+    std::thread second([&] {
+      try {
+        work(1);
+      } catch (...) {
+        failure = std::current_exception();
+      }
+    });
+    try {
+      work(0);
+    } catch (...) {
+      second.join();
+      throw;
+    }
+    second.join();
+    if (failure) std::rethrow_exception(failure);
+  } else {
+    for (size_t i = 0; i < n; ++i) work(i);
+  }
+}
+
 // Sample-count refinement (not in the thesis, which samples every arc independently): an arc
 // next to an irregular region gets one segment more or less (within ±1 of ⌈len/δ⌉) when
 // re-selecting its one or two regions lowers the irregularity of the glued mesh there (non-quad
@@ -67,8 +112,15 @@ double region_irregularity(const RemeshConstraints& constraints, uint32_t r, con
 // Σ E(L); first improvement, arcs in id order, at most `passes` sweeps. Arcs next to a region
 // with more than `max_curves` candidate curves are not tried (its selection is the costly part).
 // An arc whose regions are unchanged since its last try is not tried again.
+//
+// Each try is screened cheaply first: the regions' networks are rebuilt (bending fits of
+// unchanged port pairs from `caches`) and their previous configurations, carried over to the
+// new networks, improved locally (improve_quad_selection). Only a try whose screen lowers the
+// irregularity gets the full selection (select_quad_curves, Phases I-III or enumeration); the
+// better of the two (irregularity, then E) is kept if it beats the current state.
 void refine_sample_counts(RemeshConstraints& constraints, RegionQuadMeshes& meshes, const SelectionOptions& options,
-                          int passes, size_t max_curves, int threads, const TaskMonitor& monitor) {
+                          std::vector<BendingFitCache>& caches, int passes, size_t max_curves, int threads,
+                          const TaskMonitor& monitor) {
   const size_t regions = meshes.selections.size();
   std::unordered_map<uint32_t, int> anchor_degree, anchor_total;  // arcs at an anchor; curves ending there
   for (const RegionArc& arc : constraints.boundaries.arcs) ++anchor_degree[arc.vertices.front()], ++anchor_degree[arc.vertices.back()];
@@ -91,6 +143,21 @@ void refine_sample_counts(RemeshConstraints& constraints, RegionQuadMeshes& mesh
     double cost = 0.0;
     for (const auto& [v, n] : total) cost += std::abs(anchor_degree[v] + n - 4);
     return cost;
+  };
+  // A candidate state of the touched regions and its rating.
+  struct Candidate {
+    std::vector<QuadSelection> selections;
+    std::vector<std::vector<std::pair<uint32_t, int>>> usage;
+    std::vector<double> region_cost;
+    double cost = 0.0, energy = 0.0;
+  };
+  auto rate = [&](const std::vector<uint32_t>& touched, Candidate& c) {
+    c.cost = c.energy = 0.0;
+    for (size_t i = 0; i < touched.size(); ++i) c.cost += c.region_cost[i], c.energy += c.selections[i].energy;
+    c.cost += anchor_cost(touched, c.usage);
+  };
+  auto better = [](double cost, double energy, double than_cost, double than_energy) {
+    return cost < than_cost || (cost == than_cost && energy < than_energy - 1e-9 * (1.0 + than_energy));
   };
   std::vector<uint64_t> version(regions, 1), tried(constraints.arcs.size(), 0);
   uint64_t clock = 1;
@@ -128,53 +195,45 @@ void refine_sample_counts(RemeshConstraints& constraints, RegionQuadMeshes& mesh
           resample_arc(constraints, a, current);
           continue;
         }
-        std::vector<CurveNetwork> networks(touched.size());
-        std::vector<QuadSelection> selections(touched.size());
-        std::vector<std::vector<std::pair<uint32_t, int>>> usage(touched.size());
-        std::vector<double> region_cost(touched.size());
-        // The two regions are independent: the second on its own thread when allowed.
-        auto run = [&](size_t i) {
-          select_region(constraints, touched[i], options, networks[i], selections[i]);
-          region_cost[i] = region_irregularity(constraints, touched[i], networks[i], selections[i], usage[i]);
-        };
-        if (touched.size() == 2 && threads != 1) {
-          std::exception_ptr failure;
-          std::thread second([&] {
-            try {
-              run(1);
-            } catch (...) {
-              failure = std::current_exception();
-            }
-          });
-          try {
-            run(0);
-          } catch (...) {
-            second.join();
-            throw;
-          }
-          second.join();
-          if (failure) std::rethrow_exception(failure);
-        } else {
-          for (size_t i = 0; i < touched.size(); ++i) run(i);
+        const size_t n = touched.size();
+        std::vector<CurveNetwork> networks(n);
+        Candidate screen, full;
+        for (Candidate* c : {&screen, &full}) c->selections.resize(n), c->usage.resize(n), c->region_cost.resize(n);
+        // The screen: networks rebuilt, previous configurations carried over and improved.
+        run_one_or_two(n, threads, [&](size_t i) {
+          const uint32_t r = touched[i];
+          networks[i] = region_network(constraints, r, caches[r]);
+          screen.selections[i] = improve_quad_selection(
+              networks[i], carried_curves(meshes.networks[r], meshes.selections[r].curves, networks[i]), options);
+          screen.region_cost[i] = region_irregularity(constraints, r, networks[i], screen.selections[i], screen.usage[i]);
+        });
+        rate(touched, screen);
+        if (!better(screen.cost, screen.energy, before, before_energy)) {
+          resample_arc(constraints, a, current);
+          continue;
         }
-        double after = 0.0, after_energy = 0.0;
-        for (size_t i = 0; i < touched.size(); ++i) after += region_cost[i], after_energy += selections[i].energy;
-        after += anchor_cost(touched, usage);
-        if (after < before || (after == before && after_energy < before_energy - 1e-9 * (1.0 + before_energy))) {
-          for (size_t i = 0; i < touched.size(); ++i) {
-            const uint32_t r = touched[i];
-            for (const auto& [v, n] : anchors[r]) anchor_total[v] -= n;
-            for (const auto& [v, n] : usage[i]) anchor_total[v] += n;
-            anchors[r] = std::move(usage[i]);
-            irregularity[r] = region_cost[i];
-            meshes.networks[r] = std::move(networks[i]);
-            meshes.selections[r] = std::move(selections[i]);
-            version[r] = ++clock;
-          }
-          changed = true;
-          break;
+        run_one_or_two(n, threads, [&](size_t i) {
+          full.selections[i] = select_quad_curves(networks[i], options);
+          full.region_cost[i] = region_irregularity(constraints, touched[i], networks[i], full.selections[i], full.usage[i]);
+        });
+        rate(touched, full);
+        Candidate& kept = better(full.cost, full.energy, screen.cost, screen.energy) ? full : screen;
+        if (!better(kept.cost, kept.energy, before, before_energy)) {
+          resample_arc(constraints, a, current);
+          continue;
         }
-        resample_arc(constraints, a, current);
+        for (size_t i = 0; i < n; ++i) {
+          const uint32_t r = touched[i];
+          for (const auto& [v, k] : anchors[r]) anchor_total[v] -= k;
+          for (const auto& [v, k] : kept.usage[i]) anchor_total[v] += k;
+          anchors[r] = std::move(kept.usage[i]);
+          irregularity[r] = kept.region_cost[i];
+          meshes.networks[r] = std::move(networks[i]);
+          meshes.selections[r] = std::move(kept.selections[i]);
+          version[r] = ++clock;
+        }
+        changed = true;
+        break;
       }
     }
     if (!changed) break;
@@ -460,9 +519,11 @@ QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemesh
   so.weights.triangle = o.triangle_weight;
   so.weights.pentagon = o.pentagon_weight;
   so.weights.t_joint = o.t_joint_weight;
-  RegionQuadMeshes meshes = select_region_quads(constraints, CurveNetworkOptions{}, so, o.threads, monitor);
+  std::vector<BendingFitCache> fit_caches;  // for the refinement's rebuilds of the same regions
+  RegionQuadMeshes meshes = select_region_quads(constraints, CurveNetworkOptions{}, so, o.threads, monitor,
+                                                o.sample_refinement_passes > 0 ? &fit_caches : nullptr);
   if (o.sample_refinement_passes > 0)
-    refine_sample_counts(constraints, meshes, so, o.sample_refinement_passes, size_t(o.sample_refinement_max_curves),
+    refine_sample_counts(constraints, meshes, so, fit_caches, o.sample_refinement_passes, size_t(o.sample_refinement_max_curves),
                          o.threads, monitor);
   r.selection_seconds = seconds_since(t);
   r.energy = meshes.energy;

@@ -275,6 +275,57 @@ TEST(QuadCurveNetwork, ThreadCountDoesNotChangeTheNetwork) {
   }
 }
 
+TEST(QuadCurveNetwork, FitCacheGivesTheSameNetworkAndMissesOnlyMovedPorts) {
+  std::vector<Point2> outer = rectangle_loop(8, 5);
+  for (size_t i = 0; i < outer.size(); ++i) outer[i][1] += 0.08 * std::sin(1.3 * double(i));
+  auto expect_same = [](const CurveNetwork& a, const CurveNetwork& b) {
+    ASSERT_EQ(a.curves.size(), b.curves.size());
+    EXPECT_EQ(a.pairs_considered, b.pairs_considered);
+    EXPECT_EQ(a.discarded_crossing, b.discarded_crossing);
+    EXPECT_EQ(a.discarded_self_intersection, b.discarded_self_intersection);
+    for (size_t c = 0; c < a.curves.size(); ++c) {
+      EXPECT_EQ(a.curves[c].ports, b.curves[c].ports);
+      EXPECT_EQ(a.curves[c].lambda, b.curves[c].lambda);
+      EXPECT_EQ(a.curves[c].energy, b.curves[c].energy);
+      EXPECT_EQ(a.curves[c].polyline, b.curves[c].polyline);
+    }
+  };
+  cagekit::BendingFitCache cache;
+  const CurveNetwork plain = cagekit::build_curve_network({outer});
+  const CurveNetwork first = cagekit::build_curve_network({outer}, {}, {}, &cache);
+  expect_same(plain, first);
+  EXPECT_EQ(cache.hits, 0u);
+  EXPECT_EQ(cache.misses, plain.pairs_considered);
+  const CurveNetwork second = cagekit::build_curve_network({outer}, {}, {}, &cache);
+  expect_same(plain, second);
+  EXPECT_EQ(cache.hits, plain.pairs_considered);  // every pair again: all hits
+  // Move one point: only pairs at it and at its two neighbours (whose tangents change) miss.
+  std::vector<Point2> moved = outer;
+  moved[3][1] -= 0.05;
+  const CurveNetwork fresh = cagekit::build_curve_network({moved});
+  const size_t hits_before = cache.hits, misses_before = cache.misses;
+  const CurveNetwork cached = cagekit::build_curve_network({moved}, {}, {}, &cache);
+  expect_same(fresh, cached);
+  size_t touching = 0;
+  for (const auto& c : fresh.curves)
+    for (uint32_t p : c.ports) {
+      const uint32_t point = fresh.ports[p].point;
+      if (point >= 2 && point <= 4) {
+        ++touching;
+        break;
+      }
+    }
+  EXPECT_GT(cache.misses - misses_before, 0u);
+  EXPECT_GE(cache.misses - misses_before, touching);  // (misses also count pairs later discarded)
+  EXPECT_GT(cache.hits - hits_before, cache.misses - misses_before);
+  // Another polyline resolution empties the cache rather than reusing polylines.
+  cagekit::CurveNetworkOptions finer;
+  finer.polyline_segments = 48;
+  const CurveNetwork fine = cagekit::build_curve_network({moved}, finer, {}, &cache);
+  expect_same(cagekit::build_curve_network({moved}, finer), fine);
+  EXPECT_EQ(cache.size(), fine.pairs_considered);
+}
+
 TEST(QuadCurveNetwork, DegenerateInputIsRefused) {
   EXPECT_EQ(status_of([] { cagekit::build_curve_network({}); }), Status::invalid_argument);
   EXPECT_EQ(status_of([] { cagekit::build_curve_network({{{0, 0}, {1, 0}}}); }), Status::invalid_argument);
@@ -345,6 +396,40 @@ TEST(QuadCurveSelection, LShapeIsQuadMeshedAndNeverWorseThanPhaseOne) {
   // Twelve unit squares are reachable (E = 0): the optimiser must find them.
   EXPECT_EQ(s.quads, 12u);
   EXPECT_NEAR(s.energy, 0.0, 1e-9);
+}
+
+TEST(QuadCurveSelection, ImprovementFromAGivenMatchingNeverIncreasesE) {
+  std::vector<Point2> outer = rectangle_loop(7, 5);
+  for (size_t i = 0; i < outer.size(); ++i) outer[i][0] += 0.06 * std::cos(0.7 * double(i));
+  const CurveNetwork net = cagekit::build_curve_network({outer});
+  cagekit::SelectionOptions options;
+  options.exhaustive_limit = 0;
+  const QuadSelection full = cagekit::select_quad_curves(net, options);
+  // From the empty matching, from a part of the optimum and from the optimum itself.
+  std::vector<uint32_t> half(full.curves.begin(), full.curves.begin() + full.curves.size() / 2);
+  for (const std::vector<uint32_t>& start : {std::vector<uint32_t>{}, half, full.curves}) {
+    const QuadSelection s = cagekit::improve_quad_selection(net, start, options);
+    expect_matching(net, s);
+    const double initial = cagekit::configuration_energy(net, start, options.weights);
+    EXPECT_NEAR(s.phase1_energy, initial, 1e-9 * (1 + initial));
+    EXPECT_LE(s.energy, initial + 1e-9 * (1 + initial));
+    EXPECT_NEAR(cagekit::configuration_energy(net, s.curves, options.weights), s.energy, 1e-9 * (1 + s.energy));
+    EXPECT_EQ(s.invalid_faces, 0u);
+    EXPECT_EQ(s.quads + s.triangles + s.pentagons + s.larger, s.faces.size());
+  }
+  // The optimum of the full selection is a local minimum of the same moves: E unchanged.
+  EXPECT_NEAR(cagekit::improve_quad_selection(net, full.curves, options).energy, full.energy, 1e-9 * (1 + full.energy));
+  // From half of it (large non-quad faces) the descent lowers E by adding curves.
+  const QuadSelection from_half = cagekit::improve_quad_selection(net, half, options);
+  EXPECT_LT(from_half.energy, 0.5 * cagekit::configuration_energy(net, half, options.weights));
+  EXPECT_GT(from_half.curves.size(), half.size());
+  // Not a matching: two curves sharing a port, an id out of range.
+  uint32_t a = 0, b = 1;
+  while (b < net.curves.size() && net.curves[b].ports[0] != net.curves[a].ports[0]) ++b;
+  ASSERT_LT(b, net.curves.size());
+  EXPECT_EQ(status_of([&] { cagekit::improve_quad_selection(net, {a, b}); }), Status::invalid_argument);
+  EXPECT_EQ(status_of([&] { cagekit::improve_quad_selection(net, {uint32_t(net.curves.size())}); }),
+            Status::invalid_argument);
 }
 
 TEST(QuadCurveSelection, PhaseTwoNeverIncreasesAndTheBackupIsTheBest) {
