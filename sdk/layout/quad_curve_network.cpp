@@ -123,40 +123,56 @@ struct QuadratureNodes {
 };
 }  // namespace
 
-double bending_energy(const CubicBezier2& curve, int intervals) {
-  static const QuadratureNodes kEight(8);  // the default, used by the minimisation
-  std::unique_ptr<QuadratureNodes> other;
-  if (intervals != 8) other = std::make_unique<QuadratureNodes>(intervals);
-  const QuadratureNodes& nodes = other ? *other : kEight;
+namespace {
+// (6.3) over `nodes`, summed in node order; once the partial sum reaches `bound` the rest is
+// skipped and the partial sum returned (the terms are >= 0 and rounding is monotone, so the
+// full sum would be >= bound too: a caller comparing "< bound" gets the same answer).
+double bending_energy_below(const CubicBezier2& curve, const QuadratureNodes& nodes, double bound) {
   // b' and b'' as combinations of the control-polygon differences (the hot loop of the network).
   const Point2 d0 = sub(curve.control[1], curve.control[0]), d1 = sub(curve.control[2], curve.control[1]),
                d2 = sub(curve.control[3], curve.control[2]);
   const Point2 e0 = sub(d1, d0), e1 = sub(d2, d1);
   const size_t n = nodes.t.size();
-  // The terms first (independent: vectorisable), then summed in node order.
-  constexpr size_t kMaxStack = 64;
-  double stack_terms[kMaxStack];
-  std::vector<double> heap_terms(n > kMaxStack ? n : 0);
-  double* term = n > kMaxStack ? heap_terms.data() : stack_terms;
-  int degenerate = 0;
   const double* S = nodes.s.data();
   const double* T = nodes.t.data();
   const double* A = nodes.a.data();
   const double* B = nodes.b.data();
   const double* C = nodes.c.data();
   const double* Q = nodes.q.data();
-  for (size_t i = 0; i < n; ++i) {
-    const double x1 = A[i] * d0[0] + B[i] * d1[0] + C[i] * d2[0], y1 = A[i] * d0[1] + B[i] * d1[1] + C[i] * d2[1];
-    const double x2 = 6 * (S[i] * e0[0] + T[i] * e1[0]), y2 = 6 * (S[i] * e0[1] + T[i] * e1[1]);
-    const double speed2 = x1 * x1 + y1 * y1;
-    degenerate |= !(speed2 > 0.0);
-    const double cr = x1 * y2 - y1 * x2;
-    term[i] = Q[i] * cr * cr / (speed2 * speed2 * speed2);
-  }
-  if (degenerate) return std::numeric_limits<double>::infinity();
+  // Chunks of kChunk terms (independent: vectorisable), each summed in order. A degenerate node
+  // (b' = 0) makes the energy +inf wherever it is; a chunk past the bound is not looked at.
+  constexpr size_t kChunk = 8;
   double energy = 0.0;
-  for (size_t i = 0; i < n; ++i) energy += term[i];
+  for (size_t first = 0; first < n; first += kChunk) {
+    const size_t m = std::min(kChunk, n - first);
+    double term[kChunk];
+    int degenerate = 0;
+    for (size_t j = 0; j < m; ++j) {
+      const size_t i = first + j;
+      const double x1 = A[i] * d0[0] + B[i] * d1[0] + C[i] * d2[0], y1 = A[i] * d0[1] + B[i] * d1[1] + C[i] * d2[1];
+      const double x2 = 6 * (S[i] * e0[0] + T[i] * e1[0]), y2 = 6 * (S[i] * e0[1] + T[i] * e1[1]);
+      const double speed2 = x1 * x1 + y1 * y1;
+      degenerate |= !(speed2 > 0.0);
+      const double cr = x1 * y2 - y1 * x2;
+      term[j] = Q[i] * cr * cr / (speed2 * speed2 * speed2);
+    }
+    if (degenerate) return std::numeric_limits<double>::infinity();
+    for (size_t j = 0; j < m; ++j) energy += term[j];
+    if (energy >= bound) return energy;
+  }
   return energy;
+}
+
+const QuadratureNodes& default_nodes() {
+  static const QuadratureNodes kEight(8);  // the default, used by the minimisation
+  return kEight;
+}
+}  // namespace
+
+double bending_energy(const CubicBezier2& curve, int intervals) {
+  std::unique_ptr<QuadratureNodes> other;
+  if (intervals != 8) other = std::make_unique<QuadratureNodes>(intervals);
+  return bending_energy_below(curve, other ? *other : default_nodes(), std::numeric_limits<double>::infinity());
 }
 
 BendingFit minimize_bending_energy(const Point2& ci, const Point2& qi, const Point2& cj, const Point2& qj) {
@@ -172,11 +188,13 @@ BendingFit minimize_bending_energy(const Point2& ci, const Point2& qi, const Poi
     return fit;
   }
   const double lower = 1e-3 * d;
-  auto energy_at = [&](double lambda, double mu) {
+  const QuadratureNodes& nodes = default_nodes();
+  // E at (λ, μ), or any value >= bound once it is known to be at least that.
+  auto energy_at = [&](double lambda, double mu, double bound = std::numeric_limits<double>::infinity()) {
     ++fit.evaluations;
     if (segments_intersect(ci, add(ci, scale(qi, lambda)), cj, add(cj, scale(qj, mu))))
       return std::numeric_limits<double>::infinity();
-    return bending_energy(connecting_bezier(ci, qi, cj, qj, lambda, mu));
+    return bending_energy_below(connecting_bezier(ci, qi, cj, qj, lambda, mu), nodes, bound);
   };
   // (6.3) has several basins (e.g. a quarter turn: the symmetric stationary point is beaten by
   // two asymmetric ones), so every local minimum of the grid starts a compass search.
@@ -231,7 +249,7 @@ BendingFit minimize_bending_energy(const Point2& ci, const Point2& qi, const Poi
         const double tl = std::max(lower, l + m[0]), tu = std::max(lower, u + m[1]);
         if (tl == l && tu == u) continue;
         if (tl == from_l && tu == from_u) continue;
-        const double te = energy_at(tl, tu);
+        const double te = energy_at(tl, tu, e);  // only "te < e" matters
         if (te < e) {
           from_l = l, from_u = u;
           e = te, l = tl, u = tu, improved = true;

@@ -635,8 +635,14 @@ class Optimizer {
   }
   Arrangement& arrangement() { return arrangement_; }
 
-  // Phase II: steepest descent over swaps and reconnects.
+  // Phase II: steepest descent over swaps and reconnects. With a focus (focus_ not empty), only
+  // moves that involve a focus port are tried, and the ports of every applied move join the focus.
   void descend() {
+    const bool focused = !focus_.empty();
+    auto in_focus = [&](uint32_t c) {
+      const auto& ports = net_.curves[c].ports;
+      return focus_[ports[0]] || focus_[ports[1]];
+    };
     for (size_t step = 0; step < options_.max_descent_steps; ++step) {
       monitor_.report("quad curve selection", 0.5);
       const std::vector<uint32_t> selected = arrangement_.selected();
@@ -652,29 +658,39 @@ class Optimizer {
       };
       for (size_t i = 0; i < selected.size(); ++i) {
         const auto& pi = net_.curves[selected[i]].ports;
+        const bool focus_i = !focused || in_focus(selected[i]);
         for (size_t j = i + 1; j < selected.size(); ++j) {  // swaps (Fig. 6.6)
+          if (!focus_i && !in_focus(selected[j])) continue;
           const auto& pj = net_.curves[selected[j]].ports;
           for (int variant = 0; variant < 2; ++variant) {
             const int64_t c1 = curve(pi[0], pj[variant]), c2 = curve(pi[1], pj[1 - variant]);
             if (c1 >= 0 && c2 >= 0) consider({selected[i], selected[j]}, {uint32_t(c1), uint32_t(c2)});
           }
         }
-        for (uint32_t k : free_ports)  // reconnects (Fig. 6.7)
+        for (uint32_t k : free_ports) {  // reconnects (Fig. 6.7)
+          if (!focus_i && !focus_[k]) continue;
           for (int end = 0; end < 2; ++end) {
             const int64_t c = curve(pi[end], k);
             if (c >= 0) consider({selected[i]}, {uint32_t(c)});
           }
+        }
       }
       // Add / remove moves only where no swap or reconnect decreases E (they scan every curve).
       if (polish_ && best_move.removed.empty()) {
-        for (uint32_t c : selected) consider({c}, {});
+        for (uint32_t c : selected)
+          if (!focused || in_focus(c)) consider({c}, {});
         for (uint32_t c = 0; c < net_.curves.size(); ++c) {
           const auto& ports = net_.curves[c].ports;
-          if (arrangement_.port_curve(ports[0]) < 0 && arrangement_.port_curve(ports[1]) < 0) consider({}, {c});
+          if (arrangement_.port_curve(ports[0]) < 0 && arrangement_.port_curve(ports[1]) < 0 &&
+              (!focused || in_focus(c)))
+            consider({}, {c});
         }
       }
       if (best_move.removed.empty() && best_move.added.empty()) return;
       apply(best_move.removed, best_move.added);
+      if (focused)
+        for (const std::vector<uint32_t>* list : {&best_move.removed, &best_move.added})
+          for (uint32_t c : *list) focus_[net_.curves[c].ports[0]] = focus_[net_.curves[c].ports[1]] = 1;
     }
   }
 
@@ -800,6 +816,7 @@ class Optimizer {
   std::vector<std::vector<uint32_t>> forward_;  // per port: the curves whose first port it is
  public:
   bool polish_ = false;  // descend() also tries add and remove moves
+  std::vector<char> focus_;  // per port; empty: every move (see descend())
 };
 
 void validate_matching(const CurveNetwork& net, const std::vector<uint32_t>& curves) {
@@ -863,9 +880,12 @@ QuadSelection select_quad_curves(const CurveNetwork& network, const SelectionOpt
 }
 
 QuadSelection improve_quad_selection(const CurveNetwork& network, const std::vector<uint32_t>& initial,
-                                     const SelectionOptions& options, const TaskMonitor& monitor) {
+                                     const SelectionOptions& options, const TaskMonitor& monitor,
+                                     const std::vector<char>* focus_ports) {
   if (network.points.size() < 3) fail(Status::invalid_argument, "quad selection: the network has no region loop");
   validate_matching(network, initial);
+  if (focus_ports && focus_ports->size() != network.ports.size())
+    fail(Status::invalid_argument, "quad selection: the focus needs one flag per port");
   QuadSelection result;
   Optimizer optimizer(network, options, monitor, result);
   Arrangement& arrangement = optimizer.arrangement();
@@ -874,7 +894,13 @@ QuadSelection improve_quad_selection(const CurveNetwork& network, const std::vec
   std::vector<uint32_t> best = arrangement.selected();
   double best_energy = arrangement.energy();
   optimizer.polish_ = true;
-  optimizer.descend();
+  if (focus_ports) {
+    optimizer.focus_ = *focus_ports;
+    // An empty focus would mean "every move": give it one port that matters to nothing instead.
+    if (std::find(optimizer.focus_.begin(), optimizer.focus_.end(), 1) == optimizer.focus_.end())
+      optimizer.focus_.clear();
+  }
+  if (!focus_ports || !optimizer.focus_.empty()) optimizer.descend();
   optimizer.remember(best, best_energy);
   result.tracked_energy = best_energy;
   arrangement.reset(best);

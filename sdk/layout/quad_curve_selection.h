@@ -86,10 +86,13 @@ QuadSelection select_quad_curves(const CurveNetwork& network, const SelectionOpt
 // configuration carried over to the rebuilt network): the polish descent of select_quad_curves
 // (swap, reconnect, add and remove moves, steepest first) from `initial` until no move lowers E.
 // The result's E is at most that of `initial` (phase1..3_energy report the initial E).
-// Errors: invalid_argument if `initial` is not a matching of existing curves or the network has
-// no loop; cancelled from the monitor. Thread-safety: pure function.
+// `focus_ports` (optional, one flag per port): only moves that involve a flagged port are tried,
+// and the ports of every applied move are flagged in turn (a local repair; no flag: no move).
+// Errors: invalid_argument if `initial` is not a matching of existing curves, the focus has the
+// wrong size or the network has no loop; cancelled from the monitor. Thread-safety: pure function.
 QuadSelection improve_quad_selection(const CurveNetwork& network, const std::vector<uint32_t>& initial,
-                                     const SelectionOptions& options = {}, const TaskMonitor& monitor = {});
+                                     const SelectionOptions& options = {}, const TaskMonitor& monitor = {},
+                                     const std::vector<char>* focus_ports = nullptr);
 
 // E(L) of an arbitrary matching, rebuilt from scratch (no caches): the reference for tests.
 // Errors: invalid_argument if `curves` is not a matching of existing curves.

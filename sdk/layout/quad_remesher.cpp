@@ -40,17 +40,45 @@ BendingFitCache::Key curve_key(const CurveNetwork& network, const NetworkCurve& 
   return BendingFitCache::key(network.points[a.point].uv, a.tangent, network.points[b.point].uv, b.tangent);
 }
 
-// The curves of `selected` (in `from`) that `to` has too: same end points and tangents.
-std::vector<uint32_t> carried_curves(const CurveNetwork& from, const std::vector<uint32_t>& selected,
-                                     const CurveNetwork& to) {
-  std::unordered_map<BendingFitCache::Key, uint32_t, BendingFitCache::KeyHash> index;
-  for (uint32_t c = 0; c < to.curves.size(); ++c) index.emplace(curve_key(to, to.curves[c]), c);
-  std::vector<uint32_t> out;
+// A port's identity across network rebuilds: its point and tangent.
+BendingFitCache::Key port_key(const CurveNetwork& network, uint32_t port) {
+  const NetworkPort& p = network.ports[port];
+  const Point2 none{0.0, 0.0};
+  return BendingFitCache::key(network.points[p.point].uv, p.tangent, none, none);
+}
+
+// A region's previous configuration carried over to its rebuilt network: the curves of
+// `selected` (in `from`) that `to` has too (same end points and tangents), and the ports to
+// repair from (`focus`): those that are new (moved points, changed tangents) and those whose
+// curve was not carried over.
+// Regions with more candidate curves than this are repaired locally in the screen (moves at the
+// focus ports only); smaller ones by the full polish descent, which is cheap there.
+constexpr size_t kLocalRepairCurves = 60;
+
+struct CarriedSelection {
+  std::vector<uint32_t> curves;
+  std::vector<char> focus;
+};
+
+CarriedSelection carry_selection(const CurveNetwork& from, const std::vector<uint32_t>& selected, const CurveNetwork& to) {
+  CarriedSelection out;
+  std::unordered_map<BendingFitCache::Key, uint32_t, BendingFitCache::KeyHash> curve_index;
+  for (uint32_t c = 0; c < to.curves.size(); ++c) curve_index.emplace(curve_key(to, to.curves[c]), c);
+  std::unordered_map<BendingFitCache::Key, bool, BendingFitCache::KeyHash> old_ports;  // port -> had a curve
+  for (uint32_t p = 0; p < from.ports.size(); ++p) old_ports.emplace(port_key(from, p), false);
   for (uint32_t c : selected) {
-    const auto it = index.find(curve_key(from, from.curves[c]));
-    if (it != index.end()) out.push_back(it->second);
+    for (uint32_t p : from.curves[c].ports) old_ports[port_key(from, p)] = true;
+    const auto it = curve_index.find(curve_key(from, from.curves[c]));
+    if (it != curve_index.end()) out.curves.push_back(it->second);
   }
-  std::sort(out.begin(), out.end());
+  std::sort(out.curves.begin(), out.curves.end());
+  std::vector<char> carried(to.ports.size(), 0);
+  for (uint32_t c : out.curves) carried[to.curves[c].ports[0]] = carried[to.curves[c].ports[1]] = 1;
+  out.focus.assign(to.ports.size(), 0);
+  for (uint32_t p = 0; p < to.ports.size(); ++p) {
+    const auto it = old_ports.find(port_key(to, p));
+    out.focus[p] = it == old_ports.end() || (it->second && !carried[p]);
+  }
   return out;
 }
 
@@ -115,7 +143,8 @@ void run_one_or_two(size_t n, int threads, Work&& work) {
 //
 // Each try is screened cheaply first: the regions' networks are rebuilt (bending fits of
 // unchanged port pairs from `caches`) and their previous configurations, carried over to the
-// new networks, improved locally (improve_quad_selection). Only a try whose screen lowers the
+// new networks, repaired locally (improve_quad_selection with moves at the new ports and at the
+// ports that lost their curve). Only a try whose screen lowers the
 // irregularity gets the full selection (select_quad_curves, Phases I-III or enumeration); the
 // better of the two (irregularity, then E) is kept if it beats the current state.
 void refine_sample_counts(RemeshConstraints& constraints, RegionQuadMeshes& meshes, const SelectionOptions& options,
@@ -203,8 +232,10 @@ void refine_sample_counts(RemeshConstraints& constraints, RegionQuadMeshes& mesh
         run_one_or_two(n, threads, [&](size_t i) {
           const uint32_t r = touched[i];
           networks[i] = region_network(constraints, r, caches[r]);
-          screen.selections[i] = improve_quad_selection(
-              networks[i], carried_curves(meshes.networks[r], meshes.selections[r].curves, networks[i]), options);
+          const CarriedSelection carried = carry_selection(meshes.networks[r], meshes.selections[r].curves, networks[i]);
+          const bool local = networks[i].curves.size() > kLocalRepairCurves;
+          screen.selections[i] =
+              improve_quad_selection(networks[i], carried.curves, options, {}, local ? &carried.focus : nullptr);
           screen.region_cost[i] = region_irregularity(constraints, r, networks[i], screen.selections[i], screen.usage[i]);
         });
         rate(touched, screen);

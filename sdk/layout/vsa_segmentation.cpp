@@ -123,7 +123,14 @@ class VsaSolver {
     out_.count_history.emplace_back(uint32_t(state_.proxy.size()), state_.error);
     while (state_.proxy.size() < target) {
       if (tolerance_mode && state_.error <= options_.tolerance * out_.total_area) break;
-      if (!insert_region_at_worst()) break;
+      // Count mode inserts batches (a fraction of the current count); tolerance mode one region
+      // at a time, so that it stops at the first count meeting the tolerance.
+      const size_t current = state_.proxy.size();
+      const size_t batch =
+          tolerance_mode ? 1
+                         : std::max<size_t>(1, std::min(target - current,
+                                                        size_t(double(current) * options_.insertion_batch_fraction)));
+      if (!insert_regions_at_worst(batch)) break;
       relax(insertion_iterations, true);
       out_.count_history.emplace_back(uint32_t(state_.proxy.size()), state_.error);
       monitor_.report("vsa segmentation", 0.8 * double(state_.proxy.size()) / double(target));
@@ -149,7 +156,7 @@ class VsaSolver {
   double total_error() const;
   void relax(size_t max_iterations, bool first_iteration_free);
   uint32_t worst_face(uint32_t region) const;
-  bool insert_region_at_worst();
+  bool insert_regions_at_worst(size_t count);
   void teleport();
   void finish();
   // Region sums: area and Σ|f| n_f (L2,1 region error = 2(A − ‖S‖) after the proxy fit).
@@ -367,22 +374,28 @@ uint32_t VsaSolver::worst_face(uint32_t region) const {
   return face;
 }
 
-bool VsaSolver::insert_region_at_worst() {
+bool VsaSolver::insert_regions_at_worst(size_t count) {
   std::vector<double> region_error(state_.proxy.size(), 0.0);
   std::vector<uint32_t> region_size(state_.proxy.size(), 0);
   for (uint32_t f = 0; f < state_.face_region.size(); ++f) {
     region_error[state_.face_region[f]] += cost(f, state_.face_region[f]);
     ++region_size[state_.face_region[f]];
   }
-  uint32_t worst = kNone;
+  // The `count` worst regions (largest error; ties to the lower id) with at least two faces.
+  std::vector<uint32_t> candidates;
   for (uint32_t r = uint32_t(num_pinned_); r < state_.proxy.size(); ++r)
-    if (region_size[r] >= 2 && (worst == kNone || region_error[r] > region_error[worst])) worst = r;
-  if (worst == kNone) return false;
-  const uint32_t face = worst_face(worst);
-  const uint32_t r = uint32_t(state_.proxy.size());
-  state_.face_region[face] = r;
-  state_.proxy.push_back(norm(normal_[face]) > 0.0 ? normal_[face] : state_.proxy[worst]);
-  state_.seed.push_back(face);
+    if (region_size[r] >= 2) candidates.push_back(r);
+  if (candidates.empty()) return false;
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [&](uint32_t a, uint32_t b) { return region_error[a] > region_error[b]; });
+  if (candidates.size() > count) candidates.resize(count);
+  for (uint32_t worst : candidates) {
+    const uint32_t face = worst_face(worst);
+    const uint32_t r = uint32_t(state_.proxy.size());
+    state_.face_region[face] = r;
+    state_.proxy.push_back(norm(normal_[face]) > 0.0 ? normal_[face] : state_.proxy[worst]);
+    state_.seed.push_back(face);
+  }
   state_.error = total_error();
   return true;
 }
@@ -490,8 +503,10 @@ VsaSegmentation segment_vsa(const PolygonMesh& triangles, const VsaOptions& opti
   if (!(options.tolerance < 0.0 || std::isfinite(options.tolerance)))
     fail(Status::invalid_argument, "vsa segmentation: tolerance must be finite");
   if (options.max_lloyd_iterations < 1 || options.insertion_lloyd_iterations < 1 || options.teleport_attempts < 0 || options.teleport_relaxation_steps < 1 ||
-      !(options.relative_convergence >= 0.0))
-    fail(Status::invalid_argument, "vsa segmentation: iteration counts must be >= 1 (teleport_attempts >= 0)");
+      !(options.relative_convergence >= 0.0) || !(options.insertion_batch_fraction >= 0.0) ||
+      !std::isfinite(options.insertion_batch_fraction))
+    fail(Status::invalid_argument, "vsa segmentation: iteration counts must be >= 1 (teleport_attempts >= 0), the "
+                                   "convergence threshold and insertion batch fraction finite and >= 0");
   require_triangle_mesh(triangles, "vsa segmentation");
   if (size_t(options.region_count) > triangles.num_faces())
     fail(Status::invalid_argument, "vsa segmentation: " + std::to_string(options.region_count) +

@@ -205,6 +205,11 @@ TEST(VsaSegmentation, BadInputGivesPreciseErrors) {
   options.seed_faces = {1, 2, 3, 4, 5, 6, 7};  // more seeds than regions
   EXPECT_EQ(status_of([&] { cagekit::segment_vsa(cube, options); }), Status::invalid_argument);
   options.seed_faces.clear();
+  for (double fraction : {-0.5, std::nan(""), HUGE_VAL}) {
+    VsaOptions batch = options;
+    batch.insertion_batch_fraction = fraction;
+    EXPECT_EQ(status_of([&] { cagekit::segment_vsa(cube, batch); }), Status::invalid_argument) << fraction;
+  }
   const cagekit::TaskMonitor cancel([](const char*, double) { return false; }, nullptr);
   EXPECT_EQ(status_of([&] { cagekit::segment_vsa(box(4, 1.0), options, cancel); }), Status::cancelled);
 }
@@ -262,6 +267,31 @@ TEST(VsaSegmentation, FandiskThirtyRegions) {
               "(%zu accepted), %zu Lloyd iterations, %zu undone\n",
               seconds, seg.total_error / seg.total_area, seg.count_history.back().second / seg.total_area,
               seg.teleports.size(), accepted, seg.error_history.size(), seg.rejected_lloyd_iterations);
+}
+
+TEST(VsaSegmentation, BatchInsertionReachesTheCountWithAComparableError) {
+  const PolygonMesh m = load_shared("fandisk.obj");
+  if (m.num_faces() == 0) GTEST_SKIP() << "../shared/meshes/fandisk.obj not present";
+  VsaOptions one, batch;
+  one.region_count = batch.region_count = 40;
+  one.insertion_batch_fraction = 0.0;
+  batch.insertion_batch_fraction = 0.2;
+  const VsaSegmentation a = cagekit::segment_vsa(m, one), b = cagekit::segment_vsa(m, batch);
+  for (const VsaSegmentation* s : {&a, &b}) {
+    ASSERT_EQ(s->num_regions(), 40u);
+    EXPECT_TRUE(regions_connected(m, s->face_region, 40));
+  }
+  // One count per insertion step: every count from 1 to 40 one at a time, fewer steps in batches
+  // (each adding at most a fifth of the regions present, at least one).
+  EXPECT_EQ(a.count_history.size(), 40u);
+  EXPECT_LT(b.count_history.size(), a.count_history.size());
+  for (size_t k = 1; k < b.count_history.size(); ++k) {
+    const uint32_t before = b.count_history[k - 1].first, after = b.count_history[k].first;
+    EXPECT_GE(after, before + 1);
+    EXPECT_LE(after, std::max<uint32_t>(before + 1, before + before / 5));
+  }
+  // The final partitions are comparable (the batch one within 10% of the one-at-a-time error).
+  EXPECT_LE(b.total_error, 1.1 * a.total_error);
 }
 
 TEST(VsaSegmentation, RejectedTeleportsRestoreThePartitionExactly) {
