@@ -52,8 +52,10 @@ struct QuadRemeshOptions {
   int threads = 0;                     // selection workers (0 = hardware concurrency)
   // Sample-count refinement after the selection (not in the thesis): an arc next to an irregular
   // region gets one sample more or less when re-selecting its regions makes the glued mesh more
-  // regular there (non-quad faces, boundary samples and anchors of valence != 4). Sweeps over the
-  // arcs (0: none); arcs next to a region with more than `max_curves` candidate curves are skipped.
+  // regular there (non-quad faces, boundary samples and anchors of valence != 4). Each try is
+  // screened by a local repair of the regions' previous configurations; only promising ones get
+  // the full selection (sdk/layout/README.md, "Speed"). Sweeps over the arcs (0: none); arcs next
+  // to a region with more than `max_curves` candidate curves are skipped.
   int sample_refinement_passes = 1;
   int sample_refinement_max_curves = 200;
 };
