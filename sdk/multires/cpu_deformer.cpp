@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <type_traits>
 
 #include "core/parallel_for.h"
 #include "core/status.h"
@@ -118,22 +119,93 @@ inline __attribute__((always_inline)) void block_kernel(const CellPolynomial& po
   }
 }
 
-// Evaluates cells[begin, end): per cell the coefficients from the control points, then its
-// vertices in blocks, written to the caller's arrays (one function per clone, so that the
-// coefficients stay in registers and L1 across the cell's blocks).
-template <bool kLocal>
-inline __attribute__((always_inline)) void cells_kernel(const PatchDeformerTable& c, const uint32_t* cells,
-                                                        size_t begin, size_t end, const Vec3* control,
-                                                        Vec3* positions, Vec3* normals);
+// Where the cells' vertices go. Staging (full frames): each vertex's float results and its
+// cell, in table order (sequential writes), and per cell its corner S(0, 0) (double); a second
+// pass (write_out) then writes the caller's arrays in vertex order. Scatter (incremental
+// updates): straight into the caller's arrays (double Vec3 or float xyz).
+using Staged = multires_detail::StagedVertex;
+static_assert(sizeof(Staged) == 32, "two staged vertices per cache line");
 
-CAGEKIT_KERNEL_CLONES void cells_normal(const PatchDeformerTable& c, const uint32_t* cells, size_t begin, size_t end,
-                                        const Vec3* control, Vec3* positions, Vec3* normals) {
-  cells_kernel<false>(c, cells, begin, end, control, positions, normals);
+struct StageSink {
+  Staged* staged;
+  Vec3* origins;
+  void cell(uint32_t, const Vec3&) {}
+  inline __attribute__((always_inline)) void block(uint32_t cell, const Vec3& origin, uint32_t first, const uint32_t*,
+                                                   size_t n, const BlockOut& out) {
+    origins[cell] = origin;
+    Staged* to = staged + first;
+    for (size_t i = 0; i < n; ++i)
+      to[i] = Staged{out.px[i], out.py[i], out.pz[i], cell, out.nx[i], out.ny[i], out.nz[i], 0};
+  }
+  void prefetch(const uint32_t*, uint32_t, uint32_t) {}
+};
+
+// The caller's arrays: Vec3, or xyz triples of double or float.
+inline void put(Vec3* a, size_t i, double x, double y, double z) { a[i] = Vec3{x, y, z}; }
+template <typename S>
+inline void put(S* a, size_t i, double x, double y, double z) {
+  a[3 * i] = S(x), a[3 * i + 1] = S(y), a[3 * i + 2] = S(z);
 }
+inline const void* address(const Vec3* a, size_t i) { return a + i; }
+template <typename S>
+inline const void* address(const S* a, size_t i) { return a + 3 * i; }
 
-CAGEKIT_KERNEL_CLONES void cells_local_frame(const PatchDeformerTable& c, const uint32_t* cells, size_t begin,
-                                             size_t end, const Vec3* control, Vec3* positions, Vec3* normals) {
-  cells_kernel<true>(c, cells, begin, end, control, positions, normals);
+template <typename T>
+struct ScatterSink {
+  T *positions, *normals;
+  inline __attribute__((always_inline)) void block(uint32_t, const Vec3& origin, uint32_t, const uint32_t* vertex,
+                                                   size_t n, const BlockOut& out) {
+    if (positions)
+      for (size_t i = 0; i < n; ++i) put(positions, vertex[i], origin.x + out.px[i], origin.y + out.py[i], origin.z + out.pz[i]);
+    if (normals)
+      for (size_t i = 0; i < n; ++i) put(normals, vertex[i], out.nx[i], out.ny[i], out.nz[i]);
+  }
+  // The next cell's output lines, for writing (their read-for-ownership overlaps this cell's work).
+  void prefetch(const uint32_t* vertex, uint32_t first, uint32_t last) {
+    for (uint32_t i = first; i < last; ++i) {
+      if (positions) __builtin_prefetch(address(positions, vertex[i]), 1);
+      if (normals) __builtin_prefetch(address(normals, vertex[i]), 1);
+    }
+  }
+};
+
+// Evaluates cells[begin, end): per cell the coefficients from the control points, then its
+// vertices in blocks, handed to `sink` (one function per clone and sink, so that the
+// coefficients stay in registers and L1 across the cell's blocks).
+template <bool kLocal, typename Sink>
+inline __attribute__((always_inline)) void cells_kernel(const PatchDeformerTable& c, const uint32_t* cells,
+                                                        size_t begin, size_t end, const Vec3* control, Sink sink);
+
+#define CAGEKIT_CELLS_FUNCTION(name, local, Sink)                                                       \
+  CAGEKIT_KERNEL_CLONES void name(const PatchDeformerTable& c, const uint32_t* cells, size_t begin, size_t end, \
+                                  const Vec3* control, Sink sink) {                                     \
+    cells_kernel<local>(c, cells, begin, end, control, sink);                                           \
+  }
+CAGEKIT_CELLS_FUNCTION(cells_normal_stage, false, StageSink)
+CAGEKIT_CELLS_FUNCTION(cells_local_frame_stage, true, StageSink)
+CAGEKIT_CELLS_FUNCTION(cells_normal_scatter, false, ScatterSink<Vec3>)
+CAGEKIT_CELLS_FUNCTION(cells_local_frame_scatter, true, ScatterSink<Vec3>)
+CAGEKIT_CELLS_FUNCTION(cells_normal_scatter_f64, false, ScatterSink<double>)
+CAGEKIT_CELLS_FUNCTION(cells_local_frame_scatter_f64, true, ScatterSink<double>)
+CAGEKIT_CELLS_FUNCTION(cells_normal_scatter_f32, false, ScatterSink<float>)
+CAGEKIT_CELLS_FUNCTION(cells_local_frame_scatter_f32, true, ScatterSink<float>)
+#undef CAGEKIT_CELLS_FUNCTION
+
+inline void run_cells_with(const PatchDeformerTable& c, const uint32_t* cells, size_t begin, size_t end,
+                           const Vec3* control, StageSink sink) {
+  (c.local_frame ? cells_local_frame_stage : cells_normal_stage)(c, cells, begin, end, control, sink);
+}
+inline void run_cells_with(const PatchDeformerTable& c, const uint32_t* cells, size_t begin, size_t end,
+                           const Vec3* control, ScatterSink<Vec3> sink) {
+  (c.local_frame ? cells_local_frame_scatter : cells_normal_scatter)(c, cells, begin, end, control, sink);
+}
+inline void run_cells_with(const PatchDeformerTable& c, const uint32_t* cells, size_t begin, size_t end,
+                           const Vec3* control, ScatterSink<double> sink) {
+  (c.local_frame ? cells_local_frame_scatter_f64 : cells_normal_scatter_f64)(c, cells, begin, end, control, sink);
+}
+inline void run_cells_with(const PatchDeformerTable& c, const uint32_t* cells, size_t begin, size_t end,
+                           const Vec3* control, ScatterSink<float> sink) {
+  (c.local_frame ? cells_local_frame_scatter_f32 : cells_normal_scatter_f32)(c, cells, begin, end, control, sink);
 }
 
 // poly = sum over the cell's terms of coefficients[16 k ..] * (control[j_k] - ref): 16 floats
@@ -157,10 +229,9 @@ inline __attribute__((always_inline)) void gather_cell(const float* coefficients
   std::memcpy(poly.z, &z0, sizeof z0), std::memcpy(poly.z + 8, &z1, sizeof z1);
 }
 
-template <bool kLocal>
+template <bool kLocal, typename Sink>
 inline __attribute__((always_inline)) void cells_kernel(const PatchDeformerTable& c, const uint32_t* cells,
-                                                        size_t begin, size_t end, const Vec3* control,
-                                                        Vec3* positions, Vec3* normals) {
+                                                        size_t begin, size_t end, const Vec3* control, Sink sink) {
   BlockOut out;
   for (size_t k = begin; k < end; ++k) {
     const uint32_t cell = cells[k];
@@ -173,6 +244,7 @@ inline __attribute__((always_inline)) void cells_kernel(const PatchDeformerTable
       const char* from = reinterpret_cast<const char*>(c.term_coefficients.data() + 16 * size_t(c.cell_term_offsets[next]));
       const char* to = reinterpret_cast<const char*>(c.term_coefficients.data() + 16 * size_t(c.cell_term_offsets[next + 1]));
       for (const char* p = from; p < to; p += 64) __builtin_prefetch(p);
+      sink.prefetch(c.vertex.data(), c.cell_vertex_offsets[next], c.cell_vertex_offsets[next + 1]);
     }
     CellPolynomial poly;
     gather_cell(c.term_coefficients.data() + 16 * size_t(e0), c.term_control.data() + e0, e1 - e0, control, ref, poly);
@@ -185,25 +257,15 @@ inline __attribute__((always_inline)) void cells_kernel(const PatchDeformerTable
       for (int q = 0; q < 6; ++q) in.k[q] = c.k[q].data() + first;
       if (kLocal) in.ta = c.tangent_a.data() + first, in.tb = c.tangent_b.data() + first;
       block_kernel<kLocal>(poly, in, n, out);
-      const uint32_t* vertex = c.vertex.data() + first;
-      if (positions)
-        for (size_t i = 0; i < n; ++i)
-          positions[vertex[i]] = Vec3{origin.x + out.px[i], origin.y + out.py[i], origin.z + out.pz[i]};
-      if (normals)
-        for (size_t i = 0; i < n; ++i) normals[vertex[i]] = Vec3{out.nx[i], out.ny[i], out.nz[i]};
+      sink.block(cell, origin, first, c.vertex.data() + first, n, out);
     }
   }
 }
 
-// Splits `count` work items with prefix weights `weight(i)` into `workers` ranges of about equal
-// total weight and runs body(begin, end) on each.
-template <typename Weight, typename Body>
-void run_balanced(size_t count, size_t total, int threads, size_t min_per_worker, Weight&& weight, Body&& body) {
-  const size_t workers = std::max<size_t>(1, std::min<size_t>(size_t(std::max(threads, 1)), total / min_per_worker));
-  if (workers == 1 || count < 2) {
-    body(size_t(0), count);
-    return;
-  }
+// Splits `count` work items with weights `weight(i)` (summing to `total`) into `workers` ranges
+// of about equal total weight: split[w], split[w + 1] bound range w.
+template <typename Weight>
+std::vector<size_t> balanced_split(size_t count, size_t total, size_t workers, Weight&& weight) {
   std::vector<size_t> split(workers + 1, count);
   split[0] = 0;
   size_t acc = 0, w = 1;
@@ -211,8 +273,49 @@ void run_balanced(size_t count, size_t total, int threads, size_t min_per_worker
     acc += weight(i);
     if (acc * workers >= total * w) split[w++] = i + 1;
   }
-  run_ranges(workers, workers, [&](size_t begin, size_t, size_t) { body(split[begin], split[begin + 1]); });
+  return split;
 }
+
+size_t worker_count(int threads, size_t total, size_t min_per_worker) {
+  return std::max<size_t>(1, std::min<size_t>(size_t(std::max(threads, 1)), total / min_per_worker));
+}
+
+// One irregular vertex from its sparse row (double): position and/or normal.
+inline void irregular_vertex(const ScanBinding& b, const PatchDeformerTable& c, const Vec3* control, uint32_t item,
+                             bool want_position, bool want_normal, Vec3* position, Vec3* normal) {
+  const uint32_t i = c.irregular_vertex[item];
+  const uint32_t e0 = c.irregular_offsets[item], e1 = c.irregular_offsets[item + 1];
+  // Relative to the first control point (the weights sum to 1, their derivatives to 0).
+  const Vec3 ref = e1 > e0 ? control[c.irregular_control[e0]] : Vec3();
+  Vec3 s, su, sv;
+  for (uint32_t e = e0; e < e1; ++e) {
+    const Vec3 d = control[c.irregular_control[e]] - ref;
+    s += c.irregular_w[e] * d, su += c.irregular_wu[e] * d, sv += c.irregular_wv[e] * d;
+  }
+  s += ref;
+  const Vec3 cr = cross(su, sv);
+  const double cl = norm(cr);
+  const Vec3 ns = cl > 0 ? cr * (1.0 / cl) : Vec3{0, 0, 1};
+  const double D = b.displacement[i];
+  if (want_position) {
+    if (!c.local_frame) {
+      *position = s + D * ns;
+    } else {
+      const Vec3 t1 = normalized(su), t2 = cross(ns, t1);
+      *position = s + b.tangent_offset[2 * size_t(i)] * t1 + b.tangent_offset[2 * size_t(i) + 1] * t2 + D * ns;
+    }
+  }
+  if (want_normal) {
+    const double* q = &b.normal_coefficients[6 * size_t(i)];
+    const Vec3 gu = q[0] * su + q[1] * sv + q[2] * ns, gv = q[3] * su + q[4] * sv + q[5] * ns;
+    *normal = normalized(cross(gu, gv));
+  }
+}
+
+template <typename T>
+inline void store(T* to, size_t i, const Vec3& v) { put(to, i, v.x, v.y, v.z); }
+
+constexpr uint32_t kIrregularSlot = 0x80000000u;  // slot_of_: flag of an irregular vertex's item
 
 }  // namespace
 
@@ -224,12 +327,44 @@ CpuDeformer::CpuDeformer(const ScanBinding& binding, int threads) : b_(binding),
     if (j >= m) fail(Status::invalid_argument, "deformer: binding refers to a control vertex out of range");
   for (uint32_t j : c.irregular_control)
     if (j >= m) fail(Status::invalid_argument, "deformer: binding refers to a control vertex out of range");
-  all_cells_.resize(c.num_cells());
-  for (size_t i = 0; i < all_cells_.size(); ++i) all_cells_[i] = uint32_t(i);
-  all_irregular_.resize(c.num_irregular_vertices());
-  for (size_t i = 0; i < all_irregular_.size(); ++i) all_irregular_[i] = uint32_t(i);
+  const size_t n = b_.num_vertices();
+  if (c.num_cell_vertices() + c.num_irregular_vertices() != n || n >= kIrregularSlot)
+    fail(Status::invalid_argument, "deformer: the compact table does not cover the binding's vertices");
   cell_stamp_.assign(c.num_cells(), 0);
   irregular_stamp_.assign(c.num_irregular_vertices(), 0);
+  // Full frames: each vertex's staged result (slot_of_) and the work split of every frame.
+  slot_of_.assign(n, ~0u);
+  for (size_t k = 0; k < c.vertex.size(); ++k) {
+    if (c.vertex[k] >= n || slot_of_[c.vertex[k]] != ~0u)
+      fail(Status::invalid_argument, "deformer: the compact table does not cover the binding's vertices");
+    slot_of_[c.vertex[k]] = uint32_t(k);
+  }
+  for (size_t k = 0; k < c.irregular_vertex.size(); ++k) {
+    if (c.irregular_vertex[k] >= n || slot_of_[c.irregular_vertex[k]] != ~0u)
+      fail(Status::invalid_argument, "deformer: the compact table does not cover the binding's vertices");
+    slot_of_[c.irregular_vertex[k]] = kIrregularSlot | uint32_t(k);
+  }
+  // Worker w writes the caller's vertices [n w / W, n (w + 1) / W) and evaluates the cells
+  // most of whose vertices are there (and the irregular vertices there): what it reads back in
+  // the second pass it mostly staged itself (its own cache, not the other core's).
+  workers_ = worker_count(threads_, n, 8192);
+  std::vector<std::vector<uint32_t>> cells_of(workers_), items_of(workers_);
+  std::vector<uint32_t> count(workers_);
+  for (uint32_t cell = 0; cell < c.num_cells(); ++cell) {
+    std::fill(count.begin(), count.end(), 0u);
+    for (uint32_t k = c.cell_vertex_offsets[cell]; k < c.cell_vertex_offsets[cell + 1]; ++k)
+      ++count[std::min(workers_ - 1, size_t(c.vertex[k]) * workers_ / n)];
+    cells_of[size_t(std::max_element(count.begin(), count.end()) - count.begin())].push_back(cell);
+  }
+  for (uint32_t item = 0; item < c.num_irregular_vertices(); ++item)
+    items_of[std::min(workers_ - 1, size_t(c.irregular_vertex[item]) * workers_ / n)].push_back(item);
+  worker_cells_.clear(), worker_items_.clear();
+  cell_split_.assign(1, 0), item_split_.assign(1, 0);
+  for (size_t w = 0; w < workers_; ++w) {
+    worker_cells_.insert(worker_cells_.end(), cells_of[w].begin(), cells_of[w].end());
+    worker_items_.insert(worker_items_.end(), items_of[w].begin(), items_of[w].end());
+    cell_split_.push_back(worker_cells_.size()), item_split_.push_back(worker_items_.size());
+  }
 }
 
 CpuDeformer::~CpuDeformer() = default;
@@ -261,81 +396,131 @@ void CpuDeformer::check_control(const std::vector<Vec3>& control) const {
                                        " control points, got " + std::to_string(control.size()));
 }
 
-void CpuDeformer::run_cells(const uint32_t* cells, size_t count, Vec3* positions, Vec3* normals) {
+// A full frame: every worker evaluates its cells (into staged_) and its share of the irregular
+// vertices (into irregular_out_); then every worker writes its range of the caller's arrays in
+// vertex order from them (sequential writes instead of scattered ones).
+template <typename T>
+void CpuDeformer::full_frame(T* positions, T* normals) {
   const PatchDeformerTable& c = b_.compact;
-  const std::vector<Vec3>& control = control_;
-  size_t total = 0;
-  for (size_t k = 0; k < count; ++k) total += c.cell_vertex_offsets[cells[k] + 1] - c.cell_vertex_offsets[cells[k]];
-  auto weight = [&](size_t k) { return size_t(c.cell_vertex_offsets[cells[k] + 1] - c.cell_vertex_offsets[cells[k]]); };
-  run_balanced(count, total, threads_, 8192, weight, [&](size_t begin, size_t end) {
-    if (c.local_frame)
-      cells_local_frame(c, cells, begin, end, control.data(), positions, normals);
-    else
-      cells_normal(c, cells, begin, end, control.data(), positions, normals);
+  const Vec3* control = control_.data();
+  staged_.resize(c.num_cell_vertices());
+  origins_.resize(c.num_cells());
+  irregular_out_.resize(2 * c.num_irregular_vertices());
+  run_ranges(workers_, workers_, [&](size_t w, size_t, size_t) {
+    run_cells_with(c, worker_cells_.data(), cell_split_[w], cell_split_[w + 1], control,
+                   StageSink{staged_.data(), origins_.data()});
+    for (size_t k = item_split_[w]; k < item_split_[w + 1]; ++k) {
+      const uint32_t item = worker_items_[k];
+      irregular_vertex(b_, c, control, item, true, true, &irregular_out_[2 * size_t(item)],
+                       &irregular_out_[2 * size_t(item) + 1]);
+    }
   });
-}
-
-void CpuDeformer::run_irregular(const uint32_t* items, size_t count, Vec3* positions, Vec3* normals) {
-  const PatchDeformerTable& c = b_.compact;
-  const std::vector<Vec3>& control = control_;
-  const bool local = c.local_frame;
-  parallel_ranges(count, threads_, [&](size_t begin, size_t end) {
-    for (size_t k = begin; k < end; ++k) {
-      const uint32_t item = items[k], i = c.irregular_vertex[item];
-      const uint32_t e0 = c.irregular_offsets[item], e1 = c.irregular_offsets[item + 1];
-      // Relative to the first control point (the weights sum to 1, their derivatives to 0).
-      const Vec3 ref = e1 > e0 ? control[c.irregular_control[e0]] : Vec3();
-      Vec3 s, su, sv;
-      for (uint32_t e = e0; e < e1; ++e) {
-        const Vec3 d = control[c.irregular_control[e]] - ref;
-        s += c.irregular_w[e] * d, su += c.irregular_wu[e] * d, sv += c.irregular_wv[e] * d;
-      }
-      s += ref;
-      const Vec3 cr = cross(su, sv);
-      const double cl = norm(cr);
-      const Vec3 ns = cl > 0 ? cr * (1.0 / cl) : Vec3{0, 0, 1};
-      const double D = b_.displacement[i];
-      if (positions) {
-        if (!local) {
-          positions[i] = s + D * ns;
-        } else {
-          const Vec3 t1 = normalized(su), t2 = cross(ns, t1);
-          positions[i] = s + b_.tangent_offset[2 * size_t(i)] * t1 + b_.tangent_offset[2 * size_t(i) + 1] * t2 + D * ns;
-        }
-      }
-      if (normals) {
-        const double* q = &b_.normal_coefficients[6 * size_t(i)];
-        const Vec3 gu = q[0] * su + q[1] * sv + q[2] * ns, gv = q[3] * su + q[4] * sv + q[5] * ns;
-        normals[i] = normalized(cross(gu, gv));
+  if (!positions && !normals) return;
+  const size_t n = b_.num_vertices();
+  const multires_detail::StagedVertex* staged = staged_.data();
+  const Vec3* origins = origins_.data();
+  const Vec3* irregular_out = irregular_out_.data();
+  const uint32_t* slot_of = slot_of_.data();
+  run_ranges(workers_, workers_, [&](size_t w, size_t, size_t) {
+    const size_t begin = n * w / workers_, end = n * (w + 1) / workers_;
+    constexpr size_t kAhead = 16;
+    for (size_t i = begin; i < end; ++i) {
+      if (i + kAhead < end && !(slot_of[i + kAhead] & kIrregularSlot)) __builtin_prefetch(staged + slot_of[i + kAhead]);
+      const uint32_t slot = slot_of[i];
+      if (slot & kIrregularSlot) {
+        const size_t item = slot & ~kIrregularSlot;
+        if (positions) store(positions, i, irregular_out[2 * item]);
+        if (normals) store(normals, i, irregular_out[2 * item + 1]);
+      } else {
+        const multires_detail::StagedVertex& r = staged[slot];
+        const Vec3& o = origins[r.cell];
+        if (positions) store(positions, i, Vec3{o.x + r.px, o.y + r.py, o.z + r.pz});
+        if (normals) store(normals, i, Vec3{r.nx, r.ny, r.nz});
       }
     }
   });
 }
 
-void CpuDeformer::deform(const std::vector<Vec3>& control, Vec3* positions, Vec3* normals, NormalMode mode) {
-  check_control(control);
+// The listed cells and irregular vertices, straight into the caller's arrays (incremental updates).
+template <typename T>
+void CpuDeformer::scatter(const uint32_t* cells, size_t cell_count, const uint32_t* items, size_t item_count,
+                          T* positions, T* normals) {
+  const PatchDeformerTable& c = b_.compact;
+  const Vec3* control = control_.data();
+  size_t total = 0;
+  for (size_t k = 0; k < cell_count; ++k) total += c.cell_vertex_offsets[cells[k] + 1] - c.cell_vertex_offsets[cells[k]];
+  const size_t workers = worker_count(threads_, total + item_count, 8192);
+  const std::vector<size_t> split = balanced_split(cell_count, total, workers, [&](size_t k) {
+    return size_t(c.cell_vertex_offsets[cells[k] + 1] - c.cell_vertex_offsets[cells[k]]);
+  });
+  run_ranges(workers, workers, [&](size_t w, size_t, size_t) {
+    run_cells_with(c, cells, split[w], split[w + 1], control, ScatterSink<T>{positions, normals});
+    for (size_t k = item_count * w / workers; k < item_count * (w + 1) / workers; ++k) {
+      Vec3 p, q;
+      irregular_vertex(b_, c, control, items[k], positions != nullptr, normals != nullptr, &p, &q);
+      const uint32_t i = c.irregular_vertex[items[k]];
+      if (positions) store(positions, i, p);
+      if (normals) store(normals, i, q);
+    }
+  });
+}
+
+void CpuDeformer::check_mode(NormalMode mode) const {
   if (mode != NormalMode::approximate && mode != NormalMode::exact)
     fail(Status::invalid_argument, "deformer: unknown normal mode");
+}
+
+// Exact normals or no compact table, flat outputs: the reference into Vec3 scratch arrays, copied.
+template <typename T>
+void CpuDeformer::copy_out(const uint32_t* list, size_t count, T* positions, T* normals) const {
+  for (size_t k = 0; k < count; ++k) {
+    const size_t i = list ? list[k] : k;
+    if (positions) store(positions, i, scratch_p_[i]);
+    if (normals) store(normals, i, scratch_n_[i]);
+  }
+}
+
+template <typename T>
+void CpuDeformer::deform_impl(const std::vector<Vec3>& control, T* positions, T* normals, NormalMode mode) {
+  check_control(control);
+  check_mode(mode);
   if (mode == NormalMode::exact || !compact()) {
-    reference().deform(control, positions, normals, mode);
+    if constexpr (std::is_same<T, Vec3>::value) {
+      reference().deform(control, positions, normals, mode);
+    } else {
+      scratch_p_.resize(b_.num_vertices()), scratch_n_.resize(b_.num_vertices());
+      reference().deform(control, positions ? scratch_p_.data() : nullptr, normals ? scratch_n_.data() : nullptr, mode);
+      copy_out(nullptr, b_.num_vertices(), positions, normals);
+    }
     control_ = control;
     reference_synced_ = true;
     return;
   }
   control_ = control;
   reference_synced_ = false;
-  run_cells(all_cells_.data(), all_cells_.size(), positions, normals);
-  run_irregular(all_irregular_.data(), all_irregular_.size(), positions, normals);
+  full_frame(positions, normals);
 }
 
-size_t CpuDeformer::update(const std::vector<Vec3>& control, const std::vector<uint32_t>& moved, Vec3* positions,
-                           Vec3* normals, NormalMode mode) {
+void CpuDeformer::deform(const std::vector<Vec3>& control, Vec3* positions, Vec3* normals, NormalMode mode) {
+  deform_impl(control, positions, normals, mode);
+}
+
+void CpuDeformer::deform(const std::vector<Vec3>& control, double* positions, double* normals, NormalMode mode) {
+  deform_impl(control, positions, normals, mode);
+}
+
+void CpuDeformer::deform(const std::vector<Vec3>& control, float* positions, float* normals, NormalMode mode) {
+  deform_impl(control, positions, normals, mode);
+}
+
+template <typename T>
+size_t CpuDeformer::update_impl(const std::vector<Vec3>& control, const std::vector<uint32_t>& moved, T* positions,
+                                T* normals, NormalMode mode) {
   if (control_.size() != b_.num_control_vertices)
     fail(Status::invalid_argument, "deformer: update() before a first deform()");
   if (control.size() != control_.size())
     fail(Status::invalid_argument, "deformer: expected " + std::to_string(control_.size()) + " control points");
-  if (mode != NormalMode::approximate && mode != NormalMode::exact)
-    fail(Status::invalid_argument, "deformer: unknown normal mode");
+  check_mode(mode);
   for (uint32_t j : moved)
     if (j >= control.size()) fail(Status::invalid_argument, "deformer: moved control vertex out of range");
   if (mode == NormalMode::exact || !compact()) {
@@ -344,7 +529,14 @@ size_t CpuDeformer::update(const std::vector<Vec3>& control, const std::vector<u
     if (!reference_synced_) r.deform(control_, nullptr, nullptr, mode);
     reference_synced_ = true;
     last_from_reference_ = true;
-    const size_t count = r.update(control, moved, positions, normals, mode);
+    size_t count;
+    if constexpr (std::is_same<T, Vec3>::value) {
+      count = r.update(control, moved, positions, normals, mode);
+    } else {
+      scratch_p_.resize(b_.num_vertices()), scratch_n_.resize(b_.num_vertices());
+      count = r.update(control, moved, positions ? scratch_p_.data() : nullptr, normals ? scratch_n_.data() : nullptr, mode);
+      copy_out(r.last_updated().data(), r.last_updated().size(), positions, normals);
+    }
     for (uint32_t j : moved) control_[j] = control[j];
     return count;
   }
@@ -373,9 +565,23 @@ size_t CpuDeformer::update(const std::vector<Vec3>& control, const std::vector<u
     touched_.insert(touched_.end(), c.vertex.begin() + c.cell_vertex_offsets[cell],
                     c.vertex.begin() + c.cell_vertex_offsets[cell + 1]);
   for (uint32_t item : irregular_) touched_.push_back(c.irregular_vertex[item]);
-  run_cells(cells_.data(), cells_.size(), positions, normals);
-  run_irregular(irregular_.data(), irregular_.size(), positions, normals);
+  scatter(cells_.data(), cells_.size(), irregular_.data(), irregular_.size(), positions, normals);
   return touched_.size();
+}
+
+size_t CpuDeformer::update(const std::vector<Vec3>& control, const std::vector<uint32_t>& moved, Vec3* positions,
+                           Vec3* normals, NormalMode mode) {
+  return update_impl(control, moved, positions, normals, mode);
+}
+
+size_t CpuDeformer::update(const std::vector<Vec3>& control, const std::vector<uint32_t>& moved, double* positions,
+                           double* normals, NormalMode mode) {
+  return update_impl(control, moved, positions, normals, mode);
+}
+
+size_t CpuDeformer::update(const std::vector<Vec3>& control, const std::vector<uint32_t>& moved, float* positions,
+                           float* normals, NormalMode mode) {
+  return update_impl(control, moved, positions, normals, mode);
 }
 
 CAGEKIT_NAMESPACE_END

@@ -10,14 +10,21 @@
 // cell-local (s, t), structure-of-arrays, in blocks the compiler vectorises (with a runtime
 // AVX2+FMA clone next to the baseline x86-64 one, GCC function multiversioning); the few
 // irregular vertices (near extraordinary vertices, where no cell is one polynomial) use float
-// copies of their sparse rows. Full recompute on `threads` threads (cells split by vertex
-// count), or incremental: only the cells and irregular vertices in the support of the control
+// copies of their sparse rows. Full recompute on `threads` threads: worker w evaluates the cells
+// most of whose vertices are in its share [n w / W, n (w + 1) / W) of the caller's arrays (and
+// the irregular vertices there) into a staging buffer in table order (sequential writes, 32
+// bytes per cell vertex), then writes its share of the caller's arrays in vertex order from it
+// (sequential writes: scattered writes into the caller's arrays, whose vertex order is not the
+// cells', cost ~40% of a frame when done directly). Or incremental: only the cells and irregular vertices in the support of the control
 // points that moved since the last call are recomputed, with the same code as a full frame, so
 // incremental results equal full ones bit for bit.
 //
 // Exact normals (8.4)-(8.7), and bindings made without the compact table, go through the
 // double-precision SparseRowDeformer (sparse_row_deformer.h), which is also the reference the
 // fast path is tested against (positions within ~1e-7 of the bbox diagonal).
+//
+// Outputs: Vec3 arrays, or flat xyz triples of double or float32 (hosts drawing float32 write
+// half the bytes). Memory: besides the binding, ~36 bytes per vertex (staging, vertex slots).
 //
 // Thread-safety: one deformer per thread (it keeps the last control points); the binding must
 // outlive it and stay unchanged.
@@ -29,6 +36,16 @@
 #include "multires/sparse_row_deformer.h"
 
 CAGEKIT_NAMESPACE_BEGIN
+
+namespace multires_detail {
+// A cell vertex's float results in a full frame, in table order (cpu_deformer.cpp).
+struct StagedVertex {
+  float px, py, pz;  // position relative to its cell's corner
+  uint32_t cell;
+  float nx, ny, nz;  // unit normal
+  uint32_t pad;
+};
+}  // namespace multires_detail
 
 // Bytes read + written per vertex in one full frame of positions + approximate normals: the
 // compact table's figure (PatchDeformerTable::bytes_per_vertex), or the sparse rows' when the
@@ -45,11 +62,24 @@ class CpuDeformer {
   // wrong size, or exact normals without binding data for them.
   void deform(const std::vector<Vec3>& control, Vec3* positions, Vec3* normals,
               NormalMode mode = NormalMode::approximate);
+  // The same into flat xyz triples (3 * binding.num_vertices() values each; either may be
+  // null): double (the same values as the Vec3 overload), or float32 (the double values rounded
+  // to float: the compact path evaluates in float32 anyway, positions are formed in double,
+  // cell corner + offset, then rounded). Hosts that draw float32 save half the bytes written.
+  void deform(const std::vector<Vec3>& control, double* positions, double* normals,
+              NormalMode mode = NormalMode::approximate);
+  void deform(const std::vector<Vec3>& control, float* positions, float* normals,
+              NormalMode mode = NormalMode::approximate);
   // Incremental: `control` differs from the previous call's only at `moved` (after a first
   // deform()); recomputes and writes only the affected vertices (the rest of the output arrays is
   // left as the caller had it from earlier calls). Returns the number of vertices recomputed.
   size_t update(const std::vector<Vec3>& control, const std::vector<uint32_t>& moved, Vec3* positions,
                 Vec3* normals, NormalMode mode = NormalMode::approximate);
+  // The same into flat xyz triples of double or float32.
+  size_t update(const std::vector<Vec3>& control, const std::vector<uint32_t>& moved, double* positions,
+                double* normals, NormalMode mode = NormalMode::approximate);
+  size_t update(const std::vector<Vec3>& control, const std::vector<uint32_t>& moved, float* positions,
+                float* normals, NormalMode mode = NormalMode::approximate);
   // The vertices the last update() recomputed.
   const std::vector<uint32_t>& last_updated() const;
 
@@ -60,9 +90,20 @@ class CpuDeformer {
   double bytes_per_vertex() const;
 
  private:
-  void run_cells(const uint32_t* cells, size_t count, Vec3* positions, Vec3* normals);
-  void run_irregular(const uint32_t* items, size_t count, Vec3* positions, Vec3* normals);
+  template <typename T>
+  void deform_impl(const std::vector<Vec3>& control, T* positions, T* normals, NormalMode mode);
+  template <typename T>
+  size_t update_impl(const std::vector<Vec3>& control, const std::vector<uint32_t>& moved, T* positions, T* normals,
+                     NormalMode mode);
+  template <typename T>
+  void full_frame(T* positions, T* normals);
+  template <typename T>
+  void scatter(const uint32_t* cells, size_t cell_count, const uint32_t* items, size_t item_count, T* positions,
+               T* normals);
+  template <typename T>
+  void copy_out(const uint32_t* list, size_t count, T* positions, T* normals) const;
   void check_control(const std::vector<Vec3>& control) const;
+  void check_mode(NormalMode mode) const;
   SparseRowDeformer& reference();
 
   const ScanBinding& b_;
@@ -71,9 +112,18 @@ class CpuDeformer {
   std::unique_ptr<SparseRowDeformer> reference_;
   bool reference_synced_ = false;  // reference_ holds the frame of control_ (exact mode)
   bool last_from_reference_ = false;
-  std::vector<uint32_t> all_cells_, all_irregular_;
   std::vector<uint32_t> cell_stamp_, irregular_stamp_, cells_, irregular_, touched_;
   uint32_t stamp_ = 0;
+  // Full frames (compact table): per scan vertex its slot in the table (cell vertex) or
+  // 0x80000000 | its irregular item; the staged results of the cell vertices (32 bytes each),
+  // the cells' corners, the irregular vertices' positions and normals.
+  std::vector<uint32_t> slot_of_;
+  std::vector<multires_detail::StagedVertex> staged_;
+  std::vector<Vec3> origins_, irregular_out_;
+  size_t workers_ = 1;
+  std::vector<uint32_t> worker_cells_, worker_items_;  // each worker's cells and irregular items,
+  std::vector<size_t> cell_split_, item_split_;        // worker w's: [split[w], split[w + 1])
+  std::vector<Vec3> scratch_p_, scratch_n_;  // float outputs of the sparse-row path
 };
 
 CAGEKIT_NAMESPACE_END

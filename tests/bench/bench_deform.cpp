@@ -241,6 +241,19 @@ int main(int argc, char** argv) {
     rows.push_back({"CpuDeformer full (compact), " + std::to_string(threads) + " thread" + (threads > 1 ? "s" : ""), s,
                     g_cpu, double(n), deformer.bytes_per_vertex()});
   }
+  // The same into float32 xyz arrays (CpuDeformer::deform(float*), cagekit_cpu_deformer_deform_f32):
+  // 24 bytes written per vertex instead of 48.
+  std::vector<float> positions_f32(3 * n), normals_f32(3 * n);
+  for (int threads : {2, 1}) {
+    CpuDeformer deformer(binding, threads);
+    const double s = median_frame(frames, [&](int f) {
+      move_all(f);
+      deformer.deform(control, positions_f32.data(), normals_f32.data());
+    });
+    rows.push_back({"CpuDeformer full (compact), float32 outputs, " + std::to_string(threads) + " thread" +
+                        (threads > 1 ? "s" : ""),
+                    s, g_cpu, double(n), deformer.bytes_per_vertex() - 24});
+  }
   // Incremental: 10 control points spread over the cage move every frame.
   double incremental_vertices = 0;
   {
