@@ -119,26 +119,10 @@ inline __attribute__((always_inline)) void block_kernel(const CellPolynomial& po
   }
 }
 
-// Where the cells' vertices go. Staging (full frames): each vertex's float results and its
-// cell, in table order (sequential writes), and per cell its corner S(0, 0) (double); a second
-// pass (write_out) then writes the caller's arrays in vertex order. Scatter (incremental
-// updates): straight into the caller's arrays (double Vec3 or float xyz).
-using Staged = multires_detail::StagedVertex;
-static_assert(sizeof(Staged) == 32, "two staged vertices per cache line");
+// Where the cells' vertices go: straight into the caller's arrays (Vec3, or double / float xyz),
+// whose vertex order is not the cells' (scattered stores: the next cell's output lines are
+// prefetched for writing while this one is evaluated).
 
-struct StageSink {
-  Staged* staged;
-  Vec3* origins;
-  void cell(uint32_t, const Vec3&) {}
-  inline __attribute__((always_inline)) void block(uint32_t cell, const Vec3& origin, uint32_t first, const uint32_t*,
-                                                   size_t n, const BlockOut& out) {
-    origins[cell] = origin;
-    Staged* to = staged + first;
-    for (size_t i = 0; i < n; ++i)
-      to[i] = Staged{out.px[i], out.py[i], out.pz[i], cell, out.nx[i], out.ny[i], out.nz[i], 0};
-  }
-  void prefetch(const uint32_t*, uint32_t, uint32_t) {}
-};
 
 // The caller's arrays: Vec3, or xyz triples of double or float.
 inline void put(Vec3* a, size_t i, double x, double y, double z) { a[i] = Vec3{x, y, z}; }
@@ -181,8 +165,6 @@ inline __attribute__((always_inline)) void cells_kernel(const PatchDeformerTable
                                   const Vec3* control, Sink sink) {                                     \
     cells_kernel<local>(c, cells, begin, end, control, sink);                                           \
   }
-CAGEKIT_CELLS_FUNCTION(cells_normal_stage, false, StageSink)
-CAGEKIT_CELLS_FUNCTION(cells_local_frame_stage, true, StageSink)
 CAGEKIT_CELLS_FUNCTION(cells_normal_scatter, false, ScatterSink<Vec3>)
 CAGEKIT_CELLS_FUNCTION(cells_local_frame_scatter, true, ScatterSink<Vec3>)
 CAGEKIT_CELLS_FUNCTION(cells_normal_scatter_f64, false, ScatterSink<double>)
@@ -191,10 +173,6 @@ CAGEKIT_CELLS_FUNCTION(cells_normal_scatter_f32, false, ScatterSink<float>)
 CAGEKIT_CELLS_FUNCTION(cells_local_frame_scatter_f32, true, ScatterSink<float>)
 #undef CAGEKIT_CELLS_FUNCTION
 
-inline void run_cells_with(const PatchDeformerTable& c, const uint32_t* cells, size_t begin, size_t end,
-                           const Vec3* control, StageSink sink) {
-  (c.local_frame ? cells_local_frame_stage : cells_normal_stage)(c, cells, begin, end, control, sink);
-}
 inline void run_cells_with(const PatchDeformerTable& c, const uint32_t* cells, size_t begin, size_t end,
                            const Vec3* control, ScatterSink<Vec3> sink) {
   (c.local_frame ? cells_local_frame_scatter : cells_normal_scatter)(c, cells, begin, end, control, sink);
@@ -244,6 +222,9 @@ inline __attribute__((always_inline)) void cells_kernel(const PatchDeformerTable
       const char* from = reinterpret_cast<const char*>(c.term_coefficients.data() + 16 * size_t(c.cell_term_offsets[next]));
       const char* to = reinterpret_cast<const char*>(c.term_coefficients.data() + 16 * size_t(c.cell_term_offsets[next + 1]));
       for (const char* p = from; p < to; p += 64) __builtin_prefetch(p);
+    }
+    if (k + 2 < end) {  // the output lines of the cell after, for writing (their read for ownership
+      const uint32_t next = cells[k + 2];  // overlaps this cell's work: the stores then hit the cache)
       sink.prefetch(c.vertex.data(), c.cell_vertex_offsets[next], c.cell_vertex_offsets[next + 1]);
     }
     CellPolynomial poly;
@@ -281,9 +262,10 @@ size_t worker_count(int threads, size_t total, size_t min_per_worker) {
 }
 
 // One irregular vertex from its sparse row (double): position and/or normal.
-inline void irregular_vertex(const ScanBinding& b, const PatchDeformerTable& c, const Vec3* control, uint32_t item,
+// `data`: the vertex's D, normal coefficients (8.11)-(8.12) and tangent offsets (a, b), copied
+// from the binding in item order (read sequentially, not at the scattered vertex index).
+inline void irregular_vertex(const PatchDeformerTable& c, const double* data, const Vec3* control, uint32_t item,
                              bool want_position, bool want_normal, Vec3* position, Vec3* normal) {
-  const uint32_t i = c.irregular_vertex[item];
   const uint32_t e0 = c.irregular_offsets[item], e1 = c.irregular_offsets[item + 1];
   // Relative to the first control point (the weights sum to 1, their derivatives to 0).
   const Vec3 ref = e1 > e0 ? control[c.irregular_control[e0]] : Vec3();
@@ -296,17 +278,17 @@ inline void irregular_vertex(const ScanBinding& b, const PatchDeformerTable& c, 
   const Vec3 cr = cross(su, sv);
   const double cl = norm(cr);
   const Vec3 ns = cl > 0 ? cr * (1.0 / cl) : Vec3{0, 0, 1};
-  const double D = b.displacement[i];
+  const double D = data[0];
   if (want_position) {
     if (!c.local_frame) {
       *position = s + D * ns;
     } else {
       const Vec3 t1 = normalized(su), t2 = cross(ns, t1);
-      *position = s + b.tangent_offset[2 * size_t(i)] * t1 + b.tangent_offset[2 * size_t(i) + 1] * t2 + D * ns;
+      *position = s + data[7] * t1 + data[8] * t2 + D * ns;
     }
   }
   if (want_normal) {
-    const double* q = &b.normal_coefficients[6 * size_t(i)];
+    const double* q = data + 1;
     const Vec3 gu = q[0] * su + q[1] * sv + q[2] * ns, gv = q[3] * su + q[4] * sv + q[5] * ns;
     *normal = normalized(cross(gu, gv));
   }
@@ -315,7 +297,8 @@ inline void irregular_vertex(const ScanBinding& b, const PatchDeformerTable& c, 
 template <typename T>
 inline void store(T* to, size_t i, const Vec3& v) { put(to, i, v.x, v.y, v.z); }
 
-constexpr uint32_t kIrregularSlot = 0x80000000u;  // slot_of_: flag of an irregular vertex's item
+constexpr size_t kIrregularData = 9;  // per irregular vertex: D, 6 normal coefficients, a, b
+
 
 }  // namespace
 
@@ -328,43 +311,25 @@ CpuDeformer::CpuDeformer(const ScanBinding& binding, int threads) : b_(binding),
   for (uint32_t j : c.irregular_control)
     if (j >= m) fail(Status::invalid_argument, "deformer: binding refers to a control vertex out of range");
   const size_t n = b_.num_vertices();
-  if (c.num_cell_vertices() + c.num_irregular_vertices() != n || n >= kIrregularSlot)
-    fail(Status::invalid_argument, "deformer: the compact table does not cover the binding's vertices");
+  for (uint32_t i : c.vertex)
+    if (i >= n) fail(Status::invalid_argument, "deformer: binding refers to a vertex out of range");
+  for (uint32_t i : c.irregular_vertex)
+    if (i >= n) fail(Status::invalid_argument, "deformer: binding refers to a vertex out of range");
   cell_stamp_.assign(c.num_cells(), 0);
   irregular_stamp_.assign(c.num_irregular_vertices(), 0);
-  // Full frames: each vertex's staged result (slot_of_) and the work split of every frame.
-  slot_of_.assign(n, ~0u);
-  for (size_t k = 0; k < c.vertex.size(); ++k) {
-    if (c.vertex[k] >= n || slot_of_[c.vertex[k]] != ~0u)
-      fail(Status::invalid_argument, "deformer: the compact table does not cover the binding's vertices");
-    slot_of_[c.vertex[k]] = uint32_t(k);
+  irregular_data_.assign(kIrregularData * c.num_irregular_vertices(), 0.0);
+  for (size_t k = 0; k < c.num_irregular_vertices(); ++k) {
+    const size_t i = c.irregular_vertex[k];
+    double* to = &irregular_data_[kIrregularData * k];
+    to[0] = b_.displacement[i];
+    for (int q = 0; q < 6; ++q) to[1 + q] = b_.normal_coefficients[6 * i + size_t(q)];
+    if (c.local_frame) to[7] = b_.tangent_offset[2 * i], to[8] = b_.tangent_offset[2 * i + 1];
   }
-  for (size_t k = 0; k < c.irregular_vertex.size(); ++k) {
-    if (c.irregular_vertex[k] >= n || slot_of_[c.irregular_vertex[k]] != ~0u)
-      fail(Status::invalid_argument, "deformer: the compact table does not cover the binding's vertices");
-    slot_of_[c.irregular_vertex[k]] = kIrregularSlot | uint32_t(k);
-  }
-  // Worker w writes the caller's vertices [n w / W, n (w + 1) / W) and evaluates the cells
-  // most of whose vertices are there (and the irregular vertices there): what it reads back in
-  // the second pass it mostly staged itself (its own cache, not the other core's).
-  workers_ = worker_count(threads_, n, 8192);
-  std::vector<std::vector<uint32_t>> cells_of(workers_), items_of(workers_);
-  std::vector<uint32_t> count(workers_);
-  for (uint32_t cell = 0; cell < c.num_cells(); ++cell) {
-    std::fill(count.begin(), count.end(), 0u);
-    for (uint32_t k = c.cell_vertex_offsets[cell]; k < c.cell_vertex_offsets[cell + 1]; ++k)
-      ++count[std::min(workers_ - 1, size_t(c.vertex[k]) * workers_ / n)];
-    cells_of[size_t(std::max_element(count.begin(), count.end()) - count.begin())].push_back(cell);
-  }
-  for (uint32_t item = 0; item < c.num_irregular_vertices(); ++item)
-    items_of[std::min(workers_ - 1, size_t(c.irregular_vertex[item]) * workers_ / n)].push_back(item);
-  worker_cells_.clear(), worker_items_.clear();
-  cell_split_.assign(1, 0), item_split_.assign(1, 0);
-  for (size_t w = 0; w < workers_; ++w) {
-    worker_cells_.insert(worker_cells_.end(), cells_of[w].begin(), cells_of[w].end());
-    worker_items_.insert(worker_items_.end(), items_of[w].begin(), items_of[w].end());
-    cell_split_.push_back(worker_cells_.size()), item_split_.push_back(worker_items_.size());
-  }
+  // Full frames: every cell and irregular vertex, split among the workers by vertex count.
+  all_cells_.resize(c.num_cells());
+  for (size_t k = 0; k < all_cells_.size(); ++k) all_cells_[k] = uint32_t(k);
+  all_irregular_.resize(c.num_irregular_vertices());
+  for (size_t k = 0; k < all_irregular_.size(); ++k) all_irregular_[k] = uint32_t(k);
 }
 
 CpuDeformer::~CpuDeformer() = default;
@@ -396,52 +361,9 @@ void CpuDeformer::check_control(const std::vector<Vec3>& control) const {
                                        " control points, got " + std::to_string(control.size()));
 }
 
-// A full frame: every worker evaluates its cells (into staged_) and its share of the irregular
-// vertices (into irregular_out_); then every worker writes its range of the caller's arrays in
-// vertex order from them (sequential writes instead of scattered ones).
-template <typename T>
-void CpuDeformer::full_frame(T* positions, T* normals) {
-  const PatchDeformerTable& c = b_.compact;
-  const Vec3* control = control_.data();
-  staged_.resize(c.num_cell_vertices());
-  origins_.resize(c.num_cells());
-  irregular_out_.resize(2 * c.num_irregular_vertices());
-  run_ranges(workers_, workers_, [&](size_t w, size_t, size_t) {
-    run_cells_with(c, worker_cells_.data(), cell_split_[w], cell_split_[w + 1], control,
-                   StageSink{staged_.data(), origins_.data()});
-    for (size_t k = item_split_[w]; k < item_split_[w + 1]; ++k) {
-      const uint32_t item = worker_items_[k];
-      irregular_vertex(b_, c, control, item, true, true, &irregular_out_[2 * size_t(item)],
-                       &irregular_out_[2 * size_t(item) + 1]);
-    }
-  });
-  if (!positions && !normals) return;
-  const size_t n = b_.num_vertices();
-  const multires_detail::StagedVertex* staged = staged_.data();
-  const Vec3* origins = origins_.data();
-  const Vec3* irregular_out = irregular_out_.data();
-  const uint32_t* slot_of = slot_of_.data();
-  run_ranges(workers_, workers_, [&](size_t w, size_t, size_t) {
-    const size_t begin = n * w / workers_, end = n * (w + 1) / workers_;
-    constexpr size_t kAhead = 16;
-    for (size_t i = begin; i < end; ++i) {
-      if (i + kAhead < end && !(slot_of[i + kAhead] & kIrregularSlot)) __builtin_prefetch(staged + slot_of[i + kAhead]);
-      const uint32_t slot = slot_of[i];
-      if (slot & kIrregularSlot) {
-        const size_t item = slot & ~kIrregularSlot;
-        if (positions) store(positions, i, irregular_out[2 * item]);
-        if (normals) store(normals, i, irregular_out[2 * item + 1]);
-      } else {
-        const multires_detail::StagedVertex& r = staged[slot];
-        const Vec3& o = origins[r.cell];
-        if (positions) store(positions, i, Vec3{o.x + r.px, o.y + r.py, o.z + r.pz});
-        if (normals) store(normals, i, Vec3{r.nx, r.ny, r.nz});
-      }
-    }
-  });
-}
-
-// The listed cells and irregular vertices, straight into the caller's arrays (incremental updates).
+// The listed cells and irregular vertices (all of them in a full frame), straight into the
+// caller's arrays: one parallel region, each worker its cells (split by vertex count) and its
+// share of the irregular vertices.
 template <typename T>
 void CpuDeformer::scatter(const uint32_t* cells, size_t cell_count, const uint32_t* items, size_t item_count,
                           T* positions, T* normals) {
@@ -457,7 +379,8 @@ void CpuDeformer::scatter(const uint32_t* cells, size_t cell_count, const uint32
     run_cells_with(c, cells, split[w], split[w + 1], control, ScatterSink<T>{positions, normals});
     for (size_t k = item_count * w / workers; k < item_count * (w + 1) / workers; ++k) {
       Vec3 p, q;
-      irregular_vertex(b_, c, control, items[k], positions != nullptr, normals != nullptr, &p, &q);
+      irregular_vertex(c, &irregular_data_[kIrregularData * size_t(items[k])], control, items[k], positions != nullptr,
+                       normals != nullptr, &p, &q);
       const uint32_t i = c.irregular_vertex[items[k]];
       if (positions) store(positions, i, p);
       if (normals) store(normals, i, q);
@@ -498,7 +421,7 @@ void CpuDeformer::deform_impl(const std::vector<Vec3>& control, T* positions, T*
   }
   control_ = control;
   reference_synced_ = false;
-  full_frame(positions, normals);
+  scatter(all_cells_.data(), all_cells_.size(), all_irregular_.data(), all_irregular_.size(), positions, normals);
 }
 
 void CpuDeformer::deform(const std::vector<Vec3>& control, Vec3* positions, Vec3* normals, NormalMode mode) {

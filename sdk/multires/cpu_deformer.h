@@ -10,12 +10,9 @@
 // cell-local (s, t), structure-of-arrays, in blocks the compiler vectorises (with a runtime
 // AVX2+FMA clone next to the baseline x86-64 one, GCC function multiversioning); the few
 // irregular vertices (near extraordinary vertices, where no cell is one polynomial) use float
-// copies of their sparse rows. Full recompute on `threads` threads: worker w evaluates the cells
-// most of whose vertices are in its share [n w / W, n (w + 1) / W) of the caller's arrays (and
-// the irregular vertices there) into a staging buffer in table order (sequential writes, 32
-// bytes per cell vertex), then writes its share of the caller's arrays in vertex order from it
-// (sequential writes: scattered writes into the caller's arrays, whose vertex order is not the
-// cells', cost ~40% of a frame when done directly). Or incremental: only the cells and irregular vertices in the support of the control
+// copies of their sparse rows. Full recompute on `threads` threads in one parallel region (each
+// worker a range of cells, split by vertex count, and a share of the irregular vertices), or
+// incremental: only the cells and irregular vertices in the support of the control
 // points that moved since the last call are recomputed, with the same code as a full frame, so
 // incremental results equal full ones bit for bit.
 //
@@ -24,7 +21,7 @@
 // fast path is tested against (positions within ~1e-7 of the bbox diagonal).
 //
 // Outputs: Vec3 arrays, or flat xyz triples of double or float32 (hosts drawing float32 write
-// half the bytes). Memory: besides the binding, ~36 bytes per vertex (staging, vertex slots).
+// half the bytes).
 //
 // Thread-safety: one deformer per thread (it keeps the last control points); the binding must
 // outlive it and stay unchanged.
@@ -36,16 +33,6 @@
 #include "multires/sparse_row_deformer.h"
 
 CAGEKIT_NAMESPACE_BEGIN
-
-namespace multires_detail {
-// A cell vertex's float results in a full frame, in table order (cpu_deformer.cpp).
-struct StagedVertex {
-  float px, py, pz;  // position relative to its cell's corner
-  uint32_t cell;
-  float nx, ny, nz;  // unit normal
-  uint32_t pad;
-};
-}  // namespace multires_detail
 
 // Bytes read + written per vertex in one full frame of positions + approximate normals: the
 // compact table's figure (PatchDeformerTable::bytes_per_vertex), or the sparse rows' when the
@@ -96,8 +83,6 @@ class CpuDeformer {
   size_t update_impl(const std::vector<Vec3>& control, const std::vector<uint32_t>& moved, T* positions, T* normals,
                      NormalMode mode);
   template <typename T>
-  void full_frame(T* positions, T* normals);
-  template <typename T>
   void scatter(const uint32_t* cells, size_t cell_count, const uint32_t* items, size_t item_count, T* positions,
                T* normals);
   template <typename T>
@@ -114,15 +99,8 @@ class CpuDeformer {
   bool last_from_reference_ = false;
   std::vector<uint32_t> cell_stamp_, irregular_stamp_, cells_, irregular_, touched_;
   uint32_t stamp_ = 0;
-  // Full frames (compact table): per scan vertex its slot in the table (cell vertex) or
-  // 0x80000000 | its irregular item; the staged results of the cell vertices (32 bytes each),
-  // the cells' corners, the irregular vertices' positions and normals.
-  std::vector<uint32_t> slot_of_;
-  std::vector<multires_detail::StagedVertex> staged_;
-  std::vector<Vec3> origins_, irregular_out_;
-  size_t workers_ = 1;
-  std::vector<uint32_t> worker_cells_, worker_items_;  // each worker's cells and irregular items,
-  std::vector<size_t> cell_split_, item_split_;        // worker w's: [split[w], split[w + 1])
+  std::vector<uint32_t> all_cells_, all_irregular_;  // 0, 1, 2, ... (full frames)
+  std::vector<double> irregular_data_;  // per irregular vertex: D, normal coefficients, a, b
   std::vector<Vec3> scratch_p_, scratch_n_;  // float outputs of the sparse-row path
 };
 
