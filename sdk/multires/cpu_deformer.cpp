@@ -217,12 +217,6 @@ inline __attribute__((always_inline)) void cells_kernel(const PatchDeformerTable
     // (the coefficients of s^a t^b, (a, b) != (0, 0), sum to 0 over the terms, those of 1 to 1).
     const uint32_t e0 = c.cell_term_offsets[cell], e1 = c.cell_term_offsets[cell + 1];
     const Vec3 ref = e1 > e0 ? control[c.term_control[e0]] : Vec3();
-    if (k + 1 < end) {  // the next cell's coefficients (~1 KB) while this one is evaluated
-      const uint32_t next = cells[k + 1];
-      const char* from = reinterpret_cast<const char*>(c.term_coefficients.data() + 16 * size_t(c.cell_term_offsets[next]));
-      const char* to = reinterpret_cast<const char*>(c.term_coefficients.data() + 16 * size_t(c.cell_term_offsets[next + 1]));
-      for (const char* p = from; p < to; p += 64) __builtin_prefetch(p);
-    }
     if (k + 2 < end) {  // the output lines of the cell after, for writing (their read for ownership
       const uint32_t next = cells[k + 2];  // overlaps this cell's work: the stores then hit the cache)
       sink.prefetch(c.vertex.data(), c.cell_vertex_offsets[next], c.cell_vertex_offsets[next + 1]);
@@ -262,42 +256,114 @@ size_t worker_count(int threads, size_t total, size_t min_per_worker) {
 }
 
 // One irregular vertex from its sparse row (double): position and/or normal.
-// `data`: the vertex's D, normal coefficients (8.11)-(8.12) and tangent offsets (a, b), copied
-// from the binding in item order (read sequentially, not at the scattered vertex index).
-inline void irregular_vertex(const PatchDeformerTable& c, const double* data, const Vec3* control, uint32_t item,
-                             bool want_position, bool want_normal, Vec3* position, Vec3* normal) {
-  const uint32_t e0 = c.irregular_offsets[item], e1 = c.irregular_offsets[item + 1];
-  // Relative to the first control point (the weights sum to 1, their derivatives to 0).
-  const Vec3 ref = e1 > e0 ? control[c.irregular_control[e0]] : Vec3();
-  Vec3 s, su, sv;
-  for (uint32_t e = e0; e < e1; ++e) {
-    const Vec3 d = control[c.irregular_control[e]] - ref;
-    s += c.irregular_w[e] * d, su += c.irregular_wu[e] * d, sv += c.irregular_wv[e] * d;
-  }
-  s += ref;
-  const Vec3 cr = cross(su, sv);
-  const double cl = norm(cr);
-  const Vec3 ns = cl > 0 ? cr * (1.0 / cl) : Vec3{0, 0, 1};
-  const double D = data[0];
-  if (want_position) {
-    if (!c.local_frame) {
-      *position = s + D * ns;
-    } else {
-      const Vec3 t1 = normalized(su), t2 = cross(ns, t1);
-      *position = s + data[7] * t1 + data[8] * t2 + D * ns;
+
+constexpr size_t kIrregularData = 9;  // per irregular vertex: D, 6 normal coefficients, a, b
+
+// Irregular vertices items[0, count) from their sparse rows (double), in batches: first the rows
+// (S, S_u, S_v per vertex: scalar, the rows differ in length), then the frames, offsets and
+// normals of the batch in a loop the compiler vectorises (2 or 4 doubles; the square roots and
+// divisions of neighbouring vertices overlap instead of forming one latency chain each).
+// `data`: per item D, the normal coefficients (8.11)-(8.12), the tangent offsets (a, b), copied
+// from the binding in item order.
+template <bool kLocal, typename T>
+inline __attribute__((always_inline)) void irregular_kernel(const PatchDeformerTable& c, const double* data,
+                                                            const Vec3* control, const uint32_t* items, size_t count,
+                                                            T* positions, T* normals) {
+  constexpr size_t kBatch = 32;
+  struct Batch {
+    double sx[kBatch], sy[kBatch], sz[kBatch], ux[kBatch], uy[kBatch], uz[kBatch], vx[kBatch], vy[kBatch], vz[kBatch];
+    double q[kIrregularData][kBatch];
+    double px[kBatch], py[kBatch], pz[kBatch], nx[kBatch], ny[kBatch], nz[kBatch];
+  } b;
+  for (size_t first = 0; first < count; first += kBatch) {
+    const size_t m = std::min(kBatch, count - first);
+    for (size_t j = 0; j < m; ++j) {
+      const uint32_t item = items[first + j];
+      const uint32_t e0 = c.irregular_offsets[item], e1 = c.irregular_offsets[item + 1];
+      // Relative to the first control point (the weights sum to 1, their derivatives to 0).
+      const Vec3 ref = e1 > e0 ? control[c.irregular_control[e0]] : Vec3();
+      Vec3 s, su, sv;
+      for (uint32_t e = e0; e < e1; ++e) {
+        const Vec3 d = control[c.irregular_control[e]] - ref;
+        s += c.irregular_w[e] * d, su += c.irregular_wu[e] * d, sv += c.irregular_wv[e] * d;
+      }
+      s += ref;
+      b.sx[j] = s.x, b.sy[j] = s.y, b.sz[j] = s.z, b.ux[j] = su.x, b.uy[j] = su.y, b.uz[j] = su.z;
+      b.vx[j] = sv.x, b.vy[j] = sv.y, b.vz[j] = sv.z;
+      for (size_t q = 0; q < kIrregularData; ++q) b.q[q][j] = data[kIrregularData * item + q];
+    }
+    for (size_t j = 0; j < kBatch; ++j) {  // whole batch (lanes past m: garbage, not written out)
+      const double sux = b.ux[j], suy = b.uy[j], suz = b.uz[j], svx = b.vx[j], svy = b.vy[j], svz = b.vz[j];
+      // N_S = normalize(S_u x S_v), (0, 0, 1) where they are parallel.
+      const double crx = suy * svz - suz * svy, cry = suz * svx - sux * svz, crz = sux * svy - suy * svx;
+      const double cl = std::sqrt(crx * crx + cry * cry + crz * crz);
+      const bool ok = cl > 0;
+      const double ci = 1.0 / (ok ? cl : 1.0);
+      const double nsx = ok ? crx * ci : 0.0, nsy = ok ? cry * ci : 0.0, nsz = ok ? crz * ci : 1.0;
+      const double D = b.q[0][j];
+      if (!kLocal) {
+        b.px[j] = b.sx[j] + D * nsx, b.py[j] = b.sy[j] + D * nsy, b.pz[j] = b.sz[j] + D * nsz;
+      } else {
+        // T1 = S_u / |S_u|, T2 = N_S x T1; P = S + a T1 + b T2 + D N_S.
+        const double ul = std::sqrt(sux * sux + suy * suy + suz * suz);
+        const bool uok = ul > 0;
+        const double ui = 1.0 / (uok ? ul : 1.0);
+        const double t1x = uok ? sux * ui : 0.0, t1y = uok ? suy * ui : 0.0, t1z = uok ? suz * ui : 0.0;
+        const double t2x = nsy * t1z - nsz * t1y, t2y = nsz * t1x - nsx * t1z, t2z = nsx * t1y - nsy * t1x;
+        const double a = b.q[7][j], bb = b.q[8][j];
+        b.px[j] = ((b.sx[j] + a * t1x) + bb * t2x) + D * nsx;
+        b.py[j] = ((b.sy[j] + a * t1y) + bb * t2y) + D * nsy;
+        b.pz[j] = ((b.sz[j] + a * t1z) + bb * t2z) + D * nsz;
+      }
+      // G_u = q0 S_u + q1 S_v + q2 N_S, G_v = q3 S_u + q4 S_v + q5 N_S; N = normalize(G_u x G_v).
+      const double q0 = b.q[1][j], q1 = b.q[2][j], q2 = b.q[3][j], q3 = b.q[4][j], q4 = b.q[5][j], q5 = b.q[6][j];
+      const double gux = (q0 * sux + q1 * svx) + q2 * nsx, guy = (q0 * suy + q1 * svy) + q2 * nsy,
+                   guz = (q0 * suz + q1 * svz) + q2 * nsz;
+      const double gvx = (q3 * sux + q4 * svx) + q5 * nsx, gvy = (q3 * suy + q4 * svy) + q5 * nsy,
+                   gvz = (q3 * suz + q4 * svz) + q5 * nsz;
+      const double mx = guy * gvz - guz * gvy, my = guz * gvx - gux * gvz, mz = gux * gvy - guy * gvx;
+      const double ml = std::sqrt(mx * mx + my * my + mz * mz);
+      const bool mok = ml > 0;
+      const double mi = 1.0 / (mok ? ml : 1.0);
+      b.nx[j] = mok ? mx * mi : 0.0, b.ny[j] = mok ? my * mi : 0.0, b.nz[j] = mok ? mz * mi : 0.0;
+    }
+    for (size_t j = 0; j < m; ++j) {
+      const uint32_t i = c.irregular_vertex[items[first + j]];
+      if (positions) put(positions, i, b.px[j], b.py[j], b.pz[j]);
+      if (normals) put(normals, i, b.nx[j], b.ny[j], b.nz[j]);
     }
   }
-  if (want_normal) {
-    const double* q = data + 1;
-    const Vec3 gu = q[0] * su + q[1] * sv + q[2] * ns, gv = q[3] * su + q[4] * sv + q[5] * ns;
-    *normal = normalized(cross(gu, gv));
+}
+
+#define CAGEKIT_IRREGULAR_FUNCTION(name, local, T)                                                            \
+  CAGEKIT_KERNEL_CLONES void name(const PatchDeformerTable& c, const double* data, const Vec3* control,        \
+                                  const uint32_t* items, size_t count, T* positions, T* normals) {             \
+    irregular_kernel<local>(c, data, control, items, count, positions, normals);                              \
   }
+CAGEKIT_IRREGULAR_FUNCTION(irregular_normal, false, Vec3)
+CAGEKIT_IRREGULAR_FUNCTION(irregular_local_frame, true, Vec3)
+CAGEKIT_IRREGULAR_FUNCTION(irregular_normal_f64, false, double)
+CAGEKIT_IRREGULAR_FUNCTION(irregular_local_frame_f64, true, double)
+CAGEKIT_IRREGULAR_FUNCTION(irregular_normal_f32, false, float)
+CAGEKIT_IRREGULAR_FUNCTION(irregular_local_frame_f32, true, float)
+#undef CAGEKIT_IRREGULAR_FUNCTION
+
+inline void run_irregular_with(const PatchDeformerTable& c, const double* data, const Vec3* control,
+                               const uint32_t* items, size_t count, Vec3* positions, Vec3* normals) {
+  (c.local_frame ? irregular_local_frame : irregular_normal)(c, data, control, items, count, positions, normals);
+}
+inline void run_irregular_with(const PatchDeformerTable& c, const double* data, const Vec3* control,
+                               const uint32_t* items, size_t count, double* positions, double* normals) {
+  (c.local_frame ? irregular_local_frame_f64 : irregular_normal_f64)(c, data, control, items, count, positions, normals);
+}
+inline void run_irregular_with(const PatchDeformerTable& c, const double* data, const Vec3* control,
+                               const uint32_t* items, size_t count, float* positions, float* normals) {
+  (c.local_frame ? irregular_local_frame_f32 : irregular_normal_f32)(c, data, control, items, count, positions, normals);
 }
 
 template <typename T>
 inline void store(T* to, size_t i, const Vec3& v) { put(to, i, v.x, v.y, v.z); }
 
-constexpr size_t kIrregularData = 9;  // per irregular vertex: D, 6 normal coefficients, a, b
 
 
 }  // namespace
@@ -377,14 +443,8 @@ void CpuDeformer::scatter(const uint32_t* cells, size_t cell_count, const uint32
   });
   run_ranges(workers, workers, [&](size_t w, size_t, size_t) {
     run_cells_with(c, cells, split[w], split[w + 1], control, ScatterSink<T>{positions, normals});
-    for (size_t k = item_count * w / workers; k < item_count * (w + 1) / workers; ++k) {
-      Vec3 p, q;
-      irregular_vertex(c, &irregular_data_[kIrregularData * size_t(items[k])], control, items[k], positions != nullptr,
-                       normals != nullptr, &p, &q);
-      const uint32_t i = c.irregular_vertex[items[k]];
-      if (positions) store(positions, i, p);
-      if (normals) store(normals, i, q);
-    }
+    const size_t i0 = item_count * w / workers, i1 = item_count * (w + 1) / workers;
+    run_irregular_with(c, irregular_data_.data(), control, items + i0, i1 - i0, positions, normals);
   });
 }
 
