@@ -144,11 +144,19 @@ struct ScatterSink {
     if (normals)
       for (size_t i = 0; i < n; ++i) put(normals, vertex[i], out.nx[i], out.ny[i], out.nz[i]);
   }
-  // The next cell's output lines, for writing (their read-for-ownership overlaps this cell's work).
+  // The next cells' output lines, for writing (their read-for-ownership overlaps this cell's
+  // work): both ends of each element (an element may straddle two lines).
   void prefetch(const uint32_t* vertex, uint32_t first, uint32_t last) {
+    constexpr size_t kBytes = std::is_same<T, Vec3>::value ? sizeof(Vec3) : 3 * sizeof(T);
     for (uint32_t i = first; i < last; ++i) {
-      if (positions) __builtin_prefetch(address(positions, vertex[i]), 1);
-      if (normals) __builtin_prefetch(address(normals, vertex[i]), 1);
+      if (positions) {
+        const char* p = static_cast<const char*>(address(positions, vertex[i]));
+        __builtin_prefetch(p, 1), __builtin_prefetch(p + kBytes - 1, 1);
+      }
+      if (normals) {
+        const char* p = static_cast<const char*>(address(normals, vertex[i]));
+        __builtin_prefetch(p, 1), __builtin_prefetch(p + kBytes - 1, 1);
+      }
     }
   }
 };
@@ -435,12 +443,18 @@ void CpuDeformer::scatter(const uint32_t* cells, size_t cell_count, const uint32
                           T* positions, T* normals) {
   const PatchDeformerTable& c = b_.compact;
   const Vec3* control = control_.data();
-  size_t total = 0;
-  for (size_t k = 0; k < cell_count; ++k) total += c.cell_vertex_offsets[cells[k] + 1] - c.cell_vertex_offsets[cells[k]];
-  const size_t workers = worker_count(threads_, total + item_count, 8192);
-  const std::vector<size_t> split = balanced_split(cell_count, total, workers, [&](size_t k) {
-    return size_t(c.cell_vertex_offsets[cells[k] + 1] - c.cell_vertex_offsets[cells[k]]);
-  });
+  const bool full = cells == all_cells_.data() && cell_count == all_cells_.size();
+  if (!full || full_split_.empty()) {  // full frames: the split is computed once
+    size_t total = 0;
+    for (size_t k = 0; k < cell_count; ++k) total += c.cell_vertex_offsets[cells[k] + 1] - c.cell_vertex_offsets[cells[k]];
+    const size_t workers = worker_count(threads_, total + item_count, 8192);
+    split_ = balanced_split(cell_count, total, workers, [&](size_t k) {
+      return size_t(c.cell_vertex_offsets[cells[k] + 1] - c.cell_vertex_offsets[cells[k]]);
+    });
+    if (full) full_split_ = split_;
+  }
+  const std::vector<size_t>& split = full ? full_split_ : split_;
+  const size_t workers = split.size() - 1;
   run_ranges(workers, workers, [&](size_t w, size_t, size_t) {
     run_cells_with(c, cells, split[w], split[w + 1], control, ScatterSink<T>{positions, normals});
     const size_t i0 = item_count * w / workers, i1 = item_count * (w + 1) / workers;

@@ -100,6 +100,7 @@ class CpuDeformer {
   std::vector<uint32_t> cell_stamp_, irregular_stamp_, cells_, irregular_, touched_;
   uint32_t stamp_ = 0;
   std::vector<uint32_t> all_cells_, all_irregular_;  // 0, 1, 2, ... (full frames)
+  std::vector<size_t> full_split_, split_;  // the workers' cell ranges: full frames, last update
   std::vector<double> irregular_data_;  // per irregular vertex: D, normal coefficients, a, b
   std::vector<Vec3> scratch_p_, scratch_n_;  // float outputs of the sparse-row path
 };
