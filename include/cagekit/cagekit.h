@@ -1025,6 +1025,25 @@ CAGEKIT_API cagekit_status cagekit_cpu_deformer_update(cagekit_cpu_deformer defo
                                                        uint32_t vertex_capacity, double* positions, double* normals,
                                                        uint32_t* updated_count);
 
+/* Appended (issue #5): the same two calls writing float32 positions and normals (xyz triples,
+ * 3 * vertex_count floats each; either may be NULL), for hosts that draw float32 vertex arrays
+ * (half the bytes written per frame; the full recompute is faster). `control` stays double.
+ * Every value written is the double call's value rounded to float (the deformer's compact path
+ * evaluates in float32 anyway; positions are formed in double, then rounded). The arrays are
+ * the caller's: only written during the call, never kept. A deformer may mix the double and
+ * float32 calls: an update_f32 after a deform (or the reverse) recomputes the moved points'
+ * support only, into whichever arrays that call is given. Errors, ownership and thread-safety as
+ * cagekit_cpu_deformer_deform / cagekit_cpu_deformer_update (INVALID_HANDLE, INVALID_ARGUMENT,
+ * SIZE_INSUFFICIENT; not thread-safe on the same deformer). */
+CAGEKIT_API cagekit_status cagekit_cpu_deformer_deform_f32(cagekit_cpu_deformer deformer, const double* control,
+                                                           uint32_t control_count, cagekit_normal_mode normals_mode,
+                                                           uint32_t vertex_capacity, float* positions, float* normals);
+CAGEKIT_API cagekit_status cagekit_cpu_deformer_update_f32(cagekit_cpu_deformer deformer, const double* control,
+                                                           uint32_t control_count, const uint32_t* moved,
+                                                           uint32_t moved_count, cagekit_normal_mode normals_mode,
+                                                           uint32_t vertex_capacity, float* positions, float* normals,
+                                                           uint32_t* updated_count);
+
 /* ------------------------------------------------------------------------------------------ */
 /* GPU deformer in the host's GL context (thesis §8.6)                                          */
 /* ------------------------------------------------------------------------------------------ */

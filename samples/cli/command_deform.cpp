@@ -182,6 +182,20 @@ int command_bench_deform(Args& args) {
                                               positions.data(), normals.data()), "deform");
   }
   const double full_fps = frames / seconds_since(t0);
+  // The same into float32 arrays (cagekit_cpu_deformer_deform_f32: what GL / Blender hosts draw).
+  std::vector<float> positions_f32(positions.size()), normals_f32(normals.size());
+  session.check(cagekit_cpu_deformer_deform_f32(deformer.get(), control.data(), m, CAGEKIT_NORMALS_APPROXIMATE, n,
+                                                positions_f32.data(), normals_f32.data()), "deform_f32");
+  t0 = std::chrono::steady_clock::now();
+  for (int f = 0; f < frames; ++f) {
+    for (double& c : control) c += (f % 2 ? -step : step);
+    session.check(cagekit_cpu_deformer_deform_f32(deformer.get(), control.data(), m, CAGEKIT_NORMALS_APPROXIMATE, n,
+                                                  positions_f32.data(), normals_f32.data()), "deform_f32");
+  }
+  const double full_fps_f32 = frames / seconds_since(t0);
+  // Back to the double arrays (the incremental run below updates them).
+  session.check(cagekit_cpu_deformer_deform(deformer.get(), control.data(), m, CAGEKIT_NORMALS_APPROXIMATE, n,
+                                            positions.data(), normals.data()), "deform");
   // Incremental: K control points move per frame.
   std::vector<uint32_t> moved;
   for (int k = 0; k < moved_count && k < int(m); ++k) moved.push_back(uint32_t((uint64_t(k) * 2654435761u) % m));
@@ -222,16 +236,16 @@ int command_bench_deform(Args& args) {
   const double bytes_per_vertex = info.deform_bytes_per_vertex;
   if (json) {
     std::printf("{\"vertices\": %u, \"triangles\": %llu, \"control_points\": %u, \"moved\": %zu, \"frames\": %d, "
-                "\"cpu_fps\": %.2f, \"cpu_incremental_fps\": %.2f, \"incremental_vertices_per_frame\": %.1f, "
+                "\"cpu_fps\": %.2f, \"cpu_fps_f32\": %.2f, \"cpu_incremental_fps\": %.2f, \"incremental_vertices_per_frame\": %.1f, "
                 "\"gpu_fps\": %s, \"gpu_renderer\": %s, \"gpu_gl_version\": %s, \"bytes_per_vertex\": %.1f, "
                 "\"basis_entries_per_vertex\": %.2f}\n",
-                n, (unsigned long long)(indices - 2ull * faces), m, moved.size(), frames, full_fps, incremental_fps,
+                n, (unsigned long long)(indices - 2ull * faces), m, moved.size(), frames, full_fps, full_fps_f32, incremental_fps,
                 double(updated_total) / frames, gpu_fps.c_str(), gpu_renderer.c_str(), gpu_version.c_str(), bytes_per_vertex,
                 double(info.basis_entries) / n);
   } else if (!quiet) {
-    std::printf("%u vertices, %u control points: full recompute %.1f frames/s, %zu moved points %.1f frames/s "
-                "(%.0f vertices recomputed per frame), %.0f bytes per vertex\n",
-                n, m, full_fps, moved.size(), incremental_fps, double(updated_total) / frames, bytes_per_vertex);
+    std::printf("%u vertices, %u control points: full recompute %.1f frames/s (float32 outputs %.1f), %zu moved "
+                "points %.1f frames/s (%.0f vertices recomputed per frame), %.0f bytes per vertex\n",
+                n, m, full_fps, full_fps_f32, moved.size(), incremental_fps, double(updated_total) / frames, bytes_per_vertex);
     if (gpu.ran)
       std::printf("GPU deformer (full recompute, %s, %s): %.1f frames/s\n", gpu.renderer.c_str(), gpu.version.c_str(),
                   gpu.fps);

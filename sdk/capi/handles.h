@@ -123,7 +123,7 @@ struct cagekit_cpu_deformer_t : ContextBound {
   ~cagekit_cpu_deformer_t() override;
   cagekit_binding_t* binding;
   cagekit::CpuDeformer deformer;
-  std::vector<cagekit::Vec3> control, positions, normals;
+  std::vector<cagekit::Vec3> control;  // the caller's control points of the last call
   bool deformed = false, exact = false;
 };
 

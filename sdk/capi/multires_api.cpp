@@ -38,15 +38,51 @@ void read_control(cagekit_cpu_deformer_t& d, const double* control, uint32_t con
   }
 }
 
-void check_capacity(const cagekit_cpu_deformer_t& d, uint32_t capacity, const double* positions, const double* normals) {
+void check_capacity(const cagekit_cpu_deformer_t& d, uint32_t capacity, const void* positions, const void* normals) {
   const size_t n = d.binding->binding.num_vertices();
   if ((positions || normals) && capacity < n)
     fail(Status::size_insufficient, "vertex_capacity " + std::to_string(capacity) + " is less than the " +
                                         std::to_string(n) + " bound vertices");
 }
 
-void copy_out(const std::vector<cagekit::Vec3>& from, double* to, uint32_t i) {
-  to[3 * size_t(i)] = from[i].x, to[3 * size_t(i) + 1] = from[i].y, to[3 * size_t(i) + 2] = from[i].z;
+
+// deform / deform_f32: straight into the caller's xyz triples (T = double or float).
+template <typename T>
+cagekit_status deform_into(cagekit_cpu_deformer deformer, const double* control, uint32_t control_count,
+                           cagekit_normal_mode normals_mode, uint32_t vertex_capacity, T* positions, T* normals) {
+  return guarded(context_of(deformer), [&] {
+    cagekit_cpu_deformer_t& d = checked(deformer, "deformer");
+    const cagekit::NormalMode mode = checked_normal_mode(normals_mode);
+    read_control(d, control, control_count);
+    check_capacity(d, vertex_capacity, positions, normals);
+    d.deformed = false;
+    d.deformer.deform(d.control, positions, normals, mode);
+    d.deformed = true;
+    d.exact = mode == cagekit::NormalMode::exact;
+  });
+}
+
+template <typename T>
+cagekit_status update_into(cagekit_cpu_deformer deformer, const double* control, uint32_t control_count,
+                           const uint32_t* moved, uint32_t moved_count, cagekit_normal_mode normals_mode,
+                           uint32_t vertex_capacity, T* positions, T* normals, uint32_t* updated_count) {
+  return guarded(context_of(deformer), [&] {
+    cagekit_cpu_deformer_t& d = checked(deformer, "deformer");
+    const cagekit::NormalMode mode = checked_normal_mode(normals_mode);
+    if (!d.deformed) fail(Status::invalid_argument, "cagekit_cpu_deformer_update before a first successful deform");
+    if ((mode == cagekit::NormalMode::exact) != d.exact)
+      fail(Status::invalid_argument, "normals_mode differs from the last deform's");
+    if (moved_count > 0) require_not_null(moved, "moved");
+    read_control(d, control, control_count);
+    check_capacity(d, vertex_capacity, positions, normals);
+    const std::vector<uint32_t> moved_list(moved, moved + moved_count);
+    for (uint32_t j : moved_list)
+      if (j >= control_count) fail(Status::invalid_argument, "moved index " + std::to_string(j) + " is out of range");
+    // The deformer's own copy of the control points is the reference for the deltas: only the
+    // listed points are read (the header documents that the others must be unchanged).
+    d.deformer.update(d.control, moved_list, positions, normals, mode);
+    if (updated_count) *updated_count = static_cast<uint32_t>(d.deformer.last_updated().size());
+  });
 }
 
 }  // namespace
@@ -151,23 +187,13 @@ CAGEKIT_API void cagekit_cpu_deformer_release(cagekit_cpu_deformer deformer) { r
 CAGEKIT_API cagekit_status cagekit_cpu_deformer_deform(cagekit_cpu_deformer deformer, const double* control,
                                                        uint32_t control_count, cagekit_normal_mode normals_mode,
                                                        uint32_t vertex_capacity, double* positions, double* normals) {
-  return guarded(context_of(deformer), [&] {
-    cagekit_cpu_deformer_t& d = checked(deformer, "deformer");
-    const cagekit::NormalMode mode = checked_normal_mode(normals_mode);
-    read_control(d, control, control_count);
-    check_capacity(d, vertex_capacity, positions, normals);
-    const size_t n = d.binding->binding.num_vertices();
-    d.positions.resize(n);
-    d.normals.resize(n);
-    d.deformed = false;
-    d.deformer.deform(d.control, d.positions.data(), d.normals.data(), mode);
-    d.deformed = true;
-    d.exact = mode == cagekit::NormalMode::exact;
-    for (uint32_t i = 0; i < n; ++i) {
-      if (positions) copy_out(d.positions, positions, i);
-      if (normals) copy_out(d.normals, normals, i);
-    }
-  });
+  return deform_into(deformer, control, control_count, normals_mode, vertex_capacity, positions, normals);
+}
+
+CAGEKIT_API cagekit_status cagekit_cpu_deformer_deform_f32(cagekit_cpu_deformer deformer, const double* control,
+                                                           uint32_t control_count, cagekit_normal_mode normals_mode,
+                                                           uint32_t vertex_capacity, float* positions, float* normals) {
+  return deform_into(deformer, control, control_count, normals_mode, vertex_capacity, positions, normals);
 }
 
 CAGEKIT_API cagekit_status cagekit_cpu_deformer_update(cagekit_cpu_deformer deformer, const double* control,
@@ -175,27 +201,17 @@ CAGEKIT_API cagekit_status cagekit_cpu_deformer_update(cagekit_cpu_deformer defo
                                                        uint32_t moved_count, cagekit_normal_mode normals_mode,
                                                        uint32_t vertex_capacity, double* positions, double* normals,
                                                        uint32_t* updated_count) {
-  return guarded(context_of(deformer), [&] {
-    cagekit_cpu_deformer_t& d = checked(deformer, "deformer");
-    const cagekit::NormalMode mode = checked_normal_mode(normals_mode);
-    if (!d.deformed) fail(Status::invalid_argument, "cagekit_cpu_deformer_update before a first successful deform");
-    if ((mode == cagekit::NormalMode::exact) != d.exact)
-      fail(Status::invalid_argument, "normals_mode differs from the last deform's");
-    if (moved_count > 0) require_not_null(moved, "moved");
-    read_control(d, control, control_count);
-    check_capacity(d, vertex_capacity, positions, normals);
-    const std::vector<uint32_t> moved_list(moved, moved + moved_count);
-    for (uint32_t j : moved_list)
-      if (j >= control_count) fail(Status::invalid_argument, "moved index " + std::to_string(j) + " is out of range");
-    // The deformer's own copy of the control points is the reference for the deltas: only the
-    // listed points are read (the header documents that the others must be unchanged).
-    d.deformer.update(d.control, moved_list, d.positions.data(), d.normals.data(), mode);
-    for (uint32_t i : d.deformer.last_updated()) {
-      if (positions) copy_out(d.positions, positions, i);
-      if (normals) copy_out(d.normals, normals, i);
-    }
-    if (updated_count) *updated_count = static_cast<uint32_t>(d.deformer.last_updated().size());
-  });
+  return update_into(deformer, control, control_count, moved, moved_count, normals_mode, vertex_capacity, positions,
+                     normals, updated_count);
+}
+
+CAGEKIT_API cagekit_status cagekit_cpu_deformer_update_f32(cagekit_cpu_deformer deformer, const double* control,
+                                                           uint32_t control_count, const uint32_t* moved,
+                                                           uint32_t moved_count, cagekit_normal_mode normals_mode,
+                                                           uint32_t vertex_capacity, float* positions, float* normals,
+                                                           uint32_t* updated_count) {
+  return update_into(deformer, control, control_count, moved, moved_count, normals_mode, vertex_capacity, positions,
+                     normals, updated_count);
 }
 
 }  // extern "C"

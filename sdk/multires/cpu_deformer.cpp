@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <type_traits>
 
 #include "core/parallel_for.h"
 #include "core/status.h"
@@ -118,22 +119,79 @@ inline __attribute__((always_inline)) void block_kernel(const CellPolynomial& po
   }
 }
 
-// Evaluates cells[begin, end): per cell the coefficients from the control points, then its
-// vertices in blocks, written to the caller's arrays (one function per clone, so that the
-// coefficients stay in registers and L1 across the cell's blocks).
-template <bool kLocal>
-inline __attribute__((always_inline)) void cells_kernel(const PatchDeformerTable& c, const uint32_t* cells,
-                                                        size_t begin, size_t end, const Vec3* control,
-                                                        Vec3* positions, Vec3* normals);
+// Where the cells' vertices go: straight into the caller's arrays (Vec3, or double / float xyz),
+// whose vertex order is not the cells' (scattered stores: the next cell's output lines are
+// prefetched for writing while this one is evaluated).
 
-CAGEKIT_KERNEL_CLONES void cells_normal(const PatchDeformerTable& c, const uint32_t* cells, size_t begin, size_t end,
-                                        const Vec3* control, Vec3* positions, Vec3* normals) {
-  cells_kernel<false>(c, cells, begin, end, control, positions, normals);
+
+// The caller's arrays: Vec3, or xyz triples of double or float.
+inline void put(Vec3* a, size_t i, double x, double y, double z) { a[i] = Vec3{x, y, z}; }
+template <typename S>
+inline void put(S* a, size_t i, double x, double y, double z) {
+  a[3 * i] = S(x), a[3 * i + 1] = S(y), a[3 * i + 2] = S(z);
 }
+inline const void* address(const Vec3* a, size_t i) { return a + i; }
+template <typename S>
+inline const void* address(const S* a, size_t i) { return a + 3 * i; }
 
-CAGEKIT_KERNEL_CLONES void cells_local_frame(const PatchDeformerTable& c, const uint32_t* cells, size_t begin,
-                                             size_t end, const Vec3* control, Vec3* positions, Vec3* normals) {
-  cells_kernel<true>(c, cells, begin, end, control, positions, normals);
+template <typename T>
+struct ScatterSink {
+  T *positions, *normals;
+  inline __attribute__((always_inline)) void block(uint32_t, const Vec3& origin, uint32_t, const uint32_t* vertex,
+                                                   size_t n, const BlockOut& out) {
+    if (positions)
+      for (size_t i = 0; i < n; ++i) put(positions, vertex[i], origin.x + out.px[i], origin.y + out.py[i], origin.z + out.pz[i]);
+    if (normals)
+      for (size_t i = 0; i < n; ++i) put(normals, vertex[i], out.nx[i], out.ny[i], out.nz[i]);
+  }
+  // The next cells' output lines, for writing (their read-for-ownership overlaps this cell's
+  // work): both ends of each element (an element may straddle two lines).
+  void prefetch(const uint32_t* vertex, uint32_t first, uint32_t last) {
+    constexpr size_t kBytes = std::is_same<T, Vec3>::value ? sizeof(Vec3) : 3 * sizeof(T);
+    for (uint32_t i = first; i < last; ++i) {
+      if (positions) {
+        const char* p = static_cast<const char*>(address(positions, vertex[i]));
+        __builtin_prefetch(p, 1), __builtin_prefetch(p + kBytes - 1, 1);
+      }
+      if (normals) {
+        const char* p = static_cast<const char*>(address(normals, vertex[i]));
+        __builtin_prefetch(p, 1), __builtin_prefetch(p + kBytes - 1, 1);
+      }
+    }
+  }
+};
+
+// Evaluates cells[begin, end): per cell the coefficients from the control points, then its
+// vertices in blocks, handed to `sink` (one function per clone and sink, so that the
+// coefficients stay in registers and L1 across the cell's blocks).
+template <bool kLocal, typename Sink>
+inline __attribute__((always_inline)) void cells_kernel(const PatchDeformerTable& c, const uint32_t* cells,
+                                                        size_t begin, size_t end, const Vec3* control, Sink sink);
+
+#define CAGEKIT_CELLS_FUNCTION(name, local, Sink)                                                       \
+  CAGEKIT_KERNEL_CLONES void name(const PatchDeformerTable& c, const uint32_t* cells, size_t begin, size_t end, \
+                                  const Vec3* control, Sink sink) {                                     \
+    cells_kernel<local>(c, cells, begin, end, control, sink);                                           \
+  }
+CAGEKIT_CELLS_FUNCTION(cells_normal_scatter, false, ScatterSink<Vec3>)
+CAGEKIT_CELLS_FUNCTION(cells_local_frame_scatter, true, ScatterSink<Vec3>)
+CAGEKIT_CELLS_FUNCTION(cells_normal_scatter_f64, false, ScatterSink<double>)
+CAGEKIT_CELLS_FUNCTION(cells_local_frame_scatter_f64, true, ScatterSink<double>)
+CAGEKIT_CELLS_FUNCTION(cells_normal_scatter_f32, false, ScatterSink<float>)
+CAGEKIT_CELLS_FUNCTION(cells_local_frame_scatter_f32, true, ScatterSink<float>)
+#undef CAGEKIT_CELLS_FUNCTION
+
+inline void run_cells_with(const PatchDeformerTable& c, const uint32_t* cells, size_t begin, size_t end,
+                           const Vec3* control, ScatterSink<Vec3> sink) {
+  (c.local_frame ? cells_local_frame_scatter : cells_normal_scatter)(c, cells, begin, end, control, sink);
+}
+inline void run_cells_with(const PatchDeformerTable& c, const uint32_t* cells, size_t begin, size_t end,
+                           const Vec3* control, ScatterSink<double> sink) {
+  (c.local_frame ? cells_local_frame_scatter_f64 : cells_normal_scatter_f64)(c, cells, begin, end, control, sink);
+}
+inline void run_cells_with(const PatchDeformerTable& c, const uint32_t* cells, size_t begin, size_t end,
+                           const Vec3* control, ScatterSink<float> sink) {
+  (c.local_frame ? cells_local_frame_scatter_f32 : cells_normal_scatter_f32)(c, cells, begin, end, control, sink);
 }
 
 // poly = sum over the cell's terms of coefficients[16 k ..] * (control[j_k] - ref): 16 floats
@@ -157,10 +215,9 @@ inline __attribute__((always_inline)) void gather_cell(const float* coefficients
   std::memcpy(poly.z, &z0, sizeof z0), std::memcpy(poly.z + 8, &z1, sizeof z1);
 }
 
-template <bool kLocal>
+template <bool kLocal, typename Sink>
 inline __attribute__((always_inline)) void cells_kernel(const PatchDeformerTable& c, const uint32_t* cells,
-                                                        size_t begin, size_t end, const Vec3* control,
-                                                        Vec3* positions, Vec3* normals) {
+                                                        size_t begin, size_t end, const Vec3* control, Sink sink) {
   BlockOut out;
   for (size_t k = begin; k < end; ++k) {
     const uint32_t cell = cells[k];
@@ -168,11 +225,9 @@ inline __attribute__((always_inline)) void cells_kernel(const PatchDeformerTable
     // (the coefficients of s^a t^b, (a, b) != (0, 0), sum to 0 over the terms, those of 1 to 1).
     const uint32_t e0 = c.cell_term_offsets[cell], e1 = c.cell_term_offsets[cell + 1];
     const Vec3 ref = e1 > e0 ? control[c.term_control[e0]] : Vec3();
-    if (k + 1 < end) {  // the next cell's coefficients (~1 KB) while this one is evaluated
-      const uint32_t next = cells[k + 1];
-      const char* from = reinterpret_cast<const char*>(c.term_coefficients.data() + 16 * size_t(c.cell_term_offsets[next]));
-      const char* to = reinterpret_cast<const char*>(c.term_coefficients.data() + 16 * size_t(c.cell_term_offsets[next + 1]));
-      for (const char* p = from; p < to; p += 64) __builtin_prefetch(p);
+    if (k + 2 < end) {  // the output lines of the cell after, for writing (their read for ownership
+      const uint32_t next = cells[k + 2];  // overlaps this cell's work: the stores then hit the cache)
+      sink.prefetch(c.vertex.data(), c.cell_vertex_offsets[next], c.cell_vertex_offsets[next + 1]);
     }
     CellPolynomial poly;
     gather_cell(c.term_coefficients.data() + 16 * size_t(e0), c.term_control.data() + e0, e1 - e0, control, ref, poly);
@@ -185,25 +240,15 @@ inline __attribute__((always_inline)) void cells_kernel(const PatchDeformerTable
       for (int q = 0; q < 6; ++q) in.k[q] = c.k[q].data() + first;
       if (kLocal) in.ta = c.tangent_a.data() + first, in.tb = c.tangent_b.data() + first;
       block_kernel<kLocal>(poly, in, n, out);
-      const uint32_t* vertex = c.vertex.data() + first;
-      if (positions)
-        for (size_t i = 0; i < n; ++i)
-          positions[vertex[i]] = Vec3{origin.x + out.px[i], origin.y + out.py[i], origin.z + out.pz[i]};
-      if (normals)
-        for (size_t i = 0; i < n; ++i) normals[vertex[i]] = Vec3{out.nx[i], out.ny[i], out.nz[i]};
+      sink.block(cell, origin, first, c.vertex.data() + first, n, out);
     }
   }
 }
 
-// Splits `count` work items with prefix weights `weight(i)` into `workers` ranges of about equal
-// total weight and runs body(begin, end) on each.
-template <typename Weight, typename Body>
-void run_balanced(size_t count, size_t total, int threads, size_t min_per_worker, Weight&& weight, Body&& body) {
-  const size_t workers = std::max<size_t>(1, std::min<size_t>(size_t(std::max(threads, 1)), total / min_per_worker));
-  if (workers == 1 || count < 2) {
-    body(size_t(0), count);
-    return;
-  }
+// Splits `count` work items with weights `weight(i)` (summing to `total`) into `workers` ranges
+// of about equal total weight: split[w], split[w + 1] bound range w.
+template <typename Weight>
+std::vector<size_t> balanced_split(size_t count, size_t total, size_t workers, Weight&& weight) {
   std::vector<size_t> split(workers + 1, count);
   split[0] = 0;
   size_t acc = 0, w = 1;
@@ -211,8 +256,123 @@ void run_balanced(size_t count, size_t total, int threads, size_t min_per_worker
     acc += weight(i);
     if (acc * workers >= total * w) split[w++] = i + 1;
   }
-  run_ranges(workers, workers, [&](size_t begin, size_t, size_t) { body(split[begin], split[begin + 1]); });
+  return split;
 }
+
+size_t worker_count(int threads, size_t total, size_t min_per_worker) {
+  return std::max<size_t>(1, std::min<size_t>(size_t(std::max(threads, 1)), total / min_per_worker));
+}
+
+// One irregular vertex from its sparse row (double): position and/or normal.
+
+constexpr size_t kIrregularData = 9;  // per irregular vertex: D, 6 normal coefficients, a, b
+
+// Irregular vertices items[0, count) from their sparse rows (double), in batches: first the rows
+// (S, S_u, S_v per vertex: scalar, the rows differ in length), then the frames, offsets and
+// normals of the batch in a loop the compiler vectorises (2 or 4 doubles; the square roots and
+// divisions of neighbouring vertices overlap instead of forming one latency chain each).
+// `data`: per item D, the normal coefficients (8.11)-(8.12), the tangent offsets (a, b), copied
+// from the binding in item order.
+template <bool kLocal, typename T>
+inline __attribute__((always_inline)) void irregular_kernel(const PatchDeformerTable& c, const double* data,
+                                                            const Vec3* control, const uint32_t* items, size_t count,
+                                                            T* positions, T* normals) {
+  constexpr size_t kBatch = 32;
+  struct Batch {
+    double sx[kBatch], sy[kBatch], sz[kBatch], ux[kBatch], uy[kBatch], uz[kBatch], vx[kBatch], vy[kBatch], vz[kBatch];
+    double q[kIrregularData][kBatch];
+    double px[kBatch], py[kBatch], pz[kBatch], nx[kBatch], ny[kBatch], nz[kBatch];
+  } b;
+  for (size_t first = 0; first < count; first += kBatch) {
+    const size_t m = std::min(kBatch, count - first);
+    for (size_t j = 0; j < m; ++j) {
+      const uint32_t item = items[first + j];
+      const uint32_t e0 = c.irregular_offsets[item], e1 = c.irregular_offsets[item + 1];
+      // Relative to the first control point (the weights sum to 1, their derivatives to 0).
+      const Vec3 ref = e1 > e0 ? control[c.irregular_control[e0]] : Vec3();
+      Vec3 s, su, sv;
+      for (uint32_t e = e0; e < e1; ++e) {
+        const Vec3 d = control[c.irregular_control[e]] - ref;
+        s += c.irregular_w[e] * d, su += c.irregular_wu[e] * d, sv += c.irregular_wv[e] * d;
+      }
+      s += ref;
+      b.sx[j] = s.x, b.sy[j] = s.y, b.sz[j] = s.z, b.ux[j] = su.x, b.uy[j] = su.y, b.uz[j] = su.z;
+      b.vx[j] = sv.x, b.vy[j] = sv.y, b.vz[j] = sv.z;
+      for (size_t q = 0; q < kIrregularData; ++q) b.q[q][j] = data[kIrregularData * item + q];
+    }
+    for (size_t j = 0; j < kBatch; ++j) {  // whole batch (lanes past m: garbage, not written out)
+      const double sux = b.ux[j], suy = b.uy[j], suz = b.uz[j], svx = b.vx[j], svy = b.vy[j], svz = b.vz[j];
+      // N_S = normalize(S_u x S_v), (0, 0, 1) where they are parallel.
+      const double crx = suy * svz - suz * svy, cry = suz * svx - sux * svz, crz = sux * svy - suy * svx;
+      const double cl = std::sqrt(crx * crx + cry * cry + crz * crz);
+      const bool ok = cl > 0;
+      const double ci = 1.0 / (ok ? cl : 1.0);
+      const double nsx = ok ? crx * ci : 0.0, nsy = ok ? cry * ci : 0.0, nsz = ok ? crz * ci : 1.0;
+      const double D = b.q[0][j];
+      if (!kLocal) {
+        b.px[j] = b.sx[j] + D * nsx, b.py[j] = b.sy[j] + D * nsy, b.pz[j] = b.sz[j] + D * nsz;
+      } else {
+        // T1 = S_u / |S_u|, T2 = N_S x T1; P = S + a T1 + b T2 + D N_S.
+        const double ul = std::sqrt(sux * sux + suy * suy + suz * suz);
+        const bool uok = ul > 0;
+        const double ui = 1.0 / (uok ? ul : 1.0);
+        const double t1x = uok ? sux * ui : 0.0, t1y = uok ? suy * ui : 0.0, t1z = uok ? suz * ui : 0.0;
+        const double t2x = nsy * t1z - nsz * t1y, t2y = nsz * t1x - nsx * t1z, t2z = nsx * t1y - nsy * t1x;
+        const double a = b.q[7][j], bb = b.q[8][j];
+        b.px[j] = ((b.sx[j] + a * t1x) + bb * t2x) + D * nsx;
+        b.py[j] = ((b.sy[j] + a * t1y) + bb * t2y) + D * nsy;
+        b.pz[j] = ((b.sz[j] + a * t1z) + bb * t2z) + D * nsz;
+      }
+      // G_u = q0 S_u + q1 S_v + q2 N_S, G_v = q3 S_u + q4 S_v + q5 N_S; N = normalize(G_u x G_v).
+      const double q0 = b.q[1][j], q1 = b.q[2][j], q2 = b.q[3][j], q3 = b.q[4][j], q4 = b.q[5][j], q5 = b.q[6][j];
+      const double gux = (q0 * sux + q1 * svx) + q2 * nsx, guy = (q0 * suy + q1 * svy) + q2 * nsy,
+                   guz = (q0 * suz + q1 * svz) + q2 * nsz;
+      const double gvx = (q3 * sux + q4 * svx) + q5 * nsx, gvy = (q3 * suy + q4 * svy) + q5 * nsy,
+                   gvz = (q3 * suz + q4 * svz) + q5 * nsz;
+      const double mx = guy * gvz - guz * gvy, my = guz * gvx - gux * gvz, mz = gux * gvy - guy * gvx;
+      const double ml = std::sqrt(mx * mx + my * my + mz * mz);
+      const bool mok = ml > 0;
+      const double mi = 1.0 / (mok ? ml : 1.0);
+      b.nx[j] = mok ? mx * mi : 0.0, b.ny[j] = mok ? my * mi : 0.0, b.nz[j] = mok ? mz * mi : 0.0;
+    }
+    for (size_t j = 0; j < m; ++j) {
+      const uint32_t i = c.irregular_vertex[items[first + j]];
+      if (positions) put(positions, i, b.px[j], b.py[j], b.pz[j]);
+      if (normals) put(normals, i, b.nx[j], b.ny[j], b.nz[j]);
+    }
+  }
+}
+
+#define CAGEKIT_IRREGULAR_FUNCTION(name, local, T)                                                            \
+  CAGEKIT_KERNEL_CLONES void name(const PatchDeformerTable& c, const double* data, const Vec3* control,        \
+                                  const uint32_t* items, size_t count, T* positions, T* normals) {             \
+    irregular_kernel<local>(c, data, control, items, count, positions, normals);                              \
+  }
+CAGEKIT_IRREGULAR_FUNCTION(irregular_normal, false, Vec3)
+CAGEKIT_IRREGULAR_FUNCTION(irregular_local_frame, true, Vec3)
+CAGEKIT_IRREGULAR_FUNCTION(irregular_normal_f64, false, double)
+CAGEKIT_IRREGULAR_FUNCTION(irregular_local_frame_f64, true, double)
+CAGEKIT_IRREGULAR_FUNCTION(irregular_normal_f32, false, float)
+CAGEKIT_IRREGULAR_FUNCTION(irregular_local_frame_f32, true, float)
+#undef CAGEKIT_IRREGULAR_FUNCTION
+
+inline void run_irregular_with(const PatchDeformerTable& c, const double* data, const Vec3* control,
+                               const uint32_t* items, size_t count, Vec3* positions, Vec3* normals) {
+  (c.local_frame ? irregular_local_frame : irregular_normal)(c, data, control, items, count, positions, normals);
+}
+inline void run_irregular_with(const PatchDeformerTable& c, const double* data, const Vec3* control,
+                               const uint32_t* items, size_t count, double* positions, double* normals) {
+  (c.local_frame ? irregular_local_frame_f64 : irregular_normal_f64)(c, data, control, items, count, positions, normals);
+}
+inline void run_irregular_with(const PatchDeformerTable& c, const double* data, const Vec3* control,
+                               const uint32_t* items, size_t count, float* positions, float* normals) {
+  (c.local_frame ? irregular_local_frame_f32 : irregular_normal_f32)(c, data, control, items, count, positions, normals);
+}
+
+template <typename T>
+inline void store(T* to, size_t i, const Vec3& v) { put(to, i, v.x, v.y, v.z); }
+
+
 
 }  // namespace
 
@@ -224,12 +384,26 @@ CpuDeformer::CpuDeformer(const ScanBinding& binding, int threads) : b_(binding),
     if (j >= m) fail(Status::invalid_argument, "deformer: binding refers to a control vertex out of range");
   for (uint32_t j : c.irregular_control)
     if (j >= m) fail(Status::invalid_argument, "deformer: binding refers to a control vertex out of range");
-  all_cells_.resize(c.num_cells());
-  for (size_t i = 0; i < all_cells_.size(); ++i) all_cells_[i] = uint32_t(i);
-  all_irregular_.resize(c.num_irregular_vertices());
-  for (size_t i = 0; i < all_irregular_.size(); ++i) all_irregular_[i] = uint32_t(i);
+  const size_t n = b_.num_vertices();
+  for (uint32_t i : c.vertex)
+    if (i >= n) fail(Status::invalid_argument, "deformer: binding refers to a vertex out of range");
+  for (uint32_t i : c.irregular_vertex)
+    if (i >= n) fail(Status::invalid_argument, "deformer: binding refers to a vertex out of range");
   cell_stamp_.assign(c.num_cells(), 0);
   irregular_stamp_.assign(c.num_irregular_vertices(), 0);
+  irregular_data_.assign(kIrregularData * c.num_irregular_vertices(), 0.0);
+  for (size_t k = 0; k < c.num_irregular_vertices(); ++k) {
+    const size_t i = c.irregular_vertex[k];
+    double* to = &irregular_data_[kIrregularData * k];
+    to[0] = b_.displacement[i];
+    for (int q = 0; q < 6; ++q) to[1 + q] = b_.normal_coefficients[6 * i + size_t(q)];
+    if (c.local_frame) to[7] = b_.tangent_offset[2 * i], to[8] = b_.tangent_offset[2 * i + 1];
+  }
+  // Full frames: every cell and irregular vertex, split among the workers by vertex count.
+  all_cells_.resize(c.num_cells());
+  for (size_t k = 0; k < all_cells_.size(); ++k) all_cells_[k] = uint32_t(k);
+  all_irregular_.resize(c.num_irregular_vertices());
+  for (size_t k = 0; k < all_irregular_.size(); ++k) all_irregular_[k] = uint32_t(k);
 }
 
 CpuDeformer::~CpuDeformer() = default;
@@ -261,81 +435,89 @@ void CpuDeformer::check_control(const std::vector<Vec3>& control) const {
                                        " control points, got " + std::to_string(control.size()));
 }
 
-void CpuDeformer::run_cells(const uint32_t* cells, size_t count, Vec3* positions, Vec3* normals) {
+// The listed cells and irregular vertices (all of them in a full frame), straight into the
+// caller's arrays: one parallel region, each worker its cells (split by vertex count) and its
+// share of the irregular vertices.
+template <typename T>
+void CpuDeformer::scatter(const uint32_t* cells, size_t cell_count, const uint32_t* items, size_t item_count,
+                          T* positions, T* normals) {
   const PatchDeformerTable& c = b_.compact;
-  const std::vector<Vec3>& control = control_;
-  size_t total = 0;
-  for (size_t k = 0; k < count; ++k) total += c.cell_vertex_offsets[cells[k] + 1] - c.cell_vertex_offsets[cells[k]];
-  auto weight = [&](size_t k) { return size_t(c.cell_vertex_offsets[cells[k] + 1] - c.cell_vertex_offsets[cells[k]]); };
-  run_balanced(count, total, threads_, 8192, weight, [&](size_t begin, size_t end) {
-    if (c.local_frame)
-      cells_local_frame(c, cells, begin, end, control.data(), positions, normals);
-    else
-      cells_normal(c, cells, begin, end, control.data(), positions, normals);
+  const Vec3* control = control_.data();
+  const bool full = cells == all_cells_.data() && cell_count == all_cells_.size();
+  if (!full || full_split_.empty()) {  // full frames: the split is computed once
+    size_t total = 0;
+    for (size_t k = 0; k < cell_count; ++k) total += c.cell_vertex_offsets[cells[k] + 1] - c.cell_vertex_offsets[cells[k]];
+    const size_t workers = worker_count(threads_, total + item_count, 8192);
+    split_ = balanced_split(cell_count, total, workers, [&](size_t k) {
+      return size_t(c.cell_vertex_offsets[cells[k] + 1] - c.cell_vertex_offsets[cells[k]]);
+    });
+    if (full) full_split_ = split_;
+  }
+  const std::vector<size_t>& split = full ? full_split_ : split_;
+  const size_t workers = split.size() - 1;
+  run_ranges(workers, workers, [&](size_t w, size_t, size_t) {
+    run_cells_with(c, cells, split[w], split[w + 1], control, ScatterSink<T>{positions, normals});
+    const size_t i0 = item_count * w / workers, i1 = item_count * (w + 1) / workers;
+    run_irregular_with(c, irregular_data_.data(), control, items + i0, i1 - i0, positions, normals);
   });
 }
 
-void CpuDeformer::run_irregular(const uint32_t* items, size_t count, Vec3* positions, Vec3* normals) {
-  const PatchDeformerTable& c = b_.compact;
-  const std::vector<Vec3>& control = control_;
-  const bool local = c.local_frame;
-  parallel_ranges(count, threads_, [&](size_t begin, size_t end) {
-    for (size_t k = begin; k < end; ++k) {
-      const uint32_t item = items[k], i = c.irregular_vertex[item];
-      const uint32_t e0 = c.irregular_offsets[item], e1 = c.irregular_offsets[item + 1];
-      // Relative to the first control point (the weights sum to 1, their derivatives to 0).
-      const Vec3 ref = e1 > e0 ? control[c.irregular_control[e0]] : Vec3();
-      Vec3 s, su, sv;
-      for (uint32_t e = e0; e < e1; ++e) {
-        const Vec3 d = control[c.irregular_control[e]] - ref;
-        s += c.irregular_w[e] * d, su += c.irregular_wu[e] * d, sv += c.irregular_wv[e] * d;
-      }
-      s += ref;
-      const Vec3 cr = cross(su, sv);
-      const double cl = norm(cr);
-      const Vec3 ns = cl > 0 ? cr * (1.0 / cl) : Vec3{0, 0, 1};
-      const double D = b_.displacement[i];
-      if (positions) {
-        if (!local) {
-          positions[i] = s + D * ns;
-        } else {
-          const Vec3 t1 = normalized(su), t2 = cross(ns, t1);
-          positions[i] = s + b_.tangent_offset[2 * size_t(i)] * t1 + b_.tangent_offset[2 * size_t(i) + 1] * t2 + D * ns;
-        }
-      }
-      if (normals) {
-        const double* q = &b_.normal_coefficients[6 * size_t(i)];
-        const Vec3 gu = q[0] * su + q[1] * sv + q[2] * ns, gv = q[3] * su + q[4] * sv + q[5] * ns;
-        normals[i] = normalized(cross(gu, gv));
-      }
-    }
-  });
-}
-
-void CpuDeformer::deform(const std::vector<Vec3>& control, Vec3* positions, Vec3* normals, NormalMode mode) {
-  check_control(control);
+void CpuDeformer::check_mode(NormalMode mode) const {
   if (mode != NormalMode::approximate && mode != NormalMode::exact)
     fail(Status::invalid_argument, "deformer: unknown normal mode");
+}
+
+// Exact normals or no compact table, flat outputs: the reference into Vec3 scratch arrays, copied.
+template <typename T>
+void CpuDeformer::copy_out(const uint32_t* list, size_t count, T* positions, T* normals) const {
+  for (size_t k = 0; k < count; ++k) {
+    const size_t i = list ? list[k] : k;
+    if (positions) store(positions, i, scratch_p_[i]);
+    if (normals) store(normals, i, scratch_n_[i]);
+  }
+}
+
+template <typename T>
+void CpuDeformer::deform_impl(const std::vector<Vec3>& control, T* positions, T* normals, NormalMode mode) {
+  check_control(control);
+  check_mode(mode);
   if (mode == NormalMode::exact || !compact()) {
-    reference().deform(control, positions, normals, mode);
+    if constexpr (std::is_same<T, Vec3>::value) {
+      reference().deform(control, positions, normals, mode);
+    } else {
+      scratch_p_.resize(b_.num_vertices()), scratch_n_.resize(b_.num_vertices());
+      reference().deform(control, positions ? scratch_p_.data() : nullptr, normals ? scratch_n_.data() : nullptr, mode);
+      copy_out(nullptr, b_.num_vertices(), positions, normals);
+    }
     control_ = control;
     reference_synced_ = true;
     return;
   }
   control_ = control;
   reference_synced_ = false;
-  run_cells(all_cells_.data(), all_cells_.size(), positions, normals);
-  run_irregular(all_irregular_.data(), all_irregular_.size(), positions, normals);
+  scatter(all_cells_.data(), all_cells_.size(), all_irregular_.data(), all_irregular_.size(), positions, normals);
 }
 
-size_t CpuDeformer::update(const std::vector<Vec3>& control, const std::vector<uint32_t>& moved, Vec3* positions,
-                           Vec3* normals, NormalMode mode) {
+void CpuDeformer::deform(const std::vector<Vec3>& control, Vec3* positions, Vec3* normals, NormalMode mode) {
+  deform_impl(control, positions, normals, mode);
+}
+
+void CpuDeformer::deform(const std::vector<Vec3>& control, double* positions, double* normals, NormalMode mode) {
+  deform_impl(control, positions, normals, mode);
+}
+
+void CpuDeformer::deform(const std::vector<Vec3>& control, float* positions, float* normals, NormalMode mode) {
+  deform_impl(control, positions, normals, mode);
+}
+
+template <typename T>
+size_t CpuDeformer::update_impl(const std::vector<Vec3>& control, const std::vector<uint32_t>& moved, T* positions,
+                                T* normals, NormalMode mode) {
   if (control_.size() != b_.num_control_vertices)
     fail(Status::invalid_argument, "deformer: update() before a first deform()");
   if (control.size() != control_.size())
     fail(Status::invalid_argument, "deformer: expected " + std::to_string(control_.size()) + " control points");
-  if (mode != NormalMode::approximate && mode != NormalMode::exact)
-    fail(Status::invalid_argument, "deformer: unknown normal mode");
+  check_mode(mode);
   for (uint32_t j : moved)
     if (j >= control.size()) fail(Status::invalid_argument, "deformer: moved control vertex out of range");
   if (mode == NormalMode::exact || !compact()) {
@@ -344,7 +526,14 @@ size_t CpuDeformer::update(const std::vector<Vec3>& control, const std::vector<u
     if (!reference_synced_) r.deform(control_, nullptr, nullptr, mode);
     reference_synced_ = true;
     last_from_reference_ = true;
-    const size_t count = r.update(control, moved, positions, normals, mode);
+    size_t count;
+    if constexpr (std::is_same<T, Vec3>::value) {
+      count = r.update(control, moved, positions, normals, mode);
+    } else {
+      scratch_p_.resize(b_.num_vertices()), scratch_n_.resize(b_.num_vertices());
+      count = r.update(control, moved, positions ? scratch_p_.data() : nullptr, normals ? scratch_n_.data() : nullptr, mode);
+      copy_out(r.last_updated().data(), r.last_updated().size(), positions, normals);
+    }
     for (uint32_t j : moved) control_[j] = control[j];
     return count;
   }
@@ -373,9 +562,23 @@ size_t CpuDeformer::update(const std::vector<Vec3>& control, const std::vector<u
     touched_.insert(touched_.end(), c.vertex.begin() + c.cell_vertex_offsets[cell],
                     c.vertex.begin() + c.cell_vertex_offsets[cell + 1]);
   for (uint32_t item : irregular_) touched_.push_back(c.irregular_vertex[item]);
-  run_cells(cells_.data(), cells_.size(), positions, normals);
-  run_irregular(irregular_.data(), irregular_.size(), positions, normals);
+  scatter(cells_.data(), cells_.size(), irregular_.data(), irregular_.size(), positions, normals);
   return touched_.size();
+}
+
+size_t CpuDeformer::update(const std::vector<Vec3>& control, const std::vector<uint32_t>& moved, Vec3* positions,
+                           Vec3* normals, NormalMode mode) {
+  return update_impl(control, moved, positions, normals, mode);
+}
+
+size_t CpuDeformer::update(const std::vector<Vec3>& control, const std::vector<uint32_t>& moved, double* positions,
+                           double* normals, NormalMode mode) {
+  return update_impl(control, moved, positions, normals, mode);
+}
+
+size_t CpuDeformer::update(const std::vector<Vec3>& control, const std::vector<uint32_t>& moved, float* positions,
+                           float* normals, NormalMode mode) {
+  return update_impl(control, moved, positions, normals, mode);
 }
 
 CAGEKIT_NAMESPACE_END

@@ -10,14 +10,18 @@
 // cell-local (s, t), structure-of-arrays, in blocks the compiler vectorises (with a runtime
 // AVX2+FMA clone next to the baseline x86-64 one, GCC function multiversioning); the few
 // irregular vertices (near extraordinary vertices, where no cell is one polynomial) use float
-// copies of their sparse rows. Full recompute on `threads` threads (cells split by vertex
-// count), or incremental: only the cells and irregular vertices in the support of the control
+// copies of their sparse rows. Full recompute on `threads` threads in one parallel region (each
+// worker a range of cells, split by vertex count, and a share of the irregular vertices), or
+// incremental: only the cells and irregular vertices in the support of the control
 // points that moved since the last call are recomputed, with the same code as a full frame, so
 // incremental results equal full ones bit for bit.
 //
 // Exact normals (8.4)-(8.7), and bindings made without the compact table, go through the
 // double-precision SparseRowDeformer (sparse_row_deformer.h), which is also the reference the
 // fast path is tested against (positions within ~1e-7 of the bbox diagonal).
+//
+// Outputs: Vec3 arrays, or flat xyz triples of double or float32 (hosts drawing float32 write
+// half the bytes).
 //
 // Thread-safety: one deformer per thread (it keeps the last control points); the binding must
 // outlive it and stay unchanged.
@@ -45,11 +49,24 @@ class CpuDeformer {
   // wrong size, or exact normals without binding data for them.
   void deform(const std::vector<Vec3>& control, Vec3* positions, Vec3* normals,
               NormalMode mode = NormalMode::approximate);
+  // The same into flat xyz triples (3 * binding.num_vertices() values each; either may be
+  // null): double (the same values as the Vec3 overload), or float32 (the double values rounded
+  // to float: the compact path evaluates in float32 anyway, positions are formed in double,
+  // cell corner + offset, then rounded). Hosts that draw float32 save half the bytes written.
+  void deform(const std::vector<Vec3>& control, double* positions, double* normals,
+              NormalMode mode = NormalMode::approximate);
+  void deform(const std::vector<Vec3>& control, float* positions, float* normals,
+              NormalMode mode = NormalMode::approximate);
   // Incremental: `control` differs from the previous call's only at `moved` (after a first
   // deform()); recomputes and writes only the affected vertices (the rest of the output arrays is
   // left as the caller had it from earlier calls). Returns the number of vertices recomputed.
   size_t update(const std::vector<Vec3>& control, const std::vector<uint32_t>& moved, Vec3* positions,
                 Vec3* normals, NormalMode mode = NormalMode::approximate);
+  // The same into flat xyz triples of double or float32.
+  size_t update(const std::vector<Vec3>& control, const std::vector<uint32_t>& moved, double* positions,
+                double* normals, NormalMode mode = NormalMode::approximate);
+  size_t update(const std::vector<Vec3>& control, const std::vector<uint32_t>& moved, float* positions,
+                float* normals, NormalMode mode = NormalMode::approximate);
   // The vertices the last update() recomputed.
   const std::vector<uint32_t>& last_updated() const;
 
@@ -60,9 +77,18 @@ class CpuDeformer {
   double bytes_per_vertex() const;
 
  private:
-  void run_cells(const uint32_t* cells, size_t count, Vec3* positions, Vec3* normals);
-  void run_irregular(const uint32_t* items, size_t count, Vec3* positions, Vec3* normals);
+  template <typename T>
+  void deform_impl(const std::vector<Vec3>& control, T* positions, T* normals, NormalMode mode);
+  template <typename T>
+  size_t update_impl(const std::vector<Vec3>& control, const std::vector<uint32_t>& moved, T* positions, T* normals,
+                     NormalMode mode);
+  template <typename T>
+  void scatter(const uint32_t* cells, size_t cell_count, const uint32_t* items, size_t item_count, T* positions,
+               T* normals);
+  template <typename T>
+  void copy_out(const uint32_t* list, size_t count, T* positions, T* normals) const;
   void check_control(const std::vector<Vec3>& control) const;
+  void check_mode(NormalMode mode) const;
   SparseRowDeformer& reference();
 
   const ScanBinding& b_;
@@ -71,9 +97,12 @@ class CpuDeformer {
   std::unique_ptr<SparseRowDeformer> reference_;
   bool reference_synced_ = false;  // reference_ holds the frame of control_ (exact mode)
   bool last_from_reference_ = false;
-  std::vector<uint32_t> all_cells_, all_irregular_;
   std::vector<uint32_t> cell_stamp_, irregular_stamp_, cells_, irregular_, touched_;
   uint32_t stamp_ = 0;
+  std::vector<uint32_t> all_cells_, all_irregular_;  // 0, 1, 2, ... (full frames)
+  std::vector<size_t> full_split_, split_;  // the workers' cell ranges: full frames, last update
+  std::vector<double> irregular_data_;  // per irregular vertex: D, normal coefficients, a, b
+  std::vector<Vec3> scratch_p_, scratch_n_;  // float outputs of the sparse-row path
 };
 
 CAGEKIT_NAMESPACE_END

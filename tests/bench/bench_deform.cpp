@@ -29,10 +29,12 @@
 #include <thread>
 
 #include "bench_support.h"
+#include "core/io/file_io.h"
 #include "core/io/mesh_io.h"
 #include "fit/surface_fitter.h"
 #include "layout/cage_builder.h"
 #include "layout/face_merge_simplifier.h"
+#include "multires/binding_file.h"
 #include "multires/cpu_deformer.h"
 #include "multires/scan_binding.h"
 #include "multires/sparse_row_deformer.h"
@@ -130,9 +132,21 @@ struct Point3f {
 
 }  // namespace
 
-// bench_deform [FRAMES] [--table-only]
+// bench_deform [FRAMES] [--table-only] [--cpu-only] [--cache FILE.ckb]
+//   --cpu-only: only the CpuDeformer rows (no sparse-row reference, no OpenSubdiv);
+//   --cache: read the cage + binding from FILE.ckb if it exists, else make them and write it there
+//   (the binding file rebuilds the same binding bit for bit; for repeated runs while tuning).
 int main(int argc, char** argv) {
-  const int frames = argc > 1 ? std::max(5, std::atoi(argv[1])) : 60;
+  int frames = 60;
+  bool table_only = false, cpu_only = false;
+  std::string cache;
+  for (int a = 1; a < argc; ++a) {
+    const std::string arg = argv[a];
+    if (arg == "--table-only") table_only = true;
+    else if (arg == "--cpu-only") cpu_only = true;
+    else if (arg == "--cache" && a + 1 < argc) cache = argv[++a];
+    else frames = std::max(5, std::atoi(arg.c_str()));
+  }
   PolygonMesh bunny;
   try {
     bunny = read_cage_from_file(shared("stanford-bunny.obj")).mesh;
@@ -145,21 +159,45 @@ int main(int argc, char** argv) {
   auto t0 = bench::Clock::now();
   const PolygonMesh scan = split_1_to_9(bunny, 5e-4 * box.diagonal());
   const double split_s = bench::seconds_since(t0);
-  t0 = bench::Clock::now();
-  Cage cage = cage_near(bunny, 500);
-  FitOptions fit;
-  fit.max_passes = 3;
-  cage = fit_cage_to_mesh(cage, bunny, fit);
-  const double cage_s = bench::seconds_since(t0);
-  t0 = bench::Clock::now();
-  const ScanBinding binding = bind_scan_to_cage(cage, scan);
-  const double bind_s = bench::seconds_since(t0);
+  Cage cage;
+  ScanBinding binding;
+  double cage_s = 0, bind_s = 0;
+  bool cached = false;
+  if (!cache.empty()) {
+    try {
+      const std::vector<uint8_t> bytes = read_whole_file(cache);
+      t0 = bench::Clock::now();
+      SavedBinding saved = read_binding(bytes.data(), bytes.size(), cache);
+      bind_s = bench::seconds_since(t0);
+      cage = std::move(saved.cage);
+      binding = std::move(saved.binding);
+      cached = binding.num_vertices() == scan.num_vertices();
+    } catch (const Error&) {
+    }
+  }
+  if (!cached) {
+    t0 = bench::Clock::now();
+    cage = cage_near(bunny, 500);
+    FitOptions fit;
+    fit.max_passes = 3;
+    cage = fit_cage_to_mesh(cage, bunny, fit);
+    cage_s = bench::seconds_since(t0);
+    t0 = bench::Clock::now();
+    binding = bind_scan_to_cage(cage, scan);
+    bind_s = bench::seconds_since(t0);
+    if (!cache.empty()) {
+      const std::vector<uint8_t> bytes = write_binding(binding, cage, BindOptions());
+      std::FILE* f = std::fopen(cache.c_str(), "wb");
+      if (f) std::fwrite(bytes.data(), 1, bytes.size(), f), std::fclose(f);
+    }
+  }
   const size_t n = binding.num_vertices(), m = binding.num_control_vertices;
   const PatchDeformerTable& table = binding.compact;
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   std::printf("## bench_deform: %zu-vertex / %zu-triangle scan (bunny split 1-to-9 + noise, %.1f s), %zu-vertex / "
-              "%zu-face cage (simplified + 3 fit passes, %.1f s), bind %.1f s\n\n",
-              n, scan.num_faces(), split_s, m, cage.mesh.num_faces(), cage_s, bind_s);
+              "%zu-face cage (simplified + 3 fit passes, %.1f s), bind %.1f s%s\n\n",
+              n, scan.num_faces(), split_s, m, cage.mesh.num_faces(), cage_s, bind_s,
+              cached ? " (read from the --cache file)" : "");
   std::printf("Compact table: %zu cells (%.0f vertices per cell, %zu terms), %zu irregular vertices (%.2f%%, %.1f row "
               "entries each); sparse rows %.1f entries per vertex. %u cores, load average before: %s\n\n",
               table.num_cells(), double(table.num_cell_vertices()) / std::max<size_t>(1, table.num_cells()),
@@ -179,7 +217,7 @@ int main(int argc, char** argv) {
     std::printf(" ptex faces %u\n\n", SubdivisionSurface(cage).num_ptex_faces());
   }
   std::fflush(stdout);
-  if (argc > 2 && std::string(argv[2]) == "--table-only") return 0;
+  if (table_only) return 0;
 
   std::vector<Vec3> positions(n), normals(n), control = cage.mesh.positions;
   const double step = 1e-4 * binding.bbox_diagonal;
@@ -203,6 +241,19 @@ int main(int argc, char** argv) {
     rows.push_back({"CpuDeformer full (compact), " + std::to_string(threads) + " thread" + (threads > 1 ? "s" : ""), s,
                     g_cpu, double(n), deformer.bytes_per_vertex()});
   }
+  // The same into float32 xyz arrays (CpuDeformer::deform(float*), cagekit_cpu_deformer_deform_f32):
+  // 24 bytes written per vertex instead of 48.
+  std::vector<float> positions_f32(3 * n), normals_f32(3 * n);
+  for (int threads : {2, 1}) {
+    CpuDeformer deformer(binding, threads);
+    const double s = median_frame(frames, [&](int f) {
+      move_all(f);
+      deformer.deform(control, positions_f32.data(), normals_f32.data());
+    });
+    rows.push_back({"CpuDeformer full (compact), float32 outputs, " + std::to_string(threads) + " thread" +
+                        (threads > 1 ? "s" : ""),
+                    s, g_cpu, double(n), deformer.bytes_per_vertex() - 24});
+  }
   // Incremental: 10 control points spread over the cage move every frame.
   double incremental_vertices = 0;
   {
@@ -223,7 +274,7 @@ int main(int argc, char** argv) {
     rows.push_back({"CpuDeformer incremental, " + std::to_string(moved.size()) + " moved, 2 threads", s,
                     g_cpu, incremental_vertices, deformer.bytes_per_vertex()});
   }
-  {
+  if (!cpu_only) {
     SparseRowDeformer reference(binding, 2);
     const double s = median_frame(std::max(5, frames / 4), [&](int f) {
       move_all(f);
@@ -236,7 +287,7 @@ int main(int argc, char** argv) {
   // The peer: OpenSubdiv limit stencils at the same foot points, grouped by ptex face.
   double peer_s = 0, peer_s1 = 0, peer_cpu = 0, peer_cpu1 = 0, peer_bytes = 0, peer_max_diff = 0;
   size_t peer_weights = 0;
-  {
+  if (!cpu_only) {
     auto refiner = subdiv_detail::create_topology_refiner(cage);
     Far::TopologyRefiner::AdaptiveOptions adaptive(3);
     adaptive.useInfSharpPatch = true;

@@ -248,7 +248,7 @@ if "$cli" deform "$tmp/demo/scan.obj" "$tmp/pipe/out/cage.obj" "$tmp/edited.obj"
    [ -s "$tmp/deformed.ply" ] && [ "$(json "$tmp/deform.json" 'd["max_control_move_rel"] > 0 and d["vertices"] > 100')" = True ]
 then pass "deform: edited cage -> deformed scan (PLY), JSON report"; else cat "$tmp/deform.json"; fail "deform"; fi
 if "$cli" bench-deform "$tmp/demo/scan.obj" "$tmp/pipe/out/cage.obj" --frames 20 --moved 3 --json --quiet >"$tmp/bench.json" &&
-   [ "$(json "$tmp/bench.json" 'all(k in d for k in ("vertices","triangles","moved","cpu_fps","cpu_incremental_fps","gpu_fps","gpu_renderer","bytes_per_vertex")) and d["cpu_fps"] > 0 and (d["gpu_fps"] is None) == (d["gpu_renderer"] is None) and (d["gpu_fps"] is None or d["gpu_fps"] > 0)')" = True ]
+   [ "$(json "$tmp/bench.json" 'all(k in d for k in ("vertices","triangles","moved","cpu_fps","cpu_fps_f32","cpu_incremental_fps","gpu_fps","gpu_renderer","bytes_per_vertex")) and d["cpu_fps"] > 0 and d["cpu_fps_f32"] > 0 and (d["gpu_fps"] is None) == (d["gpu_renderer"] is None) and (d["gpu_fps"] is None or d["gpu_fps"] > 0)')" = True ]
 then pass "bench-deform: JSON keys, CPU frame rates"; else cat "$tmp/bench.json"; fail "bench-deform"; fi
 expect_bad "deform: cage with other vertex count" "$cli" deform "$tmp/demo/scan.obj" "$tmp/pipe/out/cage.obj" "$tmp/cube.obj" "$tmp/out.obj" --quiet
 expect_bad "deform: missing edited cage" "$cli" deform "$tmp/demo/scan.obj" "$tmp/pipe/out/cage.obj" "$tmp/does-not-exist.obj" "$tmp/out.obj" --quiet

@@ -775,6 +775,91 @@ static void memory_budget_fails_cleanly_before_allocating(void) {
   cagekit_context_release(unlimited);
 }
 
+/* cagekit_cpu_deformer_deform_f32 / _update_f32: every float written is the double call's value
+ * rounded to float (compact path: approximate normals; sparse-row path: exact normals), and the
+ * same bad input is refused. */
+static void cpu_deformer_float32_outputs_match_double(void) {
+  cagekit_context context = new_context();
+  cagekit_mesh cube_mesh = new_cube(context), sphere = new_sphere(context);
+  cagekit_cage cube = NULL, fitted = NULL;
+  cagekit_binding binding = NULL;
+  cagekit_cpu_deformer d64 = NULL, d32 = NULL, fresh = NULL;
+  cagekit_bind_options options = CAGEKIT_BIND_OPTIONS_INIT;
+  cagekit_binding_info info;
+  double control[24], positions[3 * 300], normals[3 * 300];
+  float positions32[3 * 300], normals32[3 * 300];
+  uint32_t i, updated64 = 0, updated32 = 0, moved[2] = {2, 5}, mismatches = 0;
+  int pass;
+  CHECK_OK(cagekit_cage_create(cube_mesh, &cube));
+  CHECK_OK(cagekit_cage_fit(cube, sphere, NULL, &fitted, NULL));
+  options.exact_normals = 1;
+  CHECK_OK(cagekit_multires_bind(fitted, sphere, &options, &binding));
+  info.struct_size = sizeof(info);
+  CHECK_OK(cagekit_binding_get_info(binding, &info));
+  CHECK(info.vertex_count > 200 && info.vertex_count <= 300 && info.compact_cells > 0);
+  {
+    cagekit_mesh fitted_mesh = NULL;
+    CHECK_OK(cagekit_cage_get_mesh(fitted, &fitted_mesh));
+    CHECK_OK(cagekit_mesh_get_positions(fitted_mesh, CAGEKIT_SCALAR_FLOAT64, 8, NULL, control));
+    cagekit_mesh_release(fitted_mesh);
+  }
+  CHECK_OK(cagekit_cpu_deformer_create(binding, 2, &d64));
+  CHECK_OK(cagekit_cpu_deformer_create(binding, 2, &d32));
+  for (pass = 0; pass < 2; ++pass) {
+    const cagekit_normal_mode mode = pass == 0 ? CAGEKIT_NORMALS_APPROXIMATE : CAGEKIT_NORMALS_EXACT;
+    control[3 * 4 + 1] += 0.07;
+    CHECK_OK(cagekit_cpu_deformer_deform(d64, control, 8, mode, 300, positions, normals));
+    CHECK_OK(cagekit_cpu_deformer_deform_f32(d32, control, 8, mode, 300, positions32, normals32));
+    for (i = 0; i < 3 * info.vertex_count; ++i)
+      mismatches += positions32[i] != (float)positions[i] || normals32[i] != (float)normals[i];
+    /* Incremental: the support of the moved points, the rest left as it was. */
+    control[3 * 2 + 0] -= 0.05;
+    control[3 * 5 + 2] += 0.04;
+    CHECK_OK(cagekit_cpu_deformer_update(d64, control, 8, moved, 2, mode, 300, positions, normals, &updated64));
+    CHECK_OK(cagekit_cpu_deformer_update_f32(d32, control, 8, moved, 2, mode, 300, positions32, normals32, &updated32));
+    CHECK(updated32 == updated64 && updated32 > 0);
+    for (i = 0; i < 3 * info.vertex_count; ++i)
+      mismatches += positions32[i] != (float)positions[i] || normals32[i] != (float)normals[i];
+  }
+  CHECK(mismatches == 0);
+  /* Positions only, normals only. */
+  CHECK_OK(cagekit_cpu_deformer_deform_f32(d32, control, 8, CAGEKIT_NORMALS_APPROXIMATE, 300, positions32, NULL));
+  CHECK_OK(cagekit_cpu_deformer_deform_f32(d32, control, 8, CAGEKIT_NORMALS_APPROXIMATE, 300, NULL, normals32));
+  /* Bad input. */
+  CHECK_STATUS(cagekit_cpu_deformer_deform_f32(d32, control, 7, CAGEKIT_NORMALS_APPROXIMATE, 300, positions32, NULL),
+               CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_cpu_deformer_deform_f32(d32, NULL, 8, CAGEKIT_NORMALS_APPROXIMATE, 300, positions32, NULL),
+               CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_cpu_deformer_deform_f32(d32, control, 8, CAGEKIT_NORMALS_APPROXIMATE, 10, positions32, NULL),
+               CAGEKIT_ERROR_SIZE_INSUFFICIENT);
+  CHECK_STATUS(cagekit_cpu_deformer_deform_f32(d32, control, 8, (cagekit_normal_mode)9, 300, positions32, NULL),
+               CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_cpu_deformer_deform_f32((cagekit_cpu_deformer)binding, control, 8, CAGEKIT_NORMALS_APPROXIMATE,
+                                               300, positions32, NULL),
+               CAGEKIT_ERROR_INVALID_HANDLE);
+  CHECK_OK(cagekit_cpu_deformer_create(binding, 1, &fresh));
+  CHECK_STATUS(cagekit_cpu_deformer_update_f32(fresh, control, 8, moved, 2, CAGEKIT_NORMALS_APPROXIMATE, 300,
+                                               positions32, normals32, NULL),
+               CAGEKIT_ERROR_INVALID_ARGUMENT); /* before a first deform */
+  CHECK_OK(cagekit_cpu_deformer_deform_f32(fresh, control, 8, CAGEKIT_NORMALS_APPROXIMATE, 300, positions32, normals32));
+  moved[0] = 8;
+  CHECK_STATUS(cagekit_cpu_deformer_update_f32(fresh, control, 8, moved, 1, CAGEKIT_NORMALS_APPROXIMATE, 300,
+                                               positions32, normals32, NULL),
+               CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_cpu_deformer_update_f32(fresh, control, 8, NULL, 1, CAGEKIT_NORMALS_APPROXIMATE, 300,
+                                               positions32, normals32, NULL),
+               CAGEKIT_ERROR_INVALID_ARGUMENT);
+  cagekit_cpu_deformer_release(fresh);
+  cagekit_cpu_deformer_release(d32);
+  cagekit_cpu_deformer_release(d64);
+  cagekit_binding_release(binding);
+  cagekit_cage_release(fitted);
+  cagekit_cage_release(cube);
+  cagekit_mesh_release(sphere);
+  cagekit_mesh_release(cube_mesh);
+  cagekit_context_release(context);
+}
+
 static void multires_binding_reproduces_and_deforms_the_scan(void) {
   cagekit_context context = new_context();
   cagekit_mesh cube_mesh = new_cube(context), sphere = new_sphere(context);
@@ -1426,6 +1511,7 @@ int main(void) {
       {"out_of_range_enum_values_are_rejected", out_of_range_enum_values_are_rejected},
       {"memory_budget_fails_cleanly_before_allocating", memory_budget_fails_cleanly_before_allocating},
       {"multires_binding_reproduces_and_deforms_the_scan", multires_binding_reproduces_and_deforms_the_scan},
+      {"cpu_deformer_float32_outputs_match_double", cpu_deformer_float32_outputs_match_double},
       {"saved_binding_round_trips_and_bad_bytes_fail", saved_binding_round_trips_and_bad_bytes_fail},
       {"sector_split_duplicates_sharp_vertices", sector_split_duplicates_sharp_vertices},
       {"fit_reduces_the_error_every_pass", fit_reduces_the_error_every_pass},

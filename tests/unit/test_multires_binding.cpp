@@ -287,3 +287,68 @@ TEST(MultiresBinding, incremental_update_across_normal_modes) {
   }
   for (size_t i = 0; i < n; ++i) ASSERT_LT(distance(p[i], pf[i]), 2e-6 * binding.bbox_diagonal);
 }
+
+// Flat outputs (CpuDeformer::deform / update into double or float32 xyz triples): the double
+// triples equal the Vec3 overload's values, the float32 ones are those values rounded; full
+// frames do not depend on the thread count (each worker stages its cells, then writes its
+// vertex range); incremental updates into float32 arrays match a full float32 frame.
+TEST(MultiresBinding, flat_and_float32_outputs_match_the_vec3_outputs) {
+  const BoundSphere& s = sphere_setup();
+  for (DisplacementMode mode : {DisplacementMode::normal, DisplacementMode::local_frame}) {
+    BindOptions options;
+    options.mode = mode;
+    options.exact_normals = mode == DisplacementMode::normal;
+    const ScanBinding binding = bind_scan_to_cage(s.cage, s.scan, options);
+    const size_t n = binding.num_vertices();
+    ASSERT_GT(binding.compact.num_irregular_vertices(), 0u);
+    std::vector<Vec3> control = s.cage.mesh.positions;
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> step(-0.03, 0.03);
+    for (Vec3& c : control) c += Vec3{step(rng), step(rng), step(rng)};
+    std::vector<NormalMode> normal_modes = {NormalMode::approximate};
+    if (options.exact_normals) normal_modes.push_back(NormalMode::exact);
+    for (NormalMode normal_mode : normal_modes) {
+      std::vector<Vec3> p(n), nn(n);
+      CpuDeformer reference(binding, 1);
+      reference.deform(control, p.data(), nn.data(), normal_mode);
+      for (int threads : {1, 2, 3}) {
+        CpuDeformer deformer(binding, threads);
+        std::vector<Vec3> p3(n), n3(n);
+        deformer.deform(control, p3.data(), n3.data(), normal_mode);
+        std::vector<double> pd(3 * n), nd(3 * n);
+        deformer.deform(control, pd.data(), nd.data(), normal_mode);
+        std::vector<float> pf(3 * n), nf(3 * n);
+        deformer.deform(control, pf.data(), nf.data(), normal_mode);
+        size_t mismatches = 0;
+        for (size_t i = 0; i < n; ++i)
+          for (int a = 0; a < 3; ++a) {
+            mismatches += p3[i][a] != p[i][a] || n3[i][a] != nn[i][a];
+            mismatches += pd[3 * i + a] != p[i][a] || nd[3 * i + a] != nn[i][a];
+            mismatches += pf[3 * i + a] != float(p[i][a]) || nf[3 * i + a] != float(nn[i][a]);
+          }
+        EXPECT_EQ(mismatches, 0u) << "threads " << threads;
+      }
+      // Incremental float32 updates against a full float32 frame at the end.
+      CpuDeformer incremental(binding, 2), full(binding, 2);
+      std::vector<Vec3> moving = control;
+      std::vector<float> pi(3 * n), ni(3 * n), pf(3 * n), nf(3 * n);
+      incremental.deform(moving, pi.data(), ni.data(), normal_mode);
+      size_t recomputed = 0;
+      for (int frame = 0; frame < 3; ++frame) {
+        const std::vector<uint32_t> moved = {uint32_t(frame * 11 % 98), uint32_t((frame * 17 + 3) % 98)};
+        for (uint32_t j : moved) moving[j] += Vec3{step(rng), step(rng), step(rng)};
+        recomputed += incremental.update(moving, moved, pi.data(), ni.data(), normal_mode);
+      }
+      full.deform(moving, pf.data(), nf.data(), normal_mode);
+      EXPECT_GT(recomputed, 0u);
+      EXPECT_EQ(pi, pf);
+      EXPECT_EQ(ni, nf);
+      // Positions only / normals only.
+      std::vector<float> only(3 * n);
+      full.deform(moving, only.data(), static_cast<float*>(nullptr), normal_mode);
+      EXPECT_EQ(only, pf);
+      full.deform(moving, static_cast<float*>(nullptr), only.data(), normal_mode);
+      EXPECT_EQ(only, nf);
+    }
+  }
+}

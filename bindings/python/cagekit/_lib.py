@@ -342,6 +342,8 @@ PROTOTYPES = {
     "cagekit_cpu_deformer_release": (None, [_h]),
     "cagekit_cpu_deformer_deform": (_S, [_h, _p, c_uint32, c_enum, c_uint32, _p, _p]),
     "cagekit_cpu_deformer_update": (_S, [_h, _p, c_uint32, _p, c_uint32, c_enum, c_uint32, _p, _p, _u32p]),
+    "cagekit_cpu_deformer_deform_f32": (_S, [_h, _p, c_uint32, c_enum, c_uint32, _p, _p]),
+    "cagekit_cpu_deformer_update_f32": (_S, [_h, _p, c_uint32, _p, c_uint32, c_enum, c_uint32, _p, _p, _u32p]),
     # GL deformer
     "cagekit_gl_deformer_create": (_S, [_h, _h, GL_GET_PROC_ADDRESS_FN, c_void_p, _ptr(GlDeformerOptions), _pp]),
     "cagekit_gl_deformer_retain": (None, [_h]),

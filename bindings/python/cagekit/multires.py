@@ -134,12 +134,19 @@ class CpuDeformer(Handle):
         info = binding.info()
         self.vertex_count = info.vertex_count
         self.control_count = info.control_count
-        self._positions = np.zeros((self.vertex_count, 3))
-        self._normals = np.zeros((self.vertex_count, 3))
+        self._arrays = {}  # dtype -> (positions, normals), made on first use
 
-    def _outputs(self, normals, copy):
-        p = self._positions
-        n = self._normals if normals else None
+    def _buffers(self, dtype):
+        dtype = np.dtype(dtype)
+        if dtype not in (np.dtype(np.float64), np.dtype(np.float32)):
+            raise ValueError("cagekit: dtype must be float64 or float32")
+        if dtype not in self._arrays:
+            self._arrays[dtype] = (np.zeros((self.vertex_count, 3), dtype), np.zeros((self.vertex_count, 3), dtype))
+        return dtype, self._arrays[dtype]
+
+    def _outputs(self, dtype, normals, copy):
+        p, n = self._arrays[dtype]
+        n = n if normals else None
         if copy:
             return p.copy(), (None if n is None else n.copy())
         p = p.view()
@@ -149,32 +156,37 @@ class CpuDeformer(Handle):
             n.flags.writeable = False
         return p, n
 
-    def deform(self, control, normals=True, normal_mode=NormalMode.APPROXIMATE, copy=True):
+    def deform(self, control, normals=True, normal_mode=NormalMode.APPROXIMATE, copy=True, dtype="float64"):
         """Recomputes every vertex for `control` ((C, 3) moved control points): returns
-        (positions (V, 3), unit normals (V, 3) or None when normals=False) as float64. copy=False
+        (positions (V, 3), unit normals (V, 3) or None when normals=False) as float64, or float32
+        with dtype="float32" (the float64 values rounded; less memory traffic, faster). copy=False
         returns read-only views of the deformer's own arrays (valid until its next call)."""
+        dtype, (positions, normal_array) = self._buffers(dtype)
         ctrl = _arrays.control(control, self.control_count)
-        self._context._call(_lib.lib.cagekit_cpu_deformer_deform, self._handle, _lib.address(ctrl),
-                            self.control_count, int(_enum(NormalMode, normal_mode)), self.vertex_count,
-                            _lib.address(self._positions), _lib.address(self._normals) if normals else None)
+        fn = _lib.lib.cagekit_cpu_deformer_deform_f32 if dtype == np.float32 else _lib.lib.cagekit_cpu_deformer_deform
+        self._context._call(fn, self._handle, _lib.address(ctrl), self.control_count, int(_enum(NormalMode, normal_mode)),
+                            self.vertex_count, _lib.address(positions), _lib.address(normal_array) if normals else None)
         self._had_normals = bool(normals)
-        return self._outputs(normals, copy)
+        self._dtype = dtype
+        return self._outputs(dtype, normals, copy)
 
     def update(self, control, moved, normals=True, normal_mode=NormalMode.APPROXIMATE, copy=True):
         """Incremental: only the control points `moved` changed since the last deform/update
         (with the same normal_mode); only their support is recomputed. Returns
-        (positions, normals) as deform; `updated_count` holds the vertices recomputed."""
+        (positions, normals) as deform, in the dtype of the last deform();
+        `updated_count` holds the vertices recomputed."""
         if not hasattr(self, "_had_normals"):
             raise ValueError("cagekit: update() needs a deform() first")
         if normals and not self._had_normals:
             raise ValueError("cagekit: update(normals=True) after a deform without normals")
+        dtype, (positions, normal_array) = self._buffers(self._dtype)
         ctrl = _arrays.control(control, self.control_count)
         moved = _arrays.indices(moved, "moved")
         updated = ctypes.c_uint32()
-        self._context._call(_lib.lib.cagekit_cpu_deformer_update, self._handle, _lib.address(ctrl),
-                            self.control_count, _lib.address(moved), moved.size, int(_enum(NormalMode, normal_mode)),
-                            self.vertex_count, _lib.address(self._positions),
-                            _lib.address(self._normals) if normals else None, ctypes.byref(updated))
+        fn = _lib.lib.cagekit_cpu_deformer_update_f32 if dtype == np.float32 else _lib.lib.cagekit_cpu_deformer_update
+        self._context._call(fn, self._handle, _lib.address(ctrl), self.control_count, _lib.address(moved), moved.size,
+                            int(_enum(NormalMode, normal_mode)), self.vertex_count, _lib.address(positions),
+                            _lib.address(normal_array) if normals else None, ctypes.byref(updated))
         self.updated_count = updated.value
         self._had_normals = bool(normals)
-        return self._outputs(normals, copy)
+        return self._outputs(dtype, normals, copy)

@@ -72,6 +72,27 @@ class Binding(HandleCheck):
             with self.assertRaises(cagekit.InvalidArgumentError):  # no exact-normal data
                 deformer.deform(binding.control_points(), normal_mode="exact")
 
+    def test_float32_outputs_are_the_float64_ones_rounded(self):
+        with cagekit.bind(self.fitted, self.scan) as binding, cagekit.CpuDeformer(binding) as d64, \
+                cagekit.CpuDeformer(binding, threads=2) as d32:
+            control = binding.control_points()
+            control[3] += (0.05, -0.02, 0.01)
+            p64, n64 = d64.deform(control)
+            p32, n32 = d32.deform(control, dtype="float32")
+            self.assertEqual((p32.dtype, n32.dtype), (np.float32, np.float32))
+            np.testing.assert_array_equal(p32, p64.astype(np.float32))
+            np.testing.assert_array_equal(n32, n64.astype(np.float32))
+            control[5, 1] += 0.04
+            p64, n64 = d64.update(control, moved=[5])
+            p32, n32 = d32.update(control, moved=[5])  # float32, as the last deform
+            self.assertEqual(d32.updated_count, d64.updated_count)
+            np.testing.assert_array_equal(p32, p64.astype(np.float32))
+            np.testing.assert_array_equal(n32, n64.astype(np.float32))
+            with self.assertRaises(ValueError):
+                d32.deform(control, dtype="int32")
+            with self.assertRaises(cagekit.InvalidArgumentError):
+                d32.update(control, moved=[8])
+
     def test_saved_bindings_round_trip_with_identical_deformations(self):
         with cagekit.bind(self.fitted, self.scan) as binding, tempfile.TemporaryDirectory() as tmp:
             path = os.path.join(tmp, "sphere.ckb")
