@@ -75,7 +75,9 @@ struct QuadRemeshResult : RemeshQuality {
   uint64_t flipped_faces = 0;
   uint64_t outside_domain_vertices = 0;  // inner vertices placed on the closest triangle (outside Ω_i)
   double l21_error = 0.0;                // VSA error / total area
-  double energy = 0.0, phase1_energy = 0.0;  // Σ E(L) over the regions: final, after Phase I
+  // Σ E(L) over the regions: final, and of each region's starting configuration (Phase I, or for
+  // a region last changed by a screened refinement try, the configuration its repair started from)
+  double energy = 0.0, phase1_energy = 0.0;
   double segmentation_seconds = 0.0, constraint_seconds = 0.0, selection_seconds = 0.0;
   double postprocess_seconds = 0.0, seconds = 0.0;
 };
