@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Multiresolution editing (thesis ch. 8): binding handles and CPU deformers.
+#include <algorithm>
 #include <cmath>
 
 #include "capi/api_guard.h"
 #include "capi/mesh_conversion.h"
+#include "multires/deformer_vertex_order.h"
 
 using namespace cagekit_capi;
 
@@ -153,6 +155,18 @@ CAGEKIT_API cagekit_status cagekit_binding_get_vertex_sources(cagekit_binding bi
     *count = n;
     if (!two_call_check<uint32_t>(n, capacity, nullptr, sources != nullptr, "sources")) return;
     for (uint32_t i = 0; i < n; ++i) sources[i] = b.source_vertex.empty() ? i : b.source_vertex[i];
+  });
+}
+
+CAGEKIT_API cagekit_status cagekit_binding_get_deformer_vertex_order(cagekit_binding binding, uint32_t capacity,
+                                                                     uint32_t* count, uint32_t* order) {
+  return guarded(context_of(binding), [&] {
+    const cagekit::ScanBinding& b = checked(binding, "binding").binding;
+    require_not_null(count, "count");
+    const std::vector<uint32_t> o = cagekit::deformer_vertex_order(b);
+    *count = static_cast<uint32_t>(o.size());
+    if (!two_call_check<uint32_t>(o.size(), capacity, nullptr, order != nullptr, "order")) return;
+    std::copy(o.begin(), o.end(), order);
   });
 }
 

@@ -36,6 +36,7 @@
 #include "layout/face_merge_simplifier.h"
 #include "multires/binding_file.h"
 #include "multires/cpu_deformer.h"
+#include "multires/deformer_vertex_order.h"
 #include "multires/scan_binding.h"
 #include "multires/sparse_row_deformer.h"
 #include "subdiv/subdivision_surface.h"
@@ -132,18 +133,21 @@ struct Point3f {
 
 }  // namespace
 
-// bench_deform [FRAMES] [--table-only] [--cpu-only] [--cache FILE.ckb]
+// bench_deform [FRAMES] [--table-only] [--cpu-only] [--cache FILE.ckb] [--cell-order]
+//   --cell-order: the scan renumbered in the deformer's write order (deformer_vertex_order.h,
+//   what a host that may renumber its scan does once) and bound again before the frames;
 //   --cpu-only: only the CpuDeformer rows (no sparse-row reference, no OpenSubdiv);
 //   --cache: read the cage + binding from FILE.ckb if it exists, else make them and write it there
 //   (the binding file rebuilds the same binding bit for bit; for repeated runs while tuning).
 int main(int argc, char** argv) {
   int frames = 60;
-  bool table_only = false, cpu_only = false;
+  bool table_only = false, cpu_only = false, cell_order = false;
   std::string cache;
   for (int a = 1; a < argc; ++a) {
     const std::string arg = argv[a];
     if (arg == "--table-only") table_only = true;
     else if (arg == "--cpu-only") cpu_only = true;
+    else if (arg == "--cell-order") cell_order = true;
     else if (arg == "--cache" && a + 1 < argc) cache = argv[++a];
     else frames = std::max(5, std::atoi(arg.c_str()));
   }
@@ -157,7 +161,7 @@ int main(int argc, char** argv) {
   BoundingBox box;
   for (const Vec3& p : bunny.positions) box.extend(p);
   auto t0 = bench::Clock::now();
-  const PolygonMesh scan = split_1_to_9(bunny, 5e-4 * box.diagonal());
+  PolygonMesh scan = split_1_to_9(bunny, 5e-4 * box.diagonal());
   const double split_s = bench::seconds_since(t0);
   Cage cage;
   ScanBinding binding;
@@ -190,6 +194,21 @@ int main(int argc, char** argv) {
       std::FILE* f = std::fopen(cache.c_str(), "wb");
       if (f) std::fwrite(bytes.data(), 1, bytes.size(), f), std::fclose(f);
     }
+  }
+  if (cell_order) {  // the scan renumbered in the deformer's write order, bound again
+    const std::vector<uint32_t> order = deformer_vertex_order(binding);
+    std::vector<uint32_t> new_id(order.size());
+    for (uint32_t k = 0; k < order.size(); ++k) new_id[order[k]] = k;
+    PolygonMesh renumbered;
+    for (uint32_t v : order) renumbered.add_vertex(scan.positions[v]);
+    renumbered.face_offsets = scan.face_offsets;
+    renumbered.face_vertices = scan.face_vertices;
+    for (uint32_t& v : renumbered.face_vertices) v = new_id[v];
+    scan = std::move(renumbered);
+    t0 = bench::Clock::now();
+    binding = bind_scan_to_cage(cage, scan);
+    std::printf("--cell-order: the scan renumbered by deformer_vertex_order and bound again (%.1f s)\n\n",
+                bench::seconds_since(t0));
   }
   const size_t n = binding.num_vertices(), m = binding.num_control_vertices;
   const PatchDeformerTable& table = binding.compact;

@@ -778,6 +778,41 @@ static void memory_budget_fails_cleanly_before_allocating(void) {
 /* cagekit_cpu_deformer_deform_f32 / _update_f32: every float written is the double call's value
  * rounded to float (compact path: approximate normals; sparse-row path: exact normals), and the
  * same bad input is refused. */
+static void binding_deformer_vertex_order_is_a_permutation(void) {
+  cagekit_context context = new_context();
+  cagekit_mesh cube_mesh = new_cube(context), sphere = new_sphere(context);
+  cagekit_cage cube = NULL, fitted = NULL;
+  cagekit_binding binding = NULL;
+  cagekit_binding_info info;
+  uint32_t order[300], seen[300], count = 0, i, sequential = 0;
+  CHECK_OK(cagekit_cage_create(cube_mesh, &cube));
+  CHECK_OK(cagekit_cage_fit(cube, sphere, NULL, &fitted, NULL));
+  CHECK_OK(cagekit_multires_bind(fitted, sphere, NULL, &binding));
+  info.struct_size = sizeof(info);
+  CHECK_OK(cagekit_binding_get_info(binding, &info));
+  /* Two calls: the count, then the order. */
+  CHECK_OK(cagekit_binding_get_deformer_vertex_order(binding, 0, &count, NULL));
+  CHECK(count == info.scan_vertex_count && count <= 300);
+  CHECK_STATUS(cagekit_binding_get_deformer_vertex_order(binding, 2, &count, order), CAGEKIT_ERROR_SIZE_INSUFFICIENT);
+  CHECK_OK(cagekit_binding_get_deformer_vertex_order(binding, 300, &count, order));
+  memset(seen, 0, sizeof seen);
+  for (i = 0; i < count; ++i) {
+    CHECK(order[i] < count);
+    if (order[i] < count) seen[order[i]] += 1;
+    sequential += i > 0 && order[i] == order[i - 1] + 1;
+  }
+  for (i = 0; i < count; ++i) CHECK(seen[i] == 1);
+  CHECK(sequential < count - 1); /* the sphere's own order is not the deformer's */
+  CHECK_STATUS(cagekit_binding_get_deformer_vertex_order(binding, 300, NULL, order), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_binding_get_deformer_vertex_order(NULL, 300, &count, order), CAGEKIT_ERROR_INVALID_HANDLE);
+  cagekit_binding_release(binding);
+  cagekit_cage_release(fitted);
+  cagekit_cage_release(cube);
+  cagekit_mesh_release(sphere);
+  cagekit_mesh_release(cube_mesh);
+  cagekit_context_release(context);
+}
+
 static void cpu_deformer_float32_outputs_match_double(void) {
   cagekit_context context = new_context();
   cagekit_mesh cube_mesh = new_cube(context), sphere = new_sphere(context);
@@ -1512,6 +1547,7 @@ int main(void) {
       {"memory_budget_fails_cleanly_before_allocating", memory_budget_fails_cleanly_before_allocating},
       {"multires_binding_reproduces_and_deforms_the_scan", multires_binding_reproduces_and_deforms_the_scan},
       {"cpu_deformer_float32_outputs_match_double", cpu_deformer_float32_outputs_match_double},
+      {"binding_deformer_vertex_order_is_a_permutation", binding_deformer_vertex_order_is_a_permutation},
       {"saved_binding_round_trips_and_bad_bytes_fail", saved_binding_round_trips_and_bad_bytes_fail},
       {"sector_split_duplicates_sharp_vertices", sector_split_duplicates_sharp_vertices},
       {"fit_reduces_the_error_every_pass", fit_reduces_the_error_every_pass},

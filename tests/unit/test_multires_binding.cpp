@@ -11,6 +11,7 @@
 
 #include "fit/surface_fitter.h"
 #include "multires/cpu_deformer.h"
+#include "multires/deformer_vertex_order.h"
 #include "multires/scan_binding.h"
 #include "multires/sparse_row_deformer.h"
 #include "subdiv/uniform_refinement.h"
@@ -351,4 +352,52 @@ TEST(MultiresBinding, flat_and_float32_outputs_match_the_vec3_outputs) {
       EXPECT_EQ(only, nf);
     }
   }
+}
+
+TEST(MultiresBinding, scan_renumbered_in_the_deformer_order_deforms_the_same_with_sequential_writes) {
+  const BoundSphere& s = sphere_setup();
+  const ScanBinding binding = bind_scan_to_cage(s.cage, s.scan);
+  const std::vector<uint32_t> order = deformer_vertex_order(binding);
+  const size_t n = s.scan.num_vertices();
+  ASSERT_EQ(order.size(), n);
+  std::vector<uint32_t> new_id(n, 0xffffffffu);
+  for (uint32_t k = 0; k < n; ++k) {
+    ASSERT_LT(order[k], n);
+    ASSERT_EQ(new_id[order[k]], 0xffffffffu) << "vertex " << order[k] << " twice";
+    new_id[order[k]] = k;
+  }
+  // The order starts with the first cell's vertices, as the deformer writes them.
+  const PatchDeformerTable& t = binding.compact;
+  ASSERT_FALSE(t.empty());
+  EXPECT_EQ(order[0], t.vertex[0]);
+  // Renumber the scan, bind again.
+  PolygonMesh renumbered;
+  for (uint32_t v : order) renumbered.add_vertex(s.scan.positions[v]);
+  renumbered.face_offsets = s.scan.face_offsets;
+  renumbered.face_vertices = s.scan.face_vertices;
+  for (uint32_t& v : renumbered.face_vertices) v = new_id[v];
+  const ScanBinding again = bind_scan_to_cage(s.cage, renumbered);
+  // The deformer now writes (nearly) sequentially: consecutive cell vertices are consecutive ids.
+  const PatchDeformerTable& u = again.compact;
+  size_t sequential = 0;
+  for (size_t k = 1; k < u.vertex.size(); ++k) sequential += u.vertex[k] == u.vertex[k - 1] + 1;
+  size_t before = 0;
+  for (size_t k = 1; k < t.vertex.size(); ++k) before += t.vertex[k] == t.vertex[k - 1] + 1;
+  std::printf("consecutive cell vertices with consecutive ids: %zu of %zu before, %zu after\n", before,
+              t.vertex.size(), sequential);
+  EXPECT_GT(sequential, (u.vertex.size() * 9) / 10);
+  EXPECT_GT(sequential, before);
+  // The same shape after moving control points: vertex order[k] of the scan is vertex k now.
+  std::vector<Vec3> control = s.cage.mesh.positions;
+  for (size_t j = 0; j < control.size(); j += 5) control[j] += Vec3{0.03, -0.02, 0.04};
+  std::vector<Vec3> p0(n), n0(n), p1(n), n1(n);
+  CpuDeformer(binding, 2).deform(control, p0.data(), n0.data());
+  CpuDeformer(again, 2).deform(control, p1.data(), n1.data());
+  double dp = 0, dn = 0;
+  for (uint32_t k = 0; k < n; ++k) {
+    dp = std::max(dp, distance(p1[k], p0[order[k]]));
+    dn = std::max(dn, angle_between(n1[k], n0[order[k]]));
+  }
+  EXPECT_LT(dp, 1e-9 * binding.bbox_diagonal);
+  EXPECT_LT(dn, 1e-7);
 }

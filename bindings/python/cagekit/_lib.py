@@ -335,6 +335,7 @@ PROTOTYPES = {
     "cagekit_binding_read_file": (_S, [_h, c_char_p, c_uint32, _pp]),
     "cagekit_binding_read_memory": (_S, [_h, _p, c_size_t, c_uint32, _pp]),
     "cagekit_binding_get_vertex_sources": (_S, [_h, c_uint32, _u32p, _p]),
+    "cagekit_binding_get_deformer_vertex_order": (_S, [_h, c_uint32, _u32p, _p]),
     "cagekit_binding_get_faces": (_S, [_h, c_uint32, _u32p, _p, c_uint64, _u64p, _p]),
     "cagekit_binding_get_cage": (_S, [_h, _pp]),
     "cagekit_cpu_deformer_create": (_S, [_h, c_uint32, _pp]),

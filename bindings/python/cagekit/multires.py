@@ -93,6 +93,17 @@ class Binding(Handle):
         self._context._call(fn, self._handle, count.value, ctypes.byref(count), _lib.address(out))
         return out
 
+    def deformer_vertex_order(self):
+        """Renumbering of the scan's vertices in the order the CPU deformer writes them (uint32:
+        order[k] = the scan vertex that becomes vertex k). Hosts that may renumber their scan
+        apply it once and bind again: the deformer's writes become nearly sequential (faster full
+        frames); the deformed shape is the same either way."""
+        fn, count = _lib.lib.cagekit_binding_get_deformer_vertex_order, ctypes.c_uint32()
+        self._context._call(fn, self._handle, 0, ctypes.byref(count), None)
+        out = np.empty(count.value, dtype=np.uint32)
+        self._context._call(fn, self._handle, count.value, ctypes.byref(count), _lib.address(out))
+        return out
+
     def face_arrays(self):
         """(face_sizes, flat_indices) over the bound vertices with a sector split; None without
         one (the scan's own faces apply)."""

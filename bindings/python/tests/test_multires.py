@@ -93,6 +93,25 @@ class Binding(HandleCheck):
             with self.assertRaises(cagekit.InvalidArgumentError):
                 d32.update(control, moved=[8])
 
+    def test_scan_renumbered_in_the_deformer_order_deforms_the_same(self):
+        positions, triangles = sphere()
+        with cagekit.bind(self.fitted, self.scan) as binding:
+            order = binding.deformer_vertex_order()
+            self.assertEqual(order.dtype, np.uint32)
+            np.testing.assert_array_equal(np.sort(order), np.arange(len(positions), dtype=np.uint32))
+            new_id = np.empty_like(order)
+            new_id[order] = np.arange(len(order), dtype=np.uint32)
+            control = binding.control_points()
+            control[2] += (0.03, 0.0, -0.02)
+            with cagekit.CpuDeformer(binding) as d:
+                before, _ = d.deform(control)
+        with cagekit.Mesh.from_arrays(np.asarray(positions)[order], new_id[np.asarray(triangles)]) as renumbered, \
+                cagekit.bind(self.fitted, renumbered) as again, cagekit.CpuDeformer(again) as d:
+            after, _ = d.deform(control)
+            np.testing.assert_allclose(after, before[order], atol=1e-9)
+            # Bound in that order, the deformer's order is (nearly) the identity.
+            self.assertGreater(np.mean(np.diff(again.deformer_vertex_order().astype(np.int64)) == 1), 0.9)
+
     def test_saved_bindings_round_trip_with_identical_deformations(self):
         with cagekit.bind(self.fitted, self.scan) as binding, tempfile.TemporaryDirectory() as tmp:
             path = os.path.join(tmp, "sphere.ckb")
