@@ -1270,12 +1270,25 @@ typedef struct cagekit_remesh_options {
   uint32_t refinement_passes;     /* QUAD: sweeps of the sample-count refinement (not in the thesis): an arc
                                      next to an irregular region gets one sample more or fewer when
                                      re-selecting its regions makes the cage more regular there; <= 16.
-                                     0: off, 3-10x faster, a few points fewer quads / valence-4 vertices
-                                     (tests/bench/RESULTS.md) (default 1) */
+                                     0: off (faster; a few points fewer quads / valence-4 vertices,
+                                     tests/bench/RESULTS.md) (default 1) */
+  /* Members below were appended for the host's control of the QUAD segmentation; a caller whose
+   * struct_size ends before them gets none. Face ids are the input mesh's (a polygon stands for
+   * all of its triangles). The arrays are read during the call only (the caller keeps them). */
+  const uint32_t* seed_faces;     /* QUAD: faces that each start a VSA region (they then relax like the
+                                     others); distinct, not pinned. NULL with seed_face_count 0 (default) */
+  uint32_t seed_face_count;
+  uint32_t pinned_region_count;   /* QUAD: regions the host fixes: region k is the faces
+                                     pinned_faces[pinned_region_offsets[k] .. pinned_region_offsets[k + 1]),
+                                     edge-connected, disjoint, never changed by the segmentation and
+                                     counted in `regions` (default 0) */
+  const uint32_t* pinned_region_offsets; /* pinned_region_count + 1 non-decreasing offsets, first 0 */
+  const uint32_t* pinned_faces;
 } cagekit_remesh_options;
 
-#define CAGEKIT_REMESH_OPTIONS_INIT \
-  { sizeof(cagekit_remesh_options), CAGEKIT_REMESH_ANISOTROPIC, 0.002, 40.0, 5, 0, 0.01, 0.05, 30, 0.01, 40.0, 40.0, 100.0, 1 }
+#define CAGEKIT_REMESH_OPTIONS_INIT                                                                          \
+  { sizeof(cagekit_remesh_options), CAGEKIT_REMESH_ANISOTROPIC, 0.002, 40.0, 5, 0, 0.01, 0.05, 30, 0.01, 40.0, 40.0, \
+    100.0, 1, NULL, 0, 0, NULL, NULL }
 
 typedef struct cagekit_remesh_report {
   size_t struct_size;             /* sizeof(cagekit_remesh_report) */

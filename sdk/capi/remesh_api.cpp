@@ -2,6 +2,7 @@
 // Remeshing: cagekit_mesh_remesh, the C shim over layout/anisotropic_remesher.h (thesis ch. 5) and
 // layout/quad_remesher.h (thesis ch. 6).
 #include <cmath>
+#include <string>
 
 #include "capi/api_guard.h"
 #include "core/mesh_validation.h"
@@ -66,6 +67,28 @@ CAGEKIT_API cagekit_status cagekit_mesh_remesh(cagekit_mesh mesh, const cagekit_
       qo.sample_refinement_passes = int(o.refinement_passes);
       qo.crease_angle_degrees = o.feature_angle_degrees;
       qo.threads = int(o.threads);
+      const uint64_t input_faces = m.mesh.num_faces();
+      if (o.seed_face_count > 0) {
+        if (!o.seed_faces) fail(Status::invalid_argument, "seed_faces is NULL with seed_face_count > 0");
+        if (o.seed_face_count > input_faces)
+          fail(Status::invalid_argument, "seed_face_count exceeds the mesh's face count");
+        qo.seed_faces.assign(o.seed_faces, o.seed_faces + o.seed_face_count);
+      }
+      if (o.pinned_region_count > 0) {
+        if (!o.pinned_region_offsets || !o.pinned_faces)
+          fail(Status::invalid_argument, "pinned_region_offsets and pinned_faces must not be NULL with "
+                                         "pinned_region_count > 0");
+        if (o.pinned_region_count > input_faces)
+          fail(Status::invalid_argument, "pinned_region_count exceeds the mesh's face count");
+        if (o.pinned_region_offsets[0] != 0) fail(Status::invalid_argument, "pinned_region_offsets[0] must be 0");
+        for (uint32_t k = 0; k < o.pinned_region_count; ++k) {
+          const uint32_t begin = o.pinned_region_offsets[k], end = o.pinned_region_offsets[k + 1];
+          if (end < begin || end > input_faces)
+            fail(Status::invalid_argument, "pinned_region_offsets must be non-decreasing and cover at most the "
+                                           "mesh's face count (region " + std::to_string(k) + ")");
+          qo.pinned_regions.emplace_back(o.pinned_faces + begin, o.pinned_faces + end);
+        }
+      }
       cagekit::QuadRemeshResult r = cagekit::remesh_quad_dominant(m.mesh, qo, m.context->monitor());
       write_quality(rep, r);
       rep.creases = r.creases;

@@ -523,6 +523,30 @@ QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemesh
   QuadRemeshResult r;
 
   VsaOptions vo;
+  if (!o.pinned_regions.empty() || !o.seed_faces.empty()) {
+    // Input faces -> their fan triangles (fan_triangulated keeps the face order).
+    std::vector<uint32_t> first_triangle(input.num_faces() + 1, 0);
+    for (size_t f = 0; f < input.num_faces(); ++f)
+      first_triangle[f + 1] = first_triangle[f] + (input.face_size(f) - 2);
+    auto check_face = [&](uint32_t f, const std::string& what) {
+      if (f >= input.num_faces())
+        fail(Status::invalid_argument, "quad-dominant remeshing: " + what + " face " + std::to_string(f) +
+                                           " is out of range (the mesh has " + std::to_string(input.num_faces()) +
+                                           " faces)");
+    };
+    for (size_t k = 0; k < o.pinned_regions.size(); ++k) {
+      std::vector<uint32_t> triangles;
+      for (uint32_t f : o.pinned_regions[k]) {
+        check_face(f, "pinned region " + std::to_string(k));
+        for (uint32_t t = first_triangle[f]; t < first_triangle[f + 1]; ++t) triangles.push_back(t);
+      }
+      vo.pinned_regions.push_back(std::move(triangles));
+    }
+    for (uint32_t f : o.seed_faces) {
+      check_face(f, "seed");
+      vo.seed_faces.push_back(first_triangle[f]);
+    }
+  }
   if (o.regions > 0) {
     vo.region_count = o.regions;
   } else {
@@ -535,6 +559,7 @@ QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemesh
                                        " triangles");
   const VsaSegmentation segmentation = segment_vsa(tri, vo, monitor);
   r.regions = segmentation.num_regions();
+  r.face_region = segmentation.face_region;
   r.l21_error = segmentation.total_area > 0.0 ? segmentation.total_error / segmentation.total_area : 0.0;
   r.segmentation_seconds = seconds_since(start);
 

@@ -30,6 +30,7 @@
 // cancelled from the monitor; internal_error if the glued mesh is not a valid 2-manifold (a
 // region whose selection left a face around an unreached hole loop, for instance).
 #include <cstdint>
+#include <vector>
 
 #include "core/cage.h"
 #include "core/polygon_mesh.h"
@@ -58,12 +59,20 @@ struct QuadRemeshOptions {
   // to a region with more than `max_curves` candidate curves are skipped.
   int sample_refinement_passes = 1;
   int sample_refinement_max_curves = 200;
+  // Host control of the segmentation (VsaOptions, in ids of the input's faces; a polygon stands
+  // for all of its fan triangles): each pinned set becomes a region of its own that never changes
+  // (edge-connected, disjoint; counted in `regions`), each seed face starts a region.
+  std::vector<std::vector<uint32_t>> pinned_regions;
+  std::vector<uint32_t> seed_faces;
 };
 
 // The RemeshQuality part: faces, vertices, quads, valences, min scaled Jacobian of cage.mesh.
 struct QuadRemeshResult : RemeshQuality {
   Cage cage;              // the glued mesh; sharp region-boundary edges tagged infinitely sharp
   uint64_t regions = 0;   // VSA regions
+  // The VSA region of every triangle of the fan-triangulated input (input faces in order, a face
+  // of n corners giving n - 2 triangles); the host's pinned regions are ids 0 .. pinned - 1.
+  std::vector<uint32_t> face_region;
   uint64_t arcs = 0, samples = 0;  // arcs after splitting; constrained points (anchors included)
   // Per arc, its final number of sample segments (after the allocation and the refinement);
   // resample_arc(constraints, a, arc_segments[a]) reproduces the samples from the constraints.

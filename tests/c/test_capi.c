@@ -1511,6 +1511,41 @@ static void quad_remesh_of_a_cylinder(void) {
   CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK(strstr(cagekit_last_error_message(context), "refinement_passes") != NULL);
   options.refinement_passes = 1;
+  {
+    /* Host control: one pinned region (two triangles sharing an edge of the cylinder's first
+     * quad) and two seeds; then bad arrays. */
+    const uint32_t pinned_offsets[2] = {0, 2}, pinned_faces[2] = {0, 1}, seeds[2] = {700, 1200};
+    const uint32_t bad_offsets[2] = {0, 5000}, far_faces[2] = {0, 1200};
+    options.pinned_region_count = 1;
+    options.pinned_region_offsets = pinned_offsets;
+    options.pinned_faces = pinned_faces;
+    options.seed_faces = seeds;
+    options.seed_face_count = 2;
+    CHECK_OK(cagekit_mesh_remesh(mesh, &options, &cage, &report));
+    CHECK(report.regions == 6 && report.faces > 20);
+    cagekit_cage_release(cage);
+    options.pinned_faces = far_faces; /* not edge-connected */
+    CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    CHECK(strstr(cagekit_last_error_message(context), "connected") != NULL);
+    options.pinned_faces = pinned_faces;
+    options.pinned_region_offsets = bad_offsets; /* beyond the face count */
+    CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    CHECK(strstr(cagekit_last_error_message(context), "pinned_region_offsets") != NULL);
+    options.pinned_region_offsets = NULL;
+    CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    options.pinned_region_count = 0;
+    options.seed_faces = NULL; /* with a count */
+    CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    options.seed_faces = pinned_faces;
+    options.seed_face_count = 1;
+    options.regions = 1000; /* fine; then a seed out of range */
+    options.seed_faces = &bad_offsets[1];
+    CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    CHECK(strstr(cagekit_last_error_message(context), "out of range") != NULL);
+    options.seed_faces = NULL;
+    options.seed_face_count = 0;
+    options.regions = 6;
+  }
   options.regions = 0;
   options.region_tolerance = -1.0;
   CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);

@@ -76,13 +76,18 @@ Checked run_and_check(const PolygonMesh& mesh, const QuadRemeshOptions& options,
   EXPECT_LE(r.energy, r.phase1_energy + 1e-9 * (1.0 + r.phase1_energy)) << name;
 
   // Every region boundary (every arc's chain of samples) is a chain of cage edges.
-  cagekit::VsaOptions vo;
-  vo.region_count = options.regions;
-  const cagekit::VsaSegmentation seg = cagekit::segment_vsa(mesh, vo);
+  // The segmentation is deterministic: without host pins or seeds it is recomputed here and
+  // must equal the one the result reports.
+  if (options.pinned_regions.empty() && options.seed_faces.empty()) {
+    cagekit::VsaOptions vo;
+    vo.region_count = options.regions;
+    const cagekit::VsaSegmentation seg = cagekit::segment_vsa(mesh, vo);
+    EXPECT_EQ(r.regions, seg.num_regions()) << name;
+    EXPECT_EQ(r.face_region, seg.face_region) << name;
+  }
   cagekit::ConstraintOptions co;
   co.spacing = cagekit::spacing_from_bbox_fraction(mesh, options.edge_length);
-  cagekit::RemeshConstraints c = cagekit::compute_remesh_constraints(mesh, seg.face_region, seg.num_regions(), co);
-  EXPECT_EQ(r.regions, seg.num_regions()) << name;
+  cagekit::RemeshConstraints c = cagekit::compute_remesh_constraints(mesh, r.face_region, uint32_t(r.regions), co);
   EXPECT_EQ(r.arcs, c.arcs.size()) << name;
   // The refinement changed some sample counts, by at most one from ⌈len/δ⌉ each; with them the
   // constraints give the cage's samples.
@@ -207,6 +212,53 @@ TEST(QuadRemesher, OpenCylinderValidCage) {
   const Checked run = run_and_check(mesh, o, "cylinder");
   // A smooth surface: no region boundary is sharp.
   EXPECT_EQ(run.result.creases, 0u);
+}
+
+TEST(QuadRemesher, PinnedRegionsStayAndSeedsStartRegions) {
+  const PolygonMesh mesh = cagekit_test::triangle_cylinder(1.0, 3.0, 32, 24);
+  // An edge-connected set of 60 triangles grown from triangle 0 (breadth first).
+  std::map<std::pair<uint32_t, uint32_t>, std::vector<uint32_t>> edge_faces;
+  for (uint32_t f = 0; f < mesh.num_faces(); ++f)
+    for (uint32_t k = 0; k < 3; ++k) {
+      const uint32_t a = mesh.face_vertex(f, k), b = mesh.face_vertex(f, (k + 1) % 3);
+      edge_faces[{std::min(a, b), std::max(a, b)}].push_back(f);
+    }
+  std::vector<uint32_t> pinned{0};
+  std::set<uint32_t> in{0};
+  for (size_t i = 0; i < pinned.size() && pinned.size() < 60; ++i)
+    for (uint32_t k = 0; k < 3 && pinned.size() < 60; ++k) {
+      const uint32_t a = mesh.face_vertex(pinned[i], k), b = mesh.face_vertex(pinned[i], (k + 1) % 3);
+      for (uint32_t g : edge_faces[{std::min(a, b), std::max(a, b)}])
+        if (pinned.size() < 60 && in.insert(g).second) pinned.push_back(g);
+    }
+  QuadRemeshOptions o;
+  o.regions = 7;
+  o.edge_length = 0.08;
+  o.pinned_regions = {pinned};
+  o.seed_faces = {700, 1200};
+  const Checked run = run_and_check(mesh, o, "cylinder, pinned");
+  const std::vector<uint32_t>& region = run.result.face_region;
+  ASSERT_EQ(region.size(), mesh.num_faces());
+  EXPECT_EQ(run.result.regions, 7u);
+  for (uint32_t f = 0; f < mesh.num_faces(); ++f) EXPECT_EQ(region[f] == 0, in.count(f) == 1) << f;
+  // Bad host input: a face out of range, a seed inside the pinned set, a disconnected set.
+  auto status_of = [&](const QuadRemeshOptions& bad) {
+    try {
+      cagekit::remesh_quad_dominant(mesh, bad);
+    } catch (const Error& e) {
+      return e.status();
+    }
+    return Status::success;
+  };
+  QuadRemeshOptions bad = o;
+  bad.seed_faces = {uint32_t(mesh.num_faces())};
+  EXPECT_EQ(status_of(bad), Status::invalid_argument);
+  bad = o;
+  bad.seed_faces = {pinned[3]};
+  EXPECT_EQ(status_of(bad), Status::invalid_argument);
+  bad = o;
+  bad.pinned_regions = {{0, 1200}};
+  EXPECT_EQ(status_of(bad), Status::invalid_argument);
 }
 
 TEST(QuadRemesher, BadOptionsAndInputAreErrors) {

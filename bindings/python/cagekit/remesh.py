@@ -37,10 +37,14 @@ class RemeshOptions(_lib._Versioned):
                 ("feature_angle_degrees", c_double), ("max_face_valence", c_uint32), ("threads", c_uint32),
                 ("curvature_radius", c_double), ("edge_length", c_double), ("regions", c_uint32),
                 ("region_tolerance", c_double), ("triangle_weight", c_double), ("pentagon_weight", c_double),
-                ("t_joint_weight", c_double), ("refinement_passes", c_uint32)]
+                ("t_joint_weight", c_double), ("refinement_passes", c_uint32), ("seed_faces", c_void_p),
+                ("seed_face_count", c_uint32), ("pinned_region_count", c_uint32),
+                ("pinned_region_offsets", c_void_p), ("pinned_faces", c_void_p)]
     _defaults = {"method": 0, "tolerance": 0.002, "feature_angle_degrees": 40.0, "max_face_valence": 5,
                  "threads": 0, "curvature_radius": 0.01, "edge_length": 0.05, "regions": 30, "region_tolerance": 0.01,
-                 "triangle_weight": 40.0, "pentagon_weight": 40.0, "t_joint_weight": 100.0, "refinement_passes": 1}
+                 "triangle_weight": 40.0, "pentagon_weight": 40.0, "t_joint_weight": 100.0, "refinement_passes": 1,
+                 "seed_faces": None, "seed_face_count": 0, "pinned_region_count": 0, "pinned_region_offsets": None,
+                 "pinned_faces": None}
 
 
 class RemeshReport(_lib._Versioned):
@@ -61,23 +65,38 @@ _lib._declare(_lib.lib)  # ImportError naming the function when the loaded libra
 
 def remesh(mesh, method=RemeshMethod.ANISOTROPIC, tolerance=0.002, feature_angle_degrees=40.0, max_face_valence=5,
            threads=0, curvature_radius=0.01, edge_length=0.05, regions=30, region_tolerance=0.01,
-           weights=(40.0, 40.0, 100.0), refinement_passes=1):
+           weights=(40.0, 40.0, 100.0), refinement_passes=1, seed_faces=None, pinned_regions=None):
     """Remeshes `mesh` (an oriented 2-manifold Mesh; polygons are fan-triangulated first) into a
     new Cage with crease tags on feature lines (anisotropic) or sharp region boundaries (quad).
     Returns (cage, report); the report holds faces, vertices, quads, interior_vertices,
     valence4_vertices, max_face_valence, max_vertex_valence, creases, regions, lines, holes,
     mean_alignment_deg, min_scaled_jacobian, seconds. Option values as the C API's
     cagekit_remesh_options (method also as a name; weights = (triangle_weight, pentagon_weight,
-    t_joint_weight))."""
+    t_joint_weight)). Quad only: `seed_faces` (face ids that each start a region) and
+    `pinned_regions` (a list of face-id lists, each a region the segmentation keeps as it is;
+    counted in `regions`)."""
     if len(weights) != 3:
         raise ValueError("weights must be (triangle, pentagon, t_joint)")
+    # ctypes arrays (no numpy needed here); alive until the call returns.
+    seeds = (c_uint32 * len(seed_faces or []))(*[int(f) for f in (seed_faces or [])])
+    pinned = [[int(f) for f in region] for region in (pinned_regions or [])]
+    offsets = (c_uint32 * (len(pinned) + 1))()
+    for k, region in enumerate(pinned):
+        offsets[k + 1] = offsets[k] + len(region)
+    pinned_faces = (c_uint32 * offsets[len(pinned)])(*[f for region in pinned for f in region])
     options = RemeshOptions.new(method=int(_enum(RemeshMethod, method)), tolerance=float(tolerance),
                                 feature_angle_degrees=float(feature_angle_degrees),
                                 max_face_valence=int(max_face_valence), threads=int(threads),
                                 curvature_radius=float(curvature_radius), edge_length=float(edge_length),
                                 regions=int(regions), region_tolerance=float(region_tolerance),
                                 triangle_weight=float(weights[0]), pentagon_weight=float(weights[1]),
-                                t_joint_weight=float(weights[2]), refinement_passes=int(refinement_passes))
+                                t_joint_weight=float(weights[2]), refinement_passes=int(refinement_passes),
+                                seed_face_count=len(seeds), pinned_region_count=len(pinned))
+    if len(seeds):
+        options.seed_faces = ctypes.cast(seeds, c_void_p)
+    if pinned:
+        options.pinned_region_offsets = ctypes.cast(offsets, c_void_p)
+        options.pinned_faces = ctypes.cast(pinned_faces, c_void_p)
     report = RemeshReport.new()
     out = ctypes.c_void_p()
     mesh._context._call(_lib.lib.cagekit_mesh_remesh, mesh._handle, ctypes.byref(options), ctypes.byref(out),

@@ -58,6 +58,16 @@ class Remesh(HandleCheck):
                 cagekit.remesh(mesh, method="quad", weights=(1, -1, 1))
             with self.assertRaises(ValueError):
                 cagekit.remesh(mesh, method="quad", weights=(1, 1))
+            # Host control of the segmentation: two adjacent triangles pinned, one seed.
+            cage, report = cagekit.remesh(mesh, method="quad", regions=7, edge_length=0.1, weights=(100, 100, 100),
+                                          pinned_regions=[[0, 1]], seed_faces=[100])
+            with cage:
+                self.assertEqual(report.regions, 7)
+                self.assertTrue(cage.info().manifold)
+            with self.assertRaises(cagekit.InvalidArgumentError):  # a seed inside the pinned set
+                cagekit.remesh(mesh, method="quad", regions=7, edge_length=0.1, pinned_regions=[[0, 1]], seed_faces=[1])
+            with self.assertRaises(cagekit.InvalidArgumentError):  # out of range
+                cagekit.remesh(mesh, method="quad", regions=7, edge_length=0.1, seed_faces=[10 ** 6])
 
     def test_bad_options_and_input_are_exceptions(self):
         positions, triangles = grid_cube(4)
