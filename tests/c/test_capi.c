@@ -775,19 +775,44 @@ static void memory_budget_fails_cleanly_before_allocating(void) {
   cagekit_context_release(unlimited);
 }
 
+/* A sphere scan bound to the cube cage fitted to it (the deformer tests' setup). */
+typedef struct bound_sphere {
+  cagekit_context context;
+  cagekit_mesh cube_mesh, sphere;
+  cagekit_cage cube, fitted;
+  cagekit_binding binding;
+} bound_sphere;
+
+static bound_sphere bind_fitted_sphere(const cagekit_bind_options* options) {
+  bound_sphere b;
+  b.context = new_context();
+  b.cube_mesh = new_cube(b.context);
+  b.sphere = new_sphere(b.context);
+  b.cube = b.fitted = NULL;
+  b.binding = NULL;
+  CHECK_OK(cagekit_cage_create(b.cube_mesh, &b.cube));
+  CHECK_OK(cagekit_cage_fit(b.cube, b.sphere, NULL, &b.fitted, NULL));
+  CHECK_OK(cagekit_multires_bind(b.fitted, b.sphere, options, &b.binding));
+  return b;
+}
+
+static void release_bound_sphere(bound_sphere* b) {
+  cagekit_binding_release(b->binding);
+  cagekit_cage_release(b->fitted);
+  cagekit_cage_release(b->cube);
+  cagekit_mesh_release(b->sphere);
+  cagekit_mesh_release(b->cube_mesh);
+  cagekit_context_release(b->context);
+}
+
 /* cagekit_cpu_deformer_deform_f32 / _update_f32: every float written is the double call's value
  * rounded to float (compact path: approximate normals; sparse-row path: exact normals), and the
  * same bad input is refused. */
 static void binding_deformer_vertex_order_is_a_permutation(void) {
-  cagekit_context context = new_context();
-  cagekit_mesh cube_mesh = new_cube(context), sphere = new_sphere(context);
-  cagekit_cage cube = NULL, fitted = NULL;
-  cagekit_binding binding = NULL;
+  bound_sphere b = bind_fitted_sphere(NULL);
+  cagekit_binding binding = b.binding;
   cagekit_binding_info info;
   uint32_t order[300], seen[300], count = 0, i, sequential = 0;
-  CHECK_OK(cagekit_cage_create(cube_mesh, &cube));
-  CHECK_OK(cagekit_cage_fit(cube, sphere, NULL, &fitted, NULL));
-  CHECK_OK(cagekit_multires_bind(fitted, sphere, NULL, &binding));
   info.struct_size = sizeof(info);
   CHECK_OK(cagekit_binding_get_info(binding, &info));
   /* Two calls: the count, then the order. */
@@ -805,18 +830,12 @@ static void binding_deformer_vertex_order_is_a_permutation(void) {
   CHECK(sequential < count - 1); /* the sphere's own order is not the deformer's */
   CHECK_STATUS(cagekit_binding_get_deformer_vertex_order(binding, 300, NULL, order), CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK_STATUS(cagekit_binding_get_deformer_vertex_order(NULL, 300, &count, order), CAGEKIT_ERROR_INVALID_HANDLE);
-  cagekit_binding_release(binding);
-  cagekit_cage_release(fitted);
-  cagekit_cage_release(cube);
-  cagekit_mesh_release(sphere);
-  cagekit_mesh_release(cube_mesh);
-  cagekit_context_release(context);
+  release_bound_sphere(&b);
 }
 
 static void cpu_deformer_float32_outputs_match_double(void) {
-  cagekit_context context = new_context();
-  cagekit_mesh cube_mesh = new_cube(context), sphere = new_sphere(context);
-  cagekit_cage cube = NULL, fitted = NULL;
+  bound_sphere b;
+  cagekit_cage fitted = NULL;
   cagekit_binding binding = NULL;
   cagekit_cpu_deformer d64 = NULL, d32 = NULL, fresh = NULL;
   cagekit_bind_options options = CAGEKIT_BIND_OPTIONS_INIT;
@@ -825,10 +844,10 @@ static void cpu_deformer_float32_outputs_match_double(void) {
   float positions32[3 * 300], normals32[3 * 300];
   uint32_t i, updated64 = 0, updated32 = 0, moved[2] = {2, 5}, mismatches = 0;
   int pass;
-  CHECK_OK(cagekit_cage_create(cube_mesh, &cube));
-  CHECK_OK(cagekit_cage_fit(cube, sphere, NULL, &fitted, NULL));
   options.exact_normals = 1;
-  CHECK_OK(cagekit_multires_bind(fitted, sphere, &options, &binding));
+  b = bind_fitted_sphere(&options);
+  fitted = b.fitted;
+  binding = b.binding;
   info.struct_size = sizeof(info);
   CHECK_OK(cagekit_binding_get_info(binding, &info));
   CHECK(info.vertex_count > 200 && info.vertex_count <= 300 && info.compact_cells > 0);
@@ -887,12 +906,7 @@ static void cpu_deformer_float32_outputs_match_double(void) {
   cagekit_cpu_deformer_release(fresh);
   cagekit_cpu_deformer_release(d32);
   cagekit_cpu_deformer_release(d64);
-  cagekit_binding_release(binding);
-  cagekit_cage_release(fitted);
-  cagekit_cage_release(cube);
-  cagekit_mesh_release(sphere);
-  cagekit_mesh_release(cube_mesh);
-  cagekit_context_release(context);
+  release_bound_sphere(&b);
 }
 
 static void multires_binding_reproduces_and_deforms_the_scan(void) {
