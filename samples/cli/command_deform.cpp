@@ -140,9 +140,14 @@ int command_deform(Args& args) {
 }
 
 int command_bench_deform(Args& args) {
-  const char* usage = "cagekit bench-deform SCAN CAGE [--frames N] [--moved K] [--threads N] [--json] [--quiet]";
+  const char* usage =
+      "cagekit bench-deform SCAN CAGE [--frames N] [--moved K] [--threads N] [--vertex-order scan|deformer] [--json] "
+      "[--quiet]";
   const bool quiet = args.flag("--quiet");
   const bool json = args.flag("--json");
+  const std::string vertex_order = args.option("--vertex-order", "scan");
+  if (vertex_order != "scan" && vertex_order != "deformer")
+    throw Failure(kExitBadInput, "--vertex-order must be scan or deformer, not '" + vertex_order + "'");
   int frames = 100, moved_count = 10, threads = 0;
   try {
     frames = args.integer("--frames", 100, 1, 1000000);
@@ -161,6 +166,39 @@ int command_bench_deform(Args& args) {
   const uint32_t m = uint32_t(control.size() / 3);
   Binding binding;
   session.check(cagekit_multires_bind(cage.get(), scan.get(), nullptr, binding.out()), files[0] + " bound to " + files[1]);
+  if (vertex_order == "deformer") {
+    // What a host that may renumber its scan does once: the scan renumbered in the deformer's
+    // write order (cagekit_binding_get_deformer_vertex_order), bound again.
+    uint32_t count = 0, vertices = 0, face_count = 0;
+    uint64_t index_count = 0;
+    session.check(cagekit_binding_get_deformer_vertex_order(binding.get(), 0, &count, nullptr), "vertex order");
+    std::vector<uint32_t> order(count);
+    session.check(cagekit_binding_get_deformer_vertex_order(binding.get(), count, &count, order.data()), "vertex order");
+    session.check(cagekit_mesh_get_positions(scan.get(), CAGEKIT_SCALAR_FLOAT64, 0, &vertices, nullptr), files[0]);
+    std::vector<double> positions(3 * size_t(vertices)), renumbered(positions.size());
+    session.check(cagekit_mesh_get_positions(scan.get(), CAGEKIT_SCALAR_FLOAT64, vertices, &vertices, positions.data()),
+                  files[0]);
+    session.check(cagekit_mesh_get_faces(scan.get(), 0, &face_count, nullptr, 0, &index_count, nullptr), files[0]);
+    std::vector<uint32_t> sizes(face_count), indices(index_count), new_id(vertices);
+    session.check(cagekit_mesh_get_faces(scan.get(), face_count, &face_count, sizes.data(), index_count, &index_count,
+                                         indices.data()),
+                  files[0]);
+    if (count != vertices) throw Failure(kExitBadInput, "vertex order: " + std::to_string(count) + " entries");
+    for (uint32_t k = 0; k < count; ++k) {
+      new_id[order[k]] = k;
+      for (int a = 0; a < 3; ++a) renumbered[3 * size_t(k) + size_t(a)] = positions[3 * size_t(order[k]) + size_t(a)];
+    }
+    for (uint32_t& v : indices) v = new_id[v];
+    cagekit_mesh_desc desc = CAGEKIT_MESH_DESC_INIT;
+    desc.vertex_count = vertices;
+    desc.positions = renumbered.data();
+    desc.face_count = face_count;
+    desc.face_sizes = sizes.data();
+    desc.face_indices = indices.data();
+    session.check(cagekit_mesh_create(session.context(), &desc, scan.out()), "renumbered scan");
+    session.check(cagekit_multires_bind(cage.get(), scan.get(), nullptr, binding.out()),
+                  "renumbered scan bound to " + files[1]);
+  }
   cagekit_binding_info info;
   info.struct_size = sizeof(info);
   session.check(cagekit_binding_get_info(binding.get(), &info), "binding");
@@ -238,10 +276,10 @@ int command_bench_deform(Args& args) {
     std::printf("{\"vertices\": %u, \"triangles\": %llu, \"control_points\": %u, \"moved\": %zu, \"frames\": %d, "
                 "\"cpu_fps\": %.2f, \"cpu_fps_f32\": %.2f, \"cpu_incremental_fps\": %.2f, \"incremental_vertices_per_frame\": %.1f, "
                 "\"gpu_fps\": %s, \"gpu_renderer\": %s, \"gpu_gl_version\": %s, \"bytes_per_vertex\": %.1f, "
-                "\"basis_entries_per_vertex\": %.2f}\n",
+                "\"basis_entries_per_vertex\": %.2f, \"vertex_order\": \"%s\"}\n",
                 n, (unsigned long long)(indices - 2ull * faces), m, moved.size(), frames, full_fps, full_fps_f32, incremental_fps,
                 double(updated_total) / frames, gpu_fps.c_str(), gpu_renderer.c_str(), gpu_version.c_str(), bytes_per_vertex,
-                double(info.basis_entries) / n);
+                double(info.basis_entries) / n, vertex_order.c_str());
   } else if (!quiet) {
     std::printf("%u vertices, %u control points: full recompute %.1f frames/s (float32 outputs %.1f), %zu moved "
                 "points %.1f frames/s (%.0f vertices recomputed per frame), %.0f bytes per vertex\n",

@@ -45,7 +45,7 @@ const char* kUsage =
     "                                           bind the scan (or load its saved binding) and rebuild it over the\n"
     "                                           edited cage (same connectivity), details kept; --sharp-angle:\n"
     "                                           one vertex per smooth sector at sharp edges (its own normal)\n"
-    "  bench-deform SCAN CAGE [--frames N] [--moved K] [--threads N] [--json]\n"
+    "  bench-deform SCAN CAGE [--frames N] [--moved K] [--threads N] [--vertex-order scan|deformer] [--json]\n"
     "                                           frames per second of the CPU deformer (full and K moved points)\n"
     "  demo [OUTDIR]                            run the pipeline on a generated noisy scan of a CAD-like part\n"
     "  version                                  print the library version\n"

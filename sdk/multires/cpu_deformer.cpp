@@ -6,6 +6,10 @@
 #include <cstring>
 #include <type_traits>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "core/parallel_for.h"
 #include "core/status.h"
 
@@ -134,19 +138,78 @@ inline const void* address(const Vec3* a, size_t i) { return a + i; }
 template <typename S>
 inline const void* address(const S* a, size_t i) { return a + 3 * i; }
 
+// Copies `bytes` to `to` with streaming (non-temporal) stores for the whole 64-byte lines and
+// plain stores for the partial lines at both ends: a written line is not first read for
+// ownership (half of the traffic of the outputs). Callers end their writes with stream_fence().
+inline void stream_copy(void* to, const void* from, size_t bytes) {
+  char* d = static_cast<char*>(to);
+  const char* f = static_cast<const char*>(from);
+#if defined(__SSE2__)
+  const size_t head = std::min(bytes, size_t((64 - reinterpret_cast<uintptr_t>(d) % 64) % 64));
+  std::memcpy(d, f, head);
+  d += head, f += head, bytes -= head;
+  for (; bytes >= 64; d += 64, f += 64, bytes -= 64)
+    for (int q = 0; q < 4; ++q)
+      _mm_stream_si128(reinterpret_cast<__m128i*>(d) + q, _mm_loadu_si128(reinterpret_cast<const __m128i*>(f) + q));
+#endif
+  std::memcpy(d, f, bytes);
+}
+inline void stream_fence() {
+#if defined(__SSE2__)
+  _mm_sfence();
+#endif
+}
+
+// Where the cells' vertices go. A cell whose vertices are consecutive scan vertices (all of them
+// in a scan numbered in the deformer's order, deformer_vertex_order.h) is staged: runs of
+// consecutive vertices (up to kRun) are collected in the caller's layout and copied out with
+// streaming stores. Other cells are scattered (their next cells' lines prefetched for writing).
 template <typename T>
 struct ScatterSink {
+  using Scalar = typename std::conditional<std::is_same<T, Vec3>::value, double, T>::type;
+  static constexpr size_t kRun = 256;
   T *positions, *normals;
-  inline __attribute__((always_inline)) void block(uint32_t, const Vec3& origin, uint32_t, const uint32_t* vertex,
+  const uint8_t* contiguous;  // per cell: 1 when its vertices are v0, v0 + 1, ...
+  size_t run_begin = 0, run_size = 0;
+  alignas(64) Scalar run_p[3 * kRun], run_n[3 * kRun];
+
+  inline __attribute__((always_inline)) void block(uint32_t cell, const Vec3& origin, uint32_t, const uint32_t* vertex,
                                                    size_t n, const BlockOut& out) {
+    if (contiguous[cell]) {
+      const size_t v0 = vertex[0];
+      if (run_size && (v0 != run_begin + run_size || run_size + n > kRun)) flush();
+      if (!run_size) run_begin = v0;
+      Scalar* p = run_p + 3 * run_size;
+      Scalar* q = run_n + 3 * run_size;
+      for (size_t i = 0; i < n; ++i) {
+        p[3 * i] = Scalar(origin.x + out.px[i]), p[3 * i + 1] = Scalar(origin.y + out.py[i]);
+        p[3 * i + 2] = Scalar(origin.z + out.pz[i]);
+        q[3 * i] = Scalar(out.nx[i]), q[3 * i + 1] = Scalar(out.ny[i]), q[3 * i + 2] = Scalar(out.nz[i]);
+      }
+      run_size += n;
+      return;
+    }
     if (positions)
       for (size_t i = 0; i < n; ++i) put(positions, vertex[i], origin.x + out.px[i], origin.y + out.py[i], origin.z + out.pz[i]);
     if (normals)
       for (size_t i = 0; i < n; ++i) put(normals, vertex[i], out.nx[i], out.ny[i], out.nz[i]);
   }
+  void flush() {
+    if (!run_size) return;
+    const size_t bytes = 3 * run_size * sizeof(Scalar);
+    if (positions) stream_copy(const_cast<void*>(address(positions, run_begin)), run_p, bytes);
+    if (normals) stream_copy(const_cast<void*>(address(normals, run_begin)), run_n, bytes);
+    run_size = 0;
+  }
+  // After the last cell: the staged run, and the streaming stores ordered before the caller's.
+  void finish() {
+    flush();
+    stream_fence();
+  }
   // The next cells' output lines, for writing (their read-for-ownership overlaps this cell's
   // work): both ends of each element (an element may straddle two lines).
-  void prefetch(const uint32_t* vertex, uint32_t first, uint32_t last) {
+  void prefetch(uint32_t cell, const uint32_t* vertex, uint32_t first, uint32_t last) {
+    if (contiguous[cell]) return;  // sequential stores: the hardware prefetcher follows them
     constexpr size_t kBytes = std::is_same<T, Vec3>::value ? sizeof(Vec3) : 3 * sizeof(T);
     for (uint32_t i = first; i < last; ++i) {
       if (positions) {
@@ -166,11 +229,11 @@ struct ScatterSink {
 // coefficients stay in registers and L1 across the cell's blocks).
 template <bool kLocal, typename Sink>
 inline __attribute__((always_inline)) void cells_kernel(const PatchDeformerTable& c, const uint32_t* cells,
-                                                        size_t begin, size_t end, const Vec3* control, Sink sink);
+                                                        size_t begin, size_t end, const Vec3* control, Sink& sink);
 
 #define CAGEKIT_CELLS_FUNCTION(name, local, Sink)                                                       \
   CAGEKIT_KERNEL_CLONES void name(const PatchDeformerTable& c, const uint32_t* cells, size_t begin, size_t end, \
-                                  const Vec3* control, Sink sink) {                                     \
+                                  const Vec3* control, Sink& sink) {                                     \
     cells_kernel<local>(c, cells, begin, end, control, sink);                                           \
   }
 CAGEKIT_CELLS_FUNCTION(cells_normal_scatter, false, ScatterSink<Vec3>)
@@ -182,15 +245,15 @@ CAGEKIT_CELLS_FUNCTION(cells_local_frame_scatter_f32, true, ScatterSink<float>)
 #undef CAGEKIT_CELLS_FUNCTION
 
 inline void run_cells_with(const PatchDeformerTable& c, const uint32_t* cells, size_t begin, size_t end,
-                           const Vec3* control, ScatterSink<Vec3> sink) {
+                           const Vec3* control, ScatterSink<Vec3>& sink) {
   (c.local_frame ? cells_local_frame_scatter : cells_normal_scatter)(c, cells, begin, end, control, sink);
 }
 inline void run_cells_with(const PatchDeformerTable& c, const uint32_t* cells, size_t begin, size_t end,
-                           const Vec3* control, ScatterSink<double> sink) {
+                           const Vec3* control, ScatterSink<double>& sink) {
   (c.local_frame ? cells_local_frame_scatter_f64 : cells_normal_scatter_f64)(c, cells, begin, end, control, sink);
 }
 inline void run_cells_with(const PatchDeformerTable& c, const uint32_t* cells, size_t begin, size_t end,
-                           const Vec3* control, ScatterSink<float> sink) {
+                           const Vec3* control, ScatterSink<float>& sink) {
   (c.local_frame ? cells_local_frame_scatter_f32 : cells_normal_scatter_f32)(c, cells, begin, end, control, sink);
 }
 
@@ -217,7 +280,7 @@ inline __attribute__((always_inline)) void gather_cell(const float* coefficients
 
 template <bool kLocal, typename Sink>
 inline __attribute__((always_inline)) void cells_kernel(const PatchDeformerTable& c, const uint32_t* cells,
-                                                        size_t begin, size_t end, const Vec3* control, Sink sink) {
+                                                        size_t begin, size_t end, const Vec3* control, Sink& sink) {
   BlockOut out;
   for (size_t k = begin; k < end; ++k) {
     const uint32_t cell = cells[k];
@@ -227,7 +290,7 @@ inline __attribute__((always_inline)) void cells_kernel(const PatchDeformerTable
     const Vec3 ref = e1 > e0 ? control[c.term_control[e0]] : Vec3();
     if (k + 2 < end) {  // the output lines of the cell after, for writing (their read for ownership
       const uint32_t next = cells[k + 2];  // overlaps this cell's work: the stores then hit the cache)
-      sink.prefetch(c.vertex.data(), c.cell_vertex_offsets[next], c.cell_vertex_offsets[next + 1]);
+      sink.prefetch(next, c.vertex.data(), c.cell_vertex_offsets[next], c.cell_vertex_offsets[next + 1]);
     }
     CellPolynomial poly;
     gather_cell(c.term_coefficients.data() + 16 * size_t(e0), c.term_control.data() + e0, e1 - e0, control, ref, poly);
@@ -243,6 +306,7 @@ inline __attribute__((always_inline)) void cells_kernel(const PatchDeformerTable
       sink.block(cell, origin, first, c.vertex.data() + first, n, out);
     }
   }
+  sink.finish();
 }
 
 // Splits `count` work items with weights `weight(i)` (summing to `total`) into `workers` ranges
@@ -389,6 +453,13 @@ CpuDeformer::CpuDeformer(const ScanBinding& binding, int threads) : b_(binding),
     if (i >= n) fail(Status::invalid_argument, "deformer: binding refers to a vertex out of range");
   for (uint32_t i : c.irregular_vertex)
     if (i >= n) fail(Status::invalid_argument, "deformer: binding refers to a vertex out of range");
+  cell_contiguous_.assign(c.num_cells(), 1);
+  for (size_t cell = 0; cell < c.num_cells(); ++cell)
+    for (uint32_t k = c.cell_vertex_offsets[cell] + 1; k < c.cell_vertex_offsets[cell + 1]; ++k)
+      if (c.vertex[k] != c.vertex[k - 1] + 1) {
+        cell_contiguous_[cell] = 0;
+        break;
+      }
   cell_stamp_.assign(c.num_cells(), 0);
   irregular_stamp_.assign(c.num_irregular_vertices(), 0);
   irregular_data_.assign(kIrregularData * c.num_irregular_vertices(), 0.0);
@@ -456,7 +527,9 @@ void CpuDeformer::scatter(const uint32_t* cells, size_t cell_count, const uint32
   const std::vector<size_t>& split = full ? full_split_ : split_;
   const size_t workers = split.size() - 1;
   run_ranges(workers, workers, [&](size_t w, size_t, size_t) {
-    run_cells_with(c, cells, split[w], split[w + 1], control, ScatterSink<T>{positions, normals});
+    ScatterSink<T> sink;  // (its staging arrays are left uninitialised)
+    sink.positions = positions, sink.normals = normals, sink.contiguous = cell_contiguous_.data();
+    run_cells_with(c, cells, split[w], split[w + 1], control, sink);
     const size_t i0 = item_count * w / workers, i1 = item_count * (w + 1) / workers;
     run_irregular_with(c, irregular_data_.data(), control, items + i0, i1 - i0, positions, normals);
   });

@@ -21,7 +21,9 @@
 // fast path is tested against (positions within ~1e-7 of the bbox diagonal).
 //
 // Outputs: Vec3 arrays, or flat xyz triples of double or float32 (hosts drawing float32 write
-// half the bytes).
+// half the bytes). Cells whose vertices are consecutive scan vertices (a scan renumbered by
+// deformer_vertex_order) are written in runs with streaming stores (the output lines are not read
+// first); the others with scattered stores, their lines prefetched for writing.
 //
 // Thread-safety: one deformer per thread (it keeps the last control points); the binding must
 // outlive it and stay unchanged.
@@ -98,6 +100,7 @@ class CpuDeformer {
   bool reference_synced_ = false;  // reference_ holds the frame of control_ (exact mode)
   bool last_from_reference_ = false;
   std::vector<uint32_t> cell_stamp_, irregular_stamp_, cells_, irregular_, touched_;
+  std::vector<uint8_t> cell_contiguous_;  // per cell: its vertices are consecutive scan vertices
   uint32_t stamp_ = 0;
   std::vector<uint32_t> all_cells_, all_irregular_;  // 0, 1, 2, ... (full frames)
   std::vector<size_t> full_split_, split_;  // the workers' cell ranges: full frames, last update

@@ -7,8 +7,9 @@
 // order does not follow the cells (a scan whose vertices were appended by refinement, or a scan
 // in scanner order), every vertex's position and normal land on different cache lines and the
 // stores dominate a full frame. A host that may renumber its scan (e.g. on import) renumbers it
-// once by this order and binds again: the writes become nearly sequential (bench_deform
-// --cell-order: ~20-35% less CPU per full frame on the 625K-triangle bunny; tests/bench/RESULTS.md).
+// once by this order and binds again: the writes become sequential and are done with streaming
+// stores (bench_deform --cell-order, on 2 cores, 625K-triangle bunny: 226-280 full frames/s with
+// double outputs where the scan's own order gives 192-231; tests/bench/RESULTS.md).
 // Not in the thesis (§8.6.4 reorders the GPU's index buffer for the vertex cache instead).
 //
 // Thread-safety: pure function. Errors: none (a binding without a compact table gives the

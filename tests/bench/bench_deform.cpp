@@ -139,6 +139,7 @@ struct Point3f {
 //   --cpu-only: only the CpuDeformer rows (no sparse-row reference, no OpenSubdiv);
 //   --cache: read the cage + binding from FILE.ckb if it exists, else make them and write it there
 //   (the binding file rebuilds the same binding bit for bit; for repeated runs while tuning).
+//   (with --cell-order the renumbered binding is written to FILE.ckb.cell as well).
 int main(int argc, char** argv) {
   int frames = 60;
   bool table_only = false, cpu_only = false, cell_order = false;
@@ -209,6 +210,11 @@ int main(int argc, char** argv) {
     binding = bind_scan_to_cage(cage, scan);
     std::printf("--cell-order: the scan renumbered by deformer_vertex_order and bound again (%.1f s)\n\n",
                 bench::seconds_since(t0));
+    if (!cache.empty()) {  // the renumbered binding too (FILE.cell), for tools that time it alone
+      const std::vector<uint8_t> bytes = write_binding(binding, cage, BindOptions());
+      std::FILE* f = std::fopen((cache + ".cell").c_str(), "wb");
+      if (f) std::fwrite(bytes.data(), 1, bytes.size(), f), std::fclose(f);
+    }
   }
   const size_t n = binding.num_vertices(), m = binding.num_control_vertices;
   const PatchDeformerTable& table = binding.compact;

@@ -253,6 +253,12 @@ then pass "bench-deform: JSON keys, CPU frame rates"; else cat "$tmp/bench.json"
 expect_bad "deform: cage with other vertex count" "$cli" deform "$tmp/demo/scan.obj" "$tmp/pipe/out/cage.obj" "$tmp/cube.obj" "$tmp/out.obj" --quiet
 expect_bad "deform: missing edited cage" "$cli" deform "$tmp/demo/scan.obj" "$tmp/pipe/out/cage.obj" "$tmp/does-not-exist.obj" "$tmp/out.obj" --quiet
 expect_bad "deform: NaN in the scan" "$cli" deform "$tmp/nan.obj" "$tmp/cube.obj" "$tmp/cube.obj" "$tmp/out.obj" --quiet
+if "$cli" bench-deform "$tmp/demo/scan.obj" "$tmp/pipe/out/cage.obj" --frames 10 --moved 3 --vertex-order deformer --json --quiet >"$tmp/bench_order.json" &&
+   [ "$(json "$tmp/bench_order.json" 'd["vertex_order"] == "deformer" and d["cpu_fps"] > 0 and d["cpu_incremental_fps"] > 0')" = True ] &&
+   [ "$(json "$tmp/bench_order.json" 'd["vertices"]')" = "$(json "$tmp/bench.json" 'd["vertices"]')" ] &&
+   [ "$(json "$tmp/bench_order.json" 'd["triangles"]')" = "$(json "$tmp/bench.json" 'd["triangles"]')" ]
+then pass "bench-deform --vertex-order deformer: the renumbered scan, same counts"; else cat "$tmp/bench_order.json"; fail "bench-deform --vertex-order"; fi
+expect_bad "bench-deform: --vertex-order random" "$cli" bench-deform "$tmp/demo/scan.obj" "$tmp/pipe/out/cage.obj" --vertex-order random --quiet
 expect_bad "bench-deform: --frames 0" "$cli" bench-deform "$tmp/demo/scan.obj" "$tmp/pipe/out/cage.obj" --frames 0 --quiet
 # Saved bindings: bind once, deform from the .ckb = deform with binding anew (same bytes).
 if "$cli" bind "$tmp/demo/scan.obj" "$tmp/pipe/out/cage.obj" "$tmp/scan.ckb" --local-frame --json --quiet >"$tmp/bind.json" &&
