@@ -166,6 +166,7 @@ inline void stream_fence() {
 // streaming stores. Other cells are scattered (their next cells' lines prefetched for writing).
 template <typename T>
 struct ScatterSink {
+  static_assert(sizeof(Vec3) == 3 * sizeof(double), "the staged runs copy Vec3 arrays as xyz doubles");
   using Scalar = typename std::conditional<std::is_same<T, Vec3>::value, double, T>::type;
   static constexpr size_t kRun = 256;
   T *positions, *normals;
