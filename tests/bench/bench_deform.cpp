@@ -36,6 +36,7 @@
 #include "layout/face_merge_simplifier.h"
 #include "multires/binding_file.h"
 #include "multires/cpu_deformer.h"
+#include "core/vertex_renumbering.h"
 #include "multires/deformer_vertex_order.h"
 #include "multires/scan_binding.h"
 #include "multires/sparse_row_deformer.h"
@@ -197,15 +198,7 @@ int main(int argc, char** argv) {
     }
   }
   if (cell_order) {  // the scan renumbered in the deformer's write order, bound again
-    const std::vector<uint32_t> order = deformer_vertex_order(binding);
-    std::vector<uint32_t> new_id(order.size());
-    for (uint32_t k = 0; k < order.size(); ++k) new_id[order[k]] = k;
-    PolygonMesh renumbered;
-    for (uint32_t v : order) renumbered.add_vertex(scan.positions[v]);
-    renumbered.face_offsets = scan.face_offsets;
-    renumbered.face_vertices = scan.face_vertices;
-    for (uint32_t& v : renumbered.face_vertices) v = new_id[v];
-    scan = std::move(renumbered);
+    scan = renumber_vertices(scan, deformer_vertex_order(binding));
     t0 = bench::Clock::now();
     binding = bind_scan_to_cage(cage, scan);
     std::printf("--cell-order: the scan renumbered by deformer_vertex_order and bound again (%.1f s)\n\n",

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <random>
 
+#include "core/vertex_renumbering.h"
 #include "fit/surface_fitter.h"
 #include "multires/cpu_deformer.h"
 #include "multires/deformer_vertex_order.h"
@@ -371,11 +372,9 @@ TEST(MultiresBinding, scan_renumbered_in_the_deformer_order_deforms_the_same_wit
   ASSERT_FALSE(t.empty());
   EXPECT_EQ(order[0], t.vertex[0]);
   // Renumber the scan, bind again.
-  PolygonMesh renumbered;
-  for (uint32_t v : order) renumbered.add_vertex(s.scan.positions[v]);
-  renumbered.face_offsets = s.scan.face_offsets;
-  renumbered.face_vertices = s.scan.face_vertices;
-  for (uint32_t& v : renumbered.face_vertices) v = new_id[v];
+  const PolygonMesh renumbered = renumber_vertices(s.scan, order);
+  for (size_t e = 0; e < renumbered.face_vertices.size(); ++e)
+    ASSERT_EQ(renumbered.face_vertices[e], new_id[s.scan.face_vertices[e]]);
   const ScanBinding again = bind_scan_to_cage(s.cage, renumbered);
   // The deformer now writes (nearly) sequentially: consecutive cell vertices are consecutive ids.
   const PatchDeformerTable& u = again.compact;
