@@ -108,6 +108,8 @@ typedef enum cagekit_status {
   CAGEKIT_ERROR_CANCELLED = -10,         /* cancelled by the progress callback or _cancel() */
   CAGEKIT_ERROR_INTERNAL = -11,          /* a bug in CageKit: please report it */
   CAGEKIT_ERROR_VERSION_MISMATCH = -12,  /* the host was built for another ABI version */
+  CAGEKIT_ERROR_QUALITY = -13,           /* a result was computed but misses its quality bounds (the
+                                            message names the figure); nothing is returned */
   CAGEKIT_STATUS_MAX_ENUM = 0x7fffffff   /* forces 32-bit enums (any int value is representable) */
 } cagekit_status;
 
@@ -813,11 +815,23 @@ typedef struct cagekit_fit_options {
                                    this; finite and > 0 (default 1e-6) */
   uint32_t projection_seed_resolution; /* grid quads per ptex face side of the piecewise-linear limit
                                           mesh that seeds the searches, 1..64 (default 4) */
+  double weak_support_fraction; /* control vertices whose support holds little data (the sum of their
+                                   squared basis values over the scan vertices is below this fraction
+                                   of its mean over the free vertices; none at all included) get their
+                                   own umbrella-Laplacian fairing row, so they stay near the average of
+                                   their neighbours instead of flying off after a few distant samples;
+                                   finite and >= 0 (default 0.05; 0 = off: such vertices are free, as in
+                                   the thesis) */
+  double weak_fairing;          /* weight of those rows relative to the mean diagonal of A^T A, finite and
+                                   >= 0 (default 1) */
+  int32_t select_best_two_sided; /* 1 (default): return the state with the lowest two-sided RMS distance
+                                    (scan -> surface and surface -> scan, cagekit_fit_two_sided), not the
+                                    last one; 0: the last state kept (the thesis's rule alone) */
 } cagekit_fit_options;
 
 #define CAGEKIT_FIT_OPTIONS_INIT                                                                \
   { sizeof(cagekit_fit_options), 5, 1e-4, 0.0, 1.0, 0, CAGEKIT_PROJECTION_EXACT, CAGEKIT_LSQ_DIRECT, 0, \
-    500, 1e-6, 4 }
+    500, 1e-6, 4, 0.05, 1.0, 1 }
 
 /* Figures of one state of the fit. Distances are |p_i - S(t_i)| from each scan vertex p_i to
  * its foot point on the limit surface, found by the exact projection (also in piecewise-linear
@@ -836,6 +850,16 @@ typedef struct cagekit_fit_pass {
   double mean_projection_steps; /* update steps per search */
 } cagekit_fit_pass;
 
+/* Distances from the limit surface back to the scan for one state of the fit: from the limit
+ * surface's grid points ((projection_seed_resolution + 1)^2 per ptex face) to the scan's triangles,
+ * relative to the scan's bounding-box diagonal. NaN when the scan has no non-degenerate face. No
+ * struct_size: fixed for ABI version 1. */
+typedef struct cagekit_fit_two_sided {
+  double surface_to_scan_max_rel;
+  double surface_to_scan_rms_rel;
+  double two_sided_rms_rel;     /* sqrt((rms_rel^2 + surface_to_scan_rms_rel^2) / 2) */
+} cagekit_fit_two_sided;
+
 typedef struct cagekit_fit_report {
   size_t struct_size;           /* sizeof(cagekit_fit_report) */
   uint32_t pass_count;          /* OUT: states measured, including the initial cage (entry 0): 1 + the
@@ -853,18 +877,30 @@ typedef struct cagekit_fit_report {
   double bbox_diagonal;         /* OUT: of the scan's vertices */
   double seconds;               /* OUT: the whole fit */
   cagekit_fit_pass initial;     /* OUT: the initial cage (= passes[0]) */
-  cagekit_fit_pass final;       /* OUT: the returned cage (= passes[pass_count - 1]) */
+  cagekit_fit_pass final;       /* OUT: the returned cage (= passes[best_pass]) */
+  uint32_t best_pass;           /* OUT: the state returned: with select_best_two_sided the one with the
+                                   lowest two_sided_rms_rel, else pass_count - 1 */
+  uint64_t weakly_supported_control_vertices; /* OUT: held by the weak-support fairing rows in the last
+                                                 step (includes the unsupported ones) */
+  cagekit_fit_two_sided initial_two_sided; /* OUT: surface -> scan figures of the initial cage */
+  cagekit_fit_two_sided final_two_sided;   /* OUT: ... of the returned cage */
 } cagekit_fit_report;
 
 /* Fits the limit surface of `cage` to the vertices of `scan` (thesis ch. 7): alternates the
  * parameterisation step (foot points on the current limit surface) and the control-vertex
  * step (linear least squares with the exact basis functions) until the relative drop of L2
  * falls below options->tolerance or max_passes steps are done. L2 never increases: a step
- * that would increase it is undone and the fit stops (report->rejected_last_step).
+ * that would increase it is undone and the fit stops (report->rejected_last_step). Every state
+ * is also measured the other way (surface -> scan, cagekit_fit_two_sided); with
+ * options->select_best_two_sided (default) the state with the lowest two-sided RMS is returned
+ * (report->best_pass), so a step that lowers L2 while parts of the surface move away from the
+ * scan is not what comes back. Control vertices with little or no data in their support are held
+ * by fairing rows (options->weak_support_fraction).
  *
  * *out receives a NEW cage with the fitted control-vertex positions and the same connectivity,
  * tags (creases, corners, holes) and boundary rule as `cage`; `cage` itself is not changed.
- * Every scan vertex is a sample (faces are used only to find the scan boundary), so the scan
+ * Every scan vertex is a sample (faces are used to find the scan boundary and for the surface ->
+ * scan distances), so the scan
  * need not be a valid mesh, but its face indices must be in range and its positions finite.
  * options may be NULL (defaults); report may be NULL. The caller keeps ownership of
  * report->passes; the library writes it only during the call.
@@ -1329,6 +1365,139 @@ typedef struct cagekit_remesh_report {
  * cancel). Reads `mesh`; thread-safe for distinct outputs. */
 CAGEKIT_API cagekit_status cagekit_mesh_remesh(cagekit_mesh mesh, const cagekit_remesh_options* options,
                                                cagekit_cage* out, cagekit_remesh_report* report);
+
+/* ------------------------------------------------------------------------------------------ */
+/* Scan to cage: the whole journey in one call                                                 */
+/* ------------------------------------------------------------------------------------------ */
+
+/* How the initial cage is made. */
+typedef enum cagekit_scan_method {
+  CAGEKIT_SCAN_SIMPLIFY = 0,    /* structure-preserving simplification (thesis ch. 3) + quad-dominant cage */
+  CAGEKIT_SCAN_QUAD = 1,        /* two-step quad-dominant remeshing (thesis ch. 6) */
+  CAGEKIT_SCAN_ANISOTROPIC = 2, /* curvature-line remeshing (thesis ch. 5) */
+  CAGEKIT_SCAN_METHOD_MAX_ENUM = 0x7fffffff
+} cagekit_scan_method;
+
+/* Which connected components of the scan are kept by the conditioning. */
+typedef enum cagekit_component_mode {
+  CAGEKIT_COMPONENTS_ALL = 0,     /* every component (the default) */
+  CAGEKIT_COMPONENTS_LARGEST = 1, /* only the one with the most faces (scans with stray pieces) */
+  CAGEKIT_COMPONENTS_MAX_ENUM = 0x7fffffff
+} cagekit_component_mode;
+
+typedef struct cagekit_scan_to_cage_options {
+  size_t struct_size;               /* sizeof(cagekit_scan_to_cage_options) */
+  cagekit_scan_method method;       /* default CAGEKIT_SCAN_SIMPLIFY */
+  /* Conditioning (the first phase): cagekit_mesh_repair's steps without DROP_INVALID_FACES (bad
+     indices and NaN/Inf stay INVALID_MESH) plus the removal of unreferenced vertices. */
+  int32_t repair;                   /* 1 (default): condition the scan; 0: refuse an invalid scan */
+  cagekit_component_mode components; /* default CAGEKIT_COMPONENTS_ALL */
+  double weld_tolerance_rel;        /* vertices closer than this x the bounding-box diagonal are welded,
+                                       finite and >= 0 (default 1e-7; 0: exact duplicates only) */
+  /* SIMPLIFY: the coarsest level with at most `target` faces (CAGEKIT_LEVEL_BY_FACES, default) or
+     vertices (CAGEKIT_LEVEL_BY_VERTICES); also the face count of the fallback. */
+  cagekit_level_query target_query;
+  double target;                    /* >= 1 (default 60) */
+  const cagekit_cage_options* cage; /* SIMPLIFY's cage options; NULL = defaults. Read during the call. */
+  const cagekit_remesh_options* remesh; /* QUAD / ANISOTROPIC options (its `method` is ignored: `method`
+                                           above decides); NULL = defaults. Read during the call. */
+  const cagekit_fit_options* fit;   /* NULL = defaults. Read during the call. */
+  uint32_t limit_levels;            /* the fitted cage is refined this often onto its limit for the error
+                                       figures and *limit_out, 1..CAGEKIT_MAX_SUBDIVISION_LEVELS (default 3) */
+  uint32_t self_intersection_level; /* the level of the limit mesh whose self-intersections are counted,
+                                       0..CAGEKIT_MAX_SUBDIVISION_LEVELS (default 2; 0: not counted) */
+  /* The good-result rule: the limit surface -> scan distance must be at most
+     max(max_limit_to_scan_rel, limit_to_scan_factor x the scan -> limit distance) (relative to the
+     diagonal), except for inputs with fewer than small_input_faces faces, whose smooth limit may
+     bulge away from coarse facets; the cage must be valid and manifold with no holes the
+     conditioned scan does not have. */
+  double max_limit_to_scan_rel;     /* finite and > 0 (default 0.05) */
+  double limit_to_scan_factor;      /* finite and > 0 (default 3) */
+  uint64_t small_input_faces;       /* default 1000 */
+  int32_t fallback_to_simplify;     /* 1 (default): a QUAD / ANISOTROPIC result that is not good (or that
+                                       fails) is replaced by SIMPLIFY at `target` faces; the report says so
+                                       and why. 0: it is an error. */
+} cagekit_scan_to_cage_options;
+
+#define CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT                                                               \
+  { sizeof(cagekit_scan_to_cage_options), CAGEKIT_SCAN_SIMPLIFY, 1, CAGEKIT_COMPONENTS_ALL, 1e-7,         \
+    CAGEKIT_LEVEL_BY_FACES, 60.0, NULL, NULL, NULL, 3, 2, 0.05, 3.0, 1000, 1 }
+
+/* Every figure of one scan-to-cage run. Distances are relative to the conditioned scan's
+ * bounding-box diagonal. */
+typedef struct cagekit_scan_to_cage_report {
+  size_t struct_size;               /* sizeof(cagekit_scan_to_cage_report) */
+  /* 1. conditioning */
+  uint64_t input_vertices, input_faces;
+  uint64_t conditioned_vertices, conditioned_faces;
+  uint64_t welded_vertices, dropped_degenerate_faces, dropped_duplicate_faces;
+  uint64_t split_vertices;          /* added to split non-manifold edges / vertices and non-orientable parts */
+  uint64_t flipped_faces, non_orientable_components, removed_unreferenced_vertices;
+  uint64_t components;              /* connected components kept */
+  uint64_t dropped_components, dropped_component_faces; /* CAGEKIT_COMPONENTS_LARGEST */
+  /* 2. the method */
+  cagekit_scan_method requested_method;
+  cagekit_scan_method used_method;  /* differs after a fallback */
+  int32_t fallback;                 /* 1 when the requested method's result was replaced */
+  int32_t input_is_cage;            /* 1 when the conditioned scan had no more faces than the method would
+                                       make and is its own cage (edges sharper than 40 degrees creased) */
+  char fallback_reason[256];        /* why the fallback happened (NUL-terminated, "" when none) */
+  uint32_t level, level_count;      /* SIMPLIFY: the level chosen and the hierarchy's level count */
+  uint64_t level_faces, level_faces_with_holes; /* SIMPLIFY: polygons of that level */
+  uint64_t cage_vertices, cage_faces, cage_quads, cage_triangles; /* the fitted cage */
+  uint64_t creases;                 /* crease edges of the cage */
+  uint64_t remesh_regions, remesh_lines, remesh_holes; /* as cagekit_remesh_report's regions, lines, holes */
+  uint64_t interior_vertices, valence4_vertices; /* of the cage */
+  uint32_t max_face_valence, max_vertex_valence;
+  double mean_alignment_deg;        /* ANISOTROPIC, as in cagekit_remesh_report */
+  double method_scan_to_cage_max_rel, method_cage_to_scan_max_rel, method_mean_rel; /* the initial cage's
+                                       control mesh against the scan */
+  /* 3. the cage */
+  uint64_t input_boundary_loops, cage_boundary_loops;
+  uint64_t holes_added;             /* always 0 on success */
+  /* 4. the fit (all figures as cagekit_fit_report's) */
+  uint32_t fit_pass_count, fit_best_pass;
+  cagekit_fit_pass fit_initial, fit_final;
+  cagekit_fit_two_sided fit_initial_two_sided, fit_final_two_sided;
+  uint64_t unsupported_control_vertices, weakly_supported_control_vertices;
+  /* 5. the limit surface */
+  uint32_t limit_levels;
+  uint64_t limit_faces;
+  double scan_to_limit_max_rel;     /* max over scan vertices of the distance to the limit mesh */
+  double limit_to_scan_max_rel;     /* max over limit-mesh samples of the distance to the scan's surface */
+  double limit_mean_rel;            /* mean scan-vertex distance */
+  uint64_t self_intersections;      /* intersecting triangle pairs of the level-`self_intersection_level`
+                                       limit mesh (quads fan-split) */
+  uint64_t self_intersection_triangles; /* triangles tested */
+  double method_seconds, fit_seconds, seconds;
+} cagekit_scan_to_cage_report;
+
+/* The whole journey from a scan to a fitted cage, in named phases: conditioning (repair as
+ * above, one info log line naming every change) -> the method (an input that already has fewer
+ * faces than the method would make is its own cage) -> a valid manifold cage without new holes
+ * -> fit of its limit surface (cagekit_cage_fit) -> the limit surface measured against the scan
+ * both ways and its self-intersections counted -> the good-result rule (options above). Status
+ * SUCCESS means a good result: *cage_out is the fitted cage with crease tags, *limit_out (may be
+ * NULL) the fitted cage refined limit_levels times onto its limit, and *report (may be NULL)
+ * holds every figure. `fit_report` (may be NULL) receives the fit's report exactly as
+ * cagekit_cage_fit writes it (its pass array is the caller's, as there). Hosts keep the
+ * individual steps (cagekit_mesh_repair, cagekit_hierarchy_*, cagekit_mesh_remesh,
+ * cagekit_cage_fit) for finer control.
+ *
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (NULL cage_out, bad struct_size, an option out of range,
+ * naming it), INVALID_MESH (out-of-range indices or non-finite positions, naming the first; an
+ * invalid scan with repair 0; no faces, or nothing left after conditioning), QUALITY (no good result:
+ * the message names the method and the figure, e.g. "the limit surface strays 7.2 % of the
+ * diagonal from the scan"), CANCELLED, OUT_OF_MEMORY (also the context's memory budget). On error
+ * the outputs are NULL and *report is unspecified.
+ *
+ * Long operation (progress: the stages of each phase, "conditioning", the method's, "fit",
+ * "error"; cancel), using the threads its options give. Reads `scan`; thread-safe for distinct
+ * outputs. */
+CAGEKIT_API cagekit_status cagekit_scan_to_cage(cagekit_mesh scan, const cagekit_scan_to_cage_options* options,
+                                                cagekit_cage* cage_out, cagekit_cage* limit_out,
+                                                cagekit_scan_to_cage_report* report,
+                                                cagekit_fit_report* fit_report);
 
 #ifdef __cplusplus
 }

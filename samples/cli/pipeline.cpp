@@ -28,12 +28,18 @@ auto bad_value_is_bad_input(F&& parse) {
   }
 }
 
-std::string number(double x) {
+}  // namespace
+
+std::string json_number(double x) {
   if (!std::isfinite(x)) return "null";
   char buffer[64];
   std::snprintf(buffer, sizeof(buffer), "%.9g", x);
   return buffer;
 }
+
+namespace {
+
+std::string number(double x) { return json_number(x); }
 
 std::string pass_fields(const cagekit_fit_pass& p, double seconds) {
   return "\"l2\": " + number(p.l2) + ", \"rms_rel\": " + number(p.rms_rel) + ", \"max_rel\": " + number(p.max_rel) +
@@ -48,6 +54,8 @@ std::string error_json(const cagekit_approximation_error& e) {
          ", \"mean_rel\": " + number(e.mean_rel) + "}";
 }
 
+}  // namespace
+
 void write_text_file(const std::string& path, const std::string& text) {
   const std::string temporary = path + ".tmp";
   FILE* out = std::fopen(temporary.c_str(), "w");
@@ -58,6 +66,8 @@ void write_text_file(const std::string& path, const std::string& text) {
     throw Failure(kExitBadInput, path + ": cannot write");
   }
 }
+
+namespace {
 
 // Steps 2 and 3 of the pipeline, shared by both methods: fit of the initial cage's limit surface
 // to the scan, then the fitted cage refined to (nearly) its limit surface and compared with it.
@@ -148,6 +158,14 @@ std::string fit_json(const FitResult& fit, const cagekit_fit_options& options) {
                      ", \"rejected_last_step\": " + (r.rejected_last_step ? "true" : "false") +
                      ", \"unsupported_control_vertices\": " +
                      std::to_string((unsigned long long)r.unsupported_control_vertices) +
+                     ", \"weakly_supported_control_vertices\": " +
+                     std::to_string((unsigned long long)r.weakly_supported_control_vertices) +
+                     ", \"best_pass\": " + std::to_string(r.best_pass) +
+                     ", \"surface_to_scan_max_rel\": " + number(r.final_two_sided.surface_to_scan_max_rel) +
+                     ", \"surface_to_scan_rms_rel\": " + number(r.final_two_sided.surface_to_scan_rms_rel) +
+                     ", \"two_sided_rms_rel\": " + number(r.final_two_sided.two_sided_rms_rel) +
+                     ", \"initial_surface_to_scan_max_rel\": " +
+                     number(r.initial_two_sided.surface_to_scan_max_rel) +
                      ", \"bbox_diagonal\": " + number(r.bbox_diagonal) + ", \"max_passes\": " +
                      std::to_string(options.max_passes) + ", \"tolerance\": " + number(options.tolerance) +
                      ", \"fairing\": " + number(options.fairing) + ", \"projection\": \"" +
@@ -164,26 +182,6 @@ void run_pipeline(const Session& session, cagekit_mesh scan, const std::string& 
   const auto start = std::chrono::steady_clock::now();
   make_directories(dir);
 
-  if (settings.method == "anisotropic" || settings.method == "quad") {
-    // 1. Remeshing: anisotropic (thesis ch. 5, feature lines as creases) or two-step quad-dominant
-    // (thesis ch. 6, sharp region boundaries as creases).
-    result->remesh_report.struct_size = sizeof(result->remesh_report);
-    session.check(cagekit_mesh_remesh(scan, &settings.remesh, result->initial_cage.out(), &result->remesh_report),
-                  scan_name);
-    result->simplify_seconds = seconds_since(start);
-    session.check(cagekit_cage_get_mesh(result->initial_cage.get(), result->polygons.out()), scan_name);
-    result->level_error.struct_size = sizeof(result->level_error);
-    session.check(cagekit_mesh_measure_error(scan, result->polygons.get(), &result->level_error), scan_name);
-    fit_and_limit(session, scan, scan_name, settings, dir, result);
-    result->seconds = seconds_since(start);
-    result->json = "{\"remesh\": {" + remesh_method_json(settings.remesh) + ", " +
-                   remesh_json_fields(result->remesh_report, result->level_error) +
-                   ", \"seconds\": " + number(result->simplify_seconds) + "},\n \"fit\": " +
-                   fit_json(result->fit, settings.fit) + ",\n \"limit\": " + limit_json(settings, *result) +
-                   ",\n \"seconds\": " + number(result->seconds) + "}\n";
-    if (!settings.report_file.empty()) write_text_file(dir + "/" + settings.report_file, result->json);
-    return;
-  }
   // 1. Simplification to the requested level and the quad-dominant cage with creases.
   Hierarchy hierarchy;
   session.check(cagekit_hierarchy_create(scan, nullptr, hierarchy.out()), scan_name);

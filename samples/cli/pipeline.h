@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
-// The scan-to-subdivision-surface pipeline shared by `cagekit pipeline` and `cagekit demo`:
+// The demo's pipeline, step by step through the individual C API calls (`cagekit demo` shows
+// them; `cagekit pipeline` makes the whole journey with one cagekit_scan_to_cage call):
 // structure-preserving simplification (thesis ch. 3) -> quad-dominant cage with creases ->
 // fit of the cage's limit surface to the scan (ch. 7) -> the fitted cage refined to its limit.
-// Also the fit options and JSON of `cagekit fit`.
+// Also the fit options and JSON of `cagekit fit` and `cagekit pipeline`.
 #include <string>
 #include <vector>
 
@@ -27,10 +28,6 @@ void run_fit(const Session& session, cagekit_cage cage, cagekit_mesh scan, const
 std::string fit_json(const FitResult& fit, const cagekit_fit_options& options);
 
 struct PipelineSettings {
-  // Step 1: "simplify" (thesis ch. 3, target below), "anisotropic" (ch. 5 remeshing) or "quad"
-  // (ch. 6 two-step quad-dominant remeshing), the last two with `remesh`.
-  std::string method = "simplify";
-  cagekit_remesh_options remesh = CAGEKIT_REMESH_OPTIONS_INIT;
   cagekit_level_query query = CAGEKIT_LEVEL_BY_FACES;  // BY_FACES or BY_VERTICES
   double target = 0;
   double crease_angle = 30.0;
@@ -47,7 +44,6 @@ struct PipelineResult {
   cagekit_polygonal_level_info level_info{};
   cagekit_cage_report cage_report{};
   cagekit_approximation_error level_error{};  // scan vs the level's polygons (or the remeshed mesh)
-  cagekit_remesh_report remesh_report{};      // methods "anisotropic" and "quad"
   double simplify_seconds = 0;
   Mesh polygons;       // the level as a polygon mesh
   Cage initial_cage;   // quad-dominant cage with creases, before the fit
@@ -66,6 +62,11 @@ struct PipelineResult {
 // `dir` (created with its parents when missing).
 void run_pipeline(const Session& session, cagekit_mesh scan, const std::string& scan_name,
                   const PipelineSettings& settings, const std::string& dir, PipelineResult* result);
+
+// A JSON number ("null" for NaN/Inf).
+std::string json_number(double x);
+// Writes `text` to path.tmp and renames it over `path` (Failure(kExitBadInput) on error).
+void write_text_file(const std::string& path, const std::string& text);
 
 // mkdir -p; throws Failure(kExitBadInput) when a component cannot be created.
 void make_directories(const std::string& path);

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "capi/api_guard.h"
+#include "capi/option_conversion.h"
 #include "capi/mesh_conversion.h"
 #include "layout/approximation_error.h"
 #include "layout/cage_builder.h"
@@ -202,18 +203,7 @@ CAGEKIT_API cagekit_status cagekit_hierarchy_build_cage(cagekit_hierarchy hierar
     require_not_null(out, "out");
     *out = nullptr;
     const cagekit_hierarchy_t& h = checked(hierarchy, "hierarchy");
-    cagekit_cage_options defaults = CAGEKIT_CAGE_OPTIONS_INIT;
-    const cagekit_cage_options o = read_versioned(options, defaults, "cagekit_cage_options");
-    if (!std::isfinite(o.crease_angle_degrees)) fail(Status::invalid_argument, "crease_angle_degrees must be finite");
-    if (!std::isfinite(o.input_crease_angle_degrees))
-      fail(Status::invalid_argument, "cagekit_cage_options.input_crease_angle_degrees must be finite");
-    if (o.exact_partition_limit < 3 || o.exact_partition_limit > 64)
-      fail(Status::invalid_argument, "exact_partition_limit must be in 3..64");
-    cagekit::CageBuildOptions bo;
-    bo.crease_angle_degrees = o.crease_angle_degrees;
-    bo.input_crease_angle_degrees = o.input_crease_angle_degrees;
-    bo.tag_boundary_edges = o.tag_boundary_edges != 0;
-    bo.partition.exact_vertex_limit = static_cast<int>(o.exact_partition_limit);
+    const cagekit::CageBuildOptions bo = cage_options_from_c(options);
     cagekit::CageBuildReport br;
     cagekit::Cage cage = cagekit::build_quad_dominant_cage(h.hierarchy.input(), h.level, bo, &br);
     if (report) {

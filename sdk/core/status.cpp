@@ -18,6 +18,7 @@ const char* status_name(Status status) {
     case Status::cancelled: return "cancelled";
     case Status::internal_error: return "internal error";
     case Status::version_mismatch: return "version mismatch";
+    case Status::quality: return "result misses its quality bounds";
   }
   return "unknown status";
 }

@@ -24,6 +24,7 @@ enum class Status : int {
   cancelled = -10,
   internal_error = -11,
   version_mismatch = -12,
+  quality = -13,  // a result was computed but misses its quality bounds
 };
 
 const char* status_name(Status status);

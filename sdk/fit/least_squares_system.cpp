@@ -57,7 +57,8 @@ std::vector<Vec3> solve_control_points_coupled(const SubdivisionSurface& surface
                                                const std::vector<Vec3>& current_control,
                                                const std::vector<Vec3>& samples,
                                                const std::vector<FootPoint>& foot_points, double smoothness,
-                                               const std::vector<bool>& fixed, double w) {
+                                               const std::vector<bool>& fixed, double w,
+                                               const LeastSquaresOptions& options, LeastSquaresReport& report) {
   const int n = int(surface.num_control_vertices());
   const int unknowns = 3 * n;
   const double sw = std::sqrt(w);
@@ -98,7 +99,21 @@ std::vector<Vec3> solve_control_points_coupled(const SubdivisionSurface& surface
   const double scale = unknowns > 0 ? std::max(trace / n, 1e-300) : 1.0;  // per vertex, as in the split path
   const double mu = 1e-12 * scale;
   Eigen::VectorXd b = Bt * rhs + mu * C;
-  if (smoothness > 0) {
+  // Laplacian row weights per vertex: the fairing term for all, plus the weak-support rows
+  // (the support of vertex j: its three diagonal entries of B^T B, against their mean).
+  Eigen::VectorXd row_weight = Eigen::VectorXd::Constant(n, smoothness * scale / 3);
+  if (options.weak_support_fraction > 0 && options.weak_fairing > 0) {
+    for (int j = 0; j < n; ++j) {
+      if (fixed[size_t(j)]) continue;
+      const double support = M.coeff(3 * j, 3 * j) + M.coeff(3 * j + 1, 3 * j + 1) + M.coeff(3 * j + 2, 3 * j + 2);
+      if (support < options.weak_support_fraction * scale) {
+        row_weight(j) += options.weak_fairing * scale / 3;
+        ++report.weakly_supported_control_vertices;
+      }
+      if (support <= 1e-14 * scale) ++report.unsupported_control_vertices;
+    }
+  }
+  if (row_weight.maxCoeff() > 0) {
     const SparseMatrix L = umbrella_laplacian(cage.mesh);
     std::vector<Triplet> lt;
     for (int k = 0; k < L.outerSize(); ++k)
@@ -106,7 +121,9 @@ std::vector<Vec3> solve_control_points_coupled(const SubdivisionSurface& surface
         for (int c = 0; c < 3; ++c) lt.emplace_back(int(3 * it.row()) + c, int(3 * it.col()) + c, it.value());
     SparseMatrix L3(unknowns, unknowns);
     L3.setFromTriplets(lt.begin(), lt.end());
-    M += (smoothness * scale / 3) * SparseMatrix(L3.transpose() * L3);
+    Eigen::VectorXd w3(unknowns);
+    for (int j = 0; j < unknowns; ++j) w3(j) = row_weight(j / 3);
+    M += SparseMatrix(L3.transpose() * w3.asDiagonal() * L3);
   }
   SparseMatrix I(unknowns, unknowns);
   I.setIdentity();
@@ -257,6 +274,20 @@ std::vector<Vec3> solve_point_distance(const SubdivisionSurface& surface, const 
   for (int k = 0; k < free_count; ++k)
     if (column_norm2(k) <= 1e-14 * scale) ++report.unsupported_control_vertices;
   const double mu = 1e-12 * scale, lambda = options.fairing * scale;
+  // Per-vertex weight of its Laplacian row: lambda for all (fairing), plus lambda_w for the
+  // weakly supported free vertices.
+  Eigen::VectorXd row_weight = Eigen::VectorXd::Constant(n, lambda);
+  if (options.weak_support_fraction > 0 && options.weak_fairing > 0) {
+    const double threshold = options.weak_support_fraction * scale;
+    for (int j = 0; j < n; ++j) {
+      const int k = free_index[size_t(j)];
+      if (k >= 0 && column_norm2(k) < threshold) {
+        row_weight(j) += options.weak_fairing * scale;
+        ++report.weakly_supported_control_vertices;
+      }
+    }
+  }
+  const bool laplacian_rows = row_weight.maxCoeff() > 0;
 
   Eigen::MatrixXd C(free_count, 3);
   for (int j = 0; j < n; ++j)
@@ -264,10 +295,10 @@ std::vector<Vec3> solve_point_distance(const SubdivisionSurface& surface, const 
       const Vec3& c = current_control[size_t(j)];
       C.row(free_index[size_t(j)]) << c.x, c.y, c.z;
     }
-  // Fairing rows: sqrt(lambda) (L_F c_F + L_X c_X).
+  // Laplacian rows: sqrt(w_j) (L_F c_F + L_X c_X)_j.
   SparseMatrix LF;
   Eigen::MatrixXd LX_c;
-  if (lambda > 0) {
+  if (laplacian_rows) {
     const SparseMatrix L = umbrella_laplacian(cage.mesh);
     std::vector<Triplet> lt;
     LX_c = Eigen::MatrixXd::Zero(n, 3);
@@ -293,9 +324,10 @@ std::vector<Vec3> solve_point_distance(const SubdivisionSurface& surface, const 
       AtP = At * P;
     }
     Eigen::MatrixXd b = AtP + mu * C;
-    if (lambda > 0) {
-      M += lambda * SparseMatrix(LF.transpose() * LF);
-      b -= lambda * (LF.transpose() * LX_c);
+    if (laplacian_rows) {
+      const SparseMatrix LFt_W = LF.transpose() * row_weight.asDiagonal();
+      M += SparseMatrix(LFt_W * LF);
+      b -= LFt_W * LX_c;
     }
     SparseMatrix I(free_count, free_count);
     I.setIdentity();
@@ -307,20 +339,20 @@ std::vector<Vec3> solve_point_distance(const SubdivisionSurface& surface, const 
     if (solver.info() != Eigen::Success) fail(Status::internal_error, "least squares: the solve failed");
   } else {
     // CGLS on the stacked system, warm-started from the current control points.
-    const Eigen::Index rows = A.rows() + (lambda > 0 ? n : 0) + free_count;
+    const Eigen::Index rows = A.rows() + (laplacian_rows ? n : 0) + free_count;
     std::vector<Triplet> bt;
-    bt.reserve(size_t(A.nonZeros() + (lambda > 0 ? LF.nonZeros() : 0) + free_count));
+    bt.reserve(size_t(A.nonZeros() + (laplacian_rows ? LF.nonZeros() : 0) + free_count));
     for (int k = 0; k < A.outerSize(); ++k)
       for (SparseMatrix::InnerIterator it(A, k); it; ++it) bt.emplace_back(int(it.row()), int(it.col()), it.value());
     Eigen::Index row = A.rows();
     Eigen::MatrixXd d(rows, 3);
     d.topRows(A.rows()) = P;
-    if (lambda > 0) {
-      const double sl = std::sqrt(lambda);
+    if (laplacian_rows) {
+      const Eigen::VectorXd sl = row_weight.cwiseSqrt();
       for (int k = 0; k < LF.outerSize(); ++k)
         for (SparseMatrix::InnerIterator it(LF, k); it; ++it)
-          bt.emplace_back(int(row + it.row()), int(it.col()), sl * it.value());
-      d.middleRows(row, n) = -sl * LX_c;
+          bt.emplace_back(int(row + it.row()), int(it.col()), sl(it.row()) * it.value());
+      d.middleRows(row, n) = -(sl.asDiagonal() * LX_c);
       row += n;
     }
     const double sm = std::sqrt(mu);
@@ -358,12 +390,15 @@ std::vector<Vec3> solve_control_points(const SubdivisionSurface& surface, const 
     fail(Status::invalid_argument, "least squares: fairing must be finite and >= 0");
   if (!(options.tangential_weight >= 0 && options.tangential_weight <= 1))
     fail(Status::invalid_argument, "least squares: tangential_weight must be in [0, 1]");
+  if (!(options.weak_support_fraction >= 0) || !std::isfinite(options.weak_support_fraction) ||
+      !(options.weak_fairing >= 0) || !std::isfinite(options.weak_fairing))
+    fail(Status::invalid_argument, "least squares: weak_support_fraction and weak_fairing must be finite and >= 0");
   LeastSquaresReport local;
   LeastSquaresReport& r = report ? *report : local;
   r = {};
   if (options.tangential_weight < 1)
     return solve_control_points_coupled(surface, cage, current_control, samples, foot_points, options.fairing,
-                                         fixed, options.tangential_weight);
+                                         fixed, options.tangential_weight, options, r);
   return solve_point_distance(surface, cage, current_control, samples, foot_points, fixed, options, r);
 }
 

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The control-vertex step of the fit (thesis §7.5, A CV0 = V (7.8)) with fixed foot points:
-//   minimise  sum_i |sum_j phi_j(t_i) c_j - p_i|^2  +  lambda |L c|^2  +  mu |c - c_current|^2
+//   minimise  sum_i |sum_j phi_j(t_i) c_j - p_i|^2  +  lambda |L c|^2  +  sum_{j weak} lambda_w |(L c)_j|^2
+//             +  mu |c - c_current|^2
 // A = [phi_j(t_i)] from the exact basis functions (SubdivisionSurface::basis), L = the umbrella
 // Laplacian of the cage (c_j - mean of its edge neighbours), lambda = fairing * trace(A^T A)
 // / (number of control vertices) so that `fairing` is independent of sample count and scale,
@@ -36,6 +37,15 @@ enum class LeastSquaresSolver {
 
 struct LeastSquaresOptions {
   double fairing = 0.0;            // lambda / (mean diagonal of A^T A); 0 = no fairing term
+  // Weakly supported control vertices: free vertices whose support holds little data (the
+  // diagonal of A^T A, the sum of their squared basis values over the samples, is below
+  // weak_support_fraction x its mean over the free vertices; 0 with no sample at all) get their
+  // own umbrella-Laplacian row with weight weak_fairing x (mean diagonal of A^T A), on top of
+  // `fairing`: they are held near the average of their neighbours instead of being left free to
+  // fly off after a few distant samples (not in the thesis, whose dense samples support every
+  // vertex). weak_support_fraction 0 turns this off.
+  double weak_support_fraction = 0.0;
+  double weak_fairing = 1.0;
   double tangential_weight = 1.0;  // w in [0, 1]
   LeastSquaresSolver solver{};     // direct (default) or cgls
   int threads = 1;                 // assembly threads
@@ -43,6 +53,8 @@ struct LeastSquaresOptions {
 
 struct LeastSquaresReport {
   size_t unsupported_control_vertices = 0;  // free control vertices with no sample in their support
+  size_t weakly_supported_control_vertices = 0;  // free vertices held by the weak-support rows
+                                                 // (includes the unsupported ones)
   int cgls_iterations = 0;                  // largest over x, y, z (cgls only)
 };
 

@@ -45,6 +45,8 @@ class PiecewiseLinearLimitMesh {
   // `exclude_ptex_face`, triangles of that ptex face are ignored (the closest point elsewhere).
   Hit closest_point(const Vec3& p, double max_distance = HUGE_VAL, uint32_t exclude_ptex_face = kNoFace) const;
   size_t num_triangles() const { return tri_face_.size(); }
+  // The grid points on the limit surface, (resolution + 1)^2 per listed ptex face.
+  const std::vector<Vec3>& grid_points() const { return grid_; }
 
  private:
   struct Node {

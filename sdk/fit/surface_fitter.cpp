@@ -15,6 +15,7 @@
 #include "fit/least_squares_system.h"
 #include "fit/piecewise_linear_limit_mesh.h"
 #include "fit/ptex_adjacency.h"
+#include "layout/approximation_error.h"
 #include "subdiv/subdivision_surface.h"
 
 CAGEKIT_NAMESPACE_BEGIN
@@ -53,7 +54,8 @@ FitPassStatistics statistics(const std::vector<FootPoint>& feet, const std::vect
 }  // namespace
 
 Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, const FitOptions& options,
-                        FitReport* report_out, const TaskMonitor& monitor, const std::vector<bool>* near_boundary) {
+                        FitReport* report_out, const TaskMonitor& monitor, const std::vector<bool>* near_boundary,
+                        const PolygonMesh* scan_surface) {
   const auto start = Clock::now();
   if (samples.empty()) fail(Status::invalid_argument, "fit: no samples");
   if (options.max_passes < 0 || options.max_passes > 100000)
@@ -64,6 +66,10 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
     fail(Status::invalid_argument, "fit: fairing must be finite and >= 0");
   if (!(options.tangential_weight >= 0 && options.tangential_weight <= 1))
     fail(Status::invalid_argument, "fit: tangential_weight must be in [0, 1]");
+  if (!(options.weak_support_fraction >= 0) || !std::isfinite(options.weak_support_fraction))
+    fail(Status::invalid_argument, "fit: weak_support_fraction must be finite and >= 0");
+  if (!(options.weak_fairing >= 0) || !std::isfinite(options.weak_fairing))
+    fail(Status::invalid_argument, "fit: weak_fairing must be finite and >= 0");
   if (options.projection != ProjectionMode::exact && options.projection != ProjectionMode::piecewise_linear)
     fail(Status::invalid_argument, "fit: unknown projection mode");
   if (options.solver != LeastSquaresSolver::direct && options.solver != LeastSquaresSolver::cgls)
@@ -97,6 +103,8 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
   }
   LeastSquaresOptions lsq;
   lsq.fairing = options.fairing;
+  lsq.weak_support_fraction = options.weak_support_fraction;
+  lsq.weak_fairing = options.weak_fairing;
   lsq.tangential_weight = options.tangential_weight;
   lsq.solver = options.solver;
   lsq.threads = threads;
@@ -117,9 +125,29 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
   // One piecewise-linear limit mesh for all passes: built for the first projection, updated
   // (stored grid stencils, refitted hierarchy) when a pass needs it again.
   std::unique_ptr<PiecewiseLinearLimitMesh> linear;
+  // Surface -> scan: the scan's triangles in one tree, queried at the linear mesh's grid points.
+  std::unique_ptr<SurfaceDistance> scan_distance;
+  if (scan_surface != nullptr && scan_surface->num_faces() > 0) {
+    scan_distance = std::make_unique<SurfaceDistance>(*scan_surface);
+    if (scan_distance->empty()) scan_distance.reset();
+  }
+  auto measure_reverse = [&](FitPassStatistics& s, double fraction) {
+    if (!scan_distance || !linear) return;
+    const std::vector<Vec3>& grid = linear->grid_points();
+    std::vector<double> d(grid.size());
+    parallel_for(grid.size(), threads, monitor, "fit", fraction, fraction,
+                 [&](size_t i) { d[i] = scan_distance->distance(grid[i]); });
+    double largest = 0, sum2 = 0;
+    for (const double x : d) largest = std::max(largest, x), sum2 += x * x;
+    const double diag = report.bbox_diagonal > 0 ? report.bbox_diagonal : 1.0;
+    s.reverse_max_relative = largest / diag;
+    s.reverse_rms_relative = grid.empty() ? 0.0 : std::sqrt(sum2 / double(grid.size())) / diag;
+    s.two_sided_rms_relative =
+        std::sqrt(0.5 * (s.rms_relative * s.rms_relative + s.reverse_rms_relative * s.reverse_rms_relative));
+  };
   auto project = [&](const std::vector<Vec3>& ctrl, bool warm, double f0, double f1) {
     const auto build_start = Clock::now();
-    const bool linear_mesh = !(exact && warm) || options.closest_point.reseed_from_linear_mesh;
+    const bool linear_mesh = !(exact && warm) || options.closest_point.reseed_from_linear_mesh || scan_distance;
     std::vector<Vec3> points = surface.patch_points(ctrl);
     if (linear_mesh) {
       if (!linear)
@@ -136,7 +164,8 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
       parallel_for(samples.size(), threads, monitor, "fit", f0, f1, [&](size_t i) {
         feet[i] = projector.project(samples[i], warm ? &feet[i] : nullptr);
       });
-      const FitPassStatistics st = statistics(feet, near_boundary, report.bbox_diagonal);
+      FitPassStatistics st = statistics(feet, near_boundary, report.bbox_diagonal);
+      measure_reverse(st, f1);
       objective = st.l2;
       return st;
     }
@@ -151,17 +180,32 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
     const FitPassStatistics own = statistics(feet, nullptr, report.bbox_diagonal);
     s.unconverged_projections = own.unconverged_projections;
     s.mean_projection_steps = own.mean_projection_steps;
+    measure_reverse(s, f1);
     objective = own.l2;
     excluded_seconds += seconds_since(t0);
     return s;
   };
 
+  // The state returned: the best by the two-sided RMS when it is measured, else the last one
+  // kept (L2 never increases from one kept state to the next).
+  const bool two_sided = options.select_best_two_sided && scan_distance != nullptr;
+  std::vector<Vec3> best_control;
+  std::vector<FootPoint> best_feet;
+  auto keep_if_best = [&](const FitPassStatistics& s) {
+    const size_t k = report.passes.size() - 1;
+    if (k > 0 && two_sided && !(s.two_sided_rms_relative < report.passes[report.best_pass].two_sided_rms_relative))
+      return;
+    report.best_pass = k;
+    best_control = control;
+    best_feet = exact ? feet : exact_feet;
+  };
   {
     const auto t0 = Clock::now();
     const double excluded_before = excluded_seconds;
     FitPassStatistics s = project(control, false, 0.0, 1.0 / passes);
     s.seconds = seconds_since(t0) - (excluded_seconds - excluded_before);
     report.passes.push_back(s);
+    keep_if_best(s);
   }
   for (int pass = 1; pass <= options.max_passes; ++pass) {
     const auto t0 = Clock::now();
@@ -172,6 +216,7 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
         solve_control_points(surface, initial, control, samples, feet, fixed, lsq, &lsq_report);
     const double lsq_seconds = seconds_since(t0);
     report.unsupported_control_vertices = lsq_report.unsupported_control_vertices;
+    report.weakly_supported_control_vertices = lsq_report.weakly_supported_control_vertices;
     const std::vector<FootPoint> previous_feet = feet, previous_exact = exact_feet;
     FitPassStatistics s = project(next, true, pass / passes, (pass + 1) / passes);
     s.seconds = seconds_since(t0) - (excluded_seconds - excluded_before);
@@ -187,9 +232,14 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
     }
     control = std::move(next);
     report.passes.push_back(s);
+    keep_if_best(s);
     monitor.log(LogLevel::info, "fit pass " + std::to_string(pass) + ": rms " + std::to_string(s.rms_relative) +
-                                    ", max " + std::to_string(s.max_relative) + " of the bbox diagonal; " +
-                                    std::to_string(lsq_seconds) + " s least squares, " +
+                                    ", max " + std::to_string(s.max_relative) + " of the bbox diagonal" +
+                                    (std::isnan(s.reverse_max_relative)
+                                         ? std::string()
+                                         : "; surface -> scan rms " + std::to_string(s.reverse_rms_relative) +
+                                               ", max " + std::to_string(s.reverse_max_relative)) +
+                                    "; " + std::to_string(lsq_seconds) + " s least squares, " +
                                     std::to_string(s.seconds - lsq_seconds) + " s projection");
     if (before - objective < options.tolerance * before) {
       report.stopped_by_tolerance = pass < options.max_passes;
@@ -197,11 +247,16 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
     }
   }
   monitor.report("fit", 1.0);
+  if (report.best_pass + 1 != report.passes.size())
+    monitor.log(LogLevel::info, "fit: returning state " + std::to_string(report.best_pass) + " of " +
+                                    std::to_string(report.passes.size() - 1) +
+                                    " (the lowest two-sided distance; later steps lowered L2 but moved the surface "
+                                    "away from the scan)");
 
   Cage fitted = initial;
-  fitted.mesh.positions = control;
+  fitted.mesh.positions = std::move(best_control);
   report.seconds = seconds_since(start) - excluded_seconds;
-  report.foot_points = exact ? std::move(feet) : std::move(exact_feet);
+  report.foot_points = std::move(best_feet);
   if (report_out) *report_out = std::move(report);
   return fitted;
 }
@@ -238,7 +293,7 @@ Cage fit_cage_to_mesh(const Cage& initial, const PolygonMesh& scan, const FitOpt
       if (on_boundary[b]) near[a] = true;
     }
   }
-  return fit_cage_to_points(initial, scan.positions, options, report, monitor, &near);
+  return fit_cage_to_points(initial, scan.positions, options, report, monitor, &near, &scan);
 }
 
 CAGEKIT_NAMESPACE_END

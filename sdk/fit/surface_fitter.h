@@ -10,6 +10,7 @@
 // pass to pass: a step that would increase it is rejected and the fit stops. The cage's
 // connectivity and tags (creases, corners, holes, boundary rule) are kept, so tagged edges stay
 // sharp in the fitted surface; only control-vertex positions change.
+#include <cmath>
 #include <cstddef>
 #include <vector>
 
@@ -50,6 +51,16 @@ struct FitOptions {
   // vertices with no samples in their support then keep their position and are counted in
   // FitReport::unsupported_control_vertices.
   double fairing = 0.0;
+  // Control vertices whose support holds little data (least_squares_system.h) get their own
+  // fairing rows, so they stay near the average of their neighbours instead of flying off after a
+  // few distant samples; 0 = off (the thesis's free vertices). Not in the thesis (own addition).
+  double weak_support_fraction = 0.05;
+  double weak_fairing = 1.0;
+  // Judge every state by its two-sided distance (scan -> surface and surface -> scan RMS,
+  // two_sided_rms_relative) and return the best state, not the last: a step can lower the
+  // thesis's one-sided L2 while parts of the surface move away from the scan. Needs the scan's
+  // faces (fit_cage_to_mesh, or `scan_surface`); without them states are judged by L2.
+  bool select_best_two_sided = true;
   // Keep the vertices on infinitely sharp crease edges and the corner-tagged vertices at their
   // input positions (for cages built on the scan, where those vertices are scan samples).
   bool keep_crease_vertices_on_samples = false;
@@ -81,6 +92,13 @@ struct FitPassStatistics {
   double seconds = 0;           // time of this pass (least squares + projection)
   size_t unconverged_projections = 0;  // searches that hit max_steps before |q| < epsilon
   double mean_projection_steps = 0;    // update steps per search (hops and line searches count)
+  // Surface -> scan: distances from the limit surface's grid points (the vertices of the
+  // piecewise-linear limit mesh, (seed_resolution + 1)^2 per ptex face) to the scan's triangles,
+  // relative to the diagonal; NaN when the scan's faces are not known.
+  double reverse_max_relative = NAN;
+  double reverse_rms_relative = NAN;
+  // sqrt((rms_relative^2 + reverse_rms_relative^2) / 2): what select_best_two_sided minimises.
+  double two_sided_rms_relative = NAN;
 };
 
 struct FitReport {
@@ -89,7 +107,11 @@ struct FitReport {
   bool stopped_by_tolerance = false;  // (7.2) ended the fit before max_passes
   bool rejected_last_step = false;    // the last step would have increased L2 and was undone
   size_t unsupported_control_vertices = 0;  // no sample in their support in the last step
+  size_t weakly_supported_control_vertices = 0;  // held by weak-support fairing in the last step
   bool fairing_used = false;
+  // The state returned (index into passes): the best by two_sided_rms_relative with
+  // select_best_two_sided and known faces, else the last kept.
+  size_t best_pass = 0;
   double bbox_diagonal = 0;
   double seconds = 0;  // whole fit (setup, all passes; without piecewise-linear mode's statistics)
   std::vector<FootPoint> foot_points;  // final foot points of the samples
@@ -99,10 +121,12 @@ struct FitReport {
 // Error(invalid_mesh) for a cage that cannot be subdivided or has no limit surface,
 // Error(cancelled) via the monitor (stage "fit", fraction over passes; reported at least once per
 // pass). `near_boundary` (optional, one flag per sample) marks the samples excluded from
-// max_relative_interior.
+// max_relative_interior. `scan_surface` (optional): the triangles the samples lie on, for the
+// surface -> scan figures and the two-sided choice of the returned state.
 Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, const FitOptions& options = {},
                         FitReport* report = nullptr, const TaskMonitor& monitor = {},
-                        const std::vector<bool>* near_boundary = nullptr);
+                        const std::vector<bool>* near_boundary = nullptr,
+                        const PolygonMesh* scan_surface = nullptr);
 
 // The samples are all of the scan's vertices (foot_points[i] belongs to vertex i); a vertex is
 // "near the boundary" when it is on a boundary edge of the scan or shares an edge with such a

@@ -4,6 +4,7 @@
 // control mesh), relative to the input's bounding-box diagonal — the definitions used by
 // ../shared/spec/peer-measurements.md so CageKit's numbers compare with the peers'.
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "core/polygon_mesh.h"
@@ -20,11 +21,32 @@ struct ApproximationError {
   double hausdorff_sym_rel = 0;
   // Mean input-vertex distance / diagonal.
   double mean_rel = 0;
+  // The approximation -> input direction alone: largest distance from the approximation's
+  // samples to the input surface / diagonal (hausdorff_sym_rel = max of this and hausdorff_rel).
+  double reverse_rel = 0;
 };
 
 // Both meshes need valid indices; faces with fewer than 3 vertices are ignored.
 ApproximationError measure_approximation_error(const PolygonMesh& input, const PolygonMesh& approximation,
                                                int samples_per_edge = 4, const TaskMonitor& monitor = {});
+
+// Distances from points to a mesh's surface (polygons fan-split from their first corner,
+// degenerate triangles and faces with bad indices skipped): one CGAL AABB tree, built once.
+// Thread-safety: distance() may be called from any number of threads at once.
+class SurfaceDistance {
+ public:
+  explicit SurfaceDistance(const PolygonMesh& mesh);
+  ~SurfaceDistance();
+  SurfaceDistance(const SurfaceDistance&) = delete;
+  SurfaceDistance& operator=(const SurfaceDistance&) = delete;
+  // True when the mesh has no non-degenerate triangle (distance() is then +infinity).
+  bool empty() const;
+  double distance(const Vec3& p) const;
+
+ private:
+  struct Tree;
+  std::unique_ptr<Tree> tree_;
+};
 
 // For each point, the face of `mesh` (polygons fan-split from their first corner) nearest to it,
 // or UINT32_MAX when the mesh has no non-degenerate triangle. One CGAL AABB tree over the mesh.

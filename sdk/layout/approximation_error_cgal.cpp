@@ -22,7 +22,7 @@ using Point = Kernel::Point_3;
 using Triangle = Kernel::Triangle_3;
 using TriangleList = std::vector<Triangle>;
 using Primitive = CGAL::AABB_triangle_primitive<Kernel, TriangleList::const_iterator>;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+using AabbTree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
 
 Point to_point(const Vec3& v) { return Point(v.x, v.y, v.z); }
 
@@ -47,13 +47,37 @@ TriangleList fan_triangles(const PolygonMesh& mesh, std::vector<uint32_t>* face_
 
 }  // namespace
 
+struct SurfaceDistance::Tree {
+  TriangleList triangles;
+  std::unique_ptr<AabbTree> tree;
+};
+
+SurfaceDistance::SurfaceDistance(const PolygonMesh& mesh) : tree_(std::make_unique<Tree>()) {
+  check_memory_estimate(estimate_product(mesh.num_face_vertices(), 250), "building a distance tree");
+  tree_->triangles = fan_triangles(mesh);
+  if (tree_->triangles.empty()) return;
+  tree_->tree = std::make_unique<AabbTree>(tree_->triangles.begin(), tree_->triangles.end());
+  // Built now (the tree and its search structure), so that concurrent const queries only read.
+  tree_->tree->build();
+  tree_->tree->accelerate_distance_queries();
+}
+
+SurfaceDistance::~SurfaceDistance() = default;
+
+bool SurfaceDistance::empty() const { return !tree_->tree; }
+
+double SurfaceDistance::distance(const Vec3& p) const {
+  if (!tree_->tree) return HUGE_VAL;
+  return std::sqrt(tree_->tree->squared_distance(to_point(p)));
+}
+
 std::vector<uint32_t> nearest_faces(const PolygonMesh& mesh, const std::vector<Vec3>& points) {
   check_memory_estimate(estimate_product(mesh.num_face_vertices(), 250), "finding nearest faces");
   std::vector<uint32_t> face_of;
   const TriangleList triangles = fan_triangles(mesh, &face_of);
   std::vector<uint32_t> result(points.size(), UINT32_MAX);
   if (triangles.empty()) return result;
-  Tree tree(triangles.begin(), triangles.end());
+  AabbTree tree(triangles.begin(), triangles.end());
   tree.accelerate_distance_queries();
   for (size_t i = 0; i < points.size(); ++i)
     result[i] = face_of[size_t(tree.closest_point_and_primitive(to_point(points[i])).second - triangles.begin())];
@@ -73,7 +97,7 @@ ApproximationError measure_approximation_error(const PolygonMesh& input, const P
   if (diagonal <= 0 || input_triangles.empty() || approx_triangles.empty()) return result;
 
   // Input vertices (those on a face) -> approximation.
-  Tree approx_tree(approx_triangles.begin(), approx_triangles.end());
+  AabbTree approx_tree(approx_triangles.begin(), approx_triangles.end());
   approx_tree.accelerate_distance_queries();
   std::vector<uint8_t> on_face(input.num_vertices(), 0);
   for (uint32_t v : input.face_vertices)
@@ -92,7 +116,7 @@ ApproximationError measure_approximation_error(const PolygonMesh& input, const P
   result.mean_rel = count ? sum / double(count) / diagonal : 0.0;
 
   // Samples of the approximation -> input surface.
-  Tree input_tree(input_triangles.begin(), input_triangles.end());
+  AabbTree input_tree(input_triangles.begin(), input_triangles.end());
   input_tree.accelerate_distance_queries();
   const int n = std::max(1, samples_per_edge);
   double max_back = 0;
@@ -107,7 +131,8 @@ ApproximationError measure_approximation_error(const PolygonMesh& input, const P
       }
     if ((t & 0xfff) == 0) monitor.report("error", 0.5 + 0.5 * double(t) / double(approx_triangles.size()));
   }
-  result.hausdorff_sym_rel = std::max(result.hausdorff_rel, std::sqrt(max_back) / diagonal);
+  result.reverse_rel = std::sqrt(max_back) / diagonal;
+  result.hausdorff_sym_rel = std::max(result.hausdorff_rel, result.reverse_rel);
   monitor.report("error", 1.0);
   return result;
 }

@@ -179,7 +179,7 @@ expect_bad "remesh of a non-manifold mesh" "$cli" remesh "$tmp/nonmanifold.obj" 
 # 9. fitting (thesis ch. 7): a cage from the demo scan, and the creased unit cube, fitted to the scan
 fit_keys="passes l2 rms_rel max_rel mean_rel max_rel_interior seconds per_pass stopped_by_tolerance unconverged_projections"
 pass_keys="l2 rms_rel max_rel mean_rel max_rel_interior seconds unconverged_projections"
-fit_ok="all(k in F for k in '$fit_keys'.split()) and all(k in p for p in F['per_pass'] for k in '$pass_keys'.split()) and len(F['per_pass']) == F['passes'] + 1 and F['per_pass'][-1]['max_rel'] < F['per_pass'][0]['max_rel'] and all(b['l2'] <= a['l2'] for a, b in zip(F['per_pass'], F['per_pass'][1:])) and F['max_rel'] == F['per_pass'][-1]['max_rel']"
+fit_ok="all(k in F for k in '$fit_keys'.split()) and all(k in p for p in F['per_pass'] for k in '$pass_keys'.split()) and len(F['per_pass']) == F['passes'] + 1 and F['per_pass'][-1]['max_rel'] < F['per_pass'][0]['max_rel'] and all(b['l2'] <= a['l2'] for a, b in zip(F['per_pass'], F['per_pass'][1:])) and F['max_rel'] == F['per_pass'][F['best_pass']]['max_rel'] and F['best_pass'] <= F['passes']"
 if "$cli" simplify "$tmp/demo/scan.obj" "$tmp/scan6.obj" --faces 6 --cage --quiet &&
    "$cli" fit "$tmp/demo/scan.obj" "$tmp/scan6.obj" "$tmp/fit6.obj" --passes 3 --json --quiet >"$tmp/fit6.json" &&
    [ "$(json "$tmp/fit6.json" "[F := d, $fit_ok][1] and d['passes'] >= 1")" = True ] &&
@@ -218,7 +218,14 @@ expect_bad "fit: --tolerance nan" "$cli" fit "$tmp/demo/scan.obj" "$tmp/cube.obj
 expect_bad "fit: --projection bogus" "$cli" fit "$tmp/demo/scan.obj" "$tmp/cube.obj" "$tmp/out.obj" --projection bogus --quiet
 expect_bad "pipeline: missing scan" "$cli" pipeline "$tmp/does-not-exist.obj" "$tmp/pipe2" --faces 6 --quiet
 expect_bad "pipeline: corrupt scan" "$cli" pipeline "$tmp/badindex.obj" "$tmp/pipe2" --faces 6 --quiet
-expect_bad "pipeline: invalid scan" "$cli" pipeline "$tmp/nonmanifold.obj" "$tmp/pipe2" --faces 6 --quiet
+expect_bad "pipeline --no-repair: invalid scan" "$cli" pipeline "$tmp/nonmanifold.obj" "$tmp/pipe2" --faces 6 --no-repair --quiet
+# Conditioning (on by default): duplicate faces dropped, the orientation made consistent, the
+# 2 triangles left are their own cage (fewer faces than asked for), reported in report.json.
+if "$cli" pipeline "$tmp/nonmanifold.obj" "$tmp/pipe-nm" --faces 6 --quiet &&
+   [ "$(json "$tmp/pipe-nm/report.json" "d['conditioning']['input_faces'] == 4 and d['conditioning']['faces'] == 2 and d['conditioning']['dropped_duplicate_faces'] == 2 and d['conditioning']['flipped_faces'] == 1 and d['input_is_cage'] and d['quality']['good']")" = True ]
+then pass "pipeline conditions a non-manifold scan (duplicates dropped, orientation fixed) and reports it"; else cat "$tmp/pipe-nm/report.json"; fail "pipeline conditioning"; fi
+expect_bad "pipeline: --components other" "$cli" pipeline "$tmp/demo/scan.obj" "$tmp/pipe2" --faces 6 --components some --quiet
+expect_bad "pipeline: NaN in the scan" "$cli" pipeline "$tmp/nan.obj" "$tmp/pipe2" --faces 6 --quiet
 expect_bad "pipeline: --passes -1" "$cli" pipeline "$tmp/demo/scan.obj" "$tmp/pipe2" --faces 6 --passes -1 --quiet
 expect_bad "pipeline: --method other" "$cli" pipeline "$tmp/demo/scan.obj" "$tmp/pipe2" --faces 6 --method qem --quiet
 expect_bad "pipeline: OUTDIR under a file" "$cli" pipeline "$tmp/demo/scan.obj" "$tmp/cube.obj/sub" --faces 6 --quiet

@@ -1,9 +1,9 @@
 #!/bin/sh
 # The sdk/ folders are layered: each may include only itself and the folders below it.
-# Order, lowest first: core -> subdiv -> layout -> fit -> multires -> gpu -> capi. Fails on any include that goes upward.
+# Order, lowest first: core -> subdiv -> layout -> fit -> pipeline -> multires -> gpu -> capi. Fails on any include that goes upward.
 set -u
 sdk="$1"
-order="core subdiv layout fit multires gpu capi"
+order="core subdiv layout fit pipeline multires gpu capi"
 status=0
 rank() { i=0; for l in $order; do [ "$l" = "$1" ] && { echo $i; return; }; i=$((i + 1)); done; echo 99; }
 for layer in $order; do

@@ -1155,7 +1155,8 @@ static void fit_reduces_the_error_every_pass(void) {
   report.passes = passes;
   CHECK_OK(cagekit_cage_fit(cube, sphere, &options, &again, &report));
   CHECK(report.pass_count == count && report.passes == passes && report.pass_capacity == count + 1);
-  CHECK(passes[0].l2 == report.initial.l2 && passes[count - 1].l2 == report.final.l2);
+  CHECK(report.best_pass < count && passes[0].l2 == report.initial.l2 &&
+        passes[report.best_pass].l2 == report.final.l2);
   for (i = 1; i < count; ++i) CHECK(passes[i].l2 <= passes[i - 1].l2);
   for (i = 0; i < count; ++i) CHECK(passes[i].mean_rel <= passes[i].max_rel && passes[i].mean_projection_steps >= 0);
   CHECK(passes[count].l2 == -7);
@@ -1572,6 +1573,143 @@ static void quad_remesh_of_a_cylinder(void) {
   cagekit_context_release(context);
 }
 
+/* The whole journey in one call (cagekit_scan_to_cage): a clean scan, the same scan as a
+ * triangle soup with one triangle flipped (welded and oriented by the conditioning), a tiny input
+ * that is its own cage, bounds that cannot be met (QUALITY, nothing returned) and bad input. */
+static void scan_to_cage_conditions_fits_and_judges(void) {
+  cagekit_context context = new_context();
+  cagekit_mesh sphere = new_sphere(context), soup = NULL, degenerate = NULL, cube = new_cube(context);
+  cagekit_cage cage = NULL, limit = NULL;
+  cagekit_scan_to_cage_options options = CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT;
+  cagekit_scan_to_cage_report report;
+  cagekit_fit_report fit;
+  cagekit_fit_pass passes[6];
+  cagekit_mesh_info info;
+  static double soup_positions[9 * SPHERE_TRIANGLES];
+  static uint32_t soup_triangles[3 * SPHERE_TRIANGLES];
+  static const double flat[] = {0, 0, 0, 1, 0, 0, 2, 0, 0, 3, 0, 0};
+  static const uint32_t flat_triangles[] = {0, 1, 2, 1, 2, 3};
+  double positions[3 * SPHERE_VERTICES];
+  uint32_t triangles[3 * SPHERE_TRIANGLES], i, k;
+  cagekit_mesh_desc desc = CAGEKIT_MESH_DESC_INIT;
+
+  memset(&report, 0, sizeof(report));
+  report.struct_size = sizeof(report);
+  memset(&fit, 0, sizeof(fit));
+  fit.struct_size = sizeof(fit);
+  fit.pass_capacity = 6;
+  fit.passes = passes;
+  options.target = 30;
+  CHECK_OK(cagekit_scan_to_cage(sphere, &options, &cage, &limit, &report, &fit));
+  CHECK(cage != NULL && limit != NULL);
+  CHECK(report.conditioned_faces == SPHERE_TRIANGLES && report.welded_vertices == 0 && report.flipped_faces == 0);
+  CHECK(report.used_method == CAGEKIT_SCAN_SIMPLIFY && report.fallback == 0 && report.fallback_reason[0] == 0);
+  CHECK(report.cage_faces >= 30 && report.cage_faces <= 120 && report.holes_added == 0);
+  CHECK(report.fit_pass_count >= 2 && report.fit_final.max_rel < report.fit_initial.max_rel);
+  CHECK(fit.pass_count == report.fit_pass_count && fit.best_pass == report.fit_best_pass);
+  CHECK(fit.final.max_rel == report.fit_final.max_rel);
+  CHECK(report.fit_final_two_sided.surface_to_scan_max_rel >= 0 && report.fit_final_two_sided.two_sided_rms_rel > 0);
+  printf("scan_to_cage sphere: %llu cage faces, scan->limit %.4g, limit->scan %.4g\n", (unsigned long long)report.cage_faces,
+         report.scan_to_limit_max_rel, report.limit_to_scan_max_rel);
+  CHECK(report.scan_to_limit_max_rel < 0.05 && report.limit_to_scan_max_rel < 0.05);
+  CHECK(report.self_intersections == 0 && report.self_intersection_triangles > 0);
+  info.struct_size = sizeof(info);
+  CHECK_OK(cagekit_cage_get_info(limit, &info));
+  CHECK(info.faces == report.limit_faces && report.limit_levels == 3);
+  cagekit_cage_release(cage);
+  cagekit_cage_release(limit);
+  cage = limit = NULL;
+
+  /* The sphere as a soup: every triangle with its own corners, one of them flipped. */
+  CHECK_OK(cagekit_mesh_get_positions(sphere, CAGEKIT_SCALAR_FLOAT64, SPHERE_VERTICES, NULL, positions));
+  CHECK_OK(cagekit_mesh_get_faces(sphere, 0, NULL, NULL, 3 * SPHERE_TRIANGLES, NULL, triangles));
+  for (i = 0; i < SPHERE_TRIANGLES; ++i)
+    for (k = 0; k < 3; ++k) {
+      const uint32_t corner = i == 7 ? 2 - k : k; /* triangle 7 reversed */
+      memcpy(&soup_positions[9 * i + 3 * k], &positions[3 * triangles[3 * i + corner]], 3 * sizeof(double));
+      soup_triangles[3 * i + k] = 3 * i + k;
+    }
+  desc.vertex_count = 3 * SPHERE_TRIANGLES;
+  desc.positions = soup_positions;
+  desc.face_count = SPHERE_TRIANGLES;
+  desc.face_indices = soup_triangles;
+  CHECK_OK(cagekit_mesh_create(context, &desc, &soup));
+  CHECK_OK(cagekit_scan_to_cage(soup, &options, &cage, NULL, &report, NULL));
+  CHECK(report.welded_vertices == 3 * SPHERE_TRIANGLES - SPHERE_VERTICES && report.flipped_faces == 1);
+  CHECK(report.conditioned_vertices == SPHERE_VERTICES && report.components == 1);
+  CHECK(report.limit_to_scan_max_rel < 0.05);
+  cagekit_cage_release(cage);
+  cage = NULL;
+  /* Without conditioning, the sphere with one triangle reversed is refused (inconsistent
+   * orientation); with it, the triangle is flipped back. */
+  {
+    cagekit_mesh flipped = NULL;
+    uint32_t t = triangles[3 * 7];
+    triangles[3 * 7] = triangles[3 * 7 + 1];
+    triangles[3 * 7 + 1] = t;
+    desc.vertex_count = SPHERE_VERTICES;
+    desc.positions = positions;
+    desc.face_count = SPHERE_TRIANGLES;
+    desc.face_indices = triangles;
+    CHECK_OK(cagekit_mesh_create(context, &desc, &flipped));
+    options.repair = 0;
+    CHECK_STATUS(cagekit_scan_to_cage(flipped, &options, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_MESH);
+    CHECK(cage == NULL);
+    options.repair = 1;
+    CHECK_OK(cagekit_scan_to_cage(flipped, &options, &cage, NULL, &report, NULL));
+    CHECK(report.flipped_faces == 1 && report.welded_vertices == 0);
+    cagekit_cage_release(cage);
+    cage = NULL;
+    cagekit_mesh_release(flipped);
+  }
+
+  /* A 6-quad cube asked for 60 faces is its own cage (its 12 sharp edges creased). */
+  options.target = 60;
+  CHECK_OK(cagekit_scan_to_cage(cube, &options, &cage, NULL, &report, NULL));
+  CHECK(report.input_is_cage == 1 && report.cage_faces == 6 && report.creases == 12);
+  cagekit_cage_release(cage);
+  cage = NULL;
+
+  /* Bounds no surface meets: QUALITY naming the figure, nothing returned. */
+  options.target = 6;
+  options.max_limit_to_scan_rel = 1e-12;
+  options.limit_to_scan_factor = 1e-12;
+  options.small_input_faces = 0;
+  CHECK_STATUS(cagekit_scan_to_cage(sphere, &options, &cage, &limit, NULL, NULL), CAGEKIT_ERROR_QUALITY);
+  CHECK(cage == NULL && limit == NULL);
+  CHECK(strstr(cagekit_last_error_message(context), "strays") != NULL);
+  CHECK(strcmp(cagekit_status_string(CAGEKIT_ERROR_QUALITY), "result misses its quality bounds") == 0);
+
+  /* Bad input and options. */
+  options = (cagekit_scan_to_cage_options)CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT;
+  desc.vertex_count = 4;
+  desc.positions = flat;
+  desc.face_count = 2;
+  desc.face_indices = flat_triangles;
+  CHECK_OK(cagekit_mesh_create(context, &desc, &degenerate));
+  CHECK_STATUS(cagekit_scan_to_cage(degenerate, &options, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_MESH);
+  CHECK(strstr(cagekit_last_error_message(context), "nothing left") != NULL);
+  CHECK_STATUS(cagekit_scan_to_cage(sphere, &options, NULL, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  options.target = 0;
+  CHECK_STATUS(cagekit_scan_to_cage(sphere, &options, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  options.target = 60;
+  options.limit_levels = 0;
+  CHECK_STATUS(cagekit_scan_to_cage(sphere, &options, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  options.limit_levels = 3;
+  options.weld_tolerance_rel = -1;
+  CHECK_STATUS(cagekit_scan_to_cage(sphere, &options, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  options.weld_tolerance_rel = 0;
+  memcpy(&options.method, &(int32_t){7}, sizeof(int32_t));
+  CHECK_STATUS(cagekit_scan_to_cage(sphere, &options, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(cage == NULL);
+  CHECK_STATUS(cagekit_scan_to_cage(NULL, NULL, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_HANDLE);
+  cagekit_mesh_release(degenerate);
+  cagekit_mesh_release(soup);
+  cagekit_mesh_release(cube);
+  cagekit_mesh_release(sphere);
+  cagekit_context_release(context);
+}
+
 int main(void) {
   static const c_test_case tests[] = {
       {"version_is_consistent", version_is_consistent},
@@ -1604,6 +1742,7 @@ int main(void) {
       {"fit_rejects_bad_arguments_and_can_be_cancelled", fit_rejects_bad_arguments_and_can_be_cancelled},
       {"anisotropic_remesh_follows_a_cylinder", anisotropic_remesh_follows_a_cylinder},
       {"quad_remesh_of_a_cylinder", quad_remesh_of_a_cylinder},
+      {"scan_to_cage_conditions_fits_and_judges", scan_to_cage_conditions_fits_and_judges},
   };
   return run_tests(tests, (int)(sizeof(tests) / sizeof(tests[0])));
 }

@@ -453,7 +453,8 @@ TEST(FitSurface, tolerance_stops_the_passes_and_l2_never_increases) {
 }
 
 // Rank deficiency: samples on one half of the surface leave control vertices without samples in
-// their support; without fairing they stay where they are, and they are counted.
+// their support; with the weak-support rows off and without fairing (the thesis's system) they
+// stay where they are, and they are counted.
 TEST(FitSurface, control_vertices_without_samples_are_reported_and_kept) {
   const KnownSurface k = known_surface();
   std::vector<Vec3> half;
@@ -461,6 +462,7 @@ TEST(FitSurface, control_vertices_without_samples_are_reported_and_kept) {
     if (p.x > 0.25) half.push_back(p);
   FitOptions options;
   options.max_passes = 2;
+  options.weak_support_fraction = 0;
   FitReport report;
   const Cage fitted = fit_cage_to_points(k.initial, half, options, &report);
   std::printf("half samples: %zu control vertices without samples\n", report.unsupported_control_vertices);
@@ -475,6 +477,115 @@ TEST(FitSurface, control_vertices_without_samples_are_reported_and_kept) {
   FitReport faired;
   fit_cage_to_points(k.initial, half, options, &faired);
   EXPECT_TRUE(faired.fairing_used);
+}
+
+// The umbrella Laplacian residual |c_j - mean of its edge neighbours| of every control vertex.
+std::vector<double> laplacian_residuals(const Cage& cage) {
+  const PolygonMesh& m = cage.mesh;
+  std::vector<std::vector<uint32_t>> nb(m.num_vertices());
+  for (size_t f = 0; f < m.num_faces(); ++f)
+    for (uint32_t c = 0; c < m.face_size(f); ++c) {
+      const uint32_t a = m.face_vertex(f, c), b = m.face_vertex(f, (c + 1) % m.face_size(f));
+      nb[a].push_back(b);
+      nb[b].push_back(a);
+    }
+  std::vector<double> r(m.num_vertices(), 0.0);
+  for (size_t i = 0; i < nb.size(); ++i) {
+    std::sort(nb[i].begin(), nb[i].end());
+    nb[i].erase(std::unique(nb[i].begin(), nb[i].end()), nb[i].end());
+    Vec3 mean;
+    for (uint32_t j : nb[i]) mean += m.positions[j] * (1.0 / double(nb[i].size()));
+    r[i] = distance(m.positions[i], mean);
+  }
+  return r;
+}
+
+// With the defaults, control vertices with little or no data in their support are held by
+// their own fairing rows: they are counted, and end near the average of their neighbours (much
+// nearer than when they are left free), while the supported half still fits.
+TEST(FitSurface, weakly_supported_control_vertices_are_held_by_fairing) {
+  const KnownSurface k = known_surface();
+  std::vector<Vec3> half;
+  for (const Vec3& p : k.samples)
+    if (p.x > 0.25) half.push_back(p);
+  FitOptions options;
+  options.max_passes = 3;
+  FitReport held, free;
+  const Cage a = fit_cage_to_points(k.initial, half, options, &held);
+  options.weak_support_fraction = 0;
+  const Cage b = fit_cage_to_points(k.initial, half, options, &free);
+  std::printf("weak support: %zu held (%zu without samples); rms %.4g%% held vs %.4g%% free\n",
+              held.weakly_supported_control_vertices, held.unsupported_control_vertices,
+              100 * held.passes[held.best_pass].rms_relative, 100 * free.passes[free.best_pass].rms_relative);
+  EXPECT_GE(held.weakly_supported_control_vertices, held.unsupported_control_vertices);
+  EXPECT_GT(held.unsupported_control_vertices, 0u);
+  EXPECT_EQ(free.weakly_supported_control_vertices, 0u);
+  // The unsupported vertices (those the thesis's system leaves in place) are smoother.
+  const std::vector<double> ra = laplacian_residuals(a), rb = laplacian_residuals(b);
+  double sum_a = 0, sum_b = 0;
+  size_t unmoved = 0;
+  for (size_t i = 0; i < b.mesh.num_vertices(); ++i)
+    if (distance(b.mesh.positions[i], k.initial.mesh.positions[i]) < 1e-9) sum_a += ra[i], sum_b += rb[i], ++unmoved;
+  ASSERT_GT(unmoved, 0u);
+  std::printf("weak support: mean Laplacian residual of %zu unsupported vertices %.4g held vs %.4g free\n", unmoved,
+              sum_a / double(unmoved), sum_b / double(unmoved));
+  EXPECT_LT(sum_a, 0.5 * sum_b);
+  // The data half still fits about as well (within 2x of the free fit's RMS).
+  EXPECT_LT(held.passes[held.best_pass].rms_relative, 2.0 * free.passes[free.best_pass].rms_relative + 1e-6);
+}
+
+// A scan that covers only part of the cage, with a few stray samples far from it: the returned
+// state is the best of all measured states by the two-sided RMS, every state is measured both
+// ways, and no control vertex flies off.
+TEST(FitSurface, returned_state_is_the_best_two_sided_and_nothing_flies_off) {
+  const PolygonMesh sphere = cagekit_test::triangle_sphere(4);
+  // The upper half of the sphere as the scan (faces with every corner at z > -0.1), plus three
+  // small triangles far below it (stray scan pieces).
+  PolygonMesh scan;
+  scan.positions = sphere.positions;
+  for (size_t f = 0; f < sphere.num_faces(); ++f) {
+    bool keep = true;
+    for (uint32_t c = 0; c < sphere.face_size(f); ++c) keep = keep && sphere.positions[sphere.face_vertex(f, c)].z > -0.1;
+    if (keep) scan.add_face({sphere.face_vertex(f, 0), sphere.face_vertex(f, 1), sphere.face_vertex(f, 2)});
+  }
+  for (int t = 0; t < 3; ++t) {
+    const uint32_t base = uint32_t(scan.positions.size());
+    const double x = -0.4 + 0.4 * t;
+    scan.positions.push_back({x, 0.0, -1.6});
+    scan.positions.push_back({x + 0.02, 0.0, -1.6});
+    scan.positions.push_back({x, 0.02, -1.6});
+    scan.add_face({base, base + 1, base + 2});
+  }
+  const Cage cage = centred_cube(0.6);
+  FitOptions options;
+  options.max_passes = 6;
+  options.tolerance = 0;
+  FitReport report;
+  const Cage fitted = fit_cage_to_mesh(cage, scan, options, &report);
+  ASSERT_GE(report.passes.size(), 2u);
+  for (size_t k = 0; k < report.passes.size(); ++k) {
+    const FitPassStatistics& s = report.passes[k];
+    std::printf("partial scan: state %zu rms %.4g%% surface->scan rms %.4g%% max %.4g%% two-sided %.4g%%\n", k,
+                100 * s.rms_relative, 100 * s.reverse_rms_relative, 100 * s.reverse_max_relative,
+                100 * s.two_sided_rms_relative);
+    ASSERT_TRUE(std::isfinite(s.two_sided_rms_relative));
+    EXPECT_GE(s.reverse_max_relative, s.reverse_rms_relative);
+    EXPECT_GE(s.two_sided_rms_relative, report.passes[report.best_pass].two_sided_rms_relative);
+  }
+  ASSERT_LT(report.best_pass, report.passes.size());
+  // Without faces, states are judged by L2: the last kept one is returned.
+  FitReport points_only;
+  fit_cage_to_points(cage, scan.positions, options, &points_only);
+  EXPECT_EQ(points_only.best_pass, points_only.passes.size() - 1);
+  EXPECT_TRUE(std::isnan(points_only.passes.back().reverse_max_relative));
+  // No control vertex far outside the scan's box (diagonal ~3.9).
+  BoundingBox box = scan.bounding_box();
+  for (const Vec3& p : fitted.mesh.positions) {
+    EXPECT_GT(p.x, box.min.x - 1.0);
+    EXPECT_LT(p.x, box.max.x + 1.0);
+    EXPECT_GT(p.z, box.min.z - 1.0);
+    EXPECT_LT(p.z, box.max.z + 1.0);
+  }
 }
 
 // The CGLS solver (thesis §7.5) reaches the direct solver's control points.

@@ -20,7 +20,7 @@ numpy is needed for arrays only: `import cagekit` works without it.
 from . import _lib
 from ._errors import (CageKitError, CancelledError, FileIOError, InternalError, InvalidArgumentError,
                       InvalidHandleError, InvalidMeshError, LimitExceededError, OutOfMemoryError, ParseError,
-                      SizeInsufficientError, UnsupportedFormatError, VersionMismatchError)
+                      SizeInsufficientError, UnsupportedFormatError, VersionMismatchError, QualityError)
 from ._formats import FileFormat
 from ._handle import live_handles
 from ._records import Record
@@ -31,6 +31,7 @@ from .limit_patches import LimitPatches, limit_patches
 from .mesh import Mesh, MeshIssue, RepairSteps
 from .multires import Binding, CpuDeformer, DisplacementMode, NormalMode, bind
 from .remesh import RemeshMethod, remesh
+from .scan_to_cage import ComponentMode, ScanMethod, scan_to_cage
 from .simplify import Hierarchy, LevelQuery, simplify
 from .surface import Surface
 
@@ -52,10 +53,10 @@ def abi_version():
 
 __all__ = [
     "ABI_VERSION", "MAX_SUBDIVISION_LEVELS", "SHARP", "Binding", "BoundaryRule", "Cage", "CageKitError",
-    "CancelledError", "Context", "CpuDeformer", "DisplacementMode", "FileFormat", "FileIOError", "Hierarchy",
+    "CancelledError", "ComponentMode", "Context", "CpuDeformer", "DisplacementMode", "FileFormat", "FileIOError", "Hierarchy",
     "InternalError", "InvalidArgumentError", "InvalidHandleError", "InvalidMeshError", "LevelQuery",
     "LimitExceededError", "LimitPatches", "LogLevel", "LsqSolver", "Mesh", "MeshIssue", "NormalMode",
-    "OutOfMemoryError", "ParseError", "ProjectionMode", "Record", "RemeshMethod", "RepairSteps", "SizeInsufficientError", "Surface",
-    "UnsupportedFormatError", "VersionMismatchError", "abi_version", "bind", "default_context", "fit",
-    "library_path", "limit_patches", "live_handles", "remesh", "simplify", "version",
+    "OutOfMemoryError", "ParseError", "ProjectionMode", "Record", "RemeshMethod", "RepairSteps", "ScanMethod", "SizeInsufficientError", "Surface",
+    "UnsupportedFormatError", "VersionMismatchError", "QualityError", "abi_version", "bind", "default_context", "fit",
+    "library_path", "limit_patches", "live_handles", "remesh", "scan_to_cage", "simplify", "version",
 ]

@@ -74,10 +74,15 @@ class VersionMismatchError(CageKitError):
     status = -12
 
 
+class QualityError(CageKitError):
+    """A result was computed but misses its quality bounds; the message names the figure."""
+    status = -13
+
+
 ERROR_CLASSES = {cls.status: cls for cls in (
     InvalidArgumentError, InvalidHandleError, OutOfMemoryError, SizeInsufficientError, FileIOError, ParseError,
     UnsupportedFormatError, InvalidMeshError, LimitExceededError, CancelledError, InternalError,
-    VersionMismatchError)}
+    VersionMismatchError, QualityError)}
 
 
 def status_name(status):

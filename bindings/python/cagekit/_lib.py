@@ -162,10 +162,12 @@ class FitOptions(_Versioned):
                 ("fairing", c_double), ("tangential_weight", c_double), ("keep_crease_vertices", c_int32),
                 ("projection", c_enum), ("solver", c_enum), ("threads", c_uint32),
                 ("max_projection_steps", c_uint32), ("projection_epsilon", c_double),
-                ("projection_seed_resolution", c_uint32)]
+                ("projection_seed_resolution", c_uint32), ("weak_support_fraction", c_double),
+                ("weak_fairing", c_double), ("select_best_two_sided", c_int32)]
     _defaults = {"max_passes": 5, "tolerance": 1e-4, "fairing": 0.0, "tangential_weight": 1.0,
                  "keep_crease_vertices": 0, "projection": 0, "solver": 0, "threads": 0,
-                 "max_projection_steps": 500, "projection_epsilon": 1e-6, "projection_seed_resolution": 4}
+                 "max_projection_steps": 500, "projection_epsilon": 1e-6, "projection_seed_resolution": 4,
+                 "weak_support_fraction": 0.05, "weak_fairing": 1.0, "select_best_two_sided": 1}
 
 
 class FitPass(Structure):
@@ -174,11 +176,18 @@ class FitPass(Structure):
                 ("mean_projection_steps", c_double)]
 
 
+class FitTwoSided(Structure):
+    _fields_ = [("surface_to_scan_max_rel", c_double), ("surface_to_scan_rms_rel", c_double),
+                ("two_sided_rms_rel", c_double)]
+
+
 class FitReport(_Versioned):
     _fields_ = [("struct_size", c_size_t), ("pass_count", c_uint32), ("pass_capacity", c_uint32),
                 ("passes", POINTER(FitPass)), ("stopped_by_tolerance", c_int32), ("rejected_last_step", c_int32),
                 ("fairing_used", c_int32), ("unsupported_control_vertices", c_uint64), ("bbox_diagonal", c_double),
-                ("seconds", c_double), ("initial", FitPass), ("final", FitPass)]
+                ("seconds", c_double), ("initial", FitPass), ("final", FitPass), ("best_pass", c_uint32),
+                ("weakly_supported_control_vertices", c_uint64), ("initial_two_sided", FitTwoSided),
+                ("final_two_sided", FitTwoSided)]
 
 
 # --- multiresolution -------------------------------------------------------------------------
@@ -229,7 +238,7 @@ STRUCTS = {
     "cagekit_level_info": LevelInfo, "cagekit_polygonal_level_info": PolygonalLevelInfo,
     "cagekit_cage_options": CageOptions, "cagekit_cage_report": CageReport,
     "cagekit_approximation_error": ApproximationError, "cagekit_fit_options": FitOptions,
-    "cagekit_fit_pass": FitPass, "cagekit_fit_report": FitReport, "cagekit_bind_options": BindOptions,
+    "cagekit_fit_pass": FitPass, "cagekit_fit_report": FitReport, "cagekit_fit_two_sided": FitTwoSided, "cagekit_bind_options": BindOptions,
     "cagekit_binding_info": BindingInfo, "cagekit_gl_deformer_options": GlDeformerOptions,
     "cagekit_gl_deformer_buffers": GlDeformerBuffers, "cagekit_gl_deformer_info": GlDeformerInfo,
 }

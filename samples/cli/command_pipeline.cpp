@@ -1,0 +1,222 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// cagekit pipeline SCAN OUTDIR ...: the whole journey through cagekit_scan_to_cage
+// (conditioning -> simplify / quad / anisotropic -> fit -> judged report); writes OUTDIR/cage.obj
+// (fitted, with crease tags), OUTDIR/limit.obj (its limit, L levels) and OUTDIR/report.json.
+#include <algorithm>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "cli_context.h"
+#include "pipeline.h"
+
+namespace cli {
+
+namespace {
+
+std::string u64(uint64_t x) { return std::to_string((unsigned long long)x); }
+
+const char* method_name(cagekit_scan_method m) {
+  switch (m) {
+    case CAGEKIT_SCAN_SIMPLIFY: return "simplify";
+    case CAGEKIT_SCAN_QUAD: return "quad";
+    case CAGEKIT_SCAN_ANISOTROPIC: return "anisotropic";
+    default: return "unknown";
+  }
+}
+
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char buffer[8];
+      std::snprintf(buffer, sizeof(buffer), "\\u%04x", c);
+      out += buffer;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+std::string conditioning_json(const cagekit_scan_to_cage_report& r) {
+  return "{\"input_vertices\": " + u64(r.input_vertices) + ", \"input_faces\": " + u64(r.input_faces) +
+         ", \"vertices\": " + u64(r.conditioned_vertices) + ", \"faces\": " + u64(r.conditioned_faces) +
+         ", \"welded_vertices\": " + u64(r.welded_vertices) +
+         ", \"dropped_degenerate_faces\": " + u64(r.dropped_degenerate_faces) +
+         ", \"dropped_duplicate_faces\": " + u64(r.dropped_duplicate_faces) +
+         ", \"split_vertices\": " + u64(r.split_vertices) + ", \"flipped_faces\": " + u64(r.flipped_faces) +
+         ", \"non_orientable_components\": " + u64(r.non_orientable_components) +
+         ", \"removed_unreferenced_vertices\": " + u64(r.removed_unreferenced_vertices) +
+         ", \"components\": " + u64(r.components) + ", \"dropped_components\": " + u64(r.dropped_components) +
+         ", \"dropped_component_faces\": " + u64(r.dropped_component_faces) + "}";
+}
+
+double percent(uint64_t part, uint64_t whole) { return whole ? 100.0 * double(part) / double(whole) : 0.0; }
+
+}  // namespace
+
+int command_pipeline(Args& args) {
+  const char* usage =
+      "cagekit pipeline SCAN OUTDIR ([--method simplify] (--faces N | --vertices N) [--crease-angle DEG] [--input-crease-angle DEG] "
+      "| --method anisotropic [--tolerance REL] [--feature-angle DEG] [--max-face-valence N] [--fit-tolerance T] "
+      "| --method quad [--edge-length REL] [--regions N] [--weights TRI,PENT,TJOINT] [--refinement-passes N] [--feature-angle DEG] "
+      "[--fit-tolerance T] [--faces N]) "
+      "[--no-repair] [--components all|largest] [--weld-tolerance REL] [--no-fallback] "
+      "[--passes N] [--tolerance T] [--projection exact|linear] [--fairing F] [--keep-creases] [--threads N] "
+      "[--limit-levels L] [--json] [--quiet]";
+  const bool quiet = args.flag("--quiet");
+  const bool json = args.flag("--json");
+  const bool no_repair = args.flag("--no-repair");
+  const bool no_fallback = args.flag("--no-fallback");
+  std::string method, components;
+  int faces = -1, vertices = -1, limit_levels = 3;
+  double fit_tolerance = -1.0, crease_angle = 30.0, input_crease_angle = -1.0, weld = 1e-7;
+  cagekit_remesh_options remesh = CAGEKIT_REMESH_OPTIONS_INIT;
+  try {
+    method = args.option("--method", "simplify");
+    const bool remeshing = method == "anisotropic" || method == "quad";
+    if (remeshing) {  // anisotropic: --tolerance is the remeshing tolerance; the fit's is --fit-tolerance
+      remesh = parse_remesh_options(args, method);
+      fit_tolerance = args.real("--fit-tolerance", 1e-4, 0.0, 1.0);
+    }
+    faces = args.integer("--faces", -1, 1, 2000000000);
+    vertices = args.integer("--vertices", -1, 1, 2000000000);
+    crease_angle = args.real("--crease-angle", 30.0, -1.0, 180.0);
+    input_crease_angle = args.real("--input-crease-angle", -1.0, -1.0, 180.0);
+    limit_levels = args.integer("--limit-levels", 3, 1, 5);
+    components = args.option("--components", "all");
+    weld = args.real("--weld-tolerance", 1e-7, 0.0, 0.1);
+  } catch (const Failure& f) {  // option values are input of this command: exit code 2
+    throw Failure(f.code == kExitUsage ? kExitBadInput : f.code, f.what());
+  }
+  if (method != "simplify" && method != "anisotropic" && method != "quad")
+    throw Failure(kExitBadInput, "--method must be 'simplify', 'anisotropic' or 'quad', not '" + method + "'");
+  if (components != "all" && components != "largest")
+    throw Failure(kExitBadInput, "--components must be 'all' or 'largest', not '" + components + "'");
+  cagekit_fit_options fit = parse_fit_options(args);
+  if (fit_tolerance >= 0.0) fit.tolerance = fit_tolerance;
+  const auto files = args.positional(2, 2, usage);
+  // simplify needs exactly one target; the remeshers take an optional --faces (the fallback's).
+  if (method == "simplify" ? ((faces < 0) == (vertices < 0)) : vertices > 0)
+    throw Failure(kExitUsage, std::string("usage: ") + usage);
+
+  cagekit_cage_options cage = CAGEKIT_CAGE_OPTIONS_INIT;
+  cage.crease_angle_degrees = crease_angle;
+  cage.input_crease_angle_degrees = input_crease_angle;
+  cagekit_scan_to_cage_options options = CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT;
+  options.method = method == "quad" ? CAGEKIT_SCAN_QUAD
+                   : method == "anisotropic" ? CAGEKIT_SCAN_ANISOTROPIC
+                                             : CAGEKIT_SCAN_SIMPLIFY;
+  options.repair = no_repair ? 0 : 1;
+  options.components = components == "largest" ? CAGEKIT_COMPONENTS_LARGEST : CAGEKIT_COMPONENTS_ALL;
+  options.weld_tolerance_rel = weld;
+  options.target_query = vertices > 0 ? CAGEKIT_LEVEL_BY_VERTICES : CAGEKIT_LEVEL_BY_FACES;
+  if (faces > 0 || vertices > 0) options.target = faces > 0 ? faces : vertices;
+  options.cage = &cage;
+  options.remesh = &remesh;
+  options.fit = &fit;
+  options.limit_levels = static_cast<uint32_t>(limit_levels);
+  options.fallback_to_simplify = no_fallback ? 0 : 1;
+
+  Session session(quiet);
+  Mesh scan;
+  session.check(cagekit_mesh_read_file(session.context(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, scan.out()), files[0]);
+  make_directories(files[1]);
+  cagekit_scan_to_cage_report r = {};
+  r.struct_size = sizeof(r);
+  FitResult fit_result;
+  fit_result.passes.assign(size_t(fit.max_passes) + 1, cagekit_fit_pass{});
+  fit_result.report.struct_size = sizeof(cagekit_fit_report);
+  fit_result.report.pass_capacity = static_cast<uint32_t>(fit_result.passes.size());
+  fit_result.report.passes = fit_result.passes.data();
+  Cage fitted, limit;
+  session.check(cagekit_scan_to_cage(scan.get(), &options, fitted.out(), limit.out(), &r, &fit_result.report),
+                files[0]);
+  fit_result.passes.resize(std::min<size_t>(fit_result.report.pass_count, fit_result.passes.size()));
+  fit_result.report.passes = fit_result.passes.data();
+  cagekit_write_options write = CAGEKIT_WRITE_OPTIONS_INIT;
+  const std::string cage_path = files[1] + "/cage.obj", limit_path = files[1] + "/limit.obj";
+  session.check(cagekit_cage_write_file(fitted.get(), cage_path.c_str(), &write, nullptr), cage_path);
+  session.check(cagekit_cage_write_file(limit.get(), limit_path.c_str(), &write, nullptr), limit_path);
+  session.finish_progress();
+
+  // report.json: the method's section under its name ("simplify" or "remesh"), then fit, limit,
+  // the conditioning and the quality figures the good-result rule used.
+  const std::string used = method_name(r.used_method);
+  cagekit_approximation_error method_error = {sizeof(cagekit_approximation_error), r.method_scan_to_cage_max_rel,
+                                              std::max(r.method_scan_to_cage_max_rel, r.method_cage_to_scan_max_rel),
+                                              r.method_mean_rel};
+  std::string method_json;
+  if (r.used_method == CAGEKIT_SCAN_SIMPLIFY) {
+    method_json = "\"simplify\": {\"method\": \"simplify\", \"level\": " + std::to_string(r.level) +
+                  ", \"levels\": " + std::to_string(r.level_count) + ", \"polygons\": " + u64(r.level_faces) +
+                  ", \"faces_with_holes\": " + u64(r.level_faces_with_holes) + ", \"cage_faces\": " +
+                  u64(r.cage_faces) + ", \"quads\": " + u64(r.cage_quads) + ", \"triangles\": " +
+                  u64(r.cage_triangles) + ", \"creases\": " + u64(r.creases) + ", \"error\": {\"hausdorff_rel\": " +
+                  json_number(method_error.hausdorff_rel) + ", \"hausdorff_sym_rel\": " +
+                  json_number(method_error.hausdorff_sym_rel) + ", \"mean_rel\": " +
+                  json_number(method_error.mean_rel) + "}, \"seconds\": " + json_number(r.method_seconds) + "}";
+  } else {
+    cagekit_remesh_report rr = {};
+    rr.struct_size = sizeof(rr);
+    rr.faces = r.cage_faces;
+    rr.vertices = r.cage_vertices;
+    rr.quads = r.cage_quads;
+    rr.interior_vertices = r.interior_vertices;
+    rr.valence4_vertices = r.valence4_vertices;
+    rr.max_face_valence = r.max_face_valence;
+    rr.max_vertex_valence = r.max_vertex_valence;
+    rr.creases = r.creases;
+    rr.regions = r.remesh_regions;
+    rr.lines = r.remesh_lines;
+    rr.holes = r.remesh_holes;
+    rr.mean_alignment_deg = r.mean_alignment_deg;
+    remesh.method = r.used_method == CAGEKIT_SCAN_QUAD ? CAGEKIT_REMESH_QUAD : CAGEKIT_REMESH_ANISOTROPIC;
+    method_json = "\"remesh\": {" + remesh_method_json(remesh) + ", " + remesh_json_fields(rr, method_error) +
+                  ", \"seconds\": " + json_number(r.method_seconds) + "}";
+  }
+  const std::string report =
+      "{\"method\": \"" + method + "\", \"used_method\": \"" + used + "\", \"fallback\": " +
+      (r.fallback ? "true" : "false") + ", \"fallback_reason\": " + json_string(r.fallback_reason) +
+      ", \"input_is_cage\": " + (r.input_is_cage ? "true" : "false") + ",\n " + method_json +
+      ",\n \"conditioning\": " + conditioning_json(r) + ",\n \"fit\": " + fit_json(fit_result, fit) +
+      ",\n \"limit\": {\"levels\": " + std::to_string(r.limit_levels) + ", \"faces\": " + u64(r.limit_faces) +
+      ", \"error\": {\"hausdorff_rel\": " + json_number(r.scan_to_limit_max_rel) + ", \"hausdorff_sym_rel\": " +
+      json_number(std::max(r.scan_to_limit_max_rel, r.limit_to_scan_max_rel)) + ", \"mean_rel\": " +
+      json_number(r.limit_mean_rel) + "}}" +
+      ",\n \"quality\": {\"good\": true, \"scan_to_limit_max_rel\": " + json_number(r.scan_to_limit_max_rel) +
+      ", \"limit_to_scan_max_rel\": " + json_number(r.limit_to_scan_max_rel) +
+      ", \"limit_self_intersections\": " + u64(r.self_intersections) +
+      ", \"self_intersection_triangles\": " + u64(r.self_intersection_triangles) +
+      ", \"holes_added\": " + u64(r.holes_added) + ", \"input_boundary_loops\": " + u64(r.input_boundary_loops) +
+      ", \"cage_boundary_loops\": " + u64(r.cage_boundary_loops) + "},\n \"seconds\": " + json_number(r.seconds) +
+      "}\n";
+  write_text_file(files[1] + "/report.json", report);
+
+  if (json) {
+    std::fputs(report.c_str(), stdout);
+  } else if (!quiet) {
+    std::printf("%s -> %s/\n", files[0].c_str(), files[1].c_str());
+    std::printf("  condition %llu -> %llu faces, %llu component(s)\n", (unsigned long long)r.input_faces,
+                (unsigned long long)r.conditioned_faces, (unsigned long long)r.components);
+    if (r.fallback) std::printf("  fallback  %s -> simplify: %s\n", method.c_str(), r.fallback_reason);
+    std::printf("  %-9s %s%llu faces (%.1f %% quads), %llu creases (%.2f s)\n", used.c_str(),
+                r.input_is_cage ? "the input is its own cage: " : "", (unsigned long long)r.cage_faces,
+                percent(r.cage_quads, r.cage_faces), (unsigned long long)r.creases, r.method_seconds);
+    std::printf("  fit       %u states, best %u: max %.3g -> %.3g, rms %.3g -> %.3g of the diagonal (%.2f s)\n",
+                r.fit_pass_count, r.fit_best_pass, r.fit_initial.max_rel, r.fit_final.max_rel, r.fit_initial.rms_rel,
+                r.fit_final.rms_rel, r.fit_seconds);
+    std::printf("  limit     level %u: scan -> limit %.3g, limit -> scan %.3g of the diagonal, %llu self-intersecting "
+                "triangle pairs at level 2\n",
+                r.limit_levels, r.scan_to_limit_max_rel, r.limit_to_scan_max_rel,
+                (unsigned long long)r.self_intersections);
+    std::printf("  wrote     cage.obj limit.obj report.json (%.2f s)\n", r.seconds);
+  }
+  return kExitOk;
+}
+
+}  // namespace cli

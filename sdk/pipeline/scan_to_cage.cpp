@@ -1,0 +1,267 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "pipeline/scan_to_cage.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <utility>
+#include <vector>
+
+#include "core/mesh_statistics.h"
+#include "core/mesh_validation.h"
+#include "core/status.h"
+#include "subdiv/uniform_refinement.h"
+
+CAGEKIT_NAMESPACE_BEGIN
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+double surface_area(const PolygonMesh& mesh) {
+  double area = 0;
+  for (size_t f = 0; f < mesh.num_faces(); ++f) {
+    const uint32_t* v = mesh.face_begin(f);
+    Vec3 n;
+    for (uint32_t k = 1; k + 1 < mesh.face_size(f); ++k)
+      n += cross(mesh.positions[v[k]] - mesh.positions[v[0]], mesh.positions[v[k + 1]] - mesh.positions[v[0]]);
+    area += 0.5 * norm(n);
+  }
+  return area;
+}
+
+// The faces the method would make, or 0 when it cannot be told before running it.
+uint64_t expected_faces(const ScanToCageOptions& o, const PolygonMesh& mesh) {
+  switch (o.method) {
+    case ScanMethod::simplify: return o.target_is_vertices ? 0 : o.target;
+    case ScanMethod::quad: {
+      const double spacing = o.quad.edge_length * mesh.bounding_box().diagonal();
+      const double by_area = spacing > 0 ? surface_area(mesh) / (spacing * spacing) : 0.0;
+      return std::max<uint64_t>(uint64_t(std::max(o.quad.regions, 0)), uint64_t(std::min(by_area, 1e18)));
+    }
+    case ScanMethod::anisotropic: return 0;
+  }
+  return 0;
+}
+
+// Phase 2 for a tiny input: the conditioned mesh is its own cage, edges sharper than `angle`
+// tagged infinitely sharp.
+Cage own_cage(const PolygonMesh& mesh, double angle_degrees) {
+  Cage cage;
+  cage.mesh = mesh;
+  if (angle_degrees < 0) return cage;
+  std::vector<Vec3> normal(mesh.num_faces());
+  for (size_t f = 0; f < mesh.num_faces(); ++f) {
+    const uint32_t* v = mesh.face_begin(f);
+    Vec3 n;
+    for (uint32_t k = 1; k + 1 < mesh.face_size(f); ++k)
+      n += cross(mesh.positions[v[k]] - mesh.positions[v[0]], mesh.positions[v[k + 1]] - mesh.positions[v[0]]);
+    normal[f] = norm(n) > 0 ? normalized(n) : Vec3{};
+  }
+  std::map<std::pair<uint32_t, uint32_t>, std::vector<uint32_t>> faces_of_edge;
+  for (size_t f = 0; f < mesh.num_faces(); ++f)
+    for (uint32_t k = 0; k < mesh.face_size(f); ++k) {
+      const uint32_t a = mesh.face_vertex(f, k), b = mesh.face_vertex(f, (k + 1) % mesh.face_size(f));
+      faces_of_edge[{std::min(a, b), std::max(a, b)}].push_back(uint32_t(f));
+    }
+  const double cos_limit = std::cos(angle_degrees * M_PI / 180.0);
+  for (const auto& [edge, faces] : faces_of_edge)
+    if (faces.size() == 2 && dot(normal[faces[0]], normal[faces[1]]) < cos_limit)
+      cage.creases.push_back({edge.first, edge.second, kSharpnessInfinite});
+  return cage;
+}
+
+// Phase 2: the initial cage by the method (fills the method's figures of `r`).
+Cage initial_cage(const PolygonMesh& mesh, ScanMethod method, const ScanToCageOptions& o, ScanToCageResult& r,
+                  const TaskMonitor& monitor) {
+  switch (method) {
+    case ScanMethod::simplify: {
+      SimplificationHierarchy hierarchy(mesh, o.simplify, monitor);
+      r.level_count = hierarchy.num_levels();
+      r.level = o.target_is_vertices ? hierarchy.level_for_vertex_count(o.target)
+                                     : hierarchy.level_for_face_count(o.target);
+      hierarchy.go_to_level(r.level);
+      const PolygonalLevel level = hierarchy.extract();
+      r.level_faces = level.faces.size();
+      r.level_faces_with_holes = 0;
+      for (const auto& f : level.faces) r.level_faces_with_holes += f.loops.size() > 1;
+      r.cage_report = {};
+      Cage cage = build_quad_dominant_cage(hierarchy.input(), level, o.cage, &r.cage_report);
+      r.creases = r.cage_report.creases;
+      return cage;
+    }
+    case ScanMethod::quad: {
+      QuadRemeshResult q = remesh_quad_dominant(mesh, o.quad, monitor);
+      r.remesh = q;
+      r.remesh_regions = q.regions;
+      r.remesh_lines = q.arcs;
+      r.creases = q.creases;
+      return std::move(q.cage);
+    }
+    case ScanMethod::anisotropic: {
+      AnisotropicRemeshResult a = remesh_anisotropic(mesh, o.anisotropic, monitor);
+      if (a.cage.mesh.num_faces() == 0)
+        fail(Status::invalid_mesh, "anisotropic remeshing produced no faces (no two lines intersect)");
+      r.remesh = a;
+      r.remesh_regions = a.regions;
+      r.remesh_lines = a.lines;
+      r.remesh_holes = a.holes;
+      r.mean_alignment_deg = a.mean_alignment_deg;
+      r.creases = a.creases;
+      return std::move(a.cage);
+    }
+  }
+  fail(Status::invalid_argument, "unknown method");
+}
+
+// Phase 3: "" when the cage is a valid manifold cage without holes the input did not have.
+std::string check_cage(const Cage& cage, ScanToCageResult& r) {
+  const ValidationReport v = validate_cage(cage, 1);
+  if (!v.ok()) return "the cage is not valid: " + v.summary();
+  const MeshStatistics s = compute_mesh_statistics(cage.mesh);
+  if (!s.manifold) return "the cage is not manifold";
+  r.cage_boundary_loops = s.boundary_loops;
+  r.holes_added = s.boundary_loops > r.input_boundary_loops ? s.boundary_loops - r.input_boundary_loops : 0;
+  if (r.holes_added > 0)
+    return "the cage has " + std::to_string(r.holes_added) + " hole(s) the input does not have (" +
+           std::to_string(s.boundary_loops) + " boundary loops, input " + std::to_string(r.input_boundary_loops) + ")";
+  return "";
+}
+
+std::string percent(double x) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.3g %%", 100 * x);
+  return buffer;
+}
+
+// Phases 2-6 for one method. Returns "" when the result is good, else why not (the result's
+// figures are filled as far as they got).
+std::string attempt(ScanMethod method, const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonitor& monitor) {
+  const PolygonMesh& mesh = r.conditioned;
+  r.used = method;
+  const auto t0 = Clock::now();
+  ScanToCageOptions effective = o;
+  effective.method = method;
+  const uint64_t expected = expected_faces(effective, mesh);
+  r.input_is_cage = expected > 0 && mesh.num_faces() <= expected;
+  if (r.input_is_cage) {
+    monitor.log(LogLevel::info, "scan_to_cage: the input has " + std::to_string(mesh.num_faces()) +
+                                    " faces, no more than " + scan_method_name(method) + " would make (" +
+                                    std::to_string(expected) + "): it is its own cage");
+    r.initial_cage = own_cage(mesh, o.own_cage_crease_angle_degrees);
+    r.creases = r.initial_cage.creases.size();
+  } else {
+    r.initial_cage = initial_cage(mesh, method, o, r, monitor);
+    if (method == ScanMethod::anisotropic && r.initial_cage.mesh.num_faces() >= mesh.num_faces() &&
+        mesh.num_faces() < o.small_input_faces) {
+      monitor.log(LogLevel::info, "scan_to_cage: anisotropic remeshing made more faces than the input has: the input "
+                                  "is its own cage");
+      r.initial_cage = own_cage(mesh, o.own_cage_crease_angle_degrees);
+      r.creases = r.initial_cage.creases.size();
+      r.input_is_cage = true;
+    }
+  }
+  r.method_seconds = seconds_since(t0);
+  const std::string cage_problem = check_cage(r.initial_cage, r);
+  if (!cage_problem.empty()) return cage_problem;
+  r.method_error = measure_approximation_error(mesh, r.initial_cage.mesh, 4, monitor);
+
+  const auto t1 = Clock::now();
+  r.fit = {};
+  r.cage = fit_cage_to_mesh(r.initial_cage, mesh, o.fit, &r.fit, monitor);
+  r.fit_seconds = seconds_since(t1);
+
+  RefineOptions refine;
+  refine.levels = o.limit_levels;
+  refine.limit_positions = true;
+  r.limit = refine_uniform(r.cage, refine, monitor);
+  r.limit_error = measure_approximation_error(mesh, r.limit.mesh, 4, monitor);
+  r.self_intersections = {};
+  if (o.self_intersection_level > 0) {
+    refine.levels = o.self_intersection_level;
+    const Cage level = o.self_intersection_level == o.limit_levels ? r.limit : refine_uniform(r.cage, refine, monitor);
+    r.self_intersections = count_self_intersections(level.mesh);
+  }
+
+  // Phase 6: the good-result rule.
+  const double scan_to_limit = r.limit_error.hausdorff_rel, limit_to_scan = r.limit_error.reverse_rel;
+  if (!std::isfinite(scan_to_limit) || !std::isfinite(limit_to_scan))
+    return "the limit surface's distance to the scan is not finite";
+  const double bound = std::max(o.max_limit_to_scan, o.limit_to_scan_factor * scan_to_limit);
+  if (mesh.num_faces() >= o.small_input_faces && limit_to_scan > bound)
+    return "the limit surface strays " + percent(limit_to_scan) + " of the diagonal from the scan (bound " +
+           percent(bound) + "; scan -> limit " + percent(scan_to_limit) + ")";
+  return "";
+}
+
+}  // namespace
+
+const char* scan_method_name(ScanMethod method) {
+  switch (method) {
+    case ScanMethod::simplify: return "simplify";
+    case ScanMethod::quad: return "quad";
+    case ScanMethod::anisotropic: return "anisotropic";
+  }
+  return "unknown";
+}
+
+ScanToCageResult scan_to_cage(const PolygonMesh& scan, const ScanToCageOptions& options, const TaskMonitor& monitor) {
+  const auto start = Clock::now();
+  if (options.limit_levels < 1 || options.limit_levels > kMaxUniformLevels)
+    fail(Status::invalid_argument, "scan_to_cage: limit_levels must be in 1.." + std::to_string(kMaxUniformLevels));
+  if (options.self_intersection_level < 0 || options.self_intersection_level > kMaxUniformLevels)
+    fail(Status::invalid_argument,
+         "scan_to_cage: self_intersection_level must be in 0.." + std::to_string(kMaxUniformLevels));
+  if (!(options.max_limit_to_scan > 0) || !std::isfinite(options.max_limit_to_scan) ||
+      !(options.limit_to_scan_factor > 0) || !std::isfinite(options.limit_to_scan_factor))
+    fail(Status::invalid_argument, "scan_to_cage: max_limit_to_scan and limit_to_scan_factor must be finite and > 0");
+  if (options.method == ScanMethod::simplify && options.target == 0)
+    fail(Status::invalid_argument, "scan_to_cage: the simplification target must be at least 1");
+
+  ScanToCageResult r;
+  r.requested = options.method;
+  // Phase 1.
+  r.conditioned = condition_input(scan, options.conditioning, &r.conditioning, monitor);
+  r.input_boundary_loops = compute_mesh_statistics(r.conditioned).boundary_loops;
+
+  std::string problem;
+  try {
+    problem = attempt(options.method, options, r, monitor);
+  } catch (const Error& e) {
+    // Cancellation and memory limits are never replaced by another method (the options were
+    // checked before: an invalid_argument from inside a remesher is one of its failures).
+    if (e.status() == Status::cancelled || e.status() == Status::out_of_memory ||
+        e.status() == Status::limit_exceeded || options.method == ScanMethod::simplify ||
+        !options.fallback_to_simplify)
+      throw;
+    problem = std::string("failed: ") + e.what();
+  }
+  if (!problem.empty() && options.method != ScanMethod::simplify && options.fallback_to_simplify) {
+    r.fallback = true;
+    r.fallback_reason = std::string(scan_method_name(options.method)) + ": " + problem;
+    monitor.log(LogLevel::warning, "scan_to_cage: " + r.fallback_reason + "; falling back to simplify (" +
+                                       std::to_string(options.target) + " faces)");
+    ScanToCageResult fresh;
+    fresh.conditioned = std::move(r.conditioned);
+    fresh.conditioning = r.conditioning;
+    fresh.requested = r.requested;
+    fresh.fallback = true;
+    fresh.fallback_reason = r.fallback_reason;
+    fresh.input_boundary_loops = r.input_boundary_loops;
+    r = std::move(fresh);
+    ScanToCageOptions simplify = options;
+    simplify.method = ScanMethod::simplify;
+    simplify.target_is_vertices = false;
+    problem = attempt(ScanMethod::simplify, simplify, r, monitor);
+    if (!problem.empty()) problem = "simplify (fallback after " + r.fallback_reason + "): " + problem;
+  } else if (!problem.empty()) {
+    problem = std::string(scan_method_name(options.method)) + ": " + problem;
+  }
+  if (!problem.empty()) fail(Status::quality, "no good cage: " + problem);
+  r.seconds = seconds_since(start);
+  return r;
+}
+
+CAGEKIT_NAMESPACE_END

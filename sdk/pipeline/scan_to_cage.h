@@ -1,0 +1,95 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// scan_to_cage: the whole journey from a scan a user brings to a fitted Catmull-Clark cage, as
+// one call that either returns a good result or says why not (thesis ch. 3/5/6 for the cage,
+// ch. 7 for the fit; the checks around them are CageKit's own). The phases, in order:
+//   1. condition_input       repair what hosts' meshes carry (input_conditioning.h)
+//   2. initial_cage          the method: simplify (ch. 3) / quad (ch. 6) / anisotropic (ch. 5);
+//                            an input that already has fewer faces than the method would make is
+//                            its own cage (creases where it is sharp)
+//   3. check_cage            a valid manifold cage, no holes the conditioned input did not have
+//   4. fit                   the limit surface fitted to the scan, best state by two-sided RMS
+//   5. measure_limit         the limit surface (level limit_levels) against the scan both ways;
+//                            self-intersections of the level-2 limit mesh
+//   6. judge                 good = the checks of 3 and limit -> scan max <= max(max_limit_to_scan,
+//                            limit_to_scan_factor x scan -> limit max) (waived under
+//                            small_input_faces input faces)
+// A quad or anisotropic result that is not good (or a method failure) falls back to simplify when
+// fallback_to_simplify is on (reported with the reason); a simplify result that is not good is
+// Error(quality) naming the figure. Nothing that is not good comes back.
+#include <cstdint>
+#include <string>
+
+#include "core/cage.h"
+#include "core/polygon_mesh.h"
+#include "core/task_monitor.h"
+#include "fit/surface_fitter.h"
+#include "layout/anisotropic_remesher.h"
+#include "layout/approximation_error.h"
+#include "layout/cage_builder.h"
+#include "layout/face_merge_simplifier.h"
+#include "layout/quad_remesher.h"
+#include "pipeline/input_conditioning.h"
+#include "pipeline/self_intersections.h"
+
+CAGEKIT_NAMESPACE_BEGIN
+
+enum class ScanMethod { simplify, quad, anisotropic };
+const char* scan_method_name(ScanMethod method);
+
+struct ScanToCageOptions {
+  ScanMethod method = ScanMethod::simplify;
+  ConditioningOptions conditioning;
+  // simplify: the coarsest level with at most `target` faces (or vertices).
+  uint64_t target = 60;
+  bool target_is_vertices = false;
+  SimplifyOptions simplify;
+  CageBuildOptions cage;
+  QuadRemeshOptions quad;
+  AnisotropicRemeshOptions anisotropic;
+  FitOptions fit;
+  int limit_levels = 3;            // the limit mesh the errors are measured on (1..kMaxUniformLevels)
+  int self_intersection_level = 2; // the limit mesh whose self-intersections are counted (0: not counted)
+  // The good-result rule (relative to the conditioned scan's diagonal).
+  double max_limit_to_scan = 0.05;
+  double limit_to_scan_factor = 3.0;
+  uint64_t small_input_faces = 1000;
+  bool fallback_to_simplify = true;
+  // Crease angle of a tiny input used as its own cage (degrees; < 0: no creases).
+  double own_cage_crease_angle_degrees = 40.0;
+};
+
+struct ScanToCageResult {
+  PolygonMesh conditioned;
+  ConditioningReport conditioning;
+  ScanMethod requested = ScanMethod::simplify, used = ScanMethod::simplify;
+  bool input_is_cage = false;      // the conditioned input was its own cage (tiny input)
+  bool fallback = false;           // the requested method's result was replaced by simplify
+  std::string fallback_reason;     // why ("" when no fallback)
+  // simplify
+  size_t level = 0, level_count = 0;
+  uint64_t level_faces = 0, level_faces_with_holes = 0;
+  CageBuildReport cage_report;
+  // quad / anisotropic
+  RemeshQuality remesh;
+  uint64_t remesh_regions = 0, remesh_lines = 0, remesh_holes = 0;
+  double mean_alignment_deg = 0;
+  // every method
+  uint64_t creases = 0;
+  ApproximationError method_error;  // scan vs the initial cage's control mesh (the method's output)
+  Cage initial_cage, cage, limit;   // before the fit, fitted, fitted refined limit_levels onto the limit
+  FitReport fit;
+  ApproximationError limit_error;   // scan vs `limit` (hausdorff_rel: scan -> limit; reverse_rel)
+  SelfIntersections self_intersections;
+  uint64_t input_boundary_loops = 0, cage_boundary_loops = 0, holes_added = 0;
+  double method_seconds = 0, fit_seconds = 0, seconds = 0;
+};
+
+// Throws Error(invalid_mesh) for corrupt input or nothing left after conditioning,
+// Error(invalid_argument) for bad options, Error(quality) when no good result could be made
+// (naming the figure and the method), Error(cancelled) via the monitor, and whatever a phase
+// throws when no fallback applies.
+ScanToCageResult scan_to_cage(const PolygonMesh& scan, const ScanToCageOptions& options,
+                              const TaskMonitor& monitor = {});
+
+CAGEKIT_NAMESPACE_END

@@ -1,0 +1,235 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The scan-to-cage journey (sdk/pipeline): conditioning of what users bring, and a property test
+// that feeds every method random valid meshes (noisy spheres, tori, open patches, a tiny and a
+// flat mesh, several components): each ends good or with a clean error, never a bad result.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "core/mesh_statistics.h"
+#include "core/mesh_validation.h"
+#include "core/status.h"
+#include "layout/approximation_error.h"
+#include "pipeline/input_conditioning.h"
+#include "pipeline/scan_to_cage.h"
+#include "pipeline/self_intersections.h"
+#include "test_support.h"
+
+using namespace cagekit;
+
+namespace {
+
+// Every triangle with its own three corners, triangle `flipped` reversed.
+PolygonMesh as_soup(const PolygonMesh& mesh, size_t flipped) {
+  PolygonMesh soup;
+  for (size_t f = 0; f < mesh.num_faces(); ++f) {
+    const uint32_t base = uint32_t(soup.positions.size());
+    for (uint32_t k = 0; k < 3; ++k) soup.positions.push_back(mesh.positions[mesh.face_vertex(f, f == flipped ? 2 - k : k)]);
+    soup.add_face({base, base + 1, base + 2});
+  }
+  return soup;
+}
+
+PolygonMesh torus(double R, double r, int nu, int nv, std::mt19937& rng, double noise) {
+  std::normal_distribution<double> n(0.0, noise);
+  PolygonMesh m;
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      const double u = 2 * M_PI * i / nu, v = 2 * M_PI * j / nv;
+      m.positions.push_back({(R + r * std::cos(v)) * std::cos(u) + n(rng), (R + r * std::cos(v)) * std::sin(u) + n(rng),
+                             r * std::sin(v) + n(rng)});
+    }
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      const uint32_t a = uint32_t(i * nv + j), b = uint32_t(((i + 1) % nu) * nv + j),
+                     c = uint32_t(((i + 1) % nu) * nv + (j + 1) % nv), d = uint32_t(i * nv + (j + 1) % nv);
+      m.add_face({a, b, c});
+      m.add_face({a, c, d});
+    }
+  return m;
+}
+
+PolygonMesh noisy(PolygonMesh m, std::mt19937& rng, double noise) {
+  std::normal_distribution<double> n(0.0, noise);
+  for (Vec3& p : m.positions) p = p + Vec3{n(rng), n(rng), n(rng)};
+  return m;
+}
+
+PolygonMesh triangulated(const PolygonMesh& quads) {
+  PolygonMesh m;
+  m.positions = quads.positions;
+  for (size_t f = 0; f < quads.num_faces(); ++f)
+    for (uint32_t k = 1; k + 1 < quads.face_size(f); ++k)
+      m.add_face({quads.face_vertex(f, 0), quads.face_vertex(f, k), quads.face_vertex(f, k + 1)});
+  return m;
+}
+
+PolygonMesh shifted(PolygonMesh m, const Vec3& by) {
+  for (Vec3& p : m.positions) p = p + by;
+  return m;
+}
+
+PolygonMesh joined(const PolygonMesh& a, const PolygonMesh& b) {
+  PolygonMesh m = a;
+  const uint32_t base = uint32_t(m.positions.size());
+  m.positions.insert(m.positions.end(), b.positions.begin(), b.positions.end());
+  for (size_t f = 0; f < b.num_faces(); ++f) {
+    std::vector<uint32_t> v;
+    for (uint32_t k = 0; k < b.face_size(f); ++k) v.push_back(base + b.face_vertex(f, k));
+    m.add_face(v.data(), v.size());
+  }
+  return m;
+}
+
+double bump(double x, double y) { return 0.3 * std::sin(0.4 * x) * std::cos(0.3 * y); }
+
+}  // namespace
+
+TEST(InputConditioning, welds_a_soup_orients_it_and_reports_every_change) {
+  const PolygonMesh sphere = cagekit_test::triangle_sphere(3);
+  const PolygonMesh soup = as_soup(sphere, 5);
+  ConditioningReport report;
+  const PolygonMesh mesh = condition_input(soup, {}, &report);
+  EXPECT_TRUE(validate_mesh(mesh).ok());
+  EXPECT_EQ(mesh.num_vertices(), sphere.num_vertices());
+  EXPECT_EQ(mesh.num_faces(), sphere.num_faces());
+  EXPECT_EQ(report.repair.welded_vertices, soup.num_vertices() - sphere.num_vertices());
+  EXPECT_EQ(report.repair.flipped_faces, 1u);
+  EXPECT_EQ(report.components, 1u);
+  EXPECT_TRUE(report.changed());
+  EXPECT_NE(report.summary().find("welded vertices"), std::string::npos);
+  EXPECT_EQ(compute_mesh_statistics(mesh).genus, 0);
+}
+
+TEST(InputConditioning, keeps_the_largest_component_on_request) {
+  std::mt19937 rng(1);
+  const PolygonMesh big = cagekit_test::triangle_sphere(3), small = shifted(cagekit_test::triangle_sphere(1), {5, 0, 0});
+  const PolygonMesh both = joined(big, small);
+  ConditioningReport all, largest;
+  EXPECT_EQ(condition_input(both, {}, &all).num_faces(), both.num_faces());
+  EXPECT_EQ(all.components, 2u);
+  ConditioningOptions options;
+  options.components = ComponentMode::largest;
+  const PolygonMesh kept = condition_input(both, options, &largest);
+  EXPECT_EQ(kept.num_faces(), big.num_faces());
+  EXPECT_EQ(kept.num_vertices(), big.num_vertices());
+  EXPECT_EQ(largest.dropped_components, 1u);
+  EXPECT_EQ(largest.dropped_component_faces, small.num_faces());
+}
+
+TEST(InputConditioning, corrupt_input_and_nothing_left_are_clean_errors) {
+  PolygonMesh bad_index = cagekit_test::triangle_sphere(1);
+  bad_index.face_vertices[4] = 999;
+  EXPECT_EQ(cagekit_test::status_of([&] { condition_input(bad_index, {}); }), Status::invalid_mesh);
+  PolygonMesh nan = cagekit_test::triangle_sphere(1);
+  nan.positions[2].y = NAN;
+  EXPECT_EQ(cagekit_test::status_of([&] { condition_input(nan, {}); }), Status::invalid_mesh);
+  PolygonMesh flat;  // collinear triangles only
+  for (int i = 0; i < 4; ++i) flat.positions.push_back({double(i), 0, 0});
+  flat.add_face({0, 1, 2});
+  flat.add_face({1, 2, 3});
+  try {
+    condition_input(flat, {});
+    ADD_FAILURE() << "an all-degenerate mesh was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.status(), Status::invalid_mesh);
+    EXPECT_NE(std::string(e.what()).find("nothing left"), std::string::npos) << e.what();
+  }
+  PolygonMesh empty;
+  EXPECT_EQ(cagekit_test::status_of([&] { condition_input(empty, {}); }), Status::invalid_mesh);
+  // With repair off, an invalid mesh is refused and a valid one passes unchanged.
+  ConditioningOptions off;
+  off.repair = false;
+  PolygonMesh flipped = cagekit_test::triangle_sphere(1);
+  std::swap(flipped.face_vertices[0], flipped.face_vertices[1]);  // one triangle reversed
+  EXPECT_EQ(cagekit_test::status_of([&] { condition_input(flipped, off); }), Status::invalid_mesh);
+  ConditioningReport fixed;
+  condition_input(flipped, {}, &fixed);
+  EXPECT_EQ(fixed.repair.flipped_faces, 1u);
+  const PolygonMesh sphere = cagekit_test::triangle_sphere(2);
+  EXPECT_EQ(condition_input(sphere, off).face_vertices, sphere.face_vertices);
+}
+
+TEST(SelfIntersections, counts_crossing_triangles_only) {
+  const PolygonMesh sphere = cagekit_test::triangle_sphere(2);
+  EXPECT_EQ(count_self_intersections(sphere).pairs, 0u);
+  // The same sphere shifted by half its radius overlaps the first one.
+  const PolygonMesh two = joined(sphere, shifted(sphere, {0.5, 0, 0}));
+  const SelfIntersections s = count_self_intersections(two);
+  EXPECT_GT(s.pairs, 10u);
+  EXPECT_EQ(s.triangles, two.num_faces());
+}
+
+// The property test: random valid meshes through every method. Each ends good (re-checked here
+// with the same rule, independently of the driver) or with a clean error status, never a crash
+// or a bad result with success. Bounded in time (the fixed set always runs).
+TEST(ScanToCage, random_valid_meshes_end_good_or_with_a_clean_error) {
+  std::mt19937 rng(20261201);
+  std::vector<std::pair<std::string, PolygonMesh>> cases;
+  cases.push_back({"noisy sphere", noisy(cagekit_test::triangle_sphere(4), rng, 0.004)});
+  cases.push_back({"noisy torus", torus(1.0, 0.35, 40, 16, rng, 0.003)});
+  cases.push_back({"open bumpy patch", triangulated(cagekit_test::quad_grid(24, 24, bump))});
+  cases.push_back({"tetrahedron", [] {
+                     PolygonMesh t;
+                     t.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+                     t.add_face({0, 2, 1});
+                     t.add_face({0, 1, 3});
+                     t.add_face({0, 3, 2});
+                     t.add_face({1, 2, 3});
+                     return t;
+                   }()});
+  cases.push_back({"flat plate", triangulated(cagekit_test::quad_grid(30, 20))});
+  cases.push_back({"three spheres", joined(joined(cagekit_test::triangle_sphere(3),
+                                                  shifted(cagekit_test::triangle_sphere(3), {3, 0, 0})),
+                                           shifted(cagekit_test::triangle_sphere(2), {0, 3, 0}))});
+  cases.push_back({"open cylinder", cagekit_test::triangle_cylinder(0.5, 2.0, 32, 16)});
+  const auto start = std::chrono::steady_clock::now();
+  int good = 0, errors = 0;
+  for (const auto& [name, mesh] : cases) {
+    ASSERT_TRUE(validate_mesh(mesh).ok()) << name;
+    for (const ScanMethod method : {ScanMethod::simplify, ScanMethod::quad, ScanMethod::anisotropic}) {
+      ScanToCageOptions options;
+      options.method = method;
+      options.target = 30;
+      options.fit.max_passes = 3;
+      options.quad.threads = options.anisotropic.threads = options.fit.threads = 2;
+      try {
+        const ScanToCageResult r = scan_to_cage(mesh, options);
+        ++good;
+        // Re-check the good rule with its own measurement.
+        EXPECT_TRUE(validate_cage(r.cage).ok()) << name;
+        const MeshStatistics s = compute_mesh_statistics(r.cage.mesh);
+        EXPECT_TRUE(s.manifold) << name;
+        EXPECT_LE(s.boundary_loops, compute_mesh_statistics(r.conditioned).boundary_loops) << name;
+        const ApproximationError e = measure_approximation_error(r.conditioned, r.limit.mesh);
+        if (r.conditioned.num_faces() >= options.small_input_faces) {
+          EXPECT_LE(e.reverse_rel, std::max(options.max_limit_to_scan, options.limit_to_scan_factor * e.hausdorff_rel) *
+                                       (1 + 1e-9))
+              << name;
+        }
+        // Level 1 has one quad per face corner, each later level 4 per quad.
+        EXPECT_EQ(r.cage.mesh.num_face_vertices() * size_t(std::pow(4, options.limit_levels - 1)), r.limit.mesh.num_faces())
+            << name;
+        std::printf("%-16s %-11s good: %s%s%zu faces, %zu creases, limit->scan %.3g%%, scan->limit %.3g%%, "
+                    "%llu self-intersections\n",
+                    name.c_str(), scan_method_name(method), r.fallback ? "fallback to simplify, " : "",
+                    r.input_is_cage ? "own cage, " : "", r.cage.mesh.num_faces(), r.cage.creases.size(),
+                    100 * e.reverse_rel, 100 * e.hausdorff_rel, (unsigned long long)r.self_intersections.pairs);
+      } catch (const Error& e) {
+        ++errors;
+        // A clean error names its reason; internal errors are bugs.
+        EXPECT_NE(e.status(), Status::internal_error) << name << " " << scan_method_name(method) << ": " << e.what();
+        EXPECT_GT(std::string(e.what()).size(), 10u);
+        std::printf("%-16s %-11s clean error (%s): %s\n", name.c_str(), scan_method_name(method),
+                    status_name(e.status()), e.what());
+      }
+    }
+  }
+  std::printf("%d good, %d clean errors in %.1f s\n", good, errors,
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  // The simplify method on these valid meshes always ends good.
+  EXPECT_GE(good, int(cases.size()));
+}
