@@ -405,7 +405,7 @@ CAGEKIT_API cagekit_status cagekit_cage_get_boundary_rule(cagekit_cage cage, cag
 CAGEKIT_API cagekit_status cagekit_cage_get_info(cagekit_cage cage, cagekit_mesh_info* info);
 
 /* ------------------------------------------------------------------------------------------ */
-/* Files and streams: OBJ, PLY (ascii/binary), OFF, Draco                                     */
+/* Files and streams: OBJ, PLY (ascii/binary), OFF, Draco; STL (read only)                    */
 /* ------------------------------------------------------------------------------------------ */
 
 typedef enum cagekit_file_format {
@@ -414,6 +414,8 @@ typedef enum cagekit_file_format {
   CAGEKIT_FORMAT_PLY = 2,   /* polygons only; no tags */
   CAGEKIT_FORMAT_OFF = 3,   /* polygons only; no tags */
   CAGEKIT_FORMAT_DRACO = 4, /* compressed; keeps polygons and cage tags (see io/README) */
+  CAGEKIT_FORMAT_STL = 5,   /* read only (binary or ascii); bit-identical corners welded; writing
+                             * is CAGEKIT_ERROR_UNSUPPORTED_FORMAT */
   CAGEKIT_FORMAT_MAX_ENUM = 0x7fffffff
 } cagekit_file_format;
 
