@@ -453,7 +453,8 @@ CAGEKIT_API cagekit_status cagekit_cage_read_memory(cagekit_context context, con
 
 /* Writes to a file atomically (a temporary file renamed over `path` on success: a failed write
  * never leaves a partial file), or encodes into a new blob. options/report may be NULL.
- * Writing a cage with tags to PLY or OFF drops the tags and logs a warning. Reads the object. */
+ * Writing a cage with tags to PLY or OFF drops the tags and logs a warning; STL cannot be
+ * written (UNSUPPORTED_FORMAT). Reads the object. */
 CAGEKIT_API cagekit_status cagekit_mesh_write_file(cagekit_mesh mesh, const char* path,
                                                    const cagekit_write_options* options,
                                                    cagekit_write_report* report);
