@@ -28,7 +28,7 @@ CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWit
 cmake --build build-fuzz -j "$jobs" --target cagekit_fuzzers
 # Known findings would be suppressed in tests/fuzz/ubsan.supp (empty: every finding so far is fixed).
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:suppressions=$root/tests/fuzz/ubsan.supp"
-for harness in fuzz_obj fuzz_ply fuzz_off fuzz_draco fuzz_mesh_api fuzz_binding; do
+for harness in fuzz_obj fuzz_ply fuzz_off fuzz_draco fuzz_stl fuzz_mesh_api fuzz_binding; do
   # Regression inputs of fixed findings must run clean.
   if [ -d "tests/fuzz/regressions/$harness" ]; then
     build-fuzz/tests/fuzz/$harness tests/fuzz/regressions/$harness/* >/dev/null 2>&1 ||
@@ -36,7 +36,7 @@ for harness in fuzz_obj fuzz_ply fuzz_off fuzz_draco fuzz_mesh_api fuzz_binding;
         echo "test-all: $harness fails on a regression input" >&2; exit 1; }
   fi
 done
-for harness in fuzz_obj fuzz_ply fuzz_off fuzz_draco fuzz_mesh_api fuzz_binding; do
+for harness in fuzz_obj fuzz_ply fuzz_off fuzz_draco fuzz_stl fuzz_mesh_api fuzz_binding; do
   scratch=$(mktemp -d)  # new inputs and any crash reproducer go here, not into the repo
   echo "-- $harness"
   if ! build-fuzz/tests/fuzz/$harness "$scratch" "tests/fuzz/corpus/$harness" -max_total_time=15 \

@@ -407,7 +407,7 @@ CAGEKIT_API cagekit_status cagekit_cage_get_boundary_rule(cagekit_cage cage, cag
 CAGEKIT_API cagekit_status cagekit_cage_get_info(cagekit_cage cage, cagekit_mesh_info* info);
 
 /* ------------------------------------------------------------------------------------------ */
-/* Files and streams: OBJ, PLY (ascii/binary), OFF, Draco                                     */
+/* Files and streams: OBJ, PLY (ascii/binary), OFF, Draco; STL (read only)                    */
 /* ------------------------------------------------------------------------------------------ */
 
 typedef enum cagekit_file_format {
@@ -416,6 +416,8 @@ typedef enum cagekit_file_format {
   CAGEKIT_FORMAT_PLY = 2,   /* polygons only; no tags */
   CAGEKIT_FORMAT_OFF = 3,   /* polygons only; no tags */
   CAGEKIT_FORMAT_DRACO = 4, /* compressed; keeps polygons and cage tags (see io/README) */
+  CAGEKIT_FORMAT_STL = 5,   /* read only (binary or ascii); bit-identical corners welded; writing
+                             * is CAGEKIT_ERROR_UNSUPPORTED_FORMAT */
   CAGEKIT_FORMAT_MAX_ENUM = 0x7fffffff
 } cagekit_file_format;
 
@@ -453,7 +455,8 @@ CAGEKIT_API cagekit_status cagekit_cage_read_memory(cagekit_context context, con
 
 /* Writes to a file atomically (a temporary file renamed over `path` on success: a failed write
  * never leaves a partial file), or encodes into a new blob. options/report may be NULL.
- * Writing a cage with tags to PLY or OFF drops the tags and logs a warning. Reads the object. */
+ * Writing a cage with tags to PLY or OFF drops the tags and logs a warning; STL cannot be
+ * written (UNSUPPORTED_FORMAT). Reads the object. */
 CAGEKIT_API cagekit_status cagekit_mesh_write_file(cagekit_mesh mesh, const char* path,
                                                    const cagekit_write_options* options,
                                                    cagekit_write_report* report);

@@ -137,6 +137,8 @@ cagekit_file_format format_from_extension(const std::string& path) {
   if (ext == "ply") return CAGEKIT_FORMAT_PLY;
   if (ext == "off") return CAGEKIT_FORMAT_OFF;
   if (ext == "drc") return CAGEKIT_FORMAT_DRACO;
+  // Output files only: STL is read only, refused before any work is done.
+  if (ext == "stl") throw Failure(kExitUsage, path + ": STL: writing is not supported (use .obj, .ply, .off or .drc)");
   throw Failure(kExitUsage, path + ": unknown file extension (use .obj, .ply, .off or .drc)");
 }
 

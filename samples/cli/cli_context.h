@@ -71,6 +71,8 @@ class Handle {
 using Mesh = Handle<cagekit_mesh, cagekit_mesh_release>;
 using Cage = Handle<cagekit_cage, cagekit_cage_release>;
 
+// The format of an output path (.obj .ply .off .drc); Failure(kExitUsage) for others and for .stl
+// (read only).
 cagekit_file_format format_from_extension(const std::string& path);
 
 int command_info(Args& args);

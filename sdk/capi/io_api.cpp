@@ -13,7 +13,7 @@ namespace {
 
 cagekit::FileFormat checked_format(const cagekit_file_format& format) {
   const int32_t raw = raw_enum(format);
-  if (raw < CAGEKIT_FORMAT_AUTO || raw > CAGEKIT_FORMAT_DRACO)
+  if (raw < CAGEKIT_FORMAT_AUTO || raw > CAGEKIT_FORMAT_STL)
     fail(Status::invalid_argument, "format is not a cagekit_file_format");
   return static_cast<cagekit::FileFormat>(raw);
 }
@@ -55,6 +55,7 @@ void warn_if_tags_dropped(cagekit_context_t& context, const cagekit::Cage& cage,
                           const char* path) {
   cagekit::FileFormat f = o.format;
   if (f == cagekit::FileFormat::unknown && path) f = cagekit::file_format_from_path(path);
+  if (f == cagekit::FileFormat::stl) return;  // the write is refused: no warning about tags
   if (cage.has_tags() && !cagekit::format_keeps_tags(f))
     context.log_message(CAGEKIT_LOG_WARNING, std::string("the cage's tags are not stored in ") +
                                                  cagekit::file_format_name(f) + " files");

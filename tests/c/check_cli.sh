@@ -114,11 +114,31 @@ printf 'v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >"$tmp/nan.obj"
 expect_bad "NaN coordinate" "$cli" subdivide "$tmp/nan.obj" "$tmp/out.obj" --levels 1 --quiet
 printf 'ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\nproperty float z\nend_header\n' >"$tmp/huge.ply"
 expect_bad "hostile PLY count" "$cli" convert "$tmp/huge.ply" "$tmp/out.obj" --quiet
+{ head -c 80 /dev/zero; printf '\377\377\377\377'; } >"$tmp/huge.stl"
+expect_bad "hostile binary STL count" "$cli" convert "$tmp/huge.stl" "$tmp/out.obj" --quiet
+grep -q 'huge.stl: byte 80: .*4294967295' "$tmp/bad.err" && pass "STL count message names file, byte and count" ||
+  { cat "$tmp/bad.err"; fail "STL count message"; }
 head -c 200 "$tmp/demo/scan.drc" >"$tmp/truncated.drc"
 expect_bad "truncated Draco" "$cli" convert "$tmp/truncated.drc" "$tmp/out.obj" --quiet
 expect_bad "missing file" "$cli" info "$tmp/does-not-exist.obj"
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\nf 2 1 3\nf 1 2 3\n' >"$tmp/nonmanifold.obj"
 expect_bad "invalid cage for subdivide" "$cli" subdivide "$tmp/nonmanifold.obj" "$tmp/out.obj" --levels 1 --quiet
+
+# 6a. STL: an ascii tetrahedron soup is read welded; writing STL is refused up front (usage error)
+{ echo "solid tet"
+  for t in "0 0 0|0 1 0|1 0 0" "0 0 0|1 0 0|0 0 1" "0 0 0|0 0 1|0 1 0" "1 0 0|0 1 0|0 0 1"; do
+    echo " facet normal 0 0 0"; echo "  outer loop"
+    echo "$t" | tr '|' '\n' | sed 's/^/   vertex /'
+    echo "  endloop"; echo " endfacet"
+  done
+  echo "endsolid tet"; } >"$tmp/tet.stl"
+if "$cli" info "$tmp/tet.stl" --json >"$tmp/tet.json" 2>"$tmp/tet.err" &&
+   [ "$(json "$tmp/tet.json" "d['vertices'] == 4 and d['faces'] == 4 and d['manifold'] and d['boundary_loops'] == 0 and d['genus'] == 0")" = True ] &&
+   "$cli" convert "$tmp/tet.stl" "$tmp/tet.obj" --quiet && [ "$(grep -c '^v ' "$tmp/tet.obj")" = 4 ]
+then pass "ascii STL reads as a welded closed tetrahedron"; else cat "$tmp/tet.json" "$tmp/tet.err"; fail "ascii STL"; fi
+"$cli" convert "$tmp/tet.obj" "$tmp/tet-out.stl" --quiet 2>"$tmp/stl.err"; code=$?
+if [ "$code" -eq 64 ] && grep -q 'tet-out.stl: STL: writing is not supported' "$tmp/stl.err" && [ ! -e "$tmp/tet-out.stl" ]
+then pass "convert to .stl: clean 'STL: writing is not supported'"; else echo "exit $code"; cat "$tmp/stl.err"; fail "convert to .stl"; fi
 
 # 8. structure-preserving simplification to a cage with creases
 rocker="$meshes/rocker-arm.obj"

@@ -277,6 +277,43 @@ static void cage_survives_every_format_in_memory(void) {
   cagekit_context_release(context);
 }
 
+/* STL through the C API: an ascii soup of two triangles reads welded (by CAGEKIT_FORMAT_STL and
+ * sniffed), a hostile binary count is a parse error, and writing STL is UNSUPPORTED_FORMAT. */
+static void stl_is_read_welded_and_not_written(void) {
+  cagekit_context context = new_context();
+  const char* text =
+      "solid quad\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 1 1 0\nendloop\nendfacet\n"
+      "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 1 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid quad\n";
+  unsigned char hostile[84];
+  cagekit_mesh mesh = NULL;
+  cagekit_mesh_info info;
+  cagekit_write_options options = CAGEKIT_WRITE_OPTIONS_INIT;
+  cagekit_blob blob = NULL;
+  int i;
+  for (i = 0; i < 2; ++i) {
+    CHECK_OK(cagekit_mesh_read_memory(context, text, strlen(text), i ? CAGEKIT_FORMAT_AUTO : CAGEKIT_FORMAT_STL,
+                                      &mesh));
+    info.struct_size = sizeof(info);
+    CHECK_OK(cagekit_mesh_get_info(mesh, &info));
+    CHECK(info.vertices == 4 && info.faces == 2 && info.triangles == 2 && info.boundary_loops == 1);
+    if (i == 0) {
+      options.format = CAGEKIT_FORMAT_STL;
+      CHECK_STATUS(cagekit_mesh_write_memory(mesh, &options, &blob, NULL), CAGEKIT_ERROR_UNSUPPORTED_FORMAT);
+      CHECK(blob == NULL);
+      CHECK(strstr(cagekit_last_error_message(context), "STL: writing is not supported") != NULL);
+    }
+    cagekit_mesh_release(mesh);
+    mesh = NULL;
+  }
+  memset(hostile, ' ', 80);
+  memset(hostile + 80, 0xFF, 4);
+  CHECK_STATUS(cagekit_mesh_read_memory(context, hostile, sizeof(hostile), CAGEKIT_FORMAT_STL, &mesh),
+               CAGEKIT_ERROR_PARSE);
+  CHECK(mesh == NULL);
+  CHECK(strstr(cagekit_last_error_message(context), "4294967295") != NULL);
+  cagekit_context_release(context);
+}
+
 static void corrupt_memory_is_a_parse_error(void) {
   cagekit_context context = new_context();
   const char* text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n";
@@ -1721,6 +1758,7 @@ int main(void) {
       {"validation_names_the_problem_and_repair_fixes_it", validation_names_the_problem_and_repair_fixes_it},
       {"cage_tags_round_trip_and_bad_tags_fail", cage_tags_round_trip_and_bad_tags_fail},
       {"cage_survives_every_format_in_memory", cage_survives_every_format_in_memory},
+      {"stl_is_read_welded_and_not_written", stl_is_read_welded_and_not_written},
       {"corrupt_memory_is_a_parse_error", corrupt_memory_is_a_parse_error},
       {"progress_callback_can_cancel", progress_callback_can_cancel},
       {"subdivision_counts_and_tags", subdivision_counts_and_tags},

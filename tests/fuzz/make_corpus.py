@@ -67,6 +67,41 @@ def main():
     put("fuzz_ply", "be_color.ply", hdr.encode() + body)
     put("fuzz_ply", "huge_count.ply", "ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\n"
         "property float y\nproperty float z\nelement face 0\nproperty list uchar int vertex_indices\nend_header\n")
+    # hand-written PLY triangle strips (tristrips element, -1 restarts, a degenerate swap), ascii
+    # and binary with unsigned indices (-1 stored as 0xFFFFFFFF) next to a face element
+    grid = [(x, y, 0) for y in range(3) for x in range(3)]
+    strips = [3, 0, 4, 1, 1, 4, 4, 1, 5, 2, -1, 6, 3, 7, 4, 8, 5]
+    put("fuzz_ply", "tristrips_ascii.ply",
+        "ply\nformat ascii 1.0\nelement vertex 9\nproperty float x\nproperty float y\nproperty float z\n"
+        "element tristrips 1\nproperty list int int vertex_indices\nend_header\n" +
+        "".join("%d %d %d\n" % v for v in grid) + " ".join(str(i) for i in [len(strips)] + strips) + "\n")
+    hdr = ("ply\nformat binary_little_endian 1.0\nelement vertex 10\nproperty float x\nproperty float y\n"
+           "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+           "element tristrips 1\nproperty list int uint vertex_indices\nend_header\n")
+    body = b"".join(struct.pack("<fff", *v) for v in grid + [(3, 0, 0)]) + struct.pack("<Biii", 3, 2, 9, 5)
+    body += struct.pack("<i", len(strips)) + b"".join(struct.pack("<I", i & 0xFFFFFFFF) for i in strips)
+    put("fuzz_ply", "tristrips_bin.ply", hdr.encode() + body)
+    # STL: binary (one with a header starting with "solid", as many exporters write), ascii, and
+    # a binary whose triangle count does not match its size
+    def stl_binary(header, tris):
+        out = header.ljust(80, b" ")[:80] + struct.pack("<I", len(tris))
+        for t in tris:
+            out += struct.pack("<3f", 0, 0, 0) + b"".join(struct.pack("<3f", *CUBE_V[i - 1]) for i in t)
+            out += struct.pack("<H", 0)
+        return out
+    def stl_ascii(tris):
+        s = "solid cube\n"
+        for t in tris:
+            s += "facet normal 0 0 0\n outer loop\n"
+            s += "".join("  vertex %g %g %g\n" % CUBE_V[i - 1] for i in t)
+            s += " endloop\nendfacet\n"
+        return s + "endsolid cube\n"
+    cube_tris = tri_fan(CUBE_F)
+    put("fuzz_stl", "cube_bin.stl", stl_binary(b"binary STL of a unit cube", cube_tris))
+    put("fuzz_stl", "cube_solid_header.stl", stl_binary(b"solid cube", cube_tris))
+    put("fuzz_stl", "cube_ascii.stl", stl_ascii(cube_tris))
+    put("fuzz_stl", "open_quad_ascii.stl", stl_ascii(tri_fan([(1, 2, 4, 3)])))
+    put("fuzz_stl", "bad_count.stl", stl_binary(b"", cube_tris)[:84 + 50 * 3])
     put("fuzz_off", "coff.off", "COFF\n3 1 0\n0 0 0 1 1 1 1\n1 0 0 1 1 1 1\n0 1 0 1 1 1 1\n3 0 1 2\n")
     put("fuzz_off", "bad.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n4 0 1 2\n")
     put("fuzz_draco", "truncated.drc", open(os.path.join(corpus, "fuzz_draco", "cube_tags.drc"), "rb").read()[:40])

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The CageKit workbench's commands (menu "CageKit" and its toolbar):
 
-    CageKit_ImportScan     read a scan with the SDK (OBJ, PLY, OFF, Draco) into a mesh object
+    CageKit_ImportScan     read a scan with the SDK (OBJ, PLY, OFF, Draco, STL) into a mesh object
     CageKit_ScanToCage     selected mesh -> quad-dominant Catmull-Clark cage with creases
     CageKit_Fit            selected cage (and optionally its scan) -> fitted control points
     CageKit_LimitSurface   selected cage -> its limit surface as B-spline patches (a solid when closed)
@@ -135,14 +135,14 @@ class _Command:
 class ImportScan(_Command):
     name = "CageKit_ImportScan"
     menu = "Import scan..."
-    tip = "Read a scanned mesh (OBJ, PLY, OFF, Draco) with CageKit into a mesh object"
+    tip = "Read a scanned mesh (OBJ, PLY, OFF, Draco, STL) with CageKit into a mesh object"
 
     def IsActive(self):
         return True
 
     def activated(self):
         path, _ = QtGui.QFileDialog.getOpenFileName(FreeCADGui.getMainWindow(), "Import scan", "",
-                                                    "Meshes (*.obj *.ply *.off *.drc);;All files (*)")
+                                                    "Meshes (*.obj *.ply *.off *.drc *.stl);;All files (*)")
         if path:
             doc = FreeCAD.ActiveDocument or FreeCAD.newDocument()
             obj = run(lambda progress: tools.import_scan(path, doc))

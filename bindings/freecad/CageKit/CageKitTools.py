@@ -254,7 +254,7 @@ def new_cage_object(doc, label, data, scan=None):
 
 # --- the pipeline -----------------------------------------------------------------------------------------
 def import_scan(path, doc=None, context=None):
-    """Reads a scan with the SDK (OBJ, PLY, OFF, Draco; a bad file raises the SDK's ParseError
+    """Reads a scan with the SDK (OBJ, PLY, OFF, Draco, STL; a bad file raises the SDK's ParseError
     etc. naming the file and line) into a new Mesh::Feature (polygons split into triangle fans)."""
     import Mesh
     ck = sdk()

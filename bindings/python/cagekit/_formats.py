@@ -14,21 +14,22 @@ class FileFormat(enum.IntEnum):
     PLY = 2
     OFF = 3
     DRACO = 4  # keeps cage tags
+    STL = 5    # read only (binary or ascii); writing raises UNSUPPORTED_FORMAT
 
 
 _NAMES = {"auto": FileFormat.AUTO, "obj": FileFormat.OBJ, "ply": FileFormat.PLY, "off": FileFormat.OFF,
-          "drc": FileFormat.DRACO, "draco": FileFormat.DRACO}
+          "drc": FileFormat.DRACO, "draco": FileFormat.DRACO, "stl": FileFormat.STL}
 
 
 def file_format(value):
-    """FileFormat from a FileFormat, an int or a name ('obj', 'ply', 'off', 'drc'/'draco', 'auto')."""
+    """FileFormat from a FileFormat, an int or a name ('obj', 'ply', 'off', 'drc'/'draco', 'stl', 'auto')."""
     if value is None:
         return FileFormat.AUTO
     if isinstance(value, str):
         try:
             return _NAMES[value.lower().lstrip(".")]
         except KeyError:
-            raise ValueError("cagekit: unknown file format %r (obj, ply, off, drc, auto)" % value) from None
+            raise ValueError("cagekit: unknown file format %r (obj, ply, off, drc, stl, auto)" % value) from None
     return FileFormat(int(value))
 
 

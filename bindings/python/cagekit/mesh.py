@@ -99,7 +99,7 @@ class Mesh(Handle):
 
     @classmethod
     def read(cls, path, format="auto", context=None):
-        """Reads OBJ, PLY, OFF or Draco (format 'auto': by extension). Tags are ignored."""
+        """Reads OBJ, PLY, OFF, Draco or STL (format 'auto': by extension). Tags are ignored."""
         ctx = resolve(context)
         return cls._make(ctx, _lib.lib.cagekit_mesh_read_file, ctx._handle, _formats.path_bytes(path),
                          int(_formats.file_format(format)))

@@ -73,6 +73,26 @@ class MeshRoundTrips(HandleCheck):
                 with cagekit.Mesh.read(path) as back:
                     self.assertEqual(back.counts(), mesh.counts())
 
+    def test_stl_is_read_welded_and_not_written(self):
+        # A binary STL (header starting with "solid", as many are) of the sphere's triangles:
+        # the corners are welded back into the sphere's vertices.
+        import struct
+        positions, triangles = sphere()
+        positions = positions.astype(np.float32).astype(np.float64)
+        data = b"solid sphere".ljust(80, b" ") + struct.pack("<I", len(triangles))
+        for t in triangles:
+            data += struct.pack("<3f", 0, 0, 1) + positions[list(t)].astype("<f4").tobytes() + b"\0\0"
+        with cagekit.Mesh.from_bytes(data) as back:  # sniffed by the binary size rule
+            self.assertEqual(back.counts(), (len(positions), len(triangles), 3 * len(triangles)))
+            np.testing.assert_array_equal(back.positions[back.faces], positions[triangles])
+        with cagekit.Mesh.from_arrays(positions, triangles) as mesh, tempfile.TemporaryDirectory() as tmp:
+            with self.assertRaises(cagekit.UnsupportedFormatError) as caught:
+                mesh.to_bytes("stl")
+            self.assertIn("STL: writing is not supported", str(caught.exception))
+            with self.assertRaises(cagekit.UnsupportedFormatError):
+                mesh.write(os.path.join(tmp, "x.stl"))
+            self.assertEqual(os.listdir(tmp), [])
+
 
 class MeshErrors(HandleCheck):
     def test_corrupt_obj_bytes_are_a_parse_error_with_the_line(self):

@@ -5,7 +5,7 @@
 #include <cstring>
 #include <string_view>
 
-#include "core/io/mesh_io.h"
+#include "core/io/io_internal.h"
 #include "core/io/text_scanner.h"
 
 CAGEKIT_NAMESPACE_BEGIN
@@ -16,6 +16,7 @@ const char* file_format_name(FileFormat format) {
     case FileFormat::ply: return "PLY";
     case FileFormat::off: return "OFF";
     case FileFormat::draco: return "Draco";
+    case FileFormat::stl: return "STL";
     case FileFormat::unknown: break;
   }
   return "unknown";
@@ -31,6 +32,7 @@ FileFormat file_format_from_path(const std::string& path) {
   if (ext == "ply") return FileFormat::ply;
   if (ext == "off") return FileFormat::off;
   if (ext == "drc") return FileFormat::draco;
+  if (ext == "stl") return FileFormat::stl;
   return FileFormat::unknown;
 }
 
@@ -49,6 +51,23 @@ bool is_obj_keyword(std::string_view word) {
                                          "usemtl", "mtllib", "t"};
   for (const char* k : keywords)
     if (word == k) return true;
+  return false;
+}
+
+bool equals_ignoring_case(std::string_view a, std::string_view b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i)
+    if (std::tolower(static_cast<unsigned char>(a[i])) != std::tolower(static_cast<unsigned char>(b[i]))) return false;
+  return true;
+}
+
+// Ascii STL: "solid [name]" and then a "facet" (any case) within the probed bytes, so that a
+// text file that merely starts with the word "solid" is not taken for STL.
+bool looks_like_ascii_stl(std::string_view first_word, const char* text, size_t probe) {
+  if (!equals_ignoring_case(first_word, "solid")) return false;
+  const std::string_view head(text, probe);
+  for (size_t at = head.find_first_of("fF"); at != std::string_view::npos; at = head.find_first_of("fF", at + 1))
+    if (equals_ignoring_case(head.substr(at, 5), "facet")) return true;
   return false;
 }
 
@@ -71,9 +90,13 @@ FileFormat sniff_file_format(const uint8_t* data, size_t size) {
   if (size >= 5 && std::memcmp(text, "DRACO", 5) == 0) return FileFormat::draco;
   if (size >= 4 && std::memcmp(text, "ply", 3) == 0 && (text[3] == '\n' || text[3] == '\r'))
     return FileFormat::ply;
+  // Binary STL has no magic (its 80-byte header is free text, often "solid ..."): the exact
+  // size rule decides, before the text checks.
+  if (io_detail::is_binary_stl_size(data, size)) return FileFormat::stl;
   const size_t probe = std::min<size_t>(size, 4096);
   if (std::memchr(text, 0, probe) != nullptr) return FileFormat::unknown;  // binary
   const std::string_view word = first_statement(text, size);
+  if (looks_like_ascii_stl(word, text, probe)) return FileFormat::stl;
   if (is_off_keyword(word)) return FileFormat::off;
   if (is_obj_keyword(word)) return FileFormat::obj;
   return FileFormat::unknown;

@@ -67,6 +67,11 @@ Cage read_obj(const uint8_t* data, size_t size, const ReadContext& context);
 Cage read_ply(const uint8_t* data, size_t size, const ReadContext& context);
 Cage read_off(const uint8_t* data, size_t size, const ReadContext& context);
 Cage read_draco(const uint8_t* data, size_t size, const ReadContext& context);
+Cage read_stl(const uint8_t* data, size_t size, const ReadContext& context);
+
+// True when `size` is exactly 84 + 50 * (the little-endian uint32 at byte 80): a binary STL.
+// Decided before anything else because many binary STL headers start with "solid".
+bool is_binary_stl_size(const uint8_t* data, size_t size);
 
 // Writers append to `out` and return the largest position error of what they wrote (measured).
 double write_obj(const Cage& cage, const WriteOptions& options, const TaskMonitor& monitor,

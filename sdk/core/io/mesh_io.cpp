@@ -18,6 +18,7 @@ Cage dispatch_read(const uint8_t* data, size_t size, FileFormat format, const io
     case FileFormat::ply: return io_detail::read_ply(data, size, context);
     case FileFormat::off: return io_detail::read_off(data, size, context);
     case FileFormat::draco: return io_detail::read_draco(data, size, context);
+    case FileFormat::stl: return io_detail::read_stl(data, size, context);
     case FileFormat::unknown: break;
   }
   context.fail_here("unknown file format", Status::unsupported_format);
@@ -30,6 +31,7 @@ double dispatch_write(const Cage& cage, const WriteOptions& options, const TaskM
     case FileFormat::ply: return io_detail::write_ply(cage, options, monitor, out);
     case FileFormat::off: return io_detail::write_off(cage, options, monitor, out);
     case FileFormat::draco: return io_detail::write_draco(cage, options, monitor, out);
+    case FileFormat::stl: break;  // refused in write_cage_to_memory
     case FileFormat::unknown: break;
   }
   fail(Status::invalid_argument, "WriteOptions::format must name a file format");
@@ -44,7 +46,7 @@ Cage read_cage_from_memory(const uint8_t* data, size_t size, FileFormat format, 
   if (size == 0) context.fail_here("empty file: no vertices");
   if (format == FileFormat::unknown) format = sniff_file_format(data, size);
   if (format == FileFormat::unknown)
-    context.fail_here("cannot tell the file format (not OBJ, PLY, OFF or Draco)", Status::unsupported_format);
+    context.fail_here("cannot tell the file format (not OBJ, PLY, OFF, Draco or STL)", Status::unsupported_format);
   // Decoded size: text formats expand to at most ~4x their bytes; Draco streams are assumed to
   // expand at most 32x (position quantisation + edgebreaker connectivity reach ~25x).
   check_memory_estimate(estimate_product(size, format == FileFormat::draco ? 32 : 4),
@@ -65,6 +67,9 @@ Cage read_cage_from_file(const std::string& path, FileFormat format, const ReadO
 
 std::vector<uint8_t> write_cage_to_memory(const Cage& cage, const WriteOptions& options, WriteReport* report,
                                           const TaskMonitor& monitor) {
+  // Before validating the mesh: the answer does not depend on it.
+  if (options.format == FileFormat::stl)
+    fail(Status::unsupported_format, "STL: writing is not supported (write .obj, .ply, .off or .drc)");
   io_detail::validate_for_writing(cage, options);
   std::vector<uint8_t> out;
   double error = 0;

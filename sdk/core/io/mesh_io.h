@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Reading and writing meshes and cages: OBJ (with OpenSubdiv-style `t crease` / `t corner` /
-// `t hole` tag lines), PLY (ascii, binary little/big endian), OFF, Draco (.drc).
+// `t hole` tag lines), PLY (ascii, binary little/big endian; faces and triangle strips), OFF,
+// Draco (.drc); STL (binary and ascii) is read only.
 //
 // Every reader treats its input as hostile: truncated data, corrupt numbers, NaN/Inf, indices
 // out of range and element counts that cannot fit in the remaining bytes are reported as an
@@ -27,13 +28,15 @@ enum class FileFormat : int {
   ply = 2,      // reading accepts ascii and binary; writing follows WriteOptions::ply_binary
   off = 3,
   draco = 4,
+  stl = 5,      // read only: binary or ascii triangle soups, bit-identical corners welded
 };
 
 const char* file_format_name(FileFormat format);
-// From a path's extension (.obj .ply .off .drc, case-insensitive); unknown if none matches.
+// From a path's extension (.obj .ply .off .drc .stl, case-insensitive); unknown if none matches.
 FileFormat file_format_from_path(const std::string& path);
-// From the first bytes of a buffer ("ply\n", "OFF", "DRACO", otherwise OBJ if it looks like text
-// with v/f lines); unknown if none.
+// From the content ("ply\n", "OFF", "DRACO"; binary STL when the size is exactly 84 + 50 * the
+// triangle count at byte 80, ascii STL for "solid" followed by "facet"; otherwise OBJ if it
+// looks like text with v/f lines); unknown if none.
 FileFormat sniff_file_format(const uint8_t* data, size_t size);
 
 struct ReadOptions {
@@ -66,7 +69,8 @@ Cage read_cage_from_file(const std::string& path, FileFormat format = FileFormat
                          const ReadOptions& options = {}, const TaskMonitor& monitor = {});
 
 // format must be set (not unknown). Formats without tags (PLY, OFF) write the polygon mesh
-// only; the caller decides whether that is acceptable (see format_keeps_tags()).
+// only; the caller decides whether that is acceptable (see format_keeps_tags()). STL is
+// Status::unsupported_format ("STL: writing is not supported").
 std::vector<uint8_t> write_cage_to_memory(const Cage& cage, const WriteOptions& options,
                                           WriteReport* report = nullptr, const TaskMonitor& monitor = {});
 // Writes atomically: to a temporary file beside `path`, renamed over it only on success,
