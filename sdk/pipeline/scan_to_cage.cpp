@@ -152,6 +152,7 @@ std::string attempt(ScanMethod method, const ScanToCageOptions& o, ScanToCageRes
                                     std::to_string(expected) + "): it is its own cage");
     r.initial_cage = own_cage(mesh, o.own_cage_crease_angle_degrees);
     r.creases = r.initial_cage.creases.size();
+    r.level_faces = mesh.num_faces();  // the input is the "level"
   } else {
     r.initial_cage = initial_cage(mesh, method, o, r, monitor);
     if (method == ScanMethod::anisotropic && r.initial_cage.mesh.num_faces() >= mesh.num_faces() &&

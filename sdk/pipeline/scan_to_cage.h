@@ -68,7 +68,7 @@ struct ScanToCageResult {
   std::string fallback_reason;     // why ("" when no fallback)
   // simplify
   size_t level = 0, level_count = 0;
-  uint64_t level_faces = 0, level_faces_with_holes = 0;
+  uint64_t level_faces = 0, level_faces_with_holes = 0;  // (own cage: level_faces = the input's faces)
   CageBuildReport cage_report;
   // quad / anisotropic
   RemeshQuality remesh;

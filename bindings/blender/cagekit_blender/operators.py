@@ -141,21 +141,16 @@ class CAGEKIT_OT_scan_to_cage(bpy.types.Operator):
         ck = sdk()
         ctx = ck.Context(progress=progress)
         with meshio.scan_mesh(scan, context=ctx) as mesh:
-            progress.stage(0.0, 0.45)
-            with ck.Hierarchy(mesh) as hierarchy:
-                level = hierarchy.set_level(faces=self.faces)
-                level_faces = hierarchy.level_info(level).faces
-                progress.stage(0.45, 0.5)
-                cage, report = hierarchy.build_cage(crease_angle_degrees=math.degrees(self.crease_angle))
-            rms = None
+            # The SDK's whole journey (conditioning -> simplification -> cage -> fit -> a judged
+            # result: QualityError instead of a bad surface).
+            progress.stage(0.0, 1.0)
+            cage, limit, report = ck.scan_to_cage(
+                mesh, faces=self.faces, crease_angle_degrees=math.degrees(self.crease_angle),
+                fit={"max_passes": self.passes, "keep_crease_vertices": self.keep_crease_vertices})
+            limit.close()
+            level_faces = report.level_faces
+            rms = report.fit_final.rms_rel if self.passes > 0 else None
             try:
-                if self.passes > 0:
-                    progress.stage(0.5, 1.0)
-                    fitted, fit_report = ck.fit(cage, mesh, max_passes=self.passes,
-                                                keep_crease_vertices=self.keep_crease_vertices)
-                    cage.close()
-                    cage = fitted
-                    rms = fit_report.passes[-1].rms_rel if fit_report.passes else None
                 pos = cage.positions
                 sizes, flat = cage.face_arrays()
                 me = meshio.new_mesh(scan.name + "_cage", pos, sizes, flat)
@@ -186,7 +181,12 @@ class CAGEKIT_OT_scan_to_cage(bpy.types.Operator):
             o.select_set(False)
         obj.select_set(True)
         context.view_layer.objects.active = obj
-        text = "CageKit: cage of %d faces (%d quads), %d crease edges" % (len(me.polygons), report.quads, creased)
+        text = "CageKit: cage of %d faces (%d quads), %d crease edges" % (len(me.polygons), report.cage_quads, creased)
+        conditioned = report.input_faces != report.conditioned_faces or report.welded_vertices or report.flipped_faces
+        if conditioned:
+            self.report({'INFO'}, "CageKit: the scan was conditioned: %d -> %d faces, %d vertices welded, "
+                                  "%d faces flipped" % (report.input_faces, report.conditioned_faces,
+                                                        report.welded_vertices, report.flipped_faces))
         if rms is not None:
             text += ", fitted (rms %.2g of the diagonal)" % rms
         self.report({'INFO'}, text)

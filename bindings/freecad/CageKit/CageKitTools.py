@@ -290,28 +290,27 @@ def scan_to_cage(scan, faces=200, crease_angle=30.0, passes=0, keep_crease_verti
     ctx = ck.Context(progress=progress)
     fit_report = None
     with ck.Mesh.from_arrays(pos, tris, context=ctx) as mesh:
-        with ck.Hierarchy(mesh) as hierarchy:
-            level = hierarchy.set_level(faces=int(faces))
-            level_faces = hierarchy.level_info(level).faces
-            cage, report = hierarchy.build_cage(crease_angle_degrees=float(crease_angle))
+        # The SDK's whole journey (conditioning -> simplification -> cage -> fit -> a judged
+        # result: QualityError instead of a bad surface); passes 0 measures the unfitted cage.
+        cage, limit, report = ck.scan_to_cage(mesh, faces=int(faces), crease_angle_degrees=float(crease_angle),
+                                              fit={"max_passes": int(passes),
+                                                   "keep_crease_vertices": bool(keep_crease_vertices)})
+        limit.close()
         with cage:
-            if int(passes) > 0:
-                fitted, fit_report = ck.fit(cage, mesh, max_passes=int(passes),
-                                            keep_crease_vertices=bool(keep_crease_vertices))
-                with fitted:
-                    data = cage_data(fitted)
-            else:
-                data = cage_data(cage)
+            data = cage_data(cage)
+    level_faces = report.level_faces
+    if int(passes) > 0:
+        fit_report = report
     doc = doc or scan.Document
     obj = new_cage_object(doc, scan.Label + "_cage", data, scan)
     obj.LevelFaces = int(level_faces)
     if fit_report is not None:
-        obj.FitPasses = len(fit_report.passes) - 1
-        obj.FitRmsRel = float(fit_report.final.rms_rel)
+        obj.FitPasses = fit_report.fit_pass_count - 1
+        obj.FitRmsRel = float(fit_report.fit_final.rms_rel)
     doc.recompute()
     FreeCAD.Console.PrintMessage("CageKit: cage %r: %d faces (%d quads), %d creases%s\n" % (
-        obj.Label, len(data["sizes"]), report.quads, len(data["creases"]),
-        "" if fit_report is None else ", fitted (rms %.2g of the diagonal)" % fit_report.final.rms_rel))
+        obj.Label, len(data["sizes"]), report.cage_quads, len(data["creases"]),
+        "" if fit_report is None else ", fitted (rms %.2g of the diagonal)" % fit_report.fit_final.rms_rel))
     return obj
 
 
