@@ -1003,7 +1003,7 @@ struct BaselineEntry {
 
 struct Baseline {
   std::map<std::pair<std::string, std::string>, BaselineEntry> records;  // (mesh, method)
-  std::map<std::string, int> min_good;
+  std::map<std::string, int> min_good, max_bad_but_ok, max_crashes;
 };
 
 Baseline read_baseline(const std::string& path) {
@@ -1011,7 +1011,11 @@ Baseline read_baseline(const std::string& path) {
   const Json j = JsonParser(read_whole_file(path)).parse();
   if (const Json* methods = j.get("methods"))
     for (const auto& m : methods->members)
+    {
       if (const std::optional<double> g = m.second.number_at({"min_good"})) b.min_good[m.first] = int(*g);
+      if (const std::optional<double> n = m.second.number_at({"max_bad_but_ok"})) b.max_bad_but_ok[m.first] = int(*n);
+      if (const std::optional<double> n = m.second.number_at({"max_crashes"})) b.max_crashes[m.first] = int(*n);
+    }
   const Json* records = j.get("records");
   if (!records || records->type != Json::kArray) throw std::runtime_error(path + ": no \"records\" array");
   for (const Json& r : records->items) {
@@ -1036,7 +1040,9 @@ std::string baseline_json(const std::vector<Record>& records, const std::vector<
   for (size_t i = 0; i < methods.size(); ++i) {
     const Summary s = summarize(records, methods[i]);
     json += std::string(i ? ",\n  " : "\n  ") + json_escape(methods[i]) + ": {\"min_good\": " +
-            std::to_string(s.count.at(Status::good)) + ", \"max_bad_but_ok\": 0, \"max_crashes\": 0, \"known\": {";
+            std::to_string(s.count.at(Status::good)) +
+            ", \"max_bad_but_ok\": " + std::to_string(s.count.at(Status::bad_but_ok)) +
+            ", \"max_crashes\": " + std::to_string(s.count.at(Status::crash)) + ", \"known\": {";
     bool first = true;
     for (Status st : kAllStatus) {
       json += std::string(first ? "" : ", ") + json_escape(status_label(st)) + ": " + std::to_string(s.count.at(st));
@@ -1082,12 +1088,19 @@ int compare_with_baseline(const Baseline& b, const std::vector<Record>& records,
     }
   }
   for (const std::string& method : methods) {
-    const auto it = b.min_good.find(method);
-    if (it == b.min_good.end()) continue;
-    const int good = summarize(records, method).count.at(Status::good);
-    if (good < it->second)
-      failures.push_back(method + ": " + std::to_string(good) + " good, below the baseline's " +
-                         std::to_string(it->second));
+    const Summary s = summarize(records, method);
+    const auto good = b.min_good.find(method);
+    if (good != b.min_good.end() && s.count.at(Status::good) < good->second)
+      failures.push_back(method + ": " + std::to_string(s.count.at(Status::good)) + " good, below the baseline's " +
+                         std::to_string(good->second));
+    const auto bad = b.max_bad_but_ok.find(method);
+    if (bad != b.max_bad_but_ok.end() && s.count.at(Status::bad_but_ok) > bad->second)
+      failures.push_back(method + ": " + std::to_string(s.count.at(Status::bad_but_ok)) +
+                         " bad-but-OK, more than the baseline's " + std::to_string(bad->second));
+    const auto crashes = b.max_crashes.find(method);
+    if (crashes != b.max_crashes.end() && s.count.at(Status::crash) > crashes->second)
+      failures.push_back(method + ": " + std::to_string(s.count.at(Status::crash)) +
+                         " crashes, more than the baseline's " + std::to_string(crashes->second));
   }
   if (!warnings.empty()) {
     std::printf("\n!!!!!!!! WARNING: %zu known problem(s) of the baseline are still there (not a failure yet):\n",
