@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <new>
 #include <string>
 
 #include "cli_context.h"
@@ -87,6 +88,10 @@ int main(int argc, char** argv) {
   } catch (const cli::Failure& f) {
     std::fprintf(stderr, "cagekit: %s\n", f.what());
     return f.code;
+  } catch (const std::bad_alloc&) {
+    // Allocation failures outside the C API (which reports them as OUT_OF_MEMORY itself).
+    std::fprintf(stderr, "cagekit: out of memory\n");
+    return cli::kExitBadInput;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "cagekit: %s\n", e.what());
     return 1;
