@@ -640,18 +640,30 @@ std::vector<std::array<uint32_t, 3>> triangulate_polygon_cgal(const PolygonLoops
   const PolygonValidity validity = check_polygon_loops(polygon);
   if (!validity.ok()) fail(Status::invalid_argument, "triangulate_polygon: invalid polygon: " + validity.message);
   CDT cdt;
+  // All vertices first, then all constraints. The point-location hint must be a face that
+  // exists: inserting a constraint deletes the triangles it crosses, so a hint taken before
+  // a loop's constraints went in (as the first vertex of the next loop once used) can be a
+  // freed face, and the walk from it read freed memory (SIGSEGV on polygons with holes whose
+  // outer loop edges are not Delaunay edges). Point insertion only splits and flips faces,
+  // so each new vertex's face is live when the next point is inserted.
   std::vector<CDT::Vertex_handle> handles;
+  size_t m = 0;
+  for (const auto& loop : polygon.loops) m += loop.size();
+  handles.reserve(m);
   CDT::Face_handle hint;
+  for (const auto& loop : polygon.loops)
+    for (const uint32_t index : loop) {
+      const Vec2& p = polygon.points[index];
+      CDT::Vertex_handle v = cdt.insert(Point(p.x, p.y), hint);
+      v->info() = index;
+      hint = v->face();
+      handles.push_back(v);
+    }
+  size_t base = 0;
   for (const auto& loop : polygon.loops) {
     const size_t n = loop.size();
-    handles.resize(n);
-    for (size_t k = 0; k < n; ++k) {
-      const Vec2& p = polygon.points[loop[k]];
-      handles[k] = cdt.insert(Point(p.x, p.y), hint);
-      handles[k]->info() = loop[k];
-      hint = handles[k]->face();
-    }
-    for (size_t k = 0; k < n; ++k) cdt.insert_constraint(handles[k], handles[(k + 1) % n]);
+    for (size_t k = 0; k < n; ++k) cdt.insert_constraint(handles[base + k], handles[base + (k + 1) % n]);
+    base += n;
   }
   // Nesting depth by flood fill from the infinite face, crossing constraints increments it.
   std::vector<CDT::Face_handle> stack;
