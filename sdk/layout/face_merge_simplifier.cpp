@@ -1039,6 +1039,8 @@ PolygonalLevel SimplificationHierarchy::extract() const {
   const Impl& im = *impl_;
   const HierarchyRecords& h = im.hier;
   PolygonalLevel out;
+  out.coordinates.origin = im.center;  // HierarchyData::normalised, the frame of every validity check
+  out.coordinates.scale = im.inv_unit;
   const size_t nf = im.input.num_faces();
   std::vector<uint32_t> index(nf, kNoRecord);
   std::vector<uint8_t> used(im.input.num_vertices(), 0);

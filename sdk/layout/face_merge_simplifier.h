@@ -35,8 +35,20 @@ struct PolygonalFace {
   double area = 0; // sigma: total input area of the cluster
 };
 
+// The coordinates the simplifier projects and validates faces in: input positions (and face
+// centroids) as (p - origin) * scale. A face's planar embedding (project_face) must be computed
+// in these same coordinates: the injectivity verdict of a nearly degenerate polygon can differ
+// in the last bit between two coordinate systems, so a face validated in one could fail the
+// check (and the triangulation) in another. Identity for levels that did not come from the
+// simplifier.
+struct LevelCoordinates {
+  Vec3 origin;
+  double scale = 1;
+};
+
 struct PolygonalLevel {
   std::vector<PolygonalFace> faces;
+  LevelCoordinates coordinates;
   std::vector<uint32_t> cluster_of_input_face;  // input face -> index into faces
   uint64_t num_vertices = 0;                    // distinct input vertices used by the loops
   double l2_error = 0;                          // sum of (3.3) terms of the committed faces, normalised

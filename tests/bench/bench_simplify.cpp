@@ -298,7 +298,7 @@ void run_cagekit(const cagekit::PolygonMesh& input, const std::vector<Target>& t
     for (const cagekit::PolygonalFace& face : levels[i].faces) {
       if (face.loops.size() > 1) ++r.holes;
       std::vector<uint32_t> input_vertex_of_point;
-      const cagekit::PolygonLoops poly = cagekit::project_face(input, face, &input_vertex_of_point);
+      const cagekit::PolygonLoops poly = cagekit::project_face(input, face, levels[i].coordinates, &input_vertex_of_point);
       if (!cagekit::check_polygon_loops(poly).ok()) {
         ++r.invalid_faces;  // fan of the outer loop, so that its area still counts
         const auto& loop = face.loops[0];
