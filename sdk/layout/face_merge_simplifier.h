@@ -55,6 +55,13 @@ struct PolygonalLevel {
   double l21_error = 0;                         // sum of (3.4) terms, normalised
 };
 
+// Work counters of one hierarchy build (diagnostics and tests: they show how the cost grows).
+struct SimplifyStats {
+  uint64_t triangulations = 0;         // faces triangulated from scratch (CDT of the whole face)
+  uint64_t triangulated_vertices = 0;  // sum of the loop vertex counts of those faces
+  uint64_t incremental_updates = 0;    // faces whose CDT moments were updated without a CDT
+};
+
 class SimplificationHierarchy {
  public:
   // Runs the simplification to the coarsest level. The input must be a valid mesh (no
@@ -86,6 +93,7 @@ class SimplificationHierarchy {
 
   // The current level's faces and the cluster map.
   PolygonalLevel extract() const;
+  const SimplifyStats& stats() const;
   const PolygonMesh& input() const;
 
  private:

@@ -675,3 +675,58 @@ TEST(FaceMergeSimplifier, MillionTrianglesTiming) {
   h.go_to_level(l);
   check_level(m, h.extract(), "bunny x16 at 100 faces");
 }
+
+namespace {
+// A finely tessellated, mostly flat plate: n x n grid cells of side 1, two triangles each, with
+// a small smooth bump (height 1 over a radius of n/8) near one corner.
+PolygonMesh flat_plate(int n) {
+  PolygonMesh m;
+  const double c = 0.3 * n, r = n / 8.0;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const double d2 = ((i - c) * (i - c) + (j - c) * (j - c)) / (r * r);
+      m.add_vertex(Vec3(i, j, d2 < 1 ? (1 - d2) * (1 - d2) : 0.0));
+    }
+  const auto id = [n](int i, int j) { return static_cast<uint32_t>(j * (n + 1) + i); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      m.add_face({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      m.add_face({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  return m;
+}
+}  // namespace
+
+// The flat plate of 45K triangles simplifies to 60 faces. With epsilon = 0 (no valence penalty:
+// every merge on the flat part has priority exactly 1, ties go by face id) one face grows by
+// single triangles and its loops get long: re-triangulating it from scratch after every merge
+// into it was quadratic (the 7,200-triangle plate: 1.26M CDT vertices, ~175 per input triangle,
+// 7 s; ~50K triangles ran > 10 minutes). Faces above 64 loop vertices now keep their moments up
+// to date in place, so the CDT work per input triangle stays bounded. Work counters, not timings.
+TEST(FaceMergeSimplifier, FlatPlateTriangulationWorkIsLinear) {
+  const PolygonMesh plate = flat_plate(150);
+  SimplificationHierarchy h(plate);
+  const SimplifyStats& st = h.stats();
+  std::printf("[flat plate] %zu triangles: %llu triangulations of %llu vertices, %llu incremental updates\n",
+              plate.num_faces(), (unsigned long long)st.triangulations, (unsigned long long)st.triangulated_vertices,
+              (unsigned long long)st.incremental_updates);
+  const size_t level = h.level_for_face_count(60);
+  EXPECT_LE(h.face_count(level), 60u);
+  h.go_to_level(level);
+  check_level(plate, h.extract(), "flat plate at 60 faces");
+  EXPECT_LE(static_cast<double>(st.triangulated_vertices), 16.0 * static_cast<double>(plate.num_faces()));
+  SimplifyOptions ties;
+  ties.tie_break_epsilon = 0;
+  for (const int n : {50, 75}) {
+    const PolygonMesh p = flat_plate(n);
+    SimplificationHierarchy t(p, ties);
+    const SimplifyStats& s = t.stats();
+    std::printf("[flat plate, epsilon 0] %zu triangles: %llu triangulations of %llu vertices, %llu incremental updates\n",
+                p.num_faces(), (unsigned long long)s.triangulations, (unsigned long long)s.triangulated_vertices,
+                (unsigned long long)s.incremental_updates);
+    EXPECT_LE(static_cast<double>(s.triangulated_vertices), 40.0 * static_cast<double>(p.num_faces())) << n;
+    EXPECT_GT(s.incremental_updates, 0u);
+    t.go_to_level(t.level_for_face_count(60));
+    check_level(p, t.extract(), "flat plate, epsilon 0, at 60 faces");
+  }
+}
