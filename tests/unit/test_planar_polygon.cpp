@@ -557,3 +557,56 @@ TEST(PlanarPolygonTriangulation, HolesAfterNonDelaunayOuterLoop) {
   }
   EXPECT_EQ(triangulated, 300u);
 }
+
+// The classes of input that violate the CDT's preconditions (CGAL's constrained triangulation
+// without constraint intersections): two loop vertices on the same point, a vertex on another
+// loop's edge (loops that touch, typically nearly collinear edges after projection), a hole
+// sharing a piece of the outer loop's edge. Each is reported by the exact check, and both
+// triangulate_polygon and the CGAL reference refuse it with Error(invalid_argument) instead of
+// reaching CGAL with it.
+TEST(PlanarPolygonTriangulation, PreconditionViolationsAreRefused) {
+  struct Case {
+    const char* what;
+    std::vector<std::vector<IPt>> loops;
+    PolygonDefect defect;
+  };
+  const std::vector<Case> cases = {
+      {"hole vertex on an outer vertex", {kSquare, {{0, 0}, {2, 5}, {5, 2}}}, PolygonDefect::repeated_vertex},
+      {"two outer vertices on one point", {{{0, 0}, {10, 0}, {5, 5}, {10, 10}, {5, 5}, {0, 10}}},
+       PolygonDefect::repeated_vertex},
+      {"hole vertex on an outer edge", {kSquare, {{5, 0}, {3, 4}, {7, 4}}}, PolygonDefect::loops_intersect},
+      {"hole sharing part of an outer edge", {kSquare, {{2, 0}, {2, 3}, {6, 3}, {6, 0}}},
+       PolygonDefect::loops_intersect},
+      {"vertex on a non-adjacent edge (collinear touch)", {{{0, 0}, {10, 0}, {10, 10}, {5, 0}, {0, 10}}},
+       PolygonDefect::self_intersection},
+      {"hole vertex on a long, nearly horizontal outer edge",
+       {{{0, 0}, {3000000, 3}, {3000000, 10}, {0, 10}}, {{1000000, 1}, {999999, 2}, {1000001, 2}}},
+       PolygonDefect::loops_intersect},
+      {"two holes touching", {kSquare, {{1, 1}, {1, 4}, {4, 1}}, {{4, 1}, {4, 4}, {7, 4}}},
+       PolygonDefect::repeated_vertex},
+  };
+  for (const Case& c : cases) {
+    const PolygonLoops poly = make_polygon(c.loops);
+    EXPECT_EQ(brute_force(poly), c.defect) << c.what;
+    EXPECT_EQ(check_polygon_loops(poly).defect, c.defect) << c.what << ": " << check_polygon_loops(poly).message;
+    for (int path = 0; path < 2; ++path) {
+      try {
+        if (path == 0)
+          triangulate_polygon(poly);
+        else
+          detail::triangulate_polygon_cgal(poly);
+        ADD_FAILURE() << c.what << ": no exception";
+      } catch (const Error& e) {
+        EXPECT_EQ(e.status(), Status::invalid_argument) << c.what;
+      }
+    }
+  }
+  // Coincident projected points from distinct 3D points: a vertical wall seen from above.
+  const PlaneFrame frame = PlaneFrame::from_normal(Vec3{0, 0, 0}, Vec3{0, 0, 1});
+  PolygonLoops wall;
+  for (const Vec3& p : {Vec3{0, 0, 0}, Vec3{4, 0, 0}, Vec3{4, 0, 1}, Vec3{4, 4, 1}, Vec3{0, 4, 1}})
+    wall.points.push_back(frame.project(p));
+  wall.loops = {{0, 1, 2, 3, 4}};
+  EXPECT_EQ(check_polygon_loops(wall).defect, PolygonDefect::repeated_vertex) << check_polygon_loops(wall).message;
+  EXPECT_THROW(triangulate_polygon(wall), Error);
+}
