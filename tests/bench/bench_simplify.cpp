@@ -572,12 +572,16 @@ int main(int argc, char** argv) {
     }
     for (const Target& t : targets) {
       if (t.our_faces == 0) continue;
-      std::printf("  load average before CGAL VSA: %s\n", load_average().c_str());
-      Row vsa{name, "CGAL VSA", t.faces,
-              measure(in.runs, 1, [&](std::vector<Result>& out) { run_vsa(in.mesh, t.our_faces, out[0]); })[0], ""};
-      vsa.time_detail = fmt_time(vsa.r.part[0]) + " / " + fmt_time(vsa.r.part[1]) + " / " + fmt_time(vsa.r.part[2]);
-      rows.push_back(vsa);
-      if (vsa_proxies > 0 && vsa_proxies != t.our_faces) {
+      // With a fixed proxy count (bunny-1.1M) VSA runs at that count only: it is the comparison
+      // the timing target is stated against, and a second VSA run costs minutes.
+      Row vsa{name, "CGAL VSA", t.faces, Result{}, ""};
+      if (vsa_proxies == 0) {
+        std::printf("  load average before CGAL VSA: %s\n", load_average().c_str());
+        vsa.r = measure(in.runs, 1, [&](std::vector<Result>& out) { run_vsa(in.mesh, t.our_faces, out[0]); })[0];
+        vsa.time_detail = fmt_time(vsa.r.part[0]) + " / " + fmt_time(vsa.r.part[1]) + " / " + fmt_time(vsa.r.part[2]);
+        rows.push_back(vsa);
+      }
+      if (vsa_proxies > 0) {
         std::printf("  load average before CGAL VSA %llu: %s\n", (unsigned long long)vsa_proxies, load_average().c_str());
         Row fixed{name, "CGAL VSA " + std::to_string(vsa_proxies), t.faces,
                   measure(in.runs, 1, [&](std::vector<Result>& out) { run_vsa(in.mesh, vsa_proxies, out[0]); })[0], ""};
