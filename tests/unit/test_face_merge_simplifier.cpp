@@ -671,6 +671,10 @@ TEST(FaceMergeSimplifier, MillionTrianglesTiming) {
   const size_t l = h.level_for_face_count(100);
   std::printf("[bunny loop x2 + noise] level digest (faces, vertices, error of all %zu levels): %016llx\n",
               h.num_levels(), static_cast<unsigned long long>(level_digest(h)));
+  std::printf("[bunny loop x2 + noise] %llu triangulations of %llu vertices, %llu in-place updates of large faces\n",
+              static_cast<unsigned long long>(h.stats().triangulations),
+              static_cast<unsigned long long>(h.stats().triangulated_vertices),
+              static_cast<unsigned long long>(h.stats().incremental_updates));
   std::printf("[bunny loop x2 + noise] %zu triangles: 100 faces in %.2f s wall, %.2f s CPU; the coarsest level (%llu "
               "faces) in %.2f s wall, %.2f s CPU; 100 faces at level %zu\n",
               m.num_faces(), wall100, cpu100, static_cast<unsigned long long>(h.face_count(h.num_levels() - 1)),
