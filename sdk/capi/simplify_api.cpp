@@ -120,7 +120,7 @@ CAGEKIT_API cagekit_status cagekit_hierarchy_get_current_info(cagekit_hierarchy 
     std::vector<uint32_t> point_to_input;
     for (const auto& f : h.level.faces) {
       out.faces_with_holes += f.loops.size() > 1;
-      out.invalid_faces += !cagekit::check_polygon_loops(cagekit::project_face(h.hierarchy.input(), f, &point_to_input)).ok();
+      out.invalid_faces += !cagekit::check_polygon_loops(cagekit::project_face(h.hierarchy.input(), f, h.level.coordinates, &point_to_input)).ok();
     }
     out.l2_error = h.level.l2_error;
     out.l21_error = h.level.l21_error;

@@ -12,6 +12,7 @@
 #include "layout/approximation_error.h"
 
 #include "core/memory_budget.h"
+#include "layout/cgal_guard.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 
@@ -45,6 +46,10 @@ TriangleList fan_triangles(const PolygonMesh& mesh, std::vector<uint32_t>* face_
   return triangles;
 }
 
+std::vector<uint32_t> nearest_faces_cgal(const PolygonMesh& mesh, const std::vector<Vec3>& points);
+ApproximationError measure_approximation_error_cgal(const PolygonMesh& input, const PolygonMesh& approximation,
+                                                    int samples_per_edge, const TaskMonitor& monitor);
+
 }  // namespace
 
 struct SurfaceDistance::Tree {
@@ -72,6 +77,19 @@ double SurfaceDistance::distance(const Vec3& p) const {
 }
 
 std::vector<uint32_t> nearest_faces(const PolygonMesh& mesh, const std::vector<Vec3>& points) {
+  return detail::cgal_guarded("nearest_faces", [&] { return nearest_faces_cgal(mesh, points); });
+}
+
+ApproximationError measure_approximation_error(const PolygonMesh& input, const PolygonMesh& approximation,
+                                               int samples_per_edge, const TaskMonitor& monitor) {
+  return detail::cgal_guarded("measure_approximation_error", [&] {
+    return measure_approximation_error_cgal(input, approximation, samples_per_edge, monitor);
+  });
+}
+
+namespace {
+
+std::vector<uint32_t> nearest_faces_cgal(const PolygonMesh& mesh, const std::vector<Vec3>& points) {
   check_memory_estimate(estimate_product(mesh.num_face_vertices(), 250), "finding nearest faces");
   std::vector<uint32_t> face_of;
   const TriangleList triangles = fan_triangles(mesh, &face_of);
@@ -84,8 +102,8 @@ std::vector<uint32_t> nearest_faces(const PolygonMesh& mesh, const std::vector<V
   return result;
 }
 
-ApproximationError measure_approximation_error(const PolygonMesh& input, const PolygonMesh& approximation,
-                                               int samples_per_edge, const TaskMonitor& monitor) {
+ApproximationError measure_approximation_error_cgal(const PolygonMesh& input, const PolygonMesh& approximation,
+                                                    int samples_per_edge, const TaskMonitor& monitor) {
   ApproximationError result;
   // Two triangle lists and two CGAL AABB trees (~250 bytes per triangle with the KD-tree for
   // distance queries), plus the samples.
@@ -136,5 +154,7 @@ ApproximationError measure_approximation_error(const PolygonMesh& input, const P
   monitor.report("error", 1.0);
   return result;
 }
+
+}  // namespace
 
 CAGEKIT_NAMESPACE_END

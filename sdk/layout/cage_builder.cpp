@@ -6,6 +6,7 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "core/status.h"
 #include "layout/planar_polygon.h"
 
 CAGEKIT_NAMESPACE_BEGIN
@@ -134,9 +135,11 @@ uint64_t resolve_shared_diagonals(std::vector<FaceWork>& work, Rebuild&& rebuild
 }
 }  // namespace
 
-PolygonLoops project_face(const PolygonMesh& input, const PolygonalFace& face,
+PolygonLoops project_face(const PolygonMesh& input, const PolygonalFace& face, const LevelCoordinates& coordinates,
                           std::vector<uint32_t>* input_vertex_of_point) {
-  const PlaneFrame frame = PlaneFrame::from_normal(face.centroid, face.normal);
+  // The same arithmetic as the simplifier's Builder::project / frame_of.
+  const auto to_level = [&](const Vec3& p) { return (p - coordinates.origin) * coordinates.scale; };
+  const PlaneFrame frame = PlaneFrame::from_normal(to_level(face.centroid), face.normal);
   PolygonLoops polygon;
   input_vertex_of_point->clear();
   for (const auto& loop : face.loops) {
@@ -144,7 +147,7 @@ PolygonLoops project_face(const PolygonMesh& input, const PolygonalFace& face,
     local.reserve(loop.size());
     for (uint32_t v : loop) {
       local.push_back(static_cast<uint32_t>(polygon.points.size()));
-      polygon.points.push_back(frame.project(input.positions[v]));
+      polygon.points.push_back(frame.project(to_level(input.positions[v])));
       input_vertex_of_point->push_back(v);
     }
     polygon.loops.push_back(std::move(local));
@@ -163,8 +166,23 @@ Cage build_quad_dominant_cage(const PolygonMesh& input, const PolygonalLevel& le
   std::vector<FaceWork> work(num_faces);
   for (size_t f = 0; f < num_faces; ++f) {
     FaceWork& w = work[f];
-    w.polygon = project_face(input, level.faces[f], &w.point_to_input);
-    w.triangles = triangulate_polygon(w.polygon);
+    w.polygon = project_face(input, level.faces[f], level.coordinates, &w.point_to_input);
+    const PolygonValidity validity = check_polygon_loops(w.polygon);
+    if (!validity.ok()) {
+      // Every merge result was validated in these coordinates, so only an input polygon that
+      // is not injective in its own plane (a twisted quad, say) gets here: it has no CDT, so it
+      // becomes one cell as the input had it (its loop is a cycle of input edges).
+      if (w.polygon.loops.size() != 1)
+        fail(Status::invalid_argument, "build_quad_dominant_cage: level face " + std::to_string(f) +
+                                           " (with holes) is not injectively projectable to its plane: " +
+                                           validity.message);
+      w.partition = QuadDominantPartition{};
+      w.partition.cells.push_back(w.polygon.loops[0]);
+      w.partition.optimal = true;
+      ++r.unprojectable_faces;
+      continue;
+    }
+    triangulate_valid_polygon(w.polygon, w.triangles);
     w.partition = partition_quad_dominant(w.polygon, w.triangles, options.partition);
   }
   // A diagonal chosen inside one face may join two vertices that another face already joins
@@ -304,8 +322,13 @@ PolygonMesh polygonal_level_mesh(const PolygonMesh& input, const PolygonalLevel&
       continue;
     }
     ++triangulated;
-    w.polygon = project_face(input, level.faces[f], &w.point_to_input);
-    w.triangles = triangulate_polygon(w.polygon);
+    w.polygon = project_face(input, level.faces[f], level.coordinates, &w.point_to_input);
+    const PolygonValidity validity = check_polygon_loops(w.polygon);
+    if (!validity.ok())  // merge results are valid in the level's coordinates (see project_face)
+      fail(Status::invalid_argument, "polygonal_level_mesh: level face " + std::to_string(f) +
+                                         " (with holes) is not injectively projectable to its plane: " +
+                                         validity.message);
+    triangulate_valid_polygon(w.polygon, w.triangles);
     triangles_as_cycles(w);
   }
   resolve_shared_diagonals(work, [&](size_t f) { triangles_as_cycles(work[f]); },

@@ -43,6 +43,10 @@ struct CageBuildReport {
   // Diagonals no flip could remove: the two cells on them were merged into one cell (possibly
   // non-convex, counted in quads/pentagons/other by its size).
   uint64_t cells_merged = 0;
+  // Level faces not injectively projectable to their own plane (only input polygons the
+  // simplifier never merged can be: every merge result is validated): emitted as one cell,
+  // their loop as the input had it, instead of being triangulated and partitioned.
+  uint64_t unprojectable_faces = 0;
   std::vector<uint32_t> input_vertex_of;       // cage vertex -> input vertex
   std::vector<uint32_t> cluster_of_cage_face;  // cage face -> level face (cluster)
 };
@@ -57,9 +61,11 @@ PolygonMesh polygonal_level_mesh(const PolygonMesh& input, const PolygonalLevel&
                                  uint64_t* faces_triangulated = nullptr,
                                  std::vector<uint32_t>* input_vertex_of = nullptr);
 
-// The planar embedding of one level face in its proxy plane: loop vertices projected, with
-// `input_vertex_of_point` mapping polygon points back to input vertices.
-PolygonLoops project_face(const PolygonMesh& input, const PolygonalFace& face,
+// The planar embedding of one level face in its proxy plane, in the level's coordinates (the
+// ones the simplifier validated the face in, so its verdict and this one agree bit for bit):
+// loop vertices projected, with `input_vertex_of_point` mapping polygon points back to input
+// vertices.
+PolygonLoops project_face(const PolygonMesh& input, const PolygonalFace& face, const LevelCoordinates& coordinates,
                           std::vector<uint32_t>* input_vertex_of_point);
 
 CAGEKIT_NAMESPACE_END

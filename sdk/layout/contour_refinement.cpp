@@ -174,7 +174,7 @@ PolygonalLevel refine_level_contours(const PolygonMesh& input, const PolygonalLe
         face.loops.push_back(std::move(refined));
       }
       std::vector<uint32_t> unused;
-      if (!check_polygon_loops(project_face(input, face, &unused)).ok()) invalid.push_back(uint32_t(f));
+      if (!check_polygon_loops(project_face(input, face, level.coordinates, &unused)).ok()) invalid.push_back(uint32_t(f));
     }
     r = pass;
     if (invalid.empty()) break;

@@ -341,6 +341,7 @@ struct HierarchyData {
   std::vector<LevelStats> stats;
   std::vector<double> error_prefix_max;
   std::vector<uint32_t> input_alive;  // input faces (all faces of the validated input)
+  SimplifyStats work;
 
   Vec3 normalised(const Vec3& p) const { return (p - center) * inv_unit; }
 };
@@ -399,6 +400,7 @@ class Builder {
   void project(const std::vector<std::vector<uint32_t>>& loops, const PlaneFrame& frame, PolygonLoops& out) const;
   static void classify_outer(PolygonLoops& poly, std::vector<std::vector<uint32_t>>& loops);
   void rebuild_cdt(uint32_t f);
+  void update_cdt_for_removal(uint32_t f, uint32_t v);
   void push(const Candidate& c) { heap_.push(c, step_); }
   void push_candidates(uint32_t f);
   void push_boundary_candidates(uint32_t f);
@@ -466,6 +468,8 @@ void Builder::rebuild_cdt(uint32_t f) {
     return;
   }
   project(face.loops, frame_of(face.centroid, face.normal), scratch_poly_);
+  ++impl_.work.triangulations;
+  impl_.work.triangulated_vertices += scratch_poly_.points.size();
   std::vector<uint32_t>& flat = scratch_flat_;
   flat.clear();
   for (const auto& l : face.loops) flat.insert(flat.end(), l.begin(), l.end());
@@ -493,6 +497,33 @@ void Builder::rebuild_cdt(uint32_t f) {
     for (const auto& l : face.loops)
       for (size_t i = 1; i + 1 < l.size(); ++i) face.cdt.add_triangle(pos_[l[0]], pos_[l[i]], pos_[l[i + 1]]);
   }
+}
+
+// Faces with at most this many loop vertices (holes included) get their CDT rebuilt after every
+// change, exactly as the thesis does; larger ones keep the moments of a triangulation that is
+// updated in place (finish_step), so that the work per operation stays bounded however large a
+// (typically planar) face grows. 64 is the fast path's limit (triangulate_valid_polygon).
+constexpr uint64_t kRetriangulationLimit = 64;
+
+// Before v leaves the loops of face f (contour decimation): the moments of f's triangulation
+// follow the change of its region, the triangle (u, v, w) of v and its loop neighbours, cut off
+// where v is convex in f's plane (the region lies left of u -> v -> w) and added where it is
+// reflex. Adding is exact (the region gains exactly that triangle, which no other part of the
+// face overlaps, since the face stays valid); cutting off is exact when (u, v, w) is a triangle
+// of the triangulation or the face is planar, and otherwise the moments of the signed sum, which
+// differs from a re-triangulation of v's star only by how far the face bends there. Only used by
+// faces above kRetriangulationLimit (finish_step rebuilds the others).
+void Builder::update_cdt_for_removal(uint32_t f, uint32_t v) {
+  WorkFace& face = fs_.faces[f];
+  const StarEntry* e = fs_.star_entry(v, f);
+  if (e == nullptr) return;
+  const PlaneFrame frame = frame_of(face.centroid, face.normal);
+  const Vec3 &u = pos_[e->prev], &p = pos_[v], &w = pos_[e->next];
+  const int turn = orient2d(frame.project(u), frame.project(p), frame.project(w));
+  if (turn > 0)
+    face.cdt.subtract_triangle(u, p, w);
+  else if (turn < 0)
+    face.cdt.add_triangle(u, w, p);
 }
 
 bool Builder::evaluate_merge(uint32_t f, uint32_t g, double& e) const {
@@ -676,6 +707,8 @@ bool Builder::try_remove_interior(uint32_t v) {
   const uint32_t u = e0.prev, w = e0.next;
   if (fs_.edge_exists(u, w)) return false;
   if (!removal_valid(e0.face, v) || !removal_valid(e1.face, v)) return false;
+  update_cdt_for_removal(e0.face, v);
+  update_cdt_for_removal(e1.face, v);
   fs_.remove_loop_vertex(e0.face, v);
   fs_.remove_loop_vertex(e1.face, v);
   mark_dirty(e0.face);
@@ -716,7 +749,12 @@ void Builder::finish_step(double error, uint32_t merged_from, uint32_t merged_in
     WorkFace& face = fs_.faces[f];
     ++face.version;
     ver_[f] = face.alive ? face.version : kDeadVersion;
-    if (face.alive) rebuild_cdt(f);
+    if (face.alive) {
+      if (face.num_loop_vertices() <= kRetriangulationLimit)
+        rebuild_cdt(f);
+      else
+        ++impl_.work.incremental_updates;  // moments already updated by try_merge / removals
+    }
     impl_.hier.add_record(f, face.alive, face.loops, face.normal, face.centroid, face.area);
   }
   step.record_end = static_cast<uint32_t>(impl_.hier.records.size());
@@ -757,6 +795,10 @@ bool Builder::try_merge(uint32_t f, uint32_t g, double e) {
   project(loops, frame_of(centroid, normal), scratch_poly_);
   classify_outer(scratch_poly_, loops);
   if (!check_polygon_loops(scratch_poly_).ok()) return false;
+  // The union of both faces' triangulations triangulates the merged face (the merge only
+  // removes shared edges): its moments are the sum, the same sum merge_key evaluated (3.3).
+  AreaMoments moments = F.cdt;
+  moments += G.cdt;
   // Commit: the face with the larger cluster keeps its id (union by size).
   const bool keep_f = F.cluster_size > G.cluster_size || (F.cluster_size == G.cluster_size && f < g);
   const uint32_t keep = keep_f ? f : g, gone = keep_f ? g : f;
@@ -776,6 +818,7 @@ bool Builder::try_merge(uint32_t f, uint32_t g, double e) {
   K.normal = normal;
   K.centroid = centroid;
   K.area = area;
+  K.cdt = moments;
   K.cluster_size += D.cluster_size;
   D.alive = false;
   D.loops.clear();
@@ -791,6 +834,7 @@ bool Builder::try_boundary_removal(uint32_t v, uint32_t f) {
   const StarEntry e = fs_.star_begin(v)[0];
   if (fs_.edge_exists(e.prev, e.next)) return false;
   if (!removal_valid(f, v)) return false;
+  update_cdt_for_removal(f, v);
   fs_.remove_loop_vertex(f, v);
   mark_dirty(f);
   decimate_dirty();
@@ -1039,6 +1083,8 @@ PolygonalLevel SimplificationHierarchy::extract() const {
   const Impl& im = *impl_;
   const HierarchyRecords& h = im.hier;
   PolygonalLevel out;
+  out.coordinates.origin = im.center;  // HierarchyData::normalised, the frame of every validity check
+  out.coordinates.scale = im.inv_unit;
   const size_t nf = im.input.num_faces();
   std::vector<uint32_t> index(nf, kNoRecord);
   std::vector<uint8_t> used(im.input.num_vertices(), 0);
@@ -1083,5 +1129,6 @@ PolygonalLevel SimplificationHierarchy::extract() const {
 }
 
 const PolygonMesh& SimplificationHierarchy::input() const { return impl_->input; }
+const SimplifyStats& SimplificationHierarchy::stats() const { return impl_->work; }
 
 CAGEKIT_NAMESPACE_END

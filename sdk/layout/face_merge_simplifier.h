@@ -35,12 +35,31 @@ struct PolygonalFace {
   double area = 0; // sigma: total input area of the cluster
 };
 
+// The coordinates the simplifier projects and validates faces in: input positions (and face
+// centroids) as (p - origin) * scale. A face's planar embedding (project_face) must be computed
+// in these same coordinates: the injectivity verdict of a nearly degenerate polygon can differ
+// in the last bit between two coordinate systems, so a face validated in one could fail the
+// check (and the triangulation) in another. Identity for levels that did not come from the
+// simplifier.
+struct LevelCoordinates {
+  Vec3 origin;
+  double scale = 1;
+};
+
 struct PolygonalLevel {
   std::vector<PolygonalFace> faces;
+  LevelCoordinates coordinates;
   std::vector<uint32_t> cluster_of_input_face;  // input face -> index into faces
   uint64_t num_vertices = 0;                    // distinct input vertices used by the loops
   double l2_error = 0;                          // sum of (3.3) terms of the committed faces, normalised
   double l21_error = 0;                         // sum of (3.4) terms, normalised
+};
+
+// Work counters of one hierarchy build (diagnostics and tests: they show how the cost grows).
+struct SimplifyStats {
+  uint64_t triangulations = 0;         // faces triangulated from scratch (CDT of the whole face)
+  uint64_t triangulated_vertices = 0;  // sum of the loop vertex counts of those faces
+  uint64_t incremental_updates = 0;    // faces whose CDT moments were updated without a CDT
 };
 
 class SimplificationHierarchy {
@@ -74,6 +93,7 @@ class SimplificationHierarchy {
 
   // The current level's faces and the cluster map.
   PolygonalLevel extract() const;
+  const SimplifyStats& stats() const;
   const PolygonMesh& input() const;
 
  private:

@@ -29,6 +29,14 @@ void AreaMoments::add_triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
   for (int i = 0; i < 6; ++i) second[i] += w * m[i];
 }
 
+void AreaMoments::subtract_triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
+  AreaMoments t;
+  t.add_triangle(a, b, c);
+  area -= t.area;
+  first = first - t.first;
+  for (int i = 0; i < 6; ++i) second[i] -= t.second[i];
+}
+
 AreaMoments& AreaMoments::operator+=(const AreaMoments& o) {
   area += o.area;
   first += o.first;

@@ -22,6 +22,8 @@ struct AreaMoments {
   double second[6] = {0, 0, 0, 0, 0, 0};
 
   void add_triangle(const Vec3& a, const Vec3& b, const Vec3& c);
+  // Removes what add_triangle(a, b, c) adds (the moments of a region that loses that triangle).
+  void subtract_triangle(const Vec3& a, const Vec3& b, const Vec3& c);
   AreaMoments& operator+=(const AreaMoments& o);
   // Integral over the triangles of (dot(n, x - origin))^2 dA, clamped to >= 0. Equals the sum
   // of (3.2) over the triangles (exact integral of the squared signed distance).

@@ -22,6 +22,7 @@
 #include <sstream>
 
 #include "core/status.h"
+#include "layout/cgal_guard.h"
 #include "layout/planar_polygon.h"
 
 CAGEKIT_NAMESPACE_BEGIN
@@ -594,11 +595,7 @@ using Fb = CGAL::Constrained_triangulation_face_base_2<Kernel, Fbb>;
 using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
 using CDT = CGAL::Constrained_Delaunay_triangulation_2<Kernel, Tds, CGAL::No_constraint_intersection_tag>;
 
-}  // namespace
-
-int orient2d(const Vec2& a, const Vec2& b, const Vec2& c) { return orient(a, b, c); }
-
-PolygonValidity check_polygon_loops(const PolygonLoops& polygon) {
+PolygonValidity check_loops(const PolygonLoops& polygon) {
   const size_t nl = polygon.loops.size();
   if (nl == 0) return make(PolygonDefect::too_few_vertices, "no outer loop");
   size_t m = 0;
@@ -622,36 +619,33 @@ PolygonValidity check_polygon_loops(const PolygonLoops& polygon) {
   return m <= kBruteForceLimit ? check_small(polygon) : check_large(polygon, m);
 }
 
-std::vector<std::array<uint32_t, 3>> triangulate_polygon(const PolygonLoops& polygon) {
-  const PolygonValidity validity = check_polygon_loops(polygon);
-  if (!validity.ok()) fail(Status::invalid_argument, "triangulate_polygon: invalid polygon: " + validity.message);
-  std::vector<std::array<uint32_t, 3>> triangles;
-  triangulate_valid_polygon(polygon, triangles);
-  return triangles;
-}
-
-void triangulate_valid_polygon(const PolygonLoops& polygon, std::vector<std::array<uint32_t, 3>>& triangles) {
-  if (polygon.loops.size() == 1 && triangulate_small_simple(polygon, triangles)) return;
-  triangles = detail::triangulate_polygon_cgal(polygon);
-}
-
-namespace detail {
-std::vector<std::array<uint32_t, 3>> triangulate_polygon_cgal(const PolygonLoops& polygon) {
-  const PolygonValidity validity = check_polygon_loops(polygon);
-  if (!validity.ok()) fail(Status::invalid_argument, "triangulate_polygon: invalid polygon: " + validity.message);
+// The CDT of a polygon that check_polygon_loops accepted (CGAL's checks still run: see cgal_guard.h).
+std::vector<std::array<uint32_t, 3>> constrained_delaunay(const PolygonLoops& polygon) {
   CDT cdt;
+  // All vertices first, then all constraints. The point-location hint must be a face that
+  // exists: inserting a constraint deletes the triangles it crosses, so a hint taken before
+  // a loop's constraints went in (as the first vertex of the next loop once used) can be a
+  // freed face, and the walk from it read freed memory (SIGSEGV on polygons with holes whose
+  // outer loop edges are not Delaunay edges). Point insertion only splits and flips faces,
+  // so each new vertex's face is live when the next point is inserted.
   std::vector<CDT::Vertex_handle> handles;
+  size_t m = 0;
+  for (const auto& loop : polygon.loops) m += loop.size();
+  handles.reserve(m);
   CDT::Face_handle hint;
+  for (const auto& loop : polygon.loops)
+    for (const uint32_t index : loop) {
+      const Vec2& p = polygon.points[index];
+      CDT::Vertex_handle v = cdt.insert(Point(p.x, p.y), hint);
+      v->info() = index;
+      hint = v->face();
+      handles.push_back(v);
+    }
+  size_t base = 0;
   for (const auto& loop : polygon.loops) {
     const size_t n = loop.size();
-    handles.resize(n);
-    for (size_t k = 0; k < n; ++k) {
-      const Vec2& p = polygon.points[loop[k]];
-      handles[k] = cdt.insert(Point(p.x, p.y), hint);
-      handles[k]->info() = loop[k];
-      hint = handles[k]->face();
-    }
-    for (size_t k = 0; k < n; ++k) cdt.insert_constraint(handles[k], handles[(k + 1) % n]);
+    for (size_t k = 0; k < n; ++k) cdt.insert_constraint(handles[base + k], handles[base + (k + 1) % n]);
+    base += n;
   }
   // Nesting depth by flood fill from the infinite face, crossing constraints increments it.
   std::vector<CDT::Face_handle> stack;
@@ -688,6 +682,38 @@ std::vector<std::array<uint32_t, 3>> triangulate_polygon_cgal(const PolygonLoops
     if (f->info().depth % 2 == 1)
       triangles.push_back({f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()});
   return triangles;
+}
+
+}  // namespace
+
+int orient2d(const Vec2& a, const Vec2& b, const Vec2& c) {
+  return detail::cgal_guarded("orient2d", [&] { return orient(a, b, c); });
+}
+
+PolygonValidity check_polygon_loops(const PolygonLoops& polygon) {
+  return detail::cgal_guarded("check_polygon_loops", [&] { return check_loops(polygon); });
+}
+
+std::vector<std::array<uint32_t, 3>> triangulate_polygon(const PolygonLoops& polygon) {
+  const PolygonValidity validity = check_polygon_loops(polygon);
+  if (!validity.ok()) fail(Status::invalid_argument, "triangulate_polygon: invalid polygon: " + validity.message);
+  std::vector<std::array<uint32_t, 3>> triangles;
+  triangulate_valid_polygon(polygon, triangles);
+  return triangles;
+}
+
+void triangulate_valid_polygon(const PolygonLoops& polygon, std::vector<std::array<uint32_t, 3>>& triangles) {
+  const bool fast = detail::cgal_guarded("triangulate_valid_polygon", [&] {
+    return polygon.loops.size() == 1 && triangulate_small_simple(polygon, triangles);
+  });
+  if (!fast) triangles = detail::triangulate_polygon_cgal(polygon);
+}
+
+namespace detail {
+std::vector<std::array<uint32_t, 3>> triangulate_polygon_cgal(const PolygonLoops& polygon) {
+  const PolygonValidity validity = check_polygon_loops(polygon);
+  if (!validity.ok()) fail(Status::invalid_argument, "triangulate_polygon: invalid polygon: " + validity.message);
+  return detail::cgal_guarded("triangulate_polygon", [&] { return constrained_delaunay(polygon); });
 }
 }  // namespace detail
 

@@ -210,3 +210,49 @@ TEST(CageBuilder, input_crease_angle_keeps_cad_creases_and_drops_organic_ones) {
   EXPECT_GE(fandisk_sharp, fandisk_all * 95 / 100);
   EXPECT_LE(bunny_sharp, bunny_all / 3);
 }
+
+// An input quad that is not injective in its own plane (a bow tie: edges 1 and 3 cross) has no
+// CDT. The simplifier keeps it (a single face cannot merge), and the cage builder once stopped
+// with "triangulate_polygon: invalid polygon: ... intersect"; now it becomes one cage cell, its
+// loop as the input had it, and the report counts it.
+TEST(CageBuilder, unprojectable_input_quad_becomes_one_cell) {
+  PolygonMesh input;
+  for (Vec3 p : {Vec3{0, 0, 0}, Vec3{2, 0, 0}, Vec3{0, 1, 0.1}, Vec3{3, 3, 0}}) input.add_vertex(p);
+  input.add_face({0, 1, 2, 3});
+  SimplificationHierarchy hierarchy(input);
+  hierarchy.go_to_level(hierarchy.level_for_face_count(60));
+  const PolygonalLevel level = hierarchy.extract();
+  ASSERT_EQ(level.faces.size(), 1u);
+  std::vector<uint32_t> of;
+  const PolygonValidity validity = check_polygon_loops(project_face(input, level.faces[0], level.coordinates, &of));
+  EXPECT_EQ(validity.defect, PolygonDefect::self_intersection) << validity.message;
+  CageBuildReport report;
+  const Cage cage = build_quad_dominant_cage(input, level, {}, &report);
+  EXPECT_EQ(report.unprojectable_faces, 1u);
+  ASSERT_EQ(cage.mesh.num_faces(), 1u);
+  EXPECT_EQ(cage.mesh.face_size(0), 4u);
+  EXPECT_EQ(report.quads, 1u);
+}
+
+// A level from the simplifier carries the coordinates its faces were validated in; projected
+// in them every face passes the check (the verdicts agree bit for bit), on a curved mesh whose
+// normalisation is far from the identity (scaled and translated).
+TEST(CageBuilder, level_faces_are_valid_in_the_level_coordinates) {
+  PolygonMesh sphere = cagekit_test::triangle_sphere(3);
+  for (Vec3& p : sphere.positions) p = p * 1e-3 + Vec3{12345.678, -0.001, 3e3};
+  SimplificationHierarchy hierarchy(sphere);
+  for (const uint64_t faces : {400u, 60u, 12u}) {
+    hierarchy.go_to_level(hierarchy.level_for_face_count(faces));
+    const PolygonalLevel level = hierarchy.extract();
+    EXPECT_NE(level.coordinates.scale, 1.0);
+    std::vector<uint32_t> of;
+    for (size_t f = 0; f < level.faces.size(); ++f) {
+      if (level.faces[f].loops.size() == 1 && level.faces[f].loops[0].size() == 3) continue;  // never checked
+      const PolygonValidity v = check_polygon_loops(project_face(sphere, level.faces[f], level.coordinates, &of));
+      EXPECT_TRUE(v.ok()) << faces << " faces, face " << f << ": " << v.message;
+    }
+    CageBuildReport report;
+    build_quad_dominant_cage(sphere, level, {}, &report);
+    EXPECT_EQ(report.unprojectable_faces, 0u);
+  }
+}

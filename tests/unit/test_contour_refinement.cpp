@@ -31,7 +31,7 @@ PolygonMesh triangulated(const PolygonMesh& input, const PolygonalLevel& level) 
   out.positions = input.positions;
   for (const PolygonalFace& face : level.faces) {
     std::vector<uint32_t> of;
-    const cagekit::PolygonLoops poly = cagekit::project_face(input, face, &of);
+    const cagekit::PolygonLoops poly = cagekit::project_face(input, face, level.coordinates, &of);
     for (const auto& t : cagekit::triangulate_polygon(poly)) out.add_face({of[t[0]], of[t[1]], of[t[2]]});
   }
   return out;
@@ -63,7 +63,7 @@ void check_refined(const std::string& name, const PolygonMesh& input, const Poly
   for (size_t f = 0; f < refined.faces.size(); ++f) {
     const PolygonalFace& face = refined.faces[f];
     std::vector<uint32_t> of;
-    EXPECT_TRUE(cagekit::check_polygon_loops(cagekit::project_face(input, face, &of)).ok()) << name << " face " << f;
+    EXPECT_TRUE(cagekit::check_polygon_loops(cagekit::project_face(input, face, level.coordinates, &of)).ok()) << name << " face " << f;
     ASSERT_EQ(face.loops.size(), level.faces[f].loops.size());
     for (size_t l = 0; l < face.loops.size(); ++l) {
       const auto& loop = face.loops[l];

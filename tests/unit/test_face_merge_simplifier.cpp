@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstring>
 #include <cstdlib>
+#include <fstream>
 #include <ctime>
 #include <map>
 #include <numeric>
@@ -18,7 +19,9 @@
 #include <set>
 #include <unordered_map>
 
+#include "core/mesh_validation.h"
 #include "core/status.h"
+#include "layout/cage_builder.h"
 #include "layout/face_merge_simplifier.h"
 #include "layout/merge_priority.h"
 #include "test_support.h"
@@ -668,10 +671,174 @@ TEST(FaceMergeSimplifier, MillionTrianglesTiming) {
   const size_t l = h.level_for_face_count(100);
   std::printf("[bunny loop x2 + noise] level digest (faces, vertices, error of all %zu levels): %016llx\n",
               h.num_levels(), static_cast<unsigned long long>(level_digest(h)));
+  std::printf("[bunny loop x2 + noise] %llu triangulations of %llu vertices, %llu in-place updates of large faces\n",
+              static_cast<unsigned long long>(h.stats().triangulations),
+              static_cast<unsigned long long>(h.stats().triangulated_vertices),
+              static_cast<unsigned long long>(h.stats().incremental_updates));
   std::printf("[bunny loop x2 + noise] %zu triangles: 100 faces in %.2f s wall, %.2f s CPU; the coarsest level (%llu "
               "faces) in %.2f s wall, %.2f s CPU; 100 faces at level %zu\n",
               m.num_faces(), wall100, cpu100, static_cast<unsigned long long>(h.face_count(h.num_levels() - 1)),
               seconds_since(t0), cpu, l);
   h.go_to_level(l);
   check_level(m, h.extract(), "bunny x16 at 100 faces");
+}
+
+namespace {
+// A finely tessellated, mostly flat plate: n x n grid cells of side 1, two triangles each, with
+// a small smooth bump (height 1 over a radius of n/8) near one corner.
+PolygonMesh flat_plate(int n) {
+  PolygonMesh m;
+  const double c = 0.3 * n, r = n / 8.0;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const double d2 = ((i - c) * (i - c) + (j - c) * (j - c)) / (r * r);
+      m.add_vertex(Vec3(i, j, d2 < 1 ? (1 - d2) * (1 - d2) : 0.0));
+    }
+  const auto id = [n](int i, int j) { return static_cast<uint32_t>(j * (n + 1) + i); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      m.add_face({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      m.add_face({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  return m;
+}
+}  // namespace
+
+// The flat plate of 45K triangles simplifies to 60 faces. With epsilon = 0 (no valence penalty:
+// every merge on the flat part has priority exactly 1, ties go by face id) one face grows by
+// single triangles and its loops get long: re-triangulating it from scratch after every merge
+// into it was quadratic (the 7,200-triangle plate: 1.26M CDT vertices, ~175 per input triangle,
+// 7 s; ~50K triangles ran > 10 minutes). Faces above 64 loop vertices now keep their moments up
+// to date in place, so the CDT work per input triangle stays bounded. Work counters, not timings.
+TEST(FaceMergeSimplifier, FlatPlateTriangulationWorkIsLinear) {
+  const PolygonMesh plate = flat_plate(150);
+  SimplificationHierarchy h(plate);
+  const SimplifyStats& st = h.stats();
+  std::printf("[flat plate] %zu triangles: %llu triangulations of %llu vertices, %llu incremental updates\n",
+              plate.num_faces(), (unsigned long long)st.triangulations, (unsigned long long)st.triangulated_vertices,
+              (unsigned long long)st.incremental_updates);
+  const size_t level = h.level_for_face_count(60);
+  EXPECT_LE(h.face_count(level), 60u);
+  h.go_to_level(level);
+  check_level(plate, h.extract(), "flat plate at 60 faces");
+  EXPECT_LE(static_cast<double>(st.triangulated_vertices), 16.0 * static_cast<double>(plate.num_faces()));
+  SimplifyOptions ties;
+  ties.tie_break_epsilon = 0;
+  for (const int n : {50, 75}) {
+    const PolygonMesh p = flat_plate(n);
+    SimplificationHierarchy t(p, ties);
+    const SimplifyStats& s = t.stats();
+    std::printf("[flat plate, epsilon 0] %zu triangles: %llu triangulations of %llu vertices, %llu incremental updates\n",
+                p.num_faces(), (unsigned long long)s.triangulations, (unsigned long long)s.triangulated_vertices,
+                (unsigned long long)s.incremental_updates);
+    EXPECT_LE(static_cast<double>(s.triangulated_vertices), 40.0 * static_cast<double>(p.num_faces())) << n;
+    EXPECT_GT(s.incremental_updates, 0u);
+    t.go_to_level(t.level_for_face_count(60));
+    check_level(p, t.extract(), "flat plate, epsilon 0, at 60 faces");
+  }
+}
+
+namespace {
+// Every face of the level that the simplifier validated (all but unmerged input triangles) is
+// valid in the level's coordinates, and the level becomes a valid cage and a polygon mesh
+// without an error.
+void expect_level_builds(const PolygonMesh& mesh, const PolygonalLevel& level, const std::string& what) {
+  std::vector<uint32_t> of;
+  for (size_t f = 0; f < level.faces.size(); ++f) {
+    const auto& loops = level.faces[f].loops;
+    if (loops.size() == 1 && loops[0].size() == 3) continue;
+    const PolygonValidity v = check_polygon_loops(project_face(mesh, level.faces[f], level.coordinates, &of));
+    EXPECT_TRUE(v.ok()) << what << ", face " << f << ": " << v.message;
+  }
+  try {
+    CageBuildReport report;
+    const Cage cage = build_quad_dominant_cage(mesh, level, {}, &report);
+    EXPECT_GT(cage.mesh.num_faces(), 0u) << what;
+    EXPECT_EQ(report.non_manifold_edges, 0u) << what;
+    polygonal_level_mesh(mesh, level);
+  } catch (const Error& e) {
+    ADD_FAILURE() << what << ": " << e.what();
+  }
+}
+
+// Quads of a grid with exactly vertical walls between terraces: merged across a wall, the wall's
+// top and bottom vertices project onto the same points (coincident projected points), and
+// nearly vertical walls (slope 1e-9) make edges that touch after projection.
+PolygonMesh terraces(int steps, double wall_run) {
+  PolygonMesh q;
+  const int nx = 3 * steps, ny = 4;
+  std::vector<std::vector<uint32_t>> id(nx + 1, std::vector<uint32_t>(ny + 1));
+  for (int i = 0; i <= nx; ++i)
+    for (int j = 0; j <= ny; ++j) {
+      // Columns 3k+1 and 3k+2 share x (up to wall_run): the wall between terrace k and k+1.
+      const int k = i / 3, r = i % 3;
+      const double x = k * 2.0 + (r == 0 ? 0.0 : (r == 1 ? 1.0 : 1.0 + wall_run));
+      const double z = k + (r == 2 ? 1.0 : 0.0);
+      id[i][j] = q.add_vertex(Vec3(x, j, z));
+    }
+  PolygonMesh m;
+  m.positions = q.positions;
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < ny; ++j) {
+      m.add_face({id[i][j], id[i + 1][j], id[i + 1][j + 1]});
+      m.add_face({id[i][j], id[i + 1][j + 1], id[i][j + 1]});
+    }
+  return m;
+}
+}  // namespace
+
+// Generated inputs for each class of polygon that must never reach the CDT: coincident projected
+// points (exactly vertical walls, a box flattened to 1e-9 of its size), edges that touch after
+// projection (walls of slope 1e-9), holes touching the outer loop (a plate with a square
+// window, whose faces around the window merge into faces with holes). Every level the
+// simplifier makes is valid and gives a cage without an error.
+TEST(FaceMergeSimplifier, DegenerateProjectionsNeverReachTheTriangulation) {
+  std::vector<std::pair<std::string, PolygonMesh>> meshes;
+  meshes.push_back({"vertical terraces", terraces(4, 0.0)});
+  meshes.push_back({"nearly vertical terraces", terraces(4, 1e-9)});
+  meshes.push_back({"flattened box", triangulated_box(3, 1, 1, 1e-9)});
+  {
+    PolygonMesh window = flat_plate(12);  // drop the faces of a 4 x 4 window: a hole in the plate
+    PolygonMesh m;
+    m.positions = window.positions;
+    for (size_t f = 0; f < window.num_faces(); ++f) {
+      const size_t cell = f / 2, i = cell % 12, j = cell / 12;
+      if (i >= 4 && i < 8 && j >= 4 && j < 8) continue;
+      m.add_face(window.face_begin(f), window.face_size(f));
+    }
+    meshes.push_back({"plate with a window", m});
+  }
+  for (const auto& [name, mesh] : meshes) {
+    ASSERT_TRUE(validate_mesh(mesh).ok()) << name << ": " << validate_mesh(mesh).summary();
+    SimplificationHierarchy h(mesh);
+    const size_t n = h.num_levels();
+    for (size_t l = 0; l < n; l += std::max<size_t>(1, n / 40)) {
+      h.go_to_level(l);
+      expect_level_builds(mesh, h.extract(), name + " level " + std::to_string(l));
+    }
+    h.go_to_level(n - 1);
+    expect_level_builds(mesh, h.extract(), name + " coarsest");
+  }
+}
+
+// The corpus meshes that crashed the simplification (SIGSEGV in CGAL's constrained
+// triangulation, polygons with holes), and others with holes: simplified, and their 60-face
+// level becomes a cage. Skips when ../shared/corpus is absent.
+TEST(FaceMergeSimplifier, CorpusMeshesWithHoles) {
+  const std::string dir = std::string(CAGEKIT_SHARED_CORPUS) + "/cgal/";
+  size_t ran = 0;
+  for (const char* name : {"couplingdown.off", "elephant-with-holes.off", "boeing.off", "holes.off",
+                           "mech-holes-shark.off", "corner_tris_with_hole.off"}) {
+    const std::string path = dir + name;
+    if (!std::ifstream(path).good()) continue;
+    const PolygonMesh mesh = cagekit_test::load_mesh(path);
+    SimplificationHierarchy h(mesh);
+    for (const uint64_t faces : {200u, 60u, 20u}) {
+      h.go_to_level(h.level_for_face_count(faces));
+      expect_level_builds(mesh, h.extract(), std::string(name) + " at " + std::to_string(faces) + " faces");
+    }
+    ++ran;
+  }
+  if (ran == 0) GTEST_SKIP() << "corpus not present: " << dir;
+  std::printf("[corpus] %zu meshes simplified and built at 200, 60 and 20 faces\n", ran);
 }

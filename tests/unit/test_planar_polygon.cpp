@@ -516,3 +516,97 @@ TEST(PlanarPolygonTriangulation, FlipOutEdge) {
   EXPECT_FALSE(flip_out_edge(dart, dart_tris, 0, 2));
   EXPECT_EQ(dart_tris, (std::vector<std::array<uint32_t, 3>>{{0, 1, 2}, {0, 2, 3}}));
 }
+
+// Holes inserted after an outer loop whose edges are not Delaunay edges: inserting the outer
+// loop's constraints deletes triangles of the point-only triangulation, which once left the
+// point-location hint for the first hole vertex on a deleted face (a use of freed memory that
+// crashed the simplifier on corpus meshes with holes). The outer loop is a comb with thin deep
+// notches (each notch side crosses the Delaunay edges between the top vertices), the holes sit
+// in the band below the notches, at random.
+TEST(PlanarPolygonTriangulation, HolesAfterNonDelaunayOuterLoop) {
+  std::mt19937 rng(18);
+  size_t triangulated = 0;
+  for (int iter = 0; iter < 300; ++iter) {
+    const int notches = 3 + static_cast<int>(rng() % 20), holes = 1 + static_cast<int>(rng() % 8);
+    const int64_t pitch = 40, width = pitch * (notches + 1), band = 100, top = band + 400;
+    std::vector<IPt> outer = {{0, 0}, {width, 0}, {width, top}};
+    for (int i = notches; i >= 1; --i) {  // right to left along the top: one V notch per pitch
+      const int64_t x = pitch * i + static_cast<int64_t>(rng() % 9) - 4;
+      outer.push_back({x + 3, top});
+      outer.push_back({x, band + 1 + static_cast<int64_t>(rng() % 50)});
+      outer.push_back({x - 3, top});
+    }
+    outer.push_back({0, top});
+    // Any start vertex: the hint was the face of the outer loop's last inserted vertex.
+    std::rotate(outer.begin(), outer.begin() + static_cast<std::ptrdiff_t>(rng() % outer.size()), outer.end());
+    std::vector<std::vector<IPt>> loops = {outer};
+    const int64_t cell = width / holes;
+    for (int h = 0; h < holes; ++h) {  // clockwise triangles or quads in the band
+      const int64_t x0 = cell * h + 2 + static_cast<int64_t>(rng() % 5), x1 = x0 + cell / 2 + 1;
+      const int64_t y0 = 10 + static_cast<int64_t>(rng() % 20), y1 = band - 10 - static_cast<int64_t>(rng() % 20);
+      if (rng() % 2)
+        loops.push_back({{x0, y0}, {(x0 + x1) / 2, y1}, {x1, y0 + static_cast<int64_t>(rng() % 7)}});
+      else
+        loops.push_back({{x0, y0}, {x0, y1}, {x1, y1}, {x1, y0}});
+    }
+    const PolygonLoops poly = make_polygon(loops);
+    ASSERT_EQ(brute_force(poly), PolygonDefect::none) << "iteration " << iter;
+    SCOPED_TRACE("iteration " + std::to_string(iter));
+    check_triangulation(poly);
+    ++triangulated;
+  }
+  EXPECT_EQ(triangulated, 300u);
+}
+
+// The classes of input that violate the CDT's preconditions (CGAL's constrained triangulation
+// without constraint intersections): two loop vertices on the same point, a vertex on another
+// loop's edge (loops that touch, typically nearly collinear edges after projection), a hole
+// sharing a piece of the outer loop's edge. Each is reported by the exact check, and both
+// triangulate_polygon and the CGAL reference refuse it with Error(invalid_argument) instead of
+// reaching CGAL with it.
+TEST(PlanarPolygonTriangulation, PreconditionViolationsAreRefused) {
+  struct Case {
+    const char* what;
+    std::vector<std::vector<IPt>> loops;
+    PolygonDefect defect;
+  };
+  const std::vector<Case> cases = {
+      {"hole vertex on an outer vertex", {kSquare, {{0, 0}, {2, 5}, {5, 2}}}, PolygonDefect::repeated_vertex},
+      {"two outer vertices on one point", {{{0, 0}, {10, 0}, {5, 5}, {10, 10}, {5, 5}, {0, 10}}},
+       PolygonDefect::repeated_vertex},
+      {"hole vertex on an outer edge", {kSquare, {{5, 0}, {3, 4}, {7, 4}}}, PolygonDefect::loops_intersect},
+      {"hole sharing part of an outer edge", {kSquare, {{2, 0}, {2, 3}, {6, 3}, {6, 0}}},
+       PolygonDefect::loops_intersect},
+      {"vertex on a non-adjacent edge (collinear touch)", {{{0, 0}, {10, 0}, {10, 10}, {5, 0}, {0, 10}}},
+       PolygonDefect::self_intersection},
+      {"hole vertex on a long, nearly horizontal outer edge",
+       {{{0, 0}, {3000000, 3}, {3000000, 10}, {0, 10}}, {{1000000, 1}, {999999, 2}, {1000001, 2}}},
+       PolygonDefect::loops_intersect},
+      {"two holes touching", {kSquare, {{1, 1}, {1, 4}, {4, 1}}, {{4, 1}, {4, 4}, {7, 4}}},
+       PolygonDefect::repeated_vertex},
+  };
+  for (const Case& c : cases) {
+    const PolygonLoops poly = make_polygon(c.loops);
+    EXPECT_EQ(brute_force(poly), c.defect) << c.what;
+    EXPECT_EQ(check_polygon_loops(poly).defect, c.defect) << c.what << ": " << check_polygon_loops(poly).message;
+    for (int path = 0; path < 2; ++path) {
+      try {
+        if (path == 0)
+          triangulate_polygon(poly);
+        else
+          detail::triangulate_polygon_cgal(poly);
+        ADD_FAILURE() << c.what << ": no exception";
+      } catch (const Error& e) {
+        EXPECT_EQ(e.status(), Status::invalid_argument) << c.what;
+      }
+    }
+  }
+  // Coincident projected points from distinct 3D points: a vertical wall seen from above.
+  const PlaneFrame frame = PlaneFrame::from_normal(Vec3{0, 0, 0}, Vec3{0, 0, 1});
+  PolygonLoops wall;
+  for (const Vec3& p : {Vec3{0, 0, 0}, Vec3{4, 0, 0}, Vec3{4, 0, 1}, Vec3{4, 4, 1}, Vec3{0, 4, 1}})
+    wall.points.push_back(frame.project(p));
+  wall.loops = {{0, 1, 2, 3, 4}};
+  EXPECT_EQ(check_polygon_loops(wall).defect, PolygonDefect::repeated_vertex) << check_polygon_loops(wall).message;
+  EXPECT_THROW(triangulate_polygon(wall), Error);
+}
