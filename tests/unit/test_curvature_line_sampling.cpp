@@ -208,7 +208,6 @@ TEST(CurvatureLineSampling, SphereIsIsotropicButTerminates) {
               ls.steps, ls.seconds);
   EXPECT_FALSE(ls.truncated);
   EXPECT_GE(ls.lines.size(), 4u);
-  EXPECT_LT(ls.seconds, 20.0);
 }
 
 TEST(CurvatureLineSampling, FeatureLinesFollowTaggedEdgesAndStopCurvatureLines) {
