@@ -1420,11 +1420,14 @@ typedef struct cagekit_scan_to_cage_options {
   int32_t fallback_to_simplify;     /* 1 (default): a QUAD / ANISOTROPIC result that is not good (or that
                                        fails) is replaced by SIMPLIFY at `target` faces; the report says so
                                        and why. 0: it is an error. */
+  uint32_t finer_simplify_attempts; /* a SIMPLIFY result whose limit surface strays from the scan is tried
+                                       again at 2x, 4x, ... the target, at most this often, 0..8 (default 2;
+                                       0: never); report->simplify_target_used says which was returned */
 } cagekit_scan_to_cage_options;
 
 #define CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT                                                               \
   { sizeof(cagekit_scan_to_cage_options), CAGEKIT_SCAN_SIMPLIFY, 1, CAGEKIT_COMPONENTS_ALL, 1e-7,         \
-    CAGEKIT_LEVEL_BY_FACES, 60.0, NULL, NULL, NULL, 3, 2, 0.05, 3.0, 1000, 1 }
+    CAGEKIT_LEVEL_BY_FACES, 60.0, NULL, NULL, NULL, 3, 2, 0.05, 3.0, 1000, 1, 2 }
 
 /* Every figure of one scan-to-cage run. Distances are relative to the conditioned scan's
  * bounding-box diagonal. */
@@ -1473,6 +1476,7 @@ typedef struct cagekit_scan_to_cage_report {
                                        limit mesh (quads fan-split) */
   uint64_t self_intersection_triangles; /* triangles tested */
   double method_seconds, fit_seconds, seconds;
+  double simplify_target_used;      /* SIMPLIFY (also as the fallback): the target of the returned level */
 } cagekit_scan_to_cage_report;
 
 /* The whole journey from a scan to a fitted cage, in named phases: conditioning (repair as

@@ -153,7 +153,8 @@ int command_pipeline(Args& args) {
   std::string method_json;
   if (r.used_method == CAGEKIT_SCAN_SIMPLIFY) {
     method_json = "\"simplify\": {\"method\": \"simplify\", \"level\": " + std::to_string(r.level) +
-                  ", \"levels\": " + std::to_string(r.level_count) + ", \"polygons\": " + u64(r.level_faces) +
+                  ", \"levels\": " + std::to_string(r.level_count) + ", \"target\": " +
+                  json_number(r.simplify_target_used) + ", \"polygons\": " + u64(r.level_faces) +
                   ", \"faces_with_holes\": " + u64(r.level_faces_with_holes) + ", \"cage_faces\": " +
                   u64(r.cage_faces) + ", \"quads\": " + u64(r.cage_quads) + ", \"triangles\": " +
                   u64(r.cage_triangles) + ", \"creases\": " + u64(r.creases) + ", \"error\": {\"hausdorff_rel\": " +

@@ -65,6 +65,9 @@ cagekit::ScanToCageOptions options_from_c(const cagekit_scan_to_cage_options* op
   if (o.fallback_to_simplify != 0 && o.fallback_to_simplify != 1)
     fail(Status::invalid_argument, "cagekit_scan_to_cage_options.fallback_to_simplify must be 0 or 1");
   s.fallback_to_simplify = o.fallback_to_simplify != 0;
+  if (o.finer_simplify_attempts > 8)
+    fail(Status::invalid_argument, "cagekit_scan_to_cage_options.finer_simplify_attempts must be in 0..8");
+  s.finer_simplify_attempts = int(o.finer_simplify_attempts);
   return s;
 }
 
@@ -147,6 +150,7 @@ cagekit_scan_to_cage_report report_to_c(const cagekit::ScanToCageResult& r, uint
   c.method_seconds = r.method_seconds;
   c.fit_seconds = r.fit_seconds;
   c.seconds = r.seconds;
+  c.simplify_target_used = double(r.target_used);
   return c;
 }
 

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -74,11 +75,13 @@ Cage own_cage(const PolygonMesh& mesh, double angle_degrees) {
 }
 
 // Phase 2: the initial cage by the method (fills the method's figures of `r`).
+// The simplification hierarchy is built once per run and reused by every simplify attempt.
 Cage initial_cage(const PolygonMesh& mesh, ScanMethod method, const ScanToCageOptions& o, ScanToCageResult& r,
-                  const TaskMonitor& monitor) {
+                  std::unique_ptr<SimplificationHierarchy>& cached, const TaskMonitor& monitor) {
   switch (method) {
     case ScanMethod::simplify: {
-      SimplificationHierarchy hierarchy(mesh, o.simplify, monitor);
+      if (!cached) cached = std::make_unique<SimplificationHierarchy>(mesh, o.simplify, monitor);
+      SimplificationHierarchy& hierarchy = *cached;
       r.level_count = hierarchy.num_levels();
       r.level = o.target_is_vertices ? hierarchy.level_for_vertex_count(o.target)
                                      : hierarchy.level_for_face_count(o.target);
@@ -138,7 +141,8 @@ std::string percent(double x) {
 
 // Phases 2-6 for one method. Returns "" when the result is good, else why not (the result's
 // figures are filled as far as they got).
-std::string attempt(ScanMethod method, const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonitor& monitor) {
+std::string attempt(ScanMethod method, const ScanToCageOptions& o, ScanToCageResult& r,
+                    std::unique_ptr<SimplificationHierarchy>& hierarchy, const TaskMonitor& monitor) {
   const PolygonMesh& mesh = r.conditioned;
   r.used = method;
   const auto t0 = Clock::now();
@@ -154,7 +158,7 @@ std::string attempt(ScanMethod method, const ScanToCageOptions& o, ScanToCageRes
     r.creases = r.initial_cage.creases.size();
     r.level_faces = mesh.num_faces();  // the input is the "level"
   } else {
-    r.initial_cage = initial_cage(mesh, method, o, r, monitor);
+    r.initial_cage = initial_cage(mesh, method, o, r, hierarchy, monitor);
     if (method == ScanMethod::anisotropic && r.initial_cage.mesh.num_faces() >= mesh.num_faces() &&
         mesh.num_faces() < o.small_input_faces) {
       monitor.log(LogLevel::info, "scan_to_cage: anisotropic remeshing made more faces than the input has: the input "
@@ -197,6 +201,27 @@ std::string attempt(ScanMethod method, const ScanToCageOptions& o, ScanToCageRes
   return "";
 }
 
+// Simplify at the target, and while the limit surface strays from the scan, at 2x and 4x the
+// target (a coarse cage of a detailed part cannot follow it; a finer level of the same hierarchy
+// can): the first good one is returned and r.target_used says which.
+std::string attempt_simplify(const ScanToCageOptions& o, ScanToCageResult& r,
+                             std::unique_ptr<SimplificationHierarchy>& hierarchy, const TaskMonitor& monitor) {
+  ScanToCageOptions s = o;
+  s.method = ScanMethod::simplify;
+  std::string problem;
+  for (int k = 0; k <= o.finer_simplify_attempts; ++k) {
+    r.target_used = s.target;
+    problem = attempt(ScanMethod::simplify, s, r, hierarchy, monitor);
+    if (problem.empty() || r.input_is_cage || problem.find("strays") == std::string::npos) break;
+    const uint64_t size = s.target_is_vertices ? r.conditioned.num_vertices() : r.conditioned.num_faces();
+    if (k == o.finer_simplify_attempts || 2 * s.target >= size) break;
+    monitor.log(LogLevel::info, "scan_to_cage: simplify at " + std::to_string(s.target) + ": " + problem +
+                                    "; trying " + std::to_string(2 * s.target));
+    s.target *= 2;
+  }
+  return problem;
+}
+
 }  // namespace
 
 const char* scan_method_name(ScanMethod method) {
@@ -228,8 +253,10 @@ ScanToCageResult scan_to_cage(const PolygonMesh& scan, const ScanToCageOptions& 
   r.input_boundary_loops = compute_mesh_statistics(r.conditioned).boundary_loops;
 
   std::string problem;
+  std::unique_ptr<SimplificationHierarchy> hierarchy;
   try {
-    problem = attempt(options.method, options, r, monitor);
+    problem = options.method == ScanMethod::simplify ? attempt_simplify(options, r, hierarchy, monitor)
+                                                     : attempt(options.method, options, r, hierarchy, monitor);
   } catch (const Error& e) {
     // Cancellation and memory limits are never replaced by another method (the options were
     // checked before: an invalid_argument from inside a remesher is one of its failures).
@@ -255,7 +282,7 @@ ScanToCageResult scan_to_cage(const PolygonMesh& scan, const ScanToCageOptions& 
     ScanToCageOptions simplify = options;
     simplify.method = ScanMethod::simplify;
     simplify.target_is_vertices = false;
-    problem = attempt(ScanMethod::simplify, simplify, r, monitor);
+    problem = attempt_simplify(simplify, r, hierarchy, monitor);
     if (!problem.empty()) problem = "simplify (fallback after " + r.fallback_reason + "): " + problem;
   } else if (!problem.empty()) {
     problem = std::string(scan_method_name(options.method)) + ": " + problem;

@@ -14,6 +14,7 @@
 //   6. judge                 good = the checks of 3 and limit -> scan max <= max(max_limit_to_scan,
 //                            limit_to_scan_factor x scan -> limit max) (waived under
 //                            small_input_faces input faces)
+// A simplify result whose limit strays is retried at 2x and 4x the target (finer_simplify_attempts).
 // A quad or anisotropic result that is not good (or a method failure) falls back to simplify when
 // fallback_to_simplify is on (reported with the reason); a simplify result that is not good is
 // Error(quality) naming the figure. Nothing that is not good comes back.
@@ -55,6 +56,9 @@ struct ScanToCageOptions {
   double limit_to_scan_factor = 3.0;
   uint64_t small_input_faces = 1000;
   bool fallback_to_simplify = true;
+  // A simplify result whose limit surface strays from the scan is retried at 2x, 4x, ... the
+  // target (this many times at most; 0: never), the first good one returned.
+  int finer_simplify_attempts = 2;
   // Crease angle of a tiny input used as its own cage (degrees; < 0: no creases).
   double own_cage_crease_angle_degrees = 40.0;
 };
@@ -68,6 +72,7 @@ struct ScanToCageResult {
   std::string fallback_reason;     // why ("" when no fallback)
   // simplify
   size_t level = 0, level_count = 0;
+  uint64_t target_used = 0;  // the target of the returned simplify result (after finer attempts)
   uint64_t level_faces = 0, level_faces_with_holes = 0;  // (own cage: level_faces = the input's faces)
   CageBuildReport cage_report;
   // quad / anisotropic

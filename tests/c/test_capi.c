@@ -1641,6 +1641,7 @@ static void scan_to_cage_conditions_fits_and_judges(void) {
   CHECK(cage != NULL && limit != NULL);
   CHECK(report.conditioned_faces == SPHERE_TRIANGLES && report.welded_vertices == 0 && report.flipped_faces == 0);
   CHECK(report.used_method == CAGEKIT_SCAN_SIMPLIFY && report.fallback == 0 && report.fallback_reason[0] == 0);
+  CHECK(report.simplify_target_used == 30.0);
   CHECK(report.cage_faces >= 30 && report.cage_faces <= 120 && report.holes_added == 0);
   CHECK(report.fit_pass_count >= 2 && report.fit_final.max_rel < report.fit_initial.max_rel);
   CHECK(fit.pass_count == report.fit_pass_count && fit.best_pass == report.fit_best_pass);
@@ -1736,6 +1737,9 @@ static void scan_to_cage_conditions_fits_and_judges(void) {
   options.weld_tolerance_rel = -1;
   CHECK_STATUS(cagekit_scan_to_cage(sphere, &options, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   options.weld_tolerance_rel = 0;
+  options.finer_simplify_attempts = 9;
+  CHECK_STATUS(cagekit_scan_to_cage(sphere, &options, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  options.finer_simplify_attempts = 2;
   memcpy(&options.method, &(int32_t){7}, sizeof(int32_t));
   CHECK_STATUS(cagekit_scan_to_cage(sphere, &options, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK(cage == NULL);

@@ -44,11 +44,11 @@ class ScanToCageOptions(_lib._Versioned):
                 ("cage", c_void_p), ("remesh", c_void_p), ("fit", c_void_p), ("limit_levels", c_uint32),
                 ("self_intersection_level", c_uint32), ("max_limit_to_scan_rel", c_double),
                 ("limit_to_scan_factor", c_double), ("small_input_faces", c_uint64),
-                ("fallback_to_simplify", c_int32)]
+                ("fallback_to_simplify", c_int32), ("finer_simplify_attempts", c_uint32)]
     _defaults = {"method": 0, "repair": 1, "components": 0, "weld_tolerance_rel": 1e-7, "target_query": 0,
                  "target": 60.0, "cage": None, "remesh": None, "fit": None, "limit_levels": 3,
                  "self_intersection_level": 2, "max_limit_to_scan_rel": 0.05, "limit_to_scan_factor": 3.0,
-                 "small_input_faces": 1000, "fallback_to_simplify": 1}
+                 "small_input_faces": 1000, "fallback_to_simplify": 1, "finer_simplify_attempts": 2}
 
 
 def _u64(*names):
@@ -78,7 +78,8 @@ class ScanToCageReport(_lib._Versioned):
                 [("limit_levels", c_uint32), ("limit_faces", c_uint64), ("scan_to_limit_max_rel", c_double),
                  ("limit_to_scan_max_rel", c_double), ("limit_mean_rel", c_double)] +
                 _u64("self_intersections", "self_intersection_triangles") +
-                [("method_seconds", c_double), ("fit_seconds", c_double), ("seconds", c_double)])
+                [("method_seconds", c_double), ("fit_seconds", c_double), ("seconds", c_double),
+                 ("simplify_target_used", c_double)])
 
 
 _lib.STRUCTS.update({"cagekit_scan_to_cage_options": ScanToCageOptions,
@@ -94,7 +95,8 @@ _lib._declare(_lib.lib)  # ImportError naming the function when the loaded libra
 def scan_to_cage(scan, method=ScanMethod.SIMPLIFY, faces=60, repair=True, components=ComponentMode.ALL,
                  weld_tolerance_rel=1e-7, crease_angle_degrees=30.0, input_crease_angle_degrees=-1.0,
                  remesh=None, fit=None, limit_levels=3, self_intersection_level=2, max_limit_to_scan_rel=0.05,
-                 limit_to_scan_factor=3.0, small_input_faces=1000, fallback_to_simplify=True):
+                 limit_to_scan_factor=3.0, small_input_faces=1000, fallback_to_simplify=True,
+                 finer_simplify_attempts=2):
     """Runs the journey on `scan` (a Mesh, not changed). Returns (cage, limit, report): the fitted
     Cage with crease tags, its limit mesh (refined `limit_levels` times) as a Cage, and a record
     of every figure of cagekit_scan_to_cage_report (fallback_reason as str, methods as
@@ -125,7 +127,8 @@ def scan_to_cage(scan, method=ScanMethod.SIMPLIFY, faces=60, repair=True, compon
         components=int(_enum(ComponentMode, components)), weld_tolerance_rel=float(weld_tolerance_rel),
         target=float(faces), limit_levels=int(limit_levels), self_intersection_level=int(self_intersection_level),
         max_limit_to_scan_rel=float(max_limit_to_scan_rel), limit_to_scan_factor=float(limit_to_scan_factor),
-        small_input_faces=int(small_input_faces), fallback_to_simplify=1 if fallback_to_simplify else 0)
+        small_input_faces=int(small_input_faces), fallback_to_simplify=1 if fallback_to_simplify else 0,
+        finer_simplify_attempts=int(finer_simplify_attempts))
     options.cage = ctypes.cast(ctypes.pointer(cage_options), c_void_p)
     if remesh_options is not None:
         options.remesh = ctypes.cast(ctypes.pointer(remesh_options), c_void_p)
