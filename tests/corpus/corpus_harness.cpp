@@ -475,6 +475,10 @@ struct Record {
   bool limit_to_scan_is_bound = false;  // limit_to_scan is an upper bound (hausdorff_rel)
   std::string digest;
   std::string conditioning_json;  // the report's "conditioning" object, when present
+  // How the result was made (report keys "used_method", "fallback", "input_is_cage"): a good
+  // quad / anisotropic result may be the simplify fallback's, which the tables say.
+  std::string used_method;
+  bool fallback = false, own_cage = false;
 };
 
 // Expected clean errors (inputs with no surface, corrupt files), told apart by their message:
@@ -748,6 +752,9 @@ Record run_one(const Options& o, const Context& ctx, const Input& input, const s
   }
   if (have_report) {
     if (const Json* c = report.get("conditioning")) rec.conditioning_json = json_write(*c);
+    if (const Json* u = report.get("used_method"); u && u->type == Json::kString) rec.used_method = u->text;
+    if (const Json* f = report.get("fallback"); f && f->type == Json::kBool) rec.fallback = f->boolean;
+    if (const Json* c = report.get("input_is_cage"); c && c->type == Json::kBool) rec.own_cage = c->boolean;
     const std::optional<double> s2l_q = report.number_at({"quality", "scan_to_limit_max_rel"});
     const std::optional<double> l2s_q = report.number_at({"quality", "limit_to_scan_max_rel"});
     const std::optional<double> h = report.number_at({"limit", "error", "hausdorff_rel"});
@@ -895,6 +902,7 @@ Record run_one(const Options& o, const Context& ctx, const Input& input, const s
 struct Summary {
   std::map<Status, int> count;
   int total = 0, no_surface = 0;
+  int good_by_fallback = 0, good_own_cage = 0;  // good results made by the simplify fallback / tiny inputs
   double good_rate() const {
     const int with_surface = total - no_surface;
     return with_surface > 0 ? 100.0 * count.at(Status::good) / with_surface : 0.0;
@@ -909,6 +917,8 @@ Summary summarize(const std::vector<Record>& records, const std::string& method)
     ++s.total;
     ++s.count[r.status];
     if (r.status == Status::clean_error && is_no_surface_error(r.message)) ++s.no_surface;
+    if (r.status == Status::good && r.fallback) ++s.good_by_fallback;
+    if (r.status == Status::good && r.own_cage) ++s.good_own_cage;
   }
   return s;
 }
@@ -921,7 +931,11 @@ std::string summary_line(const std::string& method, const Summary& s) {
                 method.c_str(), s.count.at(Status::good), s.count.at(Status::clean_error),
                 s.count.at(Status::bad_but_ok), s.count.at(Status::crash), s.count.at(Status::timeout),
                 s.count.at(Status::oom), s.good_rate(), s.total - s.no_surface);
-  return buffer;
+  std::string line = buffer;
+  if (s.good_by_fallback || s.good_own_cage)
+    line += "; of the good: " + std::to_string(s.good_by_fallback) + " by the simplify fallback, " +
+            std::to_string(s.good_own_cage) + " tiny inputs as their own cage";
+  return line;
 }
 
 std::string record_json(const Record& r) {
@@ -944,6 +958,9 @@ std::string record_json(const Record& r) {
          ", \"holes_added\": " + json_number(r.holes_added, "%.0f") +
          ", \"limit_self_intersections\": " + json_number(r.self_intersections, "%.0f") +
          ", \"digest\": " + (r.digest.empty() ? "null" : json_escape(r.digest)) +
+         ", \"used_method\": " + (r.used_method.empty() ? "null" : json_escape(r.used_method)) +
+         ", \"fallback\": " + (r.fallback ? "true" : "false") + ", \"input_is_cage\": " +
+         (r.own_cage ? "true" : "false") +
          ", \"conditioning\": " + (r.conditioning_json.empty() ? "null" : r.conditioning_json) + "}";
 }
 
@@ -973,7 +990,8 @@ std::string markdown(const std::vector<Record>& records, const std::vector<std::
       char t[32], m[32];
       std::snprintf(t, sizeof(t), "%.1f", r.seconds + r.deform_seconds);
       std::snprintf(m, sizeof(m), "%.0f", r.peak_mb);
-      md += "| " + markdown_escape(r.mesh) + " | " + status_label(r.status) + " | " + t + " | " + m + " | " +
+      const std::string how = r.fallback ? " (fallback: simplify)" : r.own_cage ? " (own cage)" : "";
+      md += "| " + markdown_escape(r.mesh) + " | " + status_label(r.status) + how + " | " + t + " | " + m + " | " +
             cell(r.faces, "%.0f") + " | " + cell(r.quads_pct, "%.0f") + " | " + cell(r.creases, "%.0f") + " | " +
             cell(r.scan_to_limit, "%.3g") + " | " + (r.limit_to_scan_is_bound ? "≤ " : "") +
             cell(r.limit_to_scan, "%.3g") + " | " + cell(r.holes_added, "%.0f") + " | " +
