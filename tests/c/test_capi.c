@@ -1744,6 +1744,29 @@ static void scan_to_cage_conditions_fits_and_judges(void) {
   CHECK_STATUS(cagekit_scan_to_cage(sphere, &options, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK(cage == NULL);
   CHECK_STATUS(cagekit_scan_to_cage(NULL, NULL, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_HANDLE);
+  /* Cancelled by the progress callback: CANCELLED, nothing returned; the context's memory budget
+   * applies too (OUT_OF_MEMORY before the work). */
+  options = (cagekit_scan_to_cage_options)CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT;
+  CHECK_OK(cagekit_context_set_progress(context, cancel_after_first, NULL));
+  CHECK_STATUS(cagekit_scan_to_cage(sphere, &options, &cage, &limit, NULL, NULL), CAGEKIT_ERROR_CANCELLED);
+  CHECK(cage == NULL && limit == NULL);
+  CHECK_OK(cagekit_context_set_progress(context, NULL, NULL));
+  {
+    cagekit_context_desc small = CAGEKIT_CONTEXT_DESC_INIT;
+    cagekit_context tight = NULL;
+    cagekit_mesh copy = NULL;
+    small.memory_budget_bytes = 64 * 1024; /* holds the mesh, not the fit (~3 KB per sample) */
+    CHECK_OK(cagekit_context_create(&small, &tight));
+    desc.vertex_count = SPHERE_VERTICES;
+    desc.positions = positions;
+    desc.face_count = SPHERE_TRIANGLES;
+    desc.face_indices = triangles;
+    CHECK_OK(cagekit_mesh_create(tight, &desc, &copy));
+    CHECK_STATUS(cagekit_scan_to_cage(copy, &options, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_OUT_OF_MEMORY);
+    CHECK(cage == NULL);
+    cagekit_mesh_release(copy);
+    cagekit_context_release(tight);
+  }
   cagekit_mesh_release(degenerate);
   cagekit_mesh_release(soup);
   cagekit_mesh_release(cube);
