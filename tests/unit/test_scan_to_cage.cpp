@@ -88,10 +88,14 @@ double bump(double x, double y) { return 0.3 * std::sin(0.4 * x) * std::cos(0.3 
 
 // Sanitizer builds run the property test on smaller meshes (the same classes), so that it stays
 // within about two minutes there.
+// There, too, every class runs simplify and only one of the remeshers (alternating): the full
+// product took 5.5 min under ASan.
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
 constexpr int kScale = 2;
+constexpr bool kEveryMethod = false;
 #else
 constexpr int kScale = 1;
+constexpr bool kEveryMethod = true;
 #endif
 
 }  // namespace
@@ -196,9 +200,14 @@ TEST(ScanToCage, random_valid_meshes_end_good_or_with_a_clean_error) {
   cases.push_back({"open cylinder", cagekit_test::triangle_cylinder(0.5, 2.0, 32 / kScale, 16 / kScale)});
   const auto start = std::chrono::steady_clock::now();
   int good = 0, errors = 0;
+  size_t index = 0;
   for (const auto& [name, mesh] : cases) {
     ASSERT_TRUE(validate_mesh(mesh).ok()) << name;
+    const bool quad_here = kEveryMethod || index % 2 == 0, anisotropic_here = kEveryMethod || index % 2 == 1;
+    ++index;
     for (const ScanMethod method : {ScanMethod::simplify, ScanMethod::quad, ScanMethod::anisotropic}) {
+      if ((method == ScanMethod::quad && !quad_here) || (method == ScanMethod::anisotropic && !anisotropic_here))
+        continue;
       ScanToCageOptions options;
       options.method = method;
       options.target = 30;
