@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <map>
+#include <set>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -12,6 +12,7 @@
 #include "core/mesh_statistics.h"
 #include "core/mesh_validation.h"
 #include "core/status.h"
+#include "layout/feature_edges.h"
 #include "subdiv/uniform_refinement.h"
 
 CAGEKIT_NAMESPACE_BEGIN
@@ -47,30 +48,21 @@ uint64_t expected_faces(const ScanToCageOptions& o, const PolygonMesh& mesh) {
   return 0;
 }
 
-// Phase 2 for a tiny input: the conditioned mesh is its own cage, edges sharper than `angle`
-// tagged infinitely sharp.
+// Phase 2 for a tiny input: the conditioned mesh is its own cage, its feature edges (dihedral
+// angle above `angle`, layout/feature_edges.h) tagged infinitely sharp.
 Cage own_cage(const PolygonMesh& mesh, double angle_degrees) {
   Cage cage;
   cage.mesh = mesh;
   if (angle_degrees < 0) return cage;
-  std::vector<Vec3> normal(mesh.num_faces());
-  for (size_t f = 0; f < mesh.num_faces(); ++f) {
-    const uint32_t* v = mesh.face_begin(f);
-    Vec3 n;
-    for (uint32_t k = 1; k + 1 < mesh.face_size(f); ++k)
-      n += cross(mesh.positions[v[k]] - mesh.positions[v[0]], mesh.positions[v[k + 1]] - mesh.positions[v[0]]);
-    normal[f] = norm(n) > 0 ? normalized(n) : Vec3{};
-  }
-  std::map<std::pair<uint32_t, uint32_t>, std::vector<uint32_t>> faces_of_edge;
-  for (size_t f = 0; f < mesh.num_faces(); ++f)
-    for (uint32_t k = 0; k < mesh.face_size(f); ++k) {
-      const uint32_t a = mesh.face_vertex(f, k), b = mesh.face_vertex(f, (k + 1) % mesh.face_size(f));
-      faces_of_edge[{std::min(a, b), std::max(a, b)}].push_back(uint32_t(f));
-    }
-  const double cos_limit = std::cos(angle_degrees * M_PI / 180.0);
-  for (const auto& [edge, faces] : faces_of_edge)
-    if (faces.size() == 2 && dot(normal[faces[0]], normal[faces[1]]) < cos_limit)
-      cage.creases.push_back({edge.first, edge.second, kSharpnessInfinite});
+  const std::vector<uint8_t> feature = detect_feature_edges(mesh, std::min(angle_degrees, 180.0));
+  std::set<std::pair<uint32_t, uint32_t>> edges;
+  for (size_t f = 0, corner = 0; f < mesh.num_faces(); ++f)
+    for (uint32_t k = 0; k < mesh.face_size(f); ++k, ++corner)
+      if (feature[corner]) {
+        const uint32_t a = mesh.face_vertex(f, k), b = mesh.face_vertex(f, (k + 1) % mesh.face_size(f));
+        edges.insert({std::min(a, b), std::max(a, b)});
+      }
+  for (const auto& [a, b] : edges) cage.creases.push_back({a, b, kSharpnessInfinite});
   return cage;
 }
 
