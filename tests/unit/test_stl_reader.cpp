@@ -27,27 +27,13 @@ using namespace cagekit;
 
 namespace {
 
-struct Outcome {
-  bool ok = false;
-  Status status = Status::success;
-  std::string message;
-  Cage cage;
-};
+using Outcome = cagekit_test::ReadOutcome;
+using cagekit_test::bytes_of;
 
 Outcome try_read(const std::vector<uint8_t>& bytes, const std::string& name = "bad.stl",
                  FileFormat format = FileFormat::stl, const ReadOptions& options = {}) {
-  Outcome out;
-  try {
-    out.cage = read_cage_from_memory(bytes.data(), bytes.size(), format, name, options);
-    out.ok = true;
-  } catch (const Error& e) {
-    out.status = e.status();
-    out.message = e.what();
-  }
-  return out;
+  return cagekit_test::try_read_memory(bytes, format, name, options);
 }
-
-std::vector<uint8_t> bytes_of(const std::string& text) { return std::vector<uint8_t>(text.begin(), text.end()); }
 
 // The error must carry the status, start with the source name and contain every fragment.
 void expect_error(const std::vector<uint8_t>& bytes, Status status, std::initializer_list<const char*> fragments,

@@ -146,4 +146,19 @@ cagekit::PolygonMesh triangle_cylinder(double radius, double height, int n_aroun
   return m;
 }
 
+ReadOutcome try_read_memory(const std::vector<uint8_t>& bytes, cagekit::FileFormat format, const std::string& name,
+                            const cagekit::ReadOptions& options) {
+  ReadOutcome out;
+  try {
+    out.cage = cagekit::read_cage_from_memory(bytes.data(), bytes.size(), format, name, options);
+    out.ok = true;
+  } catch (const cagekit::Error& e) {
+    out.status = e.status();
+    out.message = e.what();
+  }
+  return out;
+}
+
+std::vector<uint8_t> bytes_of(const std::string& text) { return std::vector<uint8_t>(text.begin(), text.end()); }
+
 }  // namespace cagekit_test

@@ -4,8 +4,10 @@
 #include <functional>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "core/cage.h"
+#include "core/io/mesh_io.h"
 #include "core/polygon_mesh.h"
 #include "core/status.h"
 
@@ -44,6 +46,17 @@ struct OpenGrid {
   cagekit::Cage cage;
 };
 OpenGrid open_grid_scan_and_cage();
+
+// What reading bytes with the library's reader gave: the cage, or the error's status and message.
+struct ReadOutcome {
+  bool ok = false;
+  cagekit::Status status = cagekit::Status::success;
+  std::string message;
+  cagekit::Cage cage;
+};
+ReadOutcome try_read_memory(const std::vector<uint8_t>& bytes, cagekit::FileFormat format, const std::string& name,
+                            const cagekit::ReadOptions& options = {});
+std::vector<uint8_t> bytes_of(const std::string& text);
 
 // The status f() throws as cagekit::Error, or success.
 cagekit::Status status_of(const std::function<void()>& f);
