@@ -417,6 +417,7 @@ class Builder {
   }
   void decimate_dirty();
   void finish_step(double error, uint32_t merged_from, uint32_t merged_into);
+  bool closes_pillow(const std::vector<std::vector<uint32_t>>& loops) const;
   bool try_merge(uint32_t f, uint32_t g, double e);
   bool try_boundary_removal(uint32_t v, uint32_t f);
   bool stale(const Candidate& c) const;
@@ -782,10 +783,29 @@ bool Builder::stale(const Candidate& c) const {
   return ver_[c.b] != c.vb || fs_.star_size(c.a) != 1 || fs_.star_begin(c.a)[0].face != c.b;
 }
 
+// True when the merged face's loops border one and the same face X all round, and X has no
+// other edges: the merge would leave a closed "pillow" of two faces over the same vertex cycles,
+// whose cage cells duplicate each other. Such a component stops at three faces.
+bool Builder::closes_pillow(const std::vector<std::vector<uint32_t>>& loops) const {
+  uint32_t other = kNoFace;
+  uint64_t count = 0;
+  for (const auto& loop : loops) {
+    const size_t m = loop.size();
+    for (size_t i = 0; i < m; ++i) {
+      const uint32_t x = fs_.face_of_halfedge(loop[i + 1 < m ? i + 1 : 0], loop[i]);
+      if (x == kNoFace || (other != kNoFace && x != other)) return false;
+      other = x;
+      ++count;
+    }
+  }
+  return other != kNoFace && fs_.faces[other].num_loop_vertices() == count;
+}
+
 bool Builder::try_merge(uint32_t f, uint32_t g, double e) {
   std::vector<std::vector<uint32_t>>& loops = merge_loops_;  // reused buffers
   uint64_t shared = 0;
   if (!fs_.splice(f, g, loops, shared)) return false;
+  if (closes_pillow(loops)) return false;
   const WorkFace &F = fs_.faces[f], &G = fs_.faces[g];
   const double area = F.area + G.area;
   const Vec3 nsum = F.normal * F.area + G.normal * G.area;
@@ -855,7 +875,7 @@ void Builder::verify_greedy(const Candidate& committed) {
         double e;
         if (!evaluate_merge(f, g, e) || e >= best) continue;
         uint64_t shared;
-        if (!fs_.splice(f, g, loops, shared)) continue;
+        if (!fs_.splice(f, g, loops, shared) || closes_pillow(loops)) continue;
         const WorkFace &F = fs_.faces[f], &G = fs_.faces[g];
         const Vec3 n = normalized(F.normal * F.area + G.normal * G.area);
         const Vec3 c = (F.centroid * F.area + G.centroid * G.area) * (1.0 / (F.area + G.area));
