@@ -1473,10 +1473,21 @@ typedef struct cagekit_scan_to_cage_report {
   double limit_to_scan_max_rel;     /* max over limit-mesh samples of the distance to the scan's surface */
   double limit_mean_rel;            /* mean scan-vertex distance */
   uint64_t self_intersections;      /* intersecting triangle pairs of the level-`self_intersection_level`
-                                       limit mesh (quads fan-split) */
+                                       limit mesh (quads split along the diagonal that folds least) */
   uint64_t self_intersection_triangles; /* triangles tested */
   double method_seconds, fit_seconds, seconds;
   double simplify_target_used;      /* SIMPLIFY (also as the fallback): the target of the returned level */
+  /* Counted only when self_intersections > 0 (else 0): the conditioned scan's own intersecting
+     pairs (a faithful surface inherits them) and the initial cage's limit mesh's before the fit
+     (whether the method or the fit made them). When the scan has none, the journey remedies the
+     limit's, keeping the good result with the fewest: the fit is run again with more fairing
+     (fit_fairing_used), a tiny input is creased more, SIMPLIFY tries the finer targets too. */
+  uint64_t scan_self_intersections, unfitted_self_intersections;
+  int32_t scan_self_intersections_counted; /* 1 when scan_self_intersections was counted */
+  double own_cage_crease_angle_deg; /* input_is_cage: the crease angle used (40 by default, 20 or 0 =
+                                       every edge creased after a self-intersection remedy) */
+  double fit_fairing_used;          /* the fit's fairing weight of the result (the option's, or 0.01 / 0.1
+                                       after the self-intersection remedy) */
 } cagekit_scan_to_cage_report;
 
 /* The whole journey from a scan to a fitted cage, in named phases: conditioning (repair as

@@ -193,6 +193,11 @@ int command_pipeline(Args& args) {
       ", \"limit_to_scan_max_rel\": " + json_number(r.limit_to_scan_max_rel) +
       ", \"limit_self_intersections\": " + u64(r.self_intersections) +
       ", \"self_intersection_triangles\": " + u64(r.self_intersection_triangles) +
+      ", \"scan_self_intersections\": " +
+      (r.scan_self_intersections_counted ? u64(r.scan_self_intersections) : std::string("null")) +
+      ", \"unfitted_self_intersections\": " + u64(r.unfitted_self_intersections) +
+      ", \"fit_fairing_used\": " + json_number(r.fit_fairing_used) +
+      (r.input_is_cage ? ", \"own_cage_crease_angle_deg\": " + json_number(r.own_cage_crease_angle_deg) : std::string()) +
       ", \"holes_added\": " + u64(r.holes_added) + ", \"input_boundary_loops\": " + u64(r.input_boundary_loops) +
       ", \"cage_boundary_loops\": " + u64(r.cage_boundary_loops) + "},\n \"seconds\": " + json_number(r.seconds) +
       "}\n";

@@ -151,6 +151,11 @@ cagekit_scan_to_cage_report report_to_c(const cagekit::ScanToCageResult& r, uint
   c.fit_seconds = r.fit_seconds;
   c.seconds = r.seconds;
   c.simplify_target_used = double(r.target_used);
+  c.scan_self_intersections = r.scan_self_intersections.pairs;
+  c.unfitted_self_intersections = r.unfitted_self_intersections.pairs;
+  c.scan_self_intersections_counted = r.scan_self_intersections_counted ? 1 : 0;
+  c.own_cage_crease_angle_deg = r.input_is_cage ? r.own_cage_crease_angle_used : 0.0;
+  c.fit_fairing_used = r.fit_fairing_used;
   return c;
 }
 

@@ -50,15 +50,17 @@ uint64_t expected_faces(const ScanToCageOptions& o, const PolygonMesh& mesh) {
 
 // Phase 2 for a tiny input: the conditioned mesh is its own cage, its feature edges (dihedral
 // angle above `angle`, layout/feature_edges.h) tagged infinitely sharp.
+// Angle 0 creases every edge: the limit surface then is the mesh itself (planar polygons).
 Cage own_cage(const PolygonMesh& mesh, double angle_degrees) {
   Cage cage;
   cage.mesh = mesh;
   if (angle_degrees < 0) return cage;
-  const std::vector<uint8_t> feature = detect_feature_edges(mesh, std::min(angle_degrees, 180.0));
+  const std::vector<uint8_t> feature =
+      angle_degrees > 0 ? detect_feature_edges(mesh, std::min(angle_degrees, 180.0)) : std::vector<uint8_t>();
   std::set<std::pair<uint32_t, uint32_t>> edges;
   for (size_t f = 0, corner = 0; f < mesh.num_faces(); ++f)
     for (uint32_t k = 0; k < mesh.face_size(f); ++k, ++corner)
-      if (feature[corner]) {
+      if (angle_degrees == 0 || feature[corner]) {
         const uint32_t a = mesh.face_vertex(f, k), b = mesh.face_vertex(f, (k + 1) % mesh.face_size(f));
         edges.insert({std::min(a, b), std::max(a, b)});
       }
@@ -131,6 +133,94 @@ std::string percent(double x) {
   return buffer;
 }
 
+std::string evaluate(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonitor& monitor);
+std::string fit_and_judge(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonitor& monitor);
+
+// True when remedies apply: the limit self-intersects and the conditioned scan does not
+// (counted once per run, on the first need; a scan too large for the memory budget counts as
+// clean).
+bool self_intersects_beyond_scan(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonitor& monitor) {
+  if (!o.remedy_self_intersections || r.self_intersections.pairs == 0) return false;
+  if (!r.scan_self_intersections_counted) {
+    monitor.report("self-intersections", 0.0);
+    try {
+      r.scan_self_intersections = count_self_intersections(r.conditioned);
+    } catch (const Error& e) {
+      if (e.status() != Status::out_of_memory) throw;
+      monitor.log(LogLevel::info, std::string("scan_to_cage: the scan's self-intersections not counted: ") + e.what());
+      r.scan_self_intersections = {};
+    }
+    r.scan_self_intersections_counted = true;
+  }
+  return r.scan_self_intersections.pairs == 0;
+}
+
+// Moves `from` into `to` keeping `to`'s conditioned scan (results are copied without the scan).
+void take_result(ScanToCageResult& to, ScanToCageResult&& from) {
+  PolygonMesh scan = std::move(to.conditioned);
+  to = std::move(from);
+  to.conditioned = std::move(scan);
+}
+
+// A copy of r without its conditioned scan.
+ScanToCageResult copy_without_scan(ScanToCageResult& r) {
+  PolygonMesh scan = std::move(r.conditioned);
+  ScanToCageResult copy = r;
+  r.conditioned = std::move(scan);
+  return copy;
+}
+
+// The fairing weights a self-intersecting fit is tried again with (FitOptions::fairing): the
+// fit's pull towards detail the cage is too coarse to follow folds the limit surface; fairing
+// holds the control vertices near their neighbours' average.
+constexpr double kRemedyFairing[] = {0.01, 0.1};
+
+// A fitted limit that self-intersects (the scan does not) is fitted again with more fairing;
+// the first good result without self-intersections, else the good one with the fewest, is kept.
+void remedy_fit(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonitor& monitor) {
+  for (const double fairing : kRemedyFairing) {
+    if (fairing <= o.fit.fairing) continue;
+    ScanToCageOptions refit = o;
+    refit.fit.fairing = fairing;
+    ScanToCageResult candidate = copy_without_scan(r);
+    candidate.conditioned = std::move(r.conditioned);
+    const std::string problem = fit_and_judge(refit, candidate, monitor);
+    r.conditioned = std::move(candidate.conditioned);
+    if (!problem.empty() || candidate.self_intersections.pairs >= r.self_intersections.pairs) continue;
+    monitor.log(LogLevel::info, "scan_to_cage: fitted again with fairing " + std::to_string(fairing) + ": " +
+                                    std::to_string(candidate.self_intersections.pairs) +
+                                    " self-intersecting pairs instead of " +
+                                    std::to_string(r.self_intersections.pairs));
+    take_result(r, std::move(candidate));
+    r.fit_fairing_used = fairing;
+    if (r.self_intersections.pairs == 0) return;
+  }
+}
+
+// A tiny input as its own cage whose limit self-intersects (the scan does not): creased at 20
+// degrees, then on every edge (the limit is then the input's own planar polygons); the good
+// result with the fewest self-intersections is kept.
+void remedy_own_cage(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonitor& monitor) {
+  for (const double angle : {20.0, 0.0}) {
+    if (o.own_cage_crease_angle_degrees >= 0 && angle >= o.own_cage_crease_angle_degrees) continue;
+    ScanToCageResult candidate = copy_without_scan(r);
+    candidate.conditioned = std::move(r.conditioned);
+    candidate.initial_cage = own_cage(candidate.conditioned, angle);
+    candidate.creases = candidate.initial_cage.creases.size();
+    candidate.own_cage_crease_angle_used = angle;
+    const std::string problem = evaluate(o, candidate, monitor);
+    r.conditioned = std::move(candidate.conditioned);
+    if (!problem.empty() || candidate.self_intersections.pairs >= r.self_intersections.pairs) continue;
+    monitor.log(LogLevel::info, "scan_to_cage: own cage creased " +
+                                    (angle > 0 ? "at " + std::to_string(int(angle)) + " degrees" : "on every edge") +
+                                    ": " + std::to_string(candidate.self_intersections.pairs) +
+                                    " self-intersecting pairs instead of " +
+                                    std::to_string(r.self_intersections.pairs));
+    take_result(r, std::move(candidate));
+    if (r.self_intersections.pairs == 0) return;
+  }
+}
+
 // Phases 2-6 for one method. Returns "" when the result is good, else why not (the result's
 // figures are filled as far as they got).
 std::string attempt(ScanMethod method, const ScanToCageOptions& o, ScanToCageResult& r,
@@ -148,6 +238,7 @@ std::string attempt(ScanMethod method, const ScanToCageOptions& o, ScanToCageRes
                                     std::to_string(expected) + "): it is its own cage");
     r.initial_cage = own_cage(mesh, o.own_cage_crease_angle_degrees);
     r.creases = r.initial_cage.creases.size();
+    r.own_cage_crease_angle_used = o.own_cage_crease_angle_degrees;
     r.level_faces = mesh.num_faces();  // the input is the "level"
   } else {
     r.initial_cage = initial_cage(mesh, method, o, r, hierarchy, monitor);
@@ -157,14 +248,32 @@ std::string attempt(ScanMethod method, const ScanToCageOptions& o, ScanToCageRes
                                   "is its own cage");
       r.initial_cage = own_cage(mesh, o.own_cage_crease_angle_degrees);
       r.creases = r.initial_cage.creases.size();
+      r.own_cage_crease_angle_used = o.own_cage_crease_angle_degrees;
       r.input_is_cage = true;
     }
   }
   r.method_seconds = seconds_since(t0);
+  r.fit_fairing_used = o.fit.fairing;
+  std::string problem = evaluate(o, r, monitor);
+  if (problem.empty() && self_intersects_beyond_scan(o, r, monitor)) remedy_fit(o, r, monitor);
+  if (problem.empty() && r.input_is_cage && self_intersects_beyond_scan(o, r, monitor))
+    remedy_own_cage(o, r, monitor);
+  return problem;
+}
+
+// Phases 3-6 on r.initial_cage. Returns "" when the result is good, else why not (the result's
+// figures are filled as far as they got).
+std::string evaluate(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonitor& monitor) {
+  const PolygonMesh& mesh = r.conditioned;
   const std::string cage_problem = check_cage(r.initial_cage, r);
   if (!cage_problem.empty()) return cage_problem;
   r.method_error = measure_approximation_error(mesh, r.initial_cage.mesh, 4, monitor);
+  return fit_and_judge(o, r, monitor);
+}
 
+// Phases 4-6 on r.initial_cage (checked by phase 3).
+std::string fit_and_judge(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonitor& monitor) {
+  const PolygonMesh& mesh = r.conditioned;
   const auto t1 = Clock::now();
   r.fit = {};
   r.cage = fit_cage_to_mesh(r.initial_cage, mesh, o.fit, &r.fit, monitor);
@@ -175,11 +284,13 @@ std::string attempt(ScanMethod method, const ScanToCageOptions& o, ScanToCageRes
   refine.limit_positions = true;
   r.limit = refine_uniform(r.cage, refine, monitor);
   r.limit_error = measure_approximation_error(mesh, r.limit.mesh, 4, monitor);
-  r.self_intersections = {};
+  r.self_intersections = r.unfitted_self_intersections = {};
   if (o.self_intersection_level > 0) {
     refine.levels = o.self_intersection_level;
     const Cage level = o.self_intersection_level == o.limit_levels ? r.limit : refine_uniform(r.cage, refine, monitor);
     r.self_intersections = count_self_intersections(level.mesh);
+    if (r.self_intersections.pairs > 0)
+      r.unfitted_self_intersections = count_self_intersections(refine_uniform(r.initial_cage, refine, monitor).mesh);
   }
 
   // Phase 6: the good-result rule.
@@ -201,15 +312,41 @@ std::string attempt_simplify(const ScanToCageOptions& o, ScanToCageResult& r,
   ScanToCageOptions s = o;
   s.method = ScanMethod::simplify;
   std::string problem;
+  // The good result with the fewest self-intersections so far (when the first good one has some).
+  std::unique_ptr<ScanToCageResult> best;
   for (int k = 0; k <= o.finer_simplify_attempts; ++k) {
     r.target_used = s.target;
     problem = attempt(ScanMethod::simplify, s, r, hierarchy, monitor);
-    if (problem.empty() || r.input_is_cage || problem.find("strays") == std::string::npos) break;
+    if (problem.empty()) {
+      if (r.input_is_cage || !self_intersects_beyond_scan(o, r, monitor)) {
+        best.reset();
+        break;
+      }
+      if (!best || r.self_intersections.pairs < best->self_intersections.pairs)
+        best = std::make_unique<ScanToCageResult>(copy_without_scan(r));
+      problem = "the limit surface has " + std::to_string(r.self_intersections.pairs) +
+                " self-intersecting triangle pairs (the scan has none)";
+    } else if (r.input_is_cage || problem.find("strays") == std::string::npos) {
+      break;
+    }
     const uint64_t size = s.target_is_vertices ? r.conditioned.num_vertices() : r.conditioned.num_faces();
     if (k == o.finer_simplify_attempts || 2 * s.target >= size) break;
     monitor.log(LogLevel::info, "scan_to_cage: simplify at " + std::to_string(s.target) + ": " + problem +
                                     "; trying " + std::to_string(2 * s.target));
     s.target *= 2;
+  }
+  if (best) {
+    // No finer attempt was free of self-intersections: the good one with the fewest.
+    const bool carried = r.scan_self_intersections_counted;
+    const SelfIntersections scan = r.scan_self_intersections;
+    take_result(r, std::move(*best));
+    r.scan_self_intersections_counted = carried;
+    r.scan_self_intersections = scan;
+    monitor.log(LogLevel::warning, "scan_to_cage: the limit surface keeps " +
+                                       std::to_string(r.self_intersections.pairs) +
+                                       " self-intersecting triangle pairs (simplify at " +
+                                       std::to_string(r.target_used) + ", the fewest of the finer attempts)");
+    return "";
   }
   return problem;
 }

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Counting the self-intersections of a polygon mesh (a limit surface sampled as a mesh): pairs of
-// triangles (polygons fan-split from their first corner) that intersect other than in the
+// triangles (quads split along the diagonal that folds least, other polygons fan-split from
+// their first corner) that intersect other than in the
 // vertices and edges they share, found with CGAL's Polygon_mesh_processing::self_intersections.
 #include <cstdint>
 

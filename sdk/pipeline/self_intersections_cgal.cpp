@@ -32,15 +32,37 @@ SelfIntersections count_self_intersections(const PolygonMesh& mesh) {
     const Vec3& p = mesh.positions[v];
     vertex[v] = sm.add_vertex(Kernel::Point_3(p.x, p.y, p.z));
   }
+  auto add = [&](uint32_t a, uint32_t b, uint32_t c) {
+    if (sm.add_face(vertex[a], vertex[b], vertex[c]) == Mesh::null_face())
+      ++result.skipped_faces;
+    else
+      ++result.triangles;
+  };
   for (size_t f = 0; f < mesh.num_faces(); ++f) {
     const uint32_t* c = mesh.face_begin(f);
-    for (uint32_t k = 1; k + 1 < mesh.face_size(f); ++k) {
-      const Face added = sm.add_face(vertex[c[0]], vertex[c[k]], vertex[c[k + 1]]);
-      if (added == Mesh::null_face())
-        ++result.skipped_faces;
-      else
-        ++result.triangles;
+    if (mesh.face_size(f) == 4) {
+      // A quad is split along the diagonal whose two triangles fold least (the larger cosine
+      // between their normals): a sampled limit quad next to a boundary corner or an
+      // extraordinary vertex can be non-convex, and its other diagonal would fold it over
+      // itself where the surface does not.
+      const Vec3 &p0 = mesh.positions[c[0]], &p1 = mesh.positions[c[1]], &p2 = mesh.positions[c[2]],
+                 &p3 = mesh.positions[c[3]];
+      auto cosine = [](const Vec3& n, const Vec3& m) {
+        const double l = norm(n) * norm(m);
+        return l > 0 ? dot(n, m) / l : -1.0;
+      };
+      const double along02 = cosine(cross(p1 - p0, p2 - p0), cross(p2 - p0, p3 - p0));
+      const double along13 = cosine(cross(p2 - p1, p3 - p1), cross(p3 - p1, p0 - p1));
+      if (along13 > along02) {
+        add(c[1], c[2], c[3]);
+        add(c[1], c[3], c[0]);
+      } else {
+        add(c[0], c[1], c[2]);
+        add(c[0], c[2], c[3]);
+      }
+      continue;
     }
+    for (uint32_t k = 1; k + 1 < mesh.face_size(f); ++k) add(c[0], c[k], c[k + 1]);
   }
   std::vector<std::pair<Face, Face>> pairs;
   try {

@@ -79,7 +79,10 @@ class ScanToCageReport(_lib._Versioned):
                  ("limit_to_scan_max_rel", c_double), ("limit_mean_rel", c_double)] +
                 _u64("self_intersections", "self_intersection_triangles") +
                 [("method_seconds", c_double), ("fit_seconds", c_double), ("seconds", c_double),
-                 ("simplify_target_used", c_double)])
+                 ("simplify_target_used", c_double)] +
+                _u64("scan_self_intersections", "unfitted_self_intersections") +
+                [("scan_self_intersections_counted", c_int32), ("own_cage_crease_angle_deg", c_double),
+                 ("fit_fairing_used", c_double)])
 
 
 _lib.STRUCTS.update({"cagekit_scan_to_cage_options": ScanToCageOptions,
