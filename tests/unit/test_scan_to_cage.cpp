@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <string>
+#include <vector>
 
 #include "core/mesh_statistics.h"
 #include "core/mesh_validation.h"
@@ -173,6 +175,99 @@ TEST(SelfIntersections, counts_crossing_triangles_only) {
   const SelfIntersections s = count_self_intersections(two);
   EXPECT_GT(s.pairs, 10u);
   EXPECT_EQ(s.triangles, two.num_faces());
+}
+
+TEST(SelfIntersections, a_non_convex_quad_is_split_along_the_diagonal_that_does_not_fold) {
+  // An arrowhead quad in the plane z = 0, reflex at corner 1: the diagonal 0-2 lies outside it,
+  // so its two triangles (0,1,2) and (0,2,3) overlap; the diagonal 1-3 splits it cleanly.
+  PolygonMesh quad;
+  quad.positions = {{0, 0, 0}, {1, 0.5, 0}, {2, 0, 0}, {1, 2, 0}};
+  quad.add_face({0, 1, 2, 3});
+  EXPECT_EQ(count_self_intersections(quad).pairs, 0u);
+  EXPECT_EQ(count_self_intersections(quad).triangles, 2u);
+  PolygonMesh folded = quad;
+  folded.face_vertices = {0, 1, 2, 0, 2, 3};
+  folded.face_offsets = {0, 3, 6};
+  EXPECT_EQ(count_self_intersections(folded).pairs, 1u);
+}
+
+// A flat triangle with a triangular hole, 6 faces: with the default 40-degree creases (none, it is
+// flat) its limit's boundary curves cross each other in the narrow strips; the journey creases it
+// until its limit does not self-intersect (on every edge the limit is the input itself).
+PolygonMesh flat_frame_with_a_hole() {
+  PolygonMesh m;
+  m.positions = {{1, 0.8, 0}, {3, 0.8, 0}, {2, 1.8, 0}, {0, 0, 0}, {4, 0, 0}, {2, 3, 0}};
+  // inner 0 1 2 (the hole), outer 3 4 5, counter-clockwise seen from +z
+  for (const auto& f : std::vector<std::vector<uint32_t>>{{3, 4, 0}, {4, 1, 0}, {4, 5, 1}, {5, 2, 1}, {5, 3, 2},
+                                                           {3, 0, 2}})
+    m.add_face(f.data(), f.size());
+  return m;
+}
+
+TEST(ScanToCage, a_tiny_input_whose_limit_self_intersects_is_creased_until_it_does_not) {
+  const PolygonMesh frame = flat_frame_with_a_hole();
+  ASSERT_TRUE(validate_mesh(frame).ok());
+  ASSERT_EQ(count_self_intersections(frame).pairs, 0u);
+  ScanToCageOptions options;
+  options.remedy_self_intersections = false;
+  const ScanToCageResult plain = scan_to_cage(frame, options);
+  ASSERT_TRUE(plain.input_is_cage);
+  EXPECT_GT(plain.self_intersections.pairs, 0u) << "the 40-degree own cage's limit folds (the case this tests)";
+  options.remedy_self_intersections = true;
+  const ScanToCageResult r = scan_to_cage(frame, options);
+  EXPECT_TRUE(r.input_is_cage);
+  EXPECT_TRUE(r.scan_self_intersections_counted);
+  EXPECT_EQ(r.scan_self_intersections.pairs, 0u);
+  EXPECT_EQ(r.self_intersections.pairs, 0u);
+  EXPECT_LT(r.own_cage_crease_angle_used, 40.0);
+  if (r.own_cage_crease_angle_used == 0) {
+    // Every edge creased: the limit surface lies on the input's planar triangles.
+    EXPECT_EQ(r.cage.creases.size(), 12u);
+    EXPECT_LT(r.limit_error.reverse_rel, 1e-9);
+    EXPECT_LT(r.limit_error.hausdorff_rel, 1e-9);
+  }
+}
+
+TEST(ScanToCage, an_input_that_self_intersects_itself_is_not_remedied) {
+  // Two overlapping spheres: a faithful surface self-intersects as the scan does.
+  const PolygonMesh sphere = cagekit_test::triangle_sphere(3);
+  const PolygonMesh two = joined(sphere, shifted(sphere, {0.5, 0, 0}));
+  ScanToCageOptions options;
+  options.target = 30;
+  const ScanToCageResult r = scan_to_cage(two, options);
+  if (r.self_intersections.pairs > 0) {
+    EXPECT_TRUE(r.scan_self_intersections_counted);
+    EXPECT_GT(r.scan_self_intersections.pairs, 0u);
+    EXPECT_EQ(r.fit_fairing_used, options.fit.fairing) << "no refit when the scan itself self-intersects";
+    EXPECT_EQ(r.target_used, options.target) << "no finer attempt for inherited self-intersections";
+  }
+  EXPECT_GT(r.self_intersections.pairs, 0u) << "the overlap is inherited";
+}
+
+TEST(ScanToCage, a_fit_that_folds_its_limit_is_fitted_again_with_fairing) {
+  const std::string path = cagekit_test::shared_mesh_path("spot.obj");
+  if (path.empty()) GTEST_SKIP() << "shared mesh spot.obj not found";
+  const PolygonMesh spot = cagekit_test::load_mesh(path);
+  ScanToCageOptions options;
+  options.fit.threads = 2;
+  options.remedy_self_intersections = false;
+  const ScanToCageResult plain = scan_to_cage(spot, options);
+  std::printf("spot at 60 faces without the remedy: %llu self-intersecting pairs (unfitted %llu)\n",
+              (unsigned long long)plain.self_intersections.pairs,
+              (unsigned long long)plain.unfitted_self_intersections.pairs);
+  ASSERT_GT(plain.self_intersections.pairs, 0u) << "the fit folds spot's 60-face limit (the case this tests)";
+  EXPECT_LT(plain.unfitted_self_intersections.pairs, plain.self_intersections.pairs) << "the fit made them";
+  options.remedy_self_intersections = true;
+  const ScanToCageResult r = scan_to_cage(spot, options);
+  std::printf("with the remedy: %llu pairs, fairing %g, target %llu, limit->scan %.3g%%, scan->limit %.3g%%\n",
+              (unsigned long long)r.self_intersections.pairs, r.fit_fairing_used, (unsigned long long)r.target_used,
+              100 * r.limit_error.reverse_rel, 100 * r.limit_error.hausdorff_rel);
+  EXPECT_LT(r.self_intersections.pairs, plain.self_intersections.pairs);
+  EXPECT_EQ(r.scan_self_intersections.pairs, 0u);
+  EXPECT_GT(r.fit_fairing_used + double(r.target_used > options.target), 0.0) << "a remedy was applied";
+  // Still good by the rule, re-measured here.
+  const ApproximationError e = measure_approximation_error(r.conditioned, r.limit.mesh);
+  EXPECT_LE(e.reverse_rel, std::max(options.max_limit_to_scan, options.limit_to_scan_factor * e.hausdorff_rel));
 }
 
 // The property test: random valid meshes through every method. Each ends good (re-checked here
