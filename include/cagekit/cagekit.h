@@ -1479,8 +1479,8 @@ typedef struct cagekit_scan_to_cage_report {
   double simplify_target_used;      /* SIMPLIFY (also as the fallback): the target of the returned level */
   /* Counted only when self_intersections > 0 (else 0): the conditioned scan's own intersecting
      pairs (a faithful surface inherits them) and the initial cage's limit mesh's before the fit
-     (whether the method or the fit made them). When the scan has none, the journey remedies the
-     limit's, keeping the good result with the fewest: the fit is run again with more fairing
+     (whether the method or the fit made them). While the limit has more than the scan, the
+     journey remedies them, keeping the good result with the fewest: the fit is run again with more fairing
      (fit_fairing_used), a tiny input is creased more, SIMPLIFY tries the finer targets too. */
   uint64_t scan_self_intersections, unfitted_self_intersections;
   int32_t scan_self_intersections_counted; /* 1 when scan_self_intersections was counted */

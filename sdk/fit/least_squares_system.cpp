@@ -52,6 +52,25 @@ SparseMatrix umbrella_laplacian(const PolygonMesh& mesh) {
 
 // The squared-distance-like variant: residual r_i = A_i c - p_i weighted by
 // W_i = n n^T + w (I - n n^T) (n = unit normal of the current surface at t_i). The coordinates
+// The Laplacian rows' targets: row j weighs lambda_j |(L c)_j|^2 (fairing, towards the
+// neighbours' average) + lambda_w,j |(L c)_j - (L c0)_j|^2 (weak support, c0 the initial cage:
+// the vertex keeps its offset from its neighbours' average, so a weakly supported part keeps its
+// shape and moves with its neighbours instead of collapsing, as a whole small component would
+// towards one point). Together w_j |(L c)_j - t_j|^2 + const with w_j = lambda_j + lambda_w,j and
+// t_j = lambda_w,j / w_j (L c0)_j.
+Eigen::MatrixXd weak_row_targets(const SparseMatrix& L, const Cage& cage, const Eigen::VectorXd& row_weight,
+                                 const Eigen::VectorXd& weak_weight) {
+  const Eigen::Index n = row_weight.size();
+  Eigen::MatrixXd c0(n, 3);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const Vec3& p = cage.mesh.positions[size_t(j)];
+    c0.row(j) << p.x, p.y, p.z;
+  }
+  Eigen::MatrixXd target = L * c0;
+  for (Eigen::Index j = 0; j < n; ++j) target.row(j) *= row_weight(j) > 0 ? weak_weight(j) / row_weight(j) : 0.0;
+  return target;
+}
+
 // couple: 3 rows per sample (W_i^(1/2) = n n^T + sqrt(w) (I - n n^T)), 3n unknowns.
 std::vector<Vec3> solve_control_points_coupled(const SubdivisionSurface& surface, const Cage& cage,
                                                const std::vector<Vec3>& current_control,
@@ -102,12 +121,14 @@ std::vector<Vec3> solve_control_points_coupled(const SubdivisionSurface& surface
   // Laplacian row weights per vertex: the fairing term for all, plus the weak-support rows
   // (the support of vertex j: its three diagonal entries of B^T B, against their mean).
   Eigen::VectorXd row_weight = Eigen::VectorXd::Constant(n, smoothness * scale / 3);
+  Eigen::VectorXd weak_weight = Eigen::VectorXd::Zero(n);
   if (options.weak_support_fraction > 0 && options.weak_fairing > 0) {
     for (int j = 0; j < n; ++j) {
       if (fixed[size_t(j)]) continue;
       const double support = M.coeff(3 * j, 3 * j) + M.coeff(3 * j + 1, 3 * j + 1) + M.coeff(3 * j + 2, 3 * j + 2);
       if (support < options.weak_support_fraction * scale) {
-        row_weight(j) += options.weak_fairing * scale / 3;
+        weak_weight(j) = options.weak_fairing * scale / 3;
+        row_weight(j) += weak_weight(j);
         ++report.weakly_supported_control_vertices;
       }
       if (support <= 1e-14 * scale) ++report.unsupported_control_vertices;
@@ -124,6 +145,11 @@ std::vector<Vec3> solve_control_points_coupled(const SubdivisionSurface& surface
     Eigen::VectorXd w3(unknowns);
     for (int j = 0; j < unknowns; ++j) w3(j) = row_weight(j / 3);
     M += SparseMatrix(L3.transpose() * w3.asDiagonal() * L3);
+    // The weak rows' target: the initial cage's Laplacian coordinates (weak_row_targets).
+    const Eigen::MatrixXd target = weak_row_targets(L, cage, row_weight, weak_weight);
+    Eigen::VectorXd t3(unknowns);
+    for (int j = 0; j < unknowns; ++j) t3(j) = target(j / 3, j % 3);
+    b += L3.transpose() * (w3.asDiagonal() * t3);
   }
   SparseMatrix I(unknowns, unknowns);
   I.setIdentity();
@@ -277,12 +303,14 @@ std::vector<Vec3> solve_point_distance(const SubdivisionSurface& surface, const 
   // Per-vertex weight of its Laplacian row: lambda for all (fairing), plus lambda_w for the
   // weakly supported free vertices.
   Eigen::VectorXd row_weight = Eigen::VectorXd::Constant(n, lambda);
+  Eigen::VectorXd weak_weight = Eigen::VectorXd::Zero(n);
   if (options.weak_support_fraction > 0 && options.weak_fairing > 0) {
     const double threshold = options.weak_support_fraction * scale;
     for (int j = 0; j < n; ++j) {
       const int k = free_index[size_t(j)];
       if (k >= 0 && column_norm2(k) < threshold) {
-        row_weight(j) += options.weak_fairing * scale;
+        weak_weight(j) = options.weak_fairing * scale;
+        row_weight(j) += weak_weight(j);
         ++report.weakly_supported_control_vertices;
       }
     }
@@ -314,6 +342,8 @@ std::vector<Vec3> solve_point_distance(const SubdivisionSurface& surface, const 
       }
     LF = SparseMatrix(n, free_count);
     LF.setFromTriplets(lt.begin(), lt.end());
+    // Rows sqrt(w_j) ((L c)_j - target_j): the weak rows keep the initial cage's shape.
+    LX_c -= weak_row_targets(L, cage, row_weight, weak_weight);
   }
 
   Eigen::MatrixXd x(free_count, 3);

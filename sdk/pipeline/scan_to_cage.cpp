@@ -136,9 +136,9 @@ std::string percent(double x) {
 std::string evaluate(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonitor& monitor);
 std::string fit_and_judge(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonitor& monitor);
 
-// True when remedies apply: the limit self-intersects and the conditioned scan does not
-// (counted once per run, on the first need; a scan too large for the memory budget counts as
-// clean).
+// True when remedies apply: the limit has more self-intersecting pairs than the conditioned
+// scan (counted once per run, on the first need; a scan too large for the memory budget counts
+// as clean). A faithful surface inherits the scan's own.
 bool self_intersects_beyond_scan(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonitor& monitor) {
   if (!o.remedy_self_intersections || r.self_intersections.pairs == 0) return false;
   if (!r.scan_self_intersections_counted) {
@@ -152,7 +152,12 @@ bool self_intersects_beyond_scan(const ScanToCageOptions& o, ScanToCageResult& r
     }
     r.scan_self_intersections_counted = true;
   }
-  return r.scan_self_intersections.pairs == 0;
+  return r.self_intersections.pairs > r.scan_self_intersections.pairs;
+}
+
+// The remedies stop once the limit has no more self-intersections than the scan.
+bool inherited_only(const ScanToCageResult& r) {
+  return r.self_intersections.pairs <= r.scan_self_intersections.pairs;
 }
 
 // Moves `from` into `to` keeping `to`'s conditioned scan (results are copied without the scan).
@@ -175,8 +180,8 @@ ScanToCageResult copy_without_scan(ScanToCageResult& r) {
 // holds the control vertices near their neighbours' average.
 constexpr double kRemedyFairing[] = {0.01, 0.1};
 
-// A fitted limit that self-intersects (the scan does not) is fitted again with more fairing;
-// the first good result without self-intersections, else the good one with the fewest, is kept.
+// A fitted limit that self-intersects more than the scan is fitted again with more fairing;
+// the first good result with no more than the scan's, else the good one with the fewest, is kept.
 void remedy_fit(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonitor& monitor) {
   for (const double fairing : kRemedyFairing) {
     if (fairing <= o.fit.fairing) continue;
@@ -193,11 +198,11 @@ void remedy_fit(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonit
                                     std::to_string(r.self_intersections.pairs));
     take_result(r, std::move(candidate));
     r.fit_fairing_used = fairing;
-    if (r.self_intersections.pairs == 0) return;
+    if (inherited_only(r)) return;
   }
 }
 
-// A tiny input as its own cage whose limit self-intersects (the scan does not): creased at 20
+// A tiny input as its own cage whose limit self-intersects more than the scan: creased at 20
 // degrees, then on every edge (the limit is then the input's own planar polygons); the good
 // result with the fewest self-intersections is kept.
 void remedy_own_cage(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonitor& monitor) {
@@ -217,7 +222,7 @@ void remedy_own_cage(const ScanToCageOptions& o, ScanToCageResult& r, const Task
                                     " self-intersecting pairs instead of " +
                                     std::to_string(r.self_intersections.pairs));
     take_result(r, std::move(candidate));
-    if (r.self_intersections.pairs == 0) return;
+    if (inherited_only(r)) return;
   }
 }
 
@@ -278,6 +283,9 @@ std::string fit_and_judge(const ScanToCageOptions& o, ScanToCageResult& r, const
   r.fit = {};
   r.cage = fit_cage_to_mesh(r.initial_cage, mesh, o.fit, &r.fit, monitor);
   r.fit_seconds = seconds_since(t1);
+  // The fit moves every control vertex: faces can collapse or fold onto each other.
+  const ValidationReport fitted = validate_cage(r.cage, 1);
+  if (!fitted.ok()) return "the fitted cage is not valid: " + fitted.summary();
 
   RefineOptions refine;
   refine.levels = o.limit_levels;
@@ -325,7 +333,8 @@ std::string attempt_simplify(const ScanToCageOptions& o, ScanToCageResult& r,
       if (!best || r.self_intersections.pairs < best->self_intersections.pairs)
         best = std::make_unique<ScanToCageResult>(copy_without_scan(r));
       problem = "the limit surface has " + std::to_string(r.self_intersections.pairs) +
-                " self-intersecting triangle pairs (the scan has none)";
+                " self-intersecting triangle pairs (the scan " +
+                std::to_string(r.scan_self_intersections.pairs) + ")";
     } else if (r.input_is_cage || problem.find("strays") == std::string::npos) {
       break;
     }

@@ -15,11 +15,11 @@
 //                            limit_to_scan_factor x scan -> limit max) (waived under
 //                            small_input_faces input faces)
 // A simplify result whose limit strays is retried at 2x and 4x the target (finer_simplify_attempts).
-// Self-intersections of the limit (phase 5) are not part of the rule, but when the scan itself
-// has none they are remedied as far as possible, keeping the good result with the fewest: the
-// fit is run again with fairing 0.01, then 0.1; a tiny input used as its own cage is creased at
-// 20 degrees, then on every edge (its limit then is the input itself); simplify tries the finer
-// targets too.
+// Self-intersections of the limit (phase 5) are not part of the rule, but when the limit has more
+// than the scan itself (whose own a faithful surface inherits) they are remedied as far as
+// possible, keeping the good result with the fewest: the fit is run again with fairing 0.01,
+// then 0.1; a tiny input used as its own cage is creased at 20 degrees, then on every edge (its
+// limit then is the input itself); simplify tries the finer targets too.
 // A quad or anisotropic result that is not good (or a method failure) falls back to simplify when
 // fallback_to_simplify is on (reported with the reason); a simplify result that is not good is
 // Error(quality) naming the figure. Nothing that is not good comes back.
@@ -94,8 +94,8 @@ struct ScanToCageResult {
   ApproximationError limit_error;   // scan vs `limit` (hausdorff_rel: scan -> limit; reverse_rel)
   SelfIntersections self_intersections;
   // Counted only when the limit self-intersects (else zero, *_counted false): the conditioned
-  // scan's own self-intersections (a faithful surface inherits them; the remedies below are
-  // only tried when the scan has none) and the initial cage's limit before the fit (says
+  // scan's own self-intersections (a faithful surface inherits them; the remedies are only
+  // tried while the limit has more) and the initial cage's limit before the fit (says
   // whether the method or the fit made them).
   SelfIntersections scan_self_intersections, unfitted_self_intersections;
   bool scan_self_intersections_counted = false;

@@ -472,6 +472,9 @@ struct Record {
   double deform_seconds = 0.0;
   std::optional<double> input_faces, faces, quads_pct, creases, scan_to_limit, limit_to_scan, holes_added,
       self_intersections, input_boundary_loops, cage_boundary_loops;
+  // The scan's own self-intersections (the report counts them only when the limit has some; a
+  // faithful surface inherits them).
+  std::optional<double> scan_self_intersections;
   bool limit_to_scan_is_bound = false;  // limit_to_scan is an upper bound (hausdorff_rel)
   std::string digest;
   std::string conditioning_json;  // the report's "conditioning" object, when present
@@ -769,6 +772,7 @@ Record run_one(const Options& o, const Context& ctx, const Input& input, const s
       rec.limit_to_scan_is_bound = !(*hs > *h);
     }
     rec.self_intersections = report.number_at({"quality", "limit_self_intersections"});
+    rec.scan_self_intersections = report.number_at({"quality", "scan_self_intersections"});
     rec.holes_added = report.number_at({"quality", "holes_added"});
   }
 
@@ -903,6 +907,8 @@ struct Summary {
   std::map<Status, int> count;
   int total = 0, no_surface = 0;
   int good_by_fallback = 0, good_own_cage = 0;  // good results made by the simplify fallback / tiny inputs
+  // Good results whose level-2 limit self-intersects, and of those the ones whose scan does too.
+  int good_self_intersecting = 0, good_self_intersecting_inherited = 0;
   double good_rate() const {
     const int with_surface = total - no_surface;
     return with_surface > 0 ? 100.0 * count.at(Status::good) / with_surface : 0.0;
@@ -919,6 +925,10 @@ Summary summarize(const std::vector<Record>& records, const std::string& method)
     if (r.status == Status::clean_error && is_no_surface_error(r.message)) ++s.no_surface;
     if (r.status == Status::good && r.fallback) ++s.good_by_fallback;
     if (r.status == Status::good && r.own_cage) ++s.good_own_cage;
+    if (r.status == Status::good && r.self_intersections && *r.self_intersections > 0) {
+      ++s.good_self_intersecting;
+      if (r.scan_self_intersections && *r.scan_self_intersections > 0) ++s.good_self_intersecting_inherited;
+    }
   }
   return s;
 }
@@ -935,6 +945,8 @@ std::string summary_line(const std::string& method, const Summary& s) {
   if (s.good_by_fallback || s.good_own_cage)
     line += "; of the good: " + std::to_string(s.good_by_fallback) + " by the simplify fallback, " +
             std::to_string(s.good_own_cage) + " tiny inputs as their own cage";
+  line += "; limit self-intersections in " + std::to_string(s.good_self_intersecting) + " good results (" +
+          std::to_string(s.good_self_intersecting_inherited) + " of them from a self-intersecting scan)";
   return line;
 }
 
@@ -957,6 +969,7 @@ std::string record_json(const Record& r) {
          ", \"cage_boundary_loops\": " + json_number(r.cage_boundary_loops, "%.0f") +
          ", \"holes_added\": " + json_number(r.holes_added, "%.0f") +
          ", \"limit_self_intersections\": " + json_number(r.self_intersections, "%.0f") +
+         ", \"scan_self_intersections\": " + json_number(r.scan_self_intersections, "%.0f") +
          ", \"digest\": " + (r.digest.empty() ? "null" : json_escape(r.digest)) +
          ", \"used_method\": " + (r.used_method.empty() ? "null" : json_escape(r.used_method)) +
          ", \"fallback\": " + (r.fallback ? "true" : "false") + ", \"input_is_cage\": " +
@@ -995,7 +1008,11 @@ std::string markdown(const std::vector<Record>& records, const std::vector<std::
             cell(r.faces, "%.0f") + " | " + cell(r.quads_pct, "%.0f") + " | " + cell(r.creases, "%.0f") + " | " +
             cell(r.scan_to_limit, "%.3g") + " | " + (r.limit_to_scan_is_bound ? "≤ " : "") +
             cell(r.limit_to_scan, "%.3g") + " | " + cell(r.holes_added, "%.0f") + " | " +
-            cell(r.self_intersections, "%.0f") + " | " + (r.digest.empty() ? "n/a" : "`" + r.digest + "`") + " | " +
+            cell(r.self_intersections, "%.0f") +
+            (r.scan_self_intersections && *r.scan_self_intersections > 0
+                 ? " (scan " + cell(r.scan_self_intersections, "%.0f") + ")"
+                 : std::string()) +
+            " | " + (r.digest.empty() ? "n/a" : "`" + r.digest + "`") + " | " +
             markdown_escape(r.message) + " |\n";
     }
     md += "\n";

@@ -501,8 +501,9 @@ std::vector<double> laplacian_residuals(const Cage& cage) {
 }
 
 // With the defaults, control vertices with little or no data in their support are held by
-// their own fairing rows: they are counted, and end near the average of their neighbours (much
-// nearer than when they are left free), while the supported half still fits.
+// their own fairing rows: they are counted, and (on this smooth initial cage, whose Laplacian
+// coordinates are small) end near the average of their neighbours, much nearer than when they
+// are left free, while the supported half still fits.
 TEST(FitSurface, weakly_supported_control_vertices_are_held_by_fairing) {
   const KnownSurface k = known_surface();
   std::vector<Vec3> half;
@@ -532,6 +533,39 @@ TEST(FitSurface, weakly_supported_control_vertices_are_held_by_fairing) {
   EXPECT_LT(sum_a, 0.5 * sum_b);
   // The data half still fits about as well (within 2x of the free fit's RMS).
   EXPECT_LT(held.passes[held.best_pass].rms_relative, 2.0 * free.passes[free.best_pass].rms_relative + 1e-6);
+}
+
+// A small separate component with almost no samples (a speck of a scan, as b9_mesh.off has):
+// all its control vertices are weakly supported. Their rows keep the initial cage's shape, so
+// the component moves as a whole instead of collapsing to a point (umbrella rows towards the
+// neighbours' average would shrink it: it has no supported neighbours).
+TEST(FitSurface, a_weakly_supported_small_component_keeps_its_shape) {
+  const Cage big = centred_cube(0.6);
+  Cage speck = centred_cube(0.05);
+  for (Vec3& p : speck.mesh.positions) p += Vec3{3, 0, 0};
+  Cage cage = big;
+  const uint32_t offset = uint32_t(cage.mesh.num_vertices());
+  for (const Vec3& p : speck.mesh.positions) cage.mesh.add_vertex(p);
+  for (size_t f = 0; f < speck.mesh.num_faces(); ++f) {
+    std::vector<uint32_t> face;
+    for (uint32_t k = 0; k < speck.mesh.face_size(f); ++k) face.push_back(speck.mesh.face_vertex(f, k) + offset);
+    cage.mesh.add_face(face.data(), face.size());
+  }
+  std::vector<Vec3> samples = cagekit_test::triangle_sphere(4).positions;
+  samples.push_back({3.0, 0.0, 0.04});  // one sample near the speck
+  FitOptions options;
+  options.max_passes = 3;
+  FitReport report;
+  const Cage fitted = fit_cage_to_points(cage, samples, options, &report);
+  std::printf("speck: %zu weakly supported control vertices\n", report.weakly_supported_control_vertices);
+  EXPECT_GE(report.weakly_supported_control_vertices, 8u);
+  for (size_t f = 0; f < speck.mesh.num_faces(); ++f)
+    for (uint32_t k = 0; k < 4; ++k) {
+      const uint32_t a = speck.mesh.face_vertex(f, k), b = speck.mesh.face_vertex(f, (k + 1) % 4);
+      const double before = distance(speck.mesh.positions[a], speck.mesh.positions[b]);
+      const double after = distance(fitted.mesh.positions[a + offset], fitted.mesh.positions[b + offset]);
+      EXPECT_NEAR(after, before, 0.25 * before) << "speck edge " << a << "-" << b;
+    }
 }
 
 // A scan that covers only part of the cage, with a few stray samples far from it: the returned
