@@ -52,22 +52,58 @@ SparseMatrix umbrella_laplacian(const PolygonMesh& mesh) {
 
 // The squared-distance-like variant: residual r_i = A_i c - p_i weighted by
 // W_i = n n^T + w (I - n n^T) (n = unit normal of the current surface at t_i). The coordinates
-// The Laplacian rows' targets: row j weighs lambda_j |(L c)_j|^2 (fairing, towards the
-// neighbours' average) + lambda_w,j |(L c)_j - (L c0)_j|^2 (weak support, c0 the initial cage:
-// the vertex keeps its offset from its neighbours' average, so a weakly supported part keeps its
-// shape and moves with its neighbours instead of collapsing, as a whole small component would
-// towards one point). Together w_j |(L c)_j - t_j|^2 + const with w_j = lambda_j + lambda_w,j and
-// t_j = lambda_w,j / w_j (L c0)_j.
+// The Laplacian rows' targets. Row j weighs lambda_j |(L c)_j|^2 (fairing, towards the
+// neighbours' average) + lambda_w,j |(L c)_j - t0_j|^2 (weak support), together
+// w_j |(L c)_j - t_j|^2 + const with w_j = lambda_j + lambda_w,j and t_j = lambda_w,j / w_j t0_j.
+// A weakly supported vertex is pulled towards its neighbours' average (t0 = 0) when its cluster
+// of weakly supported vertices (connected by cage edges) touches a supported or fixed vertex:
+// the neighbours anchor it, and the average smooths folds the data cannot see. A cluster
+// without any anchor (a speck of a component with a sample or two) would collapse to one point
+// that way: its vertices keep the initial cage's Laplacian coordinates instead (t0 = (L c0)_j,
+// c0 the initial cage), so it keeps its shape and moves as a whole.
 Eigen::MatrixXd weak_row_targets(const SparseMatrix& L, const Cage& cage, const Eigen::VectorXd& row_weight,
                                  const Eigen::VectorXd& weak_weight) {
   const Eigen::Index n = row_weight.size();
-  Eigen::MatrixXd c0(n, 3);
-  for (Eigen::Index j = 0; j < n; ++j) {
-    const Vec3& p = cage.mesh.positions[size_t(j)];
-    c0.row(j) << p.x, p.y, p.z;
+  Eigen::MatrixXd target = Eigen::MatrixXd::Zero(n, 3);
+  // Adjacency from L's off-diagonal entries (column-major: column k lists the rows of k).
+  std::vector<std::vector<uint32_t>> adjacent(static_cast<size_t>(n));
+  for (int k = 0; k < L.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(L, k); it; ++it)
+      if (it.row() != it.col()) adjacent[size_t(it.col())].push_back(uint32_t(it.row()));
+  std::vector<int8_t> seen(size_t(n), 0);
+  std::vector<uint32_t> cluster, stack;
+  Eigen::MatrixXd initial_laplacian;  // L c0, computed on the first unanchored cluster
+  for (Eigen::Index start = 0; start < n; ++start) {
+    if (!(weak_weight(start) > 0) || seen[size_t(start)]) continue;
+    cluster.clear();
+    stack.assign(1, uint32_t(start));
+    seen[size_t(start)] = 1;
+    bool anchored = false;
+    while (!stack.empty()) {
+      const uint32_t v = stack.back();
+      stack.pop_back();
+      cluster.push_back(v);
+      for (const uint32_t u : adjacent[v]) {
+        if (!(weak_weight(u) > 0)) {
+          anchored = true;
+        } else if (!seen[u]) {
+          seen[u] = 1;
+          stack.push_back(u);
+        }
+      }
+    }
+    if (anchored) continue;
+    if (initial_laplacian.size() == 0) {
+      Eigen::MatrixXd c0(n, 3);
+      for (Eigen::Index j = 0; j < n; ++j) {
+        const Vec3& p = cage.mesh.positions[size_t(j)];
+        c0.row(j) << p.x, p.y, p.z;
+      }
+      initial_laplacian = L * c0;
+    }
+    for (const uint32_t v : cluster)
+      target.row(Eigen::Index(v)) = initial_laplacian.row(Eigen::Index(v)) * (weak_weight(v) / row_weight(v));
   }
-  Eigen::MatrixXd target = L * c0;
-  for (Eigen::Index j = 0; j < n; ++j) target.row(j) *= row_weight(j) > 0 ? weak_weight(j) / row_weight(j) : 0.0;
   return target;
 }
 
@@ -145,7 +181,7 @@ std::vector<Vec3> solve_control_points_coupled(const SubdivisionSurface& surface
     Eigen::VectorXd w3(unknowns);
     for (int j = 0; j < unknowns; ++j) w3(j) = row_weight(j / 3);
     M += SparseMatrix(L3.transpose() * w3.asDiagonal() * L3);
-    // The weak rows' target: the initial cage's Laplacian coordinates (weak_row_targets).
+    // The weak rows' targets (weak_row_targets).
     const Eigen::MatrixXd target = weak_row_targets(L, cage, row_weight, weak_weight);
     Eigen::VectorXd t3(unknowns);
     for (int j = 0; j < unknowns; ++j) t3(j) = target(j / 3, j % 3);
@@ -342,7 +378,7 @@ std::vector<Vec3> solve_point_distance(const SubdivisionSurface& surface, const 
       }
     LF = SparseMatrix(n, free_count);
     LF.setFromTriplets(lt.begin(), lt.end());
-    // Rows sqrt(w_j) ((L c)_j - target_j): the weak rows keep the initial cage's shape.
+    // Rows sqrt(w_j) ((L c)_j - t_j), t from weak_row_targets.
     LX_c -= weak_row_targets(L, cage, row_weight, weak_weight);
   }
 

@@ -2,8 +2,8 @@
 #pragma once
 // The control-vertex step of the fit (thesis §7.5, A CV0 = V (7.8)) with fixed foot points:
 //   minimise  sum_i |sum_j phi_j(t_i) c_j - p_i|^2  +  lambda |L c|^2
-//             +  sum_{j weak} lambda_w |(L c)_j - (L c0)_j|^2  +  mu |c - c_current|^2
-// (c0: the initial cage's positions, `cage` below)
+//             +  sum_{j weak} lambda_w |(L c)_j - t0_j|^2  +  mu |c - c_current|^2
+// (t0_j = 0, or (L c0)_j with c0 the initial cage `cage` for weak vertices with no anchor: below)
 // A = [phi_j(t_i)] from the exact basis functions (SubdivisionSurface::basis), L = the umbrella
 // Laplacian of the cage (c_j - mean of its edge neighbours), lambda = fairing * trace(A^T A)
 // / (number of control vertices) so that `fairing` is independent of sample count and scale,
@@ -42,11 +42,12 @@ struct LeastSquaresOptions {
   // diagonal of A^T A, the sum of their squared basis values over the samples, is below
   // weak_support_fraction x its mean over the free vertices; 0 with no sample at all) get their
   // own umbrella-Laplacian row with weight weak_fairing x (mean diagonal of A^T A), on top of
-  // `fairing`, whose target is the initial cage's Laplacian coordinate: they keep their offset
-  // from the average of their neighbours instead of being left free to fly off after a few
-  // distant samples, and a weakly supported small component keeps its shape instead of
-  // collapsing to a point (not in the thesis, whose dense samples support every vertex).
-  // weak_support_fraction 0 turns this off.
+  // `fairing`: they are held near the average of their neighbours instead of being left free to
+  // fly off after a few distant samples. A cluster of weak vertices (connected by cage edges)
+  // that touches no supported or fixed vertex, such as a speck of a component, would collapse to
+  // one point that way: its rows keep the initial cage's Laplacian coordinates instead, so it
+  // keeps its shape and moves as a whole (not in the thesis, whose dense samples support every
+  // vertex). weak_support_fraction 0 turns this off.
   double weak_support_fraction = 0.0;
   double weak_fairing = 1.0;
   double tangential_weight = 1.0;  // w in [0, 1]

@@ -52,9 +52,9 @@ struct FitOptions {
   // FitReport::unsupported_control_vertices.
   double fairing = 0.0;
   // Control vertices whose support holds little data (least_squares_system.h) get their own
-  // fairing rows, so they keep the initial cage's offset from the average of their neighbours
-  // instead of flying off after a few distant samples (or a small component collapsing); 0 = off
-  // (the thesis's free vertices). Not in the thesis (own addition).
+  // fairing rows, so they stay near the average of their neighbours instead of flying off after a
+  // few distant samples (a cluster of them with no supported neighbour keeps the initial cage's
+  // shape instead of collapsing); 0 = off (the thesis's free vertices). Not in the thesis.
   double weak_support_fraction = 0.05;
   double weak_fairing = 1.0;
   // Judge every state by its two-sided distance (scan -> surface and surface -> scan RMS,

@@ -503,7 +503,8 @@ std::vector<double> laplacian_residuals(const Cage& cage) {
 // With the defaults, control vertices with little or no data in their support are held by
 // their own fairing rows: they are counted, and (on this smooth initial cage, whose Laplacian
 // coordinates are small) end near the average of their neighbours, much nearer than when they
-// are left free, while the supported half still fits.
+// are left free, while the supported half still fits. (They are anchored: the cluster of weak
+// vertices touches supported ones.)
 TEST(FitSurface, weakly_supported_control_vertices_are_held_by_fairing) {
   const KnownSurface k = known_surface();
   std::vector<Vec3> half;
@@ -536,9 +537,10 @@ TEST(FitSurface, weakly_supported_control_vertices_are_held_by_fairing) {
 }
 
 // A small separate component with almost no samples (a speck of a scan, as b9_mesh.off has):
-// all its control vertices are weakly supported. Their rows keep the initial cage's shape, so
-// the component moves as a whole instead of collapsing to a point (umbrella rows towards the
-// neighbours' average would shrink it: it has no supported neighbours).
+// all its control vertices are weakly supported and none has a supported neighbour. Their rows
+// keep the initial cage's shape, so the component moves as a whole instead of collapsing to a
+// point (umbrella rows towards the neighbours' average, right for anchored weak vertices, would
+// shrink it).
 TEST(FitSurface, a_weakly_supported_small_component_keeps_its_shape) {
   const Cage big = centred_cube(0.6);
   Cage speck = centred_cube(0.05);
