@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <mutex>
 #include <numeric>
 #include <string>
 #include <thread>
@@ -15,7 +16,8 @@ CAGEKIT_NAMESPACE_BEGIN
 
 RegionQuadMeshes select_region_quads(const RemeshConstraints& constraints, const CurveNetworkOptions& network_options,
                                      const SelectionOptions& selection_options, int threads,
-                                     const TaskMonitor& monitor, std::vector<BendingFitCache>* fit_caches) {
+                                     const TaskMonitor& monitor, std::vector<BendingFitCache>* fit_caches,
+                                     std::vector<RegionFailure>* failures) {
   if (threads < 0) fail(Status::invalid_argument, "select_region_quads: threads must be >= 0");
   const size_t regions = constraints.boundaries.region_loops.size();
   RegionQuadMeshes out;
@@ -32,6 +34,8 @@ RegionQuadMeshes select_region_quads(const RemeshConstraints& constraints, const
   CurveNetworkOptions per_region = network_options;
   per_region.threads = 1;  // the parallelism is over regions
   std::atomic<size_t> next{0}, done{0};
+  std::mutex failure_mutex;
+  if (failures) failures->clear();
   const size_t workers = std::max<size_t>(
       1, std::min<size_t>(threads > 0 ? size_t(threads) : std::thread::hardware_concurrency(), regions));
   run_ranges(workers, workers, [&](size_t, size_t, size_t worker) {
@@ -41,11 +45,24 @@ RegionQuadMeshes select_region_quads(const RemeshConstraints& constraints, const
       std::vector<std::vector<Point2>> loops;
       for (size_t l = 0; l < constraints.boundaries.region_loops[r].size(); ++l)
         loops.push_back(constraints.loop_samples_uv(r, l));
+      if (failures && !(plane2::signed_area(loops[0]) > 0.0)) {
+        const std::lock_guard<std::mutex> lock(failure_mutex);
+        failures->push_back({r, "region " + std::to_string(r) + ": its outer loop of " +
+                                    std::to_string(loops[0].size()) + " samples has no area in its domain",
+                             true});
+        ++done;
+        continue;
+      }
       try {
         out.networks[r] = build_curve_network(loops, per_region, {}, fit_caches ? &(*fit_caches)[r] : nullptr);
         out.selections[r] = select_quad_curves(out.networks[r], selection_options);
       } catch (const Error& e) {
-        fail(e.status(), "region " + std::to_string(r) + ": " + e.what());
+        if (!failures || e.status() == Status::cancelled || e.status() == Status::out_of_memory)
+          fail(e.status(), "region " + std::to_string(r) + ": " + e.what());
+        const std::lock_guard<std::mutex> lock(failure_mutex);
+        failures->push_back({r, "region " + std::to_string(r) + ": " + e.what()});
+        out.networks[r] = {};
+        out.selections[r] = {};
       }
       ++done;
     }
@@ -55,6 +72,9 @@ RegionQuadMeshes select_region_quads(const RemeshConstraints& constraints, const
     out.faces += s.faces.size();
     out.quads += s.quads;
   }
+  if (failures)
+    std::sort(failures->begin(), failures->end(),
+              [](const RegionFailure& a, const RegionFailure& b) { return a.region < b.region; });
   monitor.report("quad region selection", 1.0);
   return out;
 }

@@ -9,6 +9,7 @@
 // Thread-safety: pure function. Errors: those of build_curve_network and select_quad_curves
 // (with the region id in the message); invalid_argument for threads < 0; cancelled from the
 // monitor (checked between regions on the calling thread's worker).
+#include <string>
 #include <vector>
 
 #include "core/task_monitor.h"
@@ -27,9 +28,21 @@ struct RegionQuadMeshes {
 
 // `fit_caches` (optional): resized to one BendingFitCache per region and filled by the network
 // builds, for later rebuilds of the same regions (the remesher's sample-count refinement).
+// `failures` (optional): a region whose network or selection fails (other than by cancel or
+// out-of-memory) is recorded here (region id, message) and left with an empty network and
+// selection, instead of failing the whole call with "region r: ...".
+// A region whose outer loop of samples has no positive area in its domain (a sliver narrower
+// than the sample spacing: its samples are collinear) is recorded with degenerate_boundary set,
+// without building its network: such a region is merged into a neighbour, not split.
+struct RegionFailure {
+  uint32_t region = 0;
+  std::string message;
+  bool degenerate_boundary = false;
+};
 RegionQuadMeshes select_region_quads(const RemeshConstraints& constraints, const CurveNetworkOptions& network_options,
                                      const SelectionOptions& selection_options, int threads = 1,
                                      const TaskMonitor& monitor = {},
-                                     std::vector<BendingFitCache>* fit_caches = nullptr);
+                                     std::vector<BendingFitCache>* fit_caches = nullptr,
+                                     std::vector<RegionFailure>* failures = nullptr);
 
 CAGEKIT_NAMESPACE_END

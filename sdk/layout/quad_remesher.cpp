@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The two-step quad-dominant remesher end to end; see quad_remesher.h.
 #include "layout/quad_remesher.h"
+#include "layout/disk_regions.h"
 
 #include <algorithm>
 #include <array>
@@ -218,8 +219,8 @@ void refine_sample_counts(RemeshConstraints& constraints, RegionQuadMeshes& mesh
       for (uint32_t value : {current - 1, current + 1}) {
         if (value < 1 || value + 1 < base || value > base + 1) continue;
         resample_arc(constraints, a, value);
-        bool polygons = true;  // every loop keeps >= 3 points (a curve-network polygon)
-        for (uint32_t r : touched) polygons &= fewest_loop_points(constraints, r) >= 3;
+        bool polygons = true;  // every loop stays a curve-network polygon
+        for (uint32_t r : touched) polygons &= loops_are_polygons(constraints, r);
         if (!polygons) {
           resample_arc(constraints, a, current);
           continue;
@@ -228,16 +229,28 @@ void refine_sample_counts(RemeshConstraints& constraints, RegionQuadMeshes& mesh
         std::vector<CurveNetwork> networks(n);
         Candidate screen, full;
         for (Candidate* c : {&screen, &full}) c->selections.resize(n), c->usage.resize(n), c->region_cost.resize(n);
-        // The screen: networks rebuilt, previous configurations carried over and improved.
+        // The screen: networks rebuilt, previous configurations carried over and improved. A try
+        // whose samples make some region's network impossible (a loop without area) is undone.
+        std::vector<uint8_t> impossible(n, 0);
         run_one_or_two(n, threads, [&](size_t i) {
           const uint32_t r = touched[i];
-          networks[i] = region_network(constraints, r, caches[r]);
+          try {
+            networks[i] = region_network(constraints, r, caches[r]);
+          } catch (const Error& e) {
+            if (e.status() == Status::cancelled || e.status() == Status::out_of_memory) throw;
+            impossible[i] = 1;
+            return;
+          }
           const CarriedSelection carried = carry_selection(meshes.networks[r], meshes.selections[r].curves, networks[i]);
           const bool local = networks[i].curves.size() > kLocalRepairCurves;
           screen.selections[i] =
               improve_quad_selection(networks[i], carried.curves, options, {}, local ? &carried.focus : nullptr);
           screen.region_cost[i] = region_irregularity(constraints, r, networks[i], screen.selections[i], screen.usage[i]);
         });
+        if (std::find(impossible.begin(), impossible.end(), 1) != impossible.end()) {
+          resample_arc(constraints, a, current);
+          continue;
+        }
         rate(touched, screen);
         if (!better(screen.cost, screen.energy, before, before_energy)) {
           resample_arc(constraints, a, current);
@@ -515,6 +528,116 @@ std::vector<double> piece_dihedral_degrees(const std::vector<Vec3>& normals,
 
 }  // namespace
 
+constexpr int kLayoutAttempts = 4;
+
+// Faces of a glued mesh that coincide with or fold onto others: a repeated vertex, the same
+// vertex set as another face, an undirected edge of more than two faces or a directed edge of
+// two (both faces of such a pair, all faces of such an edge).
+std::vector<uint32_t> conflicting_faces(const PolygonMesh& mesh) {
+  std::vector<uint32_t> out;
+  std::unordered_map<std::string, uint32_t> by_vertices;
+  std::unordered_map<uint64_t, std::vector<uint32_t>> undirected, directed;
+  std::vector<uint32_t> key;
+  for (uint32_t f = 0; f < mesh.num_faces(); ++f) {
+    const uint32_t n = mesh.face_size(f);
+    key.assign(mesh.face_begin(f), mesh.face_begin(f) + n);
+    std::sort(key.begin(), key.end());
+    if (std::adjacent_find(key.begin(), key.end()) != key.end()) out.push_back(f);
+    const auto [it, inserted] =
+        by_vertices.emplace(std::string(reinterpret_cast<const char*>(key.data()), key.size() * sizeof(uint32_t)), f);
+    if (!inserted) out.push_back(f), out.push_back(it->second);
+    for (uint32_t k = 0; k < n; ++k) {
+      const uint32_t a = mesh.face_vertex(f, k), b = mesh.face_vertex(f, (k + 1) % n);
+      undirected[edge_key(a, b)].push_back(f);
+      directed[(uint64_t(a) << 32) | b].push_back(f);
+    }
+  }
+  for (const auto& [edge, faces] : undirected)
+    if (faces.size() > 2) out.insert(out.end(), faces.begin(), faces.end());
+  for (const auto& [edge, faces] : directed)
+    if (faces.size() > 1) out.insert(out.end(), faces.begin(), faces.end());
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+// Merges each listed region into the neighbouring region with which it shares the longest
+// boundary (never into a pinned one; a region with no such neighbour stays), then renumbers the
+// regions densely in their order. Returns the number merged.
+size_t merge_into_neighbours(const PolygonMesh& tri, std::vector<uint32_t>& face_region, size_t& region_count,
+                             size_t pinned, const std::vector<uint32_t>& regions) {
+  if (regions.empty()) return 0;
+  std::unordered_map<uint64_t, std::pair<uint32_t, uint32_t>> edge_faces;  // edge -> (face, face)
+  for (uint32_t f = 0; f < tri.num_faces(); ++f)
+    for (uint32_t k = 0; k < 3; ++k) {
+      const uint64_t key = edge_key(tri.face_vertex(f, k), tri.face_vertex(f, (k + 1) % 3));
+      auto [it, inserted] = edge_faces.emplace(key, std::make_pair(f, 0xffffffffu));
+      if (!inserted) it->second.second = f;
+    }
+  std::vector<uint8_t> listed(region_count, 0);
+  for (const uint32_t r : regions) listed[r] = 1;
+  // Shared boundary length per (listed region, neighbour).
+  std::unordered_map<uint64_t, double> shared;
+  for (const auto& [key, faces] : edge_faces) {
+    if (faces.second == 0xffffffffu) continue;
+    const uint32_t a = face_region[faces.first], b = face_region[faces.second];
+    if (a == b) continue;
+    const double length = norm(tri.positions[uint32_t(key >> 32)] - tri.positions[uint32_t(key)]);
+    if (listed[a] && b >= pinned) shared[(uint64_t(a) << 32) | b] += length;
+    if (listed[b] && a >= pinned) shared[(uint64_t(b) << 32) | a] += length;
+  }
+  std::vector<uint32_t> target(region_count);
+  for (uint32_t r = 0; r < region_count; ++r) target[r] = r;
+  std::vector<double> best(region_count, 0.0);
+  for (const auto& [key, length] : shared) {
+    const uint32_t a = uint32_t(key >> 32), b = uint32_t(key);
+    if (length > best[a] || (length == best[a] && b < target[a] && target[a] != a)) best[a] = length, target[a] = b;
+  }
+  // A listed region merged into another listed region that is itself merged: follow the chain
+  // (cycles stop at their smallest member).
+  size_t merged = 0;
+  for (uint32_t r = 0; r < region_count; ++r) {
+    if (target[r] == r) continue;
+    uint32_t t = target[r];
+    for (size_t hops = 0; target[t] != t && hops < region_count; ++hops) t = target[t];
+    if (target[t] != t) t = std::min(r, t);
+    target[r] = t;
+  }
+  for (uint32_t r = 0; r < region_count; ++r) merged += target[r] != r;
+  if (merged == 0) return 0;
+  std::vector<uint32_t> id(region_count, 0xffffffffu);
+  uint32_t next = 0;
+  for (uint32_t r = 0; r < region_count; ++r)
+    if (target[r] == r) id[r] = next++;
+  for (uint32_t& r : face_region) r = id[target[r]];
+  region_count = next;
+  return merged;
+}
+
+// Edge-connected components of the faces.
+size_t count_face_components(const PolygonMesh& mesh) {
+  std::vector<uint32_t> parent(mesh.num_vertices());
+  for (uint32_t v = 0; v < parent.size(); ++v) parent[v] = v;
+  auto find = [&](uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  // Faces sharing an edge share its two vertices; components of vertices joined by face edges
+  // equal edge-connected face components except at non-manifold vertices (not in a
+  // conditioned mesh), where they can only be fewer.
+  for (size_t f = 0; f < mesh.num_faces(); ++f)
+    for (uint32_t k = 1; k < mesh.face_size(f); ++k)
+      parent[find(mesh.face_vertex(f, k))] = find(mesh.face_vertex(f, 0));
+  std::vector<uint8_t> root(mesh.num_vertices(), 0);
+  size_t components = 0;
+  for (size_t f = 0; f < mesh.num_faces(); ++f) {
+    const uint32_t x = find(mesh.face_vertex(f, 0));
+    components += !root[x];
+    root[x] = 1;
+  }
+  return components;
+}
+
 QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemeshOptions& o, const TaskMonitor& monitor) {
   const auto start = std::chrono::steady_clock::now();
   check_options(o);
@@ -553,86 +676,167 @@ QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemesh
     vo.region_count = o.max_regions;
     vo.tolerance = o.region_tolerance;
   }
+  // A region count that cannot be met is adjusted (and reported), not refused: at least one
+  // region per connected component (each needs its own), at most one per triangle.
+  r.requested_regions = uint64_t(vo.region_count);
+  if (o.pinned_regions.empty() && o.seed_faces.empty()) {
+    const size_t components = count_face_components(tri);
+    vo.region_count = int(std::min<size_t>(std::max<size_t>(size_t(vo.region_count), components), tri.num_faces()));
+    if (uint64_t(vo.region_count) != r.requested_regions)
+      monitor.log(LogLevel::info, "quad-dominant remeshing: " + std::to_string(r.requested_regions) +
+                                      " regions requested, " + std::to_string(vo.region_count) + " used (" +
+                                      std::to_string(components) + " components, " +
+                                      std::to_string(tri.num_faces()) + " triangles)");
+  }
   if (size_t(vo.region_count) > tri.num_faces())
     fail(Status::invalid_argument, "quad-dominant remeshing: " + std::to_string(vo.region_count) +
                                        " regions requested but the mesh has " + std::to_string(tri.num_faces()) +
                                        " triangles");
   const VsaSegmentation segmentation = segment_vsa(tri, vo, monitor);
-  r.regions = segmentation.num_regions();
-  r.face_region = segmentation.face_region;
   r.l21_error = segmentation.total_area > 0.0 ? segmentation.total_error / segmentation.total_area : 0.0;
   r.segmentation_seconds = seconds_since(start);
 
-  auto t = std::chrono::steady_clock::now();
+  // Disk regions, then the layout; a region whose network, selection or glued faces fail is
+  // split in two and the layout redone (at most kLayoutAttempts times).
+  r.face_region = segmentation.face_region;
+  size_t region_count = segmentation.num_regions();
   ConstraintOptions co;
   co.spacing = spacing_from_bbox_fraction(tri, o.edge_length);
-  RemeshConstraints constraints =
-      compute_remesh_constraints(tri, segmentation.face_region, segmentation.num_regions(), co, monitor);
-  r.constraint_seconds = seconds_since(t);
-
-  t = std::chrono::steady_clock::now();
   SelectionOptions so;
   so.weights.triangle = o.triangle_weight;
   so.weights.pentagon = o.pentagon_weight;
   so.weights.t_joint = o.t_joint_weight;
-  std::vector<BendingFitCache> fit_caches;  // for the refinement's rebuilds of the same regions
-  RegionQuadMeshes meshes = select_region_quads(constraints, CurveNetworkOptions{}, so, o.threads, monitor,
-                                                o.sample_refinement_passes > 0 ? &fit_caches : nullptr);
-  if (o.sample_refinement_passes > 0)
-    refine_sample_counts(constraints, meshes, so, fit_caches, o.sample_refinement_passes, size_t(o.sample_refinement_max_curves),
-                         o.threads, monitor);
-  r.selection_seconds = seconds_since(t);
-  r.energy = meshes.energy;
-  for (const QuadSelection& s : meshes.selections) r.phase1_energy += s.phase1_energy;
-
-  // Post-processing.
-  t = std::chrono::steady_clock::now();
-  const GlobalSamples samples = global_samples(tri, constraints);
-  r.arcs = constraints.arcs.size();
-  for (const ArcConstraint& arc : constraints.arcs) r.arc_segments.push_back(uint32_t(arc.samples.t.size() - 1));
-  r.samples = samples.positions.size();
   std::vector<Vec3> normals;
   std::vector<double> areas;
   triangle_normals_and_areas(tri, normals, areas);
-
+  RemeshConstraints constraints;
+  RegionQuadMeshes meshes;
+  GlobalSamples samples;
   PolygonMesh glued;
-  glued.positions = samples.positions;
   std::vector<Vec3> reference_normal;  // per glued face: the input normal under its centroid
-  const size_t regions = constraints.domains.size();
-  for (uint32_t region = 0; region < regions; ++region) {
-    monitor.report("post-processing", 0.9 * double(region) / double(std::max<size_t>(1, regions)));
-    const QuadSelection& s = meshes.selections[region];
-    if (s.invalid_faces > 0)
-      fail(Status::internal_error, "quad-dominant remeshing: region " + std::to_string(region) + " has " +
-                                       std::to_string(s.invalid_faces) + " invalid (flipped or hole) faces");
-    const std::vector<uint32_t> point_ids = region_point_ids(constraints, samples, region);
-    if (point_ids.size() != meshes.networks[region].points.size())
-      fail(Status::internal_error, "quad-dominant remeshing: region " + std::to_string(region) +
-                                       ": network points do not match the constrained samples");
-    std::vector<Point2> uv;
-    relax_region(s, o.relaxation_iterations, uv);
-    RegionLocator locator{&tri, &constraints.domains[region], {}};
-    std::vector<uint32_t> global(uv.size());
-    for (size_t v = 0; v < uv.size(); ++v) {
-      if (s.vertex_point[v] >= 0) {
-        global[v] = point_ids[size_t(s.vertex_point[v])];
-        continue;
+  for (int attempt = 0;; ++attempt) {
+    auto t = std::chrono::steady_clock::now();
+    DiskRegionReport disk;
+    std::vector<RegionParameterization> domains =
+        make_disk_regions(tri, r.face_region, region_count, o.pinned_regions.size(), {}, &disk, monitor);
+    r.split_regions += disk.split_regions;
+    if (disk.split_regions > 0)
+      monitor.log(LogLevel::info, "quad-dominant remeshing: " + std::to_string(disk.split_regions) +
+                                      " region split(s) for disk-like regions (" +
+                                      std::to_string(disk.topology_splits) + " closed or with handles, " +
+                                      std::to_string(disk.fold_splits) + " folded maps), " +
+                                      std::to_string(region_count) + " regions");
+    constraints = compute_remesh_constraints(tri, r.face_region, region_count, co, monitor, &domains);
+    r.constraint_seconds += seconds_since(t);
+
+    t = std::chrono::steady_clock::now();
+    std::vector<BendingFitCache> fit_caches;  // for the refinement's rebuilds of the same regions
+    std::vector<RegionFailure> failures;
+    meshes = select_region_quads(constraints, CurveNetworkOptions{}, so, o.threads, monitor,
+                                 o.sample_refinement_passes > 0 ? &fit_caches : nullptr, &failures);
+    for (uint32_t region = 0; region < meshes.selections.size(); ++region)
+      if (meshes.selections[region].invalid_faces > 0)
+        failures.push_back({region, "quad-dominant remeshing: region " + std::to_string(region) + " has " +
+                                        std::to_string(meshes.selections[region].invalid_faces) +
+                                        " invalid (flipped or hole) faces"});
+    if (failures.empty() && o.sample_refinement_passes > 0)
+      refine_sample_counts(constraints, meshes, so, fit_caches, o.sample_refinement_passes,
+                           size_t(o.sample_refinement_max_curves), o.threads, monitor);
+    r.selection_seconds += seconds_since(t);
+
+    // Post-processing: the regions' layouts glued by their shared samples.
+    t = std::chrono::steady_clock::now();
+    samples = global_samples(tri, constraints);
+    glued = PolygonMesh();
+    glued.positions = samples.positions;
+    reference_normal.clear();
+    std::vector<uint32_t> glued_region;  // per glued face
+    const size_t regions = constraints.domains.size();
+    for (uint32_t region = 0; failures.empty() && region < regions; ++region) {
+      monitor.report("post-processing", 0.9 * double(region) / double(std::max<size_t>(1, regions)));
+      const QuadSelection& s = meshes.selections[region];
+      const std::vector<uint32_t> point_ids = region_point_ids(constraints, samples, region);
+      if (point_ids.size() != meshes.networks[region].points.size())
+        fail(Status::internal_error, "quad-dominant remeshing: region " + std::to_string(region) +
+                                         ": network points do not match the constrained samples");
+      std::vector<Point2> uv;
+      relax_region(s, o.relaxation_iterations, uv);
+      RegionLocator locator{&tri, &constraints.domains[region], {}};
+      std::vector<uint32_t> global(uv.size());
+      for (size_t v = 0; v < uv.size(); ++v) {
+        if (s.vertex_point[v] >= 0) {
+          global[v] = point_ids[size_t(s.vertex_point[v])];
+          continue;
+        }
+        const RegionLocator::Hit hit = locator.locate(uv[v]);
+        r.outside_domain_vertices += !hit.inside;
+        global[v] = glued.add_vertex(locator.position(hit));
       }
-      const RegionLocator::Hit hit = locator.locate(uv[v]);
-      r.outside_domain_vertices += !hit.inside;
-      global[v] = glued.add_vertex(locator.position(hit));
-    }
-    for (const std::vector<uint32_t>& face : s.faces) {
-      std::vector<uint32_t> ids;
-      Point2 centroid{0.0, 0.0};
-      for (uint32_t v : face) {
-        ids.push_back(global[v]);
-        centroid = plane2::add(centroid, uv[v]);
+      for (const std::vector<uint32_t>& face : s.faces) {
+        std::vector<uint32_t> ids;
+        Point2 centroid{0.0, 0.0};
+        for (uint32_t v : face) {
+          ids.push_back(global[v]);
+          centroid = plane2::add(centroid, uv[v]);
+        }
+        glued.add_face(ids.data(), ids.size());
+        glued_region.push_back(region);
+        reference_normal.push_back(normals[locator.locate(plane2::scale(centroid, 1.0 / double(face.size()))).face]);
       }
-      glued.add_face(ids.data(), ids.size());
-      reference_normal.push_back(normals[locator.locate(plane2::scale(centroid, 1.0 / double(face.size()))).face]);
     }
+    if (failures.empty()) {
+      // Faces of two regions that coincide or fold onto each other (a duplicate face, an edge of
+      // three faces, a repeated vertex): both regions are split.
+      std::vector<uint32_t> bad_regions;
+      for (const uint32_t f : conflicting_faces(glued)) bad_regions.push_back(glued_region[f]);
+      std::sort(bad_regions.begin(), bad_regions.end());
+      bad_regions.erase(std::unique(bad_regions.begin(), bad_regions.end()), bad_regions.end());
+      for (const uint32_t region : bad_regions)
+        failures.push_back({region, "quad-dominant remeshing: region " + std::to_string(region) +
+                                        "'s faces coincide with or fold onto a neighbouring region's"});
+    }
+    r.postprocess_seconds += seconds_since(t);
+    if (failures.empty()) break;
+    size_t split = 0, merged = 0;
+    if (attempt + 1 < kLayoutAttempts) {
+      std::vector<uint32_t> slivers;
+      for (const RegionFailure& failure : failures)
+        if (failure.degenerate_boundary && failure.region >= o.pinned_regions.size()) slivers.push_back(failure.region);
+      merged = merge_into_neighbours(tri, r.face_region, region_count, o.pinned_regions.size(), slivers);
+    }
+    if (attempt + 1 < kLayoutAttempts && merged == 0)
+      for (const RegionFailure& failure : failures) {
+        if (failure.region < o.pinned_regions.size()) continue;
+        std::vector<uint32_t> faces;
+        for (uint32_t f = 0; f < r.face_region.size(); ++f)
+          if (r.face_region[f] == failure.region) faces.push_back(f);
+        const std::vector<uint32_t> second = split_region_in_two(tri, faces);
+        if (second.empty() || second.size() == faces.size()) continue;
+        for (const uint32_t f : second) r.face_region[f] = uint32_t(region_count);
+        ++region_count;
+        ++split;
+      }
+    if (split == 0 && merged == 0) {
+      std::string message = failures.front().message;
+      if (failures.size() > 1) message += " (and " + std::to_string(failures.size() - 1) + " more regions)";
+      fail(Status::internal_error, message.rfind("quad-dominant", 0) == 0 ? message : "quad-dominant remeshing: " + message);
+    }
+    r.split_regions += split;
+    r.merged_regions += merged;
+    r.layout_retries += 1;
+    monitor.log(LogLevel::info, "quad-dominant remeshing: " + failures.front().message +
+                                    (failures.size() > 1 ? " (and " + std::to_string(failures.size() - 1) + " more)"
+                                                         : std::string()) +
+                                    "; " + std::to_string(merged) + " sliver region(s) merged, " +
+                                    std::to_string(split) + " region(s) split, layout redone");
   }
+  r.regions = region_count;
+  r.energy = meshes.energy;
+  for (const QuadSelection& s : meshes.selections) r.phase1_energy += s.phase1_energy;
+  r.arcs = constraints.arcs.size();
+  for (const ArcConstraint& arc : constraints.arcs) r.arc_segments.push_back(uint32_t(arc.samples.t.size() - 1));
+  r.samples = samples.positions.size();
+  auto t = std::chrono::steady_clock::now();
 
   // Drop samples no face uses (none expected: every boundary edge of a region is a face edge).
   std::vector<uint32_t> remap(glued.num_vertices(), 0xffffffffu);
@@ -685,7 +889,7 @@ QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemesh
   if (!check.ok())
     fail(Status::internal_error, "quad-dominant remeshing produced an invalid mesh: " + check.summary());
   static_cast<RemeshQuality&>(r) = measure_remesh_quality(mesh, vertex_normals);
-  r.postprocess_seconds = seconds_since(t);
+  r.postprocess_seconds += seconds_since(t);
   monitor.report("post-processing", 1.0);
   r.seconds = seconds_since(start);
   return r;

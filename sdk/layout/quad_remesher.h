@@ -69,7 +69,13 @@ struct QuadRemeshOptions {
 // The RemeshQuality part: faces, vertices, quads, valences, min scaled Jacobian of cage.mesh.
 struct QuadRemeshResult : RemeshQuality {
   Cage cage;              // the glued mesh; sharp region-boundary edges tagged infinitely sharp
-  uint64_t regions = 0;   // VSA regions
+  uint64_t regions = 0;   // regions used: VSA's, then split until each is a disk (disk_regions.h)
+  uint64_t requested_regions = 0;  // the count asked for (raised to the component count, capped
+                                   // at the triangle count, when no regions are pinned or seeded)
+  uint64_t split_regions = 0;      // splits made: for disk-like regions with injective maps, and
+                                   // of regions whose layout failed (the layout is then redone)
+  uint64_t merged_regions = 0;     // sliver regions (no area in their sample loop) merged into a neighbour
+  uint64_t layout_retries = 0;     // layouts redone after such splits or merges
   // The VSA region of every triangle of the fan-triangulated input (input faces in order, a face
   // of n corners giving n - 2 triangles); the host's pinned regions are ids 0 .. pinned - 1.
   std::vector<uint32_t> face_region;

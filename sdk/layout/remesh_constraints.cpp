@@ -18,7 +18,10 @@ double spacing_from_bbox_fraction(const PolygonMesh& mesh, double fraction) {
 
 RemeshConstraints compute_remesh_constraints(const PolygonMesh& triangles, const std::vector<uint32_t>& face_region,
                                              size_t num_regions, const ConstraintOptions& options,
-                                             const TaskMonitor& monitor) {
+                                             const TaskMonitor& monitor, std::vector<RegionParameterization>* domains) {
+  if (domains && domains->size() != num_regions)
+    fail(Status::invalid_argument, "remesh constraints: " + std::to_string(domains->size()) + " domains for " +
+                                       std::to_string(num_regions) + " regions");
   if (!(options.spacing > 0.0) || !std::isfinite(options.spacing))
     fail(Status::invalid_argument, "remesh constraints: the sample spacing must be positive and finite");
   RemeshConstraints out;
@@ -53,7 +56,10 @@ RemeshConstraints compute_remesh_constraints(const PolygonMesh& triangles, const
   out.region_arcs.resize(num_regions);
   for (uint32_t r = 0; r < num_regions; ++r) {
     if (faces[r].empty()) fail(Status::invalid_argument, "remesh constraints: region " + std::to_string(r) + " is empty");
-    out.domains.push_back(parameterize_region_lscm(triangles, faces[r]));
+    if (domains && !(*domains)[r].faces.empty())
+      out.domains.push_back(std::move((*domains)[r]));
+    else
+      out.domains.push_back(parameterize_region_lscm(triangles, faces[r]));
     const RegionParameterization& domain = out.domains.back();
     // The outer loop is the one with the largest signed area in Ω_i (the longest in 3D need
     // not be, e.g. on an annulus around a torus' tube); it goes first.
@@ -135,9 +141,13 @@ RemeshConstraints compute_remesh_constraints(const PolygonMesh& triangles, const
     for (size_t a = 0; a < ideal.size(); ++a) segments[a] = uint32_t(std::max(1L, long(std::ceil(ideal[a] - 1e-9))));
   }
   // A loop is a polygon of the curve network: it needs at least 3 constrained points (the sum of
-  // its arcs' segment counts); short closed loops get their arcs' counts raised in turn.
+  // its arcs' segment counts), and a loop of two arcs a sample inside each (else its 3 points are
+  // the two anchors and one sample, collinear where the arcs are nearly straight: a sliver
+  // region with no area); short loops get their arcs' counts raised in turn.
   for (const std::vector<RegionLoop>& loops : out.boundaries.region_loops)
     for (const RegionLoop& loop : loops) {
+      if (loop.arcs.size() == 2)
+        for (uint32_t a : loop.arcs) segments[a] = std::max<uint32_t>(segments[a], 2);
       uint64_t points = 0;
       for (uint32_t a : loop.arcs) points += segments[a];
       for (size_t k = 0; points < 3 && !loop.arcs.empty(); ++k, ++points) ++segments[loop.arcs[k % loop.arcs.size()]];
@@ -158,6 +168,19 @@ uint64_t fewest_loop_points(const RemeshConstraints& constraints, uint32_t regio
     fewest = std::min(fewest, points);
   }
   return fewest;
+}
+
+bool loops_are_polygons(const RemeshConstraints& constraints, uint32_t region) {
+  for (const RegionLoop& loop : constraints.boundaries.region_loops.at(region)) {
+    uint64_t points = 0;
+    for (uint32_t a : loop.arcs) {
+      const uint64_t segments = constraints.arcs[a].samples.t.size() - 1;
+      if (loop.arcs.size() == 2 && segments < 2) return false;
+      points += segments;
+    }
+    if (points < 3) return false;
+  }
+  return true;
 }
 
 void resample_arc(RemeshConstraints& constraints, uint32_t arc, uint32_t segments) {

@@ -84,6 +84,10 @@ void resample_arc(RemeshConstraints& constraints, uint32_t arc, uint32_t segment
 // for a region without loops; std::out_of_range for a bad region id.
 uint64_t fewest_loop_points(const RemeshConstraints& constraints, uint32_t region);
 
+// Every loop of `region` can be a curve-network polygon: >= 3 constrained points, and a sample
+// inside each arc of a two-arc loop (compute_remesh_constraints guarantees both).
+bool loops_are_polygons(const RemeshConstraints& constraints, uint32_t region);
+
 // The sample-count problem: per arc the ideal number of segments len/δ and per region its sides
 // (runs of arcs between two corners; a loop without corners is one side). A region with
 // `quad_like` (exactly four sides, one loop) also pays for unequal opposite sides.
@@ -118,8 +122,11 @@ double segment_allocation_cost(const std::vector<uint32_t>& segments, const std:
 // δ = fraction * bounding-box diagonal (the thesis gives δ as 2%-10% of the diagonal).
 double spacing_from_bbox_fraction(const PolygonMesh& mesh, double fraction);
 
+// `domains` (optional): the regions' LSCM maps already computed (make_disk_regions, in region
+// order), moved from; an empty entry is computed here.
 RemeshConstraints compute_remesh_constraints(const PolygonMesh& triangles, const std::vector<uint32_t>& face_region,
                                              size_t num_regions, const ConstraintOptions& options,
-                                             const TaskMonitor& monitor = {});
+                                             const TaskMonitor& monitor = {},
+                                             std::vector<RegionParameterization>* domains = nullptr);
 
 CAGEKIT_NAMESPACE_END

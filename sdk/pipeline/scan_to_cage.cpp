@@ -133,8 +133,13 @@ std::string percent(double x) {
   return buffer;
 }
 
-std::string evaluate(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonitor& monitor);
-std::string fit_and_judge(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonitor& monitor);
+// `must_beat`: a remedy's candidate is given up (before the costly distance measurement) unless
+// its limit has fewer self-intersecting pairs than this.
+constexpr uint64_t kNoBound = UINT64_MAX;
+std::string evaluate(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonitor& monitor,
+                     uint64_t must_beat = kNoBound);
+std::string fit_and_judge(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonitor& monitor,
+                          uint64_t must_beat = kNoBound);
 
 // True when remedies apply: the limit has more self-intersecting pairs than the conditioned
 // scan (counted once per run, on the first need; a scan too large for the memory budget counts
@@ -189,7 +194,7 @@ void remedy_fit(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonit
     refit.fit.fairing = fairing;
     ScanToCageResult candidate = copy_without_scan(r);
     candidate.conditioned = std::move(r.conditioned);
-    const std::string problem = fit_and_judge(refit, candidate, monitor);
+    const std::string problem = fit_and_judge(refit, candidate, monitor, r.self_intersections.pairs);
     r.conditioned = std::move(candidate.conditioned);
     if (!problem.empty() || candidate.self_intersections.pairs >= r.self_intersections.pairs) continue;
     monitor.log(LogLevel::info, "scan_to_cage: fitted again with fairing " + std::to_string(fairing) + ": " +
@@ -213,7 +218,7 @@ void remedy_own_cage(const ScanToCageOptions& o, ScanToCageResult& r, const Task
     candidate.initial_cage = own_cage(candidate.conditioned, angle);
     candidate.creases = candidate.initial_cage.creases.size();
     candidate.own_cage_crease_angle_used = angle;
-    const std::string problem = evaluate(o, candidate, monitor);
+    const std::string problem = evaluate(o, candidate, monitor, r.self_intersections.pairs);
     r.conditioned = std::move(candidate.conditioned);
     if (!problem.empty() || candidate.self_intersections.pairs >= r.self_intersections.pairs) continue;
     monitor.log(LogLevel::info, "scan_to_cage: own cage creased " +
@@ -268,16 +273,18 @@ std::string attempt(ScanMethod method, const ScanToCageOptions& o, ScanToCageRes
 
 // Phases 3-6 on r.initial_cage. Returns "" when the result is good, else why not (the result's
 // figures are filled as far as they got).
-std::string evaluate(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonitor& monitor) {
+std::string evaluate(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonitor& monitor,
+                     uint64_t must_beat) {
   const PolygonMesh& mesh = r.conditioned;
   const std::string cage_problem = check_cage(r.initial_cage, r);
   if (!cage_problem.empty()) return cage_problem;
   r.method_error = measure_approximation_error(mesh, r.initial_cage.mesh, 4, monitor);
-  return fit_and_judge(o, r, monitor);
+  return fit_and_judge(o, r, monitor, must_beat);
 }
 
 // Phases 4-6 on r.initial_cage (checked by phase 3).
-std::string fit_and_judge(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonitor& monitor) {
+std::string fit_and_judge(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonitor& monitor,
+                          uint64_t must_beat) {
   const PolygonMesh& mesh = r.conditioned;
   const auto t1 = Clock::now();
   r.fit = {};
@@ -291,15 +298,16 @@ std::string fit_and_judge(const ScanToCageOptions& o, ScanToCageResult& r, const
   refine.levels = o.limit_levels;
   refine.limit_positions = true;
   r.limit = refine_uniform(r.cage, refine, monitor);
-  r.limit_error = measure_approximation_error(mesh, r.limit.mesh, 4, monitor);
   r.self_intersections = r.unfitted_self_intersections = {};
   if (o.self_intersection_level > 0) {
     refine.levels = o.self_intersection_level;
     const Cage level = o.self_intersection_level == o.limit_levels ? r.limit : refine_uniform(r.cage, refine, monitor);
     r.self_intersections = count_self_intersections(level.mesh);
+    if (r.self_intersections.pairs >= must_beat) return "no fewer self-intersections";
     if (r.self_intersections.pairs > 0)
       r.unfitted_self_intersections = count_self_intersections(refine_uniform(r.initial_cage, refine, monitor).mesh);
   }
+  r.limit_error = measure_approximation_error(mesh, r.limit.mesh, 4, monitor);
 
   // Phase 6: the good-result rule.
   const double scan_to_limit = r.limit_error.hausdorff_rel, limit_to_scan = r.limit_error.reverse_rel;

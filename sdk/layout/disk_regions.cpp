@@ -1,0 +1,180 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "layout/disk_regions.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <queue>
+#include <string>
+#include <unordered_map>
+#include <utility>
+
+#include "core/status.h"
+
+CAGEKIT_NAMESPACE_BEGIN
+
+namespace {
+
+constexpr double kUnreached = std::numeric_limits<double>::infinity();
+
+// Edge-adjacency of the region's faces (indices into `faces`).
+std::vector<std::vector<uint32_t>> region_adjacency(const PolygonMesh& triangles, const std::vector<uint32_t>& faces) {
+  std::unordered_map<uint64_t, uint32_t> first;  // undirected edge -> first face (local index)
+  std::vector<std::vector<uint32_t>> adjacent(faces.size());
+  first.reserve(faces.size() * 2);
+  for (uint32_t i = 0; i < faces.size(); ++i) {
+    const uint32_t f = faces[i], n = triangles.face_size(f);
+    for (uint32_t k = 0; k < n; ++k) {
+      const uint32_t a = triangles.face_vertex(f, k), b = triangles.face_vertex(f, (k + 1) % n);
+      const uint64_t key = (uint64_t(std::min(a, b)) << 32) | std::max(a, b);
+      const auto [it, inserted] = first.emplace(key, i);
+      if (!inserted) {
+        adjacent[i].push_back(it->second);
+        adjacent[it->second].push_back(i);
+      }
+    }
+  }
+  return adjacent;
+}
+
+Vec3 centroid(const PolygonMesh& mesh, uint32_t f) {
+  Vec3 c;
+  const uint32_t n = mesh.face_size(f);
+  for (uint32_t k = 0; k < n; ++k) c += mesh.positions[mesh.face_vertex(f, k)];
+  return c * (1.0 / double(n));
+}
+
+// Multi-source Dijkstra over face centroids: distance and nearest source per face.
+void geodesic_cells(const std::vector<Vec3>& centre, const std::vector<std::vector<uint32_t>>& adjacent,
+                    const std::vector<uint32_t>& sources, std::vector<double>& distance, std::vector<uint32_t>& cell) {
+  distance.assign(centre.size(), kUnreached);
+  cell.assign(centre.size(), 0xffffffffu);
+  using Item = std::pair<double, uint32_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  for (uint32_t s = 0; s < sources.size(); ++s) {
+    distance[sources[s]] = 0.0;
+    cell[sources[s]] = s;
+    queue.push({0.0, sources[s]});
+  }
+  while (!queue.empty()) {
+    const auto [d, i] = queue.top();
+    queue.pop();
+    if (d > distance[i]) continue;
+    for (const uint32_t j : adjacent[i]) {
+      const double e = d + norm(centre[j] - centre[i]);
+      if (e < distance[j]) {
+        distance[j] = e;
+        cell[j] = cell[i];
+        queue.push({e, j});
+      }
+    }
+  }
+}
+
+uint32_t farthest(const std::vector<double>& distance) {
+  uint32_t best = 0;
+  for (uint32_t i = 0; i < distance.size(); ++i)
+    if (std::isfinite(distance[i]) && distance[i] > distance[best]) best = i;
+  return best;
+}
+
+}  // namespace
+
+std::vector<uint32_t> split_region_in_two(const PolygonMesh& triangles, const std::vector<uint32_t>& faces) {
+  if (faces.size() < 2) return {};
+  const std::vector<std::vector<uint32_t>> adjacent = region_adjacency(triangles, faces);
+  std::vector<Vec3> centre(faces.size());
+  for (size_t i = 0; i < faces.size(); ++i) centre[i] = centroid(triangles, faces[i]);
+  std::vector<double> distance;
+  std::vector<uint32_t> cell;
+  geodesic_cells(centre, adjacent, {0}, distance, cell);
+  std::vector<uint32_t> second;
+  // A disconnected region: its faces not reached from the first face are the second part.
+  for (uint32_t i = 0; i < faces.size(); ++i)
+    if (!std::isfinite(distance[i])) second.push_back(faces[i]);
+  if (!second.empty()) return second;
+  const uint32_t a = farthest(distance);
+  geodesic_cells(centre, adjacent, {a}, distance, cell);
+  const uint32_t b = farthest(distance);
+  if (a == b) return {};
+  geodesic_cells(centre, adjacent, {a, b}, distance, cell);
+  for (uint32_t i = 0; i < faces.size(); ++i)
+    if (cell[i] == 1) second.push_back(faces[i]);
+  return second;
+}
+
+std::vector<RegionParameterization> make_disk_regions(const PolygonMesh& triangles, std::vector<uint32_t>& face_region,
+                                                      size_t& num_regions, size_t pinned,
+                                                      const DiskRegionOptions& options, DiskRegionReport* report,
+                                                      const TaskMonitor& monitor) {
+  if (face_region.size() != triangles.num_faces())
+    fail(Status::invalid_argument, "disk regions: face_region has " + std::to_string(face_region.size()) +
+                                       " entries for " + std::to_string(triangles.num_faces()) + " faces");
+  DiskRegionReport local;
+  DiskRegionReport& rep = report ? *report : local;
+  rep = {};
+  std::vector<std::vector<uint32_t>> faces(num_regions);
+  for (uint32_t f = 0; f < face_region.size(); ++f) {
+    if (face_region[f] >= num_regions) fail(Status::invalid_argument, "disk regions: a region id is out of range");
+    faces[face_region[f]].push_back(f);
+  }
+  std::vector<RegionParameterization> domains(num_regions);
+  std::vector<uint32_t> check(num_regions);
+  for (uint32_t r = 0; r < num_regions; ++r) check[r] = r;
+  for (int round = 0; !check.empty(); ++round) {
+    std::vector<uint32_t> failing;
+    std::vector<bool> by_topology;
+    for (size_t k = 0; k < check.size(); ++k) {
+      const uint32_t r = check[k];
+      monitor.report("disk regions", std::min(0.99, (round + double(k) / double(check.size())) / (options.max_rounds + 1)));
+      bool topology = false, folded = false;
+      try {
+        domains[r] = parameterize_region_lscm(triangles, faces[r], monitor);
+        folded = options.split_folded && domains[r].flipped_triangles > 0;
+      } catch (const Error& e) {
+        if (e.status() != Status::invalid_mesh) throw;
+        topology = true;
+        domains[r] = {};
+      }
+      if (!topology && !folded) continue;
+      if (topology) domains[r] = {};
+      failing.push_back(r);
+      by_topology.push_back(topology);
+    }
+    check.clear();
+    if (failing.empty()) break;
+    if (round == options.max_rounds) {
+      rep.failing_regions += failing.size();
+      break;
+    }
+    for (size_t k = 0; k < failing.size(); ++k) {
+      const uint32_t r = failing[k];
+      if (r < pinned) {
+        ++rep.failing_regions;  // the host's region stays as it is
+        continue;
+      }
+      std::vector<uint32_t> second = split_region_in_two(triangles, faces[r]);
+      if (second.empty() || second.size() == faces[r].size()) {
+        ++rep.failing_regions;
+        continue;
+      }
+      const uint32_t added = uint32_t(num_regions++);
+      for (const uint32_t f : second) face_region[f] = added;
+      std::vector<uint32_t> kept;
+      kept.reserve(faces[r].size() - second.size());
+      for (const uint32_t f : faces[r])
+        if (face_region[f] == r) kept.push_back(f);
+      faces[r] = std::move(kept);
+      faces.push_back(std::move(second));
+      domains.emplace_back();
+      ++rep.split_regions;
+      ++(by_topology[k] ? rep.topology_splits : rep.fold_splits);
+      check.push_back(r);
+      check.push_back(added);
+    }
+  }
+  return domains;
+}
+
+CAGEKIT_NAMESPACE_END

@@ -1,0 +1,51 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// Disk regions for the two-step quad remeshing (thesis §6.4 assumes every VSA region is a disk,
+// possibly with holes, whose LSCM map Ω_i is injective; on meshes with many components, handles
+// or strongly curved parts VSA's regions need not be). make_disk_regions parameterises every
+// region with LSCM and splits each region that is closed, has a handle or folds in its map
+// (flipped triangles) into two, along the boundary of the geodesic Voronoi cells (face-centroid
+// distances through the region) of its two mutually farthest faces, then checks the parts again,
+// for at most `max_rounds` rounds. Host-pinned regions (ids below `pinned`) are never split.
+// Not in the thesis: its regions were all disks. Regions that still fail after the last round
+// keep their failure (compute_remesh_constraints reports it).
+//
+// Thread-safety: pure function. Errors: cancelled from the monitor; parameterize_region_lscm's
+// invalid_argument for bad face ids.
+#include <cstdint>
+#include <vector>
+
+#include "core/polygon_mesh.h"
+#include "core/task_monitor.h"
+#include "layout/lscm_parameterization.h"
+
+CAGEKIT_NAMESPACE_BEGIN
+
+struct DiskRegionOptions {
+  int max_rounds = 8;           // split rounds at most (each splits every failing region once)
+  bool split_folded = true;     // also split regions whose LSCM map has flipped triangles
+};
+
+struct DiskRegionReport {
+  uint64_t split_regions = 0;   // splits made (each adds one region)
+  uint64_t topology_splits = 0; // of those: closed regions, handles, disconnected regions
+  uint64_t fold_splits = 0;     // of those: flipped triangles in the LSCM map
+  uint64_t failing_regions = 0; // regions still not a disk with an injective map after the last round
+};
+
+// Updates face_region / num_regions in place (new regions get the next ids) and returns the LSCM
+// domain of every final region, in region order, for compute_remesh_constraints; the entry of a
+// region that still cannot be parameterised (closed, a handle) is empty (faces empty), a region
+// that still folds keeps its map.
+std::vector<RegionParameterization> make_disk_regions(const PolygonMesh& triangles, std::vector<uint32_t>& face_region,
+                                                      size_t& num_regions, size_t pinned,
+                                                      const DiskRegionOptions& options = {},
+                                                      DiskRegionReport* report = nullptr,
+                                                      const TaskMonitor& monitor = {});
+
+// Splits one region (its faces, edge-connected through the region) into the geodesic Voronoi
+// cells of its two mutually farthest faces; returns the faces of the second cell (empty when the
+// region has fewer than two faces). Exposed for tests.
+std::vector<uint32_t> split_region_in_two(const PolygonMesh& triangles, const std::vector<uint32_t>& faces);
+
+CAGEKIT_NAMESPACE_END
