@@ -35,23 +35,7 @@ namespace {
 
 const double kPi = 3.14159265358979323846;
 
-// Torus about the z axis: ring radius R, tube radius r, outward-oriented triangles.
-PolygonMesh torus(double R, double r, int n_u, int n_v) {
-  PolygonMesh m;
-  for (int i = 0; i < n_u; ++i)
-    for (int j = 0; j < n_v; ++j) {
-      const double u = 2 * kPi * i / n_u, v = 2 * kPi * j / n_v;
-      m.add_vertex({(R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u), r * std::sin(v)});
-    }
-  auto id = [&](int i, int j) { return uint32_t((i % n_u) * n_v + (j % n_v)); };
-  for (int i = 0; i < n_u; ++i)
-    for (int j = 0; j < n_v; ++j) {
-      const uint32_t a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
-      m.add_face({a, b, c});
-      m.add_face({a, c, d});
-    }
-  return m;
-}
+using cagekit_test::triangle_torus;
 
 
 // A smooth closed surface of genus `holes`: a one-voxel-thick plate of nx x ny cells with
@@ -249,7 +233,7 @@ TEST(CurvatureLineMesher, CylinderGivesAlignedQuads) {
 }
 
 TEST(CurvatureLineMesher, TorusIsClosedGenusOneAndAligned) {
-  Result r = remesh(torus(2.0, 0.7, 160, 64), 0.002);
+  Result r = remesh(triangle_torus(2.0, 0.7, 160, 64), 0.002);
   const Topology t = topology(r.out);
   print("torus", r, t);
   EXPECT_EQ(t.euler(), 0);  // genus 1
@@ -381,7 +365,7 @@ TEST(CurvatureLineMesher, RealMeshes) {
 // Scale check (run explicitly: --gtest_also_run_disabled_tests): a 1M-triangle torus, timings
 // per stage and the peak resident memory of the process.
 TEST(CurvatureLineMesher, DISABLED_MillionTrianglesScale) {
-  const PolygonMesh input = torus(2.0, 0.7, 1000, 500);
+  const PolygonMesh input = triangle_torus(2.0, 0.7, 1000, 500);
   cagekit::AnisotropicRemeshOptions o;
   o.tolerance = 0.0005;
   o.threads = 2;

@@ -207,23 +207,6 @@ TEST(QuadRemesher, RockerArmTableSixOneValidCage) {
   EXPECT_NEAR(double(r.faces), 431.0, 0.3 * 431.0);
 }
 
-// A torus as triangles (nu x nv quads split along one diagonal).
-PolygonMesh triangle_torus(double R, double r, int nu, int nv) {
-  PolygonMesh m;
-  for (int i = 0; i < nu; ++i)
-    for (int j = 0; j < nv; ++j) {
-      const double u = 2 * M_PI * i / nu, v = 2 * M_PI * j / nv;
-      m.add_vertex({(R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u), r * std::sin(v)});
-    }
-  auto id = [&](int i, int j) { return uint32_t(((i + nu) % nu) * nv + (j + nv) % nv); };
-  for (int i = 0; i < nu; ++i)
-    for (int j = 0; j < nv; ++j) {
-      m.add_face({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-      m.add_face({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-    }
-  return m;
-}
-
 // Issue "quad on any mesh": a region that is closed or has a handle is split until every region
 // is a disk (possibly with holes), instead of the LSCM refusing it.
 TEST(QuadRemesher, ClosedRegionsAndHandlesAreSplitIntoDisks) {
@@ -234,7 +217,7 @@ TEST(QuadRemesher, ClosedRegionsAndHandlesAreSplitIntoDisks) {
   const Checked sphere = run_and_check(cagekit_test::triangle_sphere(3), o, "sphere, 1 region");
   EXPECT_GE(sphere.result.split_regions, 1u);
   EXPECT_EQ(sphere.result.regions, 1u + sphere.result.split_regions - sphere.result.merged_regions);
-  const Checked torus = run_and_check(triangle_torus(1.0, 0.35, 36, 12), o, "torus, 1 region");
+  const Checked torus = run_and_check(cagekit_test::triangle_torus(1.0, 0.35, 36, 12), o, "torus, 1 region");
   EXPECT_GE(torus.result.split_regions, 1u);
   EXPECT_GE(torus.result.regions, 2u);
 }

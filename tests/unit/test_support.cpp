@@ -73,6 +73,24 @@ PolygonMesh quad_grid(int nx, int ny, double (*height)(double, double)) {
   return m;
 }
 
+PolygonMesh triangle_torus(double R, double r, int n_u, int n_v) {
+  const double pi = 3.14159265358979323846;
+  PolygonMesh m;
+  for (int i = 0; i < n_u; ++i)
+    for (int j = 0; j < n_v; ++j) {
+      const double u = 2 * pi * i / n_u, v = 2 * pi * j / n_v;
+      m.add_vertex({(R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u), r * std::sin(v)});
+    }
+  auto id = [&](int i, int j) { return uint32_t((i % n_u) * n_v + (j % n_v)); };
+  for (int i = 0; i < n_u; ++i)
+    for (int j = 0; j < n_v; ++j) {
+      const uint32_t a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
+      m.add_face({a, b, c});
+      m.add_face({a, c, d});
+    }
+  return m;
+}
+
 PolygonMesh triangle_sphere(int levels) {
   PolygonMesh m;
   const Vec3 v[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};

@@ -39,6 +39,10 @@ cagekit::PolygonMesh triangle_cylinder(double radius, double height, int n_aroun
 // A UV-sphere-like closed mesh of triangles (an octahedron subdivided `levels` times, projected).
 cagekit::PolygonMesh triangle_sphere(int levels);
 
+// Torus about the z axis: ring radius R, tube radius r, n_u x n_v quads each split along its
+// diagonal (a, c), outward-oriented triangles.
+cagekit::PolygonMesh triangle_torus(double R, double r, int n_u, int n_v);
+
 // An open, gently curved 20x20 quad grid (the scan) and a 4x4 quad cage over the same square
 // with its vertices on the same height field (z = 0.05 sin(0.3 x) y).
 struct OpenGrid {
