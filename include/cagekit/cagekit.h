@@ -1349,18 +1349,27 @@ typedef struct cagekit_remesh_report {
                                      corner); T-joint vertices (within 10° of straight) are not corners;
                                      < 0 only at a concave corner */
   double seconds;                 /* whole call */
+  /* QUAD: how the regions were made disk-like (0 for ANISOTROPIC). */
+  uint64_t requested_regions;     /* the count asked for (`regions` of the options, or max_regions): raised to
+                                     the mesh's connected components and capped at its triangles when no
+                                     regions are pinned or seeded */
+  uint64_t split_regions;         /* regions split: closed, with a handle, a folding map, or a failed layout */
+  uint64_t merged_regions;        /* sliver regions (their sample loop has no area) merged into a neighbour */
+  uint64_t layout_retries;        /* layouts redone after such splits or merges (at most 3) */
 } cagekit_remesh_report;
 
 /* Remeshes `mesh` with `options` (NULL: defaults) into a new cage: the output polygon mesh, with
  * the edges on feature lines (ANISOTROPIC) or sharp region boundaries (QUAD) tagged as infinitely
  * sharp creases; the output is a valid oriented 2-manifold. The mesh must be an oriented
  * 2-manifold (boundary allowed) with finite positions; faces with more than 3 vertices are
- * fan-triangulated first. Errors: INVALID_ARGUMENT (NULL out, bad options or method; QUAD: more
- * regions than triangles, or fewer than the mesh's connected components), INVALID_MESH (naming
- * the problem: faces with < 3 or repeated vertices, bad indices, non-manifold or inconsistently
- * oriented edges, non-finite positions, an empty or zero-extent mesh; QUAD: a region with a
- * handle, which its parameterisation cannot flatten: use more regions), CANCELLED,
- * OUT_OF_MEMORY, INTERNAL (the result failed its validity check). An input on which no lines
+ * fan-triangulated first. Errors: INVALID_ARGUMENT (NULL out, bad options or method; QUAD: with
+ * pinned regions or seeds, more regions than triangles or fewer than the mesh's connected
+ * components; without them the count is adjusted and reported), INVALID_MESH (naming the
+ * problem: faces with < 3 or repeated vertices, bad indices, non-manifold or inconsistently
+ * oriented edges, non-finite positions, an empty or zero-extent mesh; QUAD: a pinned region with
+ * a handle; other regions that are closed, have a handle or fold are split), CANCELLED,
+ * OUT_OF_MEMORY, INTERNAL (the result failed its validity check after the retries, naming the
+ * region). An input on which no lines
  * intersect (ANISOTROPIC, too large a tolerance for its size) is INVALID_MESH with a message
  * saying so. `report` may be NULL.
  * Long operation (progress stages ANISOTROPIC "curvature field", "curvature lines", "meshing";

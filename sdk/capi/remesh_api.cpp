@@ -52,6 +52,10 @@ CAGEKIT_API cagekit_status cagekit_mesh_remesh(cagekit_mesh mesh, const cagekit_
       rep.regions = r.regions;
       rep.lines = r.arcs;
       rep.seconds = r.seconds;
+      rep.requested_regions = r.requested_regions;
+      rep.split_regions = r.split_regions;
+      rep.merged_regions = r.merged_regions;
+      rep.layout_retries = r.layout_retries;
       cage = std::move(r.cage);
     } else {
       const cagekit::AnisotropicRemeshOptions ao = anisotropic_options_from_c(o);

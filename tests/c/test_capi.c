@@ -1555,9 +1555,33 @@ static void quad_remesh_of_a_cylinder(void) {
   CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK(strstr(cagekit_last_error_message(context), "weight") != NULL);
   options.pentagon_weight = 40.0;
-  options.regions = 1000000; /* more regions than triangles */
-  CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
-  CHECK(strstr(cagekit_last_error_message(context), "regions") != NULL);
+  {
+    /* More regions than triangles with a seed (the host's regions are not adjusted): refused. */
+    const uint32_t seed[1] = {0};
+    options.regions = 1000000;
+    options.seed_faces = seed;
+    options.seed_face_count = 1;
+    CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    CHECK(strstr(cagekit_last_error_message(context), "regions") != NULL);
+    options.seed_faces = NULL;
+    options.seed_face_count = 0;
+  }
+  {
+    /* Without pins or seeds a count the mesh cannot take is adjusted, not refused (capped at
+     * the triangle count), and the report says what was asked and what was done. */
+    options.regions = 1000000;
+    options.edge_length = 0.2;
+    options.refinement_passes = 0;
+    memset(&report, 0, sizeof(report));
+    report.struct_size = sizeof(report);
+    CHECK_OK(cagekit_mesh_remesh(mesh, &options, &cage, &report));
+    CHECK(report.requested_regions == 1000000);
+    CHECK(report.regions + report.merged_regions == 32 * 24 * 2 + report.split_regions);
+    options.edge_length = 0.08;
+    options.refinement_passes = 1;
+    cagekit_cage_release(cage);
+    cage = (cagekit_cage)1;
+  }
   options.regions = 6;
   options.refinement_passes = 17;
   CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
