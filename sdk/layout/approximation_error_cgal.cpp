@@ -7,11 +7,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <thread>
 #include <vector>
 
 #include "layout/approximation_error.h"
 
 #include "core/memory_budget.h"
+#include "core/parallel_for.h"
 #include "layout/cgal_guard.h"
 
 CAGEKIT_NAMESPACE_BEGIN
@@ -135,20 +137,33 @@ ApproximationError measure_approximation_error_cgal(const PolygonMesh& input, co
 
   // Samples of the approximation -> input surface.
   AabbTree input_tree(input_triangles.begin(), input_triangles.end());
+  // Built now (tree and search structure) so that the worker threads' queries only read it.
+  input_tree.build();
   input_tree.accelerate_distance_queries();
   const int n = std::max(1, samples_per_edge);
-  double max_back = 0;
-  for (size_t t = 0; t < approx_triangles.size(); ++t) {
-    const Triangle& tri = approx_triangles[t];
-    for (int i = 0; i <= n; ++i)
-      for (int j = 0; i + j <= n; ++j) {
-        const double a = double(i) / n, b = double(j) / n, c = 1.0 - a - b;
-        const Point p(a * tri[0].x() + b * tri[1].x() + c * tri[2].x(), a * tri[0].y() + b * tri[1].y() + c * tri[2].y(),
-                      a * tri[0].z() + b * tri[1].z() + c * tri[2].z());
-        max_back = std::max(max_back, input_tree.squared_distance(p));
-      }
-    if ((t & 0xfff) == 0) monitor.report("error", 0.5 + 0.5 * double(t) / double(approx_triangles.size()));
-  }
+  // The largest distance does not depend on the order: the triangles are split over the
+  // hardware threads (progress and cancellation on the calling thread's range only).
+  const size_t workers = std::max<size_t>(
+      1, std::min<size_t>(std::thread::hardware_concurrency(), approx_triangles.size() / 4096));
+  std::vector<double> worker_max(workers, 0.0);
+  run_ranges(approx_triangles.size(), workers, [&](size_t begin, size_t end, size_t w) {
+    double local = 0;
+    for (size_t t = begin; t < end; ++t) {
+      const Triangle& tri = approx_triangles[t];
+      for (int i = 0; i <= n; ++i)
+        for (int j = 0; i + j <= n; ++j) {
+          const double a = double(i) / n, b = double(j) / n, c = 1.0 - a - b;
+          const Point p(a * tri[0].x() + b * tri[1].x() + c * tri[2].x(),
+                        a * tri[0].y() + b * tri[1].y() + c * tri[2].y(),
+                        a * tri[0].z() + b * tri[1].z() + c * tri[2].z());
+          local = std::max(local, input_tree.squared_distance(p));
+        }
+      if (w == 0 && ((t - begin) & 0xfff) == 0)
+        monitor.report("error", 0.5 + 0.5 * double(t - begin) / double(std::max<size_t>(1, end - begin)));
+    }
+    worker_max[w] = local;
+  });
+  const double max_back = *std::max_element(worker_max.begin(), worker_max.end());
   result.reverse_rel = std::sqrt(max_back) / diagonal;
   result.hausdorff_sym_rel = std::max(result.hausdorff_rel, result.reverse_rel);
   monitor.report("error", 1.0);
