@@ -290,9 +290,15 @@ std::string fit_and_judge(const ScanToCageOptions& o, ScanToCageResult& r, const
   r.fit = {};
   r.cage = fit_cage_to_mesh(r.initial_cage, mesh, o.fit, &r.fit, monitor);
   r.fit_seconds = seconds_since(t1);
-  // The fit moves every control vertex: faces can collapse or fold onto each other.
+  // The fit moves every control vertex: faces can collapse or fold onto each other. Then its
+  // initial state (pass 0, the method's cage) is the result, judged like any other.
   const ValidationReport fitted = validate_cage(r.cage, 1);
-  if (!fitted.ok()) return "the fitted cage is not valid: " + fitted.summary();
+  if (!fitted.ok()) {
+    monitor.log(LogLevel::warning, "scan_to_cage: the fitted cage is not valid (" + fitted.summary() +
+                                       "): the unfitted cage is kept");
+    r.cage = r.initial_cage;
+    r.fit.best_pass = 0;
+  }
 
   RefineOptions refine;
   refine.levels = o.limit_levels;

@@ -190,7 +190,13 @@ fi
 expect_bad "remesh --method quad with two weights" "$cli" remesh "$tmp/cube.obj" "$tmp/out.obj" --method quad --weights 1,2 --quiet
 expect_bad "remesh --method quad with 17 refinement passes" "$cli" remesh "$tmp/cube.obj" "$tmp/out.obj" --method quad --refinement-passes 17 --quiet
 expect_bad "remesh --method quad with a zero edge length" "$cli" remesh "$tmp/cube.obj" "$tmp/out.obj" --method quad --edge-length 0 --quiet
-expect_bad "remesh --method quad with more regions than triangles" "$cli" remesh "$tmp/cube.obj" "$tmp/out.obj" --method quad --regions 100000 --quiet
+# More regions than triangles: the count is capped at the triangle count and reported, not refused.
+if "$cli" remesh "$tmp/cube.obj" "$tmp/capped.obj" --method quad --regions 100000 --json --quiet >"$tmp/capped.json" &&
+   grep -q '"regions": ' "$tmp/capped.json" && "$cli" info "$tmp/capped.obj" >/dev/null; then
+  pass "remesh --method quad with more regions than triangles: capped, valid cage"
+else
+  cat "$tmp/capped.json"; fail "remesh --method quad with more regions than triangles"
+fi
 "$cli" remesh "$tmp/cube.obj" "$tmp/out.obj" --quiet 2>"$tmp/usage.err"; code=$?
 if [ "$code" -eq 64 ] && grep -q "method is required" "$tmp/usage.err"; then pass "usage: remesh without --method (exit 64)"; else cat "$tmp/usage.err"; fail "remesh without --method"; fi
 expect_bad "remesh with an unknown method" "$cli" remesh "$tmp/cube.obj" "$tmp/out.obj" --method quadx --quiet

@@ -149,6 +149,8 @@ class CAGEKIT_OT_scan_to_cage(bpy.types.Operator):
                 fit={"max_passes": self.passes, "keep_crease_vertices": self.keep_crease_vertices})
             limit.close()
             level_faces = report.level_faces
+            target_faces = report.simplify_target_used  # raised by the journey's remedies
+            fit_fairing = report.fit_fairing_used
             rms = report.fit_final.rms_rel if self.passes > 0 else None
             try:
                 pos = cage.positions
@@ -165,6 +167,8 @@ class CAGEKIT_OT_scan_to_cage(bpy.types.Operator):
         obj.matrix_world = scan.matrix_world.copy()
         obj["cagekit_scan"] = scan.name
         obj["cagekit_level_faces"] = int(level_faces)
+        obj["cagekit_target_faces"] = int(target_faces)
+        obj["cagekit_fit_fairing"] = float(fit_fairing)
         if rms is not None:
             obj["cagekit_fit_rms_rel"] = float(rms)
         mod = obj.modifiers.new("CageKit Subdivision", 'SUBSURF')

@@ -171,14 +171,26 @@ check(result == {'FINISHED'}, "scan_to_cage finished")
 cage = bpy.data.objects.get("scan_cage")
 check(cage is not None and cage.type == 'MESH', "cage object 'scan_cage' exists")
 
-with cagekit.Hierarchy(ref_scan) as h:
-    level = h.set_level(faces=args.faces)
-    level_faces = h.level_info(level).faces
-    coarser = h.level_info(level + 1).faces if level + 1 < h.level_count else None
-    ref_cage0, ref_report = h.build_cage(crease_angle_degrees=30.0)
-ref_cage, ref_fit = cagekit.fit(ref_cage0, ref_scan, max_passes=args.passes)
-check(level_faces <= args.faces and (coarser is None or coarser < level_faces),
-      "simplified level: %d faces for %d asked (the finest level with at most that many)" % (level_faces, args.faces))
+
+
+def reference_cage(target):
+    # The binding's steps at the target the journey used (it tries finer targets while the limit
+    # strays or self-intersects more than the scan): level, cage.
+    with cagekit.Hierarchy(ref_scan) as h:
+        level = h.set_level(faces=target)
+        faces = h.level_info(level).faces
+        coarser = h.level_info(level + 1).faces if level + 1 < h.level_count else None
+        built, built_report = h.build_cage(crease_angle_degrees=30.0)
+    return built, built_report, faces, coarser
+
+
+target = int(cage.get("cagekit_target_faces", args.faces))
+ref_cage0, ref_report, level_faces, coarser = reference_cage(target)
+ref_cage, ref_fit = cagekit.fit(ref_cage0, ref_scan, max_passes=args.passes,
+                                fairing=float(cage.get("cagekit_fit_fairing", 0.0)))
+check(target >= args.faces and level_faces <= target and (coarser is None or coarser < level_faces),
+      "simplified level: %d faces for %d asked (target used %d; the finest level with at most that many)"
+      % (level_faces, args.faces, target))
 check(cage.get("cagekit_level_faces") == level_faces, "cage records the level's face count %d" % level_faces)
 cage_faces = len(cage.data.polygons)
 check(cage_faces == ref_cage.info().faces,
@@ -287,10 +299,11 @@ activate(scan)
 result = bpy.ops.cagekit.scan_to_cage(faces=args.faces, passes=0, levels=1)
 raw = bpy.context.active_object
 check(result == {'FINISHED'} and raw.name == "scan_cage.001", "scan_to_cage without fitting made %s" % raw.name)
-err0 = np.abs(positions(raw) - ref_cage0.positions).max() / diag
+raw_cage0 = reference_cage(int(raw.get("cagekit_target_faces", args.faces)))[0]
+err0 = np.abs(positions(raw) - raw_cage0.positions).max() / diag
 activate(raw, scan)
 result = bpy.ops.cagekit.fit(passes=args.passes)
-ref_pos = ref_cage.positions
+ref_pos = cagekit.fit(raw_cage0, ref_scan, max_passes=args.passes)[0].positions
 err = np.abs(positions(raw) - ref_pos).max() / diag
 check(result == {'FINISHED'} and err0 < 1e-6 and err < 1e-6,
       "cagekit.fit moves the unfitted cage onto the binding's fit (%.1e of the diagonal; rms %.2e)"

@@ -245,6 +245,8 @@ def new_cage_object(doc, label, data, scan=None):
     _property(obj, "App::PropertyIntegerList", "Holes", "Hole faces (not part of the limit surface)")
     _property(obj, "App::PropertyInteger", "BoundaryRule", "0: boundary edges sharp; 1: boundary corners pinned too")
     _property(obj, "App::PropertyInteger", "LevelFaces", "Faces of the simplification level", True)
+    _property(obj, "App::PropertyInteger", "TargetFaces",
+              "Face target the journey used (raised from the request while the limit strays or self-intersects)", True)
     _property(obj, "App::PropertyInteger", "FitPasses", "Fitting passes done (0: not fitted)", True)
     _property(obj, "App::PropertyFloat", "FitRmsRel", "RMS distance scan -> limit surface / bbox diagonal", True)
     obj.Scan = scan
@@ -304,6 +306,7 @@ def scan_to_cage(scan, faces=200, crease_angle=30.0, passes=0, keep_crease_verti
     doc = doc or scan.Document
     obj = new_cage_object(doc, scan.Label + "_cage", data, scan)
     obj.LevelFaces = int(level_faces)
+    obj.TargetFaces = int(report.simplify_target_used)
     if fit_report is not None:
         obj.FitPasses = fit_report.fit_pass_count - 1
         obj.FitRmsRel = float(fit_report.fit_final.rms_rel)
