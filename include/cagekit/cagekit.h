@@ -1356,6 +1356,9 @@ typedef struct cagekit_remesh_report {
   uint64_t split_regions;         /* regions split: closed, with a handle, a folding map, or a failed layout */
   uint64_t merged_regions;        /* sliver regions (their sample loop has no area) merged into a neighbour */
   uint64_t layout_retries;        /* layouts redone after such splits or merges (at most 3) */
+  uint64_t mended_faces;          /* faces of the final layout repaired in place: where two regions' faces
+                                     coincided (thin parts one face wide per side) a vertex was added inside
+                                     one of them; a face repeating a vertex was cut there */
 } cagekit_remesh_report;
 
 /* Remeshes `mesh` with `options` (NULL: defaults) into a new cage: the output polygon mesh, with
@@ -1496,7 +1499,9 @@ typedef struct cagekit_scan_to_cage_report {
   double own_cage_crease_angle_deg; /* input_is_cage: the crease angle used (40 by default, 20 or 0 =
                                        every edge creased after a self-intersection remedy) */
   double fit_fairing_used;          /* the fit's fairing weight of the result (the option's, or 0.01 / 0.1
-                                       after the self-intersection remedy) */
+                                       after a remedy: for self-intersections, or for a limit that strayed
+                                       from the scan, which is fitted again with more fairing before any
+                                       finer target or fallback is tried) */
 } cagekit_scan_to_cage_report;
 
 /* The whole journey from a scan to a fitted cage, in named phases: conditioning (repair as

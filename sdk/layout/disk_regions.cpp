@@ -104,6 +104,95 @@ std::vector<uint32_t> split_region_in_two(const PolygonMesh& triangles, const st
   return second;
 }
 
+namespace {
+
+std::vector<uint32_t> faces_of(const std::vector<uint32_t>& face_region, uint32_t region) {
+  std::vector<uint32_t> faces;
+  for (uint32_t f = 0; f < face_region.size(); ++f)
+    if (face_region[f] == region) faces.push_back(f);
+  return faces;
+}
+
+// The geodesic Voronoi cells of two seed groups (local face indices); returns the faces of the
+// second group's cell, or empty when a group is empty.
+std::vector<uint32_t> split_between_groups(const PolygonMesh& triangles, const std::vector<uint32_t>& faces,
+                                           const std::vector<uint32_t>& first, const std::vector<uint32_t>& second) {
+  if (first.empty() || second.empty()) return {};
+  const std::vector<std::vector<uint32_t>> adjacent = region_adjacency(triangles, faces);
+  std::vector<Vec3> centre(faces.size());
+  for (size_t i = 0; i < faces.size(); ++i) centre[i] = centroid(triangles, faces[i]);
+  std::vector<uint32_t> sources = first;
+  sources.insert(sources.end(), second.begin(), second.end());
+  std::vector<double> distance;
+  std::vector<uint32_t> cell;
+  geodesic_cells(centre, adjacent, sources, distance, cell);
+  std::vector<uint32_t> out;
+  for (uint32_t i = 0; i < faces.size(); ++i)
+    if (cell[i] != 0xffffffffu && cell[i] >= first.size()) out.push_back(faces[i]);
+  return out;
+}
+
+uint32_t find_root(std::vector<uint32_t>& parent, uint32_t x) {
+  while (parent[x] != x) x = parent[x] = parent[parent[x]];
+  return x;
+}
+
+}  // namespace
+
+std::vector<uint32_t> split_region_between(const PolygonMesh& triangles, const std::vector<uint32_t>& face_region,
+                                           uint32_t region, const Vec3& p, const Vec3& q) {
+  const std::vector<uint32_t> faces = faces_of(face_region, region);
+  if (faces.size() < 2) return {};
+  uint32_t near_p = 0, near_q = 0;
+  double best_p = kUnreached, best_q = kUnreached;
+  for (uint32_t i = 0; i < faces.size(); ++i) {
+    const Vec3 c = centroid(triangles, faces[i]);
+    const double dp = norm(c - p), dq = norm(c - q);
+    if (dp < best_p) best_p = dp, near_p = i;
+    if (dq < best_q) best_q = dq, near_q = i;
+  }
+  std::vector<uint32_t> out;
+  if (near_p != near_q) out = split_between_groups(triangles, faces, {near_p}, {near_q});
+  return out.empty() || out.size() == faces.size() ? split_region_in_two(triangles, faces) : out;
+}
+
+std::vector<uint32_t> split_region_at_pinch(const PolygonMesh& triangles, const std::vector<uint32_t>& face_region,
+                                            uint32_t region) {
+  const std::vector<uint32_t> faces = faces_of(face_region, region);
+  // Per vertex: the region's faces around it (local indices).
+  std::unordered_map<uint32_t, std::vector<uint32_t>> around;
+  for (uint32_t i = 0; i < faces.size(); ++i)
+    for (uint32_t k = 0; k < triangles.face_size(faces[i]); ++k) around[triangles.face_vertex(faces[i], k)].push_back(i);
+  std::vector<uint32_t> order;  // the vertices in id order: the same pinch is found every time
+  for (const auto& [v, list] : around) order.push_back(v);
+  std::sort(order.begin(), order.end());
+  for (const uint32_t v : order) {
+    const std::vector<uint32_t>& list = around[v];
+    if (list.size() < 2) continue;
+    // Fans: the faces around v joined where two of them share an edge at v.
+    std::vector<uint32_t> parent(list.size());
+    for (uint32_t j = 0; j < list.size(); ++j) parent[j] = j;
+    std::unordered_map<uint32_t, uint32_t> by_other;  // the edge's other vertex -> a face around v
+    for (uint32_t j = 0; j < list.size(); ++j) {
+      const uint32_t f = faces[list[j]], n = triangles.face_size(f);
+      for (uint32_t k = 0; k < n; ++k) {
+        if (triangles.face_vertex(f, k) != v) continue;
+        for (const uint32_t w : {triangles.face_vertex(f, (k + 1) % n), triangles.face_vertex(f, (k + n - 1) % n)}) {
+          const auto [it, inserted] = by_other.emplace(w, j);
+          if (!inserted) parent[find_root(parent, j)] = find_root(parent, it->second);
+        }
+      }
+    }
+    const uint32_t fan0 = find_root(parent, 0);
+    std::vector<uint32_t> first, second;
+    for (uint32_t j = 0; j < list.size(); ++j) (find_root(parent, j) == fan0 ? first : second).push_back(list[j]);
+    if (second.empty()) continue;
+    std::vector<uint32_t> out = split_between_groups(triangles, faces, first, second);
+    if (!out.empty() && out.size() < faces.size()) return out;
+  }
+  return split_region_in_two(triangles, faces);
+}
+
 std::vector<RegionParameterization> make_disk_regions(const PolygonMesh& triangles, std::vector<uint32_t>& face_region,
                                                       size_t& num_regions, size_t pinned,
                                                       const DiskRegionOptions& options, DiskRegionReport* report,

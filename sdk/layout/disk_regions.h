@@ -48,4 +48,21 @@ std::vector<RegionParameterization> make_disk_regions(const PolygonMesh& triangl
 // region has fewer than two faces). Exposed for tests.
 std::vector<uint32_t> split_region_in_two(const PolygonMesh& triangles, const std::vector<uint32_t>& faces);
 
+// Splits region `region` of face_region between two points on (or near) it: the geodesic
+// Voronoi cells of the region's faces nearest to `p` and to `q`. Used where the layouts of two
+// regions glue into faces over the same vertices or an edge of four faces (two regions that
+// wrap a tube or a band together, each spanning it from one shared boundary stretch to the
+// other): split between the two ends of such an edge, the region no longer spans it. Falls back
+// to split_region_in_two when both points are nearest to one face. Returns the faces of the
+// second part.
+std::vector<uint32_t> split_region_between(const PolygonMesh& triangles, const std::vector<uint32_t>& face_region,
+                                           uint32_t region, const Vec3& p, const Vec3& q);
+
+// Splits region `region` at a vertex where its boundary touches itself (the region's faces
+// around it form two or more fans: a layout face would repeat that vertex): the faces of one
+// fan and of the other fans seed the two geodesic Voronoi cells. Falls back to
+// split_region_in_two when the region has no such vertex. Returns the faces of the second part.
+std::vector<uint32_t> split_region_at_pinch(const PolygonMesh& triangles, const std::vector<uint32_t>& face_region,
+                                            uint32_t region);
+
 CAGEKIT_NAMESPACE_END

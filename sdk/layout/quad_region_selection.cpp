@@ -17,7 +17,7 @@ CAGEKIT_NAMESPACE_BEGIN
 RegionQuadMeshes select_region_quads(const RemeshConstraints& constraints, const CurveNetworkOptions& network_options,
                                      const SelectionOptions& selection_options, int threads,
                                      const TaskMonitor& monitor, std::vector<BendingFitCache>* fit_caches,
-                                     std::vector<RegionFailure>* failures) {
+                                     std::vector<RegionFailure>* failures, SelectionMemo* memo) {
   if (threads < 0) fail(Status::invalid_argument, "select_region_quads: threads must be >= 0");
   const size_t regions = constraints.boundaries.region_loops.size();
   RegionQuadMeshes out;
@@ -53,9 +53,33 @@ RegionQuadMeshes select_region_quads(const RemeshConstraints& constraints, const
         ++done;
         continue;
       }
+      std::string key;
+      if (memo) {
+        for (const std::vector<Point2>& loop : loops) {
+          const uint64_t n = loop.size();
+          key.append(reinterpret_cast<const char*>(&n), sizeof(n));
+          key.append(reinterpret_cast<const char*>(loop.data()), loop.size() * sizeof(Point2));
+        }
+        const std::lock_guard<std::mutex> lock(memo->mutex);
+        const auto it = memo->entries.find(key);
+        if (it != memo->entries.end()) {
+          out.networks[r] = it->second.network;
+          out.selections[r] = it->second.selection;
+          if (fit_caches) (*fit_caches)[r] = it->second.fit_cache;
+          ++memo->hits;
+          ++done;
+          continue;
+        }
+      }
       try {
         out.networks[r] = build_curve_network(loops, per_region, {}, fit_caches ? &(*fit_caches)[r] : nullptr);
         out.selections[r] = select_quad_curves(out.networks[r], selection_options);
+        if (memo) {
+          SelectionMemo::Entry entry{out.networks[r], out.selections[r],
+                                     fit_caches ? (*fit_caches)[r] : BendingFitCache()};
+          const std::lock_guard<std::mutex> lock(memo->mutex);
+          memo->entries.emplace(std::move(key), std::move(entry));
+        }
       } catch (const Error& e) {
         if (!failures || e.status() == Status::cancelled || e.status() == Status::out_of_memory)
           fail(e.status(), "region " + std::to_string(r) + ": " + e.what());

@@ -9,7 +9,9 @@
 // Thread-safety: pure function. Errors: those of build_curve_network and select_quad_curves
 // (with the region id in the message); invalid_argument for threads < 0; cancelled from the
 // monitor (checked between regions on the calling thread's worker).
+#include <mutex>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "core/task_monitor.h"
@@ -39,10 +41,26 @@ struct RegionFailure {
   std::string message;
   bool degenerate_boundary = false;
 };
+
+// `memo` (optional): the network and selection of each region by its sample loops (the exact
+// domain coordinates). A region whose loops are bit-identical to a memoised one's gets the same
+// result without a rebuild (the selection is a pure function of the loops and the options, which
+// must stay the same across calls sharing a memo): the remesher's layout retries redo only the
+// regions a split or merge changed. Failing regions are not memoised. Thread-safe within a call.
+struct SelectionMemo {
+  struct Entry {
+    CurveNetwork network;
+    QuadSelection selection;
+    BendingFitCache fit_cache;
+  };
+  std::mutex mutex;
+  std::unordered_map<std::string, Entry> entries;
+  uint64_t hits = 0;
+};
 RegionQuadMeshes select_region_quads(const RemeshConstraints& constraints, const CurveNetworkOptions& network_options,
                                      const SelectionOptions& selection_options, int threads = 1,
                                      const TaskMonitor& monitor = {},
                                      std::vector<BendingFitCache>* fit_caches = nullptr,
-                                     std::vector<RegionFailure>* failures = nullptr);
+                                     std::vector<RegionFailure>* failures = nullptr, SelectionMemo* memo = nullptr);
 
 CAGEKIT_NAMESPACE_END

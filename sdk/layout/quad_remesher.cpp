@@ -10,6 +10,7 @@
 #include <exception>
 #include <string>
 #include <thread>
+#include <tuple>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -530,11 +531,41 @@ std::vector<double> piece_dihedral_degrees(const std::vector<Vec3>& normals,
 
 constexpr int kLayoutAttempts = 4;
 
-// Faces of a glued mesh that coincide with or fold onto others: a repeated vertex, the same
-// vertex set as another face, an undirected edge of more than two faces or a directed edge of
-// two (both faces of such a pair, all faces of such an edge).
-std::vector<uint32_t> conflicting_faces(const PolygonMesh& mesh) {
-  std::vector<uint32_t> out;
+// Where the glued faces of the regions' layouts coincide or fold onto each other: a face that
+// repeats a vertex, two faces over the same vertex set, an undirected edge of more than two faces
+// or a directed edge of two. Each conflict names the regions of its faces: (r, r) for a face
+// that repeats a vertex (r's boundary touches itself there), (a, b) for faces of two regions.
+struct GlueConflict {
+  uint32_t region = 0, other = 0;
+  uint32_t u = 0, v = 0;  // the glued vertices the conflict spans (an edge's ends, a face's farthest two)
+  bool operator<(const GlueConflict& c) const {
+    return std::tie(region, other, u, v) < std::tie(c.region, c.other, c.u, c.v);
+  }
+  bool operator==(const GlueConflict& c) const {
+    return std::tie(region, other, u, v) == std::tie(c.region, c.other, c.u, c.v);
+  }
+};
+
+std::vector<GlueConflict> glue_conflicts(const PolygonMesh& mesh, const std::vector<uint32_t>& face_region) {
+  std::vector<GlueConflict> out;
+  auto add_group = [&](const std::vector<uint32_t>& faces, uint32_t u, uint32_t v) {
+    for (size_t i = 0; i < faces.size(); ++i)
+      for (size_t j = i + 1; j < faces.size(); ++j) {
+        const uint32_t a = face_region[faces[i]], b = face_region[faces[j]];
+        if (a != b) out.push_back({std::min(a, b), std::max(a, b), u, v});
+      }
+  };
+  auto farthest_pair = [&](uint32_t f) {
+    std::pair<uint32_t, uint32_t> best{mesh.face_vertex(f, 0), mesh.face_vertex(f, 0)};
+    double d = -1.0;
+    for (uint32_t i = 0; i < mesh.face_size(f); ++i)
+      for (uint32_t j = i + 1; j < mesh.face_size(f); ++j) {
+        const uint32_t a = mesh.face_vertex(f, i), b = mesh.face_vertex(f, j);
+        const double e = norm(mesh.positions[a] - mesh.positions[b]);
+        if (e > d) d = e, best = {a, b};
+      }
+    return best;
+  };
   std::unordered_map<std::string, uint32_t> by_vertices;
   std::unordered_map<uint64_t, std::vector<uint32_t>> undirected, directed;
   std::vector<uint32_t> key;
@@ -542,10 +573,14 @@ std::vector<uint32_t> conflicting_faces(const PolygonMesh& mesh) {
     const uint32_t n = mesh.face_size(f);
     key.assign(mesh.face_begin(f), mesh.face_begin(f) + n);
     std::sort(key.begin(), key.end());
-    if (std::adjacent_find(key.begin(), key.end()) != key.end()) out.push_back(f);
+    if (std::adjacent_find(key.begin(), key.end()) != key.end())
+      out.push_back({face_region[f], face_region[f], *std::adjacent_find(key.begin(), key.end()), 0});
     const auto [it, inserted] =
         by_vertices.emplace(std::string(reinterpret_cast<const char*>(key.data()), key.size() * sizeof(uint32_t)), f);
-    if (!inserted) out.push_back(f), out.push_back(it->second);
+    if (!inserted) {
+      const auto [u, v] = farthest_pair(f);
+      add_group({f, it->second}, u, v);
+    }
     for (uint32_t k = 0; k < n; ++k) {
       const uint32_t a = mesh.face_vertex(f, k), b = mesh.face_vertex(f, (k + 1) % n);
       undirected[edge_key(a, b)].push_back(f);
@@ -553,12 +588,263 @@ std::vector<uint32_t> conflicting_faces(const PolygonMesh& mesh) {
     }
   }
   for (const auto& [edge, faces] : undirected)
-    if (faces.size() > 2) out.insert(out.end(), faces.begin(), faces.end());
+    if (faces.size() > 2) add_group(faces, uint32_t(edge >> 32), uint32_t(edge));
   for (const auto& [edge, faces] : directed)
-    if (faces.size() > 1) out.insert(out.end(), faces.begin(), faces.end());
+    if (faces.size() > 1) add_group(faces, uint32_t(edge >> 32), uint32_t(edge));
+  // A vertex whose faces form two or more fans (joined through the edges at it): faces of
+  // different fans conflict there.
+  struct Corner { uint32_t vertex, face, prev, next; };
+  std::vector<Corner> corners;
+  corners.reserve(mesh.face_vertices.size());
+  for (uint32_t f = 0; f < mesh.num_faces(); ++f) {
+    const uint32_t n = mesh.face_size(f);
+    for (uint32_t k = 0; k < n; ++k)
+      corners.push_back({mesh.face_vertex(f, k), f, mesh.face_vertex(f, (k + n - 1) % n), mesh.face_vertex(f, (k + 1) % n)});
+  }
+  std::sort(corners.begin(), corners.end(), [](const Corner& a, const Corner& b) {
+    return a.vertex != b.vertex ? a.vertex < b.vertex : a.face < b.face;
+  });
+  std::vector<uint32_t> parent;
+  std::unordered_map<uint32_t, uint32_t> by_neighbour;
+  for (size_t begin = 0, end = 0; begin < corners.size(); begin = end) {
+    for (end = begin; end < corners.size() && corners[end].vertex == corners[begin].vertex;) ++end;
+    if (end - begin < 2) continue;
+    parent.resize(end - begin);
+    for (uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
+    auto root = [&](uint32_t x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    by_neighbour.clear();
+    for (uint32_t i = 0; i < end - begin; ++i)
+      for (const uint32_t w : {corners[begin + i].prev, corners[begin + i].next}) {
+        const auto [it, inserted] = by_neighbour.emplace(w, i);
+        if (!inserted) parent[root(i)] = root(it->second);
+      }
+    const uint32_t fan0 = root(0);
+    std::vector<uint32_t> first, others;
+    for (uint32_t i = 0; i < end - begin; ++i) (root(i) == fan0 ? first : others).push_back(corners[begin + i].face);
+    if (others.empty()) continue;
+    const uint32_t v = corners[begin].vertex;
+    for (const uint32_t a : first)
+      for (const uint32_t b : others) {
+        const uint32_t ra = face_region[a], rb = face_region[b];
+        out.push_back({std::min(ra, rb), std::max(ra, rb), v, v});
+      }
+  }
+  // Hash-map order is not the same everywhere: sort (by regions, then vertices) so the same
+  // conflict is picked on every platform.
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
+}
+
+// The regions' layouts glued into one polygon mesh, with what the local repairs need: per face
+// its region and the input normal under its centroid, per face corner its place in the region's
+// parameter domain.
+struct GluedLayout {
+  PolygonMesh mesh;
+  std::vector<uint32_t> region;       // per face
+  std::vector<Vec3> reference_normal; // per face
+  std::vector<Point2> corner_uv;      // per entry of mesh.face_vertices
+
+  void add_face(const std::vector<uint32_t>& ids, const std::vector<Point2>& uv, uint32_t r, const Vec3& normal) {
+    mesh.add_face(ids.data(), ids.size());
+    corner_uv.insert(corner_uv.end(), uv.begin(), uv.end());
+    region.push_back(r);
+    reference_normal.push_back(normal);
+  }
+};
+
+// Local repairs of glue conflicts (before any region is split and laid out again): a face that
+// repeats a vertex consecutively drops the repeat (one that repeats it elsewhere is left to the
+// region split at the pinch); of two faces over the
+// same vertices (a region one face wide on each side of a thin part: both span it from one
+// shared boundary stretch to the other) the one of the larger region gets a vertex inside, at
+// its parameter-domain centroid on the input surface; an edge that is interior to two regions (both
+// have a chord between the same two boundary samples) is removed in the larger region, whose two
+// faces at it become one polygon with a vertex inside. A polygon with a vertex m inside becomes
+// quads (v_2i, v_2i+1, v_2i+2, m) and, for an odd count, one triangle. Returns the faces repaired.
+size_t mend_glue_conflicts(GluedLayout& g, const PolygonMesh& tri, const RemeshConstraints& constraints,
+                           const std::vector<Vec3>& normals) {
+  PolygonMesh& mesh = g.mesh;
+  size_t mended = 0;
+  std::vector<size_t> faces_in(constraints.domains.size(), 0);
+  for (const uint32_t r : g.region) ++faces_in[r];
+  // 1. Repeated vertices.
+  {
+    GluedLayout out;
+    out.mesh.positions = mesh.positions;
+    std::vector<uint32_t> ids;
+    std::vector<Point2> uv;
+    for (uint32_t f = 0; f < mesh.num_faces(); ++f) {
+      const uint32_t n = mesh.face_size(f), begin = mesh.face_offsets[f];
+      ids.clear();
+      uv.clear();
+      for (uint32_t k = 0; k < n; ++k) {
+        const uint32_t v = mesh.face_vertex(f, k);
+        if (!ids.empty() && ids.back() == v) continue;
+        ids.push_back(v);
+        uv.push_back(g.corner_uv[begin + k]);
+      }
+      while (ids.size() > 1 && ids.back() == ids.front()) ids.pop_back(), uv.pop_back();
+      const bool changed = ids.size() != n;
+      mended += changed;
+      if (ids.size() >= 3) out.add_face(ids, uv, g.region[f], g.reference_normal[f]);
+    }
+    g = std::move(out);
+  }
+  // 2. Faces to open up, in rounds (a repair can leave another conflict next to it): first the
+  // regions' shared chords, then coinciding pairs among the faces not yet changed.
+  for (int round = 0; round < 4; ++round) {
+    std::unordered_map<std::string, std::vector<uint32_t>> by_vertices;
+    std::unordered_map<uint64_t, std::vector<uint32_t>> undirected;
+    std::vector<uint32_t> key;
+    std::vector<uint8_t> used(mesh.num_faces(), 0);
+    std::vector<std::vector<uint32_t>> groups;  // faces merged into one polygon with a vertex inside
+    for (uint32_t f = 0; f < mesh.num_faces(); ++f) {
+      const uint32_t n = mesh.face_size(f);
+      key.assign(mesh.face_begin(f), mesh.face_begin(f) + n);
+      std::sort(key.begin(), key.end());
+      by_vertices[std::string(reinterpret_cast<const char*>(key.data()), key.size() * sizeof(uint32_t))].push_back(f);
+      for (uint32_t k = 0; k < n; ++k)
+        undirected[edge_key(mesh.face_vertex(f, k), mesh.face_vertex(f, (k + 1) % n))].push_back(f);
+    }
+    std::vector<uint64_t> crowded;
+    for (const auto& [edge, faces] : undirected)
+      if (faces.size() > 2) crowded.push_back(edge);
+    std::sort(crowded.begin(), crowded.end());  // the same repairs on every platform
+    for (const uint64_t edge : crowded) {
+      const std::vector<uint32_t>& faces = undirected[edge];
+      uint32_t best_a = 0xffffffffu, best_b = 0xffffffffu;
+      for (size_t i = 0; i < faces.size(); ++i)
+        for (size_t j = i + 1; j < faces.size(); ++j) {
+          const uint32_t a = faces[i], b = faces[j];
+          if (a == b || g.region[a] != g.region[b] || used[a] || used[b]) continue;
+          if (best_a == 0xffffffffu || faces_in[g.region[a]] > faces_in[g.region[best_a]]) best_a = a, best_b = b;
+        }
+      if (best_a == 0xffffffffu) continue;
+      used[best_a] = used[best_b] = 1;
+      groups.push_back({best_a, best_b});
+    }
+    std::vector<std::vector<uint32_t>> coinciding;
+    for (const auto& [vertices, faces] : by_vertices)
+      if (faces.size() > 1) coinciding.push_back(faces);
+    std::sort(coinciding.begin(), coinciding.end());
+    for (const std::vector<uint32_t>& faces : coinciding) {
+      uint32_t pick = 0xffffffffu;
+      for (const uint32_t f : faces) {
+        if (used[f]) {
+          pick = 0xffffffffu;  // one of them changes already: look again next round
+          break;
+        }
+        if (pick == 0xffffffffu || faces_in[g.region[f]] > faces_in[g.region[pick]]) pick = f;
+      }
+      if (pick == 0xffffffffu) continue;
+      used[pick] = 1;
+      groups.push_back({pick});
+    }
+    if (groups.empty()) break;
+    std::vector<int32_t> group_of(mesh.num_faces(), -1);
+    for (size_t k = 0; k < groups.size(); ++k)
+      for (const uint32_t f : groups[k]) group_of[f] = int32_t(k);
+    GluedLayout out;
+    out.mesh.positions = mesh.positions;
+    auto corners = [&](uint32_t f) {
+      std::vector<std::pair<uint32_t, Point2>> c;
+      for (uint32_t k = 0; k < mesh.face_size(f); ++k)
+        c.push_back({mesh.face_vertex(f, k), g.corner_uv[mesh.face_offsets[f] + k]});
+      return c;
+    };
+    for (uint32_t f = 0; f < mesh.num_faces(); ++f) {
+      if (group_of[f] < 0) {
+        std::vector<uint32_t> ids;
+        std::vector<Point2> uv;
+        for (const auto& [v, p] : corners(f)) ids.push_back(v), uv.push_back(p);
+        out.add_face(ids, uv, g.region[f], g.reference_normal[f]);
+        continue;
+      }
+      const std::vector<uint32_t>& group = groups[size_t(group_of[f])];
+      if (group.front() != f) continue;  // emitted with the group's first face
+      std::vector<std::pair<uint32_t, Point2>> loop = corners(f);
+      if (group.size() == 2) {
+        // Join the two faces across their shared edge u -> v (v -> u in the other).
+        const std::vector<std::pair<uint32_t, Point2>> other = corners(group[1]);
+        const size_t n = loop.size(), m = other.size();
+        size_t i = n, j = m;
+        for (size_t a = 0; a < n && i == n; ++a)
+          for (size_t b = 0; b < m; ++b)
+            if (loop[a].first == other[(b + 1) % m].first && loop[(a + 1) % n].first == other[b].first) {
+              i = a, j = b;
+              break;
+            }
+        if (i == n) {  // they share the edge with one orientation only: leave both as they are
+          for (const uint32_t h : group) {
+            std::vector<uint32_t> ids;
+            std::vector<Point2> uv;
+            for (const auto& [v, p] : corners(h)) ids.push_back(v), uv.push_back(p);
+            out.add_face(ids, uv, g.region[h], g.reference_normal[h]);
+          }
+          continue;
+        }
+        // loop from v = loop[i+1] around to u = loop[i], then other from u's successor to v's predecessor.
+        std::vector<std::pair<uint32_t, Point2>> joined;
+        for (size_t k = 1; k <= n; ++k) joined.push_back(loop[(i + k) % n]);
+        for (size_t k = 2; k < m; ++k) joined.push_back(other[(j + k) % m]);
+        loop = std::move(joined);
+      }
+      const uint32_t region = g.region[f];
+      Point2 centroid{0.0, 0.0};
+      for (const auto& c : loop) centroid = plane2::add(centroid, c.second);
+      centroid = plane2::scale(centroid, 1.0 / double(loop.size()));
+      RegionLocator locator{&tri, &constraints.domains[region], {}};
+      const RegionLocator::Hit hit = locator.locate(centroid);
+      const Vec3 centre = locator.position(hit);
+      // The new faces, each checked against the input normal under its centroid: a repair that
+      // folds a face is not made (the conflict is then left to the region split).
+      const size_t n = loop.size();
+      std::vector<std::vector<size_t>> pieces;  // corners of loop; n stands for the new vertex
+      for (size_t k = 0; k + 1 < n; k += 2) pieces.push_back({k, k + 1, (k + 2) % n, n});
+      if (n % 2 == 1) pieces.push_back({n - 1, 0, n});
+      std::vector<Vec3> piece_normal;
+      bool folds = false;
+      for (const std::vector<size_t>& piece : pieces) {
+        std::vector<Vec3> points;
+        Point2 c{0.0, 0.0};
+        for (const size_t k : piece) {
+          points.push_back(k == n ? centre : out.mesh.positions[loop[k].first]);
+          c = plane2::add(c, k == n ? centroid : loop[k].second);
+        }
+        std::vector<uint32_t> local(points.size());
+        for (uint32_t k = 0; k < local.size(); ++k) local[k] = k;
+        const Vec3 expected = normals[locator.locate(plane2::scale(c, 1.0 / double(piece.size()))).face];
+        folds = folds || !(dot(loop_normal(points, local), expected) > 0.0);
+        piece_normal.push_back(expected);
+      }
+      if (folds) {
+        for (const uint32_t h : group) {
+          std::vector<uint32_t> ids;
+          std::vector<Point2> uv;
+          for (const auto& [v, p] : corners(h)) ids.push_back(v), uv.push_back(p);
+          out.add_face(ids, uv, g.region[h], g.reference_normal[h]);
+        }
+        continue;
+      }
+      const uint32_t inside = out.mesh.add_vertex(centre);
+      for (size_t k = 0; k < pieces.size(); ++k) {
+        std::vector<uint32_t> ids;
+        std::vector<Point2> uv;
+        for (const size_t c : pieces[k]) {
+          ids.push_back(c == n ? inside : loop[c].first);
+          uv.push_back(c == n ? centroid : loop[c].second);
+        }
+        out.add_face(ids, uv, region, piece_normal[k]);
+      }
+      mended += group.size();
+    }
+    g = std::move(out);
+  }
+  return mended;
 }
 
 // Merges each listed region into the neighbouring region with which it shares the longest
@@ -638,6 +924,46 @@ size_t count_face_components(const PolygonMesh& mesh) {
   return components;
 }
 
+// Vertex components of the faces (one id per vertex a face uses, 0xffffffff for the others) and
+// the Euler characteristic V - E + F over the used vertices.
+struct FaceTopology {
+  std::vector<uint32_t> component;  // per vertex
+  size_t components = 0;
+  int64_t euler = 0;
+};
+
+FaceTopology face_topology(const PolygonMesh& mesh) {
+  FaceTopology t;
+  std::vector<uint32_t> parent(mesh.num_vertices());
+  for (uint32_t v = 0; v < parent.size(); ++v) parent[v] = v;
+  auto find = [&](uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  std::unordered_set<uint64_t> edges;
+  std::vector<uint8_t> used(mesh.num_vertices(), 0);
+  for (size_t f = 0; f < mesh.num_faces(); ++f) {
+    const uint32_t n = mesh.face_size(uint32_t(f));
+    for (uint32_t k = 0; k < n; ++k) {
+      const uint32_t a = mesh.face_vertex(uint32_t(f), k), b = mesh.face_vertex(uint32_t(f), (k + 1) % n);
+      used[a] = 1;
+      edges.insert(edge_key(a, b));
+      parent[find(a)] = find(b);
+    }
+  }
+  t.component.assign(mesh.num_vertices(), 0xffffffffu);
+  std::unordered_map<uint32_t, uint32_t> id;
+  int64_t vertices = 0;
+  for (uint32_t v = 0; v < mesh.num_vertices(); ++v) {
+    if (!used[v]) continue;
+    ++vertices;
+    t.component[v] = id.emplace(find(v), uint32_t(id.size())).first->second;
+  }
+  t.components = id.size();
+  t.euler = vertices - int64_t(edges.size()) + int64_t(mesh.num_faces());
+  return t;
+}
+
 QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemeshOptions& o, const TaskMonitor& monitor) {
   const auto start = std::chrono::steady_clock::now();
   check_options(o);
@@ -709,13 +1035,31 @@ QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemesh
   std::vector<Vec3> normals;
   std::vector<double> areas;
   triangle_normals_and_areas(tri, normals, areas);
+  // The glued layout must keep the input's topology (components, Euler characteristic).
+  const FaceTopology input_topology = face_topology(tri);
   RemeshConstraints constraints;
   RegionQuadMeshes meshes;
   GlobalSamples samples;
   PolygonMesh glued;
   std::vector<Vec3> reference_normal;  // per glued face: the input normal under its centroid
+  // The first layout whose only fault is a face folded against the input (kept until a retry
+  // does better; returned, with flipped_faces reported, when none does).
+  struct FoldedLayout {
+    bool kept = false;
+    size_t region_count = 0;
+    std::vector<uint32_t> face_region;
+    RemeshConstraints constraints;
+    RegionQuadMeshes meshes;
+    GlobalSamples samples;
+    PolygonMesh glued;
+    std::vector<Vec3> reference_normal;
+    uint64_t mended_faces = 0;
+  } folded_layout;
+  SelectionMemo memo;  // the regions a retry did not change are not selected again
+  size_t previous_failures = SIZE_MAX;  // failing regions of the previous attempt
   for (int attempt = 0;; ++attempt) {
     auto t = std::chrono::steady_clock::now();
+    bool only_folds = false;  // this layout's only fault: faces folded against the input
     DiskRegionReport disk;
     std::vector<RegionParameterization> domains =
         make_disk_regions(tri, r.face_region, region_count, o.pinned_regions.size(), {}, &disk, monitor);
@@ -733,7 +1077,7 @@ QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemesh
     std::vector<BendingFitCache> fit_caches;  // for the refinement's rebuilds of the same regions
     std::vector<RegionFailure> failures;
     meshes = select_region_quads(constraints, CurveNetworkOptions{}, so, o.threads, monitor,
-                                 o.sample_refinement_passes > 0 ? &fit_caches : nullptr, &failures);
+                                 o.sample_refinement_passes > 0 ? &fit_caches : nullptr, &failures, &memo);
     for (uint32_t region = 0; region < meshes.selections.size(); ++region)
       if (meshes.selections[region].invalid_faces > 0)
         failures.push_back({region, "quad-dominant remeshing: region " + std::to_string(region) + " has " +
@@ -747,10 +1091,9 @@ QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemesh
     // Post-processing: the regions' layouts glued by their shared samples.
     t = std::chrono::steady_clock::now();
     samples = global_samples(tri, constraints);
-    glued = PolygonMesh();
-    glued.positions = samples.positions;
-    reference_normal.clear();
-    std::vector<uint32_t> glued_region;  // per glued face
+    GluedLayout layout;
+    layout.mesh.positions = samples.positions;
+    std::vector<GlueConflict> conflict_split;  // per region to split (by region): the conflict it is split at
     const size_t regions = constraints.domains.size();
     for (uint32_t region = 0; failures.empty() && region < regions; ++region) {
       monitor.report("post-processing", 0.9 * double(region) / double(std::max<size_t>(1, regions)));
@@ -770,52 +1113,147 @@ QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemesh
         }
         const RegionLocator::Hit hit = locator.locate(uv[v]);
         r.outside_domain_vertices += !hit.inside;
-        global[v] = glued.add_vertex(locator.position(hit));
+        global[v] = layout.mesh.add_vertex(locator.position(hit));
       }
       for (const std::vector<uint32_t>& face : s.faces) {
         std::vector<uint32_t> ids;
+        std::vector<Point2> corner_uv;
         Point2 centroid{0.0, 0.0};
         for (uint32_t v : face) {
           ids.push_back(global[v]);
+          corner_uv.push_back(uv[v]);
           centroid = plane2::add(centroid, uv[v]);
         }
-        glued.add_face(ids.data(), ids.size());
-        glued_region.push_back(region);
-        reference_normal.push_back(normals[locator.locate(plane2::scale(centroid, 1.0 / double(face.size()))).face]);
+        layout.add_face(ids, corner_uv, region,
+                        normals[locator.locate(plane2::scale(centroid, 1.0 / double(face.size()))).face]);
       }
     }
+    if (failures.empty()) r.mended_faces = mend_glue_conflicts(layout, tri, constraints, normals);
+    glued = std::move(layout.mesh);
+    const std::vector<uint32_t> glued_region = std::move(layout.region);
+    reference_normal = std::move(layout.reference_normal);
     if (failures.empty()) {
       // Faces of two regions that coincide or fold onto each other (a duplicate face, an edge of
-      // three faces, a repeated vertex): both regions are split.
-      std::vector<uint32_t> bad_regions;
-      for (const uint32_t f : conflicting_faces(glued)) bad_regions.push_back(glued_region[f]);
-      std::sort(bad_regions.begin(), bad_regions.end());
-      bad_regions.erase(std::unique(bad_regions.begin(), bad_regions.end()), bad_regions.end());
-      for (const uint32_t region : bad_regions)
-        failures.push_back({region, "quad-dominant remeshing: region " + std::to_string(region) +
-                                        "'s faces coincide with or fold onto a neighbouring region's"});
+      // three faces, a repeated vertex): the region of each pair with more triangles is split so
+      // that the boundary chains the two share go to different parts; a region whose boundary
+      // touches itself is split at that vertex.
+      std::vector<uint32_t> triangles_in(region_count, 0);
+      for (const uint32_t region : r.face_region) ++triangles_in[region];
+      for (GlueConflict c : glue_conflicts(glued, glued_region)) {
+        if (c.region != c.other && triangles_in[c.other] > triangles_in[c.region]) std::swap(c.region, c.other);
+        conflict_split.push_back(c);
+      }
+      // One split per region: at a pinch if it has one, else between its first conflict's ends.
+      std::stable_sort(conflict_split.begin(), conflict_split.end(), [](const GlueConflict& x, const GlueConflict& y) {
+        if (x.region != y.region) return x.region < y.region;
+        return (x.other == x.region) > (y.other == y.region);
+      });
+      conflict_split.erase(std::unique(conflict_split.begin(), conflict_split.end(),
+                                       [](const GlueConflict& x, const GlueConflict& y) { return x.region == y.region; }),
+                           conflict_split.end());
+      // A face that folds against the input surface under it (a region's face flipped where the
+      // region is thin): its region is split; if no retry unfolds them, the first such layout is
+      // kept (flipped_faces reports them; the fit and the journey's checks judge the surface).
+      if (conflict_split.empty()) {
+        std::vector<uint8_t> folded(region_count, 0);
+        std::vector<uint32_t> loop;
+        for (uint32_t f = 0; f < glued.num_faces(); ++f) {
+          loop.assign(glued.face_begin(f), glued.face_begin(f) + glued.face_size(f));
+          if (!(dot(loop_normal(glued.positions, loop), reference_normal[f]) > 0.0)) folded[glued_region[f]] = 1;
+        }
+        for (uint32_t rg = 0; rg < region_count; ++rg)
+          if (folded[rg]) failures.push_back({rg, "region " + std::to_string(rg) + " has a face folded against the input"});
+      }
+      const size_t fold_failures = failures.size();
+      // A layout that does not keep the input's topology (a region whose faces fill one of its
+      // holes apart from the rest: the holes of a thin plate closed, a pillow left over them):
+      // the regions whose faces lie in more than one component of the glued mesh are split.
+      if (conflict_split.empty()) {
+        const FaceTopology glued_topology = face_topology(glued);
+        if (glued_topology.components != input_topology.components || glued_topology.euler != input_topology.euler) {
+          std::vector<uint32_t> region_component(region_count, 0xffffffffu);
+          std::vector<uint8_t> spread(region_count, 0);
+          for (uint32_t f = 0; f < glued.num_faces(); ++f) {
+            const uint32_t c = glued_topology.component[glued.face_vertex(f, 0)], rg = glued_region[f];
+            if (region_component[rg] == 0xffffffffu) region_component[rg] = c;
+            else if (region_component[rg] != c) spread[rg] = 1;
+          }
+          size_t listed = 0;
+          for (uint32_t rg = 0; rg < region_count; ++rg)
+            if (spread[rg]) {
+              failures.push_back({rg, "region " + std::to_string(rg) +
+                                          "'s faces fall apart in the glued mesh (it does not keep the input's "
+                                          "topology)"});
+              ++listed;
+            }
+          if (listed == 0)
+            failures.push_back({0, "the glued mesh has " + std::to_string(glued_topology.components) +
+                                       " components and Euler characteristic " + std::to_string(glued_topology.euler) +
+                                       ", the input " + std::to_string(input_topology.components) + " and " +
+                                       std::to_string(input_topology.euler)});
+        }
+      }
+      only_folds = fold_failures > 0 && failures.size() == fold_failures;
+      for (const GlueConflict& c : conflict_split)
+        failures.push_back({c.region, "region " + std::to_string(c.region) +
+                                          (c.region == c.other ? "'s boundary touches itself, its faces repeat a vertex"
+                                                               : "'s faces coincide with or fold onto region " +
+                                                                     std::to_string(c.other) + "'s")});
     }
     r.postprocess_seconds += seconds_since(t);
     if (failures.empty()) break;
+    if (only_folds && !folded_layout.kept)
+      folded_layout = {true,     region_count, r.face_region, constraints,     meshes,
+                       samples,  glued,        reference_normal, r.mended_faces};
     size_t split = 0, merged = 0;
-    if (attempt + 1 < kLayoutAttempts) {
+    // A retry that did not lower the number of failing regions ends the retries (cheese.off:
+    // every split region's parts fail again, 4 layouts of 300 regions cost 30 s).
+    const bool retry = attempt + 1 < kLayoutAttempts && failures.size() < previous_failures;
+    previous_failures = failures.size();
+    if (retry) {
       std::vector<uint32_t> slivers;
       for (const RegionFailure& failure : failures)
         if (failure.degenerate_boundary && failure.region >= o.pinned_regions.size()) slivers.push_back(failure.region);
       merged = merge_into_neighbours(tri, r.face_region, region_count, o.pinned_regions.size(), slivers);
     }
-    if (attempt + 1 < kLayoutAttempts && merged == 0)
+    if (retry && merged == 0)
       for (const RegionFailure& failure : failures) {
         if (failure.region < o.pinned_regions.size()) continue;
-        std::vector<uint32_t> faces;
-        for (uint32_t f = 0; f < r.face_region.size(); ++f)
-          if (r.face_region[f] == failure.region) faces.push_back(f);
-        const std::vector<uint32_t> second = split_region_in_two(tri, faces);
-        if (second.empty() || second.size() == faces.size()) continue;
+        size_t size = 0;
+        for (const uint32_t region : r.face_region) size += region == failure.region;
+        const auto conflict = std::lower_bound(
+            conflict_split.begin(), conflict_split.end(), failure.region,
+            [](const GlueConflict& c, uint32_t region) { return c.region < region; });
+        std::vector<uint32_t> second;
+        if (conflict != conflict_split.end() && conflict->region == failure.region)
+          second = conflict->other == failure.region
+                       ? split_region_at_pinch(tri, r.face_region, failure.region)
+                       : split_region_between(tri, r.face_region, failure.region, glued.positions[conflict->u],
+                                              glued.positions[conflict->v]);
+        else {
+          std::vector<uint32_t> faces;
+          for (uint32_t f = 0; f < r.face_region.size(); ++f)
+            if (r.face_region[f] == failure.region) faces.push_back(f);
+          second = split_region_in_two(tri, faces);
+        }
+        if (second.empty() || second.size() == size) continue;
         for (const uint32_t f : second) r.face_region[f] = uint32_t(region_count);
         ++region_count;
         ++split;
       }
+    if (split == 0 && merged == 0 && folded_layout.kept) {
+      monitor.log(LogLevel::info, "quad-dominant remeshing: the retries did not unfold every face; the first layout "
+                                  "with folded faces only is kept");
+      region_count = folded_layout.region_count;
+      r.face_region = std::move(folded_layout.face_region);
+      constraints = std::move(folded_layout.constraints);
+      meshes = std::move(folded_layout.meshes);
+      samples = std::move(folded_layout.samples);
+      glued = std::move(folded_layout.glued);
+      reference_normal = std::move(folded_layout.reference_normal);
+      r.mended_faces = folded_layout.mended_faces;
+      break;
+    }
     if (split == 0 && merged == 0) {
       std::string message = failures.front().message;
       if (failures.size() > 1) message += " (and " + std::to_string(failures.size() - 1) + " more regions)";
@@ -824,7 +1262,9 @@ QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemesh
     r.split_regions += split;
     r.merged_regions += merged;
     r.layout_retries += 1;
-    monitor.log(LogLevel::info, "quad-dominant remeshing: " + failures.front().message +
+    const std::string& first_message = failures.front().message;
+    monitor.log(LogLevel::info, (first_message.rfind("quad-dominant", 0) == 0 ? "" : "quad-dominant remeshing: ") +
+                                    first_message +
                                     (failures.size() > 1 ? " (and " + std::to_string(failures.size() - 1) + " more)"
                                                          : std::string()) +
                                     "; " + std::to_string(merged) + " sliver region(s) merged, " +

@@ -76,6 +76,8 @@ struct QuadRemeshResult : RemeshQuality {
                                    // of regions whose layout failed (the layout is then redone)
   uint64_t merged_regions = 0;     // sliver regions (no area in their sample loop) merged into a neighbour
   uint64_t layout_retries = 0;     // layouts redone after such splits or merges
+  uint64_t mended_faces = 0;       // faces of the final layout repaired where two regions' faces
+                                   // coincided or a face repeated a vertex (mend_glue_conflicts)
   // The VSA region of every triangle of the fan-triangulated input (input faces in order, a face
   // of n corners giving n - 2 triangles); the host's pinned regions are ids 0 .. pinned - 1.
   std::vector<uint32_t> face_region;

@@ -189,7 +189,7 @@ constexpr double kRemedyFairing[] = {0.01, 0.1};
 // the first good result with no more than the scan's, else the good one with the fewest, is kept.
 void remedy_fit(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonitor& monitor) {
   for (const double fairing : kRemedyFairing) {
-    if (fairing <= o.fit.fairing) continue;
+    if (fairing <= r.fit_fairing_used) continue;
     ScanToCageOptions refit = o;
     refit.fit.fairing = fairing;
     ScanToCageResult candidate = copy_without_scan(r);
@@ -205,6 +205,29 @@ void remedy_fit(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonit
     r.fit_fairing_used = fairing;
     if (inherited_only(r)) return;
   }
+}
+
+// A fitted limit that strays from the scan (a spike: control vertices the fit pulled far out,
+// where few samples constrain them) is fitted again with more fairing; the first good result is
+// kept. Returns "" when one was found, else the original problem.
+std::string remedy_stray(const ScanToCageOptions& o, ScanToCageResult& r, const std::string& problem,
+                         const TaskMonitor& monitor) {
+  for (const double fairing : kRemedyFairing) {
+    if (fairing <= r.fit_fairing_used) continue;
+    ScanToCageOptions refit = o;
+    refit.fit.fairing = fairing;
+    ScanToCageResult candidate = copy_without_scan(r);
+    candidate.conditioned = std::move(r.conditioned);
+    const std::string why = fit_and_judge(refit, candidate, monitor);
+    r.conditioned = std::move(candidate.conditioned);
+    if (!why.empty()) continue;
+    monitor.log(LogLevel::info, "scan_to_cage: fitted again with fairing " + std::to_string(fairing) + ": " + problem +
+                                    " before, good now");
+    take_result(r, std::move(candidate));
+    r.fit_fairing_used = fairing;
+    return "";
+  }
+  return problem;
 }
 
 // A tiny input as its own cage whose limit self-intersects more than the scan: creased at 20
@@ -265,6 +288,7 @@ std::string attempt(ScanMethod method, const ScanToCageOptions& o, ScanToCageRes
   r.method_seconds = seconds_since(t0);
   r.fit_fairing_used = o.fit.fairing;
   std::string problem = evaluate(o, r, monitor);
+  if (!r.input_is_cage && problem.find("strays") != std::string::npos) problem = remedy_stray(o, r, problem, monitor);
   if (problem.empty() && self_intersects_beyond_scan(o, r, monitor)) remedy_fit(o, r, monitor);
   if (problem.empty() && r.input_is_cage && self_intersects_beyond_scan(o, r, monitor))
     remedy_own_cage(o, r, monitor);

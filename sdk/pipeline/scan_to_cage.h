@@ -102,7 +102,7 @@ struct ScanToCageResult {
   // The own cage's crease angle used (degrees; 0: every edge creased, the limit then is the
   // conditioned input itself). Only for input_is_cage.
   double own_cage_crease_angle_used = 0;
-  double fit_fairing_used = 0;  // FitOptions::fairing of the returned fit (raised by the remedy)
+  double fit_fairing_used = 0;  // FitOptions::fairing of the returned fit (raised by a remedy: self-intersections, strays)
   uint64_t input_boundary_loops = 0, cage_boundary_loops = 0, holes_added = 0;
   double method_seconds = 0, fit_seconds = 0, seconds = 0;
 };
