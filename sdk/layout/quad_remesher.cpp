@@ -756,12 +756,15 @@ size_t mend_glue_conflicts(GluedLayout& g, const PolygonMesh& tri, const RemeshC
         c.push_back({mesh.face_vertex(f, k), g.corner_uv[mesh.face_offsets[f] + k]});
       return c;
     };
+    auto keep = [&](uint32_t f) {  // face f as it is
+      std::vector<uint32_t> ids;
+      std::vector<Point2> uv;
+      for (const auto& [v, p] : corners(f)) ids.push_back(v), uv.push_back(p);
+      out.add_face(ids, uv, g.region[f], g.reference_normal[f]);
+    };
     for (uint32_t f = 0; f < mesh.num_faces(); ++f) {
       if (group_of[f] < 0) {
-        std::vector<uint32_t> ids;
-        std::vector<Point2> uv;
-        for (const auto& [v, p] : corners(f)) ids.push_back(v), uv.push_back(p);
-        out.add_face(ids, uv, g.region[f], g.reference_normal[f]);
+        keep(f);
         continue;
       }
       const std::vector<uint32_t>& group = groups[size_t(group_of[f])];
@@ -779,12 +782,7 @@ size_t mend_glue_conflicts(GluedLayout& g, const PolygonMesh& tri, const RemeshC
               break;
             }
         if (i == n) {  // they share the edge with one orientation only: leave both as they are
-          for (const uint32_t h : group) {
-            std::vector<uint32_t> ids;
-            std::vector<Point2> uv;
-            for (const auto& [v, p] : corners(h)) ids.push_back(v), uv.push_back(p);
-            out.add_face(ids, uv, g.region[h], g.reference_normal[h]);
-          }
+          for (const uint32_t h : group) keep(h);
           continue;
         }
         // loop from v = loop[i+1] around to u = loop[i], then other from u's successor to v's predecessor.
@@ -822,12 +820,7 @@ size_t mend_glue_conflicts(GluedLayout& g, const PolygonMesh& tri, const RemeshC
         piece_normal.push_back(expected);
       }
       if (folds) {
-        for (const uint32_t h : group) {
-          std::vector<uint32_t> ids;
-          std::vector<Point2> uv;
-          for (const auto& [v, p] : corners(h)) ids.push_back(v), uv.push_back(p);
-          out.add_face(ids, uv, g.region[h], g.reference_normal[h]);
-        }
+        for (const uint32_t h : group) keep(h);
         continue;
       }
       const uint32_t inside = out.mesh.add_vertex(centre);
