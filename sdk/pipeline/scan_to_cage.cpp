@@ -185,17 +185,26 @@ ScanToCageResult copy_without_scan(ScanToCageResult& r) {
 // holds the control vertices near their neighbours' average.
 constexpr double kRemedyFairing[] = {0.01, 0.1};
 
+// r's initial cage fitted again with `fairing` and judged, into `candidate` (a copy of r without
+// the scan; r keeps its conditioned scan). Returns fit_and_judge's problem ("" when good).
+std::string refit_with_fairing(const ScanToCageOptions& o, ScanToCageResult& r, double fairing,
+                               ScanToCageResult& candidate, const TaskMonitor& monitor, uint64_t must_beat = kNoBound) {
+  ScanToCageOptions refit = o;
+  refit.fit.fairing = fairing;
+  candidate = copy_without_scan(r);
+  candidate.conditioned = std::move(r.conditioned);
+  const std::string problem = fit_and_judge(refit, candidate, monitor, must_beat);
+  r.conditioned = std::move(candidate.conditioned);
+  return problem;
+}
+
 // A fitted limit that self-intersects more than the scan is fitted again with more fairing;
 // the first good result with no more than the scan's, else the good one with the fewest, is kept.
 void remedy_fit(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonitor& monitor) {
   for (const double fairing : kRemedyFairing) {
     if (fairing <= r.fit_fairing_used) continue;
-    ScanToCageOptions refit = o;
-    refit.fit.fairing = fairing;
-    ScanToCageResult candidate = copy_without_scan(r);
-    candidate.conditioned = std::move(r.conditioned);
-    const std::string problem = fit_and_judge(refit, candidate, monitor, r.self_intersections.pairs);
-    r.conditioned = std::move(candidate.conditioned);
+    ScanToCageResult candidate;
+    const std::string problem = refit_with_fairing(o, r, fairing, candidate, monitor, r.self_intersections.pairs);
     if (!problem.empty() || candidate.self_intersections.pairs >= r.self_intersections.pairs) continue;
     monitor.log(LogLevel::info, "scan_to_cage: fitted again with fairing " + std::to_string(fairing) + ": " +
                                     std::to_string(candidate.self_intersections.pairs) +
@@ -214,12 +223,8 @@ std::string remedy_stray(const ScanToCageOptions& o, ScanToCageResult& r, const 
                          const TaskMonitor& monitor) {
   for (const double fairing : kRemedyFairing) {
     if (fairing <= r.fit_fairing_used) continue;
-    ScanToCageOptions refit = o;
-    refit.fit.fairing = fairing;
-    ScanToCageResult candidate = copy_without_scan(r);
-    candidate.conditioned = std::move(r.conditioned);
-    const std::string why = fit_and_judge(refit, candidate, monitor);
-    r.conditioned = std::move(candidate.conditioned);
+    ScanToCageResult candidate;
+    const std::string why = refit_with_fairing(o, r, fairing, candidate, monitor);
     if (!why.empty()) continue;
     monitor.log(LogLevel::info, "scan_to_cage: fitted again with fairing " + std::to_string(fairing) + ": " + problem +
                                     " before, good now");
