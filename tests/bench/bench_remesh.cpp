@@ -30,6 +30,11 @@
 //
 // Usage: bench_remesh [--quick] [--no-quadriflow] [--method anisotropic|quad] [--tolerance REL]...
 //                     [--curvature-radius REL] [--mesh NAME]...
+//        bench_remesh --corpus [DIR] [--no-quadriflow] [--timeout S] [--mesh cgal/NAME.off]...
+// (--corpus, issue 19: the quad method with cagekit_remesh_options' defaults on every mesh of the
+// corpus (default ../shared/corpus) after the pipeline's conditioning, against QuadriFlow at its
+// face count on the same conditioned mesh; one run per tool, no alignment figure; QuadriFlow
+// killed after --timeout seconds, default 600; see run_corpus)
 // (--quick: 1 run per tool, no bunny-1.1M; --method: only that method (default both; quad runs on
 // fandisk, rocker-arm and bunny only, see quad_settings); --tolerance: the anisotropic tolerances
 // to run, default 0.002;
@@ -39,6 +44,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cctype>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -52,13 +58,18 @@
 #include "core/cage.h"
 #include "core/io/mesh_io.h"
 #include "core/mesh_repair.h"
+#include "core/mesh_statistics.h"
+#include "core/mesh_validation.h"
 #include "layout/anisotropic_remesher.h"
 #include "layout/approximation_error.h"
 #include "layout/curvature_tensor_field.h"
 #include "layout/feature_edges.h"
 #include "layout/remesh_quality.h"
+#include "pipeline/input_conditioning.h"
 
 #include "bench_support.h"
+
+#include <sys/wait.h>
 
 namespace {
 
@@ -136,6 +147,7 @@ struct Quality {
 // Per input: the field and sharp edges every output is scored against.
 struct Reference {
   const cagekit::PolygonMesh* input = nullptr;
+  bool with_field = true;  // false: no alignment figure (the corpus mode)
   cagekit::CurvatureField field;
   std::vector<uint8_t> sharp;
 };
@@ -150,6 +162,10 @@ Quality score(const Reference& ref, const cagekit::PolygonMesh& out) {
   const cagekit::ApproximationError e = cagekit::measure_approximation_error(*ref.input, out);
   q.hausdorff = e.hausdorff_rel;
   q.hausdorff_sym = e.hausdorff_sym_rel;
+  const cagekit::FeatureAlignment fa = cagekit::measure_feature_alignment(*ref.input, ref.sharp, out);
+  q.sharp = fa.sharp_edges;
+  q.sharp_followed = fa.followed;
+  if (!ref.with_field) return q;
   std::vector<cagekit::Vec3> midpoints;
   midpoints.reserve(fig.edges.size());
   for (const auto& [a, b] : fig.edges) midpoints.push_back(0.5 * (out.positions[a] + out.positions[b]));
@@ -162,9 +178,6 @@ Quality score(const Reference& ref, const cagekit::PolygonMesh& out) {
   q.alignment_deg = al.mean_deg;
   q.aligned_edges = al.measured;
   q.edges = al.samples;
-  const cagekit::FeatureAlignment fa = cagekit::measure_feature_alignment(*ref.input, ref.sharp, out);
-  q.sharp = fa.sharp_edges;
-  q.sharp_followed = fa.followed;
   return q;
 }
 
@@ -191,7 +204,7 @@ RunResult remesh_child(const cagekit::PolygonMesh& mesh, const Setting& setting,
     options.method = setting.method;
     options.tolerance = setting.tolerance;
     options.curvature_radius = curvature_radius;
-    if (setting.method == CAGEKIT_REMESH_QUAD) {
+    if (setting.method == CAGEKIT_REMESH_QUAD && setting.regions > 0) {  // else the option defaults
       options.regions = setting.regions;
       options.edge_length = setting.edge_length;
       options.triangle_weight = setting.weights[0];
@@ -258,11 +271,13 @@ std::string json_string(const std::string& text, const std::string& key) {
 
 bool have_blender() { return std::system("command -v blender > /dev/null 2>&1") == 0; }
 
-PeerResult run_quadriflow(const Input& in, uint64_t target, const std::string& out_path, int runs) {
+// timeout_s > 0: Blender is killed after that long (coreutils timeout), a failure "timed out".
+PeerResult run_quadriflow(const Input& in, uint64_t target, const std::string& out_path, int runs, int timeout_s = 0) {
   PeerResult p;
   std::filesystem::remove(out_path);
   std::filesystem::remove(out_path + ".json");
   std::ostringstream cmd;
+  if (timeout_s > 0) cmd << "timeout -s KILL " << timeout_s << " ";
   cmd << "blender -b --factory-startup --python '" << CAGEKIT_BENCH_DIR << "/quadriflow_blender.py' -- '"
       << in.obj_path << "' '" << out_path << "' " << target << " " << in.qf_scale << " " << runs << " > '"
       << out_path << ".log' 2>&1";
@@ -270,6 +285,10 @@ PeerResult run_quadriflow(const Input& in, uint64_t target, const std::string& o
   const int rc = std::system(cmd.str().c_str());
   std::ifstream json(out_path + ".json");
   if (!json) {
+    if (timeout_s > 0 && WIFEXITED(rc) && WEXITSTATUS(rc) == 137) {
+      p.message = "timed out after " + std::to_string(timeout_s) + " s";
+      return p;
+    }
     p.message = "blender exited with " + std::to_string(rc) + ", no report (see " + out_path + ".log)";
     return p;
   }
@@ -330,6 +349,229 @@ void print_quality(const char* tool, const Row& r, const Quality& q, uint64_t ho
               has_holes ? std::to_string(holes).c_str() : "–");
 }
 
+
+// --- the corpus mode (issue 19): quad with the option defaults on every corpus mesh ---
+
+// A corpus mesh: its name relative to the corpus folder and its path.
+struct CorpusMesh {
+  std::string name, path;
+};
+
+std::vector<CorpusMesh> corpus_meshes(const std::string& corpus) {
+  std::vector<CorpusMesh> meshes;
+  for (const char* sub : {"cgal", "stl"}) {
+    const std::filesystem::path dir = std::filesystem::path(corpus) / sub;
+    if (!std::filesystem::is_directory(dir)) continue;
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+      std::string ext = entry.path().extension().string();
+      std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+      if (entry.is_regular_file() && (ext == ".off" || ext == ".obj" || ext == ".ply" || ext == ".stl"))
+        meshes.push_back({std::string(sub) + "/" + entry.path().filename().string(), entry.path().string()});
+    }
+  }
+  std::sort(meshes.begin(), meshes.end(), [](const CorpusMesh& a, const CorpusMesh& b) { return a.name < b.name; });
+  return meshes;
+}
+
+double area_of(const cagekit::PolygonMesh& mesh) {
+  double area = 0;
+  for (size_t f = 0; f < mesh.num_faces(); ++f) {
+    const cagekit::Vec3& a = mesh.positions[mesh.face_vertex(f, 0)];
+    for (uint32_t k = 1; k + 1 < mesh.face_size(f); ++k)
+      area += 0.5 * cagekit::norm(cagekit::cross(mesh.positions[mesh.face_vertex(f, k)] - a,
+                                                 mesh.positions[mesh.face_vertex(f, k + 1)] - a));
+  }
+  return area;
+}
+
+struct CorpusRow {
+  std::string mesh;
+  size_t triangles = 0;
+  std::string skipped;  // why the mesh has no comparison row (unreadable, its own cage)
+  RunResult ck;
+  PeerResult qf;
+  std::string qf_invalid;  // QuadriFlow's output is not a valid manifold mesh: why
+  Quality ck_q, qf_q;
+  bool ck_scored = false, qf_scored = false;
+  bool both() const { return ck_scored && qf_scored && qf_invalid.empty(); }
+};
+
+double median_of(std::vector<double> v) {
+  if (v.empty()) return std::nan("");
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double recall(const Quality& q) { return q.sharp ? 100.0 * double(q.sharp_followed) / double(q.sharp) : 100.0; }
+
+// The quad method with cagekit_remesh_options' defaults (those of the good rate, issue 18's run
+// settings) on each corpus mesh after the pipeline's conditioning (the input both tools get);
+// QuadriFlow at CageKit's face count on the same conditioned mesh, scaled to a 100-unit diagonal
+// (its 1e-4 shortest-edge rule is absolute). One run per tool; meshes the pipeline keeps as their
+// own cage (no more faces than the method would make) have no row.
+int run_corpus(const std::string& corpus, const std::vector<std::string>& only, bool blender, int timeout_s) {
+  const std::vector<CorpusMesh> all = corpus_meshes(corpus);
+  if (all.empty()) {
+    std::printf("corpus folder %s has no meshes (absent?): nothing to run\n", corpus.c_str());
+    return 0;
+  }
+  const std::filesystem::path tmp = std::filesystem::temp_directory_path() /
+                                    ("cagekit_bench_remesh_corpus_" + std::to_string(getpid()));
+  std::filesystem::create_directories(tmp);
+  Setting quad;
+  quad.method_name = "quad";
+  quad.method = CAGEKIT_REMESH_QUAD;  // regions 0: the option defaults
+  const cagekit_remesh_options defaults = CAGEKIT_REMESH_OPTIONS_INIT;
+  std::printf("corpus %s: %zu meshes; quad with the defaults (%u regions, δ %g of the diagonal, weights %g/%g/%g, "
+              "%u refinement pass(es)); QuadriFlow timeout %d s\n\n",
+              corpus.c_str(), all.size(), defaults.regions, defaults.edge_length, defaults.triangle_weight,
+              defaults.pentagon_weight, defaults.t_joint_weight, defaults.refinement_passes, timeout_s);
+  std::vector<CorpusRow> rows;
+  int exit_code = 0;
+  for (const CorpusMesh& m : all) {
+    if (!only.empty() && std::find(only.begin(), only.end(), m.name) == only.end()) continue;
+    CorpusRow row;
+    row.mesh = m.name;
+    Input in;
+    in.name = m.name;
+    in.runs = 1;
+    try {
+      in.mesh = cagekit::condition_input(cagekit::read_cage_from_file(m.path).mesh, cagekit::ConditioningOptions{});
+    } catch (const std::exception& e) {
+      row.skipped = std::string("not conditioned: ") + e.what();
+      std::printf("%s: %s\n", m.name.c_str(), row.skipped.c_str());
+      rows.push_back(row);
+      continue;
+    }
+    row.triangles = in.mesh.num_faces();
+    const double diagonal = in.mesh.bounding_box().diagonal();
+    const double spacing = defaults.edge_length * diagonal;
+    const double expected = std::max(double(defaults.regions), area_of(in.mesh) / (spacing * spacing));
+    if (double(in.mesh.num_faces()) <= expected) {
+      char b[160];
+      std::snprintf(b, sizeof b, "its own cage (%zu faces, the method would make %.0f)", in.mesh.num_faces(), expected);
+      row.skipped = b;
+      std::printf("%s: %s\n", m.name.c_str(), b);
+      rows.push_back(row);
+      continue;
+    }
+    const std::string stem = (tmp / std::to_string(rows.size())).string();
+    in.obj_path = stem + "-in.obj";
+    in.qf_scale = diagonal > 0 ? 100.0 / diagonal : 1.0;
+    {
+      cagekit::Cage c;
+      c.mesh = in.mesh;
+      cagekit::WriteOptions w;
+      w.format = cagekit::FileFormat::obj;
+      w.obj_precision = 9;
+      cagekit::write_cage_to_file(in.obj_path, c, w);
+    }
+    const std::string ck_path = stem + "-ck.obj", qf_path = stem + "-qf.obj";
+    row.ck = remesh_child(in.mesh, quad, 0.01, ck_path);
+    if (!row.ck.ok) exit_code = 1;
+    if (blender && row.ck.ok && row.ck.faces > 0) row.qf = run_quadriflow(in, row.ck.faces, qf_path, 1, timeout_s);
+    Reference ref;
+    ref.input = &in.mesh;
+    ref.with_field = false;
+    ref.sharp = cagekit::detect_feature_edges(in.mesh, kSharpAngle);
+    if (row.ck.ok) {
+      row.ck_q = score(ref, cagekit::read_cage_from_file(ck_path).mesh);
+      row.ck_scored = true;
+    }
+    if (row.qf.ok) {
+      try {
+        const cagekit::Cage out = cagekit::read_cage_from_file(qf_path);
+        const cagekit::ValidationReport v = cagekit::validate_cage(out, 1);
+        if (!v.ok()) row.qf_invalid = v.summary();
+        else if (!cagekit::compute_mesh_statistics(out.mesh).manifold) row.qf_invalid = "not manifold";
+        row.qf_q = score(ref, out.mesh);
+        row.qf_scored = true;
+      } catch (const std::exception& e) {
+        row.qf_invalid = std::string("unreadable: ") + e.what();
+      }
+    }
+    std::printf("%s: %zu triangles; CageKit %s; QuadriFlow %s\n", m.name.c_str(), row.triangles,
+                row.ck.ok ? (std::to_string(row.ck.faces) + " faces, " + time_cell(row.ck.wall, row.ck.cpu)).c_str()
+                          : row.ck.error,
+                !blender ? "skipped" : row.qf.ok ? (std::to_string(row.qf_q.faces) + " faces, " +
+                                                    time_cell(row.qf.wall, row.qf.cpu) +
+                                                    (row.qf_invalid.empty() ? "" : ", invalid: " + row.qf_invalid)).c_str()
+                                                 : ("failed: " + row.qf.message).c_str());
+    std::fflush(stdout);
+    rows.push_back(row);
+    std::filesystem::remove(in.obj_path);
+  }
+  std::filesystem::remove_all(tmp);
+
+  std::printf("\n## Corpus: quad (option defaults) vs QuadriFlow at CageKit's face count\n\n");
+  std::printf("| mesh | triangles | CageKit faces | QF faces | CageKit time (CPU) | QF time (CPU) | ratio (CPU) | "
+              "quads CK / QF | valence-4 CK / QF | Hausdorff sym CK / QF | sharp recall CK / QF |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
+  std::vector<double> ratios, cpu_ratios, ck_times, qf_times;
+  size_t both = 0, hausdorff_at_or_below = 0;
+  for (const CorpusRow& r : rows) {
+    if (!r.both()) continue;
+    ++both;
+    ratios.push_back(r.ck.wall / r.qf.wall);
+    cpu_ratios.push_back(r.ck.cpu / r.qf.cpu);
+    ck_times.push_back(r.ck.wall);
+    qf_times.push_back(r.qf.wall);
+    hausdorff_at_or_below += r.ck_q.hausdorff_sym <= r.qf_q.hausdorff_sym;
+    std::printf("| %s | %zu | %llu | %llu | %s | %s | %s (%s) | %.1f%% / %.1f%% | %.1f%% / %.1f%% | %.3f%% / %.3f%% | "
+                "%.1f%% / %.1f%% |\n",
+                r.mesh.c_str(), r.triangles, (unsigned long long)r.ck_q.faces, (unsigned long long)r.qf_q.faces,
+                time_cell(r.ck.wall, r.ck.cpu).c_str(), time_cell(r.qf.wall, r.qf.cpu).c_str(),
+                ratio_cell(r.ck.wall, r.qf.wall).c_str(), ratio_cell(r.ck.cpu, r.qf.cpu).c_str(), r.ck_q.quads_pct,
+                r.qf_q.quads_pct, r.ck_q.valence4_pct, r.qf_q.valence4_pct, 100 * r.ck_q.hausdorff_sym,
+                100 * r.qf_q.hausdorff_sym, recall(r.ck_q), recall(r.qf_q));
+  }
+  std::printf("\n### Meshes without a comparison\n\n");
+  size_t own = 0, ck_failed = 0, qf_failed = 0, qf_invalid = 0;
+  for (const CorpusRow& r : rows) {
+    if (r.both()) continue;
+    std::string why;
+    if (!r.skipped.empty()) why = r.skipped, own += r.skipped.rfind("its own cage", 0) == 0;
+    else if (!r.ck.ok) why = std::string("**CageKit failed**: ") + r.ck.error, ++ck_failed;
+    else if (!blender) why = "QuadriFlow skipped (no blender)";
+    else if (!r.qf.ok) why = "QuadriFlow failed: " + r.qf.message, ++qf_failed;
+    else why = "QuadriFlow output invalid: " + r.qf_invalid, ++qf_invalid;
+    std::printf("- %s: %s\n", r.mesh.c_str(), why.c_str());
+  }
+  std::printf("\n### Summary\n\n");
+  std::printf("- meshes: %zu; own cage (tiny, no remesh): %zu; not conditioned: %zu; CageKit failed: %zu; "
+              "QuadriFlow failed: %zu, invalid output: %zu; both handle: %zu\n",
+              rows.size(), own,
+              size_t(std::count_if(rows.begin(), rows.end(),
+                                   [](const CorpusRow& r) { return r.skipped.rfind("not conditioned", 0) == 0; })),
+              ck_failed, qf_failed, qf_invalid, both);
+  if (both > 0) {
+    std::printf("- median time ratio CageKit / QuadriFlow: %.2f wall, %.2f CPU (target <= 2, goal <= 1: %s); "
+                "median times %.2f s vs %.2f s\n",
+                median_of(ratios), median_of(cpu_ratios), median_of(ratios) <= 2 ? "met" : "**not met**",
+                median_of(ck_times), median_of(qf_times));
+    std::printf("- two-sided Hausdorff at or below QuadriFlow's: %zu of %zu (%.1f%%; target >= 80%%: %s)\n",
+                hausdorff_at_or_below, both, 100.0 * double(hausdorff_at_or_below) / double(both),
+                hausdorff_at_or_below * 5 >= both * 4 ? "met" : "**not met**");
+    std::vector<double> cq, qq, cv, qv, cs, qs;
+    for (const CorpusRow& r : rows)
+      if (r.both()) {
+        cq.push_back(r.ck_q.quads_pct), qq.push_back(r.qf_q.quads_pct);
+        cv.push_back(r.ck_q.valence4_pct), qv.push_back(r.qf_q.valence4_pct);
+        cs.push_back(recall(r.ck_q)), qs.push_back(recall(r.qf_q));
+      }
+    std::printf("- medians CageKit / QuadriFlow: quads %.1f%% / %.1f%%, valence-4 %.1f%% / %.1f%%, sharp recall "
+                "%.1f%% / %.1f%%\n",
+                median_of(cq), median_of(qq), median_of(cv), median_of(qv), median_of(cs), median_of(qs));
+  }
+  std::printf("\nCageKit: cagekit_mesh_remesh only, one fork()ed child per mesh; QuadriFlow: Blender %s operator only, "
+              "one call. Hausdorff: symmetric, / the conditioned input's bbox diagonal; sharp recall: input edges with "
+              "dihedral > %.0f° whose midpoint lies within δ/4 of an output edge.\n",
+              blender ? "3.4" : "(absent)", kSharpAngle);
+  std::printf("load average at end: %s\n", load_average().c_str());
+  return exit_code;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -337,6 +579,8 @@ int main(int argc, char** argv) {
   double curvature_radius = 0.01;  // cagekit_remesh_options default
   std::vector<double> tolerances;
   std::vector<std::string> only;
+  std::string corpus;  // --corpus: the corpus mode
+  int timeout_s = 600;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--quick")) {
       quick = true;
@@ -356,13 +600,25 @@ int main(int argc, char** argv) {
       curvature_radius = std::atof(argv[++i]);
     } else if (!std::strcmp(argv[i], "--mesh") && i + 1 < argc) {
       only.push_back(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--corpus")) {
+      corpus = i + 1 < argc && argv[i + 1][0] != '-' ? argv[++i] : CAGEKIT_CORPUS_DIR;
+    } else if (!std::strcmp(argv[i], "--timeout") && i + 1 < argc) {
+      timeout_s = std::atoi(argv[++i]);
     } else {
-      std::fprintf(stderr, "usage: bench_remesh [--quick] [--no-quadriflow] [--method anisotropic|quad] [--tolerance REL]... [--curvature-radius REL] [--mesh NAME]...\n");
+      std::fprintf(stderr, "usage: bench_remesh [--quick] [--no-quadriflow] [--method anisotropic|quad] [--tolerance REL]... [--curvature-radius REL] [--mesh NAME]...\n"
+                   "       bench_remesh --corpus [DIR] [--no-quadriflow] [--timeout S] [--mesh cgal/NAME.off]...\n");
       return 64;
     }
   }
   if (tolerances.empty()) tolerances = {0.002};
   const bool blender = peer && have_blender();
+  if (!corpus.empty()) {
+    std::printf("# bench_remesh --corpus: CageKit quad vs QuadriFlow (Blender) on the corpus\n\nload average at start: %s\n",
+                load_average().c_str());
+    if (!blender)
+      std::printf("%s: the QuadriFlow columns are skipped\n", peer ? "blender not found on PATH" : "--no-quadriflow");
+    return run_corpus(corpus, only, blender, timeout_s);
+  }
   std::printf("# bench_remesh: CageKit remeshing vs QuadriFlow (Blender)\n\nload average at start: %s\n"
               "CageKit options: cagekit_remesh_options defaults, curvature_radius %g%s\n",
               load_average().c_str(), curvature_radius, curvature_radius == 0.01 ? " (the default)" : "");
