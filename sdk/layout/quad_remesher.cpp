@@ -7,6 +7,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <exception>
 #include <string>
 #include <thread>
@@ -1325,6 +1326,13 @@ QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemesh
   r.postprocess_seconds += seconds_since(t);
   monitor.report("post-processing", 1.0);
   r.seconds = seconds_since(start);
+  char timing[256];
+  std::snprintf(timing, sizeof timing,
+                "quad-dominant remeshing: %zu faces, %zu regions in %.2f s (segmentation %.2f, disk regions and "
+                "constraints %.2f, selection %.2f, post-processing %.2f; %llu layout retries)",
+                mesh.num_faces(), region_count, r.seconds, r.segmentation_seconds, r.constraint_seconds,
+                r.selection_seconds, r.postprocess_seconds, (unsigned long long)r.layout_retries);
+  monitor.log(LogLevel::info, timing);
   return r;
 }
 
