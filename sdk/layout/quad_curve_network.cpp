@@ -167,61 +167,12 @@ const QuadratureNodes& default_nodes() {
   static const QuadratureNodes kEight(8);  // the default, used by the minimisation
   return kEight;
 }
-
-// (6.3) over `nodes` and its gradient and Hessian in (λ, μ) for the curve
-// connecting_bezier(ci, qi, cj, qj, λ, μ). With D = c_j − c_i, b'(t) = p0 + λ pλ + μ pμ and
-// b''(t) = r0 + λ rλ + μ rμ are linear in (λ, μ); per node the term is w·c²/s³ with c = b' × b''
-// and s = |b'|², so c_x = b'_x × b'' + b' × b''_x, c_xy = b'_x × b''_y + b'_y × b''_x,
-// s_x = 2 b'·b'_x, s_xy = 2 b'_x·b'_y.
-using EnergyDerivatives = BendingEnergyDerivatives;
-
-EnergyDerivatives bending_energy_derivatives(const Point2& ci, const Point2& qi, const Point2& cj, const Point2& qj,
-                                             double lambda, double mu, const QuadratureNodes& nodes) {
-  EnergyDerivatives out;
-  const Point2 D = sub(cj, ci);
-  for (size_t i = 0; i < nodes.t.size(); ++i) {
-    const double S = nodes.s[i], T = nodes.t[i], A = nodes.a[i], B = nodes.b[i], C = nodes.c[i], Q = nodes.q[i];
-    // b' = A d0 + B d1 + C d2 with d0 = λ qi, d1 = D + μ qj − λ qi, d2 = −μ qj.
-    const Point2 pl = scale(qi, A - B), pm = scale(qj, B - C);
-    const Point2 p = add(scale(D, B), add(scale(pl, lambda), scale(pm, mu)));
-    // b'' = 6 (S e0 + T e1) with e0 = D + μ qj − 2λ qi, e1 = λ qi − 2μ qj − D.
-    const Point2 rl = scale(qi, 6.0 * (T - 2.0 * S)), rm = scale(qj, 6.0 * (S - 2.0 * T));
-    const Point2 r = add(scale(D, 6.0 * (S - T)), add(scale(rl, lambda), scale(rm, mu)));
-    const double c = cross(p, r), s = dot(p, p);
-    if (!(s > 0.0)) {
-      out = EnergyDerivatives{};
-      out.energy = std::numeric_limits<double>::infinity();
-      return out;
-    }
-    const double cl = cross(pl, r) + cross(p, rl), cm = cross(pm, r) + cross(p, rm);
-    const double cll = 2.0 * cross(pl, rl), clm = cross(pl, rm) + cross(pm, rl), cmm = 2.0 * cross(pm, rm);
-    const double sl = 2.0 * dot(p, pl), sm = 2.0 * dot(p, pm);
-    const double sll = 2.0 * dot(pl, pl), slm = 2.0 * dot(pl, pm), smm = 2.0 * dot(pm, pm);
-    const double i3 = 1.0 / (s * s * s), i4 = i3 / s, i5 = i4 / s;
-    out.energy += Q * c * c * i3;
-    out.g[0] += Q * (2.0 * c * cl * i3 - 3.0 * c * c * sl * i4);
-    out.g[1] += Q * (2.0 * c * cm * i3 - 3.0 * c * c * sm * i4);
-    auto second = [&](double cx, double cy, double cxy, double sx, double sy, double sxy) {
-      return 2.0 * (cy * cx + c * cxy) * i3 - 6.0 * c * (cx * sy + cy * sx) * i4 - 3.0 * c * c * sxy * i4 +
-             12.0 * c * c * sx * sy * i5;
-    };
-    out.h[0] += Q * second(cl, cl, cll, sl, sl, sll);
-    out.h[1] += Q * second(cl, cm, clm, sl, sm, slm);
-    out.h[2] += Q * second(cm, cm, cmm, sm, sm, smm);
-  }
-  return out;
-}
 }  // namespace
 
 double bending_energy(const CubicBezier2& curve, int intervals) {
   std::unique_ptr<QuadratureNodes> other;
   if (intervals != 8) other = std::make_unique<QuadratureNodes>(intervals);
   return bending_energy_below(curve, other ? *other : default_nodes(), std::numeric_limits<double>::infinity());
-}
-
-BendingEnergyDerivatives bending_energy_derivatives(const Point2& ci, const Point2& qi, const Point2& cj,
-                                                    const Point2& qj, double lambda, double mu) {
-  return bending_energy_derivatives(ci, qi, cj, qj, lambda, mu, default_nodes());
 }
 
 BendingFit minimize_bending_energy(const Point2& ci, const Point2& qi, const Point2& cj, const Point2& qj) {
@@ -286,44 +237,26 @@ BendingFit minimize_bending_energy(const Point2& ci, const Point2& qi, const Poi
   double best = std::numeric_limits<double>::infinity(), lambda = 0.0, mu = 0.0;
   for (const auto& seed : seeds) {
     double e = seed[0], l = seed[1], u = seed[2];
-    // Newton's method on (λ, μ) with the exact gradient and Hessian of the quadrature (E is a
-    // sum of rational functions of λ, μ), damped where the Hessian is not positive definite,
-    // with a backtracking line search on the projected step (λ, μ >= lower; a trial point with
-    // touching legs counts as +inf, so the iterate never leaves the uncrossed set). Stops when a
-    // step moves less than 1e-7·d or stops lowering E.
-    for (int iteration = 0; iteration < 100; ++iteration) {
-      const EnergyDerivatives g = bending_energy_derivatives(ci, qi, cj, qj, l, u, nodes);
-      ++fit.evaluations;
-      double h11 = g.h[0], h12 = g.h[1], h22 = g.h[2];
-      // Smallest eigenvalue of the 2x2 Hessian; shift it to be positive when it is not.
-      const double mean = 0.5 * (h11 + h22), radius = std::hypot(0.5 * (h11 - h22), h12);
-      const double smallest = mean - radius, largest = mean + radius;
-      if (!std::isfinite(smallest) || !std::isfinite(g.g[0]) || !std::isfinite(g.g[1])) break;
-      if (!(smallest > 1e-9 * std::max(largest, 0.0))) {
-        const double shift = std::max(-smallest, 0.0) + 1e-6 * std::max(std::fabs(largest), 1e-300) + 1e-12;
-        h11 += shift, h22 += shift;
-      }
-      const double det = h11 * h22 - h12 * h12;
-      if (!(det > 0.0)) break;
-      double dl = -(h22 * g.g[0] - h12 * g.g[1]) / det, du = -(h11 * g.g[1] - h12 * g.g[0]) / det;
-      // No step longer than d (far steps leave the basin the seed is in).
-      const double step = std::hypot(dl, du);
-      if (step > d) dl *= d / step, du *= d / step;
-      bool moved = false;
-      double tl = l, tu = u;
-      for (double t = 1.0; t > 1e-6; t *= 0.5) {
-        tl = std::max(lower, l + t * dl), tu = std::max(lower, u + t * du);
-        if (tl == l && tu == u) break;
+    // Compass search: shrink the step when no axis move improves; bounded iterations.
+    double step = 0.1 * d;
+    // The point the last move came from: its energy is above e, so a move back is skipped
+    // (it would be evaluated and rejected).
+    double from_l = std::numeric_limits<double>::quiet_NaN(), from_u = from_l;
+    for (int iteration = 0; iteration < 400 && step > 1e-4 * d; ++iteration) {
+      bool improved = false;
+      const double moves[4][2] = {{step, 0}, {-step, 0}, {0, step}, {0, -step}};
+      for (const auto& m : moves) {
+        const double tl = std::max(lower, l + m[0]), tu = std::max(lower, u + m[1]);
+        if (tl == l && tu == u) continue;
+        if (tl == from_l && tu == from_u) continue;
         const double te = energy_at(tl, tu, e);  // only "te < e" matters
         if (te < e) {
-          e = te, moved = true;
+          from_l = l, from_u = u;
+          e = te, l = tl, u = tu, improved = true;
           break;
         }
       }
-      if (!moved) break;
-      const double moved_by = std::hypot(tl - l, tu - u);
-      l = tl, u = tu;
-      if (moved_by < 1e-7 * d) break;
+      if (!improved) step *= 0.5;
     }
     if (e < best) best = e, lambda = l, mu = u;
   }

@@ -15,9 +15,8 @@
 // tangents, (6.3) E(λ, μ) = ∫₀¹ κ²(t) dt (over the curve parameter, as printed; the arc-length
 // version ∫κ² ds has no minimiser for a U-turn: it decreases as the curve grows) is minimised
 // for λ, μ ≥ λ_min = 1e-3·|c_j − c_i| (at λ = 0 the curvature is singular at t = 0) by an 8×8
-// log-spaced grid over [0.03, 1.8]·|c_j − c_i| and Newton's method (the quadrature's exact
-// gradient and Hessian, shifted where not positive definite, a backtracking line search on the
-// step projected onto λ, μ ≥ λ_min) from its 3 best local minima and from (a·|X − c_i|, b·|X − c_j|), (a, b) = (0.95, 0.1), (0.1, 0.95), (0.67, 0.67), where the
+// log-spaced grid over [0.03, 1.8]·|c_j − c_i| and a compass search from its 3 best local minima
+// and from (a·|X − c_i|, b·|X − c_j|), (a, b) = (0.95, 0.1), (0.1, 0.95), (0.67, 0.67), where the
 // tangent lines meet at X in front of both points; a trial point whose control legs
 // [c_i, c_i + λ q_i] and [c_j, c_j + μ q_j] touch is ignored (so the legs of the result never
 // cross). Facing collinear tangents (E ≡ 0) get λ = μ = |c_j − c_i|/3. Afterwards a curve whose
@@ -74,17 +73,6 @@ struct BendingFit {
   int evaluations = 0;
   bool valid = false;  // false: every trial point had crossing legs
 };
-// (6.3) with the default quadrature (8 pieces) for connecting_bezier(ci, qi, cj, qj, λ, μ), and
-// its exact gradient and Hessian in (λ, μ) (the minimiser's Newton steps). energy is +inf (and the
-// derivatives 0) where b' vanishes at a node.
-struct BendingEnergyDerivatives {
-  double energy = 0.0;
-  double g[2] = {0.0, 0.0};       // ∂E/∂λ, ∂E/∂μ
-  double h[3] = {0.0, 0.0, 0.0};  // ∂²E/∂λ², ∂²E/∂λ∂μ, ∂²E/∂μ²
-};
-BendingEnergyDerivatives bending_energy_derivatives(const Point2& ci, const Point2& qi, const Point2& cj,
-                                                    const Point2& qj, double lambda, double mu);
-
 // Minimum of (6.3) over λ, μ (see the file comment). q_i and q_j must be unit vectors.
 BendingFit minimize_bending_energy(const Point2& ci, const Point2& qi, const Point2& cj, const Point2& qj);
 

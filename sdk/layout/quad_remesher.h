@@ -96,6 +96,7 @@ struct QuadRemeshResult : RemeshQuality {
   // a region last changed by a screened refinement try, the configuration its repair started from)
   double energy = 0.0, phase1_energy = 0.0;
   double segmentation_seconds = 0.0, constraint_seconds = 0.0, selection_seconds = 0.0;
+  double refinement_seconds = 0.0;  // the sample-count refinement's share of selection_seconds
   double postprocess_seconds = 0.0, seconds = 0.0;
 };
 

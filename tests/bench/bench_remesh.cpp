@@ -483,7 +483,10 @@ int run_corpus(const std::string& corpus, const std::vector<std::string>& only, 
       try {
         const cagekit::Cage out = cagekit::read_cage_from_file(qf_path);
         const cagekit::ValidationReport v = cagekit::validate_cage(out, 1);
-        if (!v.ok()) row.qf_invalid = v.summary();
+        if (!v.ok()) {
+          row.qf_invalid = v.summary();
+          while (!row.qf_invalid.empty() && row.qf_invalid.back() == '\n') row.qf_invalid.pop_back();
+        }
         else if (!cagekit::compute_mesh_statistics(out.mesh).manifold) row.qf_invalid = "not manifold";
         row.qf_q = score(ref, out.mesh);
         row.qf_scored = true;
@@ -494,7 +497,7 @@ int run_corpus(const std::string& corpus, const std::vector<std::string>& only, 
     std::printf("%s: %zu triangles; CageKit %s; QuadriFlow %s\n", m.name.c_str(), row.triangles,
                 row.ck.ok ? (std::to_string(row.ck.faces) + " faces, " + time_cell(row.ck.wall, row.ck.cpu)).c_str()
                           : row.ck.error,
-                !blender ? "skipped" : row.qf.ok ? (std::to_string(row.qf_q.faces) + " faces, " +
+                !blender ? "skipped" : !row.ck.ok ? "not run (no CageKit face count to target)" : row.qf.ok ? (std::to_string(row.qf_q.faces) + " faces, " +
                                                     time_cell(row.qf.wall, row.qf.cpu) +
                                                     (row.qf_invalid.empty() ? "" : ", invalid: " + row.qf_invalid)).c_str()
                                                  : ("failed: " + row.qf.message).c_str());

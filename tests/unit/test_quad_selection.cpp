@@ -199,41 +199,6 @@ TEST(QuadCurveNetwork, MinimiserMatchesBruteForceAndIsSymmetric) {
   EXPECT_GT(std::fabs(q.lambda - q.mu), 0.5);
 }
 
-// The minimiser's Newton steps use the quadrature's exact gradient and Hessian: they match
-// central differences of bending_energy (the same quadrature) on bent, S-shaped and U curves.
-TEST(QuadCurveNetwork, EnergyDerivativesMatchFiniteDifferences) {
-  struct Case {
-    Point2 ci, qi, cj, qj;
-    double lambda, mu;
-  };
-  const double r = std::sqrt(0.5);
-  const Case cases[] = {{{0, 0}, {0, 1}, {2, 0}, {0, 1}, 0.7, 1.1},
-                        {{0, 0}, {1, 0}, {3, 1}, {-1, 0}, 0.4, 1.9},
-                        {{1, 2}, {r, r}, {4, 3}, {-1, 0}, 1.3, 0.2},
-                        {{0, 0}, {0, 1}, {2, 2}, {-1, 0}, 2.0, 0.3}};
-  for (const Case& c : cases) {
-    auto E = [&](double l, double m) {
-      return cagekit::bending_energy(cagekit::connecting_bezier(c.ci, c.qi, c.cj, c.qj, l, m));
-    };
-    const auto d = cagekit::bending_energy_derivatives(c.ci, c.qi, c.cj, c.qj, c.lambda, c.mu);
-    const double h = 1e-4, e = E(c.lambda, c.mu);
-    EXPECT_NEAR(d.energy, e, 1e-12 * (1 + e));
-    const double gl = (E(c.lambda + h, c.mu) - E(c.lambda - h, c.mu)) / (2 * h);
-    const double gm = (E(c.lambda, c.mu + h) - E(c.lambda, c.mu - h)) / (2 * h);
-    const double hll = (E(c.lambda + h, c.mu) - 2 * e + E(c.lambda - h, c.mu)) / (h * h);
-    const double hmm = (E(c.lambda, c.mu + h) - 2 * e + E(c.lambda, c.mu - h)) / (h * h);
-    const double hlm = (E(c.lambda + h, c.mu + h) - E(c.lambda + h, c.mu - h) - E(c.lambda - h, c.mu + h) +
-                        E(c.lambda - h, c.mu - h)) / (4 * h * h);
-    const double scale = 1 + std::fabs(e);
-    EXPECT_NEAR(d.g[0], gl, 1e-5 * scale) << "case " << (&c - cases);
-    EXPECT_NEAR(d.g[1], gm, 1e-5 * scale) << "case " << (&c - cases);
-    EXPECT_NEAR(d.h[0], hll, 1e-3 * scale) << "case " << (&c - cases);
-    EXPECT_NEAR(d.h[1], hlm, 1e-3 * scale) << "case " << (&c - cases);
-    EXPECT_NEAR(d.h[2], hmm, 1e-3 * scale) << "case " << (&c - cases);
-    EXPECT_GT(std::fabs(d.g[0]) + std::fabs(d.g[1]), 1e-6) << "a point away from the optimum";
-  }
-}
-
 TEST(QuadCurveNetwork, LegsNeverCrossEvenWhenCrossingWouldBendLess) {
   // Tangents that point across each other's path: crossing legs would give a nearly straight
   // curve, so the minimiser must stop at the boundary of the uncrossed set.
@@ -619,10 +584,7 @@ void run_real_mesh(const char* name, int regions, double delta_fraction, double 
     const CurveNetwork& net = all.networks[r];
     const QuadSelection& s = all.selections[r];
     EXPECT_LE(s.energy, s.phase1_energy + 1e-9 * (1 + s.phase1_energy)) << "region " << r;
-    // The best tracked energy never rises after Phase III; the energy recomputed from scratch
-    // differs from the tracked one by the incremental sums' rounding (next line's bound): the
-    // exhaustive enumeration's drift reached 1.2e-9 relative on a fandisk region.
-    EXPECT_LE(s.tracked_energy, s.phase3_energy + 1e-9 * (1 + s.phase3_energy)) << "region " << r;
+    EXPECT_LE(s.energy, s.phase3_energy + 1e-9 * (1 + s.phase3_energy)) << "region " << r;
     EXPECT_NEAR(s.tracked_energy, s.energy, 1e-7 * (1 + s.energy)) << "region " << r;
     expect_matching(net, s);
     faces += s.faces.size(), quads += s.quads, tris += s.triangles, pents += s.pentagons, larger += s.larger;
