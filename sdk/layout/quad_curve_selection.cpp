@@ -87,6 +87,37 @@ struct FanList {
   const Fan* end() const { return items.data() + count; }
 };
 
+// A map of a few keys (a trial move's overrides: a handful of curves and ports), in insertion
+// order: a linear scan beats hashing and a node allocation per key.
+template <typename Value>
+struct FlatMap {
+  std::vector<std::pair<uint32_t, Value>> items;
+  const Value* find(uint32_t key) const {
+    for (const auto& item : items)
+      if (item.first == key) return &item.second;
+    return nullptr;
+  }
+  size_t count(uint32_t key) const { return find(key) != nullptr; }
+  bool empty() const { return items.empty(); }
+  Value& operator[](uint32_t key) {
+    for (auto& item : items)
+      if (item.first == key) return item.second;
+    items.emplace_back(key, Value{});
+    return items.back().second;
+  }
+  auto begin() { return items.begin(); }
+  auto end() { return items.end(); }
+  auto begin() const { return items.begin(); }
+  auto end() const { return items.end(); }
+};
+
+// The half-edges traced by one evaluate (a few dozen): a flat list beats a node-based hash set.
+struct SmallHalfEdgeSet {
+  std::vector<HalfEdge> items;
+  size_t count(const HalfEdge& h) const { return std::find(items.begin(), items.end(), h) != items.end(); }
+  void insert(const HalfEdge& h) { items.push_back(h); }  // trace inserts each half-edge once
+};
+
 struct Face {
   std::vector<HalfEdge> cycle;
   double energy = 0.0;
@@ -236,7 +267,7 @@ class Arrangement {
     old_faces.erase(std::unique(old_faces.begin(), old_faces.end()), old_faces.end());
     double delta = 0.0;
     for (uint32_t f : old_faces) delta -= faces_[f].energy;
-    std::unordered_set<HalfEdge, HalfEdgeHash> visited;
+    SmallHalfEdgeSet visited;
     std::vector<Face> new_faces;
     for (uint64_t v : dirty)
       for (const Fan& f : view.fan(v)) {
@@ -309,21 +340,21 @@ class Arrangement {
   struct View {
     explicit View(Arrangement& a) : arr(a) {}
     Arrangement& arr;
-    std::unordered_map<uint32_t, char> selected_override;
-    std::unordered_map<uint32_t, int64_t> port_override;
-    std::unordered_map<uint32_t, Chain> chain_override;
+    FlatMap<char> selected_override;
+    FlatMap<int64_t> port_override;
+    FlatMap<Chain> chain_override;
 
     bool is_selected(uint32_t c) const {
-      auto it = selected_override.find(c);
-      return it != selected_override.end() ? it->second != 0 : arr.selected_[c] != 0;
+      const char* s = selected_override.find(c);
+      return s ? *s != 0 : arr.selected_[c] != 0;
     }
     int64_t port_curve(uint32_t p) const {
-      auto it = port_override.find(p);
-      return it != port_override.end() ? it->second : arr.port_curve_[p];
+      const int64_t* c = port_override.find(p);
+      return c ? *c : arr.port_curve_[p];
     }
     const Chain& chain(uint32_t c) const {
-      auto it = chain_override.find(c);
-      return it != chain_override.end() ? it->second : arr.chains_[c];
+      const Chain* chain = chain_override.find(c);
+      return chain ? *chain : arr.chains_[c];
     }
     static size_t locate(const Chain& chain, uint64_t id) {
       for (size_t i = 0; i < chain.size(); ++i)
@@ -445,7 +476,7 @@ class Arrangement {
     const size_t n = line.size() - 1;
     chain.push_back({1.0, net_.ports[curve.ports[1]].point, line.back(), sub(line[n], line[n - 1])});
     std::sort(chain.begin() + 1, chain.end() - 1,
-              [](const ChainVertex& x, const ChainVertex& y) { return x.t < y.t; });
+              [](const ChainVertex& x, const ChainVertex& y) { return x.t < y.t || (x.t == y.t && x.id < y.id); });
     return chain;
   }
   std::vector<uint32_t> candidates_for_chain(const std::vector<char>& selected) const {
@@ -463,10 +494,12 @@ class Arrangement {
     return out;
   }
 
-  Face trace(const View& view, const HalfEdge& start, std::unordered_set<HalfEdge, HalfEdgeHash>& visited) {
+  template <typename Visited>
+  Face trace(const View& view, const HalfEdge& start, Visited& visited) {
     Face face;
     std::vector<uint64_t> ids;
     std::vector<Point2> polygon;
+    face.cycle.reserve(8), ids.reserve(8), polygon.reserve(8);
     HalfEdge h = start;
     const size_t limit = 4 * (net_.points.size() + 64 * (list_.size() + 8) * (list_.size() + 8));
     for (size_t step = 0;; ++step) {
@@ -487,7 +520,7 @@ class Arrangement {
       h = next;
       if (h == start) break;
     }
-    face.energy = rate(ids, polygon);
+    face.energy = rate(std::move(ids), polygon);
     face.alive = true;
     return face;
   }
