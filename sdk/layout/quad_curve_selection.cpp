@@ -98,7 +98,6 @@ struct FlatMap {
     return nullptr;
   }
   size_t count(uint32_t key) const { return find(key) != nullptr; }
-  bool empty() const { return items.empty(); }
   Value& operator[](uint32_t key) {
     for (auto& item : items)
       if (item.first == key) return item.second;

@@ -486,21 +486,23 @@ int run_corpus(const std::string& corpus, const std::vector<std::string>& only, 
         if (!v.ok()) {
           row.qf_invalid = v.summary();
           while (!row.qf_invalid.empty() && row.qf_invalid.back() == '\n') row.qf_invalid.pop_back();
-        }
-        else if (!cagekit::compute_mesh_statistics(out.mesh).manifold) row.qf_invalid = "not manifold";
+        } else if (!cagekit::compute_mesh_statistics(out.mesh).manifold) row.qf_invalid = "not manifold";
         row.qf_q = score(ref, out.mesh);
         row.qf_scored = true;
       } catch (const std::exception& e) {
         row.qf_invalid = std::string("unreadable: ") + e.what();
       }
     }
-    std::printf("%s: %zu triangles; CageKit %s; QuadriFlow %s\n", m.name.c_str(), row.triangles,
-                row.ck.ok ? (std::to_string(row.ck.faces) + " faces, " + time_cell(row.ck.wall, row.ck.cpu)).c_str()
-                          : row.ck.error,
-                !blender ? "skipped" : !row.ck.ok ? "not run (no CageKit face count to target)" : row.qf.ok ? (std::to_string(row.qf_q.faces) + " faces, " +
-                                                    time_cell(row.qf.wall, row.qf.cpu) +
-                                                    (row.qf_invalid.empty() ? "" : ", invalid: " + row.qf_invalid)).c_str()
-                                                 : ("failed: " + row.qf.message).c_str());
+    std::string qf_cell = "skipped";
+    if (blender && !row.ck.ok) qf_cell = "not run (no CageKit face count to target)";
+    else if (blender && !row.qf.ok) qf_cell = "failed: " + row.qf.message;
+    else if (blender)
+      qf_cell = std::to_string(row.qf_q.faces) + " faces, " + time_cell(row.qf.wall, row.qf.cpu) +
+                (row.qf_invalid.empty() ? "" : ", invalid: " + row.qf_invalid);
+    const std::string ck_cell =
+        row.ck.ok ? std::to_string(row.ck.faces) + " faces, " + time_cell(row.ck.wall, row.ck.cpu) : row.ck.error;
+    std::printf("%s: %zu triangles; CageKit %s; QuadriFlow %s\n", m.name.c_str(), row.triangles, ck_cell.c_str(),
+                qf_cell.c_str());
     std::fflush(stdout);
     rows.push_back(row);
     std::filesystem::remove(in.obj_path);
