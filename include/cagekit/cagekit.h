@@ -731,20 +731,41 @@ CAGEKIT_API cagekit_status cagekit_hierarchy_get_polygon_mesh(cagekit_hierarchy 
 CAGEKIT_API cagekit_status cagekit_hierarchy_get_refined_polygon_mesh(cagekit_hierarchy hierarchy,
                                                                       double chord_tolerance, cagekit_mesh* out);
 
+/* Which cage edges between two clusters become infinitely sharp creases. */
+typedef enum cagekit_crease_rule {
+  /* Where the scan itself is sharp (the default): at least half of the length of the input edges
+   * along the cage edge's border between the two clusters are sharp input features, the one
+   * definition all methods use (CAGEKIT_REMESH_* follow it too): input edges whose two faces'
+   * normals differ by more than feature_angle_degrees, confirmed on bilateral-filtered normals
+   * (a scan's noise is not sharp) and in connected feature lines of at least 4 edges and 1 % of
+   * the bounding-box diagonal. Organic scans get smooth cages, CAD parts keep their edges. */
+  CAGEKIT_CREASES_SHARP_INPUT = 0,
+  /* The thesis's rule (section 3.4): the two clusters' normals differ by more than
+   * crease_angle_degrees (and, with input_crease_angle_degrees >= 0, the input's mean dihedral
+   * angle along their border exceeds that). Faceted "smooth" surfaces on organic scans. */
+  CAGEKIT_CREASES_CLUSTER_ANGLE = 1,
+  CAGEKIT_CREASE_RULE_MAX_ENUM = 0x7fffffff
+} cagekit_crease_rule;
+
 typedef struct cagekit_cage_options {
   size_t struct_size;           /* sizeof(cagekit_cage_options) */
-  double crease_angle_degrees;  /* tag cage edges between clusters whose normals differ more (default 30; < 0: never) */
+  double crease_angle_degrees;  /* CLUSTER_ANGLE: tag cage edges between clusters whose normals differ more
+                                   (default 30; < 0: never). SHARP_INPUT: unused */
   int tag_boundary_edges;       /* 1: tag the mesh-boundary edges as creases (default 1) */
   uint32_t exact_partition_limit; /* faces up to this many vertices are partitioned optimally (default 20) */
-  /* Also require the input itself to be sharp along the two clusters' border: the length-weighted
-   * mean angle between the normals of the input faces on either side of the input edges that
-   * separate the clusters must exceed this (degrees). Keeps CAD features, leaves organic scans
-   * smooth (bunny at 300 polygons: 114 instead of 479 creases; fandisk 297 of 299). Default -1:
-   * off (the clusters' normals alone decide). */
+  /* CLUSTER_ANGLE: also require the input itself to be sharp along the two clusters' border:
+   * the length-weighted mean angle between the normals of the input faces on either side of the
+   * input edges that separate the clusters must exceed this (degrees). Default -1: off (the
+   * clusters' normals alone decide). SHARP_INPUT: unused. */
   double input_crease_angle_degrees;
+  /* Members below were appended for issue 20; a caller whose struct_size ends before them gets
+   * their defaults (so the SHARP_INPUT rule). */
+  cagekit_crease_rule crease_rule;  /* default CAGEKIT_CREASES_SHARP_INPUT */
+  double feature_angle_degrees;     /* SHARP_INPUT: the dihedral angle above which an input edge may be a
+                                       sharp feature, in [0, 180] (default 40; the remeshers' default too) */
 } cagekit_cage_options;
 
-#define CAGEKIT_CAGE_OPTIONS_INIT { sizeof(cagekit_cage_options), 30.0, 1, 20, -1.0 }
+#define CAGEKIT_CAGE_OPTIONS_INIT { sizeof(cagekit_cage_options), 30.0, 1, 20, -1.0, CAGEKIT_CREASES_SHARP_INPUT, 40.0 }
 
 typedef struct cagekit_cage_report {
   size_t struct_size;           /* sizeof(cagekit_cage_report) */

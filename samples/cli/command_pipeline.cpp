@@ -61,7 +61,8 @@ double percent(uint64_t part, uint64_t whole) { return whole ? 100.0 * double(pa
 
 int command_pipeline(Args& args) {
   const char* usage =
-      "cagekit pipeline SCAN OUTDIR ([--method simplify] (--faces N | --vertices N) [--crease-angle DEG] [--input-crease-angle DEG] "
+      "cagekit pipeline SCAN OUTDIR ([--method simplify] (--faces N | --vertices N) [--creases sharp-input|cluster-angle] "
+      "[--feature-angle DEG] [--crease-angle DEG] [--input-crease-angle DEG] "
       "| --method anisotropic [--tolerance REL] [--feature-angle DEG] [--max-face-valence N] [--fit-tolerance T] "
       "| --method quad [--edge-length REL] [--regions N] [--weights TRI,PENT,TJOINT] [--refinement-passes N] [--feature-angle DEG] "
       "[--fit-tolerance T] [--faces N]) "
@@ -74,7 +75,8 @@ int command_pipeline(Args& args) {
   const bool no_fallback = args.flag("--no-fallback");
   std::string method, components;
   int faces = -1, vertices = -1, limit_levels = 3;
-  double fit_tolerance = -1.0, crease_angle = 30.0, input_crease_angle = -1.0, weld = 1e-7;
+  double fit_tolerance = -1.0, weld = 1e-7;
+  cagekit_cage_options cage = CAGEKIT_CAGE_OPTIONS_INIT;
   cagekit_remesh_options remesh = CAGEKIT_REMESH_OPTIONS_INIT;
   try {
     method = args.option("--method", "simplify");
@@ -85,8 +87,7 @@ int command_pipeline(Args& args) {
     }
     faces = args.integer("--faces", -1, 1, 2000000000);
     vertices = args.integer("--vertices", -1, 1, 2000000000);
-    crease_angle = args.real("--crease-angle", 30.0, -1.0, 180.0);
-    input_crease_angle = args.real("--input-crease-angle", -1.0, -1.0, 180.0);
+    if (!remeshing) cage = parse_cage_options(args);  // the remeshers read --feature-angle themselves
     limit_levels = args.integer("--limit-levels", 3, 1, 5);
     components = args.option("--components", "all");
     weld = args.real("--weld-tolerance", 1e-7, 0.0, 0.1);
@@ -104,9 +105,6 @@ int command_pipeline(Args& args) {
   if (method == "simplify" ? ((faces < 0) == (vertices < 0)) : vertices > 0)
     throw Failure(kExitUsage, std::string("usage: ") + usage);
 
-  cagekit_cage_options cage = CAGEKIT_CAGE_OPTIONS_INIT;
-  cage.crease_angle_degrees = crease_angle;
-  cage.input_crease_angle_degrees = input_crease_angle;
   cagekit_scan_to_cage_options options = CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT;
   options.method = method == "quad" ? CAGEKIT_SCAN_QUAD
                    : method == "anisotropic" ? CAGEKIT_SCAN_ANISOTROPIC

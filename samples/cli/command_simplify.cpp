@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cli_context.h"
+#include "pipeline.h"
 
 namespace cli {
 
@@ -61,15 +62,14 @@ void write_clusters_ply(const Session& session, cagekit_mesh input, const std::v
 int command_simplify(Args& args) {
   const char* usage =
       "cagekit simplify IN OUT (--faces N | --vertices N) [--cage] [--clusters FILE.ply] [--json] "
-      "[--crease-angle DEG] [--input-crease-angle DEG] [--epsilon E] [--contour-tolerance REL] [--quiet]";
+      "[--creases sharp-input|cluster-angle] [--feature-angle DEG] [--crease-angle DEG] [--input-crease-angle DEG] [--epsilon E] [--contour-tolerance REL] [--quiet]";
   const bool quiet = args.flag("--quiet");
   const bool json = args.flag("--json");
   const bool want_cage = args.flag("--cage");
   const int faces_target = args.integer("--faces", -1, 1, 2000000000);
   const int vertices_target = args.integer("--vertices", -1, 1, 2000000000);
   const std::string clusters_path = args.option("--clusters", "");
-  const double crease_angle = args.real("--crease-angle", 30.0, -1.0, 180.0);
-  const double input_crease_angle = args.real("--input-crease-angle", -1.0, -1.0, 180.0);
+  const cagekit_cage_options cage_options = parse_cage_options(args);
   const double epsilon = args.real("--epsilon", 0.01, 0.0, 1e6);
   // Polygonal output only: border vertices put back where the border strays more than REL x the
   // input's bbox diagonal from a level edge (cagekit_hierarchy_get_refined_polygon_mesh).
@@ -107,9 +107,6 @@ int command_simplify(Args& args) {
   cagekit_write_options write = CAGEKIT_WRITE_OPTIONS_INIT;
   write.format = out_format;
   if (want_cage) {
-    cagekit_cage_options cage_options = CAGEKIT_CAGE_OPTIONS_INIT;
-    cage_options.crease_angle_degrees = crease_angle;
-    cage_options.input_crease_angle_degrees = input_crease_angle;
     Cage cage;
     session.check(cagekit_hierarchy_build_cage(hierarchy.get(), &cage_options, cage.out(), &cage_report), files[0]);
     session.check(cagekit_cage_write_file(cage.get(), files[1].c_str(), &write, nullptr), files[1]);

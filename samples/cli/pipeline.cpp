@@ -121,6 +121,22 @@ void make_directories(const std::string& path) {
   }
 }
 
+cagekit_cage_options parse_cage_options(Args& args) {
+  cagekit_cage_options o = CAGEKIT_CAGE_OPTIONS_INIT;
+  const std::string rule = bad_value_is_bad_input([&] { return args.option("--creases", "sharp-input"); });
+  if (rule == "sharp-input")
+    o.crease_rule = CAGEKIT_CREASES_SHARP_INPUT;
+  else if (rule == "cluster-angle")
+    o.crease_rule = CAGEKIT_CREASES_CLUSTER_ANGLE;
+  else
+    throw Failure(kExitBadInput, "--creases must be 'sharp-input' or 'cluster-angle', not '" + rule + "'");
+  o.feature_angle_degrees = bad_value_is_bad_input([&] { return args.real("--feature-angle", 40.0, 0.0, 180.0); });
+  o.crease_angle_degrees = bad_value_is_bad_input([&] { return args.real("--crease-angle", 30.0, -1.0, 180.0); });
+  o.input_crease_angle_degrees =
+      bad_value_is_bad_input([&] { return args.real("--input-crease-angle", -1.0, -1.0, 180.0); });
+  return o;
+}
+
 cagekit_fit_options parse_fit_options(Args& args) {
   cagekit_fit_options o = CAGEKIT_FIT_OPTIONS_INIT;
   o.max_passes = static_cast<uint32_t>(bad_value_is_bad_input([&] { return args.integer("--passes", 5, 0, 100000); }));

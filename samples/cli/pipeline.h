@@ -16,6 +16,12 @@ namespace cli {
 // Values out of range are bad input (Failure with kExitBadInput naming the option).
 cagekit_fit_options parse_fit_options(Args& args);
 
+// Simplify's crease options: --creases sharp-input|cluster-angle (default sharp-input: creases
+// only where the scan is sharp), --feature-angle DEG (sharp-input, default 40), --crease-angle DEG
+// and --input-crease-angle DEG (cluster-angle, defaults 30 and -1). Values out of range are bad
+// input (Failure with kExitBadInput naming the option).
+cagekit_cage_options parse_cage_options(Args& args);
+
 // Runs cagekit_cage_fit with a pass array of max_passes + 1 entries (all of them).
 struct FitResult {
   cagekit_fit_report report{};

@@ -157,7 +157,18 @@ cagekit::CageBuildOptions cage_options_from_c(const cagekit_cage_options* option
     fail(Status::invalid_argument, "cagekit_cage_options.input_crease_angle_degrees must be finite");
   if (o.exact_partition_limit < 3 || o.exact_partition_limit > 64)
     fail(Status::invalid_argument, "exact_partition_limit must be in 3..64");
+  if (!(o.feature_angle_degrees >= 0.0 && o.feature_angle_degrees <= 180.0))
+    fail(Status::invalid_argument, "cagekit_cage_options.feature_angle_degrees must be in [0, 180]");
   cagekit::CageBuildOptions bo;
+  const int32_t rule = raw_enum(o.crease_rule);
+  if (rule == CAGEKIT_CREASES_SHARP_INPUT)
+    bo.crease_rule = cagekit::CreaseRule::sharp_input;
+  else if (rule == CAGEKIT_CREASES_CLUSTER_ANGLE)
+    bo.crease_rule = cagekit::CreaseRule::cluster_angle;
+  else
+    fail(Status::invalid_argument,
+         "cagekit_cage_options.crease_rule (" + std::to_string(rule) + ") is not a cagekit_crease_rule");
+  bo.features.angle_degrees = o.feature_angle_degrees;
   bo.crease_angle_degrees = o.crease_angle_degrees;
   bo.input_crease_angle_degrees = o.input_crease_angle_degrees;
   bo.tag_boundary_edges = o.tag_boundary_edges != 0;

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "layout/anisotropic_remesher.h"
+#include "layout/sharp_input_features.h"
 
 #include <chrono>
 #include <cmath>
@@ -104,7 +105,11 @@ AnisotropicRemeshResult remesh_anisotropic(const PolygonMesh& input, const Aniso
   check_memory_estimate(estimate_sum(estimate_product(tri.num_faces(), 560), estimate_product(tri.num_vertices(), 64)),
                         "anisotropic remeshing");
   std::vector<uint8_t> features;
-  if (o.feature_angle_degrees >= 0.0) features = detect_feature_edges(tri, o.feature_angle_degrees);
+  if (o.feature_angle_degrees >= 0.0) {  // the sharp input features every method's creases follow
+    SharpFeatureOptions fo;
+    fo.angle_degrees = std::min(o.feature_angle_degrees, 180.0);
+    features = detect_sharp_features(tri, fo).corner_flags;
+  }
 
   AnisotropicRemeshResult r;
   const CurvatureOptions co = anisotropic_curvature_options(tri, o);

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <tuple>
 #include <unordered_map>
 
@@ -253,13 +254,22 @@ Cage build_quad_dominant_cage(const PolygonMesh& input, const PolygonalLevel& le
       ++use.count;
     }
   }
-  const double cos_threshold = std::cos(options.crease_angle_degrees * kPi / 180.0);
-  // Mean dihedral angle of the input along each pair of clusters' border (length-weighted).
-  std::unordered_map<uint64_t, std::pair<double, double>> border;  // cluster pair -> (sum angle*len, len)
-  if (options.input_crease_angle_degrees >= 0 && options.crease_angle_degrees >= 0 &&
-      level.cluster_of_input_face.size() == input.num_faces()) {
+  const bool clusters_known = level.cluster_of_input_face.size() == input.num_faces();
+  const bool by_input = options.crease_rule == CreaseRule::sharp_input && clusters_known;
+  const bool by_angle = options.crease_rule == CreaseRule::cluster_angle && options.crease_angle_degrees >= 0;
+  // The input edges between two different clusters (each once), per vertex.
+  struct BorderEdge {
+    uint32_t a, b;
+    uint64_t pair;  // edge_key of the two clusters
+    double length, angle;
+    bool sharp;
+  };
+  std::vector<BorderEdge> border_edges;
+  if (clusters_known && (by_input || (by_angle && options.input_crease_angle_degrees >= 0))) {
     std::vector<Vec3> normal(input.num_faces());
     for (size_t f = 0; f < input.num_faces(); ++f) normal[f] = normalized(input.face_vector_area(f));
+    SharpFeatures features;
+    if (by_input) features = detect_sharp_features(input, options.features);
     std::unordered_map<uint64_t, uint32_t> edge_face;
     edge_face.reserve(input.num_face_vertices());
     for (size_t f = 0; f < input.num_faces(); ++f) {
@@ -271,27 +281,144 @@ Cage build_quad_dominant_cage(const PolygonMesh& input, const PolygonalLevel& le
         const uint32_t g = it->second, ca = level.cluster_of_input_face[f], cb = level.cluster_of_input_face[g];
         if (ca == cb) continue;
         const double angle = std::acos(std::clamp(dot(normal[f], normal[g]), -1.0, 1.0));
-        const double len = distance(input.positions[a], input.positions[b]);
-        auto& acc = border[edge_key(ca, cb)];
-        acc.first += angle * len;
-        acc.second += len;
+        border_edges.push_back({a, b, edge_key(ca, cb), distance(input.positions[a], input.positions[b]), angle, false});
       }
     }
+    // A border edge runs along a feature when both its ends are on a sharp edge or one input
+    // edge away from one (a cluster border that zigzags beside the feature line follows it).
+    if (by_input) {
+      const std::vector<uint8_t> near_feature = vertices_near_features(input, features);
+      for (BorderEdge& e : border_edges) e.sharp = near_feature[e.a] && near_feature[e.b];
+    }
   }
+  // cluster_angle with the input check: the length-weighted mean dihedral angle of the input
+  // along each pair of clusters' border.
+  std::unordered_map<uint64_t, std::pair<double, double>> border;  // cluster pair -> (sum angle*len, len)
+  if (by_angle)
+    for (const BorderEdge& e : border_edges) {
+      auto& acc = border[e.pair];
+      acc.first += e.angle * e.length;
+      acc.second += e.length;
+    }
   auto input_is_sharp = [&](uint32_t ca, uint32_t cb) {
     if (options.input_crease_angle_degrees < 0) return true;
     const auto it = border.find(edge_key(ca, cb));
     if (it == border.end() || !(it->second.second > 0)) return true;  // no shared input edges: keep the rule
     return it->second.first / it->second.second > options.input_crease_angle_degrees * kPi / 180.0;
   };
+  // sharp_input: the chain of border edges each cage edge spans, walked from every cage vertex
+  // along the border of one pair of clusters to the next cage vertex; per (cage edge, cluster
+  // pair) the sharp and the total length.
+  struct BorderChain {
+    double sharp = 0.0, total = 0.0;
+    std::vector<uint32_t> vertices;  // input vertices of the chain
+  };
+  std::map<std::pair<uint64_t, uint64_t>, BorderChain> chain;  // (edge, pair) -> its chain
+  if (by_input) {
+    std::vector<char> is_cage_vertex(input.num_vertices(), 0);
+    for (uint32_t v : r.input_vertex_of) is_cage_vertex[v] = 1;
+    std::unordered_map<uint32_t, std::vector<uint32_t>> at_vertex;
+    for (uint32_t e = 0; e < border_edges.size(); ++e)
+      for (uint32_t v : {border_edges[e].a, border_edges[e].b}) at_vertex[v].push_back(e);
+    for (uint32_t e0 = 0; e0 < border_edges.size(); ++e0)
+      for (uint32_t start : {border_edges[e0].a, border_edges[e0].b}) {
+        if (!is_cage_vertex[start]) continue;
+        const uint64_t pair = border_edges[e0].pair;
+        double sharp = 0.0, total = 0.0;
+        uint32_t edge = e0, at = start;
+        std::vector<uint32_t> vertices{start};
+        for (size_t step = 0; step <= border_edges.size(); ++step) {
+          const BorderEdge& be = border_edges[edge];
+          total += be.length;
+          sharp += be.sharp ? be.length : 0.0;
+          at = be.a == at ? be.b : be.a;
+          vertices.push_back(at);
+          if (is_cage_vertex[at]) {
+            if (start < at) {  // each chain once (it is walked from both ends)
+              BorderChain& acc = chain[{edge_key(start, at), pair}];
+              acc.sharp += sharp;
+              acc.total += total;
+              acc.vertices.insert(acc.vertices.end(), vertices.begin(), vertices.end());
+            }
+            break;
+          }
+          // A contour vertex that is not a cage vertex joins exactly two border edges of the pair.
+          uint32_t next = UINT32_MAX;
+          int candidates = 0;
+          for (uint32_t o : at_vertex[at])
+            if (o != edge && border_edges[o].pair == pair) next = o, ++candidates;
+          if (candidates != 1) break;
+          edge = next;
+        }
+      }
+  }
+  // The mean normals of each cluster's input faces within band_rings vertex rings of a chain
+  // (Σ vector areas): across a feature line they differ by about its angle, across the facets of
+  // a faceted or noisy organic scan, whose normals scatter around the smooth surface's, they do
+  // not.
+  std::vector<uint32_t> faces_first, faces_around;
+  if (by_input) {
+    faces_first.assign(input.num_vertices() + 1, 0);
+    for (uint32_t v : input.face_vertices) ++faces_first[v + 1];
+    for (size_t v = 0; v < input.num_vertices(); ++v) faces_first[v + 1] += faces_first[v];
+    faces_around.resize(input.face_vertices.size());
+    std::vector<uint32_t> fill(faces_first.begin(), faces_first.end() - 1);
+    for (size_t f = 0; f < input.num_faces(); ++f)
+      for (uint32_t k = 0; k < input.face_size(f); ++k) faces_around[fill[input.face_vertex(f, k)]++] = uint32_t(f);
+  }
+  auto band_normals_cos = [&](const std::vector<uint32_t>& chain_vertices, uint32_t ca, uint32_t cb) {
+    // From the chain's inner vertices (its ends are cage vertices where other clusters meet).
+    std::vector<uint32_t> verts, faces;
+    if (chain_vertices.size() >= 3)
+      verts.assign(chain_vertices.begin() + 1, chain_vertices.end() - 1);
+    else
+      verts = chain_vertices;
+    std::sort(verts.begin(), verts.end());
+    verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
+    for (int ring = 0; ring < options.band_rings; ++ring) {
+      faces.clear();
+      for (uint32_t v : verts)
+        for (uint32_t k = faces_first[v]; k < faces_first[v + 1]; ++k) {
+          const uint32_t f = faces_around[k], c = level.cluster_of_input_face[f];
+          if (c == ca || c == cb) faces.push_back(f);
+        }
+      std::sort(faces.begin(), faces.end());
+      faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+      if (ring + 1 == options.band_rings) break;
+      for (uint32_t f : faces)
+        for (uint32_t k = 0; k < input.face_size(f); ++k) verts.push_back(input.face_vertex(f, k));
+      std::sort(verts.begin(), verts.end());
+      verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
+    }
+    Vec3 na{}, nb{};
+    for (uint32_t f : faces) (level.cluster_of_input_face[f] == ca ? na : nb) += input.face_vector_area(f);
+    return dot(normalized(na), normalized(nb));
+  };
+  const double cos_half_feature = std::cos(0.5 * options.features.angle_degrees * kPi / 180.0);
+  const double cos_band = std::cos(options.band_fraction * options.features.angle_degrees * kPi / 180.0);
+  auto border_is_sharp = [&](uint32_t u, uint32_t w, uint32_t ca, uint32_t cb) {
+    const uint32_t iu = r.input_vertex_of[u], iw = r.input_vertex_of[w];
+    const auto it = chain.find({edge_key(iu, iw), edge_key(ca, cb)});
+    if (it == chain.end() || !(it->second.total > 0.0)) return false;  // not a border chord
+    // The two clusters must also meet at an angle (half the feature angle): a border that runs
+    // beside a feature line over flat or smooth surface is not a crease.
+    if (!(dot(level.faces[ca].normal, level.faces[cb].normal) < cos_half_feature)) return false;
+    if (it->second.sharp < options.sharp_share * it->second.total) return false;
+    return options.band_rings <= 0 || band_normals_cos(it->second.vertices, ca, cb) < cos_band;
+  };
+  const double cos_threshold = std::cos(options.crease_angle_degrees * kPi / 180.0);
   for (const auto& [key, use] : uses) {
     if (use.count > 2) ++r.non_manifold_edges;
     bool sharp = false;
     if (use.count == 1) {
       sharp = options.tag_boundary_edges;
-    } else if (use.count == 2 && use.cluster[0] != use.cluster[1] && options.crease_angle_degrees >= 0) {
-      sharp = dot(level.faces[use.cluster[0]].normal, level.faces[use.cluster[1]].normal) < cos_threshold &&
-              input_is_sharp(use.cluster[0], use.cluster[1]);
+    } else if (use.count == 2 && use.cluster[0] != use.cluster[1]) {
+      if (by_input)
+        sharp = border_is_sharp(static_cast<uint32_t>(key >> 32), static_cast<uint32_t>(key), use.cluster[0],
+                                use.cluster[1]);
+      else if (by_angle)
+        sharp = dot(level.faces[use.cluster[0]].normal, level.faces[use.cluster[1]].normal) < cos_threshold &&
+                input_is_sharp(use.cluster[0], use.cluster[1]);
     }
     if (sharp) cage.creases.push_back({static_cast<uint32_t>(key >> 32), static_cast<uint32_t>(key), kSharpnessInfinite});
   }

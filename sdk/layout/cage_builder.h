@@ -3,26 +3,53 @@
 // From a polygonal level of the simplification hierarchy to a Catmull-Clark control cage
 // (thesis §3.4): each face is partitioned into convex quad-dominant cells using only diagonals
 // of its constrained Delaunay triangulation, lifted back to the input vertices, and the cage's
-// edges get crease tags where neighbouring clusters meet at a sharp angle and on the mesh
-// boundary, so the limit surface keeps the part's sharp features.
+// edges get crease tags where the scan is sharp along the border of two clusters (or, by the
+// thesis's rule, where neighbouring clusters meet at a sharp angle) and on the mesh boundary, so
+// the limit surface keeps the part's sharp features.
 #include <cstdint>
 #include <vector>
 
 #include "core/cage.h"
 #include "layout/face_merge_simplifier.h"
 #include "layout/quad_dominant_partition.h"
+#include "layout/sharp_input_features.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 
+// Which cage edges between two clusters become infinitely sharp creases.
+enum class CreaseRule {
+  // Where the scan itself is sharp (the default): the input edges along the cage edge's border
+  // (the chain of input edges between the two clusters that the cage edge spans) run along
+  // sharp input features (sharp_input_features.h) for at least `sharp_share` of their length
+  // (an input edge runs along a feature when both its ends lie on a sharp edge or one input edge
+  // away from one: cluster borders zigzag beside feature lines), and the clusters' proxy normals
+  // differ by more than half the feature angle, and the input faces along the border on either
+  // side do too (band_rings). Organic scans get smooth cages, CAD parts keep their feature lines.
+  sharp_input,
+  // The thesis's rule (§3.4): the clusters' proxy normals differ by more than
+  // crease_angle_degrees (and, with input_crease_angle_degrees >= 0, the input is sharp enough
+  // along the clusters' border on average).
+  cluster_angle,
+};
+
 struct CageBuildOptions {
-  // A cage edge on the border of two clusters is tagged infinitely sharp when the clusters'
-  // proxy normals differ by more than this angle (degrees). Negative: never.
+  CreaseRule crease_rule = CreaseRule::sharp_input;
+  // sharp_input: the definition of a sharp input edge, and the share of a border's length that
+  // must be sharp.
+  SharpFeatureOptions features;
+  double sharp_share = 0.5;
+  // sharp_input: and the mean normals of the two clusters' input faces within band_rings vertex
+  // rings of the border differ by more than band_fraction x the feature angle (0 rings: not
+  // checked): a faceted organic scan's sharp facet edges are not a crease of its cage.
+  int band_rings = 3;
+  double band_fraction = 0.75;
+  // cluster_angle: a cage edge on the border of two clusters is tagged infinitely sharp when the
+  // clusters' proxy normals differ by more than this angle (degrees). Negative: never.
   double crease_angle_degrees = 30.0;
-  // ... and only where the input itself is sharp along the border of the two clusters: the
-  // length-weighted mean angle between the normals of the input faces on either side of the
-  // input edges that separate the clusters exceeds this angle (degrees). Organic scans, whose
-  // cluster borders run over smooth surface, then get smooth cages; CAD parts keep their
-  // creases. Negative: not checked (clusters' proxy normals alone decide).
+  // cluster_angle: ... and only where the input itself is sharp along the border of the two
+  // clusters: the length-weighted mean angle between the normals of the input faces on either
+  // side of the input edges that separate the clusters exceeds this angle (degrees). Negative:
+  // not checked (clusters' proxy normals alone decide).
   double input_crease_angle_degrees = -1.0;
   // Tag the edges on the mesh boundary (they are creases under the thesis's rule anyway;
   // tagging them keeps them sharp under any boundary rule).

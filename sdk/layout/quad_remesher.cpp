@@ -20,6 +20,7 @@
 #include "layout/convex_face_partition.h"
 #include "layout/quad_region_selection.h"
 #include "layout/remesh_constraints.h"
+#include "layout/sharp_input_features.h"
 #include "layout/triangle_mesh_input.h"
 #include "layout/vsa_segmentation.h"
 
@@ -488,42 +489,37 @@ struct RegionLocator {
   }
 };
 
-// Per piece [t_k, t_{k+1}] between consecutive samples of an arc: the length-weighted mean
-// dihedral angle (degrees) of the arc's input edges whose middle (in the arc-length parameter s
-// of the cubic) lies in it; a piece containing no edge middle takes the edge around its middle.
-std::vector<double> piece_dihedral_degrees(const std::vector<Vec3>& normals,
-                                           const std::unordered_map<uint64_t, uint32_t>& directed_face,
-                                           const RegionArc& arc, const ArcConstraint& constraint) {
+// Per piece [t_k, t_{k+1}] between consecutive samples of an arc: the share of the length of
+// the arc's input edges whose middle (in the arc-length parameter s of the cubic) lies in it that
+// runs along a sharp input feature (both ends near one, vertices_near_features); a piece
+// containing no edge middle takes the edge around its middle.
+std::vector<double> piece_sharp_share(const std::vector<uint8_t>& near_feature, const RegionArc& arc,
+                                      const ArcConstraint& constraint) {
   const std::vector<double>& t = constraint.samples.t;
   const size_t pieces = t.size() - 1;
-  std::vector<double> sum(pieces, 0.0), length(pieces, 0.0);
-  std::vector<double> edge_angle(arc.vertices.size() - 1, 0.0);
+  std::vector<double> sharp(pieces, 0.0), length(pieces, 0.0);
+  std::vector<uint8_t> edge_sharp(arc.vertices.size() - 1, 0);
   for (size_t k = 0; k + 1 < arc.vertices.size(); ++k) {
-    const uint32_t a = arc.vertices[k], b = arc.vertices[k + 1];
-    const auto left = directed_face.find((uint64_t(a) << 32) | b);
-    const auto right = directed_face.find((uint64_t(b) << 32) | a);
-    if (left == directed_face.end() || right == directed_face.end()) continue;
-    const double c = std::clamp(dot(normals[left->second], normals[right->second]), -1.0, 1.0);
-    edge_angle[k] = std::acos(c) * 180.0 / kPi;
+    edge_sharp[k] = near_feature[arc.vertices[k]] && near_feature[arc.vertices[k + 1]];
     const double middle = 0.5 * (constraint.s[k] + constraint.s[k + 1]);
     const size_t piece = std::min<size_t>(
         pieces - 1, size_t(std::max<long>(0, long(std::upper_bound(t.begin(), t.end(), middle) - t.begin()) - 1)));
     const double l = constraint.s[k + 1] - constraint.s[k];
-    sum[piece] += l * edge_angle[k];
+    sharp[piece] += edge_sharp[k] ? l : 0.0;
     length[piece] += l;
   }
   std::vector<double> out(pieces, 0.0);
   for (size_t p = 0; p < pieces; ++p) {
     if (length[p] > 0.0) {
-      out[p] = sum[p] / length[p];
+      out[p] = sharp[p] / length[p];
       continue;
     }
     const double middle = 0.5 * (t[p] + t[p + 1]);
     const size_t k = std::min<size_t>(
-        edge_angle.size() - 1,
+        edge_sharp.size() - 1,
         size_t(std::max<long>(0, long(std::upper_bound(constraint.s.begin(), constraint.s.end(), middle) -
                                        constraint.s.begin()) - 1)));
-    out[p] = edge_angle[k];
+    out[p] = edge_sharp[k];
   }
   return out;
 }
@@ -1297,20 +1293,18 @@ QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemesh
 
   // Creases on sharp interior arcs.
   if (o.crease_angle_degrees >= 0.0) {
-    std::unordered_map<uint64_t, uint32_t> directed_face;
-    for (uint32_t f = 0; f < tri.num_faces(); ++f)
-      for (uint32_t k = 0; k < 3; ++k)
-        directed_face.emplace((uint64_t(tri.face_vertex(f, k)) << 32) | tri.face_vertex(f, (k + 1) % 3), f);
+    SharpFeatureOptions fo;
+    fo.angle_degrees = std::min(o.crease_angle_degrees, 180.0);
+    const std::vector<uint8_t> near_feature = vertices_near_features(tri, detect_sharp_features(tri, fo));
     std::unordered_set<uint64_t> tagged;
     for (uint32_t a = 0; a < constraints.arcs.size(); ++a) {
       const RegionArc& arc = constraints.boundaries.arcs[a];
       if (arc.right_region == kMeshBorder) continue;
-      const std::vector<double> angle =
-          piece_dihedral_degrees(normals, directed_face, arc, constraints.arcs[a]);
+      const std::vector<double> share = piece_sharp_share(near_feature, arc, constraints.arcs[a]);
       const std::vector<uint32_t> ids = samples.arc_ids(constraints, a);
       bool sharp = false;
       for (size_t k = 0; k + 1 < ids.size(); ++k) {
-        if (!(angle[k] > o.crease_angle_degrees)) continue;
+        if (!(share[k] >= 0.5)) continue;
         sharp = true;
         const uint32_t v0 = remap[ids[k]], v1 = remap[ids[k + 1]];
         if (v0 == 0xffffffffu || v1 == 0xffffffffu || !tagged.insert(edge_key(v0, v1)).second) continue;

@@ -212,11 +212,18 @@ if "$cli" simplify "$tmp/demo/scan.obj" "$tmp/scan6.obj" --faces 6 --cage --quie
    "$cli" info "$tmp/fit6.obj" --json >"$tmp/fit6info.json" &&
    [ "$(json "$tmp/fit6info.json" "d['quads'] == 6 and d['creases'] == 12")" = True ]
 then pass "fit: a creased 6-quad cage to the demo scan (JSON keys, max_rel decreases, tags kept)"; else cat "$tmp/fit6.json" "$tmp/fit6info.json"; fail "fit cage to demo scan"; fi
-if "$cli" simplify "$tmp/demo/scan.obj" "$tmp/scan6s.obj" --faces 6 --cage --input-crease-angle 30 --json --quiet >"$tmp/scan6s.json" &&
+if "$cli" simplify "$tmp/demo/scan.obj" "$tmp/scan6s.obj" --faces 6 --cage --creases cluster-angle --input-crease-angle 30 --json --quiet >"$tmp/scan6s.json" &&
    [ "$(json "$tmp/scan6s.json" "d['creases'] == 12")" = True ] &&
-   "$cli" simplify "$tmp/demo/scan.obj" "$tmp/scan6n.obj" --faces 6 --cage --input-crease-angle 120 --json --quiet >"$tmp/scan6n.json" &&
+   "$cli" simplify "$tmp/demo/scan.obj" "$tmp/scan6n.obj" --faces 6 --cage --creases cluster-angle --input-crease-angle 120 --json --quiet >"$tmp/scan6n.json" &&
    [ "$(json "$tmp/scan6n.json" "d['creases'] == 0")" = True ]
 then pass "simplify --input-crease-angle: the block's 90-degree edges stay creases at 30, not at 120"; else cat "$tmp/scan6s.json" "$tmp/scan6n.json"; fail "simplify --input-crease-angle"; fi
+if "$cli" simplify "$tmp/demo/scan.obj" "$tmp/scan6d.obj" --faces 6 --cage --json --quiet >"$tmp/scan6d.json" &&
+   [ "$(json "$tmp/scan6d.json" "d['creases'] == 12")" = True ] &&
+   "$cli" simplify "$tmp/demo/scan.obj" "$tmp/scan6f.obj" --faces 6 --cage --feature-angle 95 --json --quiet >"$tmp/scan6f.json" &&
+   [ "$(json "$tmp/scan6f.json" "d['creases'] == 0")" = True ] &&
+   { "$cli" simplify "$tmp/demo/scan.obj" "$tmp/scan6x.obj" --faces 6 --cage --creases sharp 2>"$tmp/scan6x.err"; [ $? -eq 2 ]; } &&
+   grep -q "sharp-input" "$tmp/scan6x.err"
+then pass "simplify creases where the scan is sharp by default (--feature-angle 95: none); a bad --creases is exit 2"; else cat "$tmp/scan6d.json" "$tmp/scan6f.json" "$tmp/scan6x.err"; fail "simplify --creases / --feature-angle"; fi
 if "$cli" fit "$tmp/demo/scan.obj" "$tmp/cube.obj" "$tmp/fitcube.drc" --passes 4 --tolerance 0 --projection linear --json --quiet >"$tmp/fitcube.json" &&
    [ "$(json "$tmp/fitcube.json" "[F := d, $fit_ok][1] and d['passes'] >= 2 and d['max_rel'] < 0.5 * d['per_pass'][0]['max_rel']")" = True ] &&
    [ -s "$tmp/fitcube.drc" ]

@@ -610,9 +610,29 @@ static void simplification_hierarchy_browses_levels_and_builds_a_cage(void) {
   CHECK(report.quads == 6 && report.triangles == 0 && report.creases == 12);
   CHECK(report.diagonals_flipped == 0 && report.cells_merged == 0);
   {
-    /* the cube's sides meet at 90 degrees in the input too: kept at 85, dropped at 95 */
+    /* the default rule (creases where the input is sharp): the cube's 90-degree edges are
+       sharp input features at a feature angle of 85 degrees, not at 95 */
     cagekit_cage_options cage_options = CAGEKIT_CAGE_OPTIONS_INIT;
     cagekit_cage other = NULL;
+    CHECK(cage_options.crease_rule == CAGEKIT_CREASES_SHARP_INPUT && cage_options.feature_angle_degrees == 40.0);
+    cage_options.feature_angle_degrees = 85.0;
+    CHECK_OK(cagekit_hierarchy_build_cage(hierarchy, &cage_options, &other, &report));
+    CHECK(report.creases == 12);
+    cagekit_cage_release(other);
+    cage_options.feature_angle_degrees = 95.0;
+    CHECK_OK(cagekit_hierarchy_build_cage(hierarchy, &cage_options, &other, &report));
+    CHECK(report.creases == 0);
+    cagekit_cage_release(other);
+    cage_options.feature_angle_degrees = 200.0;
+    CHECK_STATUS(cagekit_hierarchy_build_cage(hierarchy, &cage_options, &other, &report),
+                 CAGEKIT_ERROR_INVALID_ARGUMENT);
+    cage_options.feature_angle_degrees = 40.0;
+    cage_options.crease_rule = (cagekit_crease_rule)7;
+    CHECK_STATUS(cagekit_hierarchy_build_cage(hierarchy, &cage_options, &other, &report),
+                 CAGEKIT_ERROR_INVALID_ARGUMENT);
+    /* the thesis's rule with the input check: the cube's sides meet at 90 degrees in the input
+       too: kept at 85, dropped at 95 */
+    cage_options.crease_rule = CAGEKIT_CREASES_CLUSTER_ANGLE;
     cage_options.input_crease_angle_degrees = 85.0;
     CHECK_OK(cagekit_hierarchy_build_cage(hierarchy, &cage_options, &other, &report));
     CHECK(report.creases == 12);

@@ -33,7 +33,12 @@
 #include <utility>
 #include <vector>
 
+#include "crease_metrics.h"
 #include "job_runner.h"
+
+#ifndef CAGEKIT_MESH_CLASSES
+#define CAGEKIT_MESH_CLASSES ""
+#endif
 
 namespace fs = std::filesystem;
 
@@ -285,6 +290,8 @@ struct Options {
   std::string cli;
   std::string out;
   std::string corpus = CAGEKIT_CORPUS_DIR;
+  std::string classes = CAGEKIT_MESH_CLASSES;  // mesh_classes.txt of the source tree
+  bool classes_given = false;                  // --classes: the file must exist
   std::vector<std::string> methods = {"simplify", "quad", "anisotropic"};
   int jobs = 2;
   double timeout = 120.0;
@@ -300,8 +307,9 @@ struct Options {
 const char* kUsage =
     "usage: corpus_harness --cli PATH/cagekit --out DIR [--methods simplify,quad,anisotropic] [--jobs N]\n"
     "         [--timeout S] [--memory-mb M] [--corpus DIR] [--list FILE | MESH_OR_FOLDER...]\n"
-    "         [--baseline FILE.json] [--write-baseline FILE.json] [--summary-only]\n"
+    "         [--baseline FILE.json] [--write-baseline FILE.json] [--summary-only] [--classes FILE]\n"
     "  Inputs default to CORPUS/cgal and CORPUS/stl; --list names one mesh per line, relative to --corpus.\n"
+    "  --classes: 'cad|organic PATH' per line (PATH relative to --corpus), default tests/corpus/mesh_classes.txt.\n"
     "  Exit: 0 done (and no regression against --baseline), 1 regression against the baseline,\n"
     "        64 usage, 77 no corpus / no input to run (a skip for ctest).\n";
 
@@ -332,6 +340,7 @@ Options parse_options(int argc, char** argv) {
     else if (a == "--out") o.out = value(i);
     else if (a == "--corpus") o.corpus = value(i);
     else if (a == "--list") o.list = value(i);
+    else if (a == "--classes") o.classes = value(i), o.classes_given = true;
     else if (a == "--baseline") o.baseline = value(i);
     else if (a == "--write-baseline") o.write_baseline = value(i);
     else if (a == "--summary-only") o.summary_only = true;
@@ -437,6 +446,27 @@ bool collect_inputs(const Options& o, std::vector<Input>* inputs) {
   return !inputs->empty();
 }
 
+// The CAD / organic split (issue 20): "cad PATH" or "organic PATH" per line, PATH as the harness
+// names meshes (relative to --corpus, e.g. cgal/anchor.off); '#' starts a comment. A mesh not
+// listed is unclassified. The default file may be absent (no classes); a given one must exist.
+std::map<std::string, std::string> read_mesh_classes(const Options& o) {
+  std::map<std::string, std::string> classes;
+  if (o.classes.empty() || (!o.classes_given && !fs::is_regular_file(o.classes))) return classes;
+  std::stringstream lines(read_whole_file(o.classes));
+  std::string line;
+  for (int number = 1; std::getline(lines, line); ++number) {
+    const size_t hash = line.find('#');
+    if (hash != std::string::npos) line.erase(hash);
+    std::stringstream words(line);
+    std::string cls, path, extra;
+    if (!(words >> cls)) continue;
+    if (!(words >> path) || (words >> extra) || (cls != "cad" && cls != "organic"))
+      throw std::runtime_error(o.classes + ":" + std::to_string(number) + ": expected 'cad PATH' or 'organic PATH'");
+    classes[fs::path(path).lexically_normal().generic_string()] = cls;
+  }
+  return classes;
+}
+
 // ------------------------------------------------------------------------------------------
 // Records
 
@@ -482,6 +512,18 @@ struct Record {
   // quad / anisotropic result may be the simplify fallback's, which the tables say.
   std::string used_method;
   bool fallback = false, own_cage = false;
+  // Crease figures (issue 20; README "Crease figures"), measured on exit 0 only.
+  std::string mesh_class;  // "cad", "organic" or "" (mesh_classes.txt)
+  bool creases_measured = false;
+  std::optional<double> crease_precision_pct, crease_recall_pct, crease_density_pct;
+  // Counts: input edges bending > 40 degrees; measured (interior) crease edges; crease tags on
+  // boundary edges, left out of precision and recall.
+  std::optional<double> sharp_input_edges, crease_edges, boundary_crease_edges;
+  // Lengths relative to the scan's diagonal: measured creases (total, within tau of a sharp input
+  // edge) and sharp input edges (total, within tau of a crease); summed over meshes for the pooled figures.
+  double crease_length_rel = 0.0, crease_matched_rel = 0.0, sharp_length_rel = 0.0, sharp_matched_rel = 0.0;
+  std::string crease_source;  // "limit.obj" or "cage.obj" (the fallback)
+  std::string crease_note;    // why the fallback or why figures are missing
 };
 
 // Expected clean errors (inputs with no surface, corrupt files), told apart by their message:
@@ -630,6 +672,8 @@ struct ScanInfo {
   bool read = false;
   std::string error;
   cagekit_mesh_info info{};
+  MeshData data;  // positions and faces, for the sharp input edges
+  bool have_data = false;
 };
 
 ScanInfo scan_info(const Context& ctx, const std::string& path) {
@@ -645,6 +689,7 @@ ScanInfo scan_info(const Context& ctx, const std::string& path) {
     return s;
   }
   s.read = true;
+  s.have_data = mesh_data(mesh.h, &s.data);
   return s;
 }
 
@@ -666,6 +711,105 @@ std::string portable(std::string message, const Input& input, const fs::path& di
          at = message.find(swap.first, at + swap.second.size()))
       message.replace(at, swap.first.size(), swap.second);
   return message;
+}
+
+// ------------------------------------------------------------------------------------------
+// Crease figures (issue 20): do the cage's crease tags sit on the scan's sharp features?
+//   sharp input edges: scan edges with two faces bending by more than 40 degrees (exact duplicate
+//     positions welded, see crease_metrics.h);
+//   crease edges: the crease-tagged interior edges of out/limit.obj (on the limit surface), or of
+//     out/cage.obj when limit.obj is missing or has no crease tags (noted in the record);
+//   precision: crease length within tau of a sharp input edge / crease length;
+//   recall: sharp input length within tau of a crease edge / sharp input length;
+//   tau = 1 % of the scan's bounding-box diagonal, samples every <= tau / 4 (crease_metrics.h).
+// Crease density (crease edges / edges of cage.obj) is filled in by run_one.
+
+const double kSharpAngleDegrees = 40.0;
+const double kCreaseToleranceRel = 0.01;
+
+// The crease-tagged interior edges of a cage as segments. Tags on boundary edges (one face) are
+// left out and counted in *on_boundary: the boundary rule makes those edges sharp anyway, and the
+// ground truth has no boundary edges (open CAD patches such as ALSTOM_TEST4 tag their whole
+// boundary). Pairs outside the vertex range are skipped.
+std::vector<cagekit_corpus::Segment> crease_segments(const MeshData& d, const Tags& t, size_t* on_boundary) {
+  const size_t n = d.xyz.size() / 3;
+  auto key = [](uint32_t a, uint32_t b) { return (uint64_t(std::min(a, b)) << 32) | std::max(a, b); };
+  std::map<uint64_t, int> faces_of_edge;
+  size_t at_index = 0;
+  for (const uint32_t size : d.sizes) {
+    if (at_index + size > d.indices.size()) break;
+    for (uint32_t i = 0; i < size; ++i)
+      ++faces_of_edge[key(d.indices[at_index + i], d.indices[at_index + (i + 1) % size])];
+    at_index += size;
+  }
+  auto at = [&](uint32_t v) {
+    return cagekit_corpus::Vec3{d.xyz[3 * size_t(v)], d.xyz[3 * size_t(v) + 1], d.xyz[3 * size_t(v) + 2]};
+  };
+  std::vector<cagekit_corpus::Segment> out;
+  *on_boundary = 0;
+  for (size_t c = 0; c + 1 < t.crease_pairs.size(); c += 2) {
+    const uint32_t a = t.crease_pairs[c], b = t.crease_pairs[c + 1];
+    if (a >= n || b >= n) continue;
+    const auto e = faces_of_edge.find(key(a, b));
+    if (e != faces_of_edge.end() && e->second == 1) ++*on_boundary;
+    else out.push_back({at(a), at(b)});
+  }
+  return out;
+}
+
+// cage_data / cage_tags: cage.obj's, or null when it did not read as a cage.
+void measure_creases(const Context& ctx, const ScanInfo& scan, const fs::path& out, const MeshData* cage_data,
+                     const Tags* cage_tags_read, Record* rec) {
+  const double diagonal = scan.read ? scan.info.bbox_diagonal : 0.0;
+  if (!scan.have_data || !(diagonal > 0.0) || !std::isfinite(diagonal)) {
+    rec->crease_note = "no crease figures: the scan did not read or has no extent";
+    return;
+  }
+  // The crease edges: limit.obj's tags, else cage.obj's.
+  std::vector<cagekit_corpus::Segment> creases;
+  size_t on_boundary = 0;
+  const std::string limit_path = (out / "limit.obj").string();
+  std::string why_not_limit;
+  CageHandle limit;
+  MeshHandle limit_mesh;
+  MeshData limit_data;
+  Tags limit_tags;
+  if (!fs::is_regular_file(limit_path)) {
+    why_not_limit = "no limit.obj";
+  } else if (cagekit_cage_read_file(ctx.handle, limit_path.c_str(), CAGEKIT_FORMAT_AUTO, limit.out()) !=
+                 CAGEKIT_SUCCESS ||
+             !cage_tags(limit.h, &limit_tags) ||
+             cagekit_cage_get_mesh(limit.h, limit_mesh.out()) != CAGEKIT_SUCCESS ||
+             !mesh_data(limit_mesh.h, &limit_data)) {
+    why_not_limit = "limit.obj does not read as a cage: " + first_line(ctx.error());
+  } else if (limit_tags.crease_sharpness.empty()) {
+    why_not_limit = "limit.obj has no crease tags";
+  }
+  if (why_not_limit.empty()) {
+    creases = crease_segments(limit_data, limit_tags, &on_boundary);
+    rec->crease_source = "limit.obj";
+  } else if (cage_data && cage_tags_read) {
+    creases = crease_segments(*cage_data, *cage_tags_read, &on_boundary);
+    rec->crease_source = "cage.obj";
+    rec->crease_note = why_not_limit + ": creases of cage.obj";
+  } else {
+    rec->crease_note = "no crease figures: " + why_not_limit + " and cage.obj is not a readable cage";
+    return;
+  }
+
+  const std::vector<cagekit_corpus::Segment> sharp =
+      cagekit_corpus::sharp_input_edges(scan.data.xyz, scan.data.sizes, scan.data.indices, kSharpAngleDegrees);
+  const cagekit_corpus::CreaseMatch m = cagekit_corpus::match_creases(creases, sharp, kCreaseToleranceRel * diagonal);
+  rec->creases_measured = true;
+  rec->sharp_input_edges = double(sharp.size());
+  rec->crease_edges = double(creases.size());
+  rec->boundary_crease_edges = double(on_boundary);
+  rec->crease_length_rel = m.creases.total / diagonal;
+  rec->crease_matched_rel = m.creases.matched / diagonal;
+  rec->sharp_length_rel = m.sharp.total / diagonal;
+  rec->sharp_matched_rel = m.sharp.matched / diagonal;
+  if (m.creases.total > 0.0) rec->crease_precision_pct = 100.0 * m.creases.matched / m.creases.total;
+  if (m.sharp.total > 0.0) rec->crease_recall_pct = 100.0 * m.sharp.matched / m.sharp.total;
 }
 
 // ------------------------------------------------------------------------------------------
@@ -783,6 +927,8 @@ Record run_one(const Options& o, const Context& ctx, const Input& input, const s
   Tags tags;
   CageHandle cage;
   bool cage_ok = false;
+  bool cage_read = false;  // cage.obj read as a cage, with its tags and data
+  uint64_t cage_edges = 0;
   if (!fs::is_regular_file(cage_path)) {
     bad("no cage.obj");
   } else if (cagekit_mesh_read_file(ctx.handle, cage_path.c_str(), CAGEKIT_FORMAT_AUTO, cage_mesh.out()) !=
@@ -797,6 +943,7 @@ Record run_one(const Options& o, const Context& ctx, const Input& input, const s
     info.struct_size = sizeof(info);
     cagekit_mesh_get_info(cage_mesh.h, &info);
     rec.faces = double(info.faces);
+    cage_edges = info.edges;
     rec.quads_pct = info.faces ? 100.0 * double(info.quads) / double(info.faces) : 0.0;
     rec.cage_boundary_loops = double(info.boundary_loops);
     const bool mesh_ok = valid == CAGEKIT_SUCCESS && validation.valid && info.manifold && info.faces > 0;
@@ -812,10 +959,37 @@ Record run_one(const Options& o, const Context& ctx, const Input& input, const s
       bad("cannot read the cage's data: " + first_line(ctx.error()));
     } else {
       if (tags_ok) rec.creases = double(tags.crease_sharpness.size());
+      cage_read = tags_ok;
       rec.digest = cage_digest(data, tags_ok ? tags : Tags{}, info.bbox_diagonal);
       cage_ok = mesh_ok && tags_ok;
     }
   }
+  // Crease figures (reported, not judged: they do not change the status). The density is over
+  // interior edges (two faces): a boundary edge is sharp by the boundary rule whatever the tags.
+  if (cage_read && cage_edges > 0) {
+    std::unordered_map<uint64_t, int> uses;
+    size_t at = 0;
+    for (uint32_t n : data.sizes) {
+      for (uint32_t k = 0; k < n; ++k) {
+        uint32_t a = data.indices[at + k], b = data.indices[at + (k + 1) % n];
+        if (a > b) std::swap(a, b);
+        ++uses[uint64_t(a) << 32 | b];
+      }
+      at += n;
+    }
+    size_t interior = 0, interior_creases = 0;
+    for (const auto& [key, count] : uses) interior += count == 2;
+    for (size_t c = 0; c + 1 < tags.crease_pairs.size(); c += 2) {
+      uint32_t a = tags.crease_pairs[c], b = tags.crease_pairs[c + 1];
+      if (a > b) std::swap(a, b);
+      const auto it = uses.find(uint64_t(a) << 32 | b);
+      interior_creases += it != uses.end() && it->second == 2;
+    }
+    if (interior > 0) rec.crease_density_pct = 100.0 * double(interior_creases) / double(interior);
+  }
+  measure_creases(ctx, scan, out, cage_read ? &data : nullptr, cage_read ? &tags : nullptr, &rec);
+  rec.crease_note = portable(rec.crease_note, input, dir);
+
   // Holes the input did not have.
   if (!rec.holes_added && rec.cage_boundary_loops && rec.input_boundary_loops)
     rec.holes_added = std::max(0.0, *rec.cage_boundary_loops - *rec.input_boundary_loops);
@@ -950,6 +1124,86 @@ std::string summary_line(const std::string& method, const Summary& s) {
   return line;
 }
 
+// Crease figures of one method over one class (README "Crease figures").
+struct CreaseSummary {
+  int meshes = 0;     // records of the class
+  int measured = 0;   // of them, exit 0 with crease figures
+  int good_fits = 0;  // good records with both one-sided errors (for the fit median)
+  // Pooled over the measured records: summed matched length / summed length, each mesh's lengths
+  // relative to its own diagonal (so that model units do not weigh meshes).
+  std::optional<double> precision_pct, recall_pct;
+  std::optional<double> precision_median_pct, recall_median_pct, density_median_pct, density_max_pct;
+  std::optional<double> fit_median_pct;  // median of max(scan->limit, limit->scan) over good records, % of the diagonal
+};
+
+std::optional<double> median(std::vector<double> v) {
+  if (v.empty()) return std::nullopt;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+CreaseSummary summarize_creases(const std::vector<Record>& records, const std::string& method, const std::string& cls) {
+  CreaseSummary s;
+  double crease = 0.0, crease_matched = 0.0, sharp = 0.0, sharp_matched = 0.0;
+  std::vector<double> precisions, recalls, densities, fits;
+  for (const Record& r : records) {
+    if (r.method != method || r.mesh_class != cls) continue;
+    ++s.meshes;
+    if (r.status == Status::good && r.scan_to_limit && r.limit_to_scan) {
+      ++s.good_fits;
+      fits.push_back(100.0 * std::max(*r.scan_to_limit, *r.limit_to_scan));
+    }
+    if (!r.creases_measured) continue;
+    ++s.measured;
+    crease += r.crease_length_rel;
+    crease_matched += r.crease_matched_rel;
+    sharp += r.sharp_length_rel;
+    sharp_matched += r.sharp_matched_rel;
+    if (r.crease_precision_pct) precisions.push_back(*r.crease_precision_pct);
+    if (r.crease_recall_pct) recalls.push_back(*r.crease_recall_pct);
+    if (r.crease_density_pct) densities.push_back(*r.crease_density_pct);
+  }
+  if (crease > 0.0) s.precision_pct = 100.0 * crease_matched / crease;
+  if (sharp > 0.0) s.recall_pct = 100.0 * sharp_matched / sharp;
+  s.precision_median_pct = median(precisions);
+  s.recall_median_pct = median(recalls);
+  s.density_median_pct = median(densities);
+  if (!densities.empty()) s.density_max_pct = *std::max_element(densities.begin(), densities.end());
+  s.fit_median_pct = median(fits);
+  return s;
+}
+
+std::string percent(std::optional<double> x, const char* format = "%.1f %%") {
+  if (!x || !std::isfinite(*x)) return "n/a";
+  char buffer[40];
+  std::snprintf(buffer, sizeof(buffer), format, *x);
+  return buffer;
+}
+
+std::string crease_line(const std::string& method, const std::string& cls, const CreaseSummary& s) {
+  return method + " creases, " + (cls == "cad" ? "CAD" : cls) + ": " + std::to_string(s.meshes) + " meshes (" +
+         std::to_string(s.measured) + " measured): precision " + percent(s.precision_pct) + " recall " +
+         percent(s.recall_pct) + " (length-weighted; medians " + percent(s.precision_median_pct) + " / " +
+         percent(s.recall_median_pct) + "), crease density median " + percent(s.density_median_pct) + " (max " +
+         percent(s.density_max_pct) + "), fit two-sided median " + percent(s.fit_median_pct, "%.2f %%") + " (" +
+         std::to_string(s.good_fits) + " good)";
+}
+
+std::string crease_summary_json(const CreaseSummary& s, const std::string& line) {
+  return "{\"meshes\": " + std::to_string(s.meshes) + ", \"measured\": " + std::to_string(s.measured) +
+         ", \"precision_pct\": " + json_number(s.precision_pct, "%.2f") +
+         ", \"recall_pct\": " + json_number(s.recall_pct, "%.2f") +
+         ", \"precision_median_pct\": " + json_number(s.precision_median_pct, "%.2f") +
+         ", \"recall_median_pct\": " + json_number(s.recall_median_pct, "%.2f") +
+         ", \"density_median_pct\": " + json_number(s.density_median_pct, "%.2f") +
+         ", \"density_max_pct\": " + json_number(s.density_max_pct, "%.2f") +
+         ", \"fit_two_sided_median_pct\": " + json_number(s.fit_median_pct, "%.3f") +
+         ", \"good\": " + std::to_string(s.good_fits) + ", \"line\": " + json_escape(line) + "}";
+}
+
+const char* const kMeshClasses[] = {"cad", "organic"};
+
 std::string record_json(const Record& r) {
   std::string reasons = "[";
   for (size_t i = 0; i < r.reasons.size(); ++i) reasons += (i ? ", " : "") + json_escape(r.reasons[i]);
@@ -974,7 +1228,20 @@ std::string record_json(const Record& r) {
          ", \"used_method\": " + (r.used_method.empty() ? "null" : json_escape(r.used_method)) +
          ", \"fallback\": " + (r.fallback ? "true" : "false") + ", \"input_is_cage\": " +
          (r.own_cage ? "true" : "false") +
-         ", \"conditioning\": " + (r.conditioning_json.empty() ? "null" : r.conditioning_json) + "}";
+         ", \"conditioning\": " + (r.conditioning_json.empty() ? "null" : r.conditioning_json) +
+         ", \"class\": " + json_escape(r.mesh_class) +
+         ", \"crease_precision_pct\": " + json_number(r.crease_precision_pct, "%.2f") +
+         ", \"crease_recall_pct\": " + json_number(r.crease_recall_pct, "%.2f") +
+         ", \"crease_density_pct\": " + json_number(r.crease_density_pct, "%.2f") +
+         ", \"crease_source\": " + (r.crease_source.empty() ? "null" : json_escape(r.crease_source)) +
+         ", \"crease_note\": " + (r.crease_note.empty() ? "null" : json_escape(r.crease_note)) +
+         ", \"crease_edges\": " + json_number(r.crease_edges, "%.0f") +
+         ", \"boundary_crease_edges\": " + json_number(r.boundary_crease_edges, "%.0f") +
+         ", \"sharp_input_edges\": " + json_number(r.sharp_input_edges, "%.0f") +
+         ", \"crease_length_rel\": " + (r.creases_measured ? json_number(r.crease_length_rel) : "null") +
+         ", \"crease_matched_rel\": " + (r.creases_measured ? json_number(r.crease_matched_rel) : "null") +
+         ", \"sharp_length_rel\": " + (r.creases_measured ? json_number(r.sharp_length_rel) : "null") +
+         ", \"sharp_matched_rel\": " + (r.creases_measured ? json_number(r.sharp_matched_rel) : "null") + "}";
 }
 
 std::string cell(std::optional<double> x, const char* format) {
@@ -995,17 +1262,22 @@ std::string markdown(const std::vector<Record>& records, const std::vector<std::
   std::string md;
   for (const std::string& method : methods) {
     md += "### " + method + "\n\n";
-    md += "| mesh | status | s | MB | faces | quads % | creases | scan→limit | limit→scan | holes added | "
-          "self-int. | digest | message |\n";
-    md += "|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|---|---|\n";
+    md += "| mesh | status | class | s | MB | faces | quads % | creases | crease density % | precision % | "
+          "recall % | scan→limit | limit→scan | holes added | self-int. | digest | message |\n";
+    md += "|---|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|---|---|\n";
     for (const Record& r : records) {
       if (r.method != method) continue;
       char t[32], m[32];
       std::snprintf(t, sizeof(t), "%.1f", r.seconds + r.deform_seconds);
       std::snprintf(m, sizeof(m), "%.0f", r.peak_mb);
       const std::string how = r.fallback ? " (fallback: simplify)" : r.own_cage ? " (own cage)" : "";
-      md += "| " + markdown_escape(r.mesh) + " | " + status_label(r.status) + how + " | " + t + " | " + m + " | " +
-            cell(r.faces, "%.0f") + " | " + cell(r.quads_pct, "%.0f") + " | " + cell(r.creases, "%.0f") + " | " +
+      // Precision / recall from cage.obj's creases (limit.obj had none) are marked "(cage)".
+      const std::string from_cage = r.crease_source == "cage.obj" ? " (cage)" : "";
+      md += "| " + markdown_escape(r.mesh) + " | " + status_label(r.status) + how + " | " +
+            (r.mesh_class.empty() ? "" : r.mesh_class) + " | " + t + " | " + m + " | " + cell(r.faces, "%.0f") +
+            " | " + cell(r.quads_pct, "%.0f") + " | " + cell(r.creases, "%.0f") + " | " +
+            cell(r.crease_density_pct, "%.1f") + " | " + cell(r.crease_precision_pct, "%.1f") + from_cage + " | " +
+            cell(r.crease_recall_pct, "%.1f") + from_cage + " | " +
             cell(r.scan_to_limit, "%.3g") + " | " + (r.limit_to_scan_is_bound ? "≤ " : "") +
             cell(r.limit_to_scan, "%.3g") + " | " + cell(r.holes_added, "%.0f") + " | " +
             cell(r.self_intersections, "%.0f") +
@@ -1019,6 +1291,10 @@ std::string markdown(const std::vector<Record>& records, const std::vector<std::
   }
   md += "Summary:\n\n";
   for (const std::string& l : lines) md += "- `" + l + "`\n";
+  md += "\nCrease figures (tests/corpus/README.md): precision = interior crease length within 1 % of the diagonal "
+        "of a scan edge bending > 40°, recall = that edge length within 1 % of a crease (creases of limit.obj; \"(cage)\": "
+        "of cage.obj), crease density = crease edges / edges of cage.obj, both interior (two faces; boundary edges are sharp by the boundary rule); \"fit two-sided\" = max(scan→limit, "
+        "limit→scan) of the good records.\n";
   return md;
 }
 
@@ -1167,6 +1443,7 @@ int main(int argc, char** argv) {
       std::printf("corpus_harness: no mesh to run: skipped\n");
       return 77;
     }
+    const std::map<std::string, std::string> classes = read_mesh_classes(o);
     Baseline baseline;
     if (!o.baseline.empty()) baseline = read_baseline(o.baseline);
     fs::create_directories(o.out);
@@ -1201,6 +1478,8 @@ int main(int argc, char** argv) {
           }
           const fs::path dir = fs::path(o.out) / "runs" / safe_name(input.name) / method;
           records[j] = run_one(o, ctx, input, method, limits, dir);
+          const auto cls = classes.find(fs::path(input.name).lexically_normal().generic_string());
+          if (cls != classes.end()) records[j].mesh_class = cls->second;
           const size_t finished = ++done;
           if (!o.summary_only) {
             std::lock_guard<std::mutex> lock(print);
@@ -1226,6 +1505,20 @@ int main(int argc, char** argv) {
 
     std::vector<std::string> lines;
     for (const std::string& m : o.methods) lines.push_back(summary_line(m, summarize(records, m)));
+    // Per method: its summary line, then one crease line per class present in the run.
+    std::vector<std::string> printed;
+    std::vector<std::string> crease_json(o.methods.size());
+    for (size_t i = 0; i < o.methods.size(); ++i) {
+      printed.push_back(lines[i]);
+      for (const char* cls : kMeshClasses) {
+        const CreaseSummary c = summarize_creases(records, o.methods[i], cls);
+        if (c.meshes == 0) continue;
+        const std::string line = crease_line(o.methods[i], cls, c);
+        printed.push_back(line);
+        crease_json[i] += std::string(crease_json[i].empty() ? "" : ", ") + json_escape(cls) + ": " +
+                          crease_summary_json(c, line);
+      }
+    }
     char took[96];
     std::snprintf(took, sizeof(took), "%zu runs in %.0f s with --jobs %d", jobs.size(), total_seconds, o.jobs);
 
@@ -1238,20 +1531,20 @@ int main(int argc, char** argv) {
       for (Status st : kAllStatus) json += json_escape(status_label(st)) + ": " + std::to_string(s.count.at(st)) + ", ";
       json += "\"total\": " + std::to_string(s.total) + ", \"no_surface_errors\": " + std::to_string(s.no_surface) +
               ", \"good_rate_pct\": " + json_number(s.good_rate(), "%.1f") + ", \"line\": " + json_escape(lines[i]) +
-              "}";
+              ", \"creases\": {" + crease_json[i] + "}}";
     }
     json += "},\n \"records\": [";
     for (size_t i = 0; i < records.size(); ++i) json += std::string(i ? ",\n  " : "\n  ") + record_json(records[i]);
     json += "\n ]}\n";
     write_whole_file((fs::path(o.out) / "results.json").string(), json);
     write_whole_file((fs::path(o.out) / "results.md").string(),
-                     markdown(records, o.methods, lines) + "\n" + took + ".\n");
+                     markdown(records, o.methods, printed) + "\n" + took + ".\n");
     if (!o.write_baseline.empty()) {
       write_whole_file(o.write_baseline, baseline_json(records, o.methods, o));
       std::printf("corpus_harness: baseline written to %s\n", o.write_baseline.c_str());
     }
 
-    for (const std::string& l : lines) std::printf("%s\n", l.c_str());
+    for (const std::string& l : printed) std::printf("%s\n", l.c_str());
     std::printf("(%s; tables in %s/results.md)\n", took, o.out.c_str());
     if (!o.baseline.empty()) return compare_with_baseline(baseline, records, o.methods);
     return 0;

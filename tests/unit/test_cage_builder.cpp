@@ -56,6 +56,11 @@ TEST(CageBuilder, cube_sides_become_six_quads_with_twelve_sharp_edges) {
 TEST(CageBuilder, crease_angle_threshold_decides_the_tags) {
   const PolygonMesh cube = cagekit_test::unit_cube_quads();
   CageBuildOptions options;
+  options.features.angle_degrees = 95.0;  // sharp-input rule: the sides meet at 90 degrees
+  EXPECT_EQ(build_quad_dominant_cage(cube, cube_level(), options).creases.size(), 0u);
+  options.features.angle_degrees = 85.0;
+  EXPECT_EQ(build_quad_dominant_cage(cube, cube_level(), options).creases.size(), 12u);
+  options.crease_rule = CreaseRule::cluster_angle;  // the thesis's rule, by the clusters' normals
   options.crease_angle_degrees = 95.0;  // the cube's sides meet at 90 degrees
   EXPECT_EQ(build_quad_dominant_cage(cube, cube_level(), options).creases.size(), 0u);
   options.crease_angle_degrees = 85.0;
@@ -192,11 +197,12 @@ TEST(CageBuilder, input_crease_angle_keeps_cad_creases_and_drops_organic_ones) {
   const std::string fandisk_path = cagekit_test::shared_mesh_path("fandisk.obj");
   const std::string bunny_path = cagekit_test::shared_mesh_path("stanford-bunny.obj");
   if (fandisk_path.empty() || bunny_path.empty()) GTEST_SKIP() << "fandisk.obj or stanford-bunny.obj not present";
-  auto creases = [](const std::string& path, double input_angle) {
+  auto creases = [](const std::string& path, double input_angle, CreaseRule rule = CreaseRule::cluster_angle) {
     const PolygonMesh input = cagekit_test::load_mesh(path);
     SimplificationHierarchy hierarchy(input);
     hierarchy.go_to_level(hierarchy.level_for_face_count(300));
     CageBuildOptions options;
+    options.crease_rule = rule;
     options.input_crease_angle_degrees = input_angle;
     CageBuildReport report;
     build_quad_dominant_cage(input, hierarchy.extract(), options, &report);
@@ -209,6 +215,14 @@ TEST(CageBuilder, input_crease_angle_keeps_cad_creases_and_drops_organic_ones) {
               (unsigned long long)bunny_sharp);
   EXPECT_GE(fandisk_sharp, fandisk_all * 95 / 100);
   EXPECT_LE(bunny_sharp, bunny_all / 3);
+  // The default rule (creases where the scan is sharp): the fandisk keeps its creases; of the
+  // bunny's, those left run around its flat-cut base (a real 60-90 degree rim).
+  const uint64_t fandisk_input = creases(fandisk_path, -1, CreaseRule::sharp_input);
+  const uint64_t bunny_input = creases(bunny_path, -1, CreaseRule::sharp_input);
+  std::printf("creases at 300 polygons, sharp-input rule: fandisk %llu, bunny %llu\n",
+              (unsigned long long)fandisk_input, (unsigned long long)bunny_input);
+  EXPECT_GE(fandisk_input, fandisk_all * 90 / 100);
+  EXPECT_LE(bunny_input, bunny_all / 5);
 }
 
 // An input quad that is not injective in its own plane (a bow tie: edges 1 and 3 cross) has no

@@ -9,7 +9,7 @@ import math
 
 import bpy
 import numpy as np
-from bpy.props import BoolProperty, FloatProperty, IntProperty, StringProperty
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, StringProperty
 
 from . import handlers, meshio
 from ._sdk import sdk
@@ -114,9 +114,19 @@ class CAGEKIT_OT_scan_to_cage(bpy.types.Operator):
                                    "splitting its polygons into quads gives the cage more faces")
     passes: IntProperty(name="Fitting Passes", default=5, min=0, max=100,
                         description="Passes of fitting the cage's limit surface to the mesh (0: no fitting)")
+    crease_rule: EnumProperty(
+        name="Creases", default='SHARP_INPUT',
+        items=[('SHARP_INPUT', "Where the Mesh Is Sharp",
+                "Crease cage edges only along the mesh's own sharp edges (smooth organic scans, crisp CAD edges)"),
+               ('CLUSTER_ANGLE', "By Cluster Angle",
+                "Crease cage edges between simplified regions whose normals differ by more than the crease "
+                "angle (the thesis's rule; organic scans look faceted)")])
+    feature_angle: FloatProperty(name="Feature Angle", default=math.radians(40.0), min=0.0, max=math.pi,
+                                 subtype='ANGLE', description="Where the Mesh Is Sharp: mesh edges whose faces meet "
+                                                              "at more than this angle may be sharp features")
     crease_angle: FloatProperty(name="Crease Angle", default=math.radians(30.0), min=0.0, max=math.pi,
-                                subtype='ANGLE', description="Cage edges whose dihedral angle exceeds this "
-                                                             "are infinitely sharp creases")
+                                subtype='ANGLE', description="By Cluster Angle: cage edges between regions whose "
+                                                             "normals differ by more are infinitely sharp creases")
     keep_crease_vertices: BoolProperty(name="Keep Crease Vertices", default=False,
                                        description="Do not move vertices on crease edges while fitting")
     levels: IntProperty(name="Subdivision Levels", default=2, min=0, max=6,
@@ -146,6 +156,8 @@ class CAGEKIT_OT_scan_to_cage(bpy.types.Operator):
             progress.stage(0.0, 1.0)
             cage, limit, report = ck.scan_to_cage(
                 mesh, faces=self.faces, crease_angle_degrees=math.degrees(self.crease_angle),
+                crease_rule="sharp-input" if self.crease_rule == 'SHARP_INPUT' else "cluster-angle",
+                feature_angle_degrees=math.degrees(self.feature_angle),
                 fit={"max_passes": self.passes, "keep_crease_vertices": self.keep_crease_vertices})
             limit.close()
             level_faces = report.level_faces

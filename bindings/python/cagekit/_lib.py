@@ -140,9 +140,22 @@ class PolygonalLevelInfo(_Versioned):
 
 class CageOptions(_Versioned):
     _fields_ = [("struct_size", c_size_t), ("crease_angle_degrees", c_double), ("tag_boundary_edges", c_int),
-                ("exact_partition_limit", c_uint32), ("input_crease_angle_degrees", c_double)]
+                ("exact_partition_limit", c_uint32), ("input_crease_angle_degrees", c_double),
+                ("crease_rule", c_int32), ("feature_angle_degrees", c_double)]
     _defaults = {"crease_angle_degrees": 30.0, "tag_boundary_edges": 1, "exact_partition_limit": 20,
-                 "input_crease_angle_degrees": -1.0}
+                 "input_crease_angle_degrees": -1.0, "crease_rule": 0, "feature_angle_degrees": 40.0}
+
+
+# cagekit_crease_rule, by name (the Python API takes the names).
+CREASE_RULES = {"sharp-input": 0, "cluster-angle": 1}
+
+
+def crease_rule_value(rule):
+    """The cagekit_crease_rule of "sharp-input" (creases where the scan is sharp, the default) or
+    "cluster-angle" (the thesis's rule by the clusters' normals); ValueError otherwise."""
+    if rule not in CREASE_RULES:
+        raise ValueError("crease_rule must be 'sharp-input' or 'cluster-angle', not %r" % (rule,))
+    return CREASE_RULES[rule]
 
 
 class CageReport(_Versioned):

@@ -96,14 +96,16 @@ _lib._declare(_lib.lib)  # ImportError naming the function when the loaded libra
 
 
 def scan_to_cage(scan, method=ScanMethod.SIMPLIFY, faces=60, repair=True, components=ComponentMode.ALL,
-                 weld_tolerance_rel=1e-7, crease_angle_degrees=30.0, input_crease_angle_degrees=-1.0,
+                 weld_tolerance_rel=1e-7, crease_rule="sharp-input", feature_angle_degrees=40.0,
+                 crease_angle_degrees=30.0, input_crease_angle_degrees=-1.0,
                  remesh=None, fit=None, limit_levels=3, self_intersection_level=2, max_limit_to_scan_rel=0.05,
                  limit_to_scan_factor=3.0, small_input_faces=1000, fallback_to_simplify=True,
                  finer_simplify_attempts=2):
     """Runs the journey on `scan` (a Mesh, not changed). Returns (cage, limit, report): the fitted
     Cage with crease tags, its limit mesh (refined `limit_levels` times) as a Cage, and a record
     of every figure of cagekit_scan_to_cage_report (fallback_reason as str, methods as
-    ScanMethod). `faces`: simplify's target and the fallback's. `remesh`: a dict of
+    ScanMethod). `faces`: simplify's target and the fallback's. Creases as Hierarchy.build_cage
+    (crease_rule, feature_angle_degrees, crease_angle_degrees, input_crease_angle_degrees). `remesh`: a dict of
     cagekit.remesh()'s option names for quad / anisotropic (weights as a 3-tuple); `fit`: a dict
     of cagekit.fit()'s option names. Raises QualityError when no good result could be made."""
     remesh_options = None
@@ -123,7 +125,9 @@ def scan_to_cage(scan, method=ScanMethod.SIMPLIFY, faces=60, repair=True, compon
         if "keep_crease_vertices" in f:
             f["keep_crease_vertices"] = 1 if f["keep_crease_vertices"] else 0
         fit_options = _lib.FitOptions.new(**f)
-    cage_options = _lib.CageOptions.new(crease_angle_degrees=float(crease_angle_degrees),
+    cage_options = _lib.CageOptions.new(crease_rule=_lib.crease_rule_value(crease_rule),
+                                        feature_angle_degrees=float(feature_angle_degrees),
+                                        crease_angle_degrees=float(crease_angle_degrees),
                                         input_crease_angle_degrees=float(input_crease_angle_degrees))
     options = ScanToCageOptions.new(
         method=int(_enum(ScanMethod, method)), repair=1 if repair else 0,

@@ -4,7 +4,7 @@ quad-dominant cage built from one of its levels.
 
     with cagekit.Hierarchy(scan) as h:              # long: progress, cancel
         h.level = h.find_level(faces=300)
-        cage, report = h.build_cage(crease_angle_degrees=30)
+        cage, report = h.build_cage()               # creases where the scan is sharp
 
 or in one call: cage, report = cagekit.simplify(scan, faces=300).
 """
@@ -139,11 +139,17 @@ class Hierarchy(Handle):
         return Mesh._make(self._context, _lib.lib.cagekit_hierarchy_get_refined_polygon_mesh, self._handle,
                           float(chord_tolerance))
 
-    def build_cage(self, crease_angle_degrees=30.0, tag_boundary_edges=True, exact_partition_limit=20,
-                   input_crease_angle_degrees=-1.0):
+    def build_cage(self, crease_rule="sharp-input", feature_angle_degrees=40.0, crease_angle_degrees=30.0,
+                   tag_boundary_edges=True, exact_partition_limit=20, input_crease_angle_degrees=-1.0):
         """The quad-dominant control cage of the current level with crease tags, and its report
-        (quads, triangles, pentagons, other_polygons, creases, ...)."""
-        options = _lib.CageOptions.new(crease_angle_degrees=float(crease_angle_degrees),
+        (quads, triangles, pentagons, other_polygons, creases, ...). crease_rule "sharp-input"
+        (default): creases where the scan is sharp (input edges above feature_angle_degrees,
+        noise filtered); "cluster-angle": the thesis's rule, clusters whose normals differ by more
+        than crease_angle_degrees (and, with input_crease_angle_degrees >= 0, an input that is
+        that sharp on average along their border)."""
+        options = _lib.CageOptions.new(crease_rule=_lib.crease_rule_value(crease_rule),
+                                       feature_angle_degrees=float(feature_angle_degrees),
+                                       crease_angle_degrees=float(crease_angle_degrees),
                                        tag_boundary_edges=1 if tag_boundary_edges else 0,
                                        exact_partition_limit=int(exact_partition_limit),
                                        input_crease_angle_degrees=float(input_crease_angle_degrees))

@@ -56,9 +56,19 @@ class Simplification(HandleCheck):
     def test_simplify_to_n_faces_in_one_call(self):
         positions, triangles = grid_cube(4)
         with cagekit.Mesh.from_arrays(positions, triangles) as mesh:
-            cage, report = cagekit.simplify(mesh, faces=6, crease_angle_degrees=95.0)
+            # Creases where the scan is sharp (the default): the cube's 12 edges at 90 degrees.
+            cage, report = cagekit.simplify(mesh, faces=6)
+            with cage:
+                self.assertEqual((cage.info().quads, cage.info().creases, report.creases), (6, 12, 12))
+            cage, report = cagekit.simplify(mesh, faces=6, feature_angle_degrees=95.0)
             with cage:
                 self.assertEqual((cage.info().quads, cage.info().creases, report.creases), (6, 0, 0))
+            # The thesis's rule by the clusters' normals.
+            cage, report = cagekit.simplify(mesh, faces=6, crease_rule="cluster-angle", crease_angle_degrees=95.0)
+            with cage:
+                self.assertEqual((cage.info().quads, cage.info().creases, report.creases), (6, 0, 0))
+            with self.assertRaises(ValueError):
+                cagekit.simplify(mesh, faces=6, crease_rule="sharp")
 
     def test_the_fandisk_simplifies_to_at_most_n_faces(self):
         path = shared_mesh("fandisk.obj")
@@ -66,7 +76,7 @@ class Simplification(HandleCheck):
             hierarchy.set_level(faces=300)
             self.assertLessEqual(hierarchy.current_info().faces, 300)
             self.assertGreater(hierarchy.current_info().faces, 250)
-            cage, report = hierarchy.build_cage(input_crease_angle_degrees=30)
+            cage, report = hierarchy.build_cage(crease_rule="cluster-angle", input_crease_angle_degrees=30)
             with cage:
                 info = cage.info()
                 self.assertEqual(info.faces, report.quads + report.triangles + report.pentagons +

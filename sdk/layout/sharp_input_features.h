@@ -1,0 +1,67 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// Sharp input features: the one definition of "the scan is sharp here" that every method's
+// crease tags follow (simplify's cage edges, the quad remesher's region boundaries, the
+// anisotropic remesher's feature lines). The thesis tags features by a dihedral-angle threshold
+// (ch. 5 §5.3 feature lines, ch. 6 §6.4 region boundaries; spec thesis-ch4-6.md §1.3 [J]); a
+// scan's noise also makes sharp dihedral angles, so an edge counts only when
+//   1. the angle between its two faces' unit normals exceeds angle_degrees (the raw test),
+//   2. the angle between its two *side normals* still exceeds confirm_fraction * angle_degrees:
+//      the area-weighted mean normals of the faces within side_rings vertex rings of the edge on
+//      either side of it (a face's side told by its centroid's position across the edge, not by
+//      its normal). Along a feature line each side is one surface and the angle stays; on a
+//      noisy or coarsely faceted scan the faces' normals scatter and their means do not (a
+//      bilateral normal filter was tried first: it keeps large-angle noise, e.g. femur.off's
+//      3,000 raw sharp edges, because its range weight treats them as features), and
+//   3. it lies on a feature line at least min_length_rel * (bounding-box diagonal) long (and of
+//      min_edges edges): the sharp edges joined into lines at each vertex, straightest
+//      continuation first, where a line turns by less than max_turn_degrees. Lines end at corners
+//      (three features meeting at right angles continue none), isolated noisy edges and the
+//      zigzag webs of faceted organic scans give short lines and are dropped, feature lines
+//      (also closed ones, e.g. a hole's rim) stay, and a noisy spur beside a line does not cut it.
+// Only edges with exactly two faces can be sharp (border and non-manifold edges are tagged by
+// the methods' own rules).
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "core/polygon_mesh.h"
+
+CAGEKIT_NAMESPACE_BEGIN
+
+struct SharpFeatureOptions {
+  double angle_degrees = 40.0;   // dihedral threshold, in [0, 180]
+  int side_rings = 1;            // rings of the side normals' neighbourhood, in [0, 8] (0: test 1 alone)
+  double confirm_fraction = 0.5;   // of angle_degrees, for the filtered normals, in [0, 1]
+  double min_length_rel = 0.02;  // per feature line, of the bounding-box diagonal, >= 0
+  uint32_t min_edges = 1;        // per feature line
+  double max_turn_degrees = 60.0;  // a feature line continues through a vertex where it turns less, in [0, 180]
+};
+
+struct SharpFeatures {
+  std::vector<uint64_t> edges;  // sorted keys (lo << 32 | hi, lo < hi) of the sharp edges
+  std::vector<uint8_t> corner_flags;  // per corner of the mesh: 1 where the corner's half-edge is sharp
+  uint64_t raw_edges = 0;       // edges passing test 1
+  uint64_t noise_edges = 0;     // of those, failing test 2
+  uint64_t short_edges = 0;     // of those passing 2, dropped by test 3
+  double length = 0.0;          // total length of the sharp edges
+
+  static uint64_t key(uint32_t a, uint32_t b) {
+    return a < b ? (uint64_t(a) << 32 | b) : (uint64_t(b) << 32 | a);
+  }
+  bool contains(uint32_t a, uint32_t b) const { return std::binary_search(edges.begin(), edges.end(), key(a, b)); }
+};
+
+// Sharp features of `mesh` (polygons; a face's normal is its vector area's direction). Faces
+// must be valid polygons (indices in range, >= 3 distinct vertices, finite positions): else
+// Error(invalid_mesh); options out of range: Error(invalid_argument). Degenerate faces (zero
+// area) have no normal and make no edge sharp. O(faces x neighbours x passes).
+SharpFeatures detect_sharp_features(const PolygonMesh& mesh, const SharpFeatureOptions& options = {});
+
+// Per vertex of `mesh`: 1 when it lies on a sharp edge of `features` or shares an edge with such
+// a vertex. A boundary between regions or clusters of the input that zigzags beside a feature
+// line (one triangle off) runs over such vertices; a methods' crease rule counts its input edges
+// with both ends near as running along the feature.
+std::vector<uint8_t> vertices_near_features(const PolygonMesh& mesh, const SharpFeatures& features);
+
+CAGEKIT_NAMESPACE_END
