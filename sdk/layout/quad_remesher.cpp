@@ -491,16 +491,15 @@ struct RegionLocator {
 
 // Per piece [t_k, t_{k+1}] between consecutive samples of an arc: the share of the length of
 // the arc's input edges whose middle (in the arc-length parameter s of the cubic) lies in it that
-// runs along a sharp input feature (both ends near one, vertices_near_features); a piece
-// containing no edge middle takes the edge around its middle.
-std::vector<double> piece_sharp_share(const std::vector<uint8_t>& near_feature, const RegionArc& arc,
+// is a sharp input feature; a piece containing no edge middle takes the edge around its middle.
+std::vector<double> piece_sharp_share(const SharpFeatures& features, const RegionArc& arc,
                                       const ArcConstraint& constraint) {
   const std::vector<double>& t = constraint.samples.t;
   const size_t pieces = t.size() - 1;
   std::vector<double> sharp(pieces, 0.0), length(pieces, 0.0);
   std::vector<uint8_t> edge_sharp(arc.vertices.size() - 1, 0);
   for (size_t k = 0; k + 1 < arc.vertices.size(); ++k) {
-    edge_sharp[k] = near_feature[arc.vertices[k]] && near_feature[arc.vertices[k + 1]];
+    edge_sharp[k] = features.contains(arc.vertices[k], arc.vertices[k + 1]);
     const double middle = 0.5 * (constraint.s[k] + constraint.s[k + 1]);
     const size_t piece = std::min<size_t>(
         pieces - 1, size_t(std::max<long>(0, long(std::upper_bound(t.begin(), t.end(), middle) - t.begin()) - 1)));
@@ -1295,12 +1294,16 @@ QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemesh
   if (o.crease_angle_degrees >= 0.0) {
     SharpFeatureOptions fo;
     fo.angle_degrees = std::min(o.crease_angle_degrees, 180.0);
-    const std::vector<uint8_t> near_feature = vertices_near_features(tri, detect_sharp_features(tri, fo));
+    // A region boundary is made of input edges and VSA splits at features, so a piece's input
+    // edges count when they are sharp edges themselves (a boundary beside a feature, one
+    // triangle off, is not creased: with vertices_near_features the organic meshes' crease
+    // density rose from 4.7 % to 8.6 %).
+    const SharpFeatures features = detect_sharp_features(tri, fo);
     std::unordered_set<uint64_t> tagged;
     for (uint32_t a = 0; a < constraints.arcs.size(); ++a) {
       const RegionArc& arc = constraints.boundaries.arcs[a];
       if (arc.right_region == kMeshBorder) continue;
-      const std::vector<double> share = piece_sharp_share(near_feature, arc, constraints.arcs[a]);
+      const std::vector<double> share = piece_sharp_share(features, arc, constraints.arcs[a]);
       const std::vector<uint32_t> ids = samples.arc_ids(constraints, a);
       bool sharp = false;
       for (size_t k = 0; k + 1 < ids.size(); ++k) {

@@ -18,8 +18,8 @@
 //    neighbours by construction), so the glued mesh is one polygon mesh;
 //  - crease tags (infinitely sharp) on the cage edges of interior arcs: the edge between
 //    samples c_k and c_{k+1} is tagged when at least half the length of the arc's input edges
-//    whose middles lie in [t_k, t_{k+1}] (arc-length parameter of the cubic) runs along sharp
-//    input features (sharp_input_features.h, angle `crease_angle_degrees`: the definition all
+//    whose middles lie in [t_k, t_{k+1}] (arc-length parameter of the cubic) are sharp input
+//    features (sharp_input_features.h, angle `crease_angle_degrees`: the definition all
 //    methods share; so a feature line that fades out along an arc, as on fandisk, is tagged as
 //    far as it is sharp, and a faceted organic scan's noise is not).
 //
