@@ -24,22 +24,27 @@ std::vector<uint8_t> dihedral_feature_edges(const detail::EdgeMap& map, const st
   return flags;
 }
 
+void check_feature_input(const PolygonMesh& mesh, const char* who) {
+  detail::check_mesh_arrays(mesh);
+  const std::string w(who);
+  const size_t nv = mesh.num_vertices();
+  for (const Vec3& p : mesh.positions)
+    if (!is_finite(p)) fail(Status::invalid_mesh, w + ": a vertex position is not finite");
+  for (size_t f = 0; f < mesh.num_faces(); ++f) {
+    const uint32_t n = mesh.face_size(f);
+    if (n < 3) fail(Status::invalid_mesh, w + ": face " + std::to_string(f) + " has fewer than 3 vertices");
+    for (uint32_t i = 0; i < n; ++i)
+      if (mesh.face_vertex(f, i) >= nv)
+        fail(Status::invalid_mesh, w + ": face " + std::to_string(f) + " has an out-of-range vertex index");
+    if (detail::find_repeated_vertex(mesh.face_begin(f), n) != detail::kNone)
+      fail(Status::invalid_mesh, w + ": face " + std::to_string(f) + " repeats a vertex");
+  }
+}
+
 std::vector<uint8_t> detect_feature_edges(const PolygonMesh& mesh, double angle_degrees) {
   if (!(angle_degrees >= 0.0 && angle_degrees <= 180.0))
     fail(Status::invalid_argument, "feature angle must be in [0, 180] degrees");
-  detail::check_mesh_arrays(mesh);
-  const size_t nv = mesh.num_vertices();
-  for (const Vec3& p : mesh.positions)
-    if (!is_finite(p)) fail(Status::invalid_mesh, "feature edges: a vertex position is not finite");
-  for (size_t f = 0; f < mesh.num_faces(); ++f) {
-    const uint32_t n = mesh.face_size(f);
-    if (n < 3) fail(Status::invalid_mesh, "feature edges: face " + std::to_string(f) + " has fewer than 3 vertices");
-    for (uint32_t i = 0; i < n; ++i)
-      if (mesh.face_vertex(f, i) >= nv)
-        fail(Status::invalid_mesh, "feature edges: face " + std::to_string(f) + " has an out-of-range vertex index");
-    if (detail::find_repeated_vertex(mesh.face_begin(f), n) != detail::kNone)
-      fail(Status::invalid_mesh, "feature edges: face " + std::to_string(f) + " repeats a vertex");
-  }
+  check_feature_input(mesh, "feature edges");
   detail::EdgeMap map;
   build_edge_map(map, mesh, std::vector<uint8_t>(mesh.num_faces(), 1));
   std::vector<Vec3> normals(mesh.num_faces());

@@ -27,4 +27,9 @@ std::vector<uint8_t> dihedral_feature_edges(const detail::EdgeMap& map, const st
 // angle_degrees must be in [0, 180] (Error(invalid_argument)).
 std::vector<uint8_t> detect_feature_edges(const PolygonMesh& mesh, double angle_degrees);
 
+// Throws Error(invalid_mesh), the message starting with `who`, unless every face of `mesh` is a
+// valid polygon: indices in range, >= 3 distinct vertices, finite positions (the input rule of
+// the feature detectors here and in sharp_input_features.h).
+void check_feature_input(const PolygonMesh& mesh, const char* who);
+
 CAGEKIT_NAMESPACE_END

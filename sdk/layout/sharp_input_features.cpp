@@ -7,6 +7,7 @@
 
 #include "core/edge_map.h"
 #include "core/status.h"
+#include "layout/feature_edges.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 
@@ -25,19 +26,7 @@ void check_input(const PolygonMesh& mesh, const SharpFeatureOptions& o) {
     fail(Status::invalid_argument, "sharp features: the maximum turn must be in [0, 180] degrees");
   if (!(o.min_length_rel >= 0.0) || !std::isfinite(o.min_length_rel))
     fail(Status::invalid_argument, "sharp features: the minimum length must be finite and >= 0");
-  detail::check_mesh_arrays(mesh);
-  const size_t nv = mesh.num_vertices();
-  for (const Vec3& p : mesh.positions)
-    if (!is_finite(p)) fail(Status::invalid_mesh, "sharp features: a vertex position is not finite");
-  for (size_t f = 0; f < mesh.num_faces(); ++f) {
-    const uint32_t n = mesh.face_size(f);
-    if (n < 3) fail(Status::invalid_mesh, "sharp features: face " + std::to_string(f) + " has fewer than 3 vertices");
-    for (uint32_t i = 0; i < n; ++i)
-      if (mesh.face_vertex(f, i) >= nv)
-        fail(Status::invalid_mesh, "sharp features: face " + std::to_string(f) + " has an out-of-range vertex index");
-    if (detail::find_repeated_vertex(mesh.face_begin(f), n) != detail::kNone)
-      fail(Status::invalid_mesh, "sharp features: face " + std::to_string(f) + " repeats a vertex");
-  }
+  check_feature_input(mesh, "sharp features");
 }
 
 // Faces around each vertex (CSR: faces of v are around[first[v] .. first[v + 1])).
