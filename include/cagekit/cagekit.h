@@ -733,12 +733,13 @@ CAGEKIT_API cagekit_status cagekit_hierarchy_get_refined_polygon_mesh(cagekit_hi
 
 /* Which cage edges between two clusters become infinitely sharp creases. */
 typedef enum cagekit_crease_rule {
-  /* Where the scan itself is sharp (the default): at least half of the length of the input edges
-   * along the cage edge's border between the two clusters are sharp input features, the one
-   * definition all methods use (CAGEKIT_REMESH_* follow it too): input edges whose two faces'
-   * normals differ by more than feature_angle_degrees, confirmed on bilateral-filtered normals
-   * (a scan's noise is not sharp) and in connected feature lines of at least 4 edges and 1 % of
-   * the bounding-box diagonal. Organic scans get smooth cages, CAD parts keep their edges. */
+  /* Where the scan itself is sharp (the default): at least 90 % of the length of the input edges
+   * along the cage edge's border between the two clusters run along sharp input features, the
+   * one definition all methods use (CAGEKIT_REMESH_* follow it too): input edges whose two faces'
+   * normals differ by more than feature_angle_degrees, confirmed by the mean normals of the faces
+   * around the edge on either side differing by more than half that angle (a scan's noise is not
+   * sharp), on connected feature lines of at least 2 % of the bounding-box diagonal. Organic
+   * scans get smooth cages, CAD parts keep their edges. */
   CAGEKIT_CREASES_SHARP_INPUT = 0,
   /* The thesis's rule (section 3.4): the two clusters' normals differ by more than
    * crease_angle_degrees (and, with input_crease_angle_degrees >= 0, the input's mean dihedral

@@ -37,7 +37,7 @@ struct CageBuildOptions {
   // sharp_input: the definition of a sharp input edge, and the share of a border's length that
   // must be sharp.
   SharpFeatureOptions features;
-  double sharp_share = 0.5;
+  double sharp_share = 0.9;  // 0.5 before 2026-12-03 (same CAD figures, denser organic creases)
   // sharp_input: and the mean normals of the two clusters' input faces within band_rings vertex
   // rings of the border differ by more than band_fraction x the feature angle (0 rings: not
   // checked): a faceted organic scan's sharp facet edges are not a crease of its cage.
