@@ -284,11 +284,13 @@ Cage build_quad_dominant_cage(const PolygonMesh& input, const PolygonalLevel& le
         border_edges.push_back({a, b, edge_key(ca, cb), distance(input.positions[a], input.positions[b]), angle, false});
       }
     }
-    // A border edge runs along a feature when both its ends are on a sharp edge or one input
-    // edge away from one (a cluster border that zigzags beside the feature line follows it).
+    // A border edge runs along a feature when it is sharp, or zigzags one triangle beside a
+    // feature line (edges_along_features: both ends on or next to it, the midpoint no farther).
     if (by_input) {
-      const std::vector<uint8_t> near_feature = vertices_near_features(input, features);
-      for (BorderEdge& e : border_edges) e.sharp = near_feature[e.a] && near_feature[e.b];
+      std::vector<std::pair<uint32_t, uint32_t>> ends(border_edges.size());
+      for (size_t i = 0; i < border_edges.size(); ++i) ends[i] = {border_edges[i].a, border_edges[i].b};
+      const std::vector<uint8_t> along = edges_along_features(input, features, ends, options.features.angle_degrees);
+      for (size_t i = 0; i < border_edges.size(); ++i) border_edges[i].sharp = along[i] != 0;
     }
   }
   // cluster_angle with the input check: the length-weighted mean dihedral angle of the input

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <string>
+#include <unordered_map>
 
 #include "core/edge_map.h"
 #include "core/status.h"
@@ -14,6 +15,14 @@ CAGEKIT_NAMESPACE_BEGIN
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+// An input edge runs along the features when a path over them joins its ends at most this many
+// times its length (a corner cut: sqrt(2); the chord of a curved line: about 1).
+constexpr double kDetourFactor = 2.0;
+// Else it follows them when its midpoint is no farther from them than its farther end plus this
+// share of its length (an edge joining two feature lines: about a half).
+constexpr double kMidpointSlack = 0.25;
+// Else, between two feature vertices, when it bends by this share of the feature angle.
+constexpr double kRungFraction = 0.5;
 
 void check_input(const PolygonMesh& mesh, const SharpFeatureOptions& o) {
   if (!(o.angle_degrees >= 0.0 && o.angle_degrees <= 180.0))
@@ -215,6 +224,138 @@ std::vector<uint8_t> vertices_near_features(const PolygonMesh& mesh, const Sharp
     }
   }
   return near;
+}
+
+std::vector<uint8_t> edges_along_features(const PolygonMesh& mesh, const SharpFeatures& features,
+                                          const std::vector<std::pair<uint32_t, uint32_t>>& edges, double angle_degrees) {
+  std::vector<uint8_t> along(edges.size(), 0);
+  if (features.edges.empty()) return along;
+  const size_t nv = mesh.num_vertices();
+  // The feature graph (sharp edges at each vertex, CSR) and, per vertex next to a feature, its
+  // neighbours on one.
+  std::vector<uint32_t> sharp_first(nv + 1, 0), sharp_other(2 * features.edges.size());
+  for (uint64_t e : features.edges) ++sharp_first[uint32_t(e >> 32) + 1], ++sharp_first[uint32_t(e) + 1];
+  for (size_t v = 0; v < nv; ++v) sharp_first[v + 1] += sharp_first[v];
+  {
+    std::vector<uint32_t> fill(sharp_first.begin(), sharp_first.end() - 1);
+    for (uint64_t e : features.edges) {
+      const uint32_t a = uint32_t(e >> 32), b = uint32_t(e);
+      sharp_other[fill[a]++] = b;
+      sharp_other[fill[b]++] = a;
+    }
+  }
+  auto on_feature = [&](uint32_t v) { return sharp_first[v] < sharp_first[v + 1]; };
+  std::vector<std::vector<uint32_t>> feature_neighbours(nv);
+  for (size_t f = 0; f < mesh.num_faces(); ++f) {
+    const uint32_t k = mesh.face_size(f);
+    for (uint32_t c = 0; c < k; ++c) {
+      const uint32_t a = mesh.face_vertex(f, c), b = mesh.face_vertex(f, (c + 1) % k);
+      if (on_feature(b) && !on_feature(a)) feature_neighbours[a].push_back(b);
+      if (on_feature(a) && !on_feature(b)) feature_neighbours[b].push_back(a);
+    }
+  }
+  // Entry points of a vertex into the feature graph, with the distance to get there.
+  std::vector<std::pair<uint32_t, double>> sources, targets;
+  auto entries = [&](uint32_t v, std::vector<std::pair<uint32_t, double>>& out) {
+    out.clear();
+    if (on_feature(v)) {
+      out.push_back({v, 0.0});
+      return;
+    }
+    for (uint32_t w : feature_neighbours[v]) out.push_back({w, distance(mesh.positions[v], mesh.positions[w])});
+  };
+  auto segment_distance = [](const Vec3& p, const Vec3& s0, const Vec3& s1) {
+    const Vec3 d = s1 - s0;
+    const double len2 = dot(d, d);
+    const double t = len2 > 0.0 ? std::clamp(dot(p - s0, d) / len2, 0.0, 1.0) : 0.0;
+    return distance(p, s0 + d * t);
+  };
+  // Bounded Dijkstra over the feature graph; `cost` is reset through `touched` after each query.
+  std::vector<double> cost(nv, INFINITY);
+  std::vector<uint32_t> touched;
+  using Item = std::pair<double, uint32_t>;
+  std::vector<Item> heap;
+  std::unordered_multimap<uint64_t, size_t> bent;  // edges left for the dihedral test -> index
+  for (size_t i = 0; i < edges.size(); ++i) {
+    const auto [a, b] = edges[i];
+    if (features.contains(a, b)) {
+      along[i] = 1;
+      continue;
+    }
+    entries(a, sources);
+    entries(b, targets);
+    if (sources.empty() || targets.empty()) continue;
+    const double budget = kDetourFactor * distance(mesh.positions[a], mesh.positions[b]);
+    heap.clear();
+    for (const auto& [v, d] : sources)
+      if (d < cost[v]) {
+        if (cost[v] == INFINITY) touched.push_back(v);
+        cost[v] = d;
+        heap.push_back({-d, v});
+        std::push_heap(heap.begin(), heap.end());
+      }
+    while (!heap.empty()) {
+      std::pop_heap(heap.begin(), heap.end());
+      const auto [negative, v] = heap.back();
+      heap.pop_back();
+      if (-negative > cost[v]) continue;
+      for (uint32_t k = sharp_first[v]; k < sharp_first[v + 1]; ++k) {
+        const uint32_t w = sharp_other[k];
+        const double d = cost[v] + distance(mesh.positions[v], mesh.positions[w]);
+        if (d > budget || !(d < cost[w])) continue;
+        if (cost[w] == INFINITY) touched.push_back(w);
+        cost[w] = d;
+        heap.push_back({-d, w});
+        std::push_heap(heap.begin(), heap.end());
+      }
+    }
+    for (const auto& [w, d] : targets)
+      if (cost[w] + d <= budget) along[i] = 1;
+    for (uint32_t v : touched) cost[v] = INFINITY;
+    touched.clear();
+    if (along[i]) continue;
+    // No such path (a feature line with a gap where its angle dips, or a border beside a line
+    // that the next one joins): the edge still follows a feature when its midpoint is no farther
+    // from the sharp edges at its ends than its farther end is, plus a quarter of its length.
+    const Vec3 &pa = mesh.positions[a], &pb = mesh.positions[b], mid = (pa + pb) * 0.5;
+    double da = INFINITY, db = INFINITY, dm = INFINITY;
+    for (const auto* entry : {&sources, &targets})
+      for (const auto& [v, unused] : *entry)
+        for (uint32_t k = sharp_first[v]; k < sharp_first[v + 1]; ++k) {
+          const Vec3 &s0 = mesh.positions[v], &s1 = mesh.positions[sharp_other[k]];
+          da = std::min(da, segment_distance(pa, s0, s1));
+          db = std::min(db, segment_distance(pb, s0, s1));
+          dm = std::min(dm, segment_distance(mid, s0, s1));
+        }
+    along[i] = dm <= std::max(da, db) + kMidpointSlack * distance(pa, pb);
+    if (!along[i] && on_feature(a) && on_feature(b)) bent.emplace(SharpFeatures::key(a, b), i);
+  }
+  // Last, an edge between two feature vertices that bends by half the feature angle itself but
+  // was left out of the lines: the rungs of a feature line that zigzags over a dense
+  // tessellation, where the lines take every other edge and the rungs share the bend (fandisk_large:
+  // 32-39 degrees); a rung across a flat or gently curved strip between two lines bends less.
+  if (!bent.empty()) {
+    std::unordered_map<uint64_t, std::pair<Vec3, int>> first_normal;  // edge -> first face's normal
+    const double cos_angle = std::cos(kRungFraction * angle_degrees * kPi / 180.0);
+    for (size_t f = 0; f < mesh.num_faces(); ++f) {
+      const uint32_t k = mesh.face_size(f);
+      for (uint32_t c = 0; c < k; ++c) {
+        const uint64_t key = SharpFeatures::key(mesh.face_vertex(f, c), mesh.face_vertex(f, (c + 1) % k));
+        const auto range = bent.equal_range(key);
+        if (range.first == range.second) continue;
+        const Vec3 n = normalized(mesh.face_vector_area(f));
+        auto [it, inserted] = first_normal.emplace(key, std::make_pair(n, 1));
+        if (inserted) continue;
+        if (++it->second.second != 2) continue;  // a third face: not a two-face edge
+        if (dot(it->second.first, n) < cos_angle)
+          for (auto e = range.first; e != range.second; ++e) along[e->second] = 1;
+      }
+    }
+    for (const auto& [key, seen] : first_normal)  // undo edges that turned out to have > 2 faces
+      if (seen.second > 2)
+        for (auto [e, end] = bent.equal_range(key); e != end; ++e) along[e->second] = 0;
+  }
+  return along;
 }
 
 CAGEKIT_NAMESPACE_END

@@ -23,6 +23,7 @@
 // the methods' own rules).
 #include <algorithm>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "core/polygon_mesh.h"
@@ -63,5 +64,23 @@ SharpFeatures detect_sharp_features(const PolygonMesh& mesh, const SharpFeatureO
 // line (one triangle off) runs over such vertices; a methods' crease rule counts its input edges
 // with both ends near as running along the feature.
 std::vector<uint8_t> vertices_near_features(const PolygonMesh& mesh, const SharpFeatures& features);
+
+// Per input edge (edges[i] = {a, b}, vertices of `mesh`): 1 when it runs along the sharp features
+// of `features` (detected on `mesh` with angle_degrees), so that a cluster or region border
+// made of such edges follows a feature line. It does when
+//   1. it is a sharp edge, or
+//   2. a path over the sharp edges joins its ends (each end on a feature, or sharing an edge
+//      with a vertex on one, that edge counted) no longer than twice the edge: a border that
+//      zigzags one triangle beside a line, cuts a feature's corner or is a curved line's chord;
+//   3. or its midpoint is no farther from the sharp edges at its ends than its farther end is,
+//      plus a quarter of its length (beside a line with a gap), or
+//   4. both ends are on features and its own dihedral angle exceeds half angle_degrees (the rungs
+//      of a line that zigzags over a dense tessellation, where the lines take every other edge).
+// An edge that only joins two feature lines does not: the axial edge of a coarsely tessellated
+// bore, from the front rim to the back rim, or a diagonal across a flat strip between two.
+// O(edges x feature vertices within twice the edge's length + mesh size).
+std::vector<uint8_t> edges_along_features(const PolygonMesh& mesh, const SharpFeatures& features,
+                                          const std::vector<std::pair<uint32_t, uint32_t>>& edges,
+                                          double angle_degrees);
 
 CAGEKIT_NAMESPACE_END

@@ -112,6 +112,49 @@ TEST(SharpInputFeatures, fandisk_keeps_every_edge_sharper_than_40_degrees) {
       << f.raw_edges << " raw, " << f.noise_edges << " noise, " << f.short_edges << " short";
 }
 
+// A border edge runs along the features when it is a rim edge, a rim chord, or zigzags beside a
+// rim; the axial edges of a one-row box (a coarse CAD tessellation: each facet one quad from the
+// bottom rim to the top rim) join the two rims but do not run along either.
+TEST(SharpInputFeatures, edges_along_features_follow_a_line_and_do_not_join_two) {
+  const RoundedBox box = rounded_box(6, 8, 1);
+  const cagekit::SharpFeatures f = cagekit::detect_sharp_features(box.mesh);
+  ASSERT_EQ(f.edges.size(), 2 * box.outline);
+  const uint32_t n = uint32_t(box.outline);
+  std::vector<std::pair<uint32_t, uint32_t>> rim, chords, axial, diagonal;
+  for (uint32_t k = 0; k < n; ++k) {
+    rim.push_back({k, (k + 1) % n});
+    chords.push_back({k, (k + 2) % n});  // skips one rim vertex
+    axial.push_back({k, n + k});          // bottom rim to top rim, straight up a facet
+    diagonal.push_back({k, n + (k + 1) % n});
+  }
+  auto count = [&](const std::vector<std::pair<uint32_t, uint32_t>>& edges) {
+    const std::vector<uint8_t> along = cagekit::edges_along_features(box.mesh, f, edges, 40.0);
+    return size_t(std::count(along.begin(), along.end(), uint8_t(1)));
+  };
+  EXPECT_EQ(count(rim), n);
+  EXPECT_EQ(count(chords), n);
+  EXPECT_EQ(count(axial), 0u) << "an axial edge joins the two rims, it does not follow one";
+  EXPECT_EQ(count(diagonal), 0u);
+  // The old rule (both ends on or next to a feature) took every one of them.
+  const std::vector<uint8_t> near = cagekit::vertices_near_features(box.mesh, f);
+  for (const auto& [a, b] : axial) EXPECT_TRUE(near[a] && near[b]);
+  // Beside a line: on the ten-row box a border that zigzags one triangle above the bottom rim.
+  const RoundedBox tall = rounded_box(6, 8, 10);
+  const cagekit::SharpFeatures g = cagekit::detect_sharp_features(tall.mesh);
+  std::vector<std::pair<uint32_t, uint32_t>> zigzag;
+  for (uint32_t k = 0; k < n; ++k) {
+    zigzag.push_back({k, n + (k + 1) % n});      // the triangle's diagonal, up from the rim
+    zigzag.push_back({n + (k + 1) % n, (k + 1) % n});  // and back down to it
+  }
+  const std::vector<uint8_t> along = cagekit::edges_along_features(tall.mesh, g, zigzag, 40.0);
+  EXPECT_EQ(size_t(std::count(along.begin(), along.end(), uint8_t(1))), zigzag.size());
+  // The second ring's edges are two rings from the rim: not along it.
+  std::vector<std::pair<uint32_t, uint32_t>> second;
+  for (uint32_t k = 0; k < n; ++k) second.push_back({2 * n + k, 2 * n + (k + 1) % n});
+  const std::vector<uint8_t> far = cagekit::edges_along_features(tall.mesh, g, second, 40.0);
+  EXPECT_EQ(std::count(far.begin(), far.end(), uint8_t(1)), 0);
+}
+
 // Distance from p to the segment a-b.
 double segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
   const Vec3 ab = b - a;
@@ -150,6 +193,45 @@ TEST(SharpInputCreases, rounded_box_cage_is_creased_along_its_rims_only) {
         nearest = std::min(nearest, segment_distance(m, cage.mesh.positions[c.v0], cage.mesh.positions[c.v1]));
       EXPECT_LE(nearest, 0.15) << "rim edge " << ring + k << " has no crease";
     }
+}
+
+// A puck as a CAD exporter writes it: a cylinder (radius 1, height `height`, `segments` facets)
+// whose side is one row of quads (each split into two triangles) from the bottom rim to the top
+// rim, caps fanned from their centres. Sharp: the two rims; the facets meet at 360/segments.
+PolygonMesh coarse_puck(uint32_t segments, double height) {
+  PolygonMesh m;
+  for (int z = 0; z < 2; ++z)
+    for (uint32_t k = 0; k < segments; ++k) {
+      const double a = 2 * kPi * k / segments;
+      m.add_vertex(Vec3(std::cos(a), std::sin(a), (z - 0.5) * height));
+    }
+  for (uint32_t k = 0; k < segments; ++k) {
+    const uint32_t a = k, b = (k + 1) % segments, c = a + segments, d = b + segments;
+    m.add_face({a, b, d});
+    m.add_face({a, d, c});
+  }
+  const uint32_t bottom = m.add_vertex(Vec3(0, 0, -0.5 * height)), top = m.add_vertex(Vec3(0, 0, 0.5 * height));
+  for (uint32_t k = 0; k < segments; ++k) {
+    m.add_face({bottom, (k + 1) % segments, k});
+    m.add_face({top, segments + k, segments + (k + 1) % segments});
+  }
+  return m;
+}
+
+// The cluster borders down the side of a coarse puck run over single axial edges whose ends are
+// both on a rim. They must not become creases: before edges_along_features they did, and the
+// puck's side (like the bores of pinion.off and anchor.off) came out a faceted prism.
+TEST(SharpInputCreases, coarse_puck_cage_has_no_crease_down_its_side) {
+  const PolygonMesh puck = coarse_puck(24, 1.0);
+  for (uint64_t target : {12u, 20u}) {  // 16 and 25 cage faces: the side in a few clusters
+    const cagekit::Cage cage = simplify_cage(puck, target);
+    EXPECT_GE(cage.creases.size(), 8u) << "the rims are creased";
+    for (const cagekit::EdgeCrease& c : cage.creases) {
+      const Vec3 a = cage.mesh.positions[c.v0], b = cage.mesh.positions[c.v1];
+      EXPECT_EQ(a.z, b.z) << "target " << target << ": crease down the side (" << a.x << " " << a.y << " " << a.z
+                          << ") - (" << b.x << " " << b.y << " " << b.z << ")";
+    }
+  }
 }
 
 TEST(SharpInputCreases, noisy_sphere_cage_has_no_creases) {
