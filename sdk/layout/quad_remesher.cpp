@@ -1296,8 +1296,8 @@ QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemesh
     fo.angle_degrees = std::min(o.crease_angle_degrees, 180.0);
     // A region boundary is made of input edges and VSA splits at features, so a piece's input
     // edges count when they are sharp edges themselves (a boundary beside a feature, one
-    // triangle off, is not creased: with vertices_near_features the organic meshes' crease
-    // density rose from 4.7 % to 8.6 %).
+    // triangle off, is not creased: counting edges with both ends near a feature, the organic
+    // meshes' crease density rose from 4.7 % to 8.6 %; edges_along_features, 2.8 -> 8.5 %).
     const SharpFeatures features = detect_sharp_features(tri, fo);
     std::unordered_set<uint64_t> tagged;
     for (uint32_t a = 0; a < constraints.arcs.size(); ++a) {

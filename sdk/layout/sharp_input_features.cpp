@@ -211,21 +211,6 @@ SharpFeatures detect_sharp_features(const PolygonMesh& mesh, const SharpFeatureO
   return out;
 }
 
-std::vector<uint8_t> vertices_near_features(const PolygonMesh& mesh, const SharpFeatures& features) {
-  std::vector<uint8_t> on(mesh.num_vertices(), 0);
-  for (uint64_t e : features.edges) on[uint32_t(e >> 32)] = on[uint32_t(e)] = 1;
-  std::vector<uint8_t> near = on;
-  for (size_t f = 0; f < mesh.num_faces(); ++f) {
-    const uint32_t k = mesh.face_size(f);
-    for (uint32_t c = 0; c < k; ++c) {
-      const uint32_t a = mesh.face_vertex(f, c), b = mesh.face_vertex(f, (c + 1) % k);
-      if (on[a]) near[b] = 1;
-      if (on[b]) near[a] = 1;
-    }
-  }
-  return near;
-}
-
 std::vector<uint8_t> edges_along_features(const PolygonMesh& mesh, const SharpFeatures& features,
                                           const std::vector<std::pair<uint32_t, uint32_t>>& edges, double angle_degrees) {
   std::vector<uint8_t> along(edges.size(), 0);

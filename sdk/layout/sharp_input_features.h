@@ -59,11 +59,6 @@ struct SharpFeatures {
 // area) have no normal and make no edge sharp. O(faces x neighbours x passes).
 SharpFeatures detect_sharp_features(const PolygonMesh& mesh, const SharpFeatureOptions& options = {});
 
-// Per vertex of `mesh`: 1 when it lies on a sharp edge of `features` or shares an edge with such
-// a vertex. A boundary between regions or clusters of the input that zigzags beside a feature
-// line (one triangle off) runs over such vertices; a methods' crease rule counts its input edges
-// with both ends near as running along the feature.
-std::vector<uint8_t> vertices_near_features(const PolygonMesh& mesh, const SharpFeatures& features);
 
 // Per input edge (edges[i] = {a, b}, vertices of `mesh`): 1 when it runs along the sharp features
 // of `features` (detected on `mesh` with angle_degrees), so that a cluster or region border
