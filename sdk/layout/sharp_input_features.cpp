@@ -33,6 +33,8 @@ void check_input(const PolygonMesh& mesh, const SharpFeatureOptions& o) {
     fail(Status::invalid_argument, "sharp features: the confirming fraction must be in [0, 1]");
   if (!(o.max_turn_degrees >= 0.0 && o.max_turn_degrees <= 180.0))
     fail(Status::invalid_argument, "sharp features: the maximum turn must be in [0, 180] degrees");
+  if (!(o.max_side_bend_fraction >= 0.0 && o.max_side_bend_fraction <= 1.0))
+    fail(Status::invalid_argument, "sharp features: the side bend fraction must be in [0, 1]");
   if (!(o.min_length_rel >= 0.0) || !std::isfinite(o.min_length_rel))
     fail(Status::invalid_argument, "sharp features: the minimum length must be finite and >= 0");
   check_feature_input(mesh, "sharp features");
@@ -95,6 +97,77 @@ double side_angle_cos(const PolygonMesh& mesh, const VertexFaces& vf, const std:
 }
 }  // namespace
 
+namespace {
+// Test 4's measure for sharp edge e (its dihedral angle bend[e]): the mean dihedral angle of the
+// edges beside it, on its smoother side, as a fraction of its own. The edges beside it are the
+// other two-face edges at its two ends, each on the side of e its far end lies on, leaving out
+// the raw sharp ones (other features) and the rungs of a feature line that zigzags over a dense
+// tessellation (bending by half the feature angle between two vertices on raw sharp edges). A
+// side without such edges is flat: 0.
+double side_bend_fraction(const PolygonMesh& mesh, const detail::EdgeMap& map, const std::vector<uint32_t>& first,
+                          const std::vector<uint32_t>& around, const std::vector<uint8_t>& raw,
+                          const std::vector<uint8_t>& on_raw, const std::vector<double>& bend,
+                          const std::vector<Vec3>& centroid, double angle_degrees, size_t e) {
+  const uint32_t* h = map.corners_begin(e);
+  const uint32_t lo = map.edge_lo[e], hi = map.edge_hi[e];
+  const Vec3 &pa = mesh.positions[lo], &pb = mesh.positions[hi], mid = (pa + pb) * 0.5;
+  const Vec3 side = into_face(pa, pb, centroid[map.corner_face[h[0]]]) - into_face(pa, pb, centroid[map.corner_face[h[1]]]);
+  double sum[2] = {0.0, 0.0};
+  int count[2] = {0, 0};
+  for (uint32_t v : {lo, hi})
+    for (uint32_t k = first[v]; k < first[v + 1]; ++k) {
+      const uint32_t x = around[k];
+      if (x == e || raw[x] || bend[x] < 0.0) continue;
+      const uint32_t w = map.edge_lo[x] == v ? map.edge_hi[x] : map.edge_lo[x];
+      if (bend[x] >= 0.5 * angle_degrees && on_raw[v] && on_raw[w]) continue;  // a rung
+      const int s = dot(mesh.positions[w] - mid, side) > 0.0 ? 0 : 1;
+      sum[s] += bend[x];
+      ++count[s];
+    }
+  const double smoother = std::min(count[0] ? sum[0] / count[0] : 0.0, count[1] ? sum[1] / count[1] : 0.0);
+  return smoother / bend[e];
+}
+
+// Per edge, 1 where it is sharp (after tests 1-2) and its feature network (the sharp edges
+// connected through shared vertices) has a length-weighted mean side_bend_fraction above
+// `max_fraction`: the web of a coarsely faceted smooth surface, not a feature line.
+std::vector<uint8_t> faceted_networks(const PolygonMesh& mesh, const detail::EdgeMap& map, const std::vector<uint8_t>& raw,
+                                      const std::vector<uint8_t>& sharp, const std::vector<double>& bend,
+                                      const std::vector<Vec3>& centroid, const std::vector<double>& edge_length,
+                                      double angle_degrees, double max_fraction) {
+  const size_t nv = mesh.num_vertices(), ne = map.num_edges();
+  std::vector<uint8_t> faceted(ne, 0);
+  if (max_fraction >= 1.0) return faceted;  // the fraction never exceeds 1: nothing to drop
+  std::vector<uint32_t> first(nv + 1, 0), around(2 * ne);  // edges at each vertex (CSR)
+  for (size_t e = 0; e < ne; ++e) ++first[map.edge_lo[e] + 1], ++first[map.edge_hi[e] + 1];
+  for (size_t v = 0; v < nv; ++v) first[v + 1] += first[v];
+  {
+    std::vector<uint32_t> fill(first.begin(), first.end() - 1);
+    for (size_t e = 0; e < ne; ++e) around[fill[map.edge_lo[e]]++] = uint32_t(e), around[fill[map.edge_hi[e]]++] = uint32_t(e);
+  }
+  std::vector<uint8_t> on_raw(nv, 0);
+  for (size_t e = 0; e < ne; ++e)
+    if (raw[e]) on_raw[map.edge_lo[e]] = on_raw[map.edge_hi[e]] = 1;
+  detail::UnionFind network(nv);
+  for (size_t e = 0; e < ne; ++e)
+    if (sharp[e]) network.unite(map.edge_lo[e], map.edge_hi[e]);
+  std::vector<double> length(nv, 0.0), weighted(nv, 0.0);  // per network (its root vertex)
+  for (size_t e = 0; e < ne; ++e) {
+    if (!sharp[e]) continue;
+    const uint32_t root = network.find(map.edge_lo[e]);
+    length[root] += edge_length[e];
+    weighted[root] += edge_length[e] *
+                      side_bend_fraction(mesh, map, first, around, raw, on_raw, bend, centroid, angle_degrees, e);
+  }
+  for (size_t e = 0; e < ne; ++e) {
+    if (!sharp[e]) continue;
+    const uint32_t root = network.find(map.edge_lo[e]);
+    faceted[e] = weighted[root] > max_fraction * length[root];
+  }
+  return faceted;
+}
+}  // namespace
+
 SharpFeatures detect_sharp_features(const PolygonMesh& mesh, const SharpFeatureOptions& o) {
   check_input(mesh, o);
   SharpFeatures out;
@@ -118,21 +191,25 @@ SharpFeatures detect_sharp_features(const PolygonMesh& mesh, const SharpFeatureO
   };
   // 1. The raw test.
   std::vector<uint8_t> sharp(map.num_edges(), 0);
+  std::vector<double> bend(map.num_edges(), -1.0);  // dihedral angle in degrees; -1: no two faces with normals
   for (size_t e = 0; e < map.num_edges(); ++e) {
     if (map.valence(e) != 2) continue;
     uint32_t f0, f1;
     faces_of(e, f0, f1);
     if (dot(normal[f0], normal[f0]) == 0.0 || dot(normal[f1], normal[f1]) == 0.0) continue;
+    bend[e] = std::acos(std::clamp(dot(normal[f0], normal[f1]), -1.0, 1.0)) * 180.0 / kPi;
     if (dot(normal[f0], normal[f1]) < cos_raw) sharp[e] = 1, ++out.raw_edges;
   }
+  if (out.raw_edges == 0) return out;
+  const std::vector<uint8_t> raw = sharp;
+  std::vector<Vec3> centroid(nf, Vec3{});
+  for (size_t f = 0; f < nf; ++f) {
+    for (uint32_t k = 0; k < mesh.face_size(f); ++k) centroid[f] += mesh.positions[mesh.face_vertex(f, k)];
+    centroid[f] = centroid[f] * (1.0 / double(mesh.face_size(f)));
+  }
   // 2. Confirmed on the side normals (a neighbourhood's mean on either side).
-  if (o.side_rings > 0 && out.raw_edges > 0) {
+  if (o.side_rings > 0) {
     const VertexFaces vf(mesh);
-    std::vector<Vec3> centroid(nf, Vec3{});
-    for (size_t f = 0; f < nf; ++f) {
-      for (uint32_t k = 0; k < mesh.face_size(f); ++k) centroid[f] += mesh.positions[mesh.face_vertex(f, k)];
-      centroid[f] = centroid[f] * (1.0 / double(mesh.face_size(f)));
-    }
     std::vector<uint32_t> faces, verts;
     for (size_t e = 0; e < map.num_edges(); ++e) {
       if (!sharp[e]) continue;
@@ -195,11 +272,18 @@ SharpFeatures detect_sharp_features(const PolygonMesh& mesh, const SharpFeatureO
     chain_length[c] += edge_length[e];
     ++chain_edges[c];
   }
+  // 4. The networks that stand out from the surface beside them (see side_bend_fraction).
+  const std::vector<uint8_t> faceted =
+      faceted_networks(mesh, map, raw, sharp, bend, centroid, edge_length, o.angle_degrees, o.max_side_bend_fraction);
   for (size_t e = 0; e < map.num_edges(); ++e) {
     if (!sharp[e]) continue;
     const uint32_t c = chains.find(uint32_t(e));
     if (chain_length[c] < min_length || chain_edges[c] < o.min_edges) {
       sharp[e] = 0, ++out.short_edges;
+      continue;
+    }
+    if (faceted[e]) {
+      sharp[e] = 0, ++out.faceted_edges;
       continue;
     }
     out.edges.push_back(SharpFeatures::key(map.edge_lo[e], map.edge_hi[e]));

@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <cstdio>
+#include <optional>
 #include <cmath>
 #include <random>
 
@@ -93,12 +96,71 @@ TEST(SharpInputFeatures, noisy_sphere_keeps_few_of_its_sharp_raw_dihedrals) {
   // Heavy noise (a third of an edge length): the side normals and the line rule drop most; the
   // few short lines left are not creases of a cage (the cage tests below).
   EXPECT_LE(f.edges.size(), f.raw_edges / 4) << f.raw_edges << " raw, " << f.noise_edges << " noise, " << f.short_edges << " short";
-  // Without the filter and the length rule the same edges would be sharp.
+  // Without the filters and the length rule the same edges would be sharp.
   cagekit::SharpFeatureOptions raw;
   raw.side_rings = 0;
   raw.min_length_rel = 0.0;
   raw.min_edges = 0;
+  raw.max_side_bend_fraction = 1.0;
   EXPECT_EQ(cagekit::detect_sharp_features(sphere, raw).edges.size(), f.raw_edges);
+}
+
+// A surface of revolution about z: the profile (radius, height) turned in `segments` facets, each
+// band of quads split into two triangles, the ends closed by fans from the axis at the end rings'
+// heights (flat caps) or at the given pole heights.
+PolygonMesh revolved(const std::vector<std::array<double, 2>>& profile, uint32_t segments,
+                     std::optional<std::array<double, 2>> poles = std::nullopt) {
+  PolygonMesh m;
+  const uint32_t rings = uint32_t(profile.size());
+  for (const auto& [r, z] : profile)
+    for (uint32_t k = 0; k < segments; ++k) {
+      const double a = 2 * kPi * k / segments;
+      m.add_vertex(Vec3(r * std::cos(a), r * std::sin(a), z));
+    }
+  for (uint32_t i = 0; i + 1 < rings; ++i)
+    for (uint32_t k = 0; k < segments; ++k) {
+      const uint32_t a = i * segments + k, b = i * segments + (k + 1) % segments, c = a + segments, d = b + segments;
+      m.add_face({a, b, d});
+      m.add_face({a, d, c});
+    }
+  const uint32_t bottom = m.add_vertex(Vec3(0, 0, poles ? (*poles)[0] : profile.front()[1]));
+  const uint32_t top = m.add_vertex(Vec3(0, 0, poles ? (*poles)[1] : profile.back()[1])), last = (rings - 1) * segments;
+  for (uint32_t k = 0; k < segments; ++k) {
+    m.add_face({bottom, (k + 1) % segments, k});
+    m.add_face({top, last + k, last + (k + 1) % segments});
+  }
+  return m;
+}
+
+// Test 4 keeps a CAD feature whose both sides are coarse: a shaft (32 facets, 11.25 degrees
+// between neighbours) stepped down by a 45-degree chamfer, as couplingdown.off's bores are. Its
+// four rims (two caps at 90 degrees, the chamfer's two at 45) stay sharp.
+TEST(SharpInputFeatures, chamfer_between_coarse_cylinders_stays_sharp) {
+  const uint32_t n = 32;
+  const PolygonMesh shaft = revolved({{1.0, 0.0}, {1.0, 1.0}, {0.8, 1.2}, {0.8, 2.0}}, n);
+  const cagekit::SharpFeatures f = cagekit::detect_sharp_features(shaft);
+  EXPECT_EQ(f.faceted_edges, 0u);
+  ASSERT_EQ(f.edges.size(), 4 * n);
+  for (uint32_t ring = 0; ring < 4; ++ring)
+    for (uint32_t k = 0; k < n; ++k)
+      EXPECT_TRUE(f.contains(ring * n + k, ring * n + (k + 1) % n)) << "ring " << ring << " edge " << k;
+}
+
+// A low-poly smooth body: an ellipsoid 6 x 2 x 1 as 128 triangles (an octahedron split twice,
+// stretched). 20 of its edges bend by more than 40 degrees and join into lines long enough for
+// test 3 (without test 4 all 20 are sharp), yet the facets beside them bend nearly as much: test 4
+// drops them all, as it does the faceting of the corpus's low-poly animals.
+TEST(SharpInputFeatures, coarsely_faceted_ellipsoid_has_no_sharp_features) {
+  PolygonMesh body = cagekit_test::triangle_sphere(2);
+  for (Vec3& p : body.positions) p = Vec3(3.0 * p.x, p.y, 0.5 * p.z);
+  cagekit::SharpFeatureOptions without;
+  without.max_side_bend_fraction = 1.0;
+  const cagekit::SharpFeatures g = cagekit::detect_sharp_features(body, without);
+  EXPECT_EQ(g.raw_edges, 20u);
+  EXPECT_EQ(g.edges.size(), 20u) << "without test 4, lines of the faceting are sharp";
+  const cagekit::SharpFeatures f = cagekit::detect_sharp_features(body);
+  EXPECT_EQ(f.edges.size(), 0u);
+  EXPECT_EQ(f.faceted_edges, 20u);
 }
 
 TEST(SharpInputFeatures, fandisk_keeps_every_edge_sharper_than_40_degrees) {
@@ -243,6 +305,15 @@ TEST(SharpInputCreases, noisy_sphere_cage_has_no_creases) {
   // there two clusters meet at 41 degrees over a surviving 4-edge noise line; issue 20's note.)
   EXPECT_EQ(simplify_cage(sphere).creases.size(), 0u);
   EXPECT_EQ(simplify_cage(sphere, 120).creases.size(), 0u);
+}
+
+// The cage of the low-poly ellipsoid above: no creases (with test 4 off: 22 creases at 16
+// faces, 36 at 30).
+TEST(SharpInputCreases, coarsely_faceted_ellipsoid_cage_has_no_creases) {
+  PolygonMesh body = cagekit_test::triangle_sphere(2);
+  for (Vec3& p : body.positions) p = Vec3(3.0 * p.x, p.y, 0.5 * p.z);
+  EXPECT_EQ(simplify_cage(body, 16).creases.size(), 0u);
+  EXPECT_EQ(simplify_cage(body, 30).creases.size(), 0u);
 }
 
 TEST(SharpInputCreases, fandisk_cage_has_every_sharp_feature_line_on_crease_edges) {
