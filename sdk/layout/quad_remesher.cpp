@@ -304,6 +304,8 @@ void check_options(const QuadRemeshOptions& o) {
   if (o.regions < 0) fail(Status::invalid_argument, std::string(who) + "regions must be >= 0 (0: by tolerance)");
   if (o.regions == 0 && (!(o.region_tolerance >= 0.0) || !std::isfinite(o.region_tolerance) || o.max_regions < 1))
     fail(Status::invalid_argument, std::string(who) + "region tolerance must be finite and >= 0, max regions >= 1");
+  if (!(o.regions_per_feature_patch >= 0.0) || !std::isfinite(o.regions_per_feature_patch))
+    fail(Status::invalid_argument, std::string(who) + "regions per feature patch must be finite and >= 0");
   if (!(o.edge_length > 0.0) || !(o.edge_length <= 1.0))
     fail(Status::invalid_argument, std::string(who) + "edge length must be in (0, 1] (relative to the bbox diagonal)");
   for (double w : {o.triangle_weight, o.pentagon_weight, o.t_joint_weight})
@@ -953,6 +955,35 @@ FaceTopology face_topology(const PolygonMesh& mesh) {
   return t;
 }
 
+// Feature patches: the faces joined across every edge that is not a sharp input feature; those
+// holding at least kFeaturePatchAreaShare of the area are counted (fillets' slivers and noise
+// islands are not).
+constexpr double kFeaturePatchAreaShare = 1e-3;
+size_t count_feature_patches(const PolygonMesh& mesh, const SharpFeatures& features) {
+  const size_t nf = mesh.num_faces();
+  detail::UnionFind patch(nf);
+  std::unordered_map<uint64_t, uint32_t> first_face;  // non-sharp edge -> a face on it
+  for (size_t f = 0; f < nf; ++f) {
+    const uint32_t k = mesh.face_size(f);
+    for (uint32_t c = 0; c < k; ++c) {
+      const uint32_t a = mesh.face_vertex(f, c), b = mesh.face_vertex(f, (c + 1) % k);
+      if (features.contains(a, b)) continue;
+      const auto [it, inserted] = first_face.emplace(SharpFeatures::key(a, b), uint32_t(f));
+      if (!inserted) patch.unite(it->second, uint32_t(f));
+    }
+  }
+  std::vector<double> area(nf, 0.0);
+  double total = 0.0;
+  for (size_t f = 0; f < nf; ++f) {
+    const double a = norm(mesh.face_vector_area(f));
+    area[patch.find(uint32_t(f))] += a;
+    total += a;
+  }
+  size_t patches = 0;
+  for (size_t f = 0; f < nf; ++f) patches += patch.find(uint32_t(f)) == f && area[f] >= kFeaturePatchAreaShare * total;
+  return patches;
+}
+
 QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemeshOptions& o, const TaskMonitor& monitor) {
   const auto start = std::chrono::steady_clock::now();
   check_options(o);
@@ -994,14 +1025,26 @@ QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemesh
   // A region count that cannot be met is adjusted (and reported), not refused: at least one
   // region per connected component (each needs its own), at most one per triangle.
   r.requested_regions = uint64_t(vo.region_count);
+  // The sharp input features (for the region count and, at the end, the creases).
+  SharpFeatureOptions feature_options;
+  feature_options.angle_degrees = std::clamp(o.crease_angle_degrees, 0.0, 180.0);
+  const bool use_features = o.crease_angle_degrees >= 0.0;
+  const SharpFeatures features = use_features ? detect_sharp_features(tri, feature_options) : SharpFeatures{};
   if (o.pinned_regions.empty() && o.seed_faces.empty()) {
     const size_t components = count_face_components(tri);
-    vo.region_count = int(std::min<size_t>(std::max<size_t>(size_t(vo.region_count), components), tri.num_faces()));
+    size_t wanted = std::max<size_t>(size_t(vo.region_count), components);
+    size_t patches = 0;
+    if (o.regions > 0 && o.regions_per_feature_patch > 0.0 && use_features && !features.edges.empty()) {
+      patches = count_feature_patches(tri, features);
+      const double by_patches = std::ceil(o.regions_per_feature_patch * double(patches));
+      if (wanted < patches) wanted = std::max(wanted, std::min(size_t(std::max(o.max_regions, 1)), size_t(by_patches)));
+    }
+    vo.region_count = int(std::min<size_t>(wanted, tri.num_faces()));
     if (uint64_t(vo.region_count) != r.requested_regions)
       monitor.log(LogLevel::info, "quad-dominant remeshing: " + std::to_string(r.requested_regions) +
                                       " regions requested, " + std::to_string(vo.region_count) + " used (" +
-                                      std::to_string(components) + " components, " +
-                                      std::to_string(tri.num_faces()) + " triangles)");
+                                      std::to_string(components) + " components, " + std::to_string(patches) +
+                                      " feature patches, " + std::to_string(tri.num_faces()) + " triangles)");
   }
   if (size_t(vo.region_count) > tri.num_faces())
     fail(Status::invalid_argument, "quad-dominant remeshing: " + std::to_string(vo.region_count) +
@@ -1292,13 +1335,10 @@ QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemesh
 
   // Creases on sharp interior arcs.
   if (o.crease_angle_degrees >= 0.0) {
-    SharpFeatureOptions fo;
-    fo.angle_degrees = std::min(o.crease_angle_degrees, 180.0);
     // A region boundary is made of input edges and VSA splits at features, so a piece's input
     // edges count when they are sharp edges themselves (a boundary beside a feature, one
     // triangle off, is not creased: counting edges with both ends near a feature, the organic
     // meshes' crease density rose from 4.7 % to 8.6 %; edges_along_features, 2.8 -> 8.5 %).
-    const SharpFeatures features = detect_sharp_features(tri, fo);
     std::unordered_set<uint64_t> tagged;
     for (uint32_t a = 0; a < constraints.arcs.size(); ++a) {
       const RegionArc& arc = constraints.boundaries.arcs[a];

@@ -262,6 +262,79 @@ TEST(QuadRemesher, ManyComponentsGetTheirOwnRegions) {
   EXPECT_GE(run.result.regions, 100u) << "two or more per closed component";
 }
 
+// A gear blank as a CAD exporter writes it: a star outline (`teeth` teeth, tips at radius 1, roots
+// at 0.75) extruded to height 0.5 in `rows` rows, caps fanned from the axis. Every flank is a flat
+// patch between sharp vertical edges, so it has 2 * teeth + 2 feature patches.
+PolygonMesh gear_blank(uint32_t teeth, uint32_t rows) {
+  PolygonMesh m;
+  const uint32_t n = 2 * teeth;
+  const double pi = 3.14159265358979323846;
+  for (uint32_t row = 0; row <= rows; ++row)
+    for (uint32_t k = 0; k < n; ++k) {
+      const double a = 2 * pi * k / n, r = k % 2 ? 0.75 : 1.0;
+      m.add_vertex(Vec3(r * std::cos(a), r * std::sin(a), 0.5 * row / rows));
+    }
+  for (uint32_t row = 0; row < rows; ++row)
+    for (uint32_t k = 0; k < n; ++k) {
+      const uint32_t a = row * n + k, b = row * n + (k + 1) % n, c = a + n, d = b + n;
+      m.add_face({a, b, d});
+      m.add_face({a, d, c});
+    }
+  const uint32_t bottom = m.add_vertex(Vec3(0, 0, 0)), top = m.add_vertex(Vec3(0, 0, 0.5));
+  for (uint32_t k = 0; k < n; ++k) {
+    m.add_face({bottom, (k + 1) % n, k});
+    m.add_face({top, rows * n + k, rows * n + (k + 1) % n});
+  }
+  return m;
+}
+
+// Sharp input edges (dihedral above `angle`) farther than `tolerance` from every crease edge.
+size_t sharp_edges_off_creases(const PolygonMesh& mesh, const cagekit::Cage& cage, double angle, double tolerance,
+                               size_t* sharp_edges) {
+  const std::vector<uint8_t> sharp = cagekit::detect_feature_edges(mesh, angle);
+  size_t off = 0;
+  *sharp_edges = 0;
+  for (size_t f = 0; f < mesh.num_faces(); ++f)
+    for (uint32_t k = 0; k < 3; ++k) {
+      const uint32_t a = mesh.face_vertex(f, k), b = mesh.face_vertex(f, (k + 1) % 3);
+      if (!sharp[3 * f + k] || a > b) continue;
+      ++*sharp_edges;
+      const Vec3 mid = 0.5 * (mesh.positions[a] + mesh.positions[b]);
+      double d = HUGE_VAL;
+      for (const cagekit::EdgeCrease& e : cage.creases)
+        d = std::min(d, segment_distance(mid, cage.mesh.positions[e.v0], cage.mesh.positions[e.v1]));
+      off += d > tolerance;
+    }
+  return off;
+}
+
+// 30 regions cannot separate a 16-tooth gear's 34 flat faces: some flank edges end up inside
+// regions, uncreased. The count is raised to 1.5 regions per feature patch (51) and then every
+// sharp edge lies within δ/4 of a crease edge.
+TEST(QuadRemesher, RegionCountIsRaisedToTheFeaturePatches) {
+  const PolygonMesh gear = gear_blank(16, 4);
+  QuadRemeshOptions o;
+  o.sample_refinement_passes = 0;
+  const Checked run = run_and_check(gear, o, "gear blank");
+  EXPECT_EQ(run.result.requested_regions, 30u);
+  EXPECT_GE(run.result.regions, 51u);
+  const double tolerance = 0.25 * cagekit::spacing_from_bbox_fraction(gear, o.edge_length);
+  size_t sharp = 0;
+  const size_t off = sharp_edges_off_creases(gear, run.result.cage, o.crease_angle_degrees, tolerance, &sharp);
+  EXPECT_EQ(sharp, 32u * 4 + 2 * 32u);  // the flanks' vertical edges in 4 rows, the two rims
+  EXPECT_EQ(off, 0u) << "of " << sharp << " sharp edges";
+  // The thesis's fixed count leaves some flank edges uncreased.
+  o.regions_per_feature_patch = 0.0;
+  const Checked fixed = run_and_check(gear, o, "gear blank, 30 regions");
+  EXPECT_LT(fixed.result.regions, 51u);
+  size_t sharp_fixed = 0;
+  const size_t off_fixed =
+      sharp_edges_off_creases(gear, fixed.result.cage, o.crease_angle_degrees, tolerance, &sharp_fixed);
+  std::printf("gear blank: %llu regions: %zu of %zu sharp edges off the creases; %llu regions: %zu\n",
+              (unsigned long long)run.result.regions, off, sharp, (unsigned long long)fixed.result.regions, off_fixed);
+  EXPECT_GT(off_fixed, 0u);
+}
+
 // Corpus meshes of each failure class the remesher had (issue "quad on any mesh"), with the
 // pipeline's default options: regions with a handle (patch-01, patch-30), a sliver region whose
 // sample loop had no area (plane), a folded or non-counter-clockwise sample loop
@@ -392,6 +465,12 @@ TEST(QuadRemesher, BadOptionsAndInputAreErrors) {
   o.triangle_weight = 40.0;
   o.regions = -1;
   EXPECT_EQ(status_of(cylinder, o), Status::invalid_argument);
+  o.regions = 30;
+  o.regions_per_feature_patch = -0.5;
+  EXPECT_EQ(status_of(cylinder, o), Status::invalid_argument);
+  o.regions_per_feature_patch = std::nan("");
+  EXPECT_EQ(status_of(cylinder, o), Status::invalid_argument);
+  o.regions_per_feature_patch = 1.5;
   o.regions = 100000;  // more regions than triangles: capped at the triangle count, not refused
   {
     const PolygonMesh small = cagekit_test::triangle_cylinder(1.0, 3.0, 6, 2);  // 24 triangles
