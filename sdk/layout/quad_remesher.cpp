@@ -958,7 +958,7 @@ FaceTopology face_topology(const PolygonMesh& mesh) {
 // Feature patches: the faces joined across every edge that is not a sharp input feature; those
 // holding at least kFeaturePatchAreaShare of the area are counted (fillets' slivers and noise
 // islands are not).
-constexpr double kFeaturePatchAreaShare = 1e-3;
+constexpr double kFeaturePatchAreaShare = 5e-3;
 size_t count_feature_patches(const PolygonMesh& mesh, const SharpFeatures& features) {
   const size_t nf = mesh.num_faces();
   detail::UnionFind patch(nf);

@@ -47,10 +47,10 @@ struct QuadRemeshOptions {
   double region_tolerance = 0.01;
   int max_regions = 200;
   // A region count (regions > 0) below the number of feature patches (faces joined across edges
-  // that are not sharp input features, sharp_input_features.h, each with at least 0.1 % of the
+  // that are not sharp input features, sharp_input_features.h, each with at least 0.5 % of the
   // area) is raised to this many regions per patch, capped at max_regions: fewer regions than
-  // patches leave sharp features inside regions, where they are not creased (pinion.off, 43
-  // patches: 30 regions crease 62 % of its sharp length, 43 regions 92 %, 65 all of it; VSA needs
+  // patches leave sharp features inside regions, where they are not creased (pinion.off, 33
+  // patches: 30 regions crease 62 % of its sharp length, 43 regions 92 %, 50 (the rule) all of it; VSA needs
   // the slack on curved patches). A count at or above the patch count is kept (a cube's 6).
   // 0: off (the thesis's fixed count).
   double regions_per_feature_patch = 1.5;
