@@ -15,6 +15,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "core/edge_map.h"
 #include "core/mesh_validation.h"
 #include "core/status.h"
 #include "layout/convex_face_partition.h"
@@ -962,15 +963,12 @@ constexpr double kFeaturePatchAreaShare = 5e-3;
 size_t count_feature_patches(const PolygonMesh& mesh, const SharpFeatures& features) {
   const size_t nf = mesh.num_faces();
   detail::UnionFind patch(nf);
-  std::unordered_map<uint64_t, uint32_t> first_face;  // non-sharp edge -> a face on it
-  for (size_t f = 0; f < nf; ++f) {
-    const uint32_t k = mesh.face_size(f);
-    for (uint32_t c = 0; c < k; ++c) {
-      const uint32_t a = mesh.face_vertex(f, c), b = mesh.face_vertex(f, (c + 1) % k);
-      if (features.contains(a, b)) continue;
-      const auto [it, inserted] = first_face.emplace(SharpFeatures::key(a, b), uint32_t(f));
-      if (!inserted) patch.unite(it->second, uint32_t(f));
-    }
+  detail::EdgeMap map;
+  build_edge_map(map, mesh, std::vector<uint8_t>(nf, 1));
+  for (size_t e = 0; e < map.num_edges(); ++e) {
+    if (features.contains(map.edge_lo[e], map.edge_hi[e])) continue;
+    for (const uint32_t* c = map.corners_begin(e) + 1; c < map.corners_end(e); ++c)
+      patch.unite(map.corner_face[*map.corners_begin(e)], map.corner_face[*c]);
   }
   std::vector<double> area(nf, 0.0);
   double total = 0.0;

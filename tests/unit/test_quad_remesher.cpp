@@ -155,6 +155,26 @@ QuadRemeshOptions table_six_one(int regions, double delta, double w_tri, double 
 
 }  // namespace
 
+// Sharp input edges (dihedral above `angle`) farther than `tolerance` from every crease edge.
+size_t sharp_edges_off_creases(const PolygonMesh& mesh, const cagekit::Cage& cage, double angle, double tolerance,
+                               size_t* sharp_edges) {
+  const std::vector<uint8_t> sharp = cagekit::detect_feature_edges(mesh, angle);
+  size_t off = 0;
+  *sharp_edges = 0;
+  for (size_t f = 0; f < mesh.num_faces(); ++f)
+    for (uint32_t k = 0; k < 3; ++k) {
+      const uint32_t a = mesh.face_vertex(f, k), b = mesh.face_vertex(f, (k + 1) % 3);
+      if (!sharp[3 * f + k] || a > b) continue;
+      ++*sharp_edges;
+      const Vec3 mid = 0.5 * (mesh.positions[a] + mesh.positions[b]);
+      double d = HUGE_VAL;
+      for (const cagekit::EdgeCrease& e : cage.creases)
+        d = std::min(d, segment_distance(mid, cage.mesh.positions[e.v0], cage.mesh.positions[e.v1]));
+      off += d > tolerance;
+    }
+  return off;
+}
+
 TEST(QuadRemesher, FandiskTableSixOneValidCageWithCreasesOnFeatures) {
   const std::string path = cagekit_test::shared_mesh_path("fandisk.obj");
   if (path.empty()) GTEST_SKIP() << "../shared/meshes/fandisk.obj not present";
@@ -171,26 +191,10 @@ TEST(QuadRemesher, FandiskTableSixOneValidCageWithCreasesOnFeatures) {
 
   // Every sharp input edge (dihedral above the crease angle) lies within δ/4 of a crease-tagged
   // cage edge (the arc cubics follow the boundary within the (6.1) fit, max RMS δ/4).
-  const std::vector<uint8_t> sharp = cagekit::detect_feature_edges(mesh, options.crease_angle_degrees);
   const double delta = cagekit::spacing_from_bbox_fraction(mesh, options.edge_length);
-  size_t sharp_edges = 0, off = 0;
-  double worst = 0.0;
-  for (size_t f = 0; f < mesh.num_faces(); ++f)
-    for (uint32_t k = 0; k < 3; ++k) {
-      if (!sharp[3 * f + k]) continue;
-      const uint32_t a = mesh.face_vertex(f, k), b = mesh.face_vertex(f, (k + 1) % 3);
-      if (a > b) continue;  // each edge once
-      ++sharp_edges;
-      const Vec3 mid = 0.5 * (mesh.positions[a] + mesh.positions[b]);
-      double d = HUGE_VAL;
-      for (const cagekit::EdgeCrease& e : r.cage.creases)
-        d = std::min(d, segment_distance(mid, r.cage.mesh.positions[e.v0], r.cage.mesh.positions[e.v1]));
-      worst = std::max(worst, d);
-      off += d > 0.25 * delta;
-      if (d > 0.25 * delta) std::printf("  edge %u-%u: %.3f δ from the nearest crease edge\n", a, b, d / delta);
-    }
-  std::printf("fandisk: %zu sharp input edges, %zu farther than δ/4 from a crease edge, worst %.4f δ\n", sharp_edges,
-              off, worst / delta);
+  size_t sharp_edges = 0;
+  const size_t off = sharp_edges_off_creases(mesh, r.cage, options.crease_angle_degrees, 0.25 * delta, &sharp_edges);
+  std::printf("fandisk: %zu sharp input edges, %zu farther than δ/4 from a crease edge\n", sharp_edges, off);
   EXPECT_GT(sharp_edges, 0u);
   EXPECT_EQ(off, 0u);
 }
@@ -286,26 +290,6 @@ PolygonMesh gear_blank(uint32_t teeth, uint32_t rows) {
     m.add_face({top, rows * n + k, rows * n + (k + 1) % n});
   }
   return m;
-}
-
-// Sharp input edges (dihedral above `angle`) farther than `tolerance` from every crease edge.
-size_t sharp_edges_off_creases(const PolygonMesh& mesh, const cagekit::Cage& cage, double angle, double tolerance,
-                               size_t* sharp_edges) {
-  const std::vector<uint8_t> sharp = cagekit::detect_feature_edges(mesh, angle);
-  size_t off = 0;
-  *sharp_edges = 0;
-  for (size_t f = 0; f < mesh.num_faces(); ++f)
-    for (uint32_t k = 0; k < 3; ++k) {
-      const uint32_t a = mesh.face_vertex(f, k), b = mesh.face_vertex(f, (k + 1) % 3);
-      if (!sharp[3 * f + k] || a > b) continue;
-      ++*sharp_edges;
-      const Vec3 mid = 0.5 * (mesh.positions[a] + mesh.positions[b]);
-      double d = HUGE_VAL;
-      for (const cagekit::EdgeCrease& e : cage.creases)
-        d = std::min(d, segment_distance(mid, cage.mesh.positions[e.v0], cage.mesh.positions[e.v1]));
-      off += d > tolerance;
-    }
-  return off;
 }
 
 // 30 regions cannot separate a 16-tooth gear's 34 flat faces: some flank edges end up inside
