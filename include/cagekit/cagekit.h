@@ -852,11 +852,19 @@ typedef struct cagekit_fit_options {
   int32_t select_best_two_sided; /* 1 (default): return the state with the lowest two-sided RMS distance
                                     (scan -> surface and surface -> scan, cagekit_fit_two_sided), not the
                                     last one; 0: the last state kept (the thesis's rule alone) */
+  /* Appended after 1.0's first members; a caller whose struct_size ends before it gets the default. */
+  double reverse_sample_factor; /* two-sided least squares (not in the thesis): each step also pulls the
+                                   limit surface's grid points (projection_seed_resolution + 1)^2 per ptex
+                                   face) that lie farther than this x the scan -> surface RMS from the
+                                   scan towards their closest scan point, and steps are accepted and
+                                   stopped by the two-sided RMS instead of L2. Needs the scan's faces
+                                   (ignored for bare points). Finite, 0..100 (default 0: off, the thesis's
+                                   one-sided fit; cagekit_scan_to_cage's last phase uses 3) */
 } cagekit_fit_options;
 
 #define CAGEKIT_FIT_OPTIONS_INIT                                                                \
   { sizeof(cagekit_fit_options), 5, 1e-4, 0.0, 1.0, 0, CAGEKIT_PROJECTION_EXACT, CAGEKIT_LSQ_DIRECT, 0, \
-    500, 1e-6, 4, 0.05, 1.0, 1 }
+    500, 1e-6, 4, 0.05, 1.0, 1, 0.0 }
 
 /* Figures of one state of the fit. Distances are |p_i - S(t_i)| from each scan vertex p_i to
  * its foot point on the limit surface, found by the exact projection (also in piecewise-linear
@@ -1457,11 +1465,18 @@ typedef struct cagekit_scan_to_cage_options {
   uint32_t finer_simplify_attempts; /* a SIMPLIFY result whose limit surface strays from the scan is tried
                                        again at 2x, 4x, ... the target, at most this often, 0..8 (default 2;
                                        0: never); report->simplify_target_used says which was returned */
+  /* Appended after 1.0's first members; a caller whose struct_size ends before it gets the default. */
+  double two_sided_refit_factor;    /* the last phase: the good result's cage is fitted again by two-sided
+                                       least squares (cagekit_fit_options.reverse_sample_factor = this), and
+                                       that fit is kept when the larger of the limit's two one-sided maxima
+                                       drops by at least 5 %, with no more self-intersections and still good; the method,
+                                       target and remedies are chosen by the one-sided fit. Finite, 0..100
+                                       (default 3; 0: not tried) */
 } cagekit_scan_to_cage_options;
 
 #define CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT                                                               \
   { sizeof(cagekit_scan_to_cage_options), CAGEKIT_SCAN_SIMPLIFY, 1, CAGEKIT_COMPONENTS_ALL, 1e-7,         \
-    CAGEKIT_LEVEL_BY_FACES, 60.0, NULL, NULL, NULL, 3, 2, 0.05, 3.0, 1000, 1, 2 }
+    CAGEKIT_LEVEL_BY_FACES, 60.0, NULL, NULL, NULL, 3, 2, 0.05, 3.0, 1000, 1, 2, 3.0 }
 
 /* Every figure of one scan-to-cage run. Distances are relative to the conditioned scan's
  * bounding-box diagonal. */
@@ -1524,13 +1539,18 @@ typedef struct cagekit_scan_to_cage_report {
                                        after a remedy: for self-intersections, or for a limit that strayed
                                        from the scan, which is fitted again with more fairing before any
                                        finer target or fallback is tried) */
+  /* Appended: the last phase (cagekit_scan_to_cage_options.two_sided_refit_factor). */
+  int32_t two_sided_refit;          /* 1 when the returned fit is the two-sided refit */
+  double one_sided_fit_max_rel;     /* then: max(scan -> limit, limit -> scan) of the one-sided fit it
+                                       replaced (0 when two_sided_refit is 0) */
 } cagekit_scan_to_cage_report;
 
 /* The whole journey from a scan to a fitted cage, in named phases: conditioning (repair as
  * above, one info log line naming every change) -> the method (an input that already has fewer
  * faces than the method would make is its own cage) -> a valid manifold cage without new holes
  * -> fit of its limit surface (cagekit_cage_fit) -> the limit surface measured against the scan
- * both ways and its self-intersections counted -> the good-result rule (options above). Status
+ * both ways and its self-intersections counted -> the good-result rule (options above) -> a
+ * two-sided refit of the good result, kept only when closer to the scan (two_sided_refit_factor). Status
  * SUCCESS means a good result: *cage_out is the fitted cage with crease tags, *limit_out (may be
  * NULL) the fitted cage refined limit_levels times onto its limit, and *report (may be NULL)
  * holds every figure. `fit_report` (may be NULL) receives the fit's report exactly as

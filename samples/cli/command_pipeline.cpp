@@ -68,14 +68,14 @@ int command_pipeline(Args& args) {
       "[--fit-tolerance T] [--faces N]) "
       "[--no-repair] [--components all|largest] [--weld-tolerance REL] [--no-fallback] "
       "[--passes N] [--tolerance T] [--projection exact|linear] [--fairing F] [--keep-creases] [--threads N] "
-      "[--limit-levels L] [--json] [--quiet]";
+      "[--limit-levels L] [--two-sided-refit FACTOR] [--json] [--quiet]";
   const bool quiet = args.flag("--quiet");
   const bool json = args.flag("--json");
   const bool no_repair = args.flag("--no-repair");
   const bool no_fallback = args.flag("--no-fallback");
   std::string method, components;
   int faces = -1, vertices = -1, limit_levels = 3;
-  double fit_tolerance = -1.0, weld = 1e-7;
+  double fit_tolerance = -1.0, weld = 1e-7, two_sided_refit = 3.0;
   cagekit_cage_options cage = CAGEKIT_CAGE_OPTIONS_INIT;
   cagekit_remesh_options remesh = CAGEKIT_REMESH_OPTIONS_INIT;
   try {
@@ -91,6 +91,7 @@ int command_pipeline(Args& args) {
     limit_levels = args.integer("--limit-levels", 3, 1, 5);
     components = args.option("--components", "all");
     weld = args.real("--weld-tolerance", 1e-7, 0.0, 0.1);
+    two_sided_refit = args.real("--two-sided-refit", 3.0, 0.0, 100.0);
   } catch (const Failure& f) {  // option values are input of this command: exit code 2
     throw Failure(f.code == kExitUsage ? kExitBadInput : f.code, f.what());
   }
@@ -118,6 +119,7 @@ int command_pipeline(Args& args) {
   options.remesh = &remesh;
   options.fit = &fit;
   options.limit_levels = static_cast<uint32_t>(limit_levels);
+  options.two_sided_refit_factor = two_sided_refit;
   options.fallback_to_simplify = no_fallback ? 0 : 1;
 
   Session session(quiet);
@@ -195,6 +197,8 @@ int command_pipeline(Args& args) {
       (r.scan_self_intersections_counted ? u64(r.scan_self_intersections) : std::string("null")) +
       ", \"unfitted_self_intersections\": " + u64(r.unfitted_self_intersections) +
       ", \"fit_fairing_used\": " + json_number(r.fit_fairing_used) +
+      ", \"two_sided_refit\": " + (r.two_sided_refit ? "true" : "false") +
+      (r.two_sided_refit ? ", \"one_sided_fit_max_rel\": " + json_number(r.one_sided_fit_max_rel) : std::string()) +
       (r.input_is_cage ? ", \"own_cage_crease_angle_deg\": " + json_number(r.own_cage_crease_angle_deg) : std::string()) +
       ", \"holes_added\": " + u64(r.holes_added) + ", \"input_boundary_loops\": " + u64(r.input_boundary_loops) +
       ", \"cage_boundary_loops\": " + u64(r.cage_boundary_loops) + "},\n \"seconds\": " + json_number(r.seconds) +

@@ -102,6 +102,8 @@ cagekit::FitOptions fit_options_from_c(const cagekit_fit_options* options) {
   f.weak_support_fraction = o.weak_support_fraction;
   f.weak_fairing = o.weak_fairing;
   f.select_best_two_sided = o.select_best_two_sided != 0;
+  check_real(o.reverse_sample_factor, 0.0, 100.0, false, "reverse_sample_factor");
+  f.reverse_sample_factor = o.reverse_sample_factor;
   return f;
 }
 

@@ -68,6 +68,9 @@ cagekit::ScanToCageOptions options_from_c(const cagekit_scan_to_cage_options* op
   if (o.finer_simplify_attempts > 8)
     fail(Status::invalid_argument, "cagekit_scan_to_cage_options.finer_simplify_attempts must be in 0..8");
   s.finer_simplify_attempts = int(o.finer_simplify_attempts);
+  if (!std::isfinite(o.two_sided_refit_factor) || !(o.two_sided_refit_factor >= 0) || o.two_sided_refit_factor > 100)
+    fail(Status::invalid_argument, "cagekit_scan_to_cage_options.two_sided_refit_factor must be finite and in 0..100");
+  s.two_sided_refit_factor = o.two_sided_refit_factor;
   return s;
 }
 
@@ -156,6 +159,8 @@ cagekit_scan_to_cage_report report_to_c(const cagekit::ScanToCageResult& r, uint
   c.scan_self_intersections_counted = r.scan_self_intersections_counted ? 1 : 0;
   c.own_cage_crease_angle_deg = r.input_is_cage ? r.own_cage_crease_angle_used : 0.0;
   c.fit_fairing_used = r.fit_fairing_used;
+  c.two_sided_refit = r.two_sided_refit ? 1 : 0;
+  c.one_sided_fit_max_rel = r.one_sided_fit_max_rel;
   return c;
 }
 

@@ -47,6 +47,13 @@ class PiecewiseLinearLimitMesh {
   size_t num_triangles() const { return tri_face_.size(); }
   // The grid points on the limit surface, (resolution + 1)^2 per listed ptex face.
   const std::vector<Vec3>& grid_points() const { return grid_; }
+  // Where grid point k lies: its ptex face and (u, v) = (i / resolution, j / resolution).
+  void grid_point_parameters(size_t k, uint32_t& ptex_face, double& u, double& v) const {
+    const size_t g = size_t(resolution_) + 1, block = k / (g * g), in_block = k % (g * g);
+    ptex_face = grid_face_[block];
+    u = double(in_block / g) / resolution_;
+    v = double(in_block % g) / resolution_;
+  }
 
  private:
   struct Node {

@@ -131,10 +131,13 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
     scan_distance = std::make_unique<SurfaceDistance>(*scan_surface);
     if (scan_distance->empty()) scan_distance.reset();
   }
+  // The grid points' distances to the scan in the last projected state.
+  std::vector<double> reverse_distance;
   auto measure_reverse = [&](FitPassStatistics& s, double fraction) {
     if (!scan_distance || !linear) return;
     const std::vector<Vec3>& grid = linear->grid_points();
-    std::vector<double> d(grid.size());
+    std::vector<double>& d = reverse_distance;
+    d.assign(grid.size(), 0.0);
     parallel_for(grid.size(), threads, monitor, "fit", fraction, fraction,
                  [&](size_t i) { d[i] = scan_distance->distance(grid[i]); });
     double largest = 0, sum2 = 0;
@@ -189,6 +192,42 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
   // The state returned: the best by the two-sided RMS when it is measured, else the last one
   // kept (L2 never increases from one kept state to the next).
   const bool two_sided = options.select_best_two_sided && scan_distance != nullptr;
+  // Two-sided least squares: the objective of acceptance and stopping is the two-sided RMS.
+  const bool reverse_rows = options.reverse_sample_factor > 0 && scan_distance != nullptr;
+  auto project_state = [&](const std::vector<Vec3>& ctrl, bool warm, double f0, double f1) {
+    FitPassStatistics st = project(ctrl, warm, f0, f1);
+    if (reverse_rows && std::isfinite(st.two_sided_rms_relative)) objective = st.two_sided_rms_relative;
+    return st;
+  };
+  // The rows of one step: the samples and, with reverse rows, the grid points of the current
+  // state that lie far from the scan, each aimed at its closest scan point.
+  std::vector<Vec3> step_samples;
+  std::vector<FootPoint> step_feet;
+  auto far_grid_points = [&](double current_rms_relative, double fraction) -> size_t {
+    step_samples.clear();
+    step_feet.clear();
+    if (!reverse_rows || !linear || reverse_distance.size() != linear->grid_points().size()) return 0;
+    const double threshold = options.reverse_sample_factor * current_rms_relative * report.bbox_diagonal;
+    std::vector<size_t> far;
+    for (size_t k = 0; k < reverse_distance.size(); ++k)
+      if (reverse_distance[k] > threshold) far.push_back(k);
+    if (far.empty()) return 0;
+    step_samples = samples;
+    step_feet = feet;
+    const size_t first = step_samples.size();
+    step_samples.resize(first + far.size());
+    step_feet.resize(first + far.size());
+    const std::vector<Vec3>& grid = linear->grid_points();
+    parallel_for(far.size(), threads, monitor, "fit", fraction, fraction, [&](size_t i) {
+      const size_t k = far[i];
+      FootPoint& f = step_feet[first + i];
+      linear->grid_point_parameters(k, f.ptex_face, f.u, f.v);
+      f.position = grid[k];
+      f.distance = reverse_distance[k];
+      step_samples[first + i] = scan_distance->closest_point(grid[k]);
+    });
+    return far.size();
+  };
   std::vector<Vec3> best_control;
   std::vector<FootPoint> best_feet;
   auto keep_if_best = [&](const FitPassStatistics& s) {
@@ -202,7 +241,7 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
   {
     const auto t0 = Clock::now();
     const double excluded_before = excluded_seconds;
-    FitPassStatistics s = project(control, false, 0.0, 1.0 / passes);
+    FitPassStatistics s = project_state(control, false, 0.0, 1.0 / passes);
     s.seconds = seconds_since(t0) - (excluded_seconds - excluded_before);
     report.passes.push_back(s);
     keep_if_best(s);
@@ -212,20 +251,24 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
     const double excluded_before = excluded_seconds;
     const double objective_before = objective;
     LeastSquaresReport lsq_report;
+    const size_t reverse_samples = far_grid_points(report.passes.back().rms_relative, pass / passes);
     std::vector<Vec3> next =
-        solve_control_points(surface, initial, control, samples, feet, fixed, lsq, &lsq_report);
+        reverse_samples > 0
+            ? solve_control_points(surface, initial, control, step_samples, step_feet, fixed, lsq, &lsq_report)
+            : solve_control_points(surface, initial, control, samples, feet, fixed, lsq, &lsq_report);
     const double lsq_seconds = seconds_since(t0);
     report.unsupported_control_vertices = lsq_report.unsupported_control_vertices;
     report.weakly_supported_control_vertices = lsq_report.weakly_supported_control_vertices;
     const std::vector<FootPoint> previous_feet = feet, previous_exact = exact_feet;
-    FitPassStatistics s = project(next, true, pass / passes, (pass + 1) / passes);
+    FitPassStatistics s = project_state(next, true, pass / passes, (pass + 1) / passes);
+    s.reverse_samples = reverse_samples;
     s.seconds = seconds_since(t0) - (excluded_seconds - excluded_before);
     const double before = objective_before;
     if (objective > before) {  // never let the error grow: undo the step and stop
       feet = previous_feet;
       exact_feet = previous_exact;
       report.rejected_last_step = true;
-      monitor.log(LogLevel::info, "fit pass " + std::to_string(pass) + " would increase L2 (" +
+      monitor.log(LogLevel::info, "fit pass " + std::to_string(pass) + " would increase " + (reverse_rows ? "the two-sided RMS (" : "L2 (") +
                                       std::to_string(before) + " -> " + std::to_string(objective) + "); stopped");
       objective = before;
       break;

@@ -62,6 +62,13 @@ struct FitOptions {
   // thesis's one-sided L2 while parts of the surface move away from the scan. Needs the scan's
   // faces (fit_cage_to_mesh, or `scan_surface`); without them states are judged by L2.
   bool select_best_two_sided = true;
+  // Two-sided least squares (not in the thesis, which fits scan -> surface only): when > 0 and
+  // the scan's faces are known, each step also pulls the limit surface's grid points that lie
+  // farther than reverse_sample_factor x the forward RMS from the scan towards their closest scan
+  // point (extra rows of (7.3) whose foot is the grid point's (ptex face, u, v)). Parts of the
+  // limit that bulge away from a coarse or thin scan, where no scan sample has its foot, are then
+  // drawn back. Steps are accepted and stopped by the two-sided RMS instead of L2. 0 = off.
+  double reverse_sample_factor = 0.0;
   // Keep the vertices on infinitely sharp crease edges and the corner-tagged vertices at their
   // input positions (for cages built on the scan, where those vertices are scan samples).
   bool keep_crease_vertices_on_samples = false;
@@ -100,6 +107,9 @@ struct FitPassStatistics {
   double reverse_rms_relative = NAN;
   // sqrt((rms_relative^2 + reverse_rms_relative^2) / 2): what select_best_two_sided minimises.
   double two_sided_rms_relative = NAN;
+  // Grid points added as surface -> scan rows to the step that led to this state
+  // (FitOptions::reverse_sample_factor; 0 for the initial state and with it off).
+  size_t reverse_samples = 0;
 };
 
 struct FitReport {

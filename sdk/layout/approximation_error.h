@@ -42,6 +42,8 @@ class SurfaceDistance {
   // True when the mesh has no non-degenerate triangle (distance() is then +infinity).
   bool empty() const;
   double distance(const Vec3& p) const;
+  // The point of the mesh closest to p (p itself when the mesh is empty).
+  Vec3 closest_point(const Vec3& p) const;
 
  private:
   struct Tree;

@@ -78,6 +78,12 @@ double SurfaceDistance::distance(const Vec3& p) const {
   return std::sqrt(tree_->tree->squared_distance(to_point(p)));
 }
 
+Vec3 SurfaceDistance::closest_point(const Vec3& p) const {
+  if (!tree_->tree) return p;
+  const auto q = tree_->tree->closest_point(to_point(p));
+  return Vec3{CGAL::to_double(q.x()), CGAL::to_double(q.y()), CGAL::to_double(q.z())};
+}
+
 std::vector<uint32_t> nearest_faces(const PolygonMesh& mesh, const std::vector<Vec3>& points) {
   return detail::cgal_guarded("nearest_faces", [&] { return nearest_faces_cgal(mesh, points); });
 }

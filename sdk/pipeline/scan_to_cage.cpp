@@ -198,6 +198,50 @@ std::string refit_with_fairing(const ScanToCageOptions& o, ScanToCageResult& r, 
   return problem;
 }
 
+// The last phase: r's initial cage fitted by two-sided least squares, kept when its limit is
+// closer to the scan both ways (the larger of the two one-sided maxima drops by 5 %), has no more
+// self-intersecting pairs, and is good. Tried with r's fairing, then (while it self-intersects
+// more) with the remedies' larger ones.
+// The refit is kept only when it lowers the larger maximum by at least 5 %: every control vertex
+// moves, and a smaller gain is within what any refit changes (on pinion.off a 1.2 % gain slid the
+// limit's crease curves along the surface, off the gear's sharp edges: crease precision 99.7 ->
+// 67.6 %).
+constexpr double kTwoSidedRefitGain = 0.95;
+
+void refit_two_sided(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonitor& monitor) {
+  if (!(o.two_sided_refit_factor > 0) || r.input_is_cage) return;
+  const double before = std::max(r.limit_error.hausdorff_rel, r.limit_error.reverse_rel);
+  if (!std::isfinite(before) || before <= 0) return;
+  ScanToCageOptions two_sided = o;
+  two_sided.fit.reverse_sample_factor = o.two_sided_refit_factor;
+  std::vector<double> fairings = {r.fit_fairing_used};
+  for (const double f : kRemedyFairing)
+    if (f > r.fit_fairing_used) fairings.push_back(f);
+  for (const double fairing : fairings) {
+    ScanToCageResult candidate;
+    const std::string problem =
+        refit_with_fairing(two_sided, r, fairing, candidate, monitor, r.self_intersections.pairs + 1);
+    const double after = std::max(candidate.limit_error.hausdorff_rel, candidate.limit_error.reverse_rel);
+    if (problem.empty() && after < kTwoSidedRefitGain * before) {
+      monitor.log(LogLevel::info, "scan_to_cage: two-sided refit (fairing " + std::to_string(fairing) +
+                                      ") kept: limit <-> scan " + percent(after) + " instead of " + percent(before));
+      const double one_sided_seconds = r.fit_seconds;
+      take_result(r, std::move(candidate));
+      r.fit_seconds += one_sided_seconds;
+      r.fit_fairing_used = fairing;
+      r.two_sided_refit = true;
+      r.one_sided_fit_max_rel = before;
+      return;
+    }
+    monitor.log(LogLevel::info, "scan_to_cage: the two-sided refit (fairing " + std::to_string(fairing) +
+                                    ") is not kept (" +
+                                    (problem.empty() ? "limit <-> scan " + percent(after) + ", before " + percent(before)
+                                                     : problem) +
+                                    ")");
+    if (problem != "no fewer self-intersections") return;
+  }
+}
+
 // A fitted limit that self-intersects more than the scan is fitted again with more fairing;
 // the first good result with no more than the scan's, else the good one with the fewest, is kept.
 void remedy_fit(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonitor& monitor) {
@@ -469,6 +513,7 @@ ScanToCageResult scan_to_cage(const PolygonMesh& scan, const ScanToCageOptions& 
     problem = std::string(scan_method_name(options.method)) + ": " + problem;
   }
   if (!problem.empty()) fail(Status::quality, "no good cage: " + problem);
+  refit_two_sided(options, r, monitor);
   r.seconds = seconds_since(start);
   return r;
 }

@@ -20,6 +20,10 @@
 // possible, keeping the good result with the fewest: the fit is run again with fairing 0.01,
 // then 0.1; a tiny input used as its own cage is creased at 20 degrees, then on every edge (its
 // limit then is the input itself); simplify tries the finer targets too.
+// Last, a good fitted result is fitted once more by two-sided least squares
+// (FitOptions::reverse_sample_factor = two_sided_refit_factor): kept when its limit is closer to
+// the scan both ways (the larger of the two maxima drops by at least 5 %) with no more self-intersections, and
+// still good. The method, target and remedies above are chosen by the thesis's one-sided fit.
 // A quad or anisotropic result that is not good (or a method failure) falls back to simplify when
 // fallback_to_simplify is on (reported with the reason); a simplify result that is not good is
 // Error(quality) naming the figure. Nothing that is not good comes back.
@@ -68,6 +72,8 @@ struct ScanToCageOptions {
   double own_cage_crease_angle_degrees = 40.0;
   // Try the self-intersection remedies above (counting must be on: self_intersection_level > 0).
   bool remedy_self_intersections = true;
+  // The two-sided refit of the last phase (FitOptions::reverse_sample_factor; 0: not tried).
+  double two_sided_refit_factor = 3.0;
 };
 
 struct ScanToCageResult {
@@ -103,6 +109,10 @@ struct ScanToCageResult {
   // conditioned input itself). Only for input_is_cage.
   double own_cage_crease_angle_used = 0;
   double fit_fairing_used = 0;  // FitOptions::fairing of the returned fit (raised by a remedy: self-intersections, strays)
+  // The returned fit is the two-sided refit (ScanToCageOptions::two_sided_refit_factor); the
+  // larger of the limit's two one-sided maxima before it (relative to the diagonal; 0 when not kept).
+  bool two_sided_refit = false;
+  double one_sided_fit_max_rel = 0;
   uint64_t input_boundary_loops = 0, cage_boundary_loops = 0, holes_added = 0;
   double method_seconds = 0, fit_seconds = 0, seconds = 0;
 };

@@ -44,11 +44,13 @@ class ScanToCageOptions(_lib._Versioned):
                 ("cage", c_void_p), ("remesh", c_void_p), ("fit", c_void_p), ("limit_levels", c_uint32),
                 ("self_intersection_level", c_uint32), ("max_limit_to_scan_rel", c_double),
                 ("limit_to_scan_factor", c_double), ("small_input_faces", c_uint64),
-                ("fallback_to_simplify", c_int32), ("finer_simplify_attempts", c_uint32)]
+                ("fallback_to_simplify", c_int32), ("finer_simplify_attempts", c_uint32),
+                ("two_sided_refit_factor", c_double)]
     _defaults = {"method": 0, "repair": 1, "components": 0, "weld_tolerance_rel": 1e-7, "target_query": 0,
                  "target": 60.0, "cage": None, "remesh": None, "fit": None, "limit_levels": 3,
                  "self_intersection_level": 2, "max_limit_to_scan_rel": 0.05, "limit_to_scan_factor": 3.0,
-                 "small_input_faces": 1000, "fallback_to_simplify": 1, "finer_simplify_attempts": 2}
+                 "small_input_faces": 1000, "fallback_to_simplify": 1, "finer_simplify_attempts": 2,
+                 "two_sided_refit_factor": 3.0}
 
 
 def _u64(*names):
@@ -82,7 +84,8 @@ class ScanToCageReport(_lib._Versioned):
                  ("simplify_target_used", c_double)] +
                 _u64("scan_self_intersections", "unfitted_self_intersections") +
                 [("scan_self_intersections_counted", c_int32), ("own_cage_crease_angle_deg", c_double),
-                 ("fit_fairing_used", c_double)])
+                 ("fit_fairing_used", c_double), ("two_sided_refit", c_int32),
+                 ("one_sided_fit_max_rel", c_double)])
 
 
 _lib.STRUCTS.update({"cagekit_scan_to_cage_options": ScanToCageOptions,
@@ -100,14 +103,16 @@ def scan_to_cage(scan, method=ScanMethod.SIMPLIFY, faces=60, repair=True, compon
                  crease_angle_degrees=30.0, input_crease_angle_degrees=-1.0,
                  remesh=None, fit=None, limit_levels=3, self_intersection_level=2, max_limit_to_scan_rel=0.05,
                  limit_to_scan_factor=3.0, small_input_faces=1000, fallback_to_simplify=True,
-                 finer_simplify_attempts=2):
+                 finer_simplify_attempts=2, two_sided_refit_factor=3.0):
     """Runs the journey on `scan` (a Mesh, not changed). Returns (cage, limit, report): the fitted
     Cage with crease tags, its limit mesh (refined `limit_levels` times) as a Cage, and a record
     of every figure of cagekit_scan_to_cage_report (fallback_reason as str, methods as
     ScanMethod). `faces`: simplify's target and the fallback's. Creases as Hierarchy.build_cage
     (crease_rule, feature_angle_degrees, crease_angle_degrees, input_crease_angle_degrees). `remesh`: a dict of
     cagekit.remesh()'s option names for quad / anisotropic (weights as a 3-tuple); `fit`: a dict
-    of cagekit.fit()'s option names. Raises QualityError when no good result could be made."""
+    of cagekit.fit()'s option names. `two_sided_refit_factor`: the last phase's two-sided refit (0: not
+    tried; report.two_sided_refit says whether it was kept). Raises QualityError when no good result
+    could be made."""
     remesh_options = None
     if remesh is not None:
         r = dict(remesh)
@@ -135,7 +140,8 @@ def scan_to_cage(scan, method=ScanMethod.SIMPLIFY, faces=60, repair=True, compon
         target=float(faces), limit_levels=int(limit_levels), self_intersection_level=int(self_intersection_level),
         max_limit_to_scan_rel=float(max_limit_to_scan_rel), limit_to_scan_factor=float(limit_to_scan_factor),
         small_input_faces=int(small_input_faces), fallback_to_simplify=1 if fallback_to_simplify else 0,
-        finer_simplify_attempts=int(finer_simplify_attempts))
+        finer_simplify_attempts=int(finer_simplify_attempts),
+        two_sided_refit_factor=float(two_sided_refit_factor))
     options.cage = ctypes.cast(ctypes.pointer(cage_options), c_void_p)
     if remesh_options is not None:
         options.remesh = ctypes.cast(ctypes.pointer(remesh_options), c_void_p)
@@ -152,6 +158,6 @@ def scan_to_cage(scan, method=ScanMethod.SIMPLIFY, faces=60, repair=True, compon
     record.fallback_reason = report.fallback_reason.decode("utf-8", "replace")
     record.requested_method = ScanMethod(report.requested_method)
     record.used_method = ScanMethod(report.used_method)
-    for name in ("fallback", "input_is_cage"):
+    for name in ("fallback", "input_is_cage", "two_sided_refit"):
         setattr(record, name, bool(getattr(record, name)))
     return cage, limit, record
