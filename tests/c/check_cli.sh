@@ -231,7 +231,7 @@ then pass "fit: the unit cube to the 4 x 2.5 x 1.5 block (piecewise-linear proje
 if "$cli" pipeline "$tmp/demo/scan.obj" "$tmp/pipe/out" --faces 30 --passes 3 --json --quiet >"$tmp/pipe.json" &&
    [ -s "$tmp/pipe/out/cage.obj" ] && [ -s "$tmp/pipe/out/limit.obj" ] && [ -s "$tmp/pipe/out/report.json" ] &&
    [ "$(json "$tmp/pipe.json" "[F := d['fit'], $fit_ok][1] and all(k in d['simplify'] for k in 'level polygons quads triangles creases error seconds'.split()) and d['simplify']['polygons'] <= 30 and d['limit']['error']['hausdorff_sym_rel'] < 2e-3")" = True ] &&
-   [ "$(json "$tmp/pipe/out/report.json" "d['fit']['passes'] >= 1")" = True ] &&
+   [ "$(json "$tmp/pipe/out/report.json" "d['fit']['passes'] >= 1 and d['quality']['two_sided_refit'] in (True, False) and (not d['quality']['two_sided_refit'] or d['quality']['one_sided_fit_max_rel'] * 0.95 > d['limit']['error']['hausdorff_sym_rel'])")" = True ] &&
    grep -q '^t crease' "$tmp/pipe/out/cage.obj"
 then pass "pipeline: simplify -> creased cage -> fit -> limit (OUTDIR created, report.json, JSON keys, error decreases)"; else cat "$tmp/pipe.json"; fail "pipeline"; fi
 if [ "$(json "$tmp/demo/summary.json" "d['fit']['per_pass'][-1]['max_rel'] <= d['fit']['per_pass'][0]['max_rel'] and d['fitted_limit']['hausdorff_sym_rel'] < 1e-3")" = True ] &&
@@ -260,6 +260,10 @@ then pass "pipeline conditions a non-manifold scan (duplicates dropped, orientat
 expect_bad "pipeline: --components other" "$cli" pipeline "$tmp/demo/scan.obj" "$tmp/pipe2" --faces 6 --components some --quiet
 expect_bad "pipeline: NaN in the scan" "$cli" pipeline "$tmp/nan.obj" "$tmp/pipe2" --faces 6 --quiet
 expect_bad "pipeline: --passes -1" "$cli" pipeline "$tmp/demo/scan.obj" "$tmp/pipe2" --faces 6 --passes -1 --quiet
+expect_bad "pipeline: --two-sided-refit -1" "$cli" pipeline "$tmp/demo/scan.obj" "$tmp/pipe2" --faces 6 --two-sided-refit -1 --quiet
+if "$cli" pipeline "$tmp/demo/scan.obj" "$tmp/pipe-one" --faces 30 --two-sided-refit 0 --quiet &&
+   [ "$(json "$tmp/pipe-one/report.json" "d['quality']['two_sided_refit'] is False and 'one_sided_fit_max_rel' not in d['quality']")" = True ]
+then pass "pipeline --two-sided-refit 0: the one-sided fit is returned"; else cat "$tmp/pipe-one/report.json"; fail "pipeline --two-sided-refit 0"; fi
 expect_bad "pipeline: --method other" "$cli" pipeline "$tmp/demo/scan.obj" "$tmp/pipe2" --faces 6 --method qem --quiet
 expect_bad "pipeline: OUTDIR under a file" "$cli" pipeline "$tmp/demo/scan.obj" "$tmp/cube.obj/sub" --faces 6 --quiet
 

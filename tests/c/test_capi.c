@@ -1698,9 +1698,29 @@ static void scan_to_cage_conditions_fits_and_judges(void) {
   info.struct_size = sizeof(info);
   CHECK_OK(cagekit_cage_get_info(limit, &info));
   CHECK(info.faces == report.limit_faces && report.limit_levels == 3);
+  /* The two-sided refit: when kept, the one-sided fit it replaced was at least 5 % farther. */
+  CHECK(report.two_sided_refit == 0 || report.two_sided_refit == 1);
+  if (report.two_sided_refit)
+    CHECK(0.95 * report.one_sided_fit_max_rel >
+          (report.scan_to_limit_max_rel > report.limit_to_scan_max_rel ? report.scan_to_limit_max_rel
+                                                                         : report.limit_to_scan_max_rel));
+  else
+    CHECK(report.one_sided_fit_max_rel == 0);
   cagekit_cage_release(cage);
   cagekit_cage_release(limit);
   cage = limit = NULL;
+  /* Switched off, and a caller built against the struct without the member: no refit. */
+  options.two_sided_refit_factor = 0;
+  CHECK_OK(cagekit_scan_to_cage(sphere, &options, &cage, NULL, &report, NULL));
+  CHECK(report.two_sided_refit == 0 && report.one_sided_fit_max_rel == 0);
+  cagekit_cage_release(cage);
+  cage = NULL;
+  options.two_sided_refit_factor = 3;
+  options.struct_size = offsetof(cagekit_scan_to_cage_options, two_sided_refit_factor);
+  CHECK_OK(cagekit_scan_to_cage(sphere, &options, &cage, NULL, &report, NULL));
+  cagekit_cage_release(cage);
+  cage = NULL;
+  options.struct_size = sizeof(options);
 
   /* The sphere as a soup: every triangle with its own corners, one of them flipped. */
   CHECK_OK(cagekit_mesh_get_positions(sphere, CAGEKIT_SCALAR_FLOAT64, SPHERE_VERTICES, NULL, positions));
@@ -1784,6 +1804,20 @@ static void scan_to_cage_conditions_fits_and_judges(void) {
   options.finer_simplify_attempts = 9;
   CHECK_STATUS(cagekit_scan_to_cage(sphere, &options, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   options.finer_simplify_attempts = 2;
+  options.two_sided_refit_factor = -1;
+  CHECK_STATUS(cagekit_scan_to_cage(sphere, &options, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context), "two_sided_refit_factor") != NULL);
+  options.two_sided_refit_factor = NAN;
+  CHECK_STATUS(cagekit_scan_to_cage(sphere, &options, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  options.two_sided_refit_factor = 3;
+  {
+    cagekit_fit_options bad_fit = CAGEKIT_FIT_OPTIONS_INIT;
+    bad_fit.reverse_sample_factor = 101;
+    options.fit = &bad_fit;
+    CHECK_STATUS(cagekit_scan_to_cage(sphere, &options, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    CHECK(strstr(cagekit_last_error_message(context), "reverse_sample_factor") != NULL);
+    options.fit = NULL;
+  }
   memcpy(&options.method, &(int32_t){7}, sizeof(int32_t));
   CHECK_STATUS(cagekit_scan_to_cage(sphere, &options, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK(cage == NULL);

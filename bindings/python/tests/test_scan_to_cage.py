@@ -24,6 +24,14 @@ class ScanToCage(HandleCheck):
                 self.assertEqual(report.self_intersections, 0)
                 self.assertEqual(cage.info().faces, 6)
                 self.assertEqual(limit.info().faces, 6 * 4 ** 3)
+                self.assertIsInstance(report.two_sided_refit, bool)
+                if report.two_sided_refit:
+                    self.assertLess(max(report.scan_to_limit_max_rel, report.limit_to_scan_max_rel),
+                                    0.95 * report.one_sided_fit_max_rel)
+            cage, limit, off = cagekit.scan_to_cage(mesh, faces=6, two_sided_refit_factor=0)
+            with cage, limit:
+                self.assertFalse(off.two_sided_refit)
+                self.assertEqual(off.one_sided_fit_max_rel, 0.0)
 
     def test_a_soup_is_welded_and_a_stray_piece_can_be_dropped(self):
         positions, triangles = grid_cube(4)
@@ -49,6 +57,8 @@ class ScanToCage(HandleCheck):
             self.assertIn("strays", str(caught.exception))
             with self.assertRaises(cagekit.InvalidArgumentError):
                 cagekit.scan_to_cage(mesh, faces=0)
+            with self.assertRaises(cagekit.InvalidArgumentError):
+                cagekit.scan_to_cage(mesh, faces=6, two_sided_refit_factor=-1)
 
 
 if __name__ == "__main__":
