@@ -268,8 +268,8 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
       feet = previous_feet;
       exact_feet = previous_exact;
       report.rejected_last_step = true;
-      monitor.log(LogLevel::info, "fit pass " + std::to_string(pass) + " would increase " + (reverse_rows ? "the two-sided RMS (" : "L2 (") +
-                                      std::to_string(before) + " -> " + std::to_string(objective) + "); stopped");
+      monitor.log(LogLevel::info, "fit pass " + std::to_string(pass) + " would increase " +
+                                      (reverse_rows ? "the two-sided RMS (" : "L2 (") + std::to_string(before) + " -> " + std::to_string(objective) + "); stopped");
       objective = before;
       break;
     }

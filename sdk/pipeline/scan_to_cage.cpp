@@ -199,13 +199,12 @@ std::string refit_with_fairing(const ScanToCageOptions& o, ScanToCageResult& r, 
 }
 
 // The last phase: r's initial cage fitted by two-sided least squares, kept when its limit is
-// closer to the scan both ways (the larger of the two one-sided maxima drops by 5 %), has no more
-// self-intersecting pairs, and is good. Tried with r's fairing, then (while it self-intersects
-// more) with the remedies' larger ones.
-// The refit is kept only when it lowers the larger maximum by at least 5 %: every control vertex
-// moves, and a smaller gain is within what any refit changes (on pinion.off a 1.2 % gain slid the
-// limit's crease curves along the surface, off the gear's sharp edges: crease precision 99.7 ->
-// 67.6 %).
+// closer to the scan both ways, has no more self-intersecting pairs, and is good. Tried with r's
+// fairing, then (while it self-intersects more) with the remedies' larger ones. "Closer" means the
+// larger of the two one-sided maxima drops by at least 5 %: every control vertex moves, and a
+// smaller gain is within what any refit changes (on pinion.off a 1.2 % gain slid the limit's
+// crease curves along the surface, off the gear's sharp edges: crease precision 99.7 -> 67.6 %).
+// A refit that fails (other than by cancellation) leaves r as it is: r is already good.
 constexpr double kTwoSidedRefitGain = 0.95;
 
 void refit_two_sided(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonitor& monitor) {
@@ -219,12 +218,21 @@ void refit_two_sided(const ScanToCageOptions& o, ScanToCageResult& r, const Task
     if (f > r.fit_fairing_used) fairings.push_back(f);
   for (const double fairing : fairings) {
     ScanToCageResult candidate;
-    const std::string problem =
-        refit_with_fairing(two_sided, r, fairing, candidate, monitor, r.self_intersections.pairs + 1);
+    std::string problem;
+    try {
+      problem = refit_with_fairing(two_sided, r, fairing, candidate, monitor, r.self_intersections.pairs + 1);
+    } catch (const Error& e) {
+      if (e.status() == Status::cancelled) throw;
+      if (r.conditioned.num_faces() == 0) r.conditioned = std::move(candidate.conditioned);
+      monitor.log(LogLevel::info, std::string("scan_to_cage: the two-sided refit failed (") + e.what() +
+                                      "): the one-sided fit is kept");
+      return;
+    }
     const double after = std::max(candidate.limit_error.hausdorff_rel, candidate.limit_error.reverse_rel);
     if (problem.empty() && after < kTwoSidedRefitGain * before) {
       monitor.log(LogLevel::info, "scan_to_cage: two-sided refit (fairing " + std::to_string(fairing) +
-                                      ") kept: limit <-> scan " + percent(after) + " instead of " + percent(before));
+                                      ") kept: limit <-> scan " + percent(after) + " instead of " +
+                                      percent(before));
       const double one_sided_seconds = r.fit_seconds;
       take_result(r, std::move(candidate));
       r.fit_seconds += one_sided_seconds;
