@@ -860,11 +860,19 @@ typedef struct cagekit_fit_options {
                                    stopped by the two-sided RMS instead of L2. Needs the scan's faces
                                    (ignored for bare points). Finite, 0..100 (default 0: off, the thesis's
                                    one-sided fit; cagekit_scan_to_cage's last phase uses 3) */
+  /* Appended after reverse_sample_factor; a caller whose struct_size ends before it gets the default. */
+  double crease_feature_reach;  /* crease-feature rows (not in the thesis): each step also pulls the points
+                                   of the limit surface's crease curves (along the cage's infinitely sharp
+                                   edges with two faces) that lie within this x the scan's bounding-box
+                                   diagonal of one of the scan's sharp edges (the sharp input features of
+                                   cagekit_scan_to_cage) onto their closest point of it, so that crease
+                                   curves stay on the sharp edges instead of sliding along the surface.
+                                   Finite, 0..1 (default 0.02; 0 = off, the thesis's fit) */
 } cagekit_fit_options;
 
 #define CAGEKIT_FIT_OPTIONS_INIT                                                                \
   { sizeof(cagekit_fit_options), 5, 1e-4, 0.0, 1.0, 0, CAGEKIT_PROJECTION_EXACT, CAGEKIT_LSQ_DIRECT, 0, \
-    500, 1e-6, 4, 0.05, 1.0, 1, 0.0 }
+    500, 1e-6, 4, 0.05, 1.0, 1, 0.0, 0.02 }
 
 /* Figures of one state of the fit. Distances are |p_i - S(t_i)| from each scan vertex p_i to
  * its foot point on the limit surface, found by the exact projection (also in piecewise-linear

@@ -16,7 +16,7 @@ namespace cli {
 int command_fit(Args& args) {
   const char* usage =
       "cagekit fit SCAN CAGE OUT [--passes N] [--tolerance T] [--projection exact|linear] [--fairing F] "
-      "[--keep-creases] [--threads N] [--json] [--quiet]";
+      "[--crease-feature-reach REL] [--keep-creases] [--threads N] [--json] [--quiet]";
   const bool quiet = args.flag("--quiet");
   const bool json = args.flag("--json");
   const cagekit_fit_options options = parse_fit_options(args);

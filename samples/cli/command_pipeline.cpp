@@ -67,7 +67,7 @@ int command_pipeline(Args& args) {
       "| --method quad [--edge-length REL] [--regions N] [--weights TRI,PENT,TJOINT] [--refinement-passes N] [--feature-angle DEG] "
       "[--fit-tolerance T] [--faces N]) "
       "[--no-repair] [--components all|largest] [--weld-tolerance REL] [--no-fallback] "
-      "[--passes N] [--tolerance T] [--projection exact|linear] [--fairing F] [--keep-creases] [--threads N] "
+      "[--passes N] [--tolerance T] [--projection exact|linear] [--fairing F] [--crease-feature-reach REL] [--keep-creases] [--threads N] "
       "[--limit-levels L] [--two-sided-refit FACTOR] [--json] [--quiet]";
   const bool quiet = args.flag("--quiet");
   const bool json = args.flag("--json");

@@ -144,6 +144,8 @@ cagekit_fit_options parse_fit_options(Args& args) {
   o.fairing = bad_value_is_bad_input([&] { return args.real("--fairing", 0.0, 0.0, 1e6); });
   o.threads = static_cast<uint32_t>(bad_value_is_bad_input([&] { return args.integer("--threads", 0, 0, 1024); }));
   o.keep_crease_vertices = args.flag("--keep-creases") ? 1 : 0;
+  o.crease_feature_reach =
+      bad_value_is_bad_input([&] { return args.real("--crease-feature-reach", 0.02, 0.0, 1.0); });
   const std::string projection = bad_value_is_bad_input([&] { return args.option("--projection", "exact"); });
   if (projection == "exact")
     o.projection = CAGEKIT_PROJECTION_EXACT;
@@ -184,7 +186,8 @@ std::string fit_json(const FitResult& fit, const cagekit_fit_options& options) {
                      number(r.initial_two_sided.surface_to_scan_max_rel) +
                      ", \"bbox_diagonal\": " + number(r.bbox_diagonal) + ", \"max_passes\": " +
                      std::to_string(options.max_passes) + ", \"tolerance\": " + number(options.tolerance) +
-                     ", \"fairing\": " + number(options.fairing) + ", \"projection\": \"" +
+                     ", \"fairing\": " + number(options.fairing) +
+                     ", \"crease_feature_reach\": " + number(options.crease_feature_reach) + ", \"projection\": \"" +
                      (options.projection == CAGEKIT_PROJECTION_EXACT ? "exact" : "linear") + "\", \"per_pass\": [";
   for (size_t i = 0; i < fit.passes.size(); ++i)
     json += (i ? ", {" : "{") + std::string("\"pass\": ") + std::to_string(i) + ", " +

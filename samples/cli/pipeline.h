@@ -12,7 +12,8 @@
 
 namespace cli {
 
-// --passes N --tolerance T --projection exact|linear --fairing F --keep-creases --threads N.
+// --passes N --tolerance T --projection exact|linear --fairing F --keep-creases --threads N
+// --crease-feature-reach REL (cagekit_fit_options.crease_feature_reach; 0: crease curves free).
 // Values out of range are bad input (Failure with kExitBadInput naming the option).
 cagekit_fit_options parse_fit_options(Args& args);
 

@@ -7,7 +7,9 @@
 
 #include "capi/api_guard.h"
 #include "capi/option_conversion.h"
+#include "fit/crease_feature_rows.h"
 #include "fit/surface_fitter.h"
+#include "layout/sharp_input_features.h"
 
 using namespace cagekit_capi;
 
@@ -24,8 +26,19 @@ CAGEKIT_API cagekit_status cagekit_cage_fit(cagekit_cage cage, cagekit_mesh scan
     const PassArray passes = read_pass_array(report);
     if (s.mesh.num_vertices() == 0) fail(Status::invalid_argument, "scan has no vertices");
 
+    // The scan's sharp edges for the crease-feature rows (the definition every method's creases
+    // follow); a scan whose faces that detection refuses is fitted without them.
+    std::vector<cagekit::FeatureSegment> features;
+    if (fit_options.crease_feature_reach > 0 && !c.cage.creases.empty()) {
+      try {
+        features = cagekit::feature_segments(s.mesh, cagekit::detect_sharp_features(s.mesh).edges);
+      } catch (const cagekit::Error& e) {
+        if (e.status() != Status::invalid_mesh) throw;
+      }
+    }
     cagekit::FitReport fr;
-    cagekit::Cage fitted = cagekit::fit_cage_to_mesh(c.cage, s.mesh, fit_options, &fr, c.context->monitor());
+    cagekit::Cage fitted =
+        cagekit::fit_cage_to_mesh(c.cage, s.mesh, fit_options, &fr, c.context->monitor(), &features);
     auto handle = std::make_unique<cagekit_cage_t>(c.context, std::move(fitted));
     write_fit_report(report, passes, fr);
     *out = handle.release();

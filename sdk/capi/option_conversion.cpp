@@ -104,6 +104,8 @@ cagekit::FitOptions fit_options_from_c(const cagekit_fit_options* options) {
   f.select_best_two_sided = o.select_best_two_sided != 0;
   check_real(o.reverse_sample_factor, 0.0, 100.0, false, "reverse_sample_factor");
   f.reverse_sample_factor = o.reverse_sample_factor;
+  check_real(o.crease_feature_reach, 0.0, 1.0, false, "crease_feature_reach");
+  f.crease_feature_reach = o.crease_feature_reach;
   return f;
 }
 

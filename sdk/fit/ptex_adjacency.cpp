@@ -73,6 +73,12 @@ PtexAdjacency::PtexAdjacency(const PolygonMesh& cage, const SubdivisionSurface& 
   for (size_t i = 0; i < sorted_sides_.size(); ++i) sorted_lines_[i] = sides_[sorted_sides_[i]].line;
 }
 
+uint64_t PtexAdjacency::cage_edge(uint32_t face, int side) const {
+  if (face >= hole_.size() || side < 0 || side > 3) return kNoEdge;
+  const uint64_t line = sides_[size_t(face) * 4 + size_t(side)].line;
+  return (line >> 63) != 0 ? kNoEdge : line;
+}
+
 int PtexAdjacency::transfer(uint32_t& face, double& u, double& v, int side) const {
   if (face >= hole_.size() || side < 0 || side > 3) fail(Status::invalid_argument, "ptex transfer: bad face or side");
   const uint32_t id = face * 4 + uint32_t(side);

@@ -55,7 +55,7 @@ FitPassStatistics statistics(const std::vector<FootPoint>& feet, const std::vect
 
 Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, const FitOptions& options,
                         FitReport* report_out, const TaskMonitor& monitor, const std::vector<bool>* near_boundary,
-                        const PolygonMesh* scan_surface) {
+                        const PolygonMesh* scan_surface, const std::vector<FeatureSegment>* sharp_features) {
   const auto start = Clock::now();
   if (samples.empty()) fail(Status::invalid_argument, "fit: no samples");
   if (options.max_passes < 0 || options.max_passes > 100000)
@@ -74,6 +74,8 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
     fail(Status::invalid_argument, "fit: unknown projection mode");
   if (options.solver != LeastSquaresSolver::direct && options.solver != LeastSquaresSolver::cgls)
     fail(Status::invalid_argument, "fit: unknown least-squares solver");
+  if (!(options.crease_feature_reach >= 0) || !std::isfinite(options.crease_feature_reach))
+    fail(Status::invalid_argument, "fit: crease_feature_reach must be finite and >= 0");
   if (options.threads < 0) fail(Status::invalid_argument, "fit: threads must be >= 0");
   if (near_boundary && near_boundary->size() != samples.size())
     fail(Status::invalid_argument, "fit: near_boundary must have one flag per sample");
@@ -131,6 +133,16 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
     scan_distance = std::make_unique<SurfaceDistance>(*scan_surface);
     if (scan_distance->empty()) scan_distance.reset();
   }
+  // Crease-feature rows: the feature lines within reach, and the limit's crease-curve grid points
+  // (found once the linear mesh exists).
+  std::unique_ptr<FeatureLineDistance> feature_lines;
+  if (sharp_features && !sharp_features->empty() && options.crease_feature_reach > 0 && !initial.creases.empty() &&
+      box.diagonal() > 0) {
+    feature_lines = std::make_unique<FeatureLineDistance>(*sharp_features, options.crease_feature_reach * box.diagonal());
+    if (feature_lines->empty()) feature_lines.reset();
+  }
+  std::vector<size_t> crease_points;
+  bool crease_points_found = false;
   // The grid points' distances to the scan in the last projected state.
   std::vector<double> reverse_distance;
   auto measure_reverse = [&](FitPassStatistics& s, double fraction) {
@@ -150,7 +162,8 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
   };
   auto project = [&](const std::vector<Vec3>& ctrl, bool warm, double f0, double f1) {
     const auto build_start = Clock::now();
-    const bool linear_mesh = !(exact && warm) || options.closest_point.reseed_from_linear_mesh || scan_distance;
+    const bool linear_mesh =
+        !(exact && warm) || options.closest_point.reseed_from_linear_mesh || scan_distance || feature_lines;
     std::vector<Vec3> points = surface.patch_points(ctrl);
     if (linear_mesh) {
       if (!linear)
@@ -203,17 +216,49 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
   // state that lie far from the scan, each aimed at its closest scan point.
   std::vector<Vec3> step_samples;
   std::vector<FootPoint> step_feet;
+  // Grid points as rows: each aimed at `targets[i]` from its own (ptex face, u, v).
+  auto add_grid_rows = [&](const std::vector<size_t>& points, const std::vector<Vec3>& targets) {
+    if (step_samples.empty()) step_samples = samples, step_feet = feet;
+    const std::vector<Vec3>& grid = linear->grid_points();
+    for (size_t i = 0; i < points.size(); ++i) {
+      FootPoint f;
+      linear->grid_point_parameters(points[i], f.ptex_face, f.u, f.v);
+      f.position = grid[points[i]];
+      f.distance = distance(grid[points[i]], targets[i]);
+      step_samples.push_back(targets[i]);
+      step_feet.push_back(f);
+    }
+  };
+  // Crease-feature rows of the current state: its crease-curve points within reach of a feature.
+  auto crease_feature_rows = [&](double fraction) -> size_t {
+    if (!feature_lines || !linear) return 0;
+    if (!crease_points_found) {
+      crease_points = crease_curve_grid_points(initial, surface, adjacency, *linear,
+                                               options.closest_point.seed_resolution);
+      crease_points_found = true;
+    }
+    if (crease_points.empty()) return 0;
+    const std::vector<Vec3>& grid = linear->grid_points();
+    std::vector<Vec3> target(crease_points.size());
+    std::vector<uint8_t> within(crease_points.size(), 0);
+    parallel_for(crease_points.size(), threads, monitor, "fit", fraction, fraction, [&](size_t i) {
+      within[i] = feature_lines->closest_point(grid[crease_points[i]], &target[i], nullptr) ? 1 : 0;
+    });
+    std::vector<size_t> points;
+    std::vector<Vec3> targets;
+    for (size_t i = 0; i < crease_points.size(); ++i)
+      if (within[i]) points.push_back(crease_points[i]), targets.push_back(target[i]);
+    if (!points.empty()) add_grid_rows(points, targets);
+    return points.size();
+  };
   auto far_grid_points = [&](double current_rms_relative, double fraction) -> size_t {
-    step_samples.clear();
-    step_feet.clear();
     if (!reverse_rows || !linear || reverse_distance.size() != linear->grid_points().size()) return 0;
     const double threshold = options.reverse_sample_factor * current_rms_relative * report.bbox_diagonal;
     std::vector<size_t> far;
     for (size_t k = 0; k < reverse_distance.size(); ++k)
       if (reverse_distance[k] > threshold) far.push_back(k);
     if (far.empty()) return 0;
-    step_samples = samples;
-    step_feet = feet;
+    if (step_samples.empty()) step_samples = samples, step_feet = feet;
     const size_t first = step_samples.size();
     step_samples.resize(first + far.size());
     step_feet.resize(first + far.size());
@@ -251,9 +296,12 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
     const double excluded_before = excluded_seconds;
     const double objective_before = objective;
     LeastSquaresReport lsq_report;
+    step_samples.clear();
+    step_feet.clear();
     const size_t reverse_samples = far_grid_points(report.passes.back().rms_relative, pass / passes);
+    const size_t crease_samples = crease_feature_rows(pass / passes);
     std::vector<Vec3> next =
-        reverse_samples > 0
+        reverse_samples + crease_samples > 0
             ? solve_control_points(surface, initial, control, step_samples, step_feet, fixed, lsq, &lsq_report)
             : solve_control_points(surface, initial, control, samples, feet, fixed, lsq, &lsq_report);
     const double lsq_seconds = seconds_since(t0);
@@ -262,6 +310,7 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
     const std::vector<FootPoint> previous_feet = feet, previous_exact = exact_feet;
     FitPassStatistics s = project_state(next, true, pass / passes, (pass + 1) / passes);
     s.reverse_samples = reverse_samples;
+    s.crease_feature_samples = crease_samples;
     s.seconds = seconds_since(t0) - (excluded_seconds - excluded_before);
     const double before = objective_before;
     if (objective > before) {  // never let the error grow: undo the step and stop
@@ -305,7 +354,7 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
 }
 
 Cage fit_cage_to_mesh(const Cage& initial, const PolygonMesh& scan, const FitOptions& options, FitReport* report,
-                      const TaskMonitor& monitor) {
+                      const TaskMonitor& monitor, const std::vector<FeatureSegment>* sharp_features) {
   const size_t n = scan.num_vertices();
   for (uint32_t v : scan.face_vertices)
     if (v >= n) fail(Status::invalid_argument, "fit: the scan has a face vertex index out of range");
@@ -336,7 +385,7 @@ Cage fit_cage_to_mesh(const Cage& initial, const PolygonMesh& scan, const FitOpt
       if (on_boundary[b]) near[a] = true;
     }
   }
-  return fit_cage_to_points(initial, scan.positions, options, report, monitor, &near, &scan);
+  return fit_cage_to_points(initial, scan.positions, options, report, monitor, &near, &scan, sharp_features);
 }
 
 CAGEKIT_NAMESPACE_END

@@ -18,6 +18,7 @@
 #include "core/polygon_mesh.h"
 #include "core/task_monitor.h"
 #include "fit/closest_point_on_limit_surface.h"
+#include "fit/crease_feature_rows.h"
 #include "fit/least_squares_system.h"
 #include "subdiv/subdivision_surface.h"
 
@@ -69,6 +70,12 @@ struct FitOptions {
   // limit that bulge away from a coarse or thin scan, where no scan sample has its foot, are then
   // drawn back. Steps are accepted and stopped by the two-sided RMS instead of L2. 0 = off.
   double reverse_sample_factor = 0.0;
+  // Crease-feature rows (crease_feature_rows.h, not in the thesis): when the scan's sharp feature
+  // lines are given, each step also pulls the points of the limit's crease curves that lie within
+  // crease_feature_reach x the bbox diagonal of a feature line onto their closest point of it, so
+  // that crease curves stay on the sharp edges they were put on instead of sliding along the
+  // surface. 0 = off.
+  double crease_feature_reach = 0.02;
   // Keep the vertices on infinitely sharp crease edges and the corner-tagged vertices at their
   // input positions (for cages built on the scan, where those vertices are scan samples).
   bool keep_crease_vertices_on_samples = false;
@@ -110,6 +117,9 @@ struct FitPassStatistics {
   // Grid points added as surface -> scan rows to the step that led to this state
   // (FitOptions::reverse_sample_factor; 0 for the initial state and with it off).
   size_t reverse_samples = 0;
+  // Crease-curve points added as crease-feature rows to the step that led to this state
+  // (FitOptions::crease_feature_reach; 0 for the initial state, with it off or no feature lines).
+  size_t crease_feature_samples = 0;
 };
 
 struct FitReport {
@@ -133,16 +143,19 @@ struct FitReport {
 // Error(cancelled) via the monitor (stage "fit", fraction over passes; reported at least once per
 // pass). `near_boundary` (optional, one flag per sample) marks the samples excluded from
 // max_relative_interior. `scan_surface` (optional): the triangles the samples lie on, for the
-// surface -> scan figures and the two-sided choice of the returned state.
+// surface -> scan figures and the two-sided choice of the returned state. `sharp_features`
+// (optional): the scan's sharp feature lines, for the crease-feature rows.
 Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, const FitOptions& options = {},
                         FitReport* report = nullptr, const TaskMonitor& monitor = {},
                         const std::vector<bool>* near_boundary = nullptr,
-                        const PolygonMesh* scan_surface = nullptr);
+                        const PolygonMesh* scan_surface = nullptr,
+                        const std::vector<FeatureSegment>* sharp_features = nullptr);
 
 // The samples are all of the scan's vertices (foot_points[i] belongs to vertex i); a vertex is
 // "near the boundary" when it is on a boundary edge of the scan or shares an edge with such a
-// vertex.
+// vertex. `sharp_features` as above (e.g. the scan's sharp edges, detect_sharp_features).
 Cage fit_cage_to_mesh(const Cage& initial, const PolygonMesh& scan, const FitOptions& options = {},
-                      FitReport* report = nullptr, const TaskMonitor& monitor = {});
+                      FitReport* report = nullptr, const TaskMonitor& monitor = {},
+                      const std::vector<FeatureSegment>* sharp_features = nullptr);
 
 CAGEKIT_NAMESPACE_END

@@ -13,6 +13,7 @@
 #include "core/mesh_validation.h"
 #include "core/status.h"
 #include "layout/feature_edges.h"
+#include "layout/sharp_input_features.h"
 #include "subdiv/uniform_refinement.h"
 
 CAGEKIT_NAMESPACE_BEGIN
@@ -66,6 +67,25 @@ Cage own_cage(const PolygonMesh& mesh, double angle_degrees) {
       }
   for (const auto& [a, b] : edges) cage.creases.push_back({a, b, kSharpnessInfinite});
   return cage;
+}
+
+// Phase 1b: the conditioned scan's sharp edges as the fit's feature lines (none when the fit's
+// crease-feature rows are off or the scan has faces detect_sharp_features refuses).
+std::shared_ptr<const std::vector<FeatureSegment>> sharp_feature_segments(const PolygonMesh& mesh,
+                                                                          const ScanToCageOptions& o,
+                                                                          const TaskMonitor& monitor) {
+  auto segments = std::make_shared<std::vector<FeatureSegment>>();
+  if (!(o.fit.crease_feature_reach > 0)) return segments;
+  SharpFeatures features;
+  try {
+    features = detect_sharp_features(mesh, o.cage.features);
+  } catch (const Error& e) {
+    if (e.status() != Status::invalid_mesh) throw;
+    monitor.log(LogLevel::info, std::string("scan_to_cage: no feature lines for the fit: ") + e.what());
+    return segments;
+  }
+  *segments = feature_segments(mesh, features.edges);
+  return segments;
 }
 
 // Phase 2: the initial cage by the method (fills the method's figures of `r`).
@@ -369,7 +389,7 @@ std::string fit_and_judge(const ScanToCageOptions& o, ScanToCageResult& r, const
   const PolygonMesh& mesh = r.conditioned;
   const auto t1 = Clock::now();
   r.fit = {};
-  r.cage = fit_cage_to_mesh(r.initial_cage, mesh, o.fit, &r.fit, monitor);
+  r.cage = fit_cage_to_mesh(r.initial_cage, mesh, o.fit, &r.fit, monitor, r.sharp_features.get());
   r.fit_seconds = seconds_since(t1);
   // The fit moves every control vertex: faces can collapse or fold onto each other. Then its
   // initial state (pass 0, the method's cage) is the result, judged like any other.
@@ -484,6 +504,7 @@ ScanToCageResult scan_to_cage(const PolygonMesh& scan, const ScanToCageOptions& 
   // Phase 1.
   r.conditioned = condition_input(scan, options.conditioning, &r.conditioning, monitor);
   r.input_boundary_loops = compute_mesh_statistics(r.conditioned).boundary_loops;
+  r.sharp_features = sharp_feature_segments(r.conditioned, options, monitor);
 
   std::string problem;
   std::unique_ptr<SimplificationHierarchy> hierarchy;
@@ -511,6 +532,7 @@ ScanToCageResult scan_to_cage(const PolygonMesh& scan, const ScanToCageOptions& 
     fresh.fallback = true;
     fresh.fallback_reason = r.fallback_reason;
     fresh.input_boundary_loops = r.input_boundary_loops;
+    fresh.sharp_features = r.sharp_features;
     r = std::move(fresh);
     ScanToCageOptions simplify = options;
     simplify.method = ScanMethod::simplify;

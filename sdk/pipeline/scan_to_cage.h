@@ -28,7 +28,9 @@
 // fallback_to_simplify is on (reported with the reason); a simplify result that is not good is
 // Error(quality) naming the figure. Nothing that is not good comes back.
 #include <cstdint>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "core/cage.h"
 #include "core/polygon_mesh.h"
@@ -78,6 +80,9 @@ struct ScanToCageOptions {
 
 struct ScanToCageResult {
   PolygonMesh conditioned;
+  // The conditioned scan's sharp edges (detect_sharp_features with options.cage.features): the
+  // feature lines every fit holds the limit's crease curves on (FitOptions::crease_feature_reach).
+  std::shared_ptr<const std::vector<FeatureSegment>> sharp_features;
   ConditioningReport conditioning;
   ScanMethod requested = ScanMethod::simplify, used = ScanMethod::simplify;
   bool input_is_cage = false;      // the conditioned input was its own cage (tiny input)

@@ -264,6 +264,8 @@ expect_bad "pipeline: --two-sided-refit -1" "$cli" pipeline "$tmp/demo/scan.obj"
 if "$cli" pipeline "$tmp/demo/scan.obj" "$tmp/pipe-one" --faces 30 --two-sided-refit 0 --quiet &&
    [ "$(json "$tmp/pipe-one/report.json" "d['quality']['two_sided_refit'] is False and 'one_sided_fit_max_rel' not in d['quality']")" = True ]
 then pass "pipeline --two-sided-refit 0: the one-sided fit is returned"; else cat "$tmp/pipe-one/report.json"; fail "pipeline --two-sided-refit 0"; fi
+expect_bad "pipeline: --crease-feature-reach 2" "$cli" pipeline "$tmp/demo/scan.obj" "$tmp/pipe2" --faces 6 --crease-feature-reach 2 --quiet
+expect_bad "fit: --crease-feature-reach -1" "$cli" fit "$tmp/demo/scan.obj" "$tmp/demo/scan.obj" "$tmp/fit-bad.obj" --crease-feature-reach -1 --quiet
 expect_bad "pipeline: --method other" "$cli" pipeline "$tmp/demo/scan.obj" "$tmp/pipe2" --faces 6 --method qem --quiet
 expect_bad "pipeline: OUTDIR under a file" "$cli" pipeline "$tmp/demo/scan.obj" "$tmp/cube.obj/sub" --faces 6 --quiet
 

@@ -1360,12 +1360,21 @@ static void fit_rejects_bad_arguments_and_can_be_cancelled(void) {
   EXPECT_BAD_FIT_OPTION(o_.projection_epsilon = 0, "projection_epsilon");
   EXPECT_BAD_FIT_OPTION(o_.projection_epsilon = NAN, "projection_epsilon");
   EXPECT_BAD_FIT_OPTION(o_.projection_seed_resolution = 0, "projection_seed_resolution");
+  EXPECT_BAD_FIT_OPTION(o_.crease_feature_reach = 1.5, "crease_feature_reach");
+  EXPECT_BAD_FIT_OPTION(o_.crease_feature_reach = NAN, "crease_feature_reach");
+  EXPECT_BAD_FIT_OPTION(o_.crease_feature_reach = -0.01, "crease_feature_reach");
   EXPECT_BAD_FIT_OPTION(o_.struct_size = 0, "struct_size");
 
   /* an older, smaller options struct: the missing fields take their defaults */
   small.struct_size = offsetof(cagekit_fit_options, keep_crease_vertices);
   small.max_passes = 1;
   small.projection_epsilon = -1; /* beyond struct_size: not read */
+  CHECK_OK(cagekit_cage_fit(cube, sphere, &small, &out, NULL));
+  cagekit_cage_release(out);
+  /* one that ends before crease_feature_reach (1.0's reverse_sample_factor struct) */
+  small = (cagekit_fit_options)CAGEKIT_FIT_OPTIONS_INIT;
+  small.struct_size = offsetof(cagekit_fit_options, crease_feature_reach);
+  small.crease_feature_reach = -1; /* beyond struct_size: not read */
   CHECK_OK(cagekit_cage_fit(cube, sphere, &small, &out, NULL));
   cagekit_cage_release(out);
 

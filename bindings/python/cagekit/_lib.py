@@ -177,12 +177,12 @@ class FitOptions(_Versioned):
                 ("max_projection_steps", c_uint32), ("projection_epsilon", c_double),
                 ("projection_seed_resolution", c_uint32), ("weak_support_fraction", c_double),
                 ("weak_fairing", c_double), ("select_best_two_sided", c_int32),
-                ("reverse_sample_factor", c_double)]
+                ("reverse_sample_factor", c_double), ("crease_feature_reach", c_double)]
     _defaults = {"max_passes": 5, "tolerance": 1e-4, "fairing": 0.0, "tangential_weight": 1.0,
                  "keep_crease_vertices": 0, "projection": 0, "solver": 0, "threads": 0,
                  "max_projection_steps": 500, "projection_epsilon": 1e-6, "projection_seed_resolution": 4,
                  "weak_support_fraction": 0.05, "weak_fairing": 1.0, "select_best_two_sided": 1,
-                 "reverse_sample_factor": 0.0}
+                 "reverse_sample_factor": 0.0, "crease_feature_reach": 0.02}
 
 
 class FitPass(Structure):

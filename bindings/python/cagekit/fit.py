@@ -27,19 +27,22 @@ class LsqSolver(enum.IntEnum):
 
 def fit(cage, scan, max_passes=5, tolerance=1e-4, fairing=0.0, tangential_weight=1.0,
         keep_crease_vertices=False, projection=ProjectionMode.EXACT, solver=LsqSolver.DIRECT, threads=0,
-        max_projection_steps=500, projection_epsilon=1e-6, projection_seed_resolution=4):
+        max_projection_steps=500, projection_epsilon=1e-6, projection_seed_resolution=4,
+        crease_feature_reach=0.02):
     """Fits `cage` (not changed) to the vertices of `scan` (a Mesh). Returns (new Cage with the
     same faces and tags, report). The report holds pass_count, passes (a list of records with
     l2, rms_rel, max_rel, mean_rel, max_rel_interior, seconds, unconverged_projections,
     mean_projection_steps; entry 0 = the initial cage), initial, final, stopped_by_tolerance,
     rejected_last_step, fairing_used, unsupported_control_vertices, bbox_diagonal, seconds.
-    Option values as the C API's cagekit_fit_options (projection/solver also as names)."""
+    Option values as the C API's cagekit_fit_options (projection/solver also as names);
+    `crease_feature_reach` holds the limit's crease curves on the scan's sharp edges (0: off)."""
     options = _lib.FitOptions.new(
         max_passes=int(max_passes), tolerance=float(tolerance), fairing=float(fairing),
         tangential_weight=float(tangential_weight), keep_crease_vertices=1 if keep_crease_vertices else 0,
         projection=int(_enum(ProjectionMode, projection)), solver=int(_enum(LsqSolver, solver)),
         threads=int(threads), max_projection_steps=int(max_projection_steps),
-        projection_epsilon=float(projection_epsilon), projection_seed_resolution=int(projection_seed_resolution))
+        projection_epsilon=float(projection_epsilon), projection_seed_resolution=int(projection_seed_resolution),
+        crease_feature_reach=float(crease_feature_reach))
     capacity = min(int(max_passes), 100000) + 1
     passes = (_lib.FitPass * capacity)()
     report = _lib.FitReport.new(pass_capacity=capacity, passes=ctypes.cast(passes, ctypes.POINTER(_lib.FitPass)))
