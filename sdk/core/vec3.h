@@ -37,5 +37,17 @@ inline Vec3 normalized(const Vec3& a) {
   return n > 0 ? a * (1.0 / n) : Vec3{};
 }
 inline bool is_finite(const Vec3& a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
+// The point of the segment [a, b] closest to p (a when the segment has no length).
+inline Vec3 closest_point_on_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 d = b - a;
+  const double dd = dot(d, d);
+  double t = dd > 0.0 ? dot(p - a, d) / dd : 0.0;
+  t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+  return a + t * d;
+}
+// Distance from p to the segment [a, b].
+inline double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
+  return norm(p - closest_point_on_segment(p, a, b));
+}
 
 CAGEKIT_NAMESPACE_END

@@ -16,13 +16,6 @@ uint64_t edge_key(uint32_t a, uint32_t b) {
   return (uint64_t(std::min(a, b)) << 32) | std::max(a, b);
 }
 
-Vec3 closest_on_segment(const Vec3& p, const FeatureSegment& s) {
-  const Vec3 d = s.b - s.a;
-  const double len2 = dot(d, d);
-  const double t = len2 > 0 ? std::clamp(dot(p - s.a, d) / len2, 0.0, 1.0) : 0.0;
-  return s.a + t * d;
-}
-
 constexpr int64_t kCellRange = int64_t(1) << 20;  // 21 bits per axis in a key
 
 }  // namespace
@@ -106,7 +99,8 @@ bool FeatureLineDistance::closest_point(const Vec3& p, Vec3* closest, double* di
         const uint64_t key = cell_key(i, j, k);
         const auto range = std::equal_range(cell_keys_.begin(), cell_keys_.end(), key);
         for (auto it = range.first; it != range.second; ++it) {
-          const Vec3 q = closest_on_segment(p, segments_[cell_segments_[size_t(it - cell_keys_.begin())]]);
+          const FeatureSegment& s = segments_[cell_segments_[size_t(it - cell_keys_.begin())]];
+          const Vec3 q = closest_point_on_segment(p, s.a, s.b);
           const double d = distance(p, q);
           if (d <= best) {
             best = d;

@@ -18,13 +18,6 @@ namespace {
 uint64_t pair_key(uint32_t a, uint32_t b) { return (uint64_t(a) << 32) | b; }
 uint64_t undirected_key(uint32_t a, uint32_t b) { return a < b ? pair_key(a, b) : pair_key(b, a); }
 
-double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
-  const Vec3 ab = b - a;
-  const double len2 = dot(ab, ab);
-  const double t = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-  return distance(p, a + ab * t);
-}
-
 // The border half-edges of every cluster: (cluster, from) -> the half-edges' ends.
 class ClusterBorders {
  public:

@@ -41,22 +41,14 @@ void TriangleAdjacency::build(const PolygonMesh& mesh, const std::vector<uint8_t
 
 namespace {
 
-// point_segment_distance squared: the same arithmetic up to the square root, so sqrt of it is
-// point_segment_distance's value bit for bit.
+// point_segment_distance (core/vec3.h) squared: the same arithmetic up to the square root, so
+// sqrt of it is point_segment_distance's value bit for bit.
 inline double point_segment_distance2(const Vec3& p, const Vec3& a, const Vec3& b) {
-  const Vec3 d = b - a;
-  const double dd = dot(d, d);
-  double t = dd > 0.0 ? dot(p - a, d) / dd : 0.0;
-  t = std::clamp(t, 0.0, 1.0);
-  const Vec3 x = p - (a + t * d);
+  const Vec3 x = p - closest_point_on_segment(p, a, b);
   return dot(x, x);
 }
 
 }  // namespace
-
-double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
-  return std::sqrt(point_segment_distance2(p, a, b));
-}
 
 LineSampleDatabase::LineSampleDatabase(const PolygonMesh& mesh, const TriangleAdjacency& adjacency)
     : mesh_(mesh), adjacency_(adjacency) {

@@ -117,7 +117,4 @@ class LineSampleDatabase {
   uint64_t queries_ = 0;
 };
 
-// Distance from p to the segment [a, b].
-double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b);
-
 CAGEKIT_NAMESPACE_END

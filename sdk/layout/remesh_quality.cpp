@@ -24,13 +24,6 @@ double line_angle_deg(const Vec3& a, const Vec3& b) {
   return std::acos(std::min(1.0, std::fabs(dot(a, b)) / (la * lb))) * 180.0 / kPi;
 }
 
-double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
-  const Vec3 d = b - a;
-  const double dd = dot(d, d);
-  const double t = dd > 0.0 ? std::clamp(dot(p - a, d) / dd, 0.0, 1.0) : 0.0;
-  return norm(p - (a + t * d));
-}
-
 }  // namespace
 
 PolygonMeshFigures polygon_mesh_figures(const PolygonMesh& m) {

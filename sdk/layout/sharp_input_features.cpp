@@ -333,12 +333,6 @@ std::vector<uint8_t> edges_along_features(const PolygonMesh& mesh, const SharpFe
     }
     for (uint32_t w : feature_neighbours[v]) out.push_back({w, distance(mesh.positions[v], mesh.positions[w])});
   };
-  auto segment_distance = [](const Vec3& p, const Vec3& s0, const Vec3& s1) {
-    const Vec3 d = s1 - s0;
-    const double len2 = dot(d, d);
-    const double t = len2 > 0.0 ? std::clamp(dot(p - s0, d) / len2, 0.0, 1.0) : 0.0;
-    return distance(p, s0 + d * t);
-  };
   // Bounded Dijkstra over the feature graph; `cost` is reset through `touched` after each query.
   std::vector<double> cost(nv, INFINITY);
   std::vector<uint32_t> touched;
@@ -392,9 +386,9 @@ std::vector<uint8_t> edges_along_features(const PolygonMesh& mesh, const SharpFe
       for (const auto& [v, unused] : *entry)
         for (uint32_t k = sharp_first[v]; k < sharp_first[v + 1]; ++k) {
           const Vec3 &s0 = mesh.positions[v], &s1 = mesh.positions[sharp_other[k]];
-          da = std::min(da, segment_distance(pa, s0, s1));
-          db = std::min(db, segment_distance(pb, s0, s1));
-          dm = std::min(dm, segment_distance(mid, s0, s1));
+          da = std::min(da, point_segment_distance(pa, s0, s1));
+          db = std::min(db, point_segment_distance(pb, s0, s1));
+          dm = std::min(dm, point_segment_distance(mid, s0, s1));
         }
     along[i] = dm <= std::max(da, db) + kMidpointSlack * distance(pa, pb);
     if (!along[i] && on_feature(a) && on_feature(b)) bent.emplace(SharpFeatures::key(a, b), i);
