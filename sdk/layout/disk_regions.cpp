@@ -156,9 +156,10 @@ std::vector<uint32_t> split_region_between(const PolygonMesh& triangles, const s
   return out.empty() || out.size() == faces.size() ? split_region_in_two(triangles, faces) : out;
 }
 
-std::vector<uint32_t> split_region_at_pinch(const PolygonMesh& triangles, const std::vector<uint32_t>& face_region,
-                                            uint32_t region) {
-  const std::vector<uint32_t> faces = faces_of(face_region, region);
+namespace {
+
+// split_region_at_pinch on a face list; empty when the faces touch themselves at no vertex.
+std::vector<uint32_t> split_faces_at_pinch(const PolygonMesh& triangles, const std::vector<uint32_t>& faces) {
   // Per vertex: the region's faces around it (local indices).
   std::unordered_map<uint32_t, std::vector<uint32_t>> around;
   for (uint32_t i = 0; i < faces.size(); ++i)
@@ -190,8 +191,126 @@ std::vector<uint32_t> split_region_at_pinch(const PolygonMesh& triangles, const 
     std::vector<uint32_t> out = split_between_groups(triangles, faces, first, second);
     if (!out.empty() && out.size() < faces.size()) return out;
   }
-  return split_region_in_two(triangles, faces);
+  return {};
 }
+
+// The region's faces as a surface: its edges (vertex pairs, the faces on each side, local face
+// indices; kNoFace on the border) and its border loops (border edges joined at their vertices).
+constexpr uint32_t kNoFace = 0xffffffffu;
+
+struct RegionEdge {
+  uint32_t a, b;
+  uint32_t face[2];
+};
+
+}  // namespace
+
+std::vector<uint32_t> split_region_at_pinch(const PolygonMesh& triangles, const std::vector<uint32_t>& face_region,
+                                            uint32_t region) {
+  const std::vector<uint32_t> faces = faces_of(face_region, region);
+  std::vector<uint32_t> out = split_faces_at_pinch(triangles, faces);
+  return out.empty() ? split_region_in_two(triangles, faces) : out;
+}
+
+std::vector<uint32_t> cut_region_handle(const PolygonMesh& triangles, const std::vector<uint32_t>& faces) {
+  const uint32_t n = uint32_t(faces.size());
+  if (n < 2) return {};
+  std::vector<RegionEdge> edges;
+  std::unordered_map<uint64_t, uint32_t> edge_index;
+  edge_index.reserve(size_t(n) * 2);
+  std::unordered_map<uint32_t, uint32_t> vertex_index;  // mesh vertex -> local
+  for (uint32_t i = 0; i < n; ++i) {
+    const uint32_t f = faces[i], m = triangles.face_size(f);
+    for (uint32_t k = 0; k < m; ++k) {
+      const uint32_t a = triangles.face_vertex(f, k), b = triangles.face_vertex(f, (k + 1) % m);
+      vertex_index.emplace(a, uint32_t(vertex_index.size()));
+      const uint64_t key = (uint64_t(std::min(a, b)) << 32) | std::max(a, b);
+      const auto [it, inserted] = edge_index.emplace(key, uint32_t(edges.size()));
+      if (inserted) {
+        edges.push_back({a, b, {i, kNoFace}});
+      } else {
+        RegionEdge& e = edges[it->second];
+        if (e.face[1] != kNoFace) return {};  // an edge of three faces: not a surface
+        e.face[1] = i;
+      }
+    }
+  }
+  // Border loops, each capped by one extra dual node (n + loop): on the capped, closed surface
+  // the edges in neither the dual tree nor the primal spanning tree number twice the genus, and
+  // each closes a non-separating dual cycle. A vertex with more than two border edges (a pinch)
+  // makes the loops ambiguous: those regions are split at the pinch instead.
+  std::vector<uint32_t> parent(vertex_index.size());
+  std::vector<uint32_t> border_degree(vertex_index.size(), 0);
+  for (uint32_t v = 0; v < parent.size(); ++v) parent[v] = v;
+  for (const RegionEdge& e : edges)
+    if (e.face[1] == kNoFace) {
+      const uint32_t a = vertex_index[e.a], b = vertex_index[e.b];
+      if (++border_degree[a] > 2 || ++border_degree[b] > 2) return {};
+      parent[find_root(parent, a)] = find_root(parent, b);
+    }
+  std::unordered_map<uint32_t, uint32_t> cap;  // border loop root -> dual node
+  for (RegionEdge& e : edges)
+    if (e.face[1] == kNoFace) {
+      const uint32_t root = find_root(parent, vertex_index[e.a]);
+      e.face[1] = cap.emplace(root, n + uint32_t(cap.size())).first->second;
+    }
+  const uint32_t nodes = n + uint32_t(cap.size());
+  std::vector<std::vector<std::pair<uint32_t, uint32_t>>> dual(nodes);  // node -> (node, edge)
+  for (uint32_t e = 0; e < edges.size(); ++e) {
+    dual[edges[e].face[0]].push_back({edges[e].face[1], e});
+    dual[edges[e].face[1]].push_back({edges[e].face[0], e});
+  }
+  // Dual tree: breadth first from face 0, so the cycles through it stay short.
+  std::vector<uint32_t> tree_parent(nodes, kNoFace), depth(nodes, 0);
+  std::vector<uint8_t> in_dual_tree(edges.size(), 0), reached(nodes, 0);
+  std::queue<uint32_t> queue;
+  queue.push(0);
+  reached[0] = 1;
+  while (!queue.empty()) {
+    const uint32_t x = queue.front();
+    queue.pop();
+    for (const auto& [y, e] : dual[x])
+      if (!reached[y]) {
+        reached[y] = 1;
+        tree_parent[y] = x;
+        depth[y] = depth[x] + 1;
+        in_dual_tree[e] = 1;
+        queue.push(y);
+      }
+  }
+  for (uint32_t x = 0; x < nodes; ++x)
+    if (!reached[x]) return {};  // not edge-connected: split_region_in_two separates the parts
+  // Primal spanning forest over the edges the dual tree does not cross; the first edge left out
+  // closes a non-separating cycle (the shortest of them by tree depth is taken).
+  for (uint32_t v = 0; v < parent.size(); ++v) parent[v] = v;
+  uint32_t best = kNoFace, best_length = kNoFace;
+  for (uint32_t e = 0; e < edges.size(); ++e) {
+    if (in_dual_tree[e]) continue;
+    const uint32_t a = find_root(parent, vertex_index[edges[e].a]), b = find_root(parent, vertex_index[edges[e].b]);
+    if (a != b) {
+      parent[a] = b;
+      continue;
+    }
+    const uint32_t length = depth[edges[e].face[0]] + depth[edges[e].face[1]];
+    if (length < best_length) best_length = length, best = e;
+  }
+  if (best == kNoFace) return {};  // genus 0
+  // The dual cycle: both ends' tree paths up to their common ancestor, and the edge itself; its
+  // real faces are the new region (a band across the handle, or a strip from border to border).
+  std::vector<uint8_t> on_cycle(nodes, 0);
+  uint32_t x = edges[best].face[0], y = edges[best].face[1];
+  while (x != y) {
+    if (depth[x] >= depth[y]) on_cycle[x] = 1, x = tree_parent[x];
+    else on_cycle[y] = 1, y = tree_parent[y];
+  }
+  on_cycle[x] = 1;
+  std::vector<uint32_t> band;
+  for (uint32_t i = 0; i < n; ++i)
+    if (on_cycle[i]) band.push_back(faces[i]);
+  if (band.size() == faces.size()) return {};
+  return band;
+}
+
 
 std::vector<RegionParameterization> make_disk_regions(const PolygonMesh& triangles, std::vector<uint32_t>& face_region,
                                                       size_t& num_regions, size_t pinned,
@@ -243,7 +362,19 @@ std::vector<RegionParameterization> make_disk_regions(const PolygonMesh& triangl
         ++rep.failing_regions;  // the host's region stays as it is
         continue;
       }
-      std::vector<uint32_t> second = split_region_in_two(triangles, faces[r]);
+      // A closed region or one with a handle is cut across the handle (halving keeps a handle
+      // smaller than the parts: polygon_mesh.off's tiny tunnels), one that touches itself at a
+      // vertex is split there; anything else is halved.
+      std::vector<uint32_t> second;
+      bool handle = false;
+      if (by_topology[k]) {
+        second = split_faces_at_pinch(triangles, faces[r]);
+        if (second.empty()) {
+          second = cut_region_handle(triangles, faces[r]);
+          handle = !second.empty();
+        }
+      }
+      if (second.empty()) second = split_region_in_two(triangles, faces[r]);
       if (second.empty() || second.size() == faces[r].size()) {
         ++rep.failing_regions;
         continue;
@@ -259,6 +390,7 @@ std::vector<RegionParameterization> make_disk_regions(const PolygonMesh& triangl
       domains.emplace_back();
       ++rep.split_regions;
       ++(by_topology[k] ? rep.topology_splits : rep.fold_splits);
+      rep.handle_cuts += handle;
       check.push_back(r);
       check.push_back(added);
     }

@@ -5,7 +5,9 @@
 // or strongly curved parts VSA's regions need not be). make_disk_regions parameterises every
 // region with LSCM and splits each region that is closed, has a handle or folds in its map
 // (flipped triangles) into two, along the boundary of the geodesic Voronoi cells (face-centroid
-// distances through the region) of its two mutually farthest faces, then checks the parts again,
+// distances through the region) of its two mutually farthest faces — a region with a handle is
+// cut across it first (cut_region_handle), one that touches itself at a vertex is split there —
+// then checks the parts again,
 // for at most `max_rounds` rounds. Host-pinned regions (ids below `pinned`) are never split.
 // Not in the thesis: its regions were all disks. Regions that still fail after the last round
 // keep their failure (compute_remesh_constraints reports it).
@@ -30,6 +32,7 @@ struct DiskRegionReport {
   uint64_t split_regions = 0;   // splits made (each adds one region)
   uint64_t topology_splits = 0; // of those: closed regions, handles, disconnected regions
   uint64_t fold_splits = 0;     // of those: flipped triangles in the LSCM map
+  uint64_t handle_cuts = 0;     // of the topology splits: cut across a handle (cut_region_handle)
   uint64_t failing_regions = 0; // regions still not a disk with an injective map after the last round
 };
 
@@ -64,5 +67,14 @@ std::vector<uint32_t> split_region_between(const PolygonMesh& triangles, const s
 // split_region_in_two when the region has no such vertex. Returns the faces of the second part.
 std::vector<uint32_t> split_region_at_pinch(const PolygonMesh& triangles, const std::vector<uint32_t>& face_region,
                                             uint32_t region);
+
+// Cuts a handle of a region (its faces, edge-connected, no edge of three faces, no vertex where
+// its border touches itself): returns the faces of one non-separating dual cycle of the region's
+// surface with its border loops capped (tree-cotree: a breadth-first dual tree, a primal spanning
+// tree of the edges it does not cross, the shortest cycle one left-over edge closes), a band
+// across the handle or a strip from border to border. Removing them lowers the genus; the band
+// itself is an annulus or a strip that halving splits into disks. Empty when the region has genus
+// 0, is not such a surface, or the cycle covers every face.
+std::vector<uint32_t> cut_region_handle(const PolygonMesh& triangles, const std::vector<uint32_t>& faces);
 
 CAGEKIT_NAMESPACE_END

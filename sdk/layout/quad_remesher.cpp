@@ -1087,6 +1087,8 @@ QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemesh
   } folded_layout;
   SelectionMemo memo;  // the regions a retry did not change are not selected again
   size_t previous_failures = SIZE_MAX;  // failing regions of the previous attempt
+  std::vector<uint8_t> kept_in_conflict;  // per region: kept whole when a glue conflict split its partner
+  std::vector<uint32_t> repeat_partners;  // kept-whole partners in conflict again: merged into a neighbour
   for (int attempt = 0;; ++attempt) {
     auto t = std::chrono::steady_clock::now();
     bool only_folds = false;  // this layout's only fault: faces folded against the input
@@ -1172,10 +1174,21 @@ QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemesh
       // touches itself is split at that vertex.
       std::vector<uint32_t> triangles_in(region_count, 0);
       for (const uint32_t region : r.face_region) ++triangles_in[region];
+      // A partner kept whole in an earlier conflict that conflicts again (with the split region
+      // or a part of it) is merged into its neighbour instead (polygon_mesh.off: a 4-triangle
+      // island region inside region 0 whose hole region 0's layout covers, whichever is split).
+      kept_in_conflict.resize(region_count, 0);
+      repeat_partners.clear();
       for (GlueConflict c : glue_conflicts(glued, glued_region)) {
         if (c.region != c.other && triangles_in[c.other] > triangles_in[c.region]) std::swap(c.region, c.other);
+        if (c.region != c.other && kept_in_conflict[c.other] && c.other >= o.pinned_regions.size())
+          repeat_partners.push_back(c.other);
         conflict_split.push_back(c);
       }
+      for (const GlueConflict& c : conflict_split)
+        if (c.region != c.other) kept_in_conflict[c.other] = 1;
+      std::sort(repeat_partners.begin(), repeat_partners.end());
+      repeat_partners.erase(std::unique(repeat_partners.begin(), repeat_partners.end()), repeat_partners.end());
       // One split per region: at a pinch if it has one, else between its first conflict's ends.
       std::stable_sort(conflict_split.begin(), conflict_split.end(), [](const GlueConflict& x, const GlueConflict& y) {
         if (x.region != y.region) return x.region < y.region;
@@ -1241,13 +1254,17 @@ QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemesh
     size_t split = 0, merged = 0;
     // A retry that did not lower the number of failing regions ends the retries (cheese.off:
     // every split region's parts fail again, 4 layouts of 300 regions cost 30 s).
-    const bool retry = attempt + 1 < kLayoutAttempts && failures.size() < previous_failures;
+    // A retry that merges a repeated conflict partner is made even when the count did not drop.
+    const bool retry = attempt + 1 < kLayoutAttempts &&
+                       (failures.size() < previous_failures || (!repeat_partners.empty() && failures.size() <= previous_failures));
     previous_failures = failures.size();
     if (retry) {
       std::vector<uint32_t> slivers;
       for (const RegionFailure& failure : failures)
         if (failure.degenerate_boundary && failure.region >= o.pinned_regions.size()) slivers.push_back(failure.region);
+      slivers.insert(slivers.end(), repeat_partners.begin(), repeat_partners.end());
       merged = merge_into_neighbours(tri, r.face_region, region_count, o.pinned_regions.size(), slivers);
+      if (merged > 0) kept_in_conflict.clear();  // the regions were renumbered
     }
     if (retry && merged == 0)
       for (const RegionFailure& failure : failures) {
