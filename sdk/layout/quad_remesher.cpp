@@ -223,7 +223,8 @@ void refine_sample_counts(RemeshConstraints& constraints, RegionQuadMeshes& mesh
       for (uint32_t value : {current - 1, current + 1}) {
         if (value < 1 || value + 1 < base || value > base + 1) continue;
         resample_arc(constraints, a, value);
-        bool polygons = true;  // every loop stays a curve-network polygon
+        // Every loop stays a curve-network polygon, and a hole of the input keeps 3 samples.
+        bool polygons = border_loop_is_polygon(constraints, a);
         for (uint32_t r : touched) polygons &= loops_are_polygons(constraints, r);
         if (!polygons) {
           resample_arc(constraints, a, current);

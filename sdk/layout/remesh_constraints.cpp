@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 #include <string>
+#include <unordered_map>
 
 #include "core/status.h"
 
@@ -152,6 +153,41 @@ RemeshConstraints compute_remesh_constraints(const PolygonMesh& triangles, const
       for (uint32_t a : loop.arcs) points += segments[a];
       for (size_t k = 0; points < 3 && !loop.arcs.empty(); ++k, ++points) ++segments[loop.arcs[k % loop.arcs.size()]];
     }
+  // A hole of the input (a loop of mesh-border arcs, one region on their left) keeps at least 3
+  // samples too, and a sample inside each arc where it has two: else the glued faces on either
+  // side share the chord between two samples and the hole is closed (lion.off: a 4-edge hole
+  // split between two regions' 1-segment arcs).
+  out.arc_border_loop.assign(out.arcs.size(), kMeshBorder);
+  {
+    std::unordered_map<uint32_t, uint32_t> anchor_parent;  // union-find over the border arcs' anchors
+    auto find = [&](uint32_t x) {
+      while (anchor_parent[x] != x) x = anchor_parent[x] = anchor_parent[anchor_parent[x]];
+      return x;
+    };
+    for (const RegionArc& ra : out.boundaries.arcs) {
+      if (ra.right_region != kMeshBorder) continue;
+      const uint32_t u = ra.vertices.front(), v = ra.vertices.back();
+      anchor_parent.emplace(u, u);
+      anchor_parent.emplace(v, v);
+      anchor_parent[find(u)] = find(v);
+    }
+    std::unordered_map<uint32_t, uint32_t> loop_of_root;
+    for (uint32_t a = 0; a < out.boundaries.arcs.size(); ++a) {  // in arc order: deterministic
+      const RegionArc& ra = out.boundaries.arcs[a];
+      if (ra.right_region != kMeshBorder) continue;
+      const auto [it, added] = loop_of_root.emplace(find(ra.vertices.front()), uint32_t(out.border_loops.size()));
+      if (added) out.border_loops.emplace_back();
+      out.border_loops[it->second].push_back(a);
+      out.arc_border_loop[a] = it->second;
+    }
+    for (const std::vector<uint32_t>& arcs : out.border_loops) {
+      if (arcs.size() == 2)
+        for (const uint32_t a : arcs) segments[a] = std::max<uint32_t>(segments[a], 2);
+      uint64_t points = 0;
+      for (const uint32_t a : arcs) points += segments[a];
+      for (size_t k = 0; points < 3; ++k, ++points) ++segments[arcs[k % arcs.size()]];
+    }
+  }
   for (uint32_t a = 0; a < out.arcs.size(); ++a) {
     out.arcs[a].base_segments = uint32_t(std::max(1L, long(std::ceil(ideal[a] - 1e-9))));
     resample_arc(out, a, segments[a]);
@@ -181,6 +217,19 @@ bool loops_are_polygons(const RemeshConstraints& constraints, uint32_t region) {
     if (points < 3) return false;
   }
   return true;
+}
+
+bool border_loop_is_polygon(const RemeshConstraints& constraints, uint32_t arc) {
+  const uint32_t loop = constraints.arc_border_loop.at(arc);
+  if (loop == kMeshBorder) return true;
+  const std::vector<uint32_t>& arcs = constraints.border_loops[loop];
+  uint64_t points = 0;
+  for (const uint32_t a : arcs) {
+    const uint64_t segments = constraints.arcs[a].samples.t.size() - 1;
+    if (arcs.size() == 2 && segments < 2) return false;
+    points += segments;
+  }
+  return points >= 3;
 }
 
 void resample_arc(RemeshConstraints& constraints, uint32_t arc, uint32_t segments) {

@@ -50,6 +50,10 @@ struct RemeshConstraints {
   std::vector<RegionParameterization> domains;   // per region
   // Per region, one entry per arc on its loops, in the order of region_loops flattened.
   std::vector<std::vector<RegionArcDomain>> region_arcs;
+  // The input's border loops (its holes and open borders) as the mesh-border arcs on each, chained
+  // at their anchors (sorted by arc id), and per arc its border loop (kMeshBorder: an interior arc).
+  std::vector<std::vector<uint32_t>> border_loops;
+  std::vector<uint32_t> arc_border_loop;
 
   std::vector<Vec3> loop_samples(uint32_t region, size_t loop) const;
   std::vector<std::array<double, 2>> loop_samples_uv(uint32_t region, size_t loop) const;
@@ -73,6 +77,11 @@ struct ConstraintOptions {
   // along its two arcs) below which an anchor is a corner of its region (sides are separated there).
   double corner_angle = 2.6;  // ~149°
 };
+
+// The border loop of `arc` (if it is a mesh-border arc) keeps >= 3 samples and, with two arcs, a
+// sample inside each (compute_remesh_constraints guarantees both; a hole with fewer is closed by
+// the glued faces on either side). true for an interior arc; std::out_of_range for a bad arc id.
+bool border_loop_is_polygon(const RemeshConstraints& constraints, uint32_t arc);
 
 // Re-samples arc `arc` with `segments` (>= 1) equidistant segments: its 3D samples and, in both
 // neighbouring regions, C̄(t_k) (ends kept at the anchors' (u, v)). Errors: invalid_argument for

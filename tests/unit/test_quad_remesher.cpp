@@ -14,6 +14,7 @@
 #include <fstream>
 #include <map>
 #include <set>
+#include <stdexcept>
 #include <string>
 
 #include "core/mesh_statistics.h"
@@ -323,7 +324,8 @@ TEST(QuadRemesher, RegionCountIsRaisedToTheFeaturePatches) {
 // pipeline's default options: regions with a handle (patch-01, patch-30), a sliver region whose
 // sample loop had no area (plane), a folded or non-counter-clockwise sample loop
 // (cylinder_locally_refined) and, outside the sanitizer builds, glued faces of two regions that
-// coincided (dino). Each must now give a valid cage of the same topology.
+// coincided (dino), and small holes closed by their two samples (lion, elephant-with-holes).
+// Each must now give a valid cage of the same topology.
 TEST(QuadRemesher, CorpusMeshesOfEachFailureClass) {
   const std::string dir = std::string(CAGEKIT_SHARED_CORPUS) + "/cgal/";
   std::vector<const char*> names = {"patch-01.off", "patch-30.off", "plane.off", "cylinder_locally_refined.off"};
@@ -331,6 +333,10 @@ TEST(QuadRemesher, CorpusMeshesOfEachFailureClass) {
   names.push_back("dino.off");
   // Thin parts whose regions' layouts glued into coinciding faces (mended or split).
   names.push_back("bull.off");
+  // A 4-edge hole split between two regions' one-segment arcs closed in the glued mesh, and
+  // 6- to 10-edge holes whose arcs the sample-count refinement lowered to one segment each.
+  names.push_back("lion.off");
+  names.push_back("elephant-with-holes.off");
 #endif
   size_t ran = 0;
   for (const char* name : names) {
@@ -369,6 +375,63 @@ TEST(QuadRemesher, AResultKeepsTheInputsTopologyOrIsAnError) {
     EXPECT_EQ(e.status(), Status::internal_error) << e.what();
     std::printf("turbine.off: %s\n", e.what());
   }
+}
+
+// A small hole of the input whose border two regions share: each region's arc along it is
+// shorter than the spacing and got one segment, so the hole had 2 samples and the glued faces on
+// either side shared the chord between them: the hole was closed (lion.off: a 4-edge hole, the
+// glued mesh's Euler characteristic -2 for the input's -3). A loop of mesh-border arcs keeps at
+// least 3 samples, and a sample inside each arc where it has two (as a region's loop does).
+TEST(QuadRemesher, SmallHolesKeepThreeSamples) {
+  // A 5 x 5 grid of the unit square in triangles, its centre cell left out (a 4-edge hole);
+  // region 0: the triangles whose centroid has x < 0.5, region 1 the others (the hole's
+  // border is split between them).
+  cagekit::PolygonMesh mesh;
+  const int n = 5;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) mesh.add_vertex({double(i) / n, double(j) / n, 0.0});
+  std::vector<uint32_t> region;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      if (i == 2 && j == 2) continue;
+      const uint32_t a = uint32_t(j * (n + 1) + i), b = a + 1, c = a + uint32_t(n + 1) + 1, d = a + uint32_t(n + 1);
+      for (const std::array<uint32_t, 3>& t : {std::array<uint32_t, 3>{a, b, c}, std::array<uint32_t, 3>{a, c, d}}) {
+        mesh.add_face({t[0], t[1], t[2]});
+        const double x = (mesh.positions[t[0]].x + mesh.positions[t[1]].x + mesh.positions[t[2]].x) / 3.0;
+        region.push_back(x < 0.5 ? 0u : 1u);
+      }
+    }
+  cagekit::ConstraintOptions co;
+  co.spacing = 0.6;  // longer than the hole's arcs (0.2 - 0.4)
+  const cagekit::RemeshConstraints constraints = cagekit::compute_remesh_constraints(mesh, region, 2, co);
+  auto on_hole = [](const Vec3& p) { return p.x > 0.39 && p.x < 0.61 && p.y > 0.39 && p.y < 0.61; };
+  uint64_t hole_points = 0;
+  std::vector<uint64_t> hole_arc_segments;
+  for (uint32_t a = 0; a < constraints.arcs.size(); ++a) {
+    const cagekit::RegionArc& ra = constraints.boundaries.arcs[a];
+    if (ra.right_region != cagekit::kMeshBorder || !on_hole(mesh.positions[ra.vertices.front()])) continue;
+    hole_arc_segments.push_back(constraints.arcs[a].samples.t.size() - 1);
+    hole_points += hole_arc_segments.back();
+  }
+  ASSERT_GE(hole_arc_segments.size(), 2u) << "the regions do not share the hole's border";
+  EXPECT_GE(hole_points, 3u);
+  if (hole_arc_segments.size() == 2)
+    for (const uint64_t segments : hole_arc_segments) EXPECT_GE(segments, 2u);
+  // The outer border keeps its samples too: every region loop is a polygon.
+  for (uint32_t r = 0; r < 2; ++r) EXPECT_TRUE(cagekit::loops_are_polygons(constraints, r));
+  // The sample-count refinement asks border_loop_is_polygon before it keeps a count: one segment
+  // on a hole arc (2 samples on the hole) is refused, on an interior arc it is not asked.
+  cagekit::RemeshConstraints fewer = constraints;
+  for (uint32_t a = 0; a < fewer.arcs.size(); ++a) {
+    const bool hole = fewer.boundaries.arcs[a].right_region == cagekit::kMeshBorder &&
+                      on_hole(mesh.positions[fewer.boundaries.arcs[a].vertices.front()]);
+    EXPECT_TRUE(cagekit::border_loop_is_polygon(fewer, a));
+    if (!hole) continue;
+    cagekit::resample_arc(fewer, a, 1);
+    EXPECT_FALSE(cagekit::border_loop_is_polygon(fewer, a)) << "arc " << a;
+    break;
+  }
+  EXPECT_THROW(cagekit::border_loop_is_polygon(fewer, uint32_t(fewer.arcs.size())), std::out_of_range);
 }
 
 // An open surface (mesh border arcs) with a few regions.
