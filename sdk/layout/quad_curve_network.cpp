@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "core/parallel_for.h"
+#include "core/simd_dispatch.h"
 #include "core/status.h"
 
 CAGEKIT_NAMESPACE_BEGIN
@@ -127,7 +128,8 @@ namespace {
 // (6.3) over `nodes`, summed in node order; once the partial sum reaches `bound` the rest is
 // skipped and the partial sum returned (the terms are >= 0 and rounding is monotone, so the
 // full sum would be >= bound too: a caller comparing "< bound" gets the same answer).
-double bending_energy_below(const CubicBezier2& curve, const QuadratureNodes& nodes, double bound) {
+CAGEKIT_VECTOR_CLONES double bending_energy_below(const CubicBezier2& curve, const QuadratureNodes& nodes,
+                                                   double bound) {
   // b' and b'' as combinations of the control-polygon differences (the hot loop of the network).
   const Point2 d0 = sub(curve.control[1], curve.control[0]), d1 = sub(curve.control[2], curve.control[1]),
                d2 = sub(curve.control[3], curve.control[2]);
