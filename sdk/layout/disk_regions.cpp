@@ -351,11 +351,26 @@ std::vector<RegionParameterization> make_disk_regions(const PolygonMesh& triangl
       by_topology.push_back(topology);
     }
     check.clear();
-    if (failing.empty()) break;
-    if (round == options.max_rounds) {
-      rep.failing_regions += failing.size();
-      break;
+    // After `max_rounds` a folded map is kept as it is (the layout copes with folds or reports
+    // them), but a region that is not a disk has no map at all: it is cut for up to
+    // `max_topology_rounds` rounds in all (each cut lowers its genus or halves it, cheese.off: a
+    // genus-2 part left after 8 rounds of fold splits).
+    if (round >= options.max_rounds) {
+      size_t kept = 0;
+      for (size_t k = 0; k < failing.size(); ++k) {
+        if (!by_topology[k]) {
+          ++rep.failing_regions;
+          continue;
+        }
+        failing[kept] = failing[k], by_topology[kept] = true, ++kept;
+      }
+      failing.resize(kept), by_topology.resize(kept);
+      if (!failing.empty() && round >= std::max(options.max_rounds, options.max_topology_rounds)) {
+        rep.failing_regions += failing.size();
+        break;
+      }
     }
+    if (failing.empty()) break;
     for (size_t k = 0; k < failing.size(); ++k) {
       const uint32_t r = failing[k];
       if (r < pinned) {

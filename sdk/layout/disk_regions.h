@@ -8,7 +8,7 @@
 // distances through the region) of its two mutually farthest faces — a region with a handle is
 // cut across it first (cut_region_handle), one that touches itself at a vertex is split there —
 // then checks the parts again,
-// for at most `max_rounds` rounds. Host-pinned regions (ids below `pinned`) are never split.
+// for at most `max_rounds` rounds (`max_topology_rounds` for regions that are not disks). Host-pinned regions (ids below `pinned`) are never split.
 // Not in the thesis: its regions were all disks. Regions that still fail after the last round
 // keep their failure (compute_remesh_constraints reports it).
 //
@@ -25,6 +25,7 @@ CAGEKIT_NAMESPACE_BEGIN
 
 struct DiskRegionOptions {
   int max_rounds = 8;           // split rounds at most (each splits every failing region once)
+  int max_topology_rounds = 24; // rounds in all for regions that are not disks (no map without a cut)
   bool split_folded = true;     // also split regions whose LSCM map has flipped triangles
 };
 

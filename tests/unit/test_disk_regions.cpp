@@ -96,3 +96,34 @@ TEST(DiskRegions, EveryRegionOfAOneRegionTorusEndsADisk) {
     EXPECT_EQ(domains[r].flipped_triangles, 0u) << "region " << r;
   }
 }
+
+// A region that is still not a disk after the fold rounds is cut on (cheese.off: a genus-2 part
+// reached LSCM after 8 rounds); with no topology rounds beyond them it is reported as failing.
+TEST(DiskRegions, RegionsThatAreNotDisksAreCutPastTheFoldRounds) {
+  const PolygonMesh torus = cagekit_test::triangle_torus(1.0, 0.35, 36, 12);
+  for (const int topology_rounds : {0, 6}) {
+    std::vector<uint32_t> face_region(torus.num_faces(), 0);
+    size_t regions = 1;
+    cagekit::DiskRegionOptions options;
+    options.max_rounds = 0;         // no split round for folds
+    options.split_folded = false;   // (the torus's bands fold a little in LSCM: not this test's point)
+    options.max_topology_rounds = topology_rounds;
+    cagekit::DiskRegionReport report;
+    const std::vector<cagekit::RegionParameterization> domains =
+        cagekit::make_disk_regions(torus, face_region, regions, 0, options, &report);
+    ASSERT_EQ(domains.size(), regions);
+    if (topology_rounds == 0) {
+      EXPECT_EQ(report.failing_regions, 1u);
+      EXPECT_EQ(regions, 1u);
+      EXPECT_TRUE(domains[0].faces.empty());  // no map for the closed torus
+      continue;
+    }
+    EXPECT_EQ(report.failing_regions, 0u);
+    EXPECT_GE(report.handle_cuts, 1u);
+    EXPECT_EQ(report.fold_splits, 0u);
+    for (size_t r = 0; r < regions; ++r) {
+      EXPECT_FALSE(domains[r].faces.empty()) << "region " << r << " has no map";
+      EXPECT_TRUE(is_disk_with_holes(torus, domains[r].faces)) << "region " << r;
+    }
+  }
+}
