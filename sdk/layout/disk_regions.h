@@ -7,8 +7,8 @@
 // (flipped triangles) into two, along the boundary of the geodesic Voronoi cells (face-centroid
 // distances through the region) of its two mutually farthest faces — a region with a handle is
 // cut across it first (cut_region_handle), one that touches itself at a vertex is split there —
-// then checks the parts again,
-// for at most `max_rounds` rounds (`max_topology_rounds` for regions that are not disks). Host-pinned regions (ids below `pinned`) are never split.
+// then checks the parts again, for at most `max_rounds` rounds (`max_topology_rounds` for
+// regions that are not disks). Host-pinned regions (ids below `pinned`) are never split.
 // Not in the thesis: its regions were all disks. Regions that still fail after the last round
 // keep their failure (compute_remesh_constraints reports it).
 //

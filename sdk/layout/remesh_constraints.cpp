@@ -7,9 +7,33 @@
 #include <string>
 #include <unordered_map>
 
+#include "core/edge_map.h"
 #include "core/status.h"
 
 CAGEKIT_NAMESPACE_BEGIN
+
+namespace {
+// A loop of arcs is a polygon of the curve network when it has at least 3 constrained points
+// (the sum of its arcs' segment counts) and, with two arcs, a sample inside each.
+bool arcs_form_polygon(const RemeshConstraints& constraints, const std::vector<uint32_t>& arcs) {
+  uint64_t points = 0;
+  for (const uint32_t a : arcs) {
+    const uint64_t segments = constraints.arcs[a].samples.t.size() - 1;
+    if (arcs.size() == 2 && segments < 2) return false;
+    points += segments;
+  }
+  return points >= 3;
+}
+
+// Raises the segment counts of a loop's arcs, in turn, until the loop is such a polygon.
+void raise_to_polygon(const std::vector<uint32_t>& arcs, std::vector<uint32_t>& segments) {
+  if (arcs.size() == 2)
+    for (const uint32_t a : arcs) segments[a] = std::max<uint32_t>(segments[a], 2);
+  uint64_t points = 0;
+  for (const uint32_t a : arcs) points += segments[a];
+  for (size_t k = 0; points < 3 && !arcs.empty(); ++k, ++points) ++segments[arcs[k % arcs.size()]];
+}
+}  // namespace
 
 double spacing_from_bbox_fraction(const PolygonMesh& mesh, double fraction) {
   if (!(fraction > 0.0) || !std::isfinite(fraction))
@@ -146,47 +170,26 @@ RemeshConstraints compute_remesh_constraints(const PolygonMesh& triangles, const
   // the two anchors and one sample, collinear where the arcs are nearly straight: a sliver
   // region with no area); short loops get their arcs' counts raised in turn.
   for (const std::vector<RegionLoop>& loops : out.boundaries.region_loops)
-    for (const RegionLoop& loop : loops) {
-      if (loop.arcs.size() == 2)
-        for (uint32_t a : loop.arcs) segments[a] = std::max<uint32_t>(segments[a], 2);
-      uint64_t points = 0;
-      for (uint32_t a : loop.arcs) points += segments[a];
-      for (size_t k = 0; points < 3 && !loop.arcs.empty(); ++k, ++points) ++segments[loop.arcs[k % loop.arcs.size()]];
-    }
+    for (const RegionLoop& loop : loops) raise_to_polygon(loop.arcs, segments);
   // A hole of the input (a loop of mesh-border arcs, one region on their left) keeps at least 3
   // samples too, and a sample inside each arc where it has two: else the glued faces on either
   // side share the chord between two samples and the hole is closed (lion.off: a 4-edge hole
   // split between two regions' 1-segment arcs).
   out.arc_border_loop.assign(out.arcs.size(), kMeshBorder);
   {
-    std::unordered_map<uint32_t, uint32_t> anchor_parent;  // union-find over the border arcs' anchors
-    auto find = [&](uint32_t x) {
-      while (anchor_parent[x] != x) x = anchor_parent[x] = anchor_parent[anchor_parent[x]];
-      return x;
-    };
-    for (const RegionArc& ra : out.boundaries.arcs) {
-      if (ra.right_region != kMeshBorder) continue;
-      const uint32_t u = ra.vertices.front(), v = ra.vertices.back();
-      anchor_parent.emplace(u, u);
-      anchor_parent.emplace(v, v);
-      anchor_parent[find(u)] = find(v);
-    }
+    detail::UnionFind anchors(triangles.num_vertices());  // the border arcs' anchors, chained
+    for (const RegionArc& ra : out.boundaries.arcs)
+      if (ra.right_region == kMeshBorder) anchors.unite(ra.vertices.front(), ra.vertices.back());
     std::unordered_map<uint32_t, uint32_t> loop_of_root;
     for (uint32_t a = 0; a < out.boundaries.arcs.size(); ++a) {  // in arc order: deterministic
       const RegionArc& ra = out.boundaries.arcs[a];
       if (ra.right_region != kMeshBorder) continue;
-      const auto [it, added] = loop_of_root.emplace(find(ra.vertices.front()), uint32_t(out.border_loops.size()));
+      const auto [it, added] = loop_of_root.emplace(anchors.find(ra.vertices.front()), uint32_t(out.border_loops.size()));
       if (added) out.border_loops.emplace_back();
       out.border_loops[it->second].push_back(a);
       out.arc_border_loop[a] = it->second;
     }
-    for (const std::vector<uint32_t>& arcs : out.border_loops) {
-      if (arcs.size() == 2)
-        for (const uint32_t a : arcs) segments[a] = std::max<uint32_t>(segments[a], 2);
-      uint64_t points = 0;
-      for (const uint32_t a : arcs) points += segments[a];
-      for (size_t k = 0; points < 3; ++k, ++points) ++segments[arcs[k % arcs.size()]];
-    }
+    for (const std::vector<uint32_t>& arcs : out.border_loops) raise_to_polygon(arcs, segments);
   }
   for (uint32_t a = 0; a < out.arcs.size(); ++a) {
     out.arcs[a].base_segments = uint32_t(std::max(1L, long(std::ceil(ideal[a] - 1e-9))));
@@ -207,29 +210,14 @@ uint64_t fewest_loop_points(const RemeshConstraints& constraints, uint32_t regio
 }
 
 bool loops_are_polygons(const RemeshConstraints& constraints, uint32_t region) {
-  for (const RegionLoop& loop : constraints.boundaries.region_loops.at(region)) {
-    uint64_t points = 0;
-    for (uint32_t a : loop.arcs) {
-      const uint64_t segments = constraints.arcs[a].samples.t.size() - 1;
-      if (loop.arcs.size() == 2 && segments < 2) return false;
-      points += segments;
-    }
-    if (points < 3) return false;
-  }
+  for (const RegionLoop& loop : constraints.boundaries.region_loops.at(region))
+    if (!arcs_form_polygon(constraints, loop.arcs)) return false;
   return true;
 }
 
 bool border_loop_is_polygon(const RemeshConstraints& constraints, uint32_t arc) {
   const uint32_t loop = constraints.arc_border_loop.at(arc);
-  if (loop == kMeshBorder) return true;
-  const std::vector<uint32_t>& arcs = constraints.border_loops[loop];
-  uint64_t points = 0;
-  for (const uint32_t a : arcs) {
-    const uint64_t segments = constraints.arcs[a].samples.t.size() - 1;
-    if (arcs.size() == 2 && segments < 2) return false;
-    points += segments;
-  }
-  return points >= 3;
+  return loop == kMeshBorder || arcs_form_polygon(constraints, constraints.border_loops[loop]);
 }
 
 void resample_arc(RemeshConstraints& constraints, uint32_t arc, uint32_t segments) {
