@@ -15,6 +15,7 @@
 #include "layout/curvature_line_sampling.h"
 #include "layout/curvature_tensor_field.h"
 #include "layout/feature_edges.h"
+#include "layout/principal_alignment.h"
 #include "layout/remesh_quality.h"
 #include "layout/triangle_mesh_input.h"
 

@@ -14,7 +14,9 @@
 #include <unordered_set>
 #include <vector>
 
+#include "core/edge_key.h"
 #include "core/vec3.h"
+#include "layout/polygon_corners.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 
@@ -23,24 +25,11 @@ struct PartitionStats {
   size_t unresolved = 0;  // faces left concave or above the valence because no diagonal was valid
 };
 
-// Interior angle in (0, 2π) at loop[i] about the surface normal there (> π: concave). The
-// normal is normals[loop[i]], unless face_normal is non-zero and the vertex normal deviates from
-// it by more than 60° (a vertex on a crease, whose normal belongs to the other side): then
-// face_normal [J].
-double corner_angle(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
-                    const std::vector<uint32_t>& loop, size_t i, const Vec3& face_normal = Vec3{});
-
-// Unit Newell normal of a loop (zero when degenerate).
-Vec3 loop_normal(const std::vector<Vec3>& positions, const std::vector<uint32_t>& loop);
-
 // Appends to `out` the convex faces (at most max_valence corners each, when possible) that
 // partition the loop. positions/normals are indexed by the loop's vertex ids; max_valence >= 3.
 // edges: optional set of the mesh's existing edges (key edge_key(a, b)); diagonals joining two
 // vertices that are already joined are not used (they would duplicate an edge), and the
 // diagonals used are added to it.
-inline uint64_t edge_key(uint32_t a, uint32_t b) {
-  return a < b ? (uint64_t(a) << 32) | b : (uint64_t(b) << 32) | a;
-}
 void partition_face(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
                     const std::vector<uint32_t>& loop, int max_valence, std::vector<std::vector<uint32_t>>& out,
                     PartitionStats& stats, std::unordered_set<uint64_t>* edges = nullptr);

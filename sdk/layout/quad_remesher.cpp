@@ -15,10 +15,11 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "core/edge_key.h"
 #include "core/edge_map.h"
 #include "core/mesh_validation.h"
 #include "core/status.h"
-#include "layout/convex_face_partition.h"
+#include "layout/polygon_corners.h"
 #include "layout/quad_region_selection.h"
 #include "layout/remesh_constraints.h"
 #include "layout/sharp_input_features.h"

@@ -4,8 +4,6 @@
 // tests/bench/bench_remesh (one definition for CageKit's and a peer's output):
 // - polygon_mesh_figures: faces, quads, vertex valences (valence = number of distinct edges at a
 //   vertex; interior = not on an edge used by one face only);
-// - measure_principal_alignment: mean angle between output edge chords and the nearer principal
-//   direction of the input's curvature field (thesis ch. 5, confident faces only);
 // - measure_feature_alignment: the share of the input's sharp edges that an output edge follows;
 // - measure_remesh_quality: the figures the remeshers report (quad_remesher.h,
 //   anisotropic_remesher.h; the C API's cagekit_remesh_report), counts plus the scaled Jacobian.
@@ -14,7 +12,6 @@
 #include <vector>
 
 #include "core/polygon_mesh.h"
-#include "layout/curvature_tensor_field.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 
@@ -44,31 +41,10 @@ struct RemeshQuality {
 };
 
 // The counts of polygon_mesh_figures plus the scaled Jacobian; `vertex_normals` (per vertex of
-// `mesh`) orient the corner angles (corner_angle in convex_face_partition.h). Indices must be in
+// `mesh`) orient the corner angles (corner_angle in polygon_corners.h). Indices must be in
 // range. `figures`: polygon_mesh_figures(mesh) when the caller has them already (else computed).
 RemeshQuality measure_remesh_quality(const PolygonMesh& mesh, const std::vector<Vec3>& vertex_normals,
                                      const PolygonMeshFigures* figures = nullptr);
-
-// One output edge to score: its chord and the input faces whose principal directions it is
-// compared with (the remesher: the faces its two ends lie on; a peer's output: the face its
-// midpoint projects to, twice).
-struct AlignmentSample {
-  Vec3 chord;
-  uint32_t face_a = 0, face_b = 0;
-};
-
-struct PrincipalAlignment {
-  double mean_deg = 0.0;   // mean over the measured samples; 0 when none
-  uint64_t measured = 0;   // samples whose two faces are confident (Λ(f) >= cos π/6)
-  uint64_t samples = 0;    // all samples given
-};
-
-// For each sample whose two faces are confident: the angle (0..90°) between the chord and the
-// sign-aligned mean of the nearer principal direction (t_min or t_max, whichever makes the
-// smaller angle with the chord) of each face — the tangent at the middle of a curved edge when the
-// faces are its ends', the direction at the midpoint when both are the midpoint's face. Faces out
-// of range are skipped (not measured).
-PrincipalAlignment measure_principal_alignment(const CurvatureField& field, const std::vector<AlignmentSample>& samples);
 
 struct FeatureAlignment {
   uint64_t sharp_edges = 0;  // distinct input edges flagged sharp

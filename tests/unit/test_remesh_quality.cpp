@@ -9,6 +9,7 @@
 #include "layout/approximation_error.h"
 #include "layout/curvature_tensor_field.h"
 #include "layout/feature_edges.h"
+#include "layout/principal_alignment.h"
 #include "layout/remesh_quality.h"
 #include "test_support.h"
 
