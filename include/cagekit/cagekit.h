@@ -691,7 +691,7 @@ typedef struct cagekit_polygonal_level_info {
   uint32_t level;
   uint64_t faces, vertices, faces_with_holes;
   uint64_t invalid_faces;       /* faces failing the injectivity test, re-checked independently (0 expected) */
-  double l2_error;              /* sum of the faces' (3.3) terms, normalised (see sdk/layout/README.md) */
+  double l2_error;              /* sum of the faces' (3.3) terms, normalised (see sdk/layout/simplify/README.md) */
   double l21_error;             /* sum of the faces' (3.4) terms, normalised */
 } cagekit_polygonal_level_info;
 
@@ -1303,7 +1303,7 @@ CAGEKIT_API cagekit_status cagekit_gl_deformer_read_back(cagekit_gl_deformer def
 
 /* Remeshing methods. ANISOTROPIC samples the surface with lines of principal curvature (plus
  * feature and boundary lines) and meshes their intersections into a quad-dominant mesh whose
- * edges follow the principal directions (thesis ch. 5, sdk/layout/README.md). QUAD is the
+ * edges follow the principal directions (thesis ch. 5, sdk/layout/anisotropic/README.md). QUAD is the
  * two-step quad-dominant remesher (thesis ch. 6): a VSA segmentation into `regions` nearly flat
  * regions, samples at spacing `edge_length` on the region boundaries (shared by both
  * neighbours), per region a curve network in a conformal parameterisation and an energy-driven

@@ -9,7 +9,7 @@
 #include "capi/option_conversion.h"
 #include "fit/crease_feature_rows.h"
 #include "fit/surface_fitter.h"
-#include "layout/sharp_input_features.h"
+#include "layout/common/sharp_input_features.h"
 
 using namespace cagekit_capi;
 

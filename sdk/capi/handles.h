@@ -16,7 +16,7 @@
 
 #include "core/cage.h"
 #include "core/task_monitor.h"
-#include "layout/face_merge_simplifier.h"
+#include "layout/simplify/face_merge_simplifier.h"
 #include "subdiv/limit_patches.h"
 #include "subdiv/subdivision_surface.h"
 #include "multires/cpu_deformer.h"

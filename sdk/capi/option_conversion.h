@@ -7,9 +7,9 @@
 #include <cagekit/cagekit.h>
 
 #include "fit/surface_fitter.h"
-#include "layout/anisotropic_remesher.h"
-#include "layout/cage_builder.h"
-#include "layout/quad_remesher.h"
+#include "layout/anisotropic/anisotropic_remesher.h"
+#include "layout/simplify/cage_builder.h"
+#include "layout/quad/quad_remesher.h"
 
 namespace cagekit_capi {
 

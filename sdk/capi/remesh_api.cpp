@@ -7,8 +7,8 @@
 #include "capi/api_guard.h"
 #include "capi/option_conversion.h"
 #include "core/mesh_validation.h"
-#include "layout/anisotropic_remesher.h"
-#include "layout/quad_remesher.h"
+#include "layout/anisotropic/anisotropic_remesher.h"
+#include "layout/quad/quad_remesher.h"
 
 using namespace cagekit_capi;
 

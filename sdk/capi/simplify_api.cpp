@@ -6,9 +6,9 @@
 #include "capi/api_guard.h"
 #include "capi/option_conversion.h"
 #include "capi/mesh_conversion.h"
-#include "layout/approximation_error.h"
-#include "layout/cage_builder.h"
-#include "layout/contour_refinement.h"
+#include "layout/common/approximation_error.h"
+#include "layout/simplify/cage_builder.h"
+#include "layout/simplify/contour_refinement.h"
 
 using namespace cagekit_capi;
 

@@ -15,7 +15,7 @@
 #include "fit/least_squares_system.h"
 #include "fit/piecewise_linear_limit_mesh.h"
 #include "fit/ptex_adjacency.h"
-#include "layout/approximation_error.h"
+#include "layout/common/approximation_error.h"
 #include "subdiv/subdivision_surface.h"
 
 CAGEKIT_NAMESPACE_BEGIN

@@ -12,8 +12,8 @@
 #include "core/mesh_statistics.h"
 #include "core/mesh_validation.h"
 #include "core/status.h"
-#include "layout/feature_edges.h"
-#include "layout/sharp_input_features.h"
+#include "layout/common/feature_edges.h"
+#include "layout/common/sharp_input_features.h"
 #include "subdiv/uniform_refinement.h"
 
 CAGEKIT_NAMESPACE_BEGIN

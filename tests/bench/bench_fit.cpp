@@ -16,8 +16,8 @@
 #include "bench_support.h"
 #include "core/io/mesh_io.h"
 #include "fit/surface_fitter.h"
-#include "layout/cage_builder.h"
-#include "layout/face_merge_simplifier.h"
+#include "layout/simplify/cage_builder.h"
+#include "layout/simplify/face_merge_simplifier.h"
 
 using namespace cagekit;
 

@@ -19,7 +19,7 @@
 // (Blender itself included). Skipped with a message when `blender` is not on PATH.
 //
 // Both outputs are read back from their OBJ files and scored by the same code
-// (sdk/layout/remesh_quality.h, approximation_error.h): faces, quads, valence-4 share of the
+// (sdk/layout/common/remesh_quality.h, approximation_error.h): faces, quads, valence-4 share of the
 // interior vertices, Hausdorff input -> output and symmetric (/ input bbox diagonal), mean angle
 // between every output edge and the nearer principal direction of the input's curvature field
 // (computed once per input exactly as the anisotropic remesher computes it) at the input face
@@ -60,12 +60,12 @@
 #include "core/mesh_repair.h"
 #include "core/mesh_statistics.h"
 #include "core/mesh_validation.h"
-#include "layout/anisotropic_remesher.h"
-#include "layout/approximation_error.h"
-#include "layout/curvature_tensor_field.h"
-#include "layout/feature_edges.h"
-#include "layout/principal_alignment.h"
-#include "layout/remesh_quality.h"
+#include "layout/anisotropic/anisotropic_remesher.h"
+#include "layout/common/approximation_error.h"
+#include "layout/anisotropic/curvature_tensor_field.h"
+#include "layout/common/feature_edges.h"
+#include "layout/anisotropic/principal_alignment.h"
+#include "layout/common/remesh_quality.h"
 #include "pipeline/input_conditioning.h"
 
 #include "bench_support.h"

@@ -79,11 +79,11 @@
 #include "core/cage.h"
 #include "core/io/mesh_io.h"
 #include "core/mesh_repair.h"
-#include "layout/approximation_error.h"
-#include "layout/cage_builder.h"
-#include "layout/contour_refinement.h"
-#include "layout/face_merge_simplifier.h"
-#include "layout/planar_polygon.h"
+#include "layout/common/approximation_error.h"
+#include "layout/simplify/cage_builder.h"
+#include "layout/simplify/contour_refinement.h"
+#include "layout/simplify/face_merge_simplifier.h"
+#include "layout/simplify/planar_polygon.h"
 
 #include "bench_support.h"
 

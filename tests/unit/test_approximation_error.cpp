@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "layout/approximation_error.h"
+#include "layout/common/approximation_error.h"
 #include "test_support.h"
 
 using cagekit::measure_approximation_error;

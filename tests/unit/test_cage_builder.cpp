@@ -7,8 +7,8 @@
 #include <set>
 
 #include "core/mesh_validation.h"
-#include "layout/cage_builder.h"
-#include "layout/face_merge_simplifier.h"
+#include "layout/simplify/cage_builder.h"
+#include "layout/simplify/face_merge_simplifier.h"
 #include "test_support.h"
 
 using namespace cagekit;

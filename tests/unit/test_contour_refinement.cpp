@@ -12,11 +12,11 @@
 #include <string>
 #include <vector>
 
-#include "layout/approximation_error.h"
-#include "layout/cage_builder.h"
-#include "layout/contour_refinement.h"
-#include "layout/face_merge_simplifier.h"
-#include "layout/planar_polygon.h"
+#include "layout/common/approximation_error.h"
+#include "layout/simplify/cage_builder.h"
+#include "layout/simplify/contour_refinement.h"
+#include "layout/simplify/face_merge_simplifier.h"
+#include "layout/simplify/planar_polygon.h"
 #include "test_support.h"
 
 namespace {

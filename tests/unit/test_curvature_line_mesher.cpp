@@ -13,12 +13,12 @@
 #include <random>
 
 #include "core/mesh_validation.h"
-#include "layout/anisotropic_remesher.h"
-#include "layout/convex_face_partition.h"
-#include "layout/curvature_line_mesher.h"
-#include "layout/curvature_line_sampling.h"
-#include "layout/curvature_tensor_field.h"
-#include "layout/feature_edges.h"
+#include "layout/anisotropic/anisotropic_remesher.h"
+#include "layout/anisotropic/convex_face_partition.h"
+#include "layout/anisotropic/curvature_line_mesher.h"
+#include "layout/anisotropic/curvature_line_sampling.h"
+#include "layout/anisotropic/curvature_tensor_field.h"
+#include "layout/common/feature_edges.h"
 #include "subdiv/uniform_refinement.h"
 #include "test_support.h"
 

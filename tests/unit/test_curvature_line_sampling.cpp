@@ -10,9 +10,9 @@
 #include <random>
 #include <set>
 
-#include "layout/curvature_line_sampling.h"
-#include "layout/curvature_tensor_field.h"
-#include "layout/feature_edges.h"
+#include "layout/anisotropic/curvature_line_sampling.h"
+#include "layout/anisotropic/curvature_tensor_field.h"
+#include "layout/common/feature_edges.h"
 #include "test_support.h"
 
 using cagekit::CurvatureOptions;

@@ -9,8 +9,8 @@
 #include <map>
 #include <random>
 
-#include "layout/curvature_tensor_field.h"
-#include "layout/feature_edges.h"
+#include "layout/anisotropic/curvature_tensor_field.h"
+#include "layout/common/feature_edges.h"
 #include "test_support.h"
 
 using cagekit::CurvatureField;

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "core/status.h"
-#include "layout/disk_regions.h"
-#include "layout/lscm_parameterization.h"
+#include "layout/quad/disk_regions.h"
+#include "layout/quad/lscm_parameterization.h"
 #include "test_support.h"
 
 using cagekit::PolygonMesh;

@@ -21,9 +21,9 @@
 
 #include "core/mesh_validation.h"
 #include "core/status.h"
-#include "layout/cage_builder.h"
-#include "layout/face_merge_simplifier.h"
-#include "layout/merge_priority.h"
+#include "layout/simplify/cage_builder.h"
+#include "layout/simplify/face_merge_simplifier.h"
+#include "layout/simplify/merge_priority.h"
 #include "test_support.h"
 
 using namespace cagekit;

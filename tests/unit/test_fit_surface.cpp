@@ -18,8 +18,8 @@
 #include "fit/least_squares_system.h"
 #include "fit/ptex_adjacency.h"
 #include "fit/surface_fitter.h"
-#include "layout/cage_builder.h"
-#include "layout/face_merge_simplifier.h"
+#include "layout/simplify/cage_builder.h"
+#include "layout/simplify/face_merge_simplifier.h"
 #include "subdiv/subdivision_surface.h"
 #include "test_support.h"
 

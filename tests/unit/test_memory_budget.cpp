@@ -12,7 +12,7 @@
 #include "core/polygon_mesh.h"
 #include "core/status.h"
 #include "fit/surface_fitter.h"
-#include "layout/face_merge_simplifier.h"
+#include "layout/simplify/face_merge_simplifier.h"
 #include "subdiv/subdivision_surface.h"
 #include "subdiv/uniform_refinement.h"
 #include "test_support.h"

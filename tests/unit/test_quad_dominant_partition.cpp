@@ -13,7 +13,7 @@
 #include <set>
 
 #include "core/status.h"
-#include "layout/quad_dominant_partition.h"
+#include "layout/simplify/quad_dominant_partition.h"
 
 using namespace cagekit;
 

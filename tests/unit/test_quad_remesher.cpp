@@ -20,10 +20,10 @@
 #include "core/mesh_statistics.h"
 #include "core/mesh_validation.h"
 #include "core/mesh_validation.h"
-#include "layout/feature_edges.h"
-#include "layout/quad_remesher.h"
-#include "layout/remesh_constraints.h"
-#include "layout/vsa_segmentation.h"
+#include "layout/common/feature_edges.h"
+#include "layout/quad/quad_remesher.h"
+#include "layout/quad/remesh_constraints.h"
+#include "layout/quad/vsa_segmentation.h"
 #include "test_support.h"
 
 using cagekit::Error;

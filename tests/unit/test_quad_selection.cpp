@@ -12,12 +12,12 @@
 #include <map>
 #include <set>
 
-#include "layout/quad_curve_network.h"
-#include "layout/quad_curve_selection.h"
-#include "layout/quad_element_energy.h"
-#include "layout/quad_region_selection.h"
-#include "layout/remesh_constraints.h"
-#include "layout/vsa_segmentation.h"
+#include "layout/quad/quad_curve_network.h"
+#include "layout/quad/quad_curve_selection.h"
+#include "layout/quad/quad_element_energy.h"
+#include "layout/quad/quad_region_selection.h"
+#include "layout/quad/remesh_constraints.h"
+#include "layout/quad/vsa_segmentation.h"
 #include "test_support.h"
 
 using cagekit::CurveNetwork;

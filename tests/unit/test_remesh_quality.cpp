@@ -1,16 +1,16 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Remesh quality figures (sdk/layout/remesh_quality.h), the definitions shared by the remeshers'
+// Remesh quality figures (sdk/layout/common/remesh_quality.h), the definitions shared by the remeshers'
 // reports and tests/bench/bench_remesh: face and valence counts, alignment of edges with the
 // principal directions, sharp input edges followed by output edges.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "layout/approximation_error.h"
-#include "layout/curvature_tensor_field.h"
-#include "layout/feature_edges.h"
-#include "layout/principal_alignment.h"
-#include "layout/remesh_quality.h"
+#include "layout/common/approximation_error.h"
+#include "layout/anisotropic/curvature_tensor_field.h"
+#include "layout/common/feature_edges.h"
+#include "layout/anisotropic/principal_alignment.h"
+#include "layout/common/remesh_quality.h"
 #include "test_support.h"
 
 using cagekit::AlignmentSample;

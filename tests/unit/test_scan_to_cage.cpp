@@ -16,7 +16,7 @@
 #include "core/mesh_validation.h"
 #include "core/status.h"
 #include "fit/surface_fitter.h"
-#include "layout/approximation_error.h"
+#include "layout/common/approximation_error.h"
 #include "pipeline/input_conditioning.h"
 #include "pipeline/scan_to_cage.h"
 #include "pipeline/self_intersections.h"

@@ -9,7 +9,7 @@
 #include <cmath>
 #include <random>
 
-#include "layout/sharp_input_features.h"
+#include "layout/common/sharp_input_features.h"
 #include "pipeline/scan_to_cage.h"
 #include "test_support.h"
 

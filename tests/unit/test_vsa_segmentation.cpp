@@ -13,11 +13,11 @@
 #include <set>
 
 #include "core/edge_map.h"
-#include "layout/arc_fit.h"
-#include "layout/lscm_parameterization.h"
-#include "layout/region_boundaries.h"
-#include "layout/remesh_constraints.h"
-#include "layout/vsa_segmentation.h"
+#include "layout/quad/arc_fit.h"
+#include "layout/quad/lscm_parameterization.h"
+#include "layout/quad/region_boundaries.h"
+#include "layout/quad/remesh_constraints.h"
+#include "layout/quad/vsa_segmentation.h"
 #include "test_support.h"
 
 using cagekit::PolygonMesh;

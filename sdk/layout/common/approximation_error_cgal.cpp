@@ -1,0 +1,181 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Point-to-triangle-soup distances with CGAL's AABB tree (the peers were measured with it).
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Simple_cartesian.h>
+
+#include <algorithm>
+#include <cmath>
+#include <thread>
+#include <vector>
+
+#include "layout/common/approximation_error.h"
+
+#include "core/memory_budget.h"
+#include "core/parallel_for.h"
+#include "layout/common/cgal_guard.h"
+
+CAGEKIT_NAMESPACE_BEGIN
+
+namespace {
+
+using Kernel = CGAL::Simple_cartesian<double>;
+using Point = Kernel::Point_3;
+using Triangle = Kernel::Triangle_3;
+using TriangleList = std::vector<Triangle>;
+using Primitive = CGAL::AABB_triangle_primitive<Kernel, TriangleList::const_iterator>;
+using AabbTree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+
+Point to_point(const Vec3& v) { return Point(v.x, v.y, v.z); }
+
+// Fan triangles of every face (from its first corner), skipping faces with bad indices;
+// face_of (optional): the face of each triangle.
+TriangleList fan_triangles(const PolygonMesh& mesh, std::vector<uint32_t>* face_of = nullptr) {
+  TriangleList triangles;
+  triangles.reserve(mesh.num_face_vertices());
+  for (size_t f = 0; f < mesh.num_faces(); ++f) {
+    const uint32_t n = mesh.face_size(f);
+    const uint32_t* v = mesh.face_begin(f);
+    if (n < 3 || std::any_of(v, v + n, [&](uint32_t i) { return i >= mesh.num_vertices(); })) continue;
+    for (uint32_t k = 1; k + 1 < n; ++k) {
+      Triangle t(to_point(mesh.positions[v[0]]), to_point(mesh.positions[v[k]]), to_point(mesh.positions[v[k + 1]]));
+      if (t.is_degenerate()) continue;
+      triangles.push_back(t);
+      if (face_of) face_of->push_back(uint32_t(f));
+    }
+  }
+  return triangles;
+}
+
+std::vector<uint32_t> nearest_faces_cgal(const PolygonMesh& mesh, const std::vector<Vec3>& points);
+ApproximationError measure_approximation_error_cgal(const PolygonMesh& input, const PolygonMesh& approximation,
+                                                    int samples_per_edge, const TaskMonitor& monitor);
+
+}  // namespace
+
+struct SurfaceDistance::Tree {
+  TriangleList triangles;
+  std::unique_ptr<AabbTree> tree;
+};
+
+SurfaceDistance::SurfaceDistance(const PolygonMesh& mesh) : tree_(std::make_unique<Tree>()) {
+  check_memory_estimate(estimate_product(mesh.num_face_vertices(), 250), "building a distance tree");
+  tree_->triangles = fan_triangles(mesh);
+  if (tree_->triangles.empty()) return;
+  tree_->tree = std::make_unique<AabbTree>(tree_->triangles.begin(), tree_->triangles.end());
+  // Built now (the tree and its search structure), so that concurrent const queries only read.
+  tree_->tree->build();
+  tree_->tree->accelerate_distance_queries();
+}
+
+SurfaceDistance::~SurfaceDistance() = default;
+
+bool SurfaceDistance::empty() const { return !tree_->tree; }
+
+double SurfaceDistance::distance(const Vec3& p) const {
+  if (!tree_->tree) return HUGE_VAL;
+  return std::sqrt(tree_->tree->squared_distance(to_point(p)));
+}
+
+Vec3 SurfaceDistance::closest_point(const Vec3& p) const {
+  if (!tree_->tree) return p;
+  const auto q = tree_->tree->closest_point(to_point(p));
+  return Vec3{CGAL::to_double(q.x()), CGAL::to_double(q.y()), CGAL::to_double(q.z())};
+}
+
+std::vector<uint32_t> nearest_faces(const PolygonMesh& mesh, const std::vector<Vec3>& points) {
+  return detail::cgal_guarded("nearest_faces", [&] { return nearest_faces_cgal(mesh, points); });
+}
+
+ApproximationError measure_approximation_error(const PolygonMesh& input, const PolygonMesh& approximation,
+                                               int samples_per_edge, const TaskMonitor& monitor) {
+  return detail::cgal_guarded("measure_approximation_error", [&] {
+    return measure_approximation_error_cgal(input, approximation, samples_per_edge, monitor);
+  });
+}
+
+namespace {
+
+std::vector<uint32_t> nearest_faces_cgal(const PolygonMesh& mesh, const std::vector<Vec3>& points) {
+  check_memory_estimate(estimate_product(mesh.num_face_vertices(), 250), "finding nearest faces");
+  std::vector<uint32_t> face_of;
+  const TriangleList triangles = fan_triangles(mesh, &face_of);
+  std::vector<uint32_t> result(points.size(), UINT32_MAX);
+  if (triangles.empty()) return result;
+  AabbTree tree(triangles.begin(), triangles.end());
+  tree.accelerate_distance_queries();
+  for (size_t i = 0; i < points.size(); ++i)
+    result[i] = face_of[size_t(tree.closest_point_and_primitive(to_point(points[i])).second - triangles.begin())];
+  return result;
+}
+
+ApproximationError measure_approximation_error_cgal(const PolygonMesh& input, const PolygonMesh& approximation,
+                                                    int samples_per_edge, const TaskMonitor& monitor) {
+  ApproximationError result;
+  // Two triangle lists and two CGAL AABB trees (~250 bytes per triangle with the KD-tree for
+  // distance queries), plus the samples.
+  check_memory_estimate(estimate_product(estimate_sum(input.num_face_vertices(), approximation.num_face_vertices()), 250),
+                        "measuring the approximation error");
+  const double diagonal = input.bounding_box().diagonal();
+  const TriangleList input_triangles = fan_triangles(input);
+  const TriangleList approx_triangles = fan_triangles(approximation);
+  if (diagonal <= 0 || input_triangles.empty() || approx_triangles.empty()) return result;
+
+  // Input vertices (those on a face) -> approximation.
+  AabbTree approx_tree(approx_triangles.begin(), approx_triangles.end());
+  approx_tree.accelerate_distance_queries();
+  std::vector<uint8_t> on_face(input.num_vertices(), 0);
+  for (uint32_t v : input.face_vertices)
+    if (v < on_face.size()) on_face[v] = 1;
+  double max_distance = 0, sum = 0;
+  uint64_t count = 0;
+  for (size_t v = 0; v < input.num_vertices(); ++v) {
+    if (!on_face[v] || !is_finite(input.positions[v])) continue;
+    const double d = std::sqrt(approx_tree.squared_distance(to_point(input.positions[v])));
+    max_distance = std::max(max_distance, d);
+    sum += d;
+    ++count;
+    if ((v & 0xffff) == 0) monitor.report("error", 0.5 * double(v) / double(input.num_vertices()));
+  }
+  result.hausdorff_rel = max_distance / diagonal;
+  result.mean_rel = count ? sum / double(count) / diagonal : 0.0;
+
+  // Samples of the approximation -> input surface.
+  AabbTree input_tree(input_triangles.begin(), input_triangles.end());
+  // Built now (tree and search structure) so that the worker threads' queries only read it.
+  input_tree.build();
+  input_tree.accelerate_distance_queries();
+  const int n = std::max(1, samples_per_edge);
+  // The largest distance does not depend on the order: the triangles are split over the
+  // hardware threads (progress and cancellation on the calling thread's range only).
+  const size_t workers = std::max<size_t>(
+      1, std::min<size_t>(std::thread::hardware_concurrency(), approx_triangles.size() / 4096));
+  std::vector<double> worker_max(workers, 0.0);
+  run_ranges(approx_triangles.size(), workers, [&](size_t begin, size_t end, size_t w) {
+    double local = 0;
+    for (size_t t = begin; t < end; ++t) {
+      const Triangle& tri = approx_triangles[t];
+      for (int i = 0; i <= n; ++i)
+        for (int j = 0; i + j <= n; ++j) {
+          const double a = double(i) / n, b = double(j) / n, c = 1.0 - a - b;
+          const Point p(a * tri[0].x() + b * tri[1].x() + c * tri[2].x(),
+                        a * tri[0].y() + b * tri[1].y() + c * tri[2].y(),
+                        a * tri[0].z() + b * tri[1].z() + c * tri[2].z());
+          local = std::max(local, input_tree.squared_distance(p));
+        }
+      if (w == 0 && ((t - begin) & 0xfff) == 0)
+        monitor.report("error", 0.5 + 0.5 * double(t - begin) / double(std::max<size_t>(1, end - begin)));
+    }
+    worker_max[w] = local;
+  });
+  const double max_back = *std::max_element(worker_max.begin(), worker_max.end());
+  result.reverse_rel = std::sqrt(max_back) / diagonal;
+  result.hausdorff_sym_rel = std::max(result.hausdorff_rel, result.reverse_rel);
+  monitor.report("error", 1.0);
+  return result;
+}
+
+}  // namespace
+
+CAGEKIT_NAMESPACE_END

@@ -1,0 +1,946 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Curve selection (thesis §6.6-6.7) with incremental face updates; see quad_curve_selection.h.
+#include "layout/quad/quad_curve_selection.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "core/status.h"
+
+CAGEKIT_NAMESPACE_BEGIN
+
+using namespace plane2;
+
+namespace {
+
+const double kPi = 3.14159265358979323846;
+constexpr uint64_t kCrossingFlag = uint64_t(1) << 63;
+
+// Vertex ids: a boundary point p is p; the k-th crossing (by parameter on a) of curves a < b is
+// flagged and packs (a, b, k).
+uint64_t crossing_id(uint32_t a, uint32_t b, uint32_t k) {
+  return kCrossingFlag | (uint64_t(a) << 39) | (uint64_t(b) << 15) | uint64_t(k);
+}
+
+// A strictly increasing function of ccw_angle(from, to) in [0, 4) without atan2 (the hot loop of
+// face tracing only compares angles).
+double pseudo_ccw_angle(const Point2& from, const Point2& to) {
+  const double c = cross(from, to), d = dot(from, to);
+  const double r = std::fabs(c) + std::fabs(d);
+  if (!(r > 0.0)) return 0.0;
+  const double p = d / r;  // in [-1, 1]: 1 at angle 0, -1 at π
+  return c >= 0.0 ? 1.0 - p : 3.0 + p;
+}
+
+struct Crossing {
+  double ta = 0.0, tb = 0.0;  // parameters on curves a < b
+  Point2 position{};
+  Point2 dir_a{}, dir_b{};    // forward polyline directions at the crossing
+};
+
+struct ChainVertex {
+  double t = 0.0;
+  uint64_t id = 0;
+  Point2 position{};
+  Point2 dir{};  // forward direction of the curve's polyline at this vertex
+};
+using Chain = std::vector<ChainVertex>;
+
+// carrier >= 0: curve; carrier < 0: boundary edge from point -1-carrier to its next point.
+struct HalfEdge {
+  uint64_t from = 0;
+  int64_t carrier = 0;
+  int dir = 1;
+  bool operator==(const HalfEdge& o) const { return from == o.from && carrier == o.carrier && dir == o.dir; }
+};
+struct HalfEdgeHash {
+  size_t operator()(const HalfEdge& h) const {
+    uint64_t x = h.from * 0x9E3779B97F4A7C15ull ^ (uint64_t(h.carrier) + 0x632BE59BD9B4E019ull) * 0xC2B2AE3D27D4EB4Full;
+    x ^= uint64_t(h.dir + 1) << 1;
+    return size_t(x ^ (x >> 29));
+  }
+};
+struct CycleHash {
+  size_t operator()(const std::vector<uint64_t>& v) const {
+    uint64_t x = 0xcbf29ce484222325ull;
+    for (uint64_t id : v) x = (x ^ id) * 0x100000001b3ull;
+    return size_t(x);
+  }
+};
+
+struct Fan {
+  HalfEdge edge;
+  Point2 direction;
+};
+
+// At most four half-edges leave a vertex: two boundary edges and two ports, or two crossing curves.
+struct FanList {
+  std::array<Fan, 4> items;
+  size_t count = 0;
+  void push_back(const Fan& f) { items[count++] = f; }
+  const Fan* begin() const { return items.data(); }
+  const Fan* end() const { return items.data() + count; }
+};
+
+// A map of a few keys (a trial move's overrides: a handful of curves and ports), in insertion
+// order: a linear scan beats hashing and a node allocation per key.
+template <typename Value>
+struct FlatMap {
+  std::vector<std::pair<uint32_t, Value>> items;
+  const Value* find(uint32_t key) const {
+    for (const auto& item : items)
+      if (item.first == key) return &item.second;
+    return nullptr;
+  }
+  size_t count(uint32_t key) const { return find(key) != nullptr; }
+  Value& operator[](uint32_t key) {
+    for (auto& item : items)
+      if (item.first == key) return item.second;
+    items.emplace_back(key, Value{});
+    return items.back().second;
+  }
+  auto begin() { return items.begin(); }
+  auto end() { return items.end(); }
+  auto begin() const { return items.begin(); }
+  auto end() const { return items.end(); }
+};
+
+// The half-edges traced by one evaluate (a few dozen): a flat list beats a node-based hash set.
+struct SmallHalfEdgeSet {
+  std::vector<HalfEdge> items;
+  size_t count(const HalfEdge& h) const { return std::find(items.begin(), items.end(), h) != items.end(); }
+  void insert(const HalfEdge& h) { items.push_back(h); }  // trace inserts each half-edge once
+};
+
+struct Face {
+  std::vector<HalfEdge> cycle;
+  double energy = 0.0;
+  bool alive = false;
+};
+
+class Arrangement {
+ public:
+  Arrangement(const CurveNetwork& net, const ElementWeights& weights) : net_(net), weights_(weights) {
+    chains_.resize(net.curves.size());
+    selected_.assign(net.curves.size(), 0);
+    port_curve_.assign(net.ports.size(), -1);
+  }
+
+  // Full rebuild for `curves` (a matching).
+  void reset(const std::vector<uint32_t>& curves) {
+    for (auto& c : chains_) c.clear();
+    std::fill(selected_.begin(), selected_.end(), 0);
+    std::fill(port_curve_.begin(), port_curve_.end(), -1);
+    faces_.clear();
+    face_of_.clear();
+    delta_cache_.clear();
+    energy_ = 0.0;
+    for (uint32_t c : curves) {
+      selected_[c] = 1;
+      for (uint32_t p : net_.curves[c].ports) port_curve_[p] = c;
+    }
+    list_.assign(curves.begin(), curves.end());
+    std::sort(list_.begin(), list_.end());
+    for (uint32_t c : list_) chains_[c] = build_chain(c, selected_);
+    View view(*this);
+    std::unordered_set<HalfEdge, HalfEdgeHash> visited;
+    auto trace_from = [&](const HalfEdge& h) {
+      if (visited.count(h)) return;
+      Face f = trace(view, h, visited);
+      add_face(std::move(f));
+    };
+    for (uint32_t p = 0; p < net_.points.size(); ++p) trace_from({p, -1 - int64_t(p), 1});
+    for (uint32_t c : list_)
+      for (size_t i = 0; i + 1 < chains_[c].size(); ++i) {
+        trace_from({chains_[c][i].id, int64_t(c), 1});
+        trace_from({chains_[c][i + 1].id, int64_t(c), -1});
+      }
+  }
+
+  double energy() const { return energy_; }
+  const std::vector<uint32_t>& selected() const { return list_; }
+  bool is_selected(uint32_t c) const { return selected_[c] != 0; }
+  int64_t port_curve(uint32_t port) const { return port_curve_[port]; }
+
+  // Energy change of removing `removed` and adding `added` (ports must be free after removal);
+  // applied when commit is true.
+  double evaluate(const std::vector<uint32_t>& removed, const std::vector<uint32_t>& added, bool commit) {
+    // A trial's ΔE depends only on the faces it removes: every face it traces reuses half-edges
+    // of those faces or runs through them. So a cached ΔE stays exact while they are all alive.
+    const bool cacheable = !commit && removed.size() <= 2 && added.size() <= 2;
+    MoveKey key{};
+    if (cacheable) {
+      key = move_key(removed, added);
+      auto it = delta_cache_.find(key);
+      if (it != delta_cache_.end() &&
+          std::all_of(it->second.old_faces.begin(), it->second.old_faces.end(),
+                      [&](uint32_t f) { return faces_[f].alive; }))
+        return it->second.delta;
+    }
+    View view(*this);
+    for (uint32_t c : removed) view.selected_override[c] = 0;
+    for (uint32_t c : added) view.selected_override[c] = 1;
+    for (uint32_t c : removed)
+      for (uint32_t p : net_.curves[c].ports) view.port_override[p] = -1;
+    for (uint32_t c : added)
+      for (uint32_t p : net_.curves[c].ports) view.port_override[p] = c;
+    // Curves whose chain changes: R ∪ A and the selected curves crossing them.
+    std::vector<uint32_t> touched(removed);
+    touched.insert(touched.end(), added.begin(), added.end());
+    std::vector<uint32_t> changed = touched;
+    for (uint32_t c : list_)
+      if (!view.selected_override.count(c))
+        for (uint32_t t : touched)
+          if (!crossings(std::min(c, t), std::max(c, t)).empty()) {
+            changed.push_back(c);
+            break;
+          }
+    // Dirty vertices. Removed / added curves: all their old / new chain vertices (end points
+    // included: their fans change). A selected curve they cross: the crossings that disappear or
+    // appear and their chain neighbours (its pieces there merge or split). Every other vertex
+    // keeps its fan and its pieces, so a face through none of them is unchanged.
+    std::vector<uint64_t> dirty_old, dirty;
+    auto mark = [](std::vector<uint64_t>& side, uint64_t id) { side.push_back(id); };
+    auto contains = [](const Chain& chain, uint64_t id) {
+      return std::any_of(chain.begin(), chain.end(), [&](const ChainVertex& v) { return v.id == id; });
+    };
+    for (uint32_t c : changed) {
+      const Chain& old_chain = chains_[c];
+      if (!view.is_selected(c)) {
+        for (const ChainVertex& v : old_chain) mark(dirty_old, v.id);
+        view.chain_override[c] = Chain();
+        continue;
+      }
+      view.chain_override[c] = build_chain(c, view);
+      const Chain& new_chain = view.chain_override[c];
+      if (!selected_[c]) {
+        for (const ChainVertex& v : new_chain) mark(dirty, v.id);
+        continue;
+      }
+      for (size_t i = 0; i < old_chain.size(); ++i)
+        if (!contains(new_chain, old_chain[i].id)) {
+          mark(dirty_old, old_chain[i].id);
+          if (i > 0) mark(dirty, old_chain[i - 1].id);
+          if (i + 1 < old_chain.size()) mark(dirty, old_chain[i + 1].id);
+        }
+      for (size_t i = 0; i < new_chain.size(); ++i)
+        if (!contains(old_chain, new_chain[i].id)) {
+          mark(dirty, new_chain[i].id);
+          if (i > 0) mark(dirty_old, new_chain[i - 1].id);
+          if (i + 1 < new_chain.size()) mark(dirty_old, new_chain[i + 1].id);
+        }
+    }
+    // One dirty set for both sides (a face through a dirty vertex that exists in both states is
+    // removed and traced again, identical or not), each side keeping the vertices it has.
+    dirty.insert(dirty.end(), dirty_old.begin(), dirty_old.end());
+    dirty_old = dirty;
+    auto exists_old = [&](uint64_t id) {
+      if (!(id & kCrossingFlag)) return true;
+      return contains(chains_[uint32_t((id >> 39) & 0xFFFFFF)], id);
+    };
+    auto exists_new = [&](uint64_t id) {
+      if (!(id & kCrossingFlag)) return true;
+      return contains(view.chain(uint32_t((id >> 39) & 0xFFFFFF)), id);
+    };
+    dirty_old.erase(std::remove_if(dirty_old.begin(), dirty_old.end(), [&](uint64_t id) { return !exists_old(id); }),
+                    dirty_old.end());
+    dirty.erase(std::remove_if(dirty.begin(), dirty.end(), [&](uint64_t id) { return !exists_new(id); }), dirty.end());
+    for (auto* list : {&dirty_old, &dirty}) {
+      std::sort(list->begin(), list->end());
+      list->erase(std::unique(list->begin(), list->end()), list->end());
+    }
+    // Old faces through a dirty vertex.
+    View old_view(*this);
+    std::vector<uint32_t> old_faces;
+    for (uint64_t v : dirty_old)
+      for (const Fan& f : old_view.fan(v)) {
+        auto it = face_of_.find(f.edge);
+        if (it != face_of_.end()) old_faces.push_back(it->second);
+      }
+    std::sort(old_faces.begin(), old_faces.end());
+    old_faces.erase(std::unique(old_faces.begin(), old_faces.end()), old_faces.end());
+    double delta = 0.0;
+    for (uint32_t f : old_faces) delta -= faces_[f].energy;
+    SmallHalfEdgeSet visited;
+    std::vector<Face> new_faces;
+    for (uint64_t v : dirty)
+      for (const Fan& f : view.fan(v)) {
+        if (f.edge.carrier < 0 && f.edge.dir < 0) continue;  // outside the region
+        if (visited.count(f.edge)) continue;
+        new_faces.push_back(trace(view, f.edge, visited));
+        delta += new_faces.back().energy;
+      }
+    if (cacheable) delta_cache_[key] = {delta, old_faces};
+    if (commit) {
+      for (uint32_t f : old_faces) {
+        for (const HalfEdge& h : faces_[f].cycle) face_of_.erase(h);
+        faces_[f].alive = false;
+        energy_ -= faces_[f].energy;
+      }
+      for (auto& [c, s] : view.selected_override) selected_[c] = s;
+      for (auto& [p, c] : view.port_override) port_curve_[p] = c;
+      for (auto& [c, chain] : view.chain_override) chains_[c] = std::move(chain);
+      list_.clear();
+      for (uint32_t c = 0; c < selected_.size(); ++c)
+        if (selected_[c]) list_.push_back(c);
+      for (Face& f : new_faces) add_face(std::move(f));
+      compact_faces();
+    }
+    return delta;
+  }
+
+  // Smallest crossing angle (in [0, π/2]) of curve c with the other selected curves.
+  double smallest_crossing_angle(uint32_t c) {
+    double smallest = kPi / 2;
+    for (uint32_t o : list_) {
+      if (o == c) continue;
+      const uint32_t a = std::min(c, o), b = std::max(c, o);
+      for (const Crossing& x : crossings(a, b)) {
+        double angle = std::acos(std::clamp(std::fabs(dot(normalized(x.dir_a), normalized(x.dir_b))), 0.0, 1.0));
+        smallest = std::min(smallest, angle);
+      }
+    }
+    return smallest;
+  }
+
+  void export_mesh(QuadSelection& out) {
+    std::unordered_map<uint64_t, uint32_t> index;
+    View view(*this);
+    for (const Face& f : faces_) {
+      if (!f.alive) continue;
+      std::vector<uint64_t> ids;
+      std::vector<Point2> polygon;
+      for (const HalfEdge& h : f.cycle) ids.push_back(h.from), polygon.push_back(view.position(h.from));
+      const ElementRating rating = rate_element(polygon, weights_);
+      if (rating.invalid) ++out.invalid_faces;
+      for (const auto& piece : rating.pieces) {
+        std::vector<uint32_t> face;
+        for (uint32_t k : piece) {
+          auto [it, inserted] = index.emplace(ids[k], uint32_t(out.vertices.size()));
+          if (inserted) {
+            out.vertices.push_back(polygon[k]);
+            out.vertex_point.push_back((ids[k] & kCrossingFlag) ? -1 : int64_t(ids[k]));
+          }
+          face.push_back(it->second);
+        }
+        const size_t n = face.size();
+        (n == 4 ? out.quads : n == 3 ? out.triangles : n == 5 ? out.pentagons : out.larger) += 1;
+        out.faces.push_back(std::move(face));
+      }
+    }
+  }
+
+ private:
+  struct View {
+    explicit View(Arrangement& a) : arr(a) {}
+    Arrangement& arr;
+    FlatMap<char> selected_override;
+    FlatMap<int64_t> port_override;
+    FlatMap<Chain> chain_override;
+
+    bool is_selected(uint32_t c) const {
+      const char* s = selected_override.find(c);
+      return s ? *s != 0 : arr.selected_[c] != 0;
+    }
+    int64_t port_curve(uint32_t p) const {
+      const int64_t* c = port_override.find(p);
+      return c ? *c : arr.port_curve_[p];
+    }
+    const Chain& chain(uint32_t c) const {
+      const Chain* chain = chain_override.find(c);
+      return chain ? *chain : arr.chains_[c];
+    }
+    static size_t locate(const Chain& chain, uint64_t id) {
+      for (size_t i = 0; i < chain.size(); ++i)
+        if (chain[i].id == id) return i;
+      fail(Status::internal_error, "quad selection: vertex missing from a curve's chain");
+    }
+    Point2 position(uint64_t id) const {
+      if (!(id & kCrossingFlag)) return arr.net_.points[id].uv;
+      const uint32_t a = uint32_t((id >> 39) & 0xFFFFFF);
+      const Chain& c = chain(a);
+      return c[locate(c, id)].position;
+    }
+    // Outgoing half-edges at vertex v.
+    FanList fan(uint64_t v) const {
+      FanList out;
+      const CurveNetwork& net = arr.net_;
+      if (!(v & kCrossingFlag)) {
+        const NetworkPoint& p = net.points[v];
+        out.push_back({{v, -1 - int64_t(v), 1}, sub(net.points[p.next].uv, p.uv)});
+        out.push_back({{v, -1 - int64_t(p.prev), -1}, sub(net.points[p.prev].uv, p.uv)});
+        for (uint32_t k = 0; k < p.port_count; ++k) {
+          const int64_t c = port_curve(p.first_port + k);
+          if (c < 0) continue;
+          const Chain& chain = this->chain(uint32_t(c));
+          if (chain.size() < 2) continue;
+          if (net.curves[c].ports[0] == p.first_port + k)
+            out.push_back({{v, c, 1}, chain.front().dir});
+          else
+            out.push_back({{v, c, -1}, scale(chain.back().dir, -1.0)});
+        }
+        return out;
+      }
+      const uint32_t curves[2] = {uint32_t((v >> 39) & 0xFFFFFF), uint32_t((v >> 15) & 0xFFFFFF)};
+      for (uint32_t c : curves) {
+        const Chain& chain = this->chain(c);
+        const size_t i = locate(chain, v);
+        if (i + 1 < chain.size()) out.push_back({{v, c, 1}, chain[i].dir});
+        if (i > 0) out.push_back({{v, c, -1}, scale(chain[i].dir, -1.0)});
+      }
+      return out;
+    }
+    // Target of h and the direction of its twin there.
+    std::pair<uint64_t, Point2> target(const HalfEdge& h) const {
+      const CurveNetwork& net = arr.net_;
+      if (h.carrier < 0) {
+        const uint32_t e = uint32_t(-1 - h.carrier), f = net.points[e].next;
+        if (h.dir > 0) return {f, sub(net.points[e].uv, net.points[f].uv)};
+        return {e, sub(net.points[f].uv, net.points[e].uv)};
+      }
+      const Chain& chain = this->chain(uint32_t(h.carrier));
+      const size_t i = locate(chain, h.from);
+      const size_t j = h.dir > 0 ? i + 1 : i - 1;
+      return {chain[j].id, scale(chain[j].dir, h.dir > 0 ? -1.0 : 1.0)};
+    }
+  };
+
+  const std::vector<Crossing>& crossings(uint32_t a, uint32_t b) {
+    const uint64_t key = (uint64_t(a) << 32) | b;
+    auto it = crossing_cache_.find(key);
+    if (it != crossing_cache_.end()) return it->second;
+    std::vector<Crossing> found;
+    const NetworkCurve &ca = net_.curves[a], &cb = net_.curves[b];
+    const std::vector<Point2>&pa = ca.polyline, &pb = cb.polyline;
+    const size_t na = pa.size() - 1, nb = pb.size() - 1;
+    const uint32_t ea[2] = {net_.ports[ca.ports[0]].point, net_.ports[ca.ports[1]].point};
+    const uint32_t eb[2] = {net_.ports[cb.ports[0]].point, net_.ports[cb.ports[1]].point};
+    // Pieces are tested in runs of kRun whose boxes meet (a filter: the same crossings in the
+    // same order as testing every pair of pieces).
+    const CurveBoxes &ba = boxes(a), &bb = boxes(b);
+    if (ba.all.meets(bb.all)) {
+      for (size_t ra = 0; ra < ba.runs.size(); ++ra) {
+        if (!ba.runs[ra].meets(bb.all)) continue;
+        for (size_t s = ra * kRun; s < std::min(na, (ra + 1) * kRun); ++s)
+          for (size_t rb = 0; rb < bb.runs.size(); ++rb) {
+            if (!ba.runs[ra].meets(bb.runs[rb])) continue;
+            for (size_t u = rb * kRun; u < std::min(nb, (rb + 1) * kRun); ++u) {
+              // Pieces at a shared end point touch there by construction.
+              const bool shared = (s == 0 || s + 1 == na) && (u == 0 || u + 1 == nb) &&
+                                  ea[s == 0 ? 0 : 1] == eb[u == 0 ? 0 : 1];
+              if (shared) continue;
+              double sigma = 0, tau = 0;
+              if (!segments_intersect(pa[s], pa[s + 1], pb[u], pb[u + 1], &sigma, &tau)) continue;
+              Crossing x;
+              x.ta = (double(s) + sigma) / double(na);
+              x.tb = (double(u) + tau) / double(nb);
+              x.position = add(pa[s], scale(sub(pa[s + 1], pa[s]), sigma));
+              x.dir_a = sub(pa[s + 1], pa[s]);
+              x.dir_b = sub(pb[u + 1], pb[u]);
+              if (x.ta <= 0.0 || x.ta >= 1.0 || x.tb <= 0.0 || x.tb >= 1.0) continue;  // at an end point
+              found.push_back(x);
+            }
+          }
+      }
+    }
+    std::sort(found.begin(), found.end(), [](const Crossing& x, const Crossing& y) { return x.ta < y.ta; });
+    // A crossing at a polyline vertex is reported by two neighbouring pieces.
+    std::vector<Crossing> unique;
+    for (const Crossing& x : found)
+      if (unique.empty() || std::fabs(x.ta - unique.back().ta) > 1e-9 || std::fabs(x.tb - unique.back().tb) > 1e-9)
+        unique.push_back(x);
+    return crossing_cache_.emplace(key, std::move(unique)).first->second;
+  }
+
+  template <typename Selection>
+  Chain build_chain(uint32_t c, const Selection& selection) {
+    const NetworkCurve& curve = net_.curves[c];
+    const std::vector<Point2>& line = curve.polyline;
+    Chain chain;
+    chain.push_back({0.0, net_.ports[curve.ports[0]].point, line.front(), sub(line[1], line[0])});
+    for (uint32_t o : candidates_for_chain(selection)) {
+      if (o == c) continue;
+      const uint32_t a = std::min(c, o), b = std::max(c, o);
+      const std::vector<Crossing>& xs = crossings(a, b);
+      for (uint32_t k = 0; k < xs.size(); ++k) {
+        const Crossing& x = xs[k];
+        chain.push_back({c == a ? x.ta : x.tb, crossing_id(a, b, k), x.position, c == a ? x.dir_a : x.dir_b});
+      }
+    }
+    const size_t n = line.size() - 1;
+    chain.push_back({1.0, net_.ports[curve.ports[1]].point, line.back(), sub(line[n], line[n - 1])});
+    std::sort(chain.begin() + 1, chain.end() - 1,
+              [](const ChainVertex& x, const ChainVertex& y) { return x.t < y.t || (x.t == y.t && x.id < y.id); });
+    return chain;
+  }
+  std::vector<uint32_t> candidates_for_chain(const std::vector<char>& selected) const {
+    std::vector<uint32_t> out;
+    for (uint32_t c : list_)
+      if (selected[c]) out.push_back(c);
+    return out;
+  }
+  std::vector<uint32_t> candidates_for_chain(const View& view) const {
+    std::vector<uint32_t> out;
+    for (uint32_t c : list_)
+      if (view.is_selected(c)) out.push_back(c);
+    for (auto& [c, s] : view.selected_override)
+      if (s && !selected_[c]) out.push_back(c);
+    return out;
+  }
+
+  template <typename Visited>
+  Face trace(const View& view, const HalfEdge& start, Visited& visited) {
+    Face face;
+    std::vector<uint64_t> ids;
+    std::vector<Point2> polygon;
+    face.cycle.reserve(8), ids.reserve(8), polygon.reserve(8);
+    HalfEdge h = start;
+    const size_t limit = 4 * (net_.points.size() + 64 * (list_.size() + 8) * (list_.size() + 8));
+    for (size_t step = 0;; ++step) {
+      if (step > limit) fail(Status::internal_error, "quad selection: a face cycle does not close");
+      face.cycle.push_back(h);
+      visited.insert(h);
+      ids.push_back(h.from);
+      polygon.push_back(view.position(h.from));
+      const auto [w, twin_direction] = view.target(h);
+      const HalfEdge twin{w, h.carrier, -h.dir};
+      double best = std::numeric_limits<double>::infinity();
+      HalfEdge next = twin;
+      for (const Fan& f : view.fan(w)) {
+        if (f.edge == twin) continue;
+        const double angle = pseudo_ccw_angle(f.direction, twin_direction);  // clockwise from the twin
+        if (angle < best) best = angle, next = f.edge;
+      }
+      h = next;
+      if (h == start) break;
+    }
+    face.energy = rate(std::move(ids), polygon);
+    face.alive = true;
+    return face;
+  }
+
+  double rate(std::vector<uint64_t> ids, const std::vector<Point2>& polygon) {
+    std::rotate(ids.begin(), std::min_element(ids.begin(), ids.end()), ids.end());
+    auto it = energy_cache_.find(ids);
+    if (it != energy_cache_.end()) return it->second;
+    const double e = rate_element(polygon, weights_).energy;
+    energy_cache_.emplace(std::move(ids), e);
+    return e;
+  }
+
+  void add_face(Face f) {
+    const uint32_t id = uint32_t(faces_.size());
+    for (const HalfEdge& h : f.cycle) face_of_[h] = id;
+    energy_ += f.energy;
+    faces_.push_back(std::move(f));
+  }
+
+  void compact_faces() {
+    if (faces_.size() < 4096) return;
+    delta_cache_.clear();  // face ids change
+    std::vector<Face> alive;
+    for (Face& f : faces_)
+      if (f.alive) alive.push_back(std::move(f));
+    faces_.clear();
+    face_of_.clear();
+    energy_ = 0.0;
+    for (Face& f : alive) add_face(std::move(f));
+  }
+
+  const CurveNetwork& net_;
+  ElementWeights weights_;
+  std::vector<Chain> chains_;
+  std::vector<char> selected_;
+  std::vector<uint32_t> list_;
+  std::vector<int64_t> port_curve_;
+  std::vector<Face> faces_;
+  std::unordered_map<HalfEdge, uint32_t, HalfEdgeHash> face_of_;
+  std::unordered_map<uint64_t, std::vector<Crossing>> crossing_cache_;
+  // Bounding boxes of every curve's polyline and of its runs of kRun pieces (built on first use).
+  static constexpr size_t kRun = 4;
+  struct Box {
+    double lo[2], hi[2];
+    bool meets(const Box& o) const {
+      return lo[0] <= o.hi[0] && o.lo[0] <= hi[0] && lo[1] <= o.hi[1] && o.lo[1] <= hi[1];
+    }
+    void add(const Point2& p) {
+      for (int k = 0; k < 2; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+    }
+  };
+  struct CurveBoxes {
+    Box all;
+    std::vector<Box> runs;
+  };
+  std::vector<CurveBoxes> boxes_;
+  const CurveBoxes& boxes(uint32_t c) {
+    if (boxes_.empty()) {
+      boxes_.resize(net_.curves.size());
+      for (size_t k = 0; k < net_.curves.size(); ++k) {
+        const std::vector<Point2>& line = net_.curves[k].polyline;
+        const size_t n = line.size() - 1;
+        CurveBoxes& b = boxes_[k];
+        b.all = {{line[0][0], line[0][1]}, {line[0][0], line[0][1]}};
+        for (size_t r = 0; r * kRun < n; ++r) {
+          Box box{{line[r * kRun][0], line[r * kRun][1]}, {line[r * kRun][0], line[r * kRun][1]}};
+          for (size_t i = r * kRun + 1; i <= std::min(n, (r + 1) * kRun); ++i) box.add(line[i]);
+          b.runs.push_back(box);
+          b.all.add(Point2{box.lo[0], box.lo[1]});
+          b.all.add(Point2{box.hi[0], box.hi[1]});
+        }
+      }
+    }
+    return boxes_[c];
+  }
+  std::unordered_map<std::vector<uint64_t>, double, CycleHash> energy_cache_;
+  // (removed, added) curve ids, each pair sorted and padded with kNoCurve.
+  using MoveKey = std::array<uint32_t, 4>;
+  struct MoveKeyHash {
+    size_t operator()(const MoveKey& k) const {
+      uint64_t x = 0x84222325cbf29ce4ull;
+      for (uint32_t v : k) x = (x ^ v) * 0x100000001b3ull;
+      return size_t(x ^ (x >> 32));
+    }
+  };
+  static MoveKey move_key(const std::vector<uint32_t>& removed, const std::vector<uint32_t>& added) {
+    const uint32_t kNoCurve = 0xffffffffu;
+    MoveKey k{kNoCurve, kNoCurve, kNoCurve, kNoCurve};
+    for (size_t i = 0; i < removed.size(); ++i) k[i] = removed[i];
+    for (size_t i = 0; i < added.size(); ++i) k[2 + i] = added[i];
+    if (k[0] > k[1]) std::swap(k[0], k[1]);
+    if (k[2] > k[3]) std::swap(k[2], k[3]);
+    return k;
+  }
+  struct CachedDelta {
+    double delta = 0.0;
+    std::vector<uint32_t> old_faces;
+  };
+  std::unordered_map<MoveKey, CachedDelta, MoveKeyHash> delta_cache_;
+  double energy_ = 0.0;
+};
+
+double unsigned_angle(const Point2& a, const Point2& b) {
+  return std::acos(std::clamp(dot(normalized(a), normalized(b)), -1.0, 1.0));
+}
+
+// Phase I score of a curve end at port `port` with chord direction `chord` (pointing away).
+double end_score(const CurveNetwork& net, uint32_t port, const Point2& chord) {
+  const NetworkPort& q = net.ports[port];
+  const NetworkPoint& p = net.points[q.point];
+  if (p.port_count == 2) return 2.0 * unsigned_angle(chord, q.tangent);
+  return std::fabs(unsigned_angle(chord, sub(net.points[p.next].uv, p.uv)) - kPi / 2) +
+         std::fabs(unsigned_angle(chord, sub(net.points[p.prev].uv, p.uv)) - kPi / 2);
+}
+
+std::vector<uint32_t> phase1_greedy(const CurveNetwork& net) {
+  std::vector<std::pair<double, uint32_t>> order;
+  for (uint32_t c = 0; c < net.curves.size(); ++c) {
+    const NetworkCurve& curve = net.curves[c];
+    const Point2 a = net.points[net.ports[curve.ports[0]].point].uv, b = net.points[net.ports[curve.ports[1]].point].uv;
+    order.push_back({end_score(net, curve.ports[0], sub(b, a)) + end_score(net, curve.ports[1], sub(a, b)), c});
+  }
+  std::sort(order.begin(), order.end());
+  std::vector<char> used(net.ports.size(), 0);
+  std::vector<uint32_t> selected;
+  for (const auto& [score, c] : order) {
+    const auto& ports = net.curves[c].ports;
+    if (used[ports[0]] || used[ports[1]]) continue;
+    used[ports[0]] = used[ports[1]] = 1;
+    selected.push_back(c);
+  }
+  return selected;
+}
+
+struct Move {
+  std::vector<uint32_t> removed, added;
+};
+
+class Optimizer {
+ public:
+  Optimizer(const CurveNetwork& net, const SelectionOptions& options, const TaskMonitor& monitor, QuadSelection& stats)
+      : net_(net), options_(options), monitor_(monitor), stats_(stats), arrangement_(net, options.weights) {
+    for (uint32_t c = 0; c < net.curves.size(); ++c) curve_of_[key(net.curves[c].ports[0], net.curves[c].ports[1])] = c;
+  }
+  Arrangement& arrangement() { return arrangement_; }
+
+  // Phase II: steepest descent over swaps and reconnects. With a focus (focus_ not empty), only
+  // moves that involve a focus port are tried, and the ports of every applied move join the focus.
+  void descend() {
+    const bool focused = !focus_.empty();
+    auto in_focus = [&](uint32_t c) {
+      const auto& ports = net_.curves[c].ports;
+      return focus_[ports[0]] || focus_[ports[1]];
+    };
+    for (size_t step = 0; step < options_.max_descent_steps; ++step) {
+      monitor_.report("quad curve selection", 0.5);
+      const std::vector<uint32_t> selected = arrangement_.selected();
+      std::vector<uint32_t> free_ports;
+      for (uint32_t p = 0; p < net_.ports.size(); ++p)
+        if (arrangement_.port_curve(p) < 0) free_ports.push_back(p);
+      double best = -1e-9 * (1.0 + std::fabs(arrangement_.energy()));
+      Move best_move;
+      auto consider = [&](std::vector<uint32_t> removed, std::vector<uint32_t> added) {
+        ++stats_.moves_evaluated;
+        const double delta = arrangement_.evaluate(removed, added, false);
+        if (delta < best) best = delta, best_move = {std::move(removed), std::move(added)};
+      };
+      for (size_t i = 0; i < selected.size(); ++i) {
+        const auto& pi = net_.curves[selected[i]].ports;
+        const bool focus_i = !focused || in_focus(selected[i]);
+        for (size_t j = i + 1; j < selected.size(); ++j) {  // swaps (Fig. 6.6)
+          if (!focus_i && !in_focus(selected[j])) continue;
+          const auto& pj = net_.curves[selected[j]].ports;
+          for (int variant = 0; variant < 2; ++variant) {
+            const int64_t c1 = curve(pi[0], pj[variant]), c2 = curve(pi[1], pj[1 - variant]);
+            if (c1 >= 0 && c2 >= 0) consider({selected[i], selected[j]}, {uint32_t(c1), uint32_t(c2)});
+          }
+        }
+        for (uint32_t k : free_ports) {  // reconnects (Fig. 6.7)
+          if (!focus_i && !focus_[k]) continue;
+          for (int end = 0; end < 2; ++end) {
+            const int64_t c = curve(pi[end], k);
+            if (c >= 0) consider({selected[i]}, {uint32_t(c)});
+          }
+        }
+      }
+      // Add / remove moves only where no swap or reconnect decreases E (they scan every curve).
+      if (polish_ && best_move.removed.empty()) {
+        for (uint32_t c : selected)
+          if (!focused || in_focus(c)) consider({c}, {});
+        for (uint32_t c = 0; c < net_.curves.size(); ++c) {
+          const auto& ports = net_.curves[c].ports;
+          if (arrangement_.port_curve(ports[0]) < 0 && arrangement_.port_curve(ports[1]) < 0 &&
+              (!focused || in_focus(c)))
+            consider({}, {c});
+        }
+      }
+      if (best_move.removed.empty() && best_move.added.empty()) return;
+      apply(best_move.removed, best_move.added);
+      if (focused)
+        for (const std::vector<uint32_t>* list : {&best_move.removed, &best_move.added})
+          for (uint32_t c : *list) focus_[net_.curves[c].ports[0]] = focus_[net_.curves[c].ports[1]] = 1;
+    }
+  }
+
+  // Phase III (thesis §6.7.4) from the current configuration; keeps the best in `best`.
+  void escape(std::vector<uint32_t>& best, double& best_energy) {
+    std::vector<uint32_t> bad;
+    for (uint32_t c : arrangement_.selected())
+      if (arrangement_.smallest_crossing_angle(c) < options_.bad_crossing_angle) bad.push_back(c);
+    if (!bad.empty()) apply(bad, {});
+    remember(best, best_energy);
+    for (size_t round = 0; round <= net_.ports.size(); ++round) {
+      monitor_.report("quad curve selection", 0.75);
+      double lowest = std::numeric_limits<double>::infinity();
+      int64_t chosen = -1;
+      for (uint32_t c = 0; c < net_.curves.size(); ++c) {
+        const auto& ports = net_.curves[c].ports;
+        if (arrangement_.port_curve(ports[0]) >= 0 || arrangement_.port_curve(ports[1]) >= 0) continue;
+        ++stats_.moves_evaluated;
+        const double delta = arrangement_.evaluate({}, {c}, false);
+        if (delta < lowest) lowest = delta, chosen = c;
+      }
+      if (chosen < 0) return;  // saturated, or no curve left
+      apply({}, {uint32_t(chosen)});
+      if (options_.run_phase2) descend();
+      remember(best, best_energy);
+    }
+  }
+
+  // Commits a move; with verify_incremental, checks it against a rebuild from scratch.
+  void apply(const std::vector<uint32_t>& removed, const std::vector<uint32_t>& added) {
+    const double before = arrangement_.energy();
+    const double predicted = options_.verify_incremental ? arrangement_.evaluate(removed, added, false) : 0.0;
+    arrangement_.evaluate(removed, added, true);
+    ++stats_.moves_applied;
+    if (!options_.verify_incremental) return;
+    Arrangement fresh(net_, options_.weights);
+    fresh.reset(arrangement_.selected());
+    const double tolerance = 1e-9 * (1.0 + std::fabs(fresh.energy()));
+    if (std::fabs(fresh.energy() - arrangement_.energy()) > tolerance ||
+        std::fabs(before + predicted - arrangement_.energy()) > tolerance)
+      fail(Status::internal_error, "quad selection: incremental E(L) " + std::to_string(arrangement_.energy()) +
+                                       " (predicted " + std::to_string(before + predicted) + ") but rebuilt " +
+                                       std::to_string(fresh.energy()));
+  }
+
+  // Number of matchings of the candidate curves (the empty one included), or limit + 1 when
+  // there are more.
+  size_t count_matchings(size_t limit) {
+    build_adjacency();
+    std::vector<char> used(net_.ports.size(), 0);
+    size_t count = 0;
+    count_from(0, used, count, limit);
+    return count;
+  }
+
+  // Every matching, by depth-first search with incremental add/remove moves; the least E(L)
+  // goes to `best` (a global minimum of the selection problem).
+  void enumerate(std::vector<uint32_t>& best, double& best_energy) {
+    build_adjacency();
+    arrangement_.reset({});
+    std::vector<char> used(net_.ports.size(), 0);
+    enumerate_from(0, used, best, best_energy);
+  }
+
+  void remember(std::vector<uint32_t>& best, double& best_energy) {
+    if (arrangement_.energy() < best_energy) best = arrangement_.selected(), best_energy = arrangement_.energy();
+  }
+
+ private:
+  void build_adjacency() {
+    if (!forward_.empty() || net_.ports.empty()) return;
+    forward_.resize(net_.ports.size());
+    for (uint32_t c = 0; c < net_.curves.size(); ++c) forward_[net_.curves[c].ports[0]].push_back(c);
+  }
+  void count_from(uint32_t p, std::vector<char>& used, size_t& count, size_t limit) {
+    while (p < used.size() && used[p]) ++p;
+    if (count > limit) return;
+    if (p >= used.size()) {
+      ++count;
+      return;
+    }
+    count_from(p + 1, used, count, limit);  // p stays unmatched
+    for (uint32_t c : forward_[p]) {
+      const uint32_t q = net_.curves[c].ports[1];
+      if (used[q]) continue;
+      used[p] = used[q] = 1;
+      count_from(p + 1, used, count, limit);
+      used[p] = used[q] = 0;
+    }
+  }
+  void enumerate_from(uint32_t p, std::vector<char>& used, std::vector<uint32_t>& best, double& best_energy) {
+    while (p < used.size() && used[p]) ++p;
+    if (p >= used.size()) {
+      ++stats_.matchings_enumerated;
+      if ((stats_.matchings_enumerated & 255) == 0) monitor_.report("quad curve selection", 0.5);
+      remember(best, best_energy);
+      return;
+    }
+    enumerate_from(p + 1, used, best, best_energy);
+    for (uint32_t c : forward_[p]) {
+      const uint32_t q = net_.curves[c].ports[1];
+      if (used[q]) continue;
+      used[p] = used[q] = 1;
+      arrangement_.evaluate({}, {c}, true);
+      enumerate_from(p + 1, used, best, best_energy);
+      arrangement_.evaluate({c}, {}, true);
+      used[p] = used[q] = 0;
+    }
+  }
+
+  static uint64_t key(uint32_t a, uint32_t b) { return a < b ? (uint64_t(a) << 32 | b) : (uint64_t(b) << 32 | a); }
+  int64_t curve(uint32_t a, uint32_t b) const {
+    auto it = curve_of_.find(key(a, b));
+    return it == curve_of_.end() ? -1 : int64_t(it->second);
+  }
+
+  const CurveNetwork& net_;
+  const SelectionOptions& options_;
+  const TaskMonitor& monitor_;
+  QuadSelection& stats_;
+  Arrangement arrangement_;
+  std::unordered_map<uint64_t, uint32_t> curve_of_;
+  std::vector<std::vector<uint32_t>> forward_;  // per port: the curves whose first port it is
+ public:
+  bool polish_ = false;  // descend() also tries add and remove moves
+  std::vector<char> focus_;  // per port; empty: every move (see descend())
+};
+
+void validate_matching(const CurveNetwork& net, const std::vector<uint32_t>& curves) {
+  std::vector<char> used(net.ports.size(), 0);
+  for (uint32_t c : curves) {
+    if (c >= net.curves.size())
+      fail(Status::invalid_argument, "quad selection: curve " + std::to_string(c) + " does not exist");
+    for (uint32_t p : net.curves[c].ports) {
+      if (used[p]) fail(Status::invalid_argument, "quad selection: two curves share port " + std::to_string(p));
+      used[p] = 1;
+    }
+  }
+}
+
+}  // namespace
+
+double configuration_energy(const CurveNetwork& network, const std::vector<uint32_t>& curves,
+                            const ElementWeights& weights) {
+  validate_matching(network, curves);
+  Arrangement arrangement(network, weights);
+  arrangement.reset(curves);
+  return arrangement.energy();
+}
+
+QuadSelection select_quad_curves(const CurveNetwork& network, const SelectionOptions& options,
+                                 const TaskMonitor& monitor) {
+  if (network.points.size() < 3) fail(Status::invalid_argument, "quad selection: the network has no region loop");
+  if (!(options.bad_crossing_angle >= 0.0 && options.bad_crossing_angle <= kPi / 2))
+    fail(Status::invalid_argument, "quad selection: bad_crossing_angle must lie in [0, π/2]");
+  QuadSelection result;
+  Optimizer optimizer(network, options, monitor, result);
+  Arrangement& arrangement = optimizer.arrangement();
+  arrangement.reset(phase1_greedy(network));
+  result.phase1_energy = arrangement.energy();
+  std::vector<uint32_t> best = arrangement.selected();
+  double best_energy = arrangement.energy();
+  if (options.exhaustive_limit > 0 && optimizer.count_matchings(options.exhaustive_limit) <= options.exhaustive_limit) {
+    result.phase2_energy = result.phase1_energy;
+    result.exhaustive = true;
+    optimizer.enumerate(best, best_energy);
+  } else {
+    if (options.run_phase2) optimizer.descend();
+    result.phase2_energy = arrangement.energy();
+    optimizer.remember(best, best_energy);
+    if (options.run_phase3) optimizer.escape(best, best_energy);
+  }
+  result.phase3_energy = best_energy;
+  if (options.add_remove_moves && !result.exhaustive) {
+    arrangement.reset(best);
+    optimizer.polish_ = true;
+    optimizer.descend();
+    optimizer.remember(best, best_energy);
+  }
+  result.tracked_energy = best_energy;
+  arrangement.reset(best);  // the backup (§6.7.4)
+  result.curves = arrangement.selected();
+  result.energy = arrangement.energy();
+  arrangement.export_mesh(result);
+  monitor.report("quad curve selection", 1.0);
+  return result;
+}
+
+QuadSelection improve_quad_selection(const CurveNetwork& network, const std::vector<uint32_t>& initial,
+                                     const SelectionOptions& options, const TaskMonitor& monitor,
+                                     const std::vector<char>* focus_ports) {
+  if (network.points.size() < 3) fail(Status::invalid_argument, "quad selection: the network has no region loop");
+  validate_matching(network, initial);
+  if (focus_ports && focus_ports->size() != network.ports.size())
+    fail(Status::invalid_argument, "quad selection: the focus needs one flag per port");
+  QuadSelection result;
+  Optimizer optimizer(network, options, monitor, result);
+  Arrangement& arrangement = optimizer.arrangement();
+  arrangement.reset(initial);
+  result.phase1_energy = result.phase2_energy = result.phase3_energy = arrangement.energy();
+  std::vector<uint32_t> best = arrangement.selected();
+  double best_energy = arrangement.energy();
+  optimizer.polish_ = true;
+  if (focus_ports) {
+    optimizer.focus_ = *focus_ports;
+    // An empty focus would mean "every move": give it one port that matters to nothing instead.
+    if (std::find(optimizer.focus_.begin(), optimizer.focus_.end(), 1) == optimizer.focus_.end())
+      optimizer.focus_.clear();
+  }
+  if (!focus_ports || !optimizer.focus_.empty()) optimizer.descend();
+  optimizer.remember(best, best_energy);
+  result.tracked_energy = best_energy;
+  arrangement.reset(best);
+  result.curves = arrangement.selected();
+  result.energy = arrangement.energy();
+  arrangement.export_mesh(result);
+  monitor.report("quad curve selection", 1.0);
+  return result;
+}
+
+CAGEKIT_NAMESPACE_END

@@ -1,0 +1,168 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Element shape measure (thesis §6.6.2); see quad_element_energy.h.
+#include "layout/quad/quad_element_energy.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+CAGEKIT_NAMESPACE_BEGIN
+
+using namespace plane2;
+
+namespace {
+const double kPi = 3.14159265358979323846;
+const size_t kMaxSplitValence = 24;  // larger faces are not split (rated as they are)
+}  // namespace
+
+std::vector<double> interior_angles(const std::vector<Point2>& polygon) {
+  const size_t n = polygon.size();
+  std::vector<double> angles(n);
+  for (size_t i = 0; i < n; ++i) {
+    const Point2& p = polygon[i];
+    angles[i] = ccw_angle(sub(polygon[(i + 1) % n], p), sub(polygon[(i + n - 1) % n], p));
+  }
+  return angles;
+}
+
+QuadEnergyTerms quad_energy_terms(const std::array<Point2, 4>& quad) {
+  const std::vector<Point2> polygon(quad.begin(), quad.end());
+  const std::vector<double> g = interior_angles(polygon);
+  double l[4], lmax = 0.0;
+  for (int i = 0; i < 4; ++i) l[i] = length(sub(quad[(i + 1) % 4], quad[i])), lmax = std::max(lmax, l[i]);
+  QuadEnergyTerms e;
+  for (int i = 0; i < 4; ++i) {
+    e.orthogonality += std::fabs(g[i] - kPi / 2);             // (6.4)
+    e.parallelism += std::fabs(g[i] + g[(i + 1) % 4] - kPi);  // (6.5)
+    e.rhombus *= 2.0 - (lmax > 0 ? l[i] / lmax : 0.0);        // (6.6)
+  }
+  auto ratio = [](double a, double b) { return std::max(a, b) > 0 ? std::min(a, b) / std::max(a, b) : 0.0; };
+  e.rectangle = (2.0 - ratio(l[0], l[2])) * (2.0 - ratio(l[1], l[3]));  // (6.7)
+  e.total = (1.0 + e.orthogonality) * (1.0 + e.parallelism) * e.rhombus * e.rectangle - 1.0;  // (6.8)
+  return e;
+}
+
+double angle_deviation_energy(const std::vector<Point2>& polygon, double beta) {
+  double e = 0.0;
+  for (double g : interior_angles(polygon)) e += std::fabs(g - beta);  // (6.9)
+  return e;
+}
+
+namespace {
+
+double rate_convex(const std::vector<Point2>& polygon, const std::vector<double>& angles, const ElementWeights& w,
+                   uint32_t& t_joints) {
+  size_t n = polygon.size();
+  std::vector<Point2> reduced = polygon;
+  double extra = 0.0;
+  if (n > 4) {
+    std::vector<size_t> straight;
+    for (size_t i = 0; i < n; ++i)
+      if (std::fabs(angles[i] - kPi) <= w.t_joint_tolerance) straight.push_back(i);
+    std::sort(straight.begin(), straight.end(),
+              [&](size_t a, size_t b) { return std::fabs(angles[a] - kPi) < std::fabs(angles[b] - kPi); });
+    const size_t k = std::min(straight.size(), n - 3);
+    if (k > 0) {
+      std::vector<char> drop(n, 0);
+      for (size_t i = 0; i < k; ++i) drop[straight[i]] = 1;
+      reduced.clear();
+      for (size_t i = 0; i < n; ++i)
+        if (!drop[i]) reduced.push_back(polygon[i]);
+      extra = double(k) * w.t_joint;
+      t_joints += static_cast<uint32_t>(k);
+      n = reduced.size();
+    }
+  }
+  if (n == 4) return extra + quad_energy_terms({reduced[0], reduced[1], reduced[2], reduced[3]}).total;
+  if (n == 3) return extra + w.triangle * (w.polygon_offset + angle_deviation_energy(reduced, kPi / 3));
+  const double beta = (double(n) - 2.0) * kPi / double(n);
+  double e = extra + w.pentagon * (w.polygon_offset + angle_deviation_energy(reduced, beta));
+  if (n > 5) e += w.high_valence * (double(n) - 5.0);
+  return e;
+}
+
+// A diagonal (i, j) of a simple polygon lies inside it: it crosses no edge and both parts are
+// counter-clockwise.
+bool diagonal_inside(const std::vector<Point2>& polygon, size_t i, size_t j) {
+  const size_t n = polygon.size();
+  for (size_t e = 0; e < n; ++e) {
+    const size_t f = (e + 1) % n;
+    if (e == i || f == i || e == j || f == j) continue;
+    if (segments_intersect(polygon[i], polygon[j], polygon[e], polygon[f])) return false;
+  }
+  return true;
+}
+
+// Greedy split: each diagonal from the most concave vertex is scored by rating its two parts
+// without further splitting; only the best one is split recursively (O(n²) per level instead of
+// the exponential search over all split trees).
+ElementRating rate_recursive(const std::vector<Point2>& polygon, const ElementWeights& w, int depth, bool split) {
+  ElementRating rating;
+  const size_t n = polygon.size();
+  if (n < 3 || !(signed_area(polygon) > 0.0)) {
+    rating.energy = w.invalid;
+    rating.invalid = true;
+    rating.pieces.emplace_back(n);
+    std::iota(rating.pieces.back().begin(), rating.pieces.back().end(), 0u);
+    return rating;
+  }
+  const std::vector<double> angles = interior_angles(polygon);
+  size_t concave = n;
+  for (size_t i = 0; i < n; ++i)
+    if (angles[i] > kPi + w.t_joint_tolerance && (concave == n || angles[i] > angles[concave])) concave = i;
+  if (split && concave != n && n > 3 && n <= kMaxSplitValence && depth < 16) {
+    double best_score = std::numeric_limits<double>::infinity();
+    std::vector<uint32_t> best_part[2];
+    for (size_t step = 2; step + 1 < n; ++step) {
+      const size_t j = (concave + step) % n;
+      if (!diagonal_inside(polygon, concave, j)) continue;
+      std::vector<uint32_t> part[2];
+      for (size_t k = concave;; k = (k + 1) % n) {
+        part[0].push_back(static_cast<uint32_t>(k));
+        if (k == j) break;
+      }
+      for (size_t k = j;; k = (k + 1) % n) {
+        part[1].push_back(static_cast<uint32_t>(k));
+        if (k == concave) break;
+      }
+      double score = 0.0;
+      for (const auto& indices : part) {
+        std::vector<Point2> sub_polygon;
+        for (uint32_t k : indices) sub_polygon.push_back(polygon[k]);
+        score += signed_area(sub_polygon) > 0.0 ? rate_recursive(sub_polygon, w, depth + 1, false).energy
+                                                : std::numeric_limits<double>::infinity();
+      }
+      if (score < best_score) best_score = score, best_part[0] = part[0], best_part[1] = part[1];
+    }
+    if (std::isfinite(best_score)) {
+      ElementRating combined;
+      for (const auto& indices : best_part) {
+        std::vector<Point2> sub_polygon;
+        for (uint32_t k : indices) sub_polygon.push_back(polygon[k]);
+        const ElementRating r = rate_recursive(sub_polygon, w, depth + 1, true);
+        combined.energy += r.energy;
+        combined.t_joints += r.t_joints;
+        combined.invalid = combined.invalid || r.invalid;
+        for (const auto& piece : r.pieces) {
+          std::vector<uint32_t> mapped;
+          for (uint32_t k : piece) mapped.push_back(indices[k]);
+          combined.pieces.push_back(std::move(mapped));
+        }
+      }
+      return combined;
+    }
+  }
+  rating.energy = rate_convex(polygon, angles, w, rating.t_joints);
+  rating.pieces.emplace_back(n);
+  std::iota(rating.pieces.back().begin(), rating.pieces.back().end(), 0u);
+  return rating;
+}
+
+}  // namespace
+
+ElementRating rate_element(const std::vector<Point2>& polygon, const ElementWeights& weights) {
+  return rate_recursive(polygon, weights, 0, true);
+}
+
+CAGEKIT_NAMESPACE_END
