@@ -65,20 +65,17 @@ class Reader {
   void need(uint64_t n, const char* what) const {
     if (n > remaining()) error(Status::parse_error, std::string("truncated ") + what);
   }
-  uint32_t u32(const char* what) {
-    need(4, what);
-    uint32_t v = 0;
-    for (int k = 0; k < 4; ++k) v |= uint32_t(data_[at_ + size_t(k)]) << (8 * k);
-    at_ += 4;
+  // A little-endian unsigned integer of sizeof(T) bytes.
+  template <class T>
+  T little_endian(const char* what) {
+    need(sizeof(T), what);
+    T v = 0;
+    for (size_t k = 0; k < sizeof(T); ++k) v |= T(data_[at_ + k]) << (8 * k);
+    at_ += sizeof(T);
     return v;
   }
-  uint64_t u64(const char* what) {
-    need(8, what);
-    uint64_t v = 0;
-    for (int k = 0; k < 8; ++k) v |= uint64_t(data_[at_ + size_t(k)]) << (8 * k);
-    at_ += 8;
-    return v;
-  }
+  uint32_t u32(const char* what) { return little_endian<uint32_t>(what); }
+  uint64_t u64(const char* what) { return little_endian<uint64_t>(what); }
   double f64(const char* what) {
     const uint64_t v = u64(what);
     double d;

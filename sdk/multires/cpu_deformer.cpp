@@ -587,13 +587,9 @@ void CpuDeformer::deform(const std::vector<Vec3>& control, float* positions, flo
 template <typename T>
 size_t CpuDeformer::update_impl(const std::vector<Vec3>& control, const std::vector<uint32_t>& moved, T* positions,
                                 T* normals, NormalMode mode) {
-  if (control_.size() != b_.num_control_vertices)
-    fail(Status::invalid_argument, "deformer: update() before a first deform()");
-  if (control.size() != control_.size())
-    fail(Status::invalid_argument, "deformer: expected " + std::to_string(control_.size()) + " control points");
+  check_update_control(control_.size(), b_.num_control_vertices, control.size());
   check_mode(mode);
-  for (uint32_t j : moved)
-    if (j >= control.size()) fail(Status::invalid_argument, "deformer: moved control vertex out of range");
+  check_moved_control(moved, control.size());
   if (mode == NormalMode::exact || !compact()) {
     SparseRowDeformer& r = reference();
     // Bring the reference to the last frame first (its S, S_u, ... are updated by deltas).

@@ -85,16 +85,23 @@ void SparseRowDeformer::deform(const std::vector<Vec3>& control, Vec3* positions
   });
 }
 
+void check_update_control(size_t last_count, size_t bound_count, size_t given_count) {
+  if (last_count != bound_count) fail(Status::invalid_argument, "deformer: update() before a first deform()");
+  if (given_count != last_count)
+    fail(Status::invalid_argument, "deformer: expected " + std::to_string(last_count) + " control points");
+}
+
+void check_moved_control(const std::vector<uint32_t>& moved, size_t control_count) {
+  for (uint32_t j : moved)
+    if (j >= control_count) fail(Status::invalid_argument, "deformer: moved control vertex out of range");
+}
+
 size_t SparseRowDeformer::update(const std::vector<Vec3>& control, const std::vector<uint32_t>& moved, Vec3* positions,
                            Vec3* normals, NormalMode mode) {
-  if (control_.size() != b_.num_control_vertices)
-    fail(Status::invalid_argument, "deformer: update() before a first deform()");
-  if (control.size() != control_.size())
-    fail(Status::invalid_argument, "deformer: expected " + std::to_string(control_.size()) + " control points");
+  check_update_control(control_.size(), b_.num_control_vertices, control.size());
   const bool exact = mode == NormalMode::exact;
   if (exact && !have_second_) fail(Status::invalid_argument, "deformer: exact normals need a deform() in exact mode first");
-  for (uint32_t j : moved)
-    if (j >= control.size()) fail(Status::invalid_argument, "deformer: moved control vertex out of range");
+  check_moved_control(moved, control.size());
   if (++stamp_ == 0) {  // wrapped: reset the stamps
     std::fill(touched_stamp_.begin(), touched_stamp_.end(), 0);
     stamp_ = 1;

@@ -4,6 +4,7 @@
 
 #include <cfloat>
 #include <cmath>
+#include <initializer_list>
 #include <string>
 
 CAGEKIT_NAMESPACE_BEGIN
@@ -147,27 +148,22 @@ void apply_obj_tags(const std::vector<ObjTagLine>& tags, Cage& cage, const ReadC
 }
 
 void write_obj_tags(const Cage& cage, TextWriter& w) {
-  for (const EdgeCrease& c : cage.creases) {
-    w.text("t crease 2/1/0 ");
-    w.uint(c.v0);
-    w.ch(' ');
-    w.uint(c.v1);
-    w.ch(' ');
-    w.shortest(c.sharpness);
+  // One "t NAME i/f/s ints... floats..." line.
+  auto tag = [&w](const char* head, std::initializer_list<uint32_t> ints, const float* sharpness) {
+    w.text(head);
+    for (uint32_t i : ints) {
+      w.ch(' ');
+      w.uint(i);
+    }
+    if (sharpness) {
+      w.ch(' ');
+      w.shortest(*sharpness);
+    }
     w.ch('\n');
-  }
-  for (const VertexCorner& c : cage.corners) {
-    w.text("t corner 1/1/0 ");
-    w.uint(c.vertex);
-    w.ch(' ');
-    w.shortest(c.sharpness);
-    w.ch('\n');
-  }
-  for (uint32_t h : cage.holes) {
-    w.text("t hole 1/0/0 ");
-    w.uint(h);
-    w.ch('\n');
-  }
+  };
+  for (const EdgeCrease& c : cage.creases) tag("t crease 2/1/0", {c.v0, c.v1}, &c.sharpness);
+  for (const VertexCorner& c : cage.corners) tag("t corner 1/1/0", {c.vertex}, &c.sharpness);
+  for (uint32_t h : cage.holes) tag("t hole 1/0/0", {h}, nullptr);
   if (cage.boundary == BoundaryRule::edges_and_corners) w.text("t interpolateboundary 1/0/0 1\n");
 }
 

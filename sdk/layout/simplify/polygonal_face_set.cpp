@@ -32,18 +32,20 @@ void PolygonalFaceSet::add_star(uint32_t f) {
   }
 }
 
+void PolygonalFaceSet::remove_star_entry(uint32_t v, uint32_t f) {
+  StarEntry* s = star_.data() + head_[v].offset;
+  const uint32_t n = head_[v].count;
+  for (uint32_t i = 0; i < n; ++i)
+    if (s[i].face == f) {
+      s[i] = s[n - 1];
+      if (--head_[v].count == 0) --used_vertices_;
+      break;
+    }
+}
+
 void PolygonalFaceSet::remove_star(uint32_t f) {
   for (const auto& loop : faces[f].loops)
-    for (const uint32_t v : loop) {
-      StarEntry* s = star_.data() + head_[v].offset;
-      const uint32_t n = head_[v].count;
-      for (uint32_t i = 0; i < n; ++i)
-        if (s[i].face == f) {
-          s[i] = s[n - 1];
-          if (--head_[v].count == 0) --used_vertices_;
-          break;
-        }
-    }
+    for (const uint32_t v : loop) remove_star_entry(v, f);
 }
 
 void PolygonalFaceSet::remove_loop_vertex(uint32_t f, uint32_t v) {
@@ -62,14 +64,7 @@ void PolygonalFaceSet::remove_loop_vertex(uint32_t f, uint32_t v) {
   s = star_.data() + head_[w].offset;
   for (uint32_t i = 0; i < head_[w].count; ++i)
     if (s[i].face == f) s[i].prev = u;
-  s = star_.data() + head_[v].offset;
-  const uint32_t n = head_[v].count;
-  for (uint32_t i = 0; i < n; ++i)
-    if (s[i].face == f) {
-      s[i] = s[n - 1];
-      if (--head_[v].count == 0) --used_vertices_;
-      break;
-    }
+  remove_star_entry(v, f);
 }
 
 bool PolygonalFaceSet::splice(uint32_t f, uint32_t g, std::vector<std::vector<uint32_t>>& loops,

@@ -115,6 +115,8 @@ class PolygonalFaceSet {
   bool splice(uint32_t f, uint32_t g, std::vector<std::vector<uint32_t>>& loops, uint64_t& shared_edges);
 
  private:
+  void remove_star_entry(uint32_t v, uint32_t f);  // f's entry in v's star, if any
+
   struct StarHead {  // offset and size of a vertex's star: one cache line access per vertex
     uint64_t offset = 0;
     uint32_t count = 0, pad = 0;
