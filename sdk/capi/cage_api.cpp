@@ -2,30 +2,15 @@
 // Cage handles: creation from a mesh, crease/corner/hole tags, boundary rule.
 #include <algorithm>
 #include <cmath>
-#include <unordered_set>
 
 #include "capi/api_guard.h"
 #include "capi/mesh_conversion.h"
+#include "core/mesh_edge_set.h"
 #include "core/mesh_validation.h"
 
 using namespace cagekit_capi;
 
 namespace {
-
-uint64_t edge_key(uint32_t a, uint32_t b) {
-  if (a > b) std::swap(a, b);
-  return (uint64_t(a) << 32) | b;
-}
-
-std::unordered_set<uint64_t> mesh_edges(const cagekit::PolygonMesh& mesh) {
-  std::unordered_set<uint64_t> edges;
-  edges.reserve(mesh.num_face_vertices());
-  for (size_t f = 0; f < mesh.num_faces(); ++f) {
-    const uint32_t n = mesh.face_size(f);
-    for (uint32_t c = 0; c < n; ++c) edges.insert(edge_key(mesh.face_vertex(f, c), mesh.face_vertex(f, (c + 1) % n)));
-  }
-  return edges;
-}
 
 float checked_sharpness(const float* sharpness, uint32_t i, const char* what) {
   const float s = sharpness ? sharpness[i] : CAGEKIT_SHARP;
@@ -69,12 +54,12 @@ CAGEKIT_API cagekit_status cagekit_cage_set_creases(cagekit_cage cage, uint32_t 
   return guarded(context_of(cage), [&] {
     cagekit_cage_t& c = checked(cage, "cage");
     if (count > 0) require_not_null(vertex_pairs, "vertex_pairs");
-    const std::unordered_set<uint64_t> edges = mesh_edges(c.cage.mesh);
+    const cagekit::MeshEdgeSet edges(c.cage.mesh);
     std::vector<cagekit::EdgeCrease> creases;
     creases.reserve(count);
     for (uint32_t i = 0; i < count; ++i) {
       const uint32_t a = vertex_pairs[2 * i], b = vertex_pairs[2 * i + 1];
-      if (!edges.count(edge_key(a, b)))
+      if (!edges.contains(a, b))
         fail(Status::invalid_argument, "crease " + std::to_string(i) + " (" + std::to_string(a) + ", " +
                                            std::to_string(b) + ") is not an edge of the cage");
       const float s = checked_sharpness(sharpness, i, "crease");

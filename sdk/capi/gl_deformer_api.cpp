@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // GPU deformer in the host's GL context (thesis §8.6): the C shim over gpu/GlDeformer.
-#include <cmath>
 #include <memory>
 
 #include "capi/api_guard.h"
+#include "capi/mesh_conversion.h"
 #include "gpu/gl_deformer.h"
 
 using namespace cagekit_capi;
@@ -23,6 +23,7 @@ struct cagekit_gl_deformer_t : ContextBound {
   cagekit_binding_t* binding;
   std::unique_ptr<cagekit::GlDeformer> deformer;
   std::vector<float> control, read_back;
+  std::vector<cagekit::Vec3> control_points;  // the last call's, before the conversion to float
 };
 
 namespace {
@@ -35,26 +36,17 @@ std::vector<uint32_t> triangles_of(const cagekit::PolygonMesh& mesh) {
   size_t count = 0;
   for (size_t f = 0; f < mesh.num_faces(); ++f) count += mesh.face_size(f) >= 3 ? 3 * (mesh.face_size(f) - 2) : 0;
   out.reserve(count);
-  for (size_t f = 0; f < mesh.num_faces(); ++f) {
-    const uint32_t* v = mesh.face_begin(f);
-    for (uint32_t k = 2; k < mesh.face_size(f); ++k) out.insert(out.end(), {v[0], v[k - 1], v[k]});
-  }
+  for (size_t f = 0; f < mesh.num_faces(); ++f)
+    mesh.for_each_fan_triangle(f, [&](uint32_t a, uint32_t b, uint32_t c) { out.insert(out.end(), {a, b, c}); });
   return out;
 }
 
 // The caller's control points as floats, checked.
 void read_control(cagekit_gl_deformer_t& d, const double* control, uint32_t control_count) {
-  require_not_null(control, "control");
-  const uint32_t expected = d.deformer->control_count();
-  if (control_count != expected)
-    fail(Status::invalid_argument, "control_count is " + std::to_string(control_count) +
-                                       " but the binding's cage has " + std::to_string(expected) + " vertices");
-  d.control.resize(3 * size_t(expected));
-  for (size_t k = 0; k < 3 * size_t(expected); ++k) {
-    if (!std::isfinite(control[k]))
-      fail(Status::invalid_argument, "control point " + std::to_string(k / 3) + " is not finite");
-    d.control[k] = static_cast<float>(control[k]);
-  }
+  read_control_points(control, control_count, d.deformer->control_count(), d.control_points);
+  d.control.resize(3 * d.control_points.size());
+  for (size_t j = 0; j < d.control_points.size(); ++j)
+    for (int i = 0; i < 3; ++i) d.control[3 * j + size_t(i)] = static_cast<float>(d.control_points[j][i]);
 }
 
 }  // namespace
@@ -80,8 +72,7 @@ CAGEKIT_API cagekit_status cagekit_gl_deformer_create(cagekit_binding binding, c
       if (m.mesh.num_vertices() != b.binding.num_vertices())
         fail(Status::invalid_argument, "scan has " + std::to_string(m.mesh.num_vertices()) + " vertices but the binding " +
                                            std::to_string(b.binding.num_vertices()));
-      for (uint32_t v : m.mesh.face_vertices)
-        if (v >= m.mesh.num_vertices()) fail(Status::invalid_argument, "the scan has a face index out of range");
+      require_scan_face_indices_in_range(m.mesh);
       triangles = triangles_of(m.mesh);
     }
     cagekit::GlDeformerOptions go;

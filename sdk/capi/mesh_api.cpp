@@ -129,6 +129,29 @@ cagekit_mesh make_mesh_handle(cagekit_context context, cagekit::PolygonMesh mesh
 
 }  // namespace cagekit_capi
 
+namespace cagekit_capi {
+
+void read_control_points(const double* control, uint32_t control_count, uint32_t expected,
+                         std::vector<cagekit::Vec3>& out) {
+  require_not_null(control, "control");
+  if (control_count != expected)
+    fail(Status::invalid_argument, "control_count is " + std::to_string(control_count) + " but the binding's cage has " +
+                                       std::to_string(expected) + " vertices");
+  out.resize(expected);
+  for (uint32_t j = 0; j < expected; ++j) {
+    const cagekit::Vec3 p{control[3 * size_t(j)], control[3 * size_t(j) + 1], control[3 * size_t(j) + 2]};
+    if (!cagekit::is_finite(p)) fail(Status::invalid_argument, "control point " + std::to_string(j) + " is not finite");
+    out[j] = p;
+  }
+}
+
+void require_scan_face_indices_in_range(const cagekit::PolygonMesh& scan) {
+  for (uint32_t v : scan.face_vertices)
+    if (v >= scan.num_vertices()) fail(Status::invalid_argument, "the scan has a face index out of range");
+}
+
+}  // namespace cagekit_capi
+
 extern "C" {
 
 CAGEKIT_API cagekit_status cagekit_mesh_create(cagekit_context context, const cagekit_mesh_desc* desc,

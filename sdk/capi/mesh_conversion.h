@@ -13,5 +13,12 @@ void copy_faces(const cagekit::PolygonMesh& mesh, uint32_t face_capacity, uint32
 // Statistics of `mesh`, with the tag counts of `tags` when it is a cage (tags->mesh == mesh).
 void fill_info(const cagekit::PolygonMesh& mesh, const cagekit::Cage* tags, cagekit_mesh_info* info);
 cagekit_mesh make_mesh_handle(cagekit_context context, cagekit::PolygonMesh mesh);
+// The caller's control points (`control_count` xyz doubles) into `out`, checked: not NULL,
+// exactly `expected` of them (the binding's cage), every coordinate finite. Used by the CPU and
+// GL deformers' calls.
+void read_control_points(const double* control, uint32_t control_count, uint32_t expected,
+                         std::vector<cagekit::Vec3>& out);
+// A scan to bind or to draw: every face index must name one of its vertices.
+void require_scan_face_indices_in_range(const cagekit::PolygonMesh& scan);
 
 }  // namespace cagekit_capi

@@ -25,19 +25,8 @@ cagekit::NormalMode checked_normal_mode(const cagekit_normal_mode& mode) {
   return raw == CAGEKIT_NORMALS_EXACT ? cagekit::NormalMode::exact : cagekit::NormalMode::approximate;
 }
 
-// The caller's control points, checked.
 void read_control(cagekit_cpu_deformer_t& d, const double* control, uint32_t control_count) {
-  require_not_null(control, "control");
-  const uint32_t expected = d.binding->binding.num_control_vertices;
-  if (control_count != expected)
-    fail(Status::invalid_argument, "control_count is " + std::to_string(control_count) + " but the binding's cage has " +
-                                       std::to_string(expected) + " vertices");
-  d.control.resize(expected);
-  for (uint32_t j = 0; j < expected; ++j) {
-    const cagekit::Vec3 p{control[3 * size_t(j)], control[3 * size_t(j) + 1], control[3 * size_t(j) + 2]};
-    if (!cagekit::is_finite(p)) fail(Status::invalid_argument, "control point " + std::to_string(j) + " is not finite");
-    d.control[j] = p;
-  }
+  read_control_points(control, control_count, d.binding->binding.num_control_vertices, d.control);
 }
 
 void check_capacity(const cagekit_cpu_deformer_t& d, uint32_t capacity, const void* positions, const void* normals) {
@@ -106,8 +95,7 @@ CAGEKIT_API cagekit_status cagekit_multires_bind(cagekit_cage cage, cagekit_mesh
     if (o.exact_normals != 0 && o.exact_normals != 1)
       fail(Status::invalid_argument, "cagekit_bind_options.exact_normals must be 0 or 1");
     if (o.threads > 1024) fail(Status::invalid_argument, "cagekit_bind_options.threads must be <= 1024");
-    for (uint32_t v : m.mesh.face_vertices)
-      if (v >= m.mesh.num_vertices()) fail(Status::invalid_argument, "the scan has a face index out of range");
+    require_scan_face_indices_in_range(m.mesh);
     cagekit::BindOptions bo;
     bo.mode = mode == CAGEKIT_DISPLACEMENT_LOCAL_FRAME ? cagekit::DisplacementMode::local_frame
                                                        : cagekit::DisplacementMode::normal;

@@ -23,6 +23,7 @@
 
 #include "core/edge_map.h"
 #include "core/status.h"
+#include "core/vertex_renumbering.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 
@@ -42,19 +43,6 @@ void filter_faces(PolygonMesh& m, const std::vector<uint8_t>& keep) {
   }
   m.face_vertices.resize(w);
   m.face_offsets.resize(wf + 1);
-}
-
-// Renumbers vertices: vertex v becomes new_index[v] (kNone: removed, and no face may use it);
-// when several vertices get the same new index the position of the first one is kept.
-// Out-of-range indices stay out of range (shifted with the vertex count).
-void renumber_vertices(PolygonMesh& m, const std::vector<uint32_t>& new_index, size_t new_count) {
-  const size_t nv = m.num_vertices();
-  std::vector<Vec3> positions(new_count);
-  for (size_t v = nv; v-- > 0;)
-    if (new_index[v] != kNone) positions[new_index[v]] = m.positions[v];
-  for (uint32_t& v : m.face_vertices)
-    v = v < nv ? new_index[v] : static_cast<uint32_t>(v - nv + new_count);
-  m.positions = std::move(positions);
 }
 
 bool face_in_range(const PolygonMesh& m, size_t f) {
@@ -221,7 +209,7 @@ uint64_t weld(PolygonMesh& m, double tol) {
     new_index[v] = root_index[r];
   }
   if (count == nv) return 0;
-  renumber_vertices(m, new_index, count);  // keeps the position of each cluster's first vertex
+  remap_vertices(m, new_index, count);  // keeps the position of each cluster's first vertex
   return nv - count;
 }
 
@@ -476,12 +464,7 @@ PolygonMesh repair_mesh(const PolygonMesh& mesh, const RepairOptions& options, R
       rep.dropped_invalid_faces += !keep[f];
     }
     if (rep.dropped_invalid_faces) filter_faces(m, keep);
-    std::vector<uint32_t> new_index(nv, kNone);
-    size_t count = 0;
-    for (size_t v = 0; v < nv; ++v)
-      if (finite[v]) new_index[v] = static_cast<uint32_t>(count++);
-    rep.removed_non_finite_vertices = nv - count;
-    if (count != nv) renumber_vertices(m, new_index, count);
+    rep.removed_non_finite_vertices = keep_vertices(m, finite);
   }
 
   monitor.report("repair: degenerate faces", 2.0 / 7);
@@ -540,12 +523,7 @@ PolygonMesh repair_mesh(const PolygonMesh& mesh, const RepairOptions& options, R
     std::vector<uint8_t> used(nv, 0);
     for (uint32_t v : m.face_vertices)
       if (v < nv) used[v] = 1;
-    std::vector<uint32_t> new_index(nv, kNone);
-    size_t count = 0;
-    for (size_t v = 0; v < nv; ++v)
-      if (used[v]) new_index[v] = static_cast<uint32_t>(count++);
-    rep.removed_unreferenced_vertices = nv - count;
-    if (count != nv) renumber_vertices(m, new_index, count);
+    rep.removed_unreferenced_vertices = keep_vertices(m, used);
   }
   monitor.report("repair: done", 1.0);
   if (report) *report = rep;

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "core/edge_map.h"
+#include "core/mesh_edge_set.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 
@@ -228,6 +229,7 @@ ValidationReport validate_cage(const Cage& cage, size_t max_records) {
   check_mesh(cage.mesh, rec, check);
   const size_t nv = cage.mesh.num_vertices(), nf = cage.mesh.num_faces();
   auto bad_sharpness = [](float s) { return std::isnan(s) || s < 0; };
+  const MeshEdgeSet edges(cage.mesh);
   for (size_t i = 0; i < cage.creases.size(); ++i) {
     const EdgeCrease& c = cage.creases[i];
     if (c.v0 >= nv || c.v1 >= nv) {
@@ -235,7 +237,7 @@ ValidationReport validate_cage(const Cage& cage, size_t max_records) {
         return "crease " + std::to_string(i) + " refers to vertex " + std::to_string(c.v0 >= nv ? c.v0 : c.v1) +
                " but the mesh has " + std::to_string(nv) + " vertices";
       });
-    } else if (check.edges.find_edge(c.v0, c.v1) == kNone) {
+    } else if (!edges.contains(c.v0, c.v1)) {
       rec.add(MeshIssue::index_out_of_range, i, [&] {
         return "crease " + std::to_string(i) + " " + fmt_edge(c.v0, c.v1) + " is not an edge of the mesh";
       });

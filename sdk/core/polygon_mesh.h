@@ -50,6 +50,13 @@ class PolygonMesh {
   // Mean length of the faces' edges, each half-edge counted once (shared edges twice); 0 without
   // faces. Indices must be in range.
   double mean_edge_length() const;
+  // The fan triangulation of face f from its first corner, the one fan rule of the SDK:
+  // visit(v0, v1, v2), visit(v0, v2, v3), … (none for faces of fewer than three vertices).
+  template <class Visit>
+  void for_each_fan_triangle(size_t f, Visit&& visit) const {
+    const uint32_t* v = face_begin(f);
+    for (uint32_t k = 1; k + 1 < face_size(f); ++k) visit(v[0], v[k], v[k + 1]);
+  }
 };
 
 CAGEKIT_NAMESPACE_END

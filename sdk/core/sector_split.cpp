@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "core/angles.h"
 #include "core/edge_map.h"
 #include "core/status.h"
 
@@ -29,7 +30,7 @@ SectorSplit split_vertices_by_sector(const PolygonMesh& mesh, double sharp_angle
   }
   detail::EdgeMap map;
   detail::build_edge_map(map, mesh, include);
-  const double cos_limit = std::cos(sharp_angle_degrees * M_PI / 180.0);
+  const double cos_limit = std::cos(radians_from_degrees(sharp_angle_degrees));
   detail::UnionFind corners(mesh.face_vertices.size());
   detail::glue_fans(map, corners, [&](size_t e) {
     if (map.valence(e) != 2) return false;  // boundary or non-manifold: sharp

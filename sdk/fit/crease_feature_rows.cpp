@@ -6,15 +6,12 @@
 #include <map>
 #include <unordered_set>
 
+#include "core/edge_key.h"
 #include "core/status.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 
 namespace {
-
-uint64_t edge_key(uint32_t a, uint32_t b) {
-  return (uint64_t(std::min(a, b)) << 32) | std::max(a, b);
-}
 
 constexpr int64_t kCellRange = int64_t(1) << 20;  // 21 bits per axis in a key
 
@@ -25,7 +22,7 @@ std::vector<FeatureSegment> feature_segments(const PolygonMesh& mesh, const std:
   out.reserve(edge_keys.size());
   const size_t n = mesh.num_vertices();
   for (const uint64_t key : edge_keys) {
-    const uint64_t a = key >> 32, b = key & 0xffffffffu;
+    const uint64_t a = edge_key_first(key), b = edge_key_second(key);
     if (a < n && b < n) out.push_back({mesh.positions[a], mesh.positions[b]});
   }
   return out;

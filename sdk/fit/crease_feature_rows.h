@@ -31,7 +31,7 @@ struct FeatureSegment {
   Vec3 a, b;
 };
 
-// The edges `edge_keys` (lo << 32 | hi, e.g. SharpFeatures::edges) of `mesh` as segments; keys
+// The edges `edge_keys` (edge_key()s, e.g. SharpFeatures::edges) of `mesh` as segments; keys
 // outside the vertex range are skipped.
 std::vector<FeatureSegment> feature_segments(const PolygonMesh& mesh, const std::vector<uint64_t>& edge_keys);
 

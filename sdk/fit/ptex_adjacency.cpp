@@ -5,20 +5,16 @@
 #include <cmath>
 #include <numeric>
 
+#include "core/edge_key.h"
 #include "core/status.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 
 namespace {
 
-uint64_t edge_line(uint32_t a, uint32_t b) {
-  const uint32_t lo = std::min(a, b), hi = std::max(a, b);
-  return (uint64_t(lo) << 32) | hi;
-}
-
 // Side running from vertex x (parameter 0) towards vertex y over `fraction` of the edge.
 void along_edge(uint32_t x, uint32_t y, double fraction, uint64_t& line, double& offset, double& scale) {
-  line = edge_line(x, y);
+  line = edge_key(x, y);
   if (x < y) {
     offset = 0;
     scale = fraction;

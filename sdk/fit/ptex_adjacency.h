@@ -34,14 +34,14 @@ class PtexAdjacency {
   // face, or a non-manifold edge with no unique neighbour).
   int transfer(uint32_t& face, double& u, double& v, int side) const;
 
-  // The cage edge (lo << 32 | hi) that `side` of ptex `face` runs along, or kNoEdge for the
+  // The cage edge (its edge_key()) that `side` of ptex `face` runs along, or kNoEdge for the
   // spokes of an n-gon's ptex face (its sides 1 and 2) and for arguments out of range.
   static constexpr uint64_t kNoEdge = ~uint64_t(0);
   uint64_t cage_edge(uint32_t face, int side) const;
 
  private:
   struct Side {
-    uint64_t line = 0;  // cage edge (lo << 32 | hi) or face spoke (1 << 63 | corner)
+    uint64_t line = 0;  // cage edge (edge_key()) or face spoke (1 << 63 | corner)
     double offset = 0, scale = 0;  // line parameter = offset + scale * side parameter
   };
   std::vector<Side> sides_;  // 4 per ptex face

@@ -26,10 +26,10 @@ double seconds_since(Clock::time_point t) { return std::chrono::duration<double>
 double surface_area(const PolygonMesh& mesh) {
   double area = 0;
   for (size_t f = 0; f < mesh.num_faces(); ++f) {
-    const uint32_t* v = mesh.face_begin(f);
     Vec3 n;
-    for (uint32_t k = 1; k + 1 < mesh.face_size(f); ++k)
-      n += cross(mesh.positions[v[k]] - mesh.positions[v[0]], mesh.positions[v[k + 1]] - mesh.positions[v[0]]);
+    mesh.for_each_fan_triangle(f, [&](uint32_t a, uint32_t b, uint32_t c) {
+      n += cross(mesh.positions[b] - mesh.positions[a], mesh.positions[c] - mesh.positions[a]);
+    });
     area += 0.5 * norm(n);
   }
   return area;

@@ -62,7 +62,7 @@ SelfIntersections count_self_intersections(const PolygonMesh& mesh) {
       }
       continue;
     }
-    for (uint32_t k = 1; k + 1 < mesh.face_size(f); ++k) add(c[0], c[k], c[k + 1]);
+    mesh.for_each_fan_triangle(f, add);
   }
   std::vector<std::pair<Face, Face>> pairs;
   try {

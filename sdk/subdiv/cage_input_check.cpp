@@ -10,16 +10,12 @@
 #include <string>
 #include <vector>
 
+#include "core/mesh_edge_set.h"
 #include "core/status.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 namespace subdiv_detail {
 namespace {
-
-uint64_t edge_key(uint32_t a, uint32_t b) {
-  if (a > b) std::swap(a, b);
-  return (static_cast<uint64_t>(a) << 32) | b;
-}
 
 void check_sharpness(float sharpness, const std::string& what) {
   if (!std::isfinite(sharpness) || sharpness < 0.0f)
@@ -71,28 +67,15 @@ void check_faces(const PolygonMesh& mesh) {
       fail(Status::invalid_mesh, "vertex " + std::to_string(v) + " has a non-finite coordinate");
 }
 
-std::vector<uint64_t> sorted_edge_keys(const PolygonMesh& mesh) {
-  std::vector<uint64_t> keys;
-  keys.reserve(mesh.num_face_vertices());
-  for (size_t f = 0; f < mesh.num_faces(); ++f) {
-    const uint32_t size = mesh.face_size(f);
-    const uint32_t* face = mesh.face_begin(f);
-    for (uint32_t i = 0; i < size; ++i) keys.push_back(edge_key(face[i], face[(i + 1) % size]));
-  }
-  std::sort(keys.begin(), keys.end());
-  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
-  return keys;
-}
-
 void check_tags(const Cage& cage) {
   const PolygonMesh& mesh = cage.mesh;
   if (!cage.creases.empty()) {
-    const std::vector<uint64_t> edges = sorted_edge_keys(mesh);
+    const MeshEdgeSet edges(mesh);
     for (size_t i = 0; i < cage.creases.size(); ++i) {
       const EdgeCrease& c = cage.creases[i];
       const std::string name = "crease " + std::to_string(i) + " (" + std::to_string(c.v0) + ", " +
                                std::to_string(c.v1) + ")";
-      if (c.v0 == c.v1 || !std::binary_search(edges.begin(), edges.end(), edge_key(c.v0, c.v1)))
+      if (!edges.contains(c.v0, c.v1))
         fail(Status::invalid_mesh, name + " is not an edge of the cage");
       check_sharpness(c.sharpness, name);
     }

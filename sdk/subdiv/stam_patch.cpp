@@ -11,6 +11,7 @@
 #include <memory>
 #include <string>
 
+#include "core/angles.h"
 #include "core/status.h"
 #include "subdiv/patch_basis.h"
 #include "subdiv/topology_refiner_factory.h"
@@ -273,10 +274,10 @@ void stam_basis(const StamMatrices& m, double s, double t, double* w, int kinds)
     // Limit position and tangent masks of the EV (Halstead et al. 1993), tangents scaled so
     // that valence 4 gives the B-spline derivatives.
     for (int c = 0; c <= 2 * n; ++c) w[c] = m.limit[c];
-    const double a = 1.0 + std::cos(2 * M_PI / n) + std::cos(M_PI / n) * std::sqrt(2.0 * (9.0 + std::cos(2 * M_PI / n)));
+    const double a = 1.0 + std::cos(2 * kPi / n) + std::cos(kPi / n) * std::sqrt(2.0 * (9.0 + std::cos(2 * kPi / n)));
     for (int k = 0; k < n; ++k) {
       for (int d = 0; d < 2; ++d) {  // d/ds along spoke 0, d/dt along spoke 1
-        const double c0 = std::cos(2 * M_PI * (k - d) / n), c1 = std::cos(2 * M_PI * (k + 1 - d) / n);
+        const double c0 = std::cos(2 * kPi * (k - d) / n), c1 = std::cos(2 * kPi * (k + 1 - d) / n);
         w[(1 + d) * size + 1 + k] = a * c0 / 12.0;
         w[(1 + d) * size + n + 1 + k] = (c0 + c1) / 12.0;
       }

@@ -27,10 +27,8 @@ using Triangle = std::array<uint32_t, 3>;
 std::vector<Triangle> fan_triangles(const PolygonMesh& mesh) {
   std::vector<Triangle> triangles;
   triangles.reserve(mesh.num_face_vertices() - 2 * mesh.num_faces());
-  for (size_t f = 0; f < mesh.num_faces(); ++f) {
-    const uint32_t* c = mesh.face_begin(f);
-    for (uint32_t i = 0; i + 2 < mesh.face_size(f); ++i) triangles.push_back({c[0], c[i + 1], c[i + 2]});
-  }
+  for (size_t f = 0; f < mesh.num_faces(); ++f)
+    mesh.for_each_fan_triangle(f, [&](uint32_t a, uint32_t b, uint32_t c) { triangles.push_back({a, b, c}); });
   return triangles;
 }
 

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "layout/anisotropic/anisotropic_remesher.h"
+#include "core/angles.h"
 #include "layout/common/sharp_input_features.h"
 
 #include <chrono>
@@ -22,8 +23,6 @@
 CAGEKIT_NAMESPACE_BEGIN
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();

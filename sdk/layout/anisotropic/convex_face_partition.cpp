@@ -3,10 +3,11 @@
 
 #include <cmath>
 
+#include "core/angles.h"
+
 CAGEKIT_NAMESPACE_BEGIN
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kConcaveTolerance = 1e-6;  // radians past π before a corner counts as concave
 
 std::vector<uint32_t> sub_loop(const std::vector<uint32_t>& loop, size_t from, size_t to) {

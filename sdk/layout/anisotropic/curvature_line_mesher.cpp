@@ -8,6 +8,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "core/edge_key.h"
 #include "core/edge_map.h"
 #include "core/mesh_repair.h"
 #include "core/status.h"
@@ -222,7 +223,7 @@ void LineGraph::build(const PolygonMesh& mesh, const CurvatureField& field, cons
       double pb = seq[(k + 1) % m].first;
       const uint32_t vb = seq[(k + 1) % m].second;
       if (pb <= pa) pb += n_seg;  // wraps around a closed line
-      const uint64_t kk = (uint64_t(std::min(va, vb)) << 32) | std::max(va, vb);
+      const uint64_t kk = edge_key(va, vb);
       if (va == vb || !seen.insert(kk).second) continue;
       GraphEdge e{va, vb, l, pa, pb, tangent(l, position[va], pa, pb), tangent(l, position[vb], pb, pa),
                   s_.lines[l].type == LineType::boundary};
@@ -420,9 +421,8 @@ size_t LineGraph::unfold(const std::vector<const std::vector<uint32_t>*>& folds,
   for (uint32_t e = 0; e < edges.size(); ++e)
     if (edges[e].alive) edge_of[edge_key(edges[e].a, edges[e].b)] = e;
   std::unordered_map<uint64_t, uint32_t> face_of;  // directed (a, b) -> face
-  auto directed = [](uint32_t a, uint32_t b) { return (uint64_t(a) << 32) | b; };
   for (uint32_t f = 0; f < faces.size(); ++f)
-    for (size_t k = 0; k < faces[f].size(); ++k) face_of[directed(faces[f][k], faces[f][(k + 1) % faces[f].size()])] = f;
+    for (size_t k = 0; k < faces[f].size(); ++k) face_of[directed_edge_key(faces[f][k], faces[f][(k + 1) % faces[f].size()])] = f;
   auto vector_area = [&](const std::vector<uint32_t>& loop, Vec3& area, Vec3& nsum) {
     for (size_t k = 0; k < loop.size(); ++k) {
       area = area + cross(position[loop[k]], position[loop[(k + 1) % loop.size()]]);
@@ -441,7 +441,7 @@ size_t LineGraph::unfold(const std::vector<const std::vector<uint32_t>*>& folds,
     for (size_t k = 0; k < loop.size(); ++k) {
       const uint32_t a = loop[k], b = loop[(k + 1) % loop.size()];
       const auto e = edge_of.find(edge_key(a, b));
-      const auto f = face_of.find(directed(b, a));
+      const auto f = face_of.find(directed_edge_key(b, a));
       if (e != edge_of.end()) loop_edges.push_back(e->second);
       island &= f != face_of.end() && faces[f->second].size() == loop.size() &&
                 std::all_of(loop.begin(), loop.end(), [&](uint32_t v) {

@@ -8,6 +8,7 @@
 #include <random>
 #include <string>
 
+#include "core/angles.h"
 #include "core/status.h"
 #include "layout/anisotropic/local_unfolding.h"
 
@@ -23,7 +24,6 @@ double line_spacing(double kappa, double epsilon, double min_spacing, double max
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 const double kCos45 = std::cos(kPi / 4.0);
 
 struct Seed {

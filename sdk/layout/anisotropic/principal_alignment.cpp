@@ -4,17 +4,17 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/angles.h"
+
 CAGEKIT_NAMESPACE_BEGIN
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Angle between two lines (0..90°); 0 when either direction is zero.
 double line_angle_deg(const Vec3& a, const Vec3& b) {
   const double la = norm(a), lb = norm(b);
   if (!(la > 0.0) || !(lb > 0.0)) return 0.0;
-  return std::acos(std::min(1.0, std::fabs(dot(a, b)) / (la * lb))) * 180.0 / kPi;
+  return degrees_from_radians(std::acos(std::min(1.0, std::fabs(dot(a, b)) / (la * lb))));
 }
 
 }  // namespace

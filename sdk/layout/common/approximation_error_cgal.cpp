@@ -38,12 +38,12 @@ TriangleList fan_triangles(const PolygonMesh& mesh, std::vector<uint32_t>* face_
     const uint32_t n = mesh.face_size(f);
     const uint32_t* v = mesh.face_begin(f);
     if (n < 3 || std::any_of(v, v + n, [&](uint32_t i) { return i >= mesh.num_vertices(); })) continue;
-    for (uint32_t k = 1; k + 1 < n; ++k) {
-      Triangle t(to_point(mesh.positions[v[0]]), to_point(mesh.positions[v[k]]), to_point(mesh.positions[v[k + 1]]));
-      if (t.is_degenerate()) continue;
+    mesh.for_each_fan_triangle(f, [&](uint32_t a, uint32_t b, uint32_t c) {
+      Triangle t(to_point(mesh.positions[a]), to_point(mesh.positions[b]), to_point(mesh.positions[c]));
+      if (t.is_degenerate()) return;
       triangles.push_back(t);
       if (face_of) face_of->push_back(uint32_t(f));
-    }
+    });
   }
   return triangles;
 }

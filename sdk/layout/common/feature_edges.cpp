@@ -4,13 +4,14 @@
 #include <cmath>
 #include <string>
 
+#include "core/angles.h"
 #include "core/status.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 
 std::vector<uint8_t> dihedral_feature_edges(const detail::EdgeMap& map, const std::vector<Vec3>& face_normals,
                                             double angle_degrees) {
-  const double cos_limit = std::cos(angle_degrees * M_PI / 180.0);
+  const double cos_limit = std::cos(radians_from_degrees(angle_degrees));
   std::vector<uint8_t> flags(map.num_edges(), 0);
   for (size_t e = 0; e < map.num_edges(); ++e) {
     if (map.valence(e) != 2) continue;

@@ -3,11 +3,11 @@
 
 #include <cmath>
 
+#include "core/angles.h"
+
 CAGEKIT_NAMESPACE_BEGIN
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 double angle_between(const Vec3& e_next, const Vec3& e_back, const Vec3& n) {
   // Counter-clockwise (about n) angle from the outgoing edge to the reversed incoming edge.

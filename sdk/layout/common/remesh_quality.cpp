@@ -5,17 +5,14 @@
 #include <cmath>
 #include <unordered_map>
 
+#include "core/angles.h"
+#include "core/edge_key.h"
 #include "layout/common/polygon_corners.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-uint64_t undirected_key(uint32_t a, uint32_t b) {
-  return a < b ? (uint64_t(a) << 32) | b : (uint64_t(b) << 32) | a;
-}
 
 }  // namespace
 
@@ -32,7 +29,7 @@ PolygonMeshFigures polygon_mesh_figures(const PolygonMesh& m) {
     r.max_face_valence = std::max(r.max_face_valence, n);
     for (uint32_t k = 0; k < n; ++k) {
       const uint32_t a = v[k], b = v[(k + 1) % n];
-      const auto [it, inserted] = edge_index.emplace(undirected_key(a, b), uint32_t(r.edges.size()));
+      const auto [it, inserted] = edge_index.emplace(edge_key(a, b), uint32_t(r.edges.size()));
       if (inserted) {
         r.edges.push_back({std::min(a, b), std::max(a, b)});
         r.edge_uses.push_back(0);
@@ -101,7 +98,7 @@ FeatureAlignment measure_feature_alignment(const PolygonMesh& input, const std::
       const uint32_t* v = input.face_begin(f);
       for (uint32_t k = 0; k < n; ++k, ++c) {
         if (c >= sharp_corners.size() || !sharp_corners[c]) continue;
-        if (!seen.emplace(undirected_key(v[k], v[(k + 1) % n]), 1).second) continue;
+        if (!seen.emplace(edge_key(v[k], v[(k + 1) % n]), 1).second) continue;
         midpoints.push_back(0.5 * (input.positions[v[k]] + input.positions[v[(k + 1) % n]]));
       }
     }

@@ -6,6 +6,7 @@
 #include <string>
 #include <unordered_map>
 
+#include "core/angles.h"
 #include "core/edge_map.h"
 #include "core/status.h"
 #include "layout/common/feature_edges.h"
@@ -14,7 +15,6 @@ CAGEKIT_NAMESPACE_BEGIN
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // An input edge runs along the features when a path over them joins its ends at most this many
 // times its length (a corner cut: sqrt(2); the chord of a curved line: about 1).
 constexpr double kDetourFactor = 2.0;
@@ -183,8 +183,8 @@ SharpFeatures detect_sharp_features(const PolygonMesh& mesh, const SharpFeatureO
   }
   detail::EdgeMap map;
   build_edge_map(map, mesh, std::vector<uint8_t>(nf, 1));
-  const double cos_raw = std::cos(o.angle_degrees * kPi / 180.0);
-  const double cos_confirm = std::cos(o.confirm_fraction * o.angle_degrees * kPi / 180.0);
+  const double cos_raw = std::cos(radians_from_degrees(o.angle_degrees));
+  const double cos_confirm = std::cos(radians_from_degrees(o.confirm_fraction * o.angle_degrees));
   auto faces_of = [&](size_t e, uint32_t& f0, uint32_t& f1) {
     const uint32_t* h = map.corners_begin(e);
     f0 = map.corner_face[h[0]], f1 = map.corner_face[h[1]];
@@ -197,7 +197,7 @@ SharpFeatures detect_sharp_features(const PolygonMesh& mesh, const SharpFeatureO
     uint32_t f0, f1;
     faces_of(e, f0, f1);
     if (dot(normal[f0], normal[f0]) == 0.0 || dot(normal[f1], normal[f1]) == 0.0) continue;
-    bend[e] = std::acos(std::clamp(dot(normal[f0], normal[f1]), -1.0, 1.0)) * 180.0 / kPi;
+    bend[e] = degrees_from_radians(std::acos(std::clamp(dot(normal[f0], normal[f1]), -1.0, 1.0)));
     if (dot(normal[f0], normal[f1]) < cos_raw) sharp[e] = 1, ++out.raw_edges;
   }
   if (out.raw_edges == 0) return out;
@@ -226,7 +226,7 @@ SharpFeatures detect_sharp_features(const PolygonMesh& mesh, const SharpFeatureO
   // line (or a closed loop) shorter than the minimum is dropped, a spur beside a feature line does
   // not cut the line.
   const double min_length = o.min_length_rel * mesh.bounding_box().diagonal();
-  const double cos_turn = -std::cos(o.max_turn_degrees * kPi / 180.0);  // dot of the two outgoing directions
+  const double cos_turn = -std::cos(radians_from_degrees(o.max_turn_degrees));  // dot of the two outgoing directions
   std::vector<uint32_t> first_at(mesh.num_vertices() + 1, 0), at;
   for (size_t e = 0; e < map.num_edges(); ++e)
     if (sharp[e]) ++first_at[map.edge_lo[e] + 1], ++first_at[map.edge_hi[e] + 1];
@@ -286,7 +286,7 @@ SharpFeatures detect_sharp_features(const PolygonMesh& mesh, const SharpFeatureO
       sharp[e] = 0, ++out.faceted_edges;
       continue;
     }
-    out.edges.push_back(SharpFeatures::key(map.edge_lo[e], map.edge_hi[e]));
+    out.edges.push_back(edge_key(map.edge_lo[e], map.edge_hi[e]));
     out.length += edge_length[e];
   }
   std::sort(out.edges.begin(), out.edges.end());
@@ -303,12 +303,12 @@ std::vector<uint8_t> edges_along_features(const PolygonMesh& mesh, const SharpFe
   // The feature graph (sharp edges at each vertex, CSR) and, per vertex next to a feature, its
   // neighbours on one.
   std::vector<uint32_t> sharp_first(nv + 1, 0), sharp_other(2 * features.edges.size());
-  for (uint64_t e : features.edges) ++sharp_first[uint32_t(e >> 32) + 1], ++sharp_first[uint32_t(e) + 1];
+  for (uint64_t e : features.edges) ++sharp_first[edge_key_first(e) + 1], ++sharp_first[edge_key_second(e) + 1];
   for (size_t v = 0; v < nv; ++v) sharp_first[v + 1] += sharp_first[v];
   {
     std::vector<uint32_t> fill(sharp_first.begin(), sharp_first.end() - 1);
     for (uint64_t e : features.edges) {
-      const uint32_t a = uint32_t(e >> 32), b = uint32_t(e);
+      const uint32_t a = edge_key_first(e), b = edge_key_second(e);
       sharp_other[fill[a]++] = b;
       sharp_other[fill[b]++] = a;
     }
@@ -391,7 +391,7 @@ std::vector<uint8_t> edges_along_features(const PolygonMesh& mesh, const SharpFe
           dm = std::min(dm, point_segment_distance(mid, s0, s1));
         }
     along[i] = dm <= std::max(da, db) + kMidpointSlack * distance(pa, pb);
-    if (!along[i] && on_feature(a) && on_feature(b)) bent.emplace(SharpFeatures::key(a, b), i);
+    if (!along[i] && on_feature(a) && on_feature(b)) bent.emplace(edge_key(a, b), i);
   }
   // Last, an edge between two feature vertices that bends by half the feature angle itself but
   // was left out of the lines: the rungs of a feature line that zigzags over a dense
@@ -399,11 +399,11 @@ std::vector<uint8_t> edges_along_features(const PolygonMesh& mesh, const SharpFe
   // 32-39 degrees); a rung across a flat or gently curved strip between two lines bends less.
   if (!bent.empty()) {
     std::unordered_map<uint64_t, std::pair<Vec3, int>> first_normal;  // edge -> first face's normal
-    const double cos_angle = std::cos(kRungFraction * angle_degrees * kPi / 180.0);
+    const double cos_angle = std::cos(radians_from_degrees(kRungFraction * angle_degrees));
     for (size_t f = 0; f < mesh.num_faces(); ++f) {
       const uint32_t k = mesh.face_size(f);
       for (uint32_t c = 0; c < k; ++c) {
-        const uint64_t key = SharpFeatures::key(mesh.face_vertex(f, c), mesh.face_vertex(f, (c + 1) % k));
+        const uint64_t key = edge_key(mesh.face_vertex(f, c), mesh.face_vertex(f, (c + 1) % k));
         const auto range = bent.equal_range(key);
         if (range.first == range.second) continue;
         const Vec3 n = normalized(mesh.face_vector_area(f));

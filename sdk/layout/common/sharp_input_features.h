@@ -36,6 +36,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/edge_key.h"
 #include "core/polygon_mesh.h"
 
 CAGEKIT_NAMESPACE_BEGIN
@@ -51,7 +52,7 @@ struct SharpFeatureOptions {
 };
 
 struct SharpFeatures {
-  std::vector<uint64_t> edges;  // sorted keys (lo << 32 | hi, lo < hi) of the sharp edges
+  std::vector<uint64_t> edges;  // sorted edge_key()s of the sharp edges
   std::vector<uint8_t> corner_flags;  // per corner of the mesh: 1 where the corner's half-edge is sharp
   uint64_t raw_edges = 0;       // edges passing test 1
   uint64_t noise_edges = 0;     // of those, failing test 2
@@ -59,10 +60,7 @@ struct SharpFeatures {
   uint64_t faceted_edges = 0;   // of those passing 3, dropped by test 4
   double length = 0.0;          // total length of the sharp edges
 
-  static uint64_t key(uint32_t a, uint32_t b) {
-    return a < b ? (uint64_t(a) << 32 | b) : (uint64_t(b) << 32 | a);
-  }
-  bool contains(uint32_t a, uint32_t b) const { return std::binary_search(edges.begin(), edges.end(), key(a, b)); }
+  bool contains(uint32_t a, uint32_t b) const { return std::binary_search(edges.begin(), edges.end(), edge_key(a, b)); }
 };
 
 // Sharp features of `mesh` (polygons; a face's normal is its vector area's direction). Faces

@@ -14,8 +14,7 @@ PolygonMesh fan_triangulated(const PolygonMesh& input, const char* who) {
   for (size_t f = 0; f < input.num_faces(); ++f) {
     const uint32_t n = input.face_size(f);
     if (n < 3) fail(Status::invalid_mesh, std::string(who) + ": face " + std::to_string(f) + " has fewer than 3 vertices");
-    const uint32_t* v = input.face_begin(f);
-    for (uint32_t k = 1; k + 1 < n; ++k) tri.add_face({v[0], v[k], v[k + 1]});
+    input.for_each_fan_triangle(f, [&](uint32_t a, uint32_t b, uint32_t c) { tri.add_face({a, b, c}); });
   }
   return tri;
 }

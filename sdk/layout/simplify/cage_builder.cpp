@@ -7,6 +7,8 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "core/angles.h"
+#include "core/edge_key.h"
 #include "core/status.h"
 #include "layout/simplify/planar_polygon.h"
 
@@ -14,12 +16,6 @@ CAGEKIT_NAMESPACE_BEGIN
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-uint64_t edge_key(uint32_t a, uint32_t b) {
-  if (a > b) std::swap(a, b);
-  return (uint64_t(a) << 32) | b;
-}
 
 // Compact numbering of the input vertices a level uses.
 class VertexNumbering {
@@ -306,7 +302,7 @@ Cage build_quad_dominant_cage(const PolygonMesh& input, const PolygonalLevel& le
     if (options.input_crease_angle_degrees < 0) return true;
     const auto it = border.find(edge_key(ca, cb));
     if (it == border.end() || !(it->second.second > 0)) return true;  // no shared input edges: keep the rule
-    return it->second.first / it->second.second > options.input_crease_angle_degrees * kPi / 180.0;
+    return it->second.first / it->second.second > radians_from_degrees(options.input_crease_angle_degrees);
   };
   // sharp_input: the chain of border edges each cage edge spans, walked from every cage vertex
   // along the border of one pair of clusters to the next cage vertex; per (cage edge, cluster
@@ -396,8 +392,8 @@ Cage build_quad_dominant_cage(const PolygonMesh& input, const PolygonalLevel& le
     for (uint32_t f : faces) (level.cluster_of_input_face[f] == ca ? na : nb) += input.face_vector_area(f);
     return dot(normalized(na), normalized(nb));
   };
-  const double cos_half_feature = std::cos(0.5 * options.features.angle_degrees * kPi / 180.0);
-  const double cos_band = std::cos(options.band_fraction * options.features.angle_degrees * kPi / 180.0);
+  const double cos_half_feature = std::cos(radians_from_degrees(0.5 * options.features.angle_degrees));
+  const double cos_band = std::cos(radians_from_degrees(options.band_fraction * options.features.angle_degrees));
   auto border_is_sharp = [&](uint32_t u, uint32_t w, uint32_t ca, uint32_t cb) {
     const uint32_t iu = r.input_vertex_of[u], iw = r.input_vertex_of[w];
     const auto it = chain.find({edge_key(iu, iw), edge_key(ca, cb)});
@@ -408,7 +404,7 @@ Cage build_quad_dominant_cage(const PolygonMesh& input, const PolygonalLevel& le
     if (it->second.sharp < options.sharp_share * it->second.total) return false;
     return options.band_rings <= 0 || band_normals_cos(it->second.vertices, ca, cb) < cos_band;
   };
-  const double cos_threshold = std::cos(options.crease_angle_degrees * kPi / 180.0);
+  const double cos_threshold = std::cos(radians_from_degrees(options.crease_angle_degrees));
   for (const auto& [key, use] : uses) {
     if (use.count > 2) ++r.non_manifold_edges;
     bool sharp = false;
@@ -416,13 +412,13 @@ Cage build_quad_dominant_cage(const PolygonMesh& input, const PolygonalLevel& le
       sharp = options.tag_boundary_edges;
     } else if (use.count == 2 && use.cluster[0] != use.cluster[1]) {
       if (by_input)
-        sharp = border_is_sharp(static_cast<uint32_t>(key >> 32), static_cast<uint32_t>(key), use.cluster[0],
+        sharp = border_is_sharp(edge_key_first(key), edge_key_second(key), use.cluster[0],
                                 use.cluster[1]);
       else if (by_angle)
         sharp = dot(level.faces[use.cluster[0]].normal, level.faces[use.cluster[1]].normal) < cos_threshold &&
                 input_is_sharp(use.cluster[0], use.cluster[1]);
     }
-    if (sharp) cage.creases.push_back({static_cast<uint32_t>(key >> 32), static_cast<uint32_t>(key), kSharpnessInfinite});
+    if (sharp) cage.creases.push_back({edge_key_first(key), edge_key_second(key), kSharpnessInfinite});
   }
   std::sort(cage.creases.begin(), cage.creases.end(),
             [](const EdgeCrease& a, const EdgeCrease& b) { return std::tie(a.v0, a.v1) < std::tie(b.v0, b.v1); });

@@ -7,6 +7,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "core/edge_key.h"
 #include "core/status.h"
 #include "layout/simplify/cage_builder.h"
 #include "layout/simplify/planar_polygon.h"
@@ -15,8 +16,6 @@ CAGEKIT_NAMESPACE_BEGIN
 
 namespace {
 
-uint64_t pair_key(uint32_t a, uint32_t b) { return (uint64_t(a) << 32) | b; }
-uint64_t undirected_key(uint32_t a, uint32_t b) { return a < b ? pair_key(a, b) : pair_key(b, a); }
 
 // The border half-edges of every cluster: (cluster, from) -> the half-edges' ends.
 class ClusterBorders {
@@ -29,20 +28,20 @@ class ClusterBorders {
     for (uint32_t f = 0; f < input.num_faces(); ++f) {
       const uint32_t n = input.face_size(f);
       for (uint32_t k = 0; k < n; ++k)
-        half_edges.emplace_back(pair_key(input.face_vertex(f, k), input.face_vertex(f, (k + 1) % n)), f);
+        half_edges.emplace_back(directed_edge_key(input.face_vertex(f, k), input.face_vertex(f, (k + 1) % n)), f);
     }
     std::sort(half_edges.begin(), half_edges.end());
     auto cluster_of = [&](uint32_t f) { return f < cluster_of_face.size() ? cluster_of_face[f] : UINT32_MAX; };
     for (const auto& [key, f] : half_edges) {
       const uint32_t c = cluster_of(f);
       if (c == UINT32_MAX) continue;
-      const uint32_t u = uint32_t(key >> 32), v = uint32_t(key);
-      const auto opposite = std::lower_bound(half_edges.begin(), half_edges.end(), std::make_pair(pair_key(v, u), 0u));
+      const uint32_t u = edge_key_first(key), v = edge_key_second(key);
+      const auto opposite = std::lower_bound(half_edges.begin(), half_edges.end(), std::make_pair(directed_edge_key(v, u), 0u));
       bool inside = false;
-      for (auto it = opposite; it != half_edges.end() && it->first == pair_key(v, u); ++it)
+      for (auto it = opposite; it != half_edges.end() && it->first == directed_edge_key(v, u); ++it)
         inside = inside || cluster_of(it->second) == c;
       if (inside) continue;
-      next_.emplace(pair_key(c, u), v);
+      next_.emplace(directed_edge_key(c, u), v);
       ++count_[c];
     }
   }
@@ -51,7 +50,7 @@ class ClusterBorders {
   std::vector<uint32_t> chain(uint32_t c, uint32_t a, uint32_t b) const {
     const auto limit_it = count_.find(c);
     const size_t limit = limit_it == count_.end() ? 0 : limit_it->second;
-    const auto first = next_.equal_range(pair_key(c, a));
+    const auto first = next_.equal_range(directed_edge_key(c, a));
     for (auto it = first.first; it != first.second; ++it) {
       std::vector<uint32_t> path{a, it->second};
       bool ok = true;
@@ -60,7 +59,7 @@ class ClusterBorders {
           ok = false;
           break;
         }
-        const auto range = next_.equal_range(pair_key(c, path.back()));
+        const auto range = next_.equal_range(directed_edge_key(c, path.back()));
         if (range.first == range.second || std::next(range.first) != range.second) {
           ok = false;  // dead end or a pinch inside the chain: not a level edge's chain
           break;
@@ -132,7 +131,7 @@ PolygonalLevel refine_level_contours(const PolygonMesh& input, const PolygonalLe
         for (size_t k = 0; k < loop.size(); ++k) {
           const uint32_t a = loop[k], b = loop[(k + 1) % loop.size()];
           refined.push_back(a);
-          const auto c = coarser.find(undirected_key(a, b));
+          const auto c = coarser.find(edge_key(a, b));
           const int doublings = c == coarser.end() ? 0 : c->second;
           if (doublings >= kFrozen) {
             ++pass.edges_frozen;
@@ -175,7 +174,7 @@ PolygonalLevel refine_level_contours(const PolygonMesh& input, const PolygonalLe
     for (uint32_t f : invalid)
       for (const auto& loop : level.faces[f].loops)
         for (size_t k = 0; k < loop.size(); ++k) {
-          int& d = coarser[undirected_key(loop[k], loop[(k + 1) % loop.size()])];
+          int& d = coarser[edge_key(loop[k], loop[(k + 1) % loop.size()])];
           if (d < kFrozen) {
             ++d;
             changed = true;

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Face-merge simplification (thesis §3.3, reconstructed main loop of spec §3.7). See README.md
 // for the decisions the thesis leaves open (normalisation, epsilon, initial planes, outer loop).
+#include "core/angles.h"
+#include "core/edge_key.h"
 #include "core/memory_budget.h"
 #include "layout/simplify/face_merge_simplifier.h"
 
@@ -102,11 +104,11 @@ class CandidateHeap {
   Candidate top() const { return candidate(ent_[heap_[kBase].id]); }
   // Hint: a push for the face pair (a, b) follows soon.
   void prefetch_pair(uint32_t a, uint32_t b) const {
-    __builtin_prefetch(&pairs_[hash(key_of(a, b)) & (pairs_.size() - 1)]);
+    __builtin_prefetch(&pairs_[hash(directed_edge_key(a, b)) & (pairs_.size() - 1)]);
   }
   // Hint, after prefetch_pair: prefetches the pair's entry if it has one.
   void prefetch_entry(uint32_t a, uint32_t b) const {
-    const uint64_t k = key_of(a, b);
+    const uint64_t k = directed_edge_key(a, b);
     const size_t mask = pairs_.size() - 1;
     for (size_t i = hash(k) & mask; pairs_[i].key != kEmptyKey; i = (i + 1) & mask)
       if (pairs_[i].key == k) {
@@ -119,7 +121,7 @@ class CandidateHeap {
   void push(const Candidate& c, uint32_t step) {
     uint32_t* handle;
     if (c.kind == 0) {
-      handle = &pair_handle(key_of(c.a, c.b));
+      handle = &pair_handle(directed_edge_key(c.a, c.b));
     } else {
       handle = &vertex_handle_[c.a];
     }
@@ -161,7 +163,7 @@ class CandidateHeap {
   // early leaves the sequence of valid pops unchanged, and costs a sift near the leaves
   // instead of a full-depth sift_down from the root.
   void erase_pair_entry(uint32_t a, uint32_t b) {
-    const uint64_t k = key_of(a, b);
+    const uint64_t k = directed_edge_key(a, b);
     const size_t mask = pairs_.size() - 1;
     size_t s = hash(k) & mask;
     while (pairs_[s].key != k) {
@@ -221,7 +223,6 @@ class CandidateHeap {
     uint64_t key;
     uint32_t handle;
   };
-  static uint64_t key_of(uint32_t a, uint32_t b) { return uint64_t(a) << 32 | b; }
   static size_t hash(uint64_t k) { return static_cast<size_t>((k * 0x9E3779B97F4A7C15ull) >> 20); }
 
   uint32_t new_id() {
@@ -239,7 +240,7 @@ class CandidateHeap {
     if (e.kind != 0)
       vertex_handle_[e.a] = kNone;
     else
-      erase_pair(key_of(e.a, e.b));
+      erase_pair(directed_edge_key(e.a, e.b));
     free_.push_back(id);
   }
   // Open addressing, linear probing, backward-shift deletion.
@@ -546,12 +547,12 @@ bool Builder::evaluate_merge(uint32_t f, uint32_t g, double& e) const {
       ++shared;
       if (fs_.face_of_halfedge(a, p) != g) {
         const StarEntry* h = fs_.star_entry(a, g);
-        const double d = inner_angle(pos_[p], pos_[a], pos_[h->next], n) - M_PI / 2;
+        const double d = inner_angle(pos_[p], pos_[a], pos_[h->next], n) - kPi / 2;
         angle_sum += d * d;
       }
       if (fs_.face_of_halfedge(c, b) != g) {
         const StarEntry* h = fs_.star_entry(b, g);
-        const double d = inner_angle(pos_[h->prev], pos_[b], pos_[c], n) - M_PI / 2;
+        const double d = inner_angle(pos_[h->prev], pos_[b], pos_[c], n) - kPi / 2;
         angle_sum += d * d;
       }
     }
@@ -648,12 +649,12 @@ void Builder::push_candidates(uint32_t f) {
       const uint32_t a = loop[i], b = loop[(i + 1) % m];
       if (twin_[base + (i + m - 1) % m] != g) {
         const StarEntry* h = fs_.star_entry(a, g);
-        const double d = inner_angle(pos_[loop[(i + m - 1) % m]], pos_[a], pos_[h->next], x.n) - M_PI / 2;
+        const double d = inner_angle(pos_[loop[(i + m - 1) % m]], pos_[a], pos_[h->next], x.n) - kPi / 2;
         x.angle_sum += d * d;
       }
       if (twin_[base + (i + 1) % m] != g) {
         const StarEntry* h = fs_.star_entry(b, g);
-        const double d = inner_angle(pos_[h->prev], pos_[b], pos_[loop[(i + 2) % m]], x.n) - M_PI / 2;
+        const double d = inner_angle(pos_[h->prev], pos_[b], pos_[loop[(i + 2) % m]], x.n) - kPi / 2;
         x.angle_sum += d * d;
       }
     }
@@ -1072,25 +1073,28 @@ double SimplificationHierarchy::error(size_t level) const {
   return impl_->stats[level].error;
 }
 
-size_t SimplificationHierarchy::level_for_face_count(uint64_t faces) const {
-  const auto& s = impl_->stats;  // face counts are non-increasing
+namespace {
+
+// The first level whose count (face or vertex: non-increasing over the levels) is <= `at_most`,
+// or the last level when none is.
+template <class Count>
+size_t first_level_with_at_most(const std::vector<LevelStats>& s, uint64_t at_most, Count count) {
   size_t lo = 0, hi = s.size() - 1;
-  if (s[hi].faces > faces) return hi;
+  if (count(s[hi]) > at_most) return hi;
   while (lo < hi) {
     const size_t mid = (lo + hi) / 2;
-    if (s[mid].faces <= faces) hi = mid; else lo = mid + 1;
+    if (count(s[mid]) <= at_most) hi = mid; else lo = mid + 1;
   }
   return lo;
 }
+
+}  // namespace
+
+size_t SimplificationHierarchy::level_for_face_count(uint64_t faces) const {
+  return first_level_with_at_most(impl_->stats, faces, [](const LevelStats& l) { return l.faces; });
+}
 size_t SimplificationHierarchy::level_for_vertex_count(uint64_t vertices) const {
-  const auto& s = impl_->stats;  // vertex counts are non-increasing
-  size_t lo = 0, hi = s.size() - 1;
-  if (s[hi].vertices > vertices) return hi;
-  while (lo < hi) {
-    const size_t mid = (lo + hi) / 2;
-    if (s[mid].vertices <= vertices) hi = mid; else lo = mid + 1;
-  }
-  return lo;
+  return first_level_with_at_most(impl_->stats, vertices, [](const LevelStats& l) { return l.vertices; });
 }
 size_t SimplificationHierarchy::level_for_error(double max_error) const {
   // The coarsest level reached before any operation with priority above max_error.

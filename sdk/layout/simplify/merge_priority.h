@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "core/angles.h"
 #include "core/vec3.h"
 
 CAGEKIT_NAMESPACE_BEGIN
@@ -48,7 +49,7 @@ inline double inner_angle(const Vec3& prev, const Vec3& v, const Vec3& next, con
   a -= n * dot(a, n);
   b -= n * dot(b, n);
   double theta = std::atan2(dot(n, cross(b, a)), dot(b, a));
-  if (theta < 0) theta += 2.0 * M_PI;
+  if (theta < 0) theta += 2.0 * kPi;
   return theta;
 }
 

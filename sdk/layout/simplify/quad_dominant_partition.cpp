@@ -26,6 +26,7 @@
 #include <numeric>
 #include <string>
 
+#include "core/edge_key.h"
 #include "core/status.h"
 #include "layout/simplify/quad_dominant_partition.h"
 
@@ -228,7 +229,7 @@ class Partitioner {
       for (int k = 0; k < 3; ++k) {
         const uint32_t a = T_[t][k], b = T_[t][(k + 1) % 3];
         const uint32_t lo = std::min(a, b), hi = std::max(a, b);
-        he.push_back({(static_cast<uint64_t>(lo) << 32) | hi, t, k, a < b});
+        he.push_back({directed_edge_key(lo, hi), t, k, a < b});
       }
     std::sort(he.begin(), he.end(), [](const HalfEdge& x, const HalfEdge& y) { return x.key < y.key; });
     for (size_t i = 0; i < he.size();) {
