@@ -422,7 +422,19 @@ class Builder {
   bool try_merge(uint32_t f, uint32_t g, double e);
   bool try_boundary_removal(uint32_t v, uint32_t f);
   bool stale(const Candidate& c) const;
+  bool apply(const Candidate& c);
+  bool merged_loops_valid(uint32_t f, uint32_t g, std::vector<std::vector<uint32_t>>& loops) const;
+  void verify_candidate(const Candidate& c);
   void verify_greedy(const Candidate& committed);
+  // The phases of run().
+  void choose_normalisation(std::vector<uint32_t>& corners);
+  void normalise_positions();
+  void allocate_work_state(const std::vector<uint32_t>& corners);
+  void init_work_faces();
+  void record_input_level();
+  void remove_interior_valence2_vertices();
+  void seed_candidates();
+  void merge_greedily();
 };
 
 void Builder::project(const std::vector<std::vector<uint32_t>>& loops, const PlaneFrame& frame,
@@ -862,6 +874,31 @@ bool Builder::try_boundary_removal(uint32_t v, uint32_t f) {
   return true;
 }
 
+// Debug: whether the loops `loops` of faces f and g merged form a valid polygon in the plane of
+// the merged proxy (the test of try_merge, without its degenerate-proxy checks).
+bool Builder::merged_loops_valid(uint32_t f, uint32_t g, std::vector<std::vector<uint32_t>>& loops) const {
+  const WorkFace &F = fs_.faces[f], &G = fs_.faces[g];
+  const Vec3 n = normalized(F.normal * F.area + G.normal * G.area);
+  const Vec3 c = (F.centroid * F.area + G.centroid * G.area) * (1.0 / (F.area + G.area));
+  PolygonLoops poly;
+  project(loops, frame_of(c, n), poly);
+  classify_outer(poly, loops);
+  return check_polygon_loops(poly).ok();
+}
+
+// Debug (SimplifyOptions::verify_greedy_order): a popped candidate that is valid must be the
+// minimum of all valid operations (verify_greedy).
+void Builder::verify_candidate(const Candidate& c) {
+  if (c.kind == 0) {
+    std::vector<std::vector<uint32_t>> loops;
+    uint64_t shared;
+    if (fs_.splice(c.a, c.b, loops, shared) && merged_loops_valid(c.a, c.b, loops)) verify_greedy(c);
+  } else {
+    const StarEntry e = fs_.star_begin(c.a)[0];
+    if (!fs_.edge_exists(e.prev, e.next) && removal_valid(c.b, c.a)) verify_greedy(c);
+  }
+}
+
 // Debug (SimplifyOptions::verify_greedy_order): every valid operation is re-evaluated from
 // scratch; the committed one must have the minimum priority.
 void Builder::verify_greedy(const Candidate& committed) {
@@ -877,13 +914,7 @@ void Builder::verify_greedy(const Candidate& committed) {
         if (!evaluate_merge(f, g, e) || e >= best) continue;
         uint64_t shared;
         if (!fs_.splice(f, g, loops, shared) || closes_pillow(loops)) continue;
-        const WorkFace &F = fs_.faces[f], &G = fs_.faces[g];
-        const Vec3 n = normalized(F.normal * F.area + G.normal * G.area);
-        const Vec3 c = (F.centroid * F.area + G.centroid * G.area) * (1.0 / (F.area + G.area));
-        PolygonLoops poly;
-        project(loops, frame_of(c, n), poly);
-        classify_outer(poly, loops);
-        if (check_polygon_loops(poly).ok()) best = e;
+        if (merged_loops_valid(f, g, loops)) best = e;
       }
     for (const auto& loop : fs_.faces[f].loops)
       for (size_t i = 0; i < loop.size(); ++i) {
@@ -899,16 +930,17 @@ void Builder::verify_greedy(const Candidate& committed) {
                                      " > minimum valid " + std::to_string(best));
 }
 
-void Builder::run() {
+// Normalisation: centre of the referenced vertices' bounding box, unit = input resolution
+// sqrt(mean input face area) (see README: with the bbox diagonal as unit every error term is
+// << 1 and the tie-break dominates the priority). The same pass counts the face corners at each
+// vertex (`corners`, the capacity of its star).
+void Builder::choose_normalisation(std::vector<uint32_t>& corners) {
   const size_t nf = mesh_.num_faces(), nv = mesh_.num_vertices();
-  // Normalisation: centre of the referenced vertices' bounding box, unit = input resolution
-  // sqrt(mean input face area) (see README: with the bbox diagonal as unit every error term is
-  // << 1 and the tie-break dominates the priority).
   BoundingBox box;
-  std::vector<uint32_t> capacity(nv, 0);
+  corners.assign(nv, 0);
   for (const uint32_t v : mesh_.face_vertices) {
     box.extend(mesh_.positions[v]);
-    ++capacity[v];
+    ++corners[v];
   }
   double total_area = 0;
   for (size_t f = 0; f < nf; ++f) {
@@ -920,16 +952,22 @@ void Builder::run() {
   impl_.unit = !(unit > 0) ? 1.0 : unit;
   impl_.inv_unit = 1.0 / impl_.unit;
   impl_.center = box.empty ? Vec3() : (box.min + box.max) * 0.5;
+}
+
+void Builder::normalise_positions() {
+  const size_t nv = mesh_.num_vertices();
   pos_.reserve(nv);
   advise_huge_pages(pos_.data(), nv * sizeof(Vec3));
   pos_.resize(nv);
   for (size_t v = 0; v < nv; ++v) pos_[v] = impl_.normalised(mesh_.positions[v]);
+}
 
-  if (nf >= 0x7fffffffu || nv >= 0x7fffffffu) fail(Status::invalid_argument, "simplify: mesh too large");
+void Builder::allocate_work_state(const std::vector<uint32_t>& corners) {
+  const size_t nf = mesh_.num_faces(), nv = mesh_.num_vertices();
   fs_.faces.reserve(nf);
   advise_huge_pages(fs_.faces.data(), nf * sizeof(WorkFace));
   fs_.faces.resize(nf);
-  fs_.init_stars(capacity);
+  fs_.init_stars(corners);
   heap_.init(nv);
   dirty_flag_.assign(nf, 0);
   assign_huge(ver_, nf, 0u);
@@ -937,6 +975,11 @@ void Builder::run() {
   slot_index_.assign(nf, 0);
   impl_.hier.parent.assign(nf, kNoRecord);
   impl_.hier.current.assign(nf, kNoRecord);
+}
+
+// One work face per input face, with its loop, its proxy and its star entries.
+void Builder::init_work_faces() {
+  const size_t nf = mesh_.num_faces();
   for (uint32_t f = 0; f < nf; ++f) {
     WorkFace& face = fs_.faces[f];
     const uint32_t* v = mesh_.face_begin(f);
@@ -959,12 +1002,21 @@ void Builder::run() {
     face.centroid = area > 0 ? csum * (1.0 / area) : mesh_.positions[v[0]];
     fs_.add_star(f);
   }
+}
+
+// Level 0 of the hierarchy: a record (and a triangulation) per input face.
+void Builder::record_input_level() {
+  const size_t nf = mesh_.num_faces();
   for (uint32_t f = 0; f < nf; ++f) {
     rebuild_cdt(f);
     impl_.hier.add_record(f, true, fs_.faces[f].loops, fs_.faces[f].normal, fs_.faces[f].centroid, fs_.faces[f].area);
   }
   impl_.stats.push_back({nf, fs_.used_vertices(), 0.0});
-  // Interior valence-2 vertices of a polygonal input are removed right away (one step).
+}
+
+// Interior valence-2 vertices of a polygonal input are removed right away (one step).
+void Builder::remove_interior_valence2_vertices() {
+  const size_t nf = mesh_.num_faces();
   for (uint32_t f = 0; f < nf; ++f) mark_dirty(f);
   decimate_dirty();
   bool changed = false;
@@ -982,49 +1034,55 @@ void Builder::run() {
     for (const uint32_t f : dirty_) dirty_flag_[f] = 0;
     dirty_.clear();
   }
+}
+
+void Builder::seed_candidates() {
+  const size_t nf = mesh_.num_faces();
   for (uint32_t f = 0; f < nf; ++f) {
     push_candidates(f);
     push_boundary_candidates(f);
   }
   loops_validated_ = true;
+}
 
+// The greedy loop: the candidate of least priority first, skipped when stale (a face it
+// involves changed since it was pushed).
+void Builder::merge_greedily() {
+  const size_t nf = mesh_.num_faces();
   uint64_t ops = 0, merges = 0;
   const double denom = nf > 1 ? static_cast<double>(nf - 1) : 1.0;
   while (!heap_.empty()) {
     const Candidate c = heap_.top();  // copy: pop() may reuse its slot
     heap_.pop();
     if (stale(c)) continue;
-    bool done;
-    if (c.kind == 0) {
-      if (options_.verify_greedy_order) {
-        std::vector<std::vector<uint32_t>> loops;
-        uint64_t shared;
-        bool ok = fs_.splice(c.a, c.b, loops, shared);
-        if (ok) {
-          const WorkFace &F = fs_.faces[c.a], &G = fs_.faces[c.b];
-          const Vec3 n = normalized(F.normal * F.area + G.normal * G.area);
-          const Vec3 ce = (F.centroid * F.area + G.centroid * G.area) * (1.0 / (F.area + G.area));
-          PolygonLoops poly;
-          project(loops, frame_of(ce, n), poly);
-          classify_outer(poly, loops);
-          ok = check_polygon_loops(poly).ok();
-        }
-        if (ok) verify_greedy(c);
-      }
-      done = try_merge(c.a, c.b, c.key);
-      if (done) ++merges;
-    } else {
-      if (options_.verify_greedy_order) {
-        const StarEntry e = fs_.star_begin(c.a)[0];
-        if (!fs_.edge_exists(e.prev, e.next) && removal_valid(c.b, c.a)) verify_greedy(c);
-      }
-      done = try_boundary_removal(c.a, c.b);
-      if (done) finish_step(c.key, kNoRecord, kNoRecord);
-    }
-    if (!done) continue;
+    if (options_.verify_greedy_order) verify_candidate(c);
+    if (!apply(c)) continue;
+    if (c.kind == 0) ++merges;
     if (++ops % 1024 == 0) monitor_.report("simplify", std::min(1.0, static_cast<double>(merges) / denom));
   }
   monitor_.report("simplify", 1.0);
+}
+
+// A merge (kind 0) or a boundary-vertex removal; false when it turns out invalid.
+bool Builder::apply(const Candidate& c) {
+  if (c.kind == 0) return try_merge(c.a, c.b, c.key);
+  if (!try_boundary_removal(c.a, c.b)) return false;
+  finish_step(c.key, kNoRecord, kNoRecord);
+  return true;
+}
+
+void Builder::run() {
+  std::vector<uint32_t> corners;
+  choose_normalisation(corners);
+  normalise_positions();
+  if (mesh_.num_faces() >= 0x7fffffffu || mesh_.num_vertices() >= 0x7fffffffu)
+    fail(Status::invalid_argument, "simplify: mesh too large");
+  allocate_work_state(corners);
+  init_work_faces();
+  record_input_level();
+  remove_interior_valence2_vertices();
+  seed_candidates();
+  merge_greedily();
   impl_.hier.level = impl_.hier.steps.size();
 }
 
