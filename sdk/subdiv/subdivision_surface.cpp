@@ -173,6 +173,10 @@ struct PatchWeights {
 
 enum class PatchKind : uint8_t { regular, stam, gregory };
 
+// A unified point id not assigned yet (refined vertices and Gregory patch points get one when a
+// patch uses them).
+constexpr uint32_t kUnusedPoint = std::numeric_limits<uint32_t>::max();
+
 struct PatchInfo {
   PatchKind kind = PatchKind::regular;
   uint8_t rotation = 0;   // Stam: patch corner of the extraordinary vertex
@@ -195,6 +199,13 @@ struct GregoryRegion {
   std::vector<uint32_t> sub_first_ptex;  // per sub-cage face
   std::vector<uint32_t> point_id;      // per patch point of the sub-cage: unified point id
   StencilRows rows;                    // the region's derived rows until they join `derived`
+};
+
+// What classifying the irregular patches collects besides the Impl's tables.
+struct IrregularPatches {
+  std::vector<int> stam_of_valence;  // per valence: its matrices in Impl::stam, or -1
+  std::vector<uint32_t> seed_faces;  // the cage faces of the Gregory patches
+  std::vector<int> local;            // scratch: the points of one Stam patch
 };
 
 }  // namespace
@@ -222,6 +233,23 @@ struct SubdivisionSurface::Impl {
   uint32_t num_control() const { return static_cast<uint32_t>(control.size()); }
 
   void build(const Cage& cage, const SurfaceOptions& options);
+  // The steps of build().
+  void index_ptex_faces(const Cage& cage, const Far::TopologyRefiner& refiner);
+  // Per patch of `patches`: its kind, and the points of the regular and Stam patches in
+  // `patch_points` (refined vertices by their index over all levels until derive_refined_rows).
+  // Returns the cage faces of the Gregory patches.
+  std::vector<uint32_t> classify_patches(const Far::TopologyRefiner& refiner, const std::vector<int>& level_offset);
+  // A bilinear end cap: a Stam patch when its face's corners are those of a quad of its level
+  // whose irregular corner gathers a Stam neighbourhood, else a Gregory patch.
+  void classify_irregular_patch(const Far::TopologyRefiner& refiner, const std::vector<int>& level_offset,
+                                const Far::StencilTableReal<double>* copies, Far::ConstIndexArray points,
+                                const Far::PatchParam& param, PatchInfo& pi, IrregularPatches& irregular);
+  uint32_t stam_matrices_of_valence(int valence, IrregularPatches& irregular);  // built on first use
+  void derive_refined_rows(const Far::TopologyRefiner& refiner, int num_vertices_total);
+  void build_gregory_regions(const Cage& cage, const SurfaceOptions& options, int sharp_level,
+                             std::vector<uint32_t> seed_faces);
+  void join_gregory_rows(const std::vector<std::vector<uint32_t>>& groups, size_t num_faces);
+  void evaluate_derived_points();
   // Builds region `g` around `seed_faces` (3 rings added); its derived rows stay in g.rows
   // with point ids num_control() + local row (joined to `derived` afterwards). Touches nothing
   // else of the Impl, so regions can be built on several threads.
@@ -248,21 +276,127 @@ struct SubdivisionSurface::Impl {
   }
 };
 
-void SubdivisionSurface::Impl::build(const Cage& cage, const SurfaceOptions& options) {
-  // Measured peaks (bunny cages with crease tags): ~12 KB per face-vertex at isolation level 2,
-  // plus ~10 KB per face-vertex and level of the isolation around sharp extraordinary vertices.
-  {
-    const bool sharp = !cage.creases.empty() || !cage.corners.empty() || !cage.holes.empty();
-    const uint64_t per_face_vertex =
-        12 * 1024 + (sharp ? uint64_t(std::max(0, options.sharp_extraordinary_isolation_level - 2)) * 10 * 1024 : 0);
-    check_memory_estimate(estimate_product(cage.mesh.num_face_vertices(), per_face_vertex),
-                          "the limit surface's patch table");
+namespace {
+
+// Measured peaks (bunny cages with crease tags): ~12 KB per face-vertex at isolation level 2,
+// plus ~10 KB per face-vertex and level of the isolation around sharp extraordinary vertices.
+void check_surface_memory(const Cage& cage, const SurfaceOptions& options) {
+  const bool sharp = !cage.creases.empty() || !cage.corners.empty() || !cage.holes.empty();
+  const uint64_t per_face_vertex =
+      12 * 1024 + (sharp ? uint64_t(std::max(0, options.sharp_extraordinary_isolation_level - 2)) * 10 * 1024 : 0);
+  check_memory_estimate(estimate_product(cage.mesh.num_face_vertices(), per_face_vertex),
+                        "the limit surface's patch table");
+}
+
+// Per refinement level, the index of its first vertex over all levels; back(): all vertices.
+std::vector<int> refined_level_offsets(const Far::TopologyRefiner& refiner) {
+  std::vector<int> level_offset{0};
+  for (int l = 0; l <= refiner.GetMaxLevel(); ++l)
+    level_offset.push_back(level_offset.back() + refiner.GetLevel(l).GetNumVertices());
+  return level_offset;
+}
+
+// The corner vertices of a bilinear end cap's face in the patch's order, as vertex indices of
+// its refinement level `level` (v); false when one of them is not a vertex of that level.
+bool end_cap_corners(Far::ConstIndexArray points, const Far::StencilTableReal<double>* copies,
+                     const std::vector<int>& level_offset, int level, const Far::TopologyLevel& topology, int v[4]) {
+  bool same_level = true;
+  for (int i = 0; i < 4; ++i) {
+    v[i] = points[i];
+    if (v[i] >= level_offset.back()) {
+      // A local point: the limit point of the face's corner; its stencil (over the
+      // refined vertices) weighs that corner most.
+      if (!copies || v[i] - level_offset.back() >= copies->GetNumStencils())
+        fail(Status::internal_error, "unexpected bilinear end-cap point");
+      const auto limit = copies->GetStencil(v[i] - level_offset.back());
+      int best = 0;
+      for (int k = 1; k < limit.GetSize(); ++k)
+        if (limit.GetWeights()[k] > limit.GetWeights()[best]) best = k;
+      v[i] = limit.GetSize() > 0 ? limit.GetVertexIndices()[best] : -1;
+    }
+    v[i] -= level_offset[level];
+    same_level = same_level && v[i] >= 0 && v[i] < topology.GetNumVertices();
   }
+  return same_level;
+}
+
+// The quad of `topology` with corners v[0..3] in this cyclic order (v[0] its corner `shift`);
+// -1 when there is none.
+int find_quad(const Far::TopologyLevel& topology, const int v[4], int& shift) {
+  int face = -1;
+  for (int f : topology.GetVertexFaces(v[0])) {
+    const auto fv = topology.GetFaceVertices(f);
+    if (fv.size() != 4) continue;
+    for (int k = 0; k < 4 && face < 0; ++k)
+      if (fv[k] == v[0] && fv[(k + 1) % 4] == v[1] && fv[(k + 2) % 4] == v[2] && fv[(k + 3) % 4] == v[3])
+        face = f, shift = k;
+  }
+  return face;
+}
+
+// The first of the corners v[0..3] at an extraordinary or boundary vertex (0 when none is).
+int irregular_corner(const Far::TopologyLevel& topology, const int v[4]) {
+  int corner = 0;
+  for (int r = 3; r >= 0; --r)
+    if (topology.GetVertexFaces(v[r]).size() != 4 || topology.IsVertexBoundary(v[r])) corner = r;
+  return corner;
+}
+
+// The seed faces of the Gregory regions (sorted, unique) as one group, or with many end-cap
+// faces two groups (two regions, built at once when options.threads allows), split at the
+// median of the faces' centroids along the bounding box's longest axis. The split does not
+// depend on the thread count, so neither do the results.
+std::vector<std::vector<uint32_t>> gregory_region_groups(const PolygonMesh& mesh, std::vector<uint32_t> seed_faces) {
+  std::sort(seed_faces.begin(), seed_faces.end());
+  seed_faces.erase(std::unique(seed_faces.begin(), seed_faces.end()), seed_faces.end());
+  std::vector<std::vector<uint32_t>> groups(1, seed_faces);
+  if (seed_faces.size() >= kSplitGregoryRegionFaces) {
+    std::vector<Vec3> centroid(mesh.num_faces());
+    BoundingBox box;
+    for (uint32_t f : seed_faces) {
+      Vec3 c;
+      for (uint32_t k = 0; k < mesh.face_size(f); ++k) c += mesh.positions[mesh.face_vertex(f, k)];
+      centroid[f] = c * (1.0 / mesh.face_size(f));
+      box.extend(centroid[f]);
+    }
+    const Vec3 extent = box.max - box.min;
+    const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
+    std::vector<uint32_t> order = seed_faces;
+    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+      return centroid[a][axis] < centroid[b][axis] || (centroid[a][axis] == centroid[b][axis] && a < b);
+    });
+    const size_t half = order.size() / 2;
+    groups = {std::vector<uint32_t>(order.begin(), order.begin() + long(half)),
+              std::vector<uint32_t>(order.begin() + long(half), order.end())};
+  }
+  return groups;
+}
+
+}  // namespace
+
+void SubdivisionSurface::Impl::build(const Cage& cage, const SurfaceOptions& options) {
+  check_surface_memory(cage, options);
   auto refiner = subdiv_detail::create_topology_refiner(cage);
   control = cage.mesh.positions;
+  index_ptex_faces(cage, *refiner);
+  // Irregular faces get bilinear placeholders (their four corner vertices, no local points):
+  // CageKit replaces them by Stam patches or Gregory end caps.
+  const int sharp_level = sharp_feature_level(cage, options.isolation_level);
+  patches = build_patches(*refiner, sharp_level, options.isolation_level,
+                          Far::PatchTableFactory::Options::ENDCAP_BILINEAR_BASIS);
+  patch_map.reset(new Far::PatchMap(*patches));
+  const std::vector<int> level_offset = refined_level_offsets(*refiner);
+  std::vector<uint32_t> seed_faces = classify_patches(*refiner, level_offset);
+  derive_refined_rows(*refiner, level_offset.back());
+  refiner.reset();
+  subdiv_detail::fail_on_opensubdiv_error(Status::invalid_mesh, "OpenSubdiv could not build the limit surface");
+  if (!seed_faces.empty()) build_gregory_regions(cage, options, sharp_level, std::move(seed_faces));
+  evaluate_derived_points();
+}
 
+void SubdivisionSurface::Impl::index_ptex_faces(const Cage& cage, const Far::TopologyRefiner& refiner) {
   const size_t num_faces = cage.mesh.num_faces();
-  const Far::PtexIndices ptex(*refiner);
+  const Far::PtexIndices ptex(refiner);
   first_ptex.resize(num_faces + 1);
   ptex_to_face.resize(static_cast<size_t>(ptex.GetNumFaces()));
   for (size_t f = 0; f < num_faces; ++f) {
@@ -272,24 +406,13 @@ void SubdivisionSurface::Impl::build(const Cage& cage, const SurfaceOptions& opt
     for (uint32_t k = 0; k < count; ++k) ptex_to_face[first + k] = static_cast<uint32_t>(f);
   }
   first_ptex[num_faces] = num_ptex();
+}
 
-  // Irregular faces get bilinear placeholders (their four corner vertices, no local points):
-  // CageKit replaces them by Stam patches or Gregory end caps.
-  const int sharp_level = sharp_feature_level(cage, options.isolation_level);
-  patches = build_patches(*refiner, sharp_level, options.isolation_level,
-                          Far::PatchTableFactory::Options::ENDCAP_BILINEAR_BASIS);
+std::vector<uint32_t> SubdivisionSurface::Impl::classify_patches(const Far::TopologyRefiner& refiner,
+                                                                 const std::vector<int>& level_offset) {
   // OpenSubdiv 3.5 gives bilinear end caps local points (the limit points of their corners).
   const Far::StencilTableReal<double>* copies = patches->GetLocalPointStencilTable<double>();
-  patch_map.reset(new Far::PatchMap(*patches));
-
-  std::vector<int> level_offset{0};
-  for (int l = 0; l <= refiner->GetMaxLevel(); ++l)
-    level_offset.push_back(level_offset.back() + refiner->GetLevel(l).GetNumVertices());
-  constexpr uint32_t kUnused = std::numeric_limits<uint32_t>::max();
-  std::vector<uint32_t> refined_id(static_cast<size_t>(level_offset.back()), kUnused);
-  std::vector<int> stam_of_valence;
-  std::vector<uint32_t> seed_faces;
-  std::vector<int> local;
+  IrregularPatches irregular;
   info.resize(static_cast<size_t>(patches->GetNumPatchesTotal()));
   size_t patch = 0;
   for (int a = 0; a < patches->GetNumPatchArrays(); ++a) {
@@ -305,129 +428,102 @@ void SubdivisionSurface::Impl::build(const Cage& cage, const SurfaceOptions& opt
       const Far::PatchParam param = patches->GetPatchParam(a, p);
       if (type != Far::PatchDescriptor::QUADS || points.size() != 4)
         fail(Status::internal_error, "unexpected OpenSubdiv patch type " + std::to_string(static_cast<int>(type)));
-      // The irregular face: its level, and its corner vertices in the patch's order.
-      const int level = param.GetDepth();
-      if (level > refiner->GetMaxLevel()) fail(Status::internal_error, "end cap below the refined levels");
-      const Far::TopologyLevel& topology = refiner->GetLevel(level);
-      int v[4];
-      bool same_level = true;
-      for (int i = 0; i < 4; ++i) {
-        v[i] = points[i];
-        if (v[i] >= level_offset.back()) {
-          // A local point: the limit point of the face's corner; its stencil (over the
-          // refined vertices) weighs that corner most.
-          if (!copies || v[i] - level_offset.back() >= copies->GetNumStencils())
-            fail(Status::internal_error, "unexpected bilinear end-cap point");
-          const auto limit = copies->GetStencil(v[i] - level_offset.back());
-          int best = 0;
-          for (int k = 1; k < limit.GetSize(); ++k)
-            if (limit.GetWeights()[k] > limit.GetWeights()[best]) best = k;
-          v[i] = limit.GetSize() > 0 ? limit.GetVertexIndices()[best] : -1;
-        }
-        v[i] -= level_offset[level];
-        same_level = same_level && v[i] >= 0 && v[i] < topology.GetNumVertices();
-      }
-      int face = -1, shift = 0;
-      if (same_level)
-        for (int f : topology.GetVertexFaces(v[0])) {
-          const auto fv = topology.GetFaceVertices(f);
-          if (fv.size() != 4) continue;
-          for (int k = 0; k < 4 && face < 0; ++k)
-            if (fv[k] == v[0] && fv[(k + 1) % 4] == v[1] && fv[(k + 2) % 4] == v[2] && fv[(k + 3) % 4] == v[3])
-              face = f, shift = k;
-        }
-      int corner = 0;
-      if (face >= 0)
-        for (int r = 3; r >= 0; --r)
-          if (topology.GetVertexFaces(v[r]).size() != 4 || topology.IsVertexBoundary(v[r])) corner = r;
-      if (face >= 0 && subdiv_detail::gather_stam_points(topology, face, (corner + shift) % 4, false, &local)) {
-        const int valence = (static_cast<int>(local.size()) - 8) / 2;
-        if (static_cast<int>(stam_of_valence.size()) <= valence) stam_of_valence.resize(valence + 1, -1);
-        if (stam_of_valence[valence] < 0) {
-          stam_of_valence[valence] = static_cast<int>(stam.size());
-          stam.push_back(subdiv_detail::build_stam_matrices(valence));
-        }
-        pi.kind = PatchKind::stam;
-        pi.rotation = static_cast<uint8_t>(corner);
-        pi.matrices = static_cast<uint32_t>(stam_of_valence[valence]);
-        for (int x : local) patch_points.push_back(static_cast<uint32_t>(x + level_offset[level]));
-      } else {
-        pi.kind = PatchKind::gregory;
-        seed_faces.push_back(ptex_to_face.at(static_cast<size_t>(param.GetFaceId())));
-      }
+      classify_irregular_patch(refiner, level_offset, copies, points, param, pi, irregular);
     }
   }
+  return std::move(irregular.seed_faces);
+}
 
-  // Unified ids: cage vertices keep theirs, the refined vertices the patches use get rows.
-  std::unique_ptr<const Far::StencilTableReal<double>> table = refined_stencils(*refiner);
+void SubdivisionSurface::Impl::classify_irregular_patch(const Far::TopologyRefiner& refiner,
+                                                        const std::vector<int>& level_offset,
+                                                        const Far::StencilTableReal<double>* copies,
+                                                        Far::ConstIndexArray points, const Far::PatchParam& param,
+                                                        PatchInfo& pi, IrregularPatches& irregular) {
+  // The irregular face: its level, and its corner vertices in the patch's order.
+  const int level = param.GetDepth();
+  if (level > refiner.GetMaxLevel()) fail(Status::internal_error, "end cap below the refined levels");
+  const Far::TopologyLevel& topology = refiner.GetLevel(level);
+  int v[4];
+  const bool same_level = end_cap_corners(points, copies, level_offset, level, topology, v);
+  int shift = 0;
+  const int face = same_level ? find_quad(topology, v, shift) : -1;
+  const int corner = face >= 0 ? irregular_corner(topology, v) : 0;
+  std::vector<int>& local = irregular.local;
+  if (face >= 0 && subdiv_detail::gather_stam_points(topology, face, (corner + shift) % 4, false, &local)) {
+    const uint32_t matrices = stam_matrices_of_valence((static_cast<int>(local.size()) - 8) / 2, irregular);
+    pi.kind = PatchKind::stam;
+    pi.rotation = static_cast<uint8_t>(corner);
+    pi.matrices = matrices;
+    for (int x : local) patch_points.push_back(static_cast<uint32_t>(x + level_offset[level]));
+  } else {
+    pi.kind = PatchKind::gregory;
+    irregular.seed_faces.push_back(ptex_to_face.at(static_cast<size_t>(param.GetFaceId())));
+  }
+}
+
+uint32_t SubdivisionSurface::Impl::stam_matrices_of_valence(int valence, IrregularPatches& irregular) {
+  std::vector<int>& stam_of_valence = irregular.stam_of_valence;
+  if (static_cast<int>(stam_of_valence.size()) <= valence) stam_of_valence.resize(valence + 1, -1);
+  if (stam_of_valence[valence] < 0) {
+    stam_of_valence[valence] = static_cast<int>(stam.size());
+    stam.push_back(subdiv_detail::build_stam_matrices(valence));
+  }
+  return static_cast<uint32_t>(stam_of_valence[valence]);
+}
+
+// Unified ids: cage vertices keep theirs, the refined vertices the patches use get rows.
+void SubdivisionSurface::Impl::derive_refined_rows(const Far::TopologyRefiner& refiner, int num_vertices_total) {
+  std::vector<uint32_t> refined_id(static_cast<size_t>(num_vertices_total), kUnusedPoint);
+  std::unique_ptr<const Far::StencilTableReal<double>> table = refined_stencils(refiner);
   const uint32_t nc = num_control();
   for (uint32_t& p : patch_points) {
     if (p < nc) continue;
     uint32_t& id = refined_id[p];
-    if (id == kUnused) {
+    if (id == kUnusedPoint) {
       id = nc + static_cast<uint32_t>(derived.size());
       derived.append_row(table->GetStencil(static_cast<Far::Index>(p - nc)), nullptr);
     }
     p = id;
   }
-  table.reset();
-  refiner.reset();
-  subdiv_detail::fail_on_opensubdiv_error(Status::invalid_mesh, "OpenSubdiv could not build the limit surface");
+}
 
-  if (!seed_faces.empty()) {
-    // Many end-cap faces: two regions, split at the median of the faces' centroids along the
-    // bounding box's longest axis, built at once when options.threads allows. The split does
-    // not depend on the thread count, so neither do the results.
-    std::sort(seed_faces.begin(), seed_faces.end());
-    seed_faces.erase(std::unique(seed_faces.begin(), seed_faces.end()), seed_faces.end());
-    std::vector<std::vector<uint32_t>> groups(1, seed_faces);
-    if (seed_faces.size() >= kSplitGregoryRegionFaces) {
-      std::vector<Vec3> centroid(num_faces);
-      BoundingBox box;
-      for (uint32_t f : seed_faces) {
-        Vec3 c;
-        for (uint32_t k = 0; k < cage.mesh.face_size(f); ++k) c += cage.mesh.positions[cage.mesh.face_vertex(f, k)];
-        centroid[f] = c * (1.0 / cage.mesh.face_size(f));
-        box.extend(centroid[f]);
-      }
-      const Vec3 extent = box.max - box.min;
-      const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
-      std::vector<uint32_t> order = seed_faces;
-      std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
-        return centroid[a][axis] < centroid[b][axis] || (centroid[a][axis] == centroid[b][axis] && a < b);
-      });
-      const size_t half = order.size() / 2;
-      groups = {std::vector<uint32_t>(order.begin(), order.begin() + long(half)),
-                std::vector<uint32_t>(order.begin() + long(half), order.end())};
+void SubdivisionSurface::Impl::build_gregory_regions(const Cage& cage, const SurfaceOptions& options, int sharp_level,
+                                                     std::vector<uint32_t> seed_faces) {
+  const std::vector<std::vector<uint32_t>> groups = gregory_region_groups(cage.mesh, std::move(seed_faces));
+  const int region_level = std::max(options.isolation_level, options.sharp_extraordinary_isolation_level);
+  gregory.resize(groups.size());
+  const size_t workers = std::min<size_t>(groups.size(), size_t(std::max(options.threads, 1)));
+  run_ranges(groups.size(), workers, [&](size_t begin, size_t end, size_t) {
+    for (size_t r = begin; r < end; ++r) {
+      subdiv_detail::begin_opensubdiv_call();  // per-thread diagnostics
+      build_gregory_region(cage, groups[r], std::max(sharp_level, region_level), region_level, gregory[r]);
     }
-    const int region_level = std::max(options.isolation_level, options.sharp_extraordinary_isolation_level);
-    gregory.resize(groups.size());
-    const size_t workers = std::min<size_t>(groups.size(), size_t(std::max(options.threads, 1)));
-    run_ranges(groups.size(), workers, [&](size_t begin, size_t end, size_t) {
-      for (size_t r = begin; r < end; ++r) {
-        subdiv_detail::begin_opensubdiv_call();  // per-thread diagnostics
-        build_gregory_region(cage, groups[r], std::max(sharp_level, region_level), region_level, gregory[r]);
-      }
-    });
-    // Join the regions' rows to `derived`, in region order.
-    gregory_of_face.assign(num_faces, -1);
-    for (size_t r = 0; r < gregory.size(); ++r) {
-      GregoryRegion& g = gregory[r];
-      const uint32_t base = static_cast<uint32_t>(derived.size());
-      for (uint32_t& id : g.point_id)
-        if (id != kUnused && id >= nc) id += base;
-      for (size_t row = 0; row < g.rows.size(); ++row) {
-        derived.indices.insert(derived.indices.end(), g.rows.indices.begin() + g.rows.offsets[row],
-                               g.rows.indices.begin() + g.rows.offsets[row + 1]);
-        derived.weights.insert(derived.weights.end(), g.rows.weights.begin() + g.rows.offsets[row],
-                               g.rows.weights.begin() + g.rows.offsets[row + 1]);
-        derived.offsets.push_back(static_cast<uint32_t>(derived.indices.size()));
-      }
-      g.rows = StencilRows();
-      for (uint32_t f : groups[r]) gregory_of_face[f] = static_cast<int32_t>(r);
+  });
+  join_gregory_rows(groups, cage.mesh.num_faces());
+}
+
+// Joins the regions' rows to `derived`, in region order.
+void SubdivisionSurface::Impl::join_gregory_rows(const std::vector<std::vector<uint32_t>>& groups, size_t num_faces) {
+  const uint32_t nc = num_control();
+  gregory_of_face.assign(num_faces, -1);
+  for (size_t r = 0; r < gregory.size(); ++r) {
+    GregoryRegion& g = gregory[r];
+    const uint32_t base = static_cast<uint32_t>(derived.size());
+    for (uint32_t& id : g.point_id)
+      if (id != kUnusedPoint && id >= nc) id += base;
+    for (size_t row = 0; row < g.rows.size(); ++row) {
+      derived.indices.insert(derived.indices.end(), g.rows.indices.begin() + g.rows.offsets[row],
+                             g.rows.indices.begin() + g.rows.offsets[row + 1]);
+      derived.weights.insert(derived.weights.end(), g.rows.weights.begin() + g.rows.offsets[row],
+                             g.rows.weights.begin() + g.rows.offsets[row + 1]);
+      derived.offsets.push_back(static_cast<uint32_t>(derived.indices.size()));
     }
+    g.rows = StencilRows();
+    for (uint32_t f : groups[r]) gregory_of_face[f] = static_cast<int32_t>(r);
   }
+}
 
+void SubdivisionSurface::Impl::evaluate_derived_points() {
   derived_points.assign(derived.size(), Vec3());
   for (size_t row = 0; row < derived.size(); ++row)
     for (uint32_t k = derived.offsets[row]; k < derived.offsets[row + 1]; ++k)
@@ -524,13 +620,12 @@ void SubdivisionSurface::Impl::build_gregory_region(const Cage& cage, const std:
   const size_t sub_control = cage_vertex.size();
   const size_t num_refined = static_cast<size_t>(refiner->GetNumVerticesTotal()) - sub_control;
   const size_t num_local = local_points ? static_cast<size_t>(local_points->GetNumStencils()) : 0;
-  constexpr uint32_t kUnused = std::numeric_limits<uint32_t>::max();
-  g.point_id.assign(sub_control + num_refined + num_local, kUnused);
+  g.point_id.assign(sub_control + num_refined + num_local, kUnusedPoint);
   for (size_t v = 0; v < sub_control; ++v) g.point_id[v] = cage_vertex[v];
   const auto all_points = g.patches->GetPatchControlVerticesTable();
   for (int p : all_points) {
     uint32_t& id = g.point_id.at(static_cast<size_t>(p));
-    if (id != kUnused) continue;
+    if (id != kUnusedPoint) continue;
     id = num_control() + static_cast<uint32_t>(g.rows.size());
     const size_t row = static_cast<size_t>(p) - sub_control;
     if (!local && !table) fail(Status::internal_error, "Gregory patch point without a stencil");
