@@ -219,6 +219,259 @@ std::vector<Vec3> solve_control_points_coupled(const SubdivisionSurface& surface
   return result;
 }
 
+// The data rows' inputs: samples p_i at foot points t_i, and the current control points (the
+// fixed ones go to the right-hand side, the free ones warm-start CGLS).
+struct SampleRows {
+  const SubdivisionSurface& surface;
+  const std::vector<Vec3>& current_control;
+  const std::vector<Vec3>& samples;
+  const std::vector<FootPoint>& foot_points;
+};
+
+// The point-distance system over the free control vertices, as the steps of
+// solve_point_distance fill it in.
+struct PointDistanceSystem {
+  int n = 0;                    // control vertices
+  std::vector<int> free_index;  // per control vertex: its column, or -1 when fixed
+  int free_count = 0;
+  // Dense normal equations: M (lower triangle) = A_F^T A_F and AtP = A_F^T P at once; otherwise
+  // the rows A (= A_F) and P (= P - A_X c_X), multiplied out by the direct solve.
+  bool dense_normal_equations = false;
+  SparseMatrix A, M;
+  Eigen::MatrixXd P, AtP;
+  Eigen::VectorXd column_norm2;  // per free column: its squared norm in A (the diagonal of A^T A)
+  double mu = 0;
+  Eigen::VectorXd row_weight, weak_weight;  // per vertex: w_j and lambda_w,j of its Laplacian row
+  bool laplacian_rows = false;
+  Eigen::MatrixXd C;  // the free vertices' current positions
+  SparseMatrix LF;    // the Laplacian rows' free columns
+  Eigen::MatrixXd LX_c;  // L_X c_X - t (weak_row_targets)
+};
+
+void index_free_vertices(const std::vector<bool>& fixed, PointDistanceSystem& s) {
+  s.free_index.assign(size_t(s.n), -1);
+  for (int j = 0; j < s.n; ++j)
+    if (!fixed[size_t(j)]) s.free_index[size_t(j)] = s.free_count++;
+}
+
+// One thread's share [begin, end) of the samples summed into dense A^T A (G, F x F) and A^T P
+// (R, F x 3) over the F free columns.
+void accumulate_normal_equations(const SampleRows& data, const std::vector<int>& free_index, size_t F, size_t begin,
+                                 size_t end, std::vector<double>& G, std::vector<double>& R) {
+  G.assign(F * F, 0.0);
+  R.assign(3 * F, 0.0);
+  std::vector<uint32_t> indices, cols;
+  std::vector<double> weights, vals;
+  for (size_t i = begin; i < end; ++i) {
+    const FootPoint& t = data.foot_points[i];
+    data.surface.basis_values(t.ptex_face, t.u, t.v, indices, weights);
+    Vec3 r = data.samples[i];
+    cols.clear();
+    vals.clear();
+    for (size_t k = 0; k < indices.size(); ++k) {
+      const double wk = weights[k];
+      if (wk == 0) continue;
+      const int col = free_index[indices[k]];
+      if (col >= 0)
+        cols.push_back(uint32_t(col)), vals.push_back(wk);
+      else
+        r -= data.current_control[indices[k]] * wk;
+    }
+    for (size_t x = 0; x < cols.size(); ++x) {
+      double* row = &G[size_t(cols[x]) * F];
+      const double wx = vals[x];
+      for (size_t y = 0; y < cols.size(); ++y) row[cols[y]] += wx * vals[y];
+      for (int c = 0; c < 3; ++c) R[3 * size_t(cols[x]) + size_t(c)] += wx * r[c];
+    }
+  }
+}
+
+// The normal equations at once, per thread into dense accumulators (k^2 updates per sample with
+// k basis functions; no N-row matrix, no sparse product), summed in thread order.
+void assemble_normal_equations(const SampleRows& data, size_t workers, PointDistanceSystem& s) {
+  const size_t N = data.samples.size();
+  const size_t F = size_t(s.free_count);
+  check_memory_estimate(estimate_sum(estimate_product(workers, F * F * sizeof(double)),
+                                     estimate_product(F * F, 2 * sizeof(Triplet))),
+                        "least squares");
+  std::vector<std::vector<double>> gram(workers), rhs(workers);
+  run_ranges(N, workers, [&](size_t begin, size_t end, size_t w) {
+    accumulate_normal_equations(data, s.free_index, F, begin, end, gram[w], rhs[w]);
+  });
+  for (size_t w = 1; w < workers; ++w) {
+    for (size_t k = 0; k < F * F; ++k) gram[0][k] += gram[w][k];
+    for (size_t k = 0; k < 3 * F; ++k) rhs[0][k] += rhs[w][k];
+    gram[w] = {}, rhs[w] = {};
+  }
+  // The lower triangle is all SimplicialLDLT reads.
+  std::vector<Triplet> triplets;
+  for (size_t j = 0; j < F; ++j)
+    for (size_t i = j; i < F; ++i)
+      if (gram[0][i * F + j] != 0) triplets.emplace_back(int(i), int(j), gram[0][i * F + j]);
+  s.M = SparseMatrix(s.free_count, s.free_count);
+  s.M.setFromTriplets(triplets.begin(), triplets.end());
+  s.AtP.resize(s.free_count, 3);
+  for (size_t k = 0; k < F; ++k) {
+    s.column_norm2(Eigen::Index(k)) = gram[0][k * F + k];
+    s.AtP.row(Eigen::Index(k)) << rhs[0][3 * k], rhs[0][3 * k + 1], rhs[0][3 * k + 2];
+  }
+}
+
+// The rows of A and P, assembled in parallel (one triplet list per thread, joined in thread
+// order).
+void assemble_rows(const SampleRows& data, size_t workers, PointDistanceSystem& s) {
+  const size_t N = data.samples.size();
+  std::vector<std::vector<Triplet>> parts(workers);
+  s.P.resize(Eigen::Index(N), 3);
+  run_ranges(N, workers, [&](size_t begin, size_t end, size_t w) {
+    auto& triplets = parts[w];
+    triplets.reserve((end - begin) * 18);
+    std::vector<uint32_t> indices;
+    std::vector<double> weights;
+    for (size_t i = begin; i < end; ++i) {
+      const FootPoint& t = data.foot_points[i];
+      data.surface.basis_values(t.ptex_face, t.u, t.v, indices, weights);
+      Vec3 rhs = data.samples[i];
+      for (size_t k = 0; k < indices.size(); ++k) {
+        const double wk = weights[k];
+        if (wk == 0) continue;
+        const int col = s.free_index[indices[k]];
+        if (col >= 0)
+          triplets.emplace_back(int(i), col, wk);
+        else
+          rhs -= data.current_control[indices[k]] * wk;
+      }
+      s.P.row(Eigen::Index(i)) << rhs.x, rhs.y, rhs.z;
+    }
+  });
+  size_t total = 0;
+  for (auto& part : parts) total += part.size();
+  std::vector<Triplet> triplets;
+  triplets.reserve(total);
+  for (auto& part : parts) triplets.insert(triplets.end(), part.begin(), part.end());
+  s.A = SparseMatrix(Eigen::Index(N), s.free_count);
+  s.A.setFromTriplets(triplets.begin(), triplets.end());
+  triplets = {};
+  for (int k = 0; k < s.A.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(s.A, k); it; ++it) s.column_norm2(it.col()) += it.value() * it.value();
+}
+
+// The scale of the system (the mean diagonal of A^T A), mu, and the per-vertex weight of its
+// Laplacian row: lambda for all (fairing), plus lambda_w for the weakly supported free vertices.
+void weigh_rows(const LeastSquaresOptions& options, PointDistanceSystem& s, LeastSquaresReport& report) {
+  const double scale = std::max(s.column_norm2.sum() / s.free_count, 1e-300);
+  for (int k = 0; k < s.free_count; ++k)
+    if (s.column_norm2(k) <= 1e-14 * scale) ++report.unsupported_control_vertices;
+  const double mu = 1e-12 * scale, lambda = options.fairing * scale;
+  s.mu = mu;
+  s.row_weight = Eigen::VectorXd::Constant(s.n, lambda);
+  s.weak_weight = Eigen::VectorXd::Zero(s.n);
+  if (options.weak_support_fraction > 0 && options.weak_fairing > 0) {
+    const double threshold = options.weak_support_fraction * scale;
+    for (int j = 0; j < s.n; ++j) {
+      const int k = s.free_index[size_t(j)];
+      if (k >= 0 && s.column_norm2(k) < threshold) {
+        s.weak_weight(j) = options.weak_fairing * scale;
+        s.row_weight(j) += s.weak_weight(j);
+        ++report.weakly_supported_control_vertices;
+      }
+    }
+  }
+  s.laplacian_rows = s.row_weight.maxCoeff() > 0;
+}
+
+void gather_free_positions(const std::vector<Vec3>& current_control, PointDistanceSystem& s) {
+  s.C.resize(s.free_count, 3);
+  for (int j = 0; j < s.n; ++j)
+    if (s.free_index[size_t(j)] >= 0) {
+      const Vec3& c = current_control[size_t(j)];
+      s.C.row(s.free_index[size_t(j)]) << c.x, c.y, c.z;
+    }
+}
+
+// Laplacian rows: sqrt(w_j) (L_F c_F + L_X c_X)_j.
+void add_laplacian_rows(const Cage& cage, const std::vector<Vec3>& current_control, PointDistanceSystem& s) {
+  const SparseMatrix L = umbrella_laplacian(cage.mesh);
+  std::vector<Triplet> lt;
+  s.LX_c = Eigen::MatrixXd::Zero(s.n, 3);
+  for (int k = 0; k < L.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(L, k); it; ++it) {
+      const int col = s.free_index[size_t(it.col())];
+      if (col >= 0) {
+        lt.emplace_back(int(it.row()), col, it.value());
+      } else {
+        const Vec3& c = current_control[size_t(it.col())];
+        s.LX_c.row(it.row()) += it.value() * Eigen::RowVector3d(c.x, c.y, c.z);
+      }
+    }
+  s.LF = SparseMatrix(s.n, s.free_count);
+  s.LF.setFromTriplets(lt.begin(), lt.end());
+  // Rows sqrt(w_j) ((L c)_j - t_j), t from weak_row_targets.
+  s.LX_c -= weak_row_targets(L, cage, s.row_weight, s.weak_weight);
+}
+
+// The direct solver: SimplicialLDLT of the normal equations (x, y, z share the factorisation).
+Eigen::MatrixXd solve_normal_equations(PointDistanceSystem& s) {
+  if (!s.dense_normal_equations) {
+    const SparseMatrix At = s.A.transpose();
+    s.M = At * s.A;
+    s.AtP = At * s.P;
+  }
+  Eigen::MatrixXd b = s.AtP + s.mu * s.C;
+  if (s.laplacian_rows) {
+    const SparseMatrix LFt_W = s.LF.transpose() * s.row_weight.asDiagonal();
+    s.M += SparseMatrix(LFt_W * s.LF);
+    b -= LFt_W * s.LX_c;
+  }
+  SparseMatrix I(s.free_count, s.free_count);
+  I.setIdentity();
+  s.M += s.mu * I;
+  Eigen::SimplicialLDLT<SparseMatrix> solver(s.M);
+  if (solver.info() != Eigen::Success)
+    fail(Status::internal_error, "least squares: the normal equations could not be factorised");
+  Eigen::MatrixXd x = solver.solve(b);
+  if (solver.info() != Eigen::Success) fail(Status::internal_error, "least squares: the solve failed");
+  return x;
+}
+
+// CGLS on the stacked system, warm-started from the current control points.
+Eigen::MatrixXd solve_stacked_cgls(const PointDistanceSystem& s, LeastSquaresReport& report) {
+  const int n = s.n, free_count = s.free_count;
+  const SparseMatrix &A = s.A, &LF = s.LF;
+  const bool laplacian_rows = s.laplacian_rows;
+  const Eigen::Index rows = A.rows() + (laplacian_rows ? n : 0) + free_count;
+  std::vector<Triplet> bt;
+  bt.reserve(size_t(A.nonZeros() + (laplacian_rows ? LF.nonZeros() : 0) + free_count));
+  for (int k = 0; k < A.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(A, k); it; ++it) bt.emplace_back(int(it.row()), int(it.col()), it.value());
+  Eigen::Index row = A.rows();
+  Eigen::MatrixXd d(rows, 3);
+  d.topRows(A.rows()) = s.P;
+  if (laplacian_rows) {
+    const Eigen::VectorXd sl = s.row_weight.cwiseSqrt();
+    for (int k = 0; k < LF.outerSize(); ++k)
+      for (SparseMatrix::InnerIterator it(LF, k); it; ++it)
+        bt.emplace_back(int(row + it.row()), int(it.col()), sl(it.row()) * it.value());
+    d.middleRows(row, n) = -(sl.asDiagonal() * s.LX_c);
+    row += n;
+  }
+  const double sm = std::sqrt(s.mu);
+  for (int k = 0; k < free_count; ++k) bt.emplace_back(int(row + k), k, sm);
+  d.bottomRows(free_count) = sm * s.C;
+  SparseMatrix B(rows, free_count);
+  B.setFromTriplets(bt.begin(), bt.end());
+  Eigen::LeastSquaresConjugateGradient<SparseMatrix> cg;
+  cg.setTolerance(1e-10);
+  cg.setMaxIterations(std::max<Eigen::Index>(100, 4 * free_count));
+  cg.compute(B);
+  Eigen::MatrixXd x(free_count, 3);
+  for (int c = 0; c < 3; ++c) {
+    x.col(c) = cg.solveWithGuess(d.col(c), s.C.col(c));
+    report.cgls_iterations = std::max(report.cgls_iterations, int(cg.iterations()));
+  }
+  return x;
+}
+
 // The point-distance system (w = 1) as one augmented least-squares problem over the free
 // control vertices: B x = d with B = [A_F; sqrt(lambda) L_F; sqrt(mu) I],
 // d = [P - A_X c_X; -sqrt(lambda) L_X c_X; sqrt(mu) c_F] (X = fixed vertices).
@@ -226,218 +479,34 @@ std::vector<Vec3> solve_point_distance(const SubdivisionSurface& surface, const 
                                        const std::vector<Vec3>& current_control, const std::vector<Vec3>& samples,
                                        const std::vector<FootPoint>& foot_points, const std::vector<bool>& fixed,
                                        const LeastSquaresOptions& options, LeastSquaresReport& report) {
-  const int n = int(surface.num_control_vertices());
-  std::vector<int> free_index(size_t(n), -1);
-  int free_count = 0;
-  for (int j = 0; j < n; ++j)
-    if (!fixed[size_t(j)]) free_index[size_t(j)] = free_count++;
+  PointDistanceSystem s;
+  s.n = int(surface.num_control_vertices());
+  index_free_vertices(fixed, s);
   std::vector<Vec3> result = current_control;
-  if (free_count == 0) return result;
+  if (s.free_count == 0) return result;
 
-  // The direct solver with a small cage assembles the normal equations A^T A and A^T P at once,
-  // per thread into dense accumulators (k^2 updates per sample with k basis functions; no
-  // N-row matrix, no sparse product); otherwise the rows of A are assembled (in parallel) and
-  // multiplied out. Fixed columns go to the right-hand side either way.
+  // The direct solver with a small cage assembles the normal equations A^T A and A^T P at once;
+  // otherwise the rows of A are assembled (in parallel) and multiplied out. Fixed columns go to
+  // the right-hand side either way.
+  const SampleRows data{surface, current_control, samples, foot_points};
   const size_t N = samples.size();
   const size_t workers = size_t(std::max(1, std::min(options.threads, int((N + 4095) / 4096))));
-  const size_t F = size_t(free_count);
-  const bool dense_normal_equations = options.solver == LeastSquaresSolver::direct && F <= kDenseNormalEquationsLimit;
-  SparseMatrix A, M;
-  Eigen::MatrixXd P, AtP;
-  Eigen::VectorXd column_norm2 = Eigen::VectorXd::Zero(free_count);
-  if (dense_normal_equations) {
-    check_memory_estimate(estimate_sum(estimate_product(workers, F * F * sizeof(double)),
-                                       estimate_product(F * F, 2 * sizeof(Triplet))),
-                          "least squares");
-    std::vector<std::vector<double>> gram(workers), rhs(workers);
-    run_ranges(N, workers, [&](size_t begin, size_t end, size_t w) {
-      std::vector<double>& G = gram[w];
-      std::vector<double>& R = rhs[w];
-      G.assign(F * F, 0.0);
-      R.assign(3 * F, 0.0);
-      std::vector<uint32_t> indices, cols;
-      std::vector<double> weights, vals;
-      for (size_t i = begin; i < end; ++i) {
-        const FootPoint& t = foot_points[i];
-        surface.basis_values(t.ptex_face, t.u, t.v, indices, weights);
-        Vec3 r = samples[i];
-        cols.clear();
-        vals.clear();
-        for (size_t k = 0; k < indices.size(); ++k) {
-          const double wk = weights[k];
-          if (wk == 0) continue;
-          const int col = free_index[indices[k]];
-          if (col >= 0)
-            cols.push_back(uint32_t(col)), vals.push_back(wk);
-          else
-            r -= current_control[indices[k]] * wk;
-        }
-        for (size_t x = 0; x < cols.size(); ++x) {
-          double* row = &G[size_t(cols[x]) * F];
-          const double wx = vals[x];
-          for (size_t y = 0; y < cols.size(); ++y) row[cols[y]] += wx * vals[y];
-          for (int c = 0; c < 3; ++c) R[3 * size_t(cols[x]) + size_t(c)] += wx * r[c];
-        }
-      }
-    });
-    for (size_t w = 1; w < workers; ++w) {
-      for (size_t k = 0; k < F * F; ++k) gram[0][k] += gram[w][k];
-      for (size_t k = 0; k < 3 * F; ++k) rhs[0][k] += rhs[w][k];
-      gram[w] = {}, rhs[w] = {};
-    }
-    // The lower triangle is all SimplicialLDLT reads.
-    std::vector<Triplet> triplets;
-    for (size_t j = 0; j < F; ++j)
-      for (size_t i = j; i < F; ++i)
-        if (gram[0][i * F + j] != 0) triplets.emplace_back(int(i), int(j), gram[0][i * F + j]);
-    M = SparseMatrix(free_count, free_count);
-    M.setFromTriplets(triplets.begin(), triplets.end());
-    AtP.resize(free_count, 3);
-    for (size_t k = 0; k < F; ++k) {
-      column_norm2(Eigen::Index(k)) = gram[0][k * F + k];
-      AtP.row(Eigen::Index(k)) << rhs[0][3 * k], rhs[0][3 * k + 1], rhs[0][3 * k + 2];
-    }
-  } else {
-    std::vector<std::vector<Triplet>> parts(workers);
-    P.resize(Eigen::Index(N), 3);
-    run_ranges(N, workers, [&](size_t begin, size_t end, size_t w) {
-      auto& triplets = parts[w];
-      triplets.reserve((end - begin) * 18);
-      std::vector<uint32_t> indices;
-      std::vector<double> weights;
-      for (size_t i = begin; i < end; ++i) {
-        const FootPoint& t = foot_points[i];
-        surface.basis_values(t.ptex_face, t.u, t.v, indices, weights);
-        Vec3 rhs = samples[i];
-        for (size_t k = 0; k < indices.size(); ++k) {
-          const double wk = weights[k];
-          if (wk == 0) continue;
-          const int col = free_index[indices[k]];
-          if (col >= 0)
-            triplets.emplace_back(int(i), col, wk);
-          else
-            rhs -= current_control[indices[k]] * wk;
-        }
-        P.row(Eigen::Index(i)) << rhs.x, rhs.y, rhs.z;
-      }
-    });
-    size_t total = 0;
-    for (auto& part : parts) total += part.size();
-    std::vector<Triplet> triplets;
-    triplets.reserve(total);
-    for (auto& part : parts) triplets.insert(triplets.end(), part.begin(), part.end());
-    A = SparseMatrix(Eigen::Index(N), free_count);
-    A.setFromTriplets(triplets.begin(), triplets.end());
-    triplets = {};
-    for (int k = 0; k < A.outerSize(); ++k)
-      for (SparseMatrix::InnerIterator it(A, k); it; ++it) column_norm2(it.col()) += it.value() * it.value();
-  }
-  const double scale = std::max(column_norm2.sum() / free_count, 1e-300);
-  for (int k = 0; k < free_count; ++k)
-    if (column_norm2(k) <= 1e-14 * scale) ++report.unsupported_control_vertices;
-  const double mu = 1e-12 * scale, lambda = options.fairing * scale;
-  // Per-vertex weight of its Laplacian row: lambda for all (fairing), plus lambda_w for the
-  // weakly supported free vertices.
-  Eigen::VectorXd row_weight = Eigen::VectorXd::Constant(n, lambda);
-  Eigen::VectorXd weak_weight = Eigen::VectorXd::Zero(n);
-  if (options.weak_support_fraction > 0 && options.weak_fairing > 0) {
-    const double threshold = options.weak_support_fraction * scale;
-    for (int j = 0; j < n; ++j) {
-      const int k = free_index[size_t(j)];
-      if (k >= 0 && column_norm2(k) < threshold) {
-        weak_weight(j) = options.weak_fairing * scale;
-        row_weight(j) += weak_weight(j);
-        ++report.weakly_supported_control_vertices;
-      }
-    }
-  }
-  const bool laplacian_rows = row_weight.maxCoeff() > 0;
+  s.dense_normal_equations =
+      options.solver == LeastSquaresSolver::direct && size_t(s.free_count) <= kDenseNormalEquationsLimit;
+  s.column_norm2 = Eigen::VectorXd::Zero(s.free_count);
+  if (s.dense_normal_equations)
+    assemble_normal_equations(data, workers, s);
+  else
+    assemble_rows(data, workers, s);
+  weigh_rows(options, s, report);
+  gather_free_positions(current_control, s);
+  if (s.laplacian_rows) add_laplacian_rows(cage, current_control, s);
 
-  Eigen::MatrixXd C(free_count, 3);
-  for (int j = 0; j < n; ++j)
-    if (free_index[size_t(j)] >= 0) {
-      const Vec3& c = current_control[size_t(j)];
-      C.row(free_index[size_t(j)]) << c.x, c.y, c.z;
-    }
-  // Laplacian rows: sqrt(w_j) (L_F c_F + L_X c_X)_j.
-  SparseMatrix LF;
-  Eigen::MatrixXd LX_c;
-  if (laplacian_rows) {
-    const SparseMatrix L = umbrella_laplacian(cage.mesh);
-    std::vector<Triplet> lt;
-    LX_c = Eigen::MatrixXd::Zero(n, 3);
-    for (int k = 0; k < L.outerSize(); ++k)
-      for (SparseMatrix::InnerIterator it(L, k); it; ++it) {
-        const int col = free_index[size_t(it.col())];
-        if (col >= 0) {
-          lt.emplace_back(int(it.row()), col, it.value());
-        } else {
-          const Vec3& c = current_control[size_t(it.col())];
-          LX_c.row(it.row()) += it.value() * Eigen::RowVector3d(c.x, c.y, c.z);
-        }
-      }
-    LF = SparseMatrix(n, free_count);
-    LF.setFromTriplets(lt.begin(), lt.end());
-    // Rows sqrt(w_j) ((L c)_j - t_j), t from weak_row_targets.
-    LX_c -= weak_row_targets(L, cage, row_weight, weak_weight);
-  }
-
-  Eigen::MatrixXd x(free_count, 3);
-  if (options.solver == LeastSquaresSolver::direct) {
-    if (!dense_normal_equations) {
-      const SparseMatrix At = A.transpose();
-      M = At * A;
-      AtP = At * P;
-    }
-    Eigen::MatrixXd b = AtP + mu * C;
-    if (laplacian_rows) {
-      const SparseMatrix LFt_W = LF.transpose() * row_weight.asDiagonal();
-      M += SparseMatrix(LFt_W * LF);
-      b -= LFt_W * LX_c;
-    }
-    SparseMatrix I(free_count, free_count);
-    I.setIdentity();
-    M += mu * I;
-    Eigen::SimplicialLDLT<SparseMatrix> solver(M);
-    if (solver.info() != Eigen::Success)
-      fail(Status::internal_error, "least squares: the normal equations could not be factorised");
-    x = solver.solve(b);
-    if (solver.info() != Eigen::Success) fail(Status::internal_error, "least squares: the solve failed");
-  } else {
-    // CGLS on the stacked system, warm-started from the current control points.
-    const Eigen::Index rows = A.rows() + (laplacian_rows ? n : 0) + free_count;
-    std::vector<Triplet> bt;
-    bt.reserve(size_t(A.nonZeros() + (laplacian_rows ? LF.nonZeros() : 0) + free_count));
-    for (int k = 0; k < A.outerSize(); ++k)
-      for (SparseMatrix::InnerIterator it(A, k); it; ++it) bt.emplace_back(int(it.row()), int(it.col()), it.value());
-    Eigen::Index row = A.rows();
-    Eigen::MatrixXd d(rows, 3);
-    d.topRows(A.rows()) = P;
-    if (laplacian_rows) {
-      const Eigen::VectorXd sl = row_weight.cwiseSqrt();
-      for (int k = 0; k < LF.outerSize(); ++k)
-        for (SparseMatrix::InnerIterator it(LF, k); it; ++it)
-          bt.emplace_back(int(row + it.row()), int(it.col()), sl(it.row()) * it.value());
-      d.middleRows(row, n) = -(sl.asDiagonal() * LX_c);
-      row += n;
-    }
-    const double sm = std::sqrt(mu);
-    for (int k = 0; k < free_count; ++k) bt.emplace_back(int(row + k), k, sm);
-    d.bottomRows(free_count) = sm * C;
-    SparseMatrix B(rows, free_count);
-    B.setFromTriplets(bt.begin(), bt.end());
-    Eigen::LeastSquaresConjugateGradient<SparseMatrix> cg;
-    cg.setTolerance(1e-10);
-    cg.setMaxIterations(std::max<Eigen::Index>(100, 4 * free_count));
-    cg.compute(B);
-    for (int c = 0; c < 3; ++c) {
-      x.col(c) = cg.solveWithGuess(d.col(c), C.col(c));
-      report.cgls_iterations = std::max(report.cgls_iterations, int(cg.iterations()));
-    }
-  }
+  const Eigen::MatrixXd x =
+      options.solver == LeastSquaresSolver::direct ? solve_normal_equations(s) : solve_stacked_cgls(s, report);
   if (!x.allFinite()) fail(Status::internal_error, "least squares: the solve gave non-finite positions");
-  for (int j = 0; j < n; ++j) {
-    const int k = free_index[size_t(j)];
+  for (int j = 0; j < s.n; ++j) {
+    const int k = s.free_index[size_t(j)];
     if (k >= 0) result[size_t(j)] = {x(k, 0), x(k, 1), x(k, 2)};
   }
   return result;
