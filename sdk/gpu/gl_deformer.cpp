@@ -32,12 +32,9 @@ std::string join(const std::vector<std::string>& names) {
   return out;
 }
 
-}  // namespace
-
-GlDeformer::GlDeformer(const ScanBinding& b, const std::vector<uint32_t>& triangles, GlGetProcAddress get_proc_address,
-                       void* user_data, const GlDeformerOptions& options)
-    : binding_(b) {
-  if (get_proc_address == nullptr) fail(Status::invalid_argument, "gl deformer: get_proc_address must not be NULL");
+// The binding and the triangles: sizes that fit 32-bit GPU indexing, consistent arrays, indices
+// in range.
+void validate_binding(const ScanBinding& b, const std::vector<uint32_t>& triangles) {
   const size_t n = b.num_vertices(), entries = b.num_entries();
   if (n == 0) fail(Status::invalid_argument, "gl deformer: the binding has no vertices");
   if (n > UINT32_MAX / kVertexWords || entries > UINT32_MAX / kEntryWords ||
@@ -52,8 +49,57 @@ GlDeformer::GlDeformer(const ScanBinding& b, const std::vector<uint32_t>& triang
     if (v >= n) fail(Status::invalid_argument, "gl deformer: a triangle index is out of range");
   for (uint32_t j : b.control_index)
     if (j >= b.num_control_vertices) fail(Status::invalid_argument, "gl deformer: a basis entry's control index is out of range");
+}
 
-  // Feature check, before anything else is loaded: version first (its message is the useful one).
+// The binding converted to float32 (once): kVertexWords words per vertex (its row of basis
+// entries, displacement, tangent offset, normal coefficients), kEntryWords per basis entry.
+struct BindingWords {
+  std::vector<uint32_t> vertices, entries;
+};
+
+BindingWords binding_words(const ScanBinding& b, bool local_frame) {
+  const size_t n = b.num_vertices(), entries = b.num_entries();
+  BindingWords words;
+  std::vector<uint32_t>& vertex_words = words.vertices;
+  std::vector<uint32_t>& entry_words = words.entries;
+  vertex_words.assign(kVertexWords * n, 0);
+  entry_words.assign(kEntryWords * std::max<size_t>(entries, 1), 0);
+  for (size_t i = 0; i < n; ++i) {
+    uint32_t* w = &vertex_words[kVertexWords * i];
+    w[0] = b.row_offsets[i], w[1] = b.row_offsets[i + 1];
+    if (w[0] > w[1] || w[1] > entries) fail(Status::invalid_argument, "gl deformer: the binding's rows are inconsistent");
+    w[2] = float_bits(b.displacement[i]);
+    w[3] = float_bits(local_frame ? b.tangent_offset[2 * i] : 0.0);
+    w[4] = float_bits(local_frame ? b.tangent_offset[2 * i + 1] : 0.0);
+    for (int k = 0; k < 6; ++k) w[5 + k] = float_bits(b.normal_coefficients[6 * i + k]);
+  }
+  for (size_t e = 0; e < entries; ++e) {
+    uint32_t* w = &entry_words[kEntryWords * e];
+    w[0] = b.control_index[e], w[1] = float_bits(b.phi[e]), w[2] = float_bits(b.phi_u[e]), w[3] = float_bits(b.phi_v[e]);
+  }
+  return words;
+}
+
+}  // namespace
+
+GlDeformer::GlDeformer(const ScanBinding& b, const std::vector<uint32_t>& triangles, GlGetProcAddress get_proc_address,
+                       void* user_data, const GlDeformerOptions& options)
+    : binding_(b) {
+  if (get_proc_address == nullptr) fail(Status::invalid_argument, "gl deformer: get_proc_address must not be NULL");
+  validate_binding(b, triangles);
+  load_functions(get_proc_address, user_data);
+  query_limits(b.num_vertices());
+  vertex_count_ = uint32_t(b.num_vertices());
+  control_count_ = b.num_control_vertices;
+  local_frame_ = b.mode == DisplacementMode::local_frame;
+  const BindingWords words = binding_words(b, local_frame_);
+  const std::vector<uint32_t> indices = reorder_triangles(triangles, options.optimize_vertex_cache);
+  check_buffer_sizes(b.num_entries());
+  create_objects(words.vertices, words.entries, indices);
+}
+
+// Feature check, before anything else is loaded: version first (its message is the useful one).
+void GlDeformer::load_functions(GlGetProcAddress get_proc_address, void* user_data) {
   gl_.GetString = reinterpret_cast<PFNGLGETSTRINGPROC>(get_proc_address("glGetString", user_data));
   if (gl_.GetString == nullptr)
     fail(Status::unsupported_format, "gl deformer: the get-proc-address callback has no glGetString (is a context current?)");
@@ -72,7 +118,10 @@ GlDeformer::GlDeformer(const ScanBinding& b, const std::vector<uint32_t>& triang
   const std::vector<std::string> missing = gl_.load(get_proc_address, user_data);
   if (!missing.empty())
     fail(Status::unsupported_format, "gl deformer: the get-proc-address callback did not provide " + join(missing));
+}
 
+// The context's limits the deformer needs: storage blocks, work groups for n vertices, block size.
+void GlDeformer::query_limits(size_t n) {
   GLint blocks = 0, bindings = 0, groups_x = 0, groups_y = 0;
   GLint64 block_size = 0;
   gl_.GetIntegerv(GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS, &blocks);
@@ -97,42 +146,36 @@ GlDeformer::GlDeformer(const ScanBinding& b, const std::vector<uint32_t>& triang
   if (groups > uint64_t(groups_x) * uint64_t(groups_y))
     fail(Status::limit_exceeded, "gl deformer: " + std::to_string(n) + " vertices need more compute work groups than "
                                      "the context allows");
+}
 
-  vertex_count_ = uint32_t(n);
-  control_count_ = b.num_control_vertices;
-  local_frame_ = b.mode == DisplacementMode::local_frame;
-
-  // Float32 conversion of the binding (once).
-  std::vector<uint32_t> vertex_words(kVertexWords * n, 0), entry_words(kEntryWords * std::max<size_t>(entries, 1), 0);
-  for (size_t i = 0; i < n; ++i) {
-    uint32_t* w = &vertex_words[kVertexWords * i];
-    w[0] = b.row_offsets[i], w[1] = b.row_offsets[i + 1];
-    if (w[0] > w[1] || w[1] > entries) fail(Status::invalid_argument, "gl deformer: the binding's rows are inconsistent");
-    w[2] = float_bits(b.displacement[i]);
-    w[3] = float_bits(local_frame_ ? b.tangent_offset[2 * i] : 0.0);
-    w[4] = float_bits(local_frame_ ? b.tangent_offset[2 * i + 1] : 0.0);
-    for (int k = 0; k < 6; ++k) w[5 + k] = float_bits(b.normal_coefficients[6 * i + k]);
-  }
-  for (size_t e = 0; e < entries; ++e) {
-    uint32_t* w = &entry_words[kEntryWords * e];
-    w[0] = b.control_index[e], w[1] = float_bits(b.phi[e]), w[2] = float_bits(b.phi_u[e]), w[3] = float_bits(b.phi_v[e]);
-  }
-
+// The index buffer's contents: the triangles, reordered for the vertex cache when asked, with the
+// cache miss ratios before and after.
+std::vector<uint32_t> GlDeformer::reorder_triangles(const std::vector<uint32_t>& triangles, bool optimize) {
+  const size_t n = vertex_count_;
   std::vector<uint32_t> indices = triangles;
   if (!indices.empty()) {
     acmr_before_ = meshopt_analyzeVertexCache(indices.data(), indices.size(), n, 16, 0, 0).acmr;
-    if (options.optimize_vertex_cache) meshopt_optimizeVertexCache(indices.data(), triangles.data(), triangles.size(), n);
+    if (optimize) meshopt_optimizeVertexCache(indices.data(), triangles.data(), triangles.size(), n);
     acmr_after_ = meshopt_analyzeVertexCache(indices.data(), indices.size(), n, 16, 0, 0).acmr;
   }
   index_count_ = uint32_t(indices.size());
+  return indices;
+}
 
+void GlDeformer::check_buffer_sizes(size_t entries) const {
+  const size_t n = vertex_count_;
   const uint64_t sizes[] = {4ull * kVertexWords * n, 4ull * kEntryWords * entries, 24ull * n,
                             12ull * std::max<uint32_t>(control_count_, 1)};
   for (uint64_t s : sizes)
     if (s > uint64_t(max_block_size_))
       fail(Status::limit_exceeded, "gl deformer: a buffer of " + std::to_string(s) + " bytes exceeds the context's "
                                        "GL_MAX_SHADER_STORAGE_BLOCK_SIZE of " + std::to_string(max_block_size_));
+}
 
+// The program and the buffers; on failure, none of them is left behind.
+void GlDeformer::create_objects(const std::vector<uint32_t>& vertex_words, const std::vector<uint32_t>& entry_words,
+                                const std::vector<uint32_t>& indices) {
+  const size_t n = vertex_count_;
   const GlStateGuard guard(gl_);
   try {
     // Earlier errors of the host are not ours (bounded: a lost context may keep reporting one).

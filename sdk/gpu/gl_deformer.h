@@ -87,6 +87,13 @@ class GlDeformer {
   uint64_t gpu_bytes() const { return gpu_bytes_; }
 
  private:
+  // The constructor's steps, after the binding's validation.
+  void load_functions(GlGetProcAddress get_proc_address, void* user_data);
+  void query_limits(size_t n);
+  std::vector<uint32_t> reorder_triangles(const std::vector<uint32_t>& triangles, bool optimize);
+  void check_buffer_sizes(size_t entries) const;
+  void create_objects(const std::vector<uint32_t>& vertex_words, const std::vector<uint32_t>& entry_words,
+                      const std::vector<uint32_t>& indices);
   void release() noexcept;
   uint32_t make_buffer(const void* data, size_t bytes, uint32_t usage);
   void compile_program();
