@@ -104,9 +104,10 @@ double LimitSurfaceProjector::distance2(uint32_t face, double u, double v, const
   return dot(d, d);
 }
 
-FootPoint LimitSurfaceProjector::project_piecewise_linear(const Vec3& p) const {
-  if (!linear_) fail(Status::invalid_argument, "closest point: built without the piecewise-linear mesh");
-  const PiecewiseLinearLimitMesh::Hit hit = linear_->closest_point(p);
+namespace {
+
+// A hit on the piecewise-linear limit mesh as a foot point (no search steps taken).
+FootPoint foot_point_of(const PiecewiseLinearLimitMesh::Hit& hit) {
   FootPoint out;
   out.ptex_face = hit.ptex_face;
   out.u = hit.u;
@@ -114,6 +115,13 @@ FootPoint LimitSurfaceProjector::project_piecewise_linear(const Vec3& p) const {
   out.distance = hit.distance;
   out.position = hit.position;
   return out;
+}
+
+}  // namespace
+
+FootPoint LimitSurfaceProjector::project_piecewise_linear(const Vec3& p) const {
+  if (!linear_) fail(Status::invalid_argument, "closest point: built without the piecewise-linear mesh");
+  return foot_point_of(linear_->closest_point(p));
 }
 
 FootPoint LimitSurfaceProjector::project(const Vec3& p, const FootPoint* warm_start) const {
@@ -124,9 +132,7 @@ FootPoint LimitSurfaceProjector::project(const Vec3& p, const FootPoint* warm_st
   // piecewise-linear mesh has a closer point in another ptex face, search from there too.
   const PiecewiseLinearLimitMesh::Hit hit = linear_->closest_point(p, best.distance, best.ptex_face);
   if (!(hit.distance < best.distance) || hit.ptex_face == best.ptex_face) return best;
-  FootPoint seed;
-  seed.ptex_face = hit.ptex_face, seed.u = hit.u, seed.v = hit.v;
-  FootPoint other = refine(p, seed);
+  FootPoint other = refine(p, foot_point_of(hit));
   other.steps += best.steps;
   if (other.distance < best.distance) return other;
   best.steps = other.steps;
