@@ -22,7 +22,7 @@
 
 using cagekit::CurveNetwork;
 using cagekit::ElementWeights;
-using cagekit::Point2;
+using cagekit::Vec2;
 using cagekit::QuadSelection;
 using cagekit::Status;
 using cagekit_test::status_of;
@@ -35,11 +35,11 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-std::array<Point2, 4> quad(Point2 a, Point2 b, Point2 c, Point2 d) { return {a, b, c, d}; }
+std::array<Vec2, 4> quad(Vec2 a, Vec2 b, Vec2 c, Vec2 d) { return {a, b, c, d}; }
 
 // Counter-clockwise loop of an axis-aligned w x h rectangle with unit-spaced samples.
-std::vector<Point2> rectangle_loop(int w, int h) {
-  std::vector<Point2> loop;
+std::vector<Vec2> rectangle_loop(int w, int h) {
+  std::vector<Vec2> loop;
   for (int x = 0; x < w; ++x) loop.push_back({double(x), 0.0});
   for (int y = 0; y < h; ++y) loop.push_back({double(w), double(y)});
   for (int x = w; x > 0; --x) loop.push_back({double(x), double(h)});
@@ -48,16 +48,16 @@ std::vector<Point2> rectangle_loop(int w, int h) {
 }
 
 // L-shaped region: [0,4]² minus [2,4]², unit samples, counter-clockwise; (2,2) is concave (3π/2).
-std::vector<Point2> l_shape_loop() {
+std::vector<Vec2> l_shape_loop() {
   return {{0, 0}, {1, 0}, {2, 0}, {2, 1}, {2, 2}, {3, 2}, {4, 2}, {4, 3}, {4, 4},
           {3, 4}, {2, 4}, {1, 4}, {0, 4}, {0, 3}, {0, 2}, {0, 1}};
 }
 
-bool point_in_polygon(const std::vector<Point2>& poly, const Point2& p) {
+bool point_in_polygon(const std::vector<Vec2>& poly, const Vec2& p) {
   bool inside = false;
   for (size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++)
-    if ((poly[i][1] > p[1]) != (poly[j][1] > p[1]) &&
-        p[0] < (poly[j][0] - poly[i][0]) * (p[1] - poly[i][1]) / (poly[j][1] - poly[i][1]) + poly[i][0])
+    if ((poly[i].y > p.y) != (poly[j].y > p.y) &&
+        p.x < (poly[j].x - poly[i].x) * (p.y - poly[i].y) / (poly[j].y - poly[i].y) + poly[i].x)
       inside = !inside;
   return inside;
 }
@@ -106,7 +106,7 @@ TEST(QuadElementEnergy, TrianglesPentagonsAndTJoints) {
   literal.polygon_offset = 0.0;
   EXPECT_NEAR(cagekit::rate_element({{0, 0}, {1, 0}, {0.5, s3 / 2}}, literal).energy, 0.0, 1e-9);
   // Regular pentagon: E_a = 0.
-  std::vector<Point2> pentagon;
+  std::vector<Vec2> pentagon;
   for (int i = 0; i < 5; ++i) pentagon.push_back({std::cos(2 * kPi * i / 5), std::sin(2 * kPi * i / 5)});
   EXPECT_NEAR(cagekit::rate_element(pentagon, w).energy, 70.0, 1e-9);
   // A square with a T-joint on its bottom side: a quad (0) plus w_T.
@@ -127,7 +127,7 @@ TEST(QuadElementEnergy, FlippedFacesAreRejectedAndConcaveFacesSplit) {
   EXPECT_TRUE(cagekit::rate_element({{0, 0}, {1, 0}}, w).invalid);
   // L-shaped hexagon: the diagonals from the concave corner (1, 1) give triangle + pentagon
   // twice, or (to the origin) two right trapezoids, which cost least.
-  const std::vector<Point2> hexagon = {{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}};
+  const std::vector<Vec2> hexagon = {{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}};
   const auto l = cagekit::rate_element(hexagon, w);
   EXPECT_FALSE(l.invalid);
   ASSERT_EQ(l.pieces.size(), 2u);
@@ -166,7 +166,7 @@ TEST(QuadCurveNetwork, BendingEnergyOfKnownCurves) {
 
 TEST(QuadCurveNetwork, MinimiserMatchesBruteForceAndIsSymmetric) {
   struct Case {
-    Point2 ci, qi, cj, qj;
+    Vec2 ci, qi, cj, qj;
   };
   const double r = std::sqrt(0.5);
   const Case cases[] = {
@@ -181,12 +181,12 @@ TEST(QuadCurveNetwork, MinimiserMatchesBruteForceAndIsSymmetric) {
     EXPECT_GT(fit.lambda, 0.0);
     EXPECT_GT(fit.mu, 0.0);
     // Brute force over a fine grid of (λ, μ) with uncrossed legs.
-    const double d = std::hypot(c.cj[0] - c.ci[0], c.cj[1] - c.ci[1]);
+    const double d = std::hypot(c.cj.x - c.ci.x, c.cj.y - c.ci.y);
     double brute = std::numeric_limits<double>::infinity();
     for (int a = 1; a <= 300; ++a)
       for (int b = 1; b <= 300; ++b) {
         const double l = a * 0.01 * d, m = b * 0.01 * d;
-        const Point2 li{c.ci[0] + l * c.qi[0], c.ci[1] + l * c.qi[1]}, mj{c.cj[0] + m * c.qj[0], c.cj[1] + m * c.qj[1]};
+        const Vec2 li{c.ci.x + l * c.qi.x, c.ci.y + l * c.qi.y}, mj{c.cj.x + m * c.qj.x, c.cj.y + m * c.qj.y};
         if (cagekit::plane2::segments_intersect(c.ci, li, c.cj, mj)) continue;
         brute = std::min(brute, cagekit::bending_energy(cagekit::connecting_bezier(c.ci, c.qi, c.cj, c.qj, l, m)));
       }
@@ -202,27 +202,27 @@ TEST(QuadCurveNetwork, MinimiserMatchesBruteForceAndIsSymmetric) {
 TEST(QuadCurveNetwork, LegsNeverCrossEvenWhenCrossingWouldBendLess) {
   // Tangents that point across each other's path: crossing legs would give a nearly straight
   // curve, so the minimiser must stop at the boundary of the uncrossed set.
-  const Point2 ci{0, 0}, qi{std::sqrt(0.5), std::sqrt(0.5)}, cj{2, 0}, qj{-std::sqrt(0.5), std::sqrt(0.5)};
+  const Vec2 ci{0, 0}, qi{std::sqrt(0.5), std::sqrt(0.5)}, cj{2, 0}, qj{-std::sqrt(0.5), std::sqrt(0.5)};
   const auto fit = cagekit::minimize_bending_energy(ci, qi, cj, qj);
   ASSERT_TRUE(fit.valid);
-  const Point2 li{ci[0] + fit.lambda * qi[0], ci[1] + fit.lambda * qi[1]};
-  const Point2 mj{cj[0] + fit.mu * qj[0], cj[1] + fit.mu * qj[1]};
+  const Vec2 li{ci.x + fit.lambda * qi.x, ci.y + fit.lambda * qi.y};
+  const Vec2 mj{cj.x + fit.mu * qj.x, cj.y + fit.mu * qj.y};
   EXPECT_FALSE(cagekit::plane2::segments_intersect(ci, li, cj, mj));
 }
 
 TEST(QuadCurveNetwork, SquareRegionPortsAndCurves) {
-  const std::vector<Point2> loop = rectangle_loop(4, 4);
+  const std::vector<Vec2> loop = rectangle_loop(4, 4);
   const CurveNetwork net = cagekit::build_curve_network({loop});
   ASSERT_EQ(net.points.size(), 16u);
   // Corners (π/2) are not eligible; side points (π) get one tangent, the inward normal.
   EXPECT_EQ(net.ports.size(), 12u);
   for (const auto& port : net.ports) {
-    const Point2 p = net.points[port.point].uv;
-    if (p[1] == 0) {
-      EXPECT_NEAR(port.tangent[1], 1.0, 1e-12);
+    const Vec2 p = net.points[port.point].uv;
+    if (p.y == 0) {
+      EXPECT_NEAR(port.tangent.y, 1.0, 1e-12);
     }
-    if (p[0] == 4) {
-      EXPECT_NEAR(port.tangent[0], -1.0, 1e-12);
+    if (p.x == 4) {
+      EXPECT_NEAR(port.tangent.x, -1.0, 1e-12);
     }
   }
   // Every curve joins its two constrained points and stays inside the square.
@@ -238,17 +238,17 @@ TEST(QuadCurveNetwork, SquareRegionPortsAndCurves) {
 }
 
 TEST(QuadCurveNetwork, ConcavePointGetsTwoTrisectingTangentsAndLeavingCurvesAreDropped) {
-  const std::vector<Point2> loop = l_shape_loop();
+  const std::vector<Vec2> loop = l_shape_loop();
   const CurveNetwork net = cagekit::build_curve_network({loop});
   const auto& corner = net.points[4];  // (2, 2)
   EXPECT_NEAR(corner.angle, 1.5 * kPi, 1e-12);
   ASSERT_EQ(corner.port_count, 2u);
-  const Point2 t0 = net.ports[corner.first_port].tangent, t1 = net.ports[corner.first_port + 1].tangent;
+  const Vec2 t0 = net.ports[corner.first_port].tangent, t1 = net.ports[corner.first_port + 1].tangent;
   // α = 3π/2 trisected: from the edge towards (3, 2) (angle 0) by π/2 and π.
-  EXPECT_NEAR(t0[0], 0.0, 1e-12);
-  EXPECT_NEAR(t0[1], 1.0, 1e-12);
-  EXPECT_NEAR(t1[0], -1.0, 1e-12);
-  EXPECT_NEAR(t1[1], 0.0, 1e-12);
+  EXPECT_NEAR(t0.x, 0.0, 1e-12);
+  EXPECT_NEAR(t0.y, 1.0, 1e-12);
+  EXPECT_NEAR(t1.x, -1.0, 1e-12);
+  EXPECT_NEAR(t1.y, 0.0, 1e-12);
   // Some candidates (e.g. from the bottom arm to the right arm) would leave the region.
   EXPECT_GT(net.discarded_crossing, 0u);
   for (const auto& c : net.curves)
@@ -261,8 +261,8 @@ TEST(QuadCurveNetwork, ConcavePointGetsTwoTrisectingTangentsAndLeavingCurvesAreD
 }
 
 TEST(QuadCurveNetwork, ThreadCountDoesNotChangeTheNetwork) {
-  std::vector<Point2> outer = rectangle_loop(10, 7);
-  for (size_t i = 0; i < outer.size(); ++i) outer[i][1] += 0.1 * std::sin(0.9 * double(i));
+  std::vector<Vec2> outer = rectangle_loop(10, 7);
+  for (size_t i = 0; i < outer.size(); ++i) outer[i].y += 0.1 * std::sin(0.9 * double(i));
   cagekit::CurveNetworkOptions one, four;
   four.threads = 4;
   const CurveNetwork a = cagekit::build_curve_network({outer}, one), b = cagekit::build_curve_network({outer}, four);
@@ -276,8 +276,8 @@ TEST(QuadCurveNetwork, ThreadCountDoesNotChangeTheNetwork) {
 }
 
 TEST(QuadCurveNetwork, FitCacheGivesTheSameNetworkAndMissesOnlyMovedPorts) {
-  std::vector<Point2> outer = rectangle_loop(8, 5);
-  for (size_t i = 0; i < outer.size(); ++i) outer[i][1] += 0.08 * std::sin(1.3 * double(i));
+  std::vector<Vec2> outer = rectangle_loop(8, 5);
+  for (size_t i = 0; i < outer.size(); ++i) outer[i].y += 0.08 * std::sin(1.3 * double(i));
   auto expect_same = [](const CurveNetwork& a, const CurveNetwork& b) {
     ASSERT_EQ(a.curves.size(), b.curves.size());
     EXPECT_EQ(a.pairs_considered, b.pairs_considered);
@@ -300,8 +300,8 @@ TEST(QuadCurveNetwork, FitCacheGivesTheSameNetworkAndMissesOnlyMovedPorts) {
   expect_same(plain, second);
   EXPECT_EQ(cache.hits, plain.pairs_considered);  // every pair again: all hits
   // Move one point: only pairs at it and at its two neighbours (whose tangents change) miss.
-  std::vector<Point2> moved = outer;
-  moved[3][1] -= 0.05;
+  std::vector<Vec2> moved = outer;
+  moved[3].y -= 0.05;
   const CurveNetwork fresh = cagekit::build_curve_network({moved});
   const size_t hits_before = cache.hits, misses_before = cache.misses;
   const CurveNetwork cached = cagekit::build_curve_network({moved}, {}, {}, &cache);
@@ -399,8 +399,8 @@ TEST(QuadCurveSelection, LShapeIsQuadMeshedAndNeverWorseThanPhaseOne) {
 }
 
 TEST(QuadCurveSelection, ImprovementFromAGivenMatchingNeverIncreasesE) {
-  std::vector<Point2> outer = rectangle_loop(7, 5);
-  for (size_t i = 0; i < outer.size(); ++i) outer[i][0] += 0.06 * std::cos(0.7 * double(i));
+  std::vector<Vec2> outer = rectangle_loop(7, 5);
+  for (size_t i = 0; i < outer.size(); ++i) outer[i].x += 0.06 * std::cos(0.7 * double(i));
   const CurveNetwork net = cagekit::build_curve_network({outer});
   cagekit::SelectionOptions options;
   options.exhaustive_limit = 0;
@@ -434,13 +434,13 @@ TEST(QuadCurveSelection, ImprovementFromAGivenMatchingNeverIncreasesE) {
 
 TEST(QuadCurveSelection, PhaseTwoNeverIncreasesAndTheBackupIsTheBest) {
   // A perturbed rectangle with a hole: the phases interact, so check the invariants.
-  std::vector<Point2> outer = rectangle_loop(8, 6);
+  std::vector<Vec2> outer = rectangle_loop(8, 6);
   for (size_t i = 0; i < outer.size(); ++i) {
     const double jitter = 0.08 * std::sin(1.7 * double(i));
-    if (outer[i][1] == 0) outer[i][0] += jitter;
-    if (outer[i][0] == 8) outer[i][1] += jitter;
+    if (outer[i].y == 0) outer[i].x += jitter;
+    if (outer[i].x == 8) outer[i].y += jitter;
   }
-  std::vector<Point2> hole = {{3, 2}, {3, 4}, {5, 4}, {5, 2}};  // clockwise
+  std::vector<Vec2> hole = {{3, 2}, {3, 4}, {5, 4}, {5, 2}};  // clockwise
   for (bool phase3 : {false, true}) {
     cagekit::SelectionOptions options;
     options.run_phase3 = phase3;
@@ -489,9 +489,9 @@ void brute_force_minimum(const CurveNetwork& net, uint32_t port, std::vector<cha
 
 TEST(QuadCurveSelection, SmallRegionsAreSolvedExactly) {
   // A jittered 3x2 rectangle and a house-shaped region (where Phases I-III stop above the optimum).
-  std::vector<Point2> jittered = rectangle_loop(3, 2);
-  for (size_t i = 0; i < jittered.size(); ++i) jittered[i][0] += 0.15 * std::sin(2.3 * double(i));
-  const std::vector<Point2> house = {{0, 0}, {1, 0}, {2, 0}, {3, 0}, {3, 1}, {3, 2}, {2.2, 2.8}, {1.5, 3.5},
+  std::vector<Vec2> jittered = rectangle_loop(3, 2);
+  for (size_t i = 0; i < jittered.size(); ++i) jittered[i].x += 0.15 * std::sin(2.3 * double(i));
+  const std::vector<Vec2> house = {{0, 0}, {1, 0}, {2, 0}, {3, 0}, {3, 1}, {3, 2}, {2.2, 2.8}, {1.5, 3.5},
                                      {0.8, 2.8}, {0, 2}, {0, 1}};
   for (const auto& loop : {jittered, house}) {
     const CurveNetwork net = cagekit::build_curve_network({loop});
@@ -519,7 +519,7 @@ TEST(QuadCurveSelection, SmallRegionsAreSolvedExactly) {
 TEST(QuadCurveSelection, AnnulusGivesARingOfQuads) {
   // Outer circle radius 2, hole radius 1, 16 samples each (the hole clockwise): the 16 radial
   // segments are straight (E = 0) curves and cut the ring into 16 quads.
-  std::vector<Point2> outer, hole;
+  std::vector<Vec2> outer, hole;
   for (int i = 0; i < 16; ++i) {
     const double a = 2 * kPi * i / 16;
     outer.push_back({2 * std::cos(a), 2 * std::sin(a)});

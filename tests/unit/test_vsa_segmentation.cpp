@@ -624,7 +624,7 @@ TEST(Lscm, PlanarRegionMapsBySimilarity) {
     for (uint32_t b = a + 1; b < m.num_vertices(); b += 5) {
       const auto& pa = p.uv_of(a);
       const auto& pb = p.uv_of(b);
-      EXPECT_NEAR(std::hypot(pa[0] - pb[0], pa[1] - pb[1]), cagekit::distance(m.positions[a], m.positions[b]), 1e-6);
+      EXPECT_NEAR(std::hypot(pa.x - pb.x, pa.y - pb.y), cagekit::distance(m.positions[a], m.positions[b]), 1e-6);
     }
   // The outer boundary runs counter-clockwise.
   const cagekit::RegionBoundaries b = cagekit::compute_region_boundaries(m, std::vector<uint32_t>(m.num_faces(), 0), 1);
@@ -667,9 +667,9 @@ TEST(Lscm, ZeroAreaTrianglesGetNoConstraintButAPosition) {
   const cagekit::RegionParameterization p = cagekit::parameterize_region_lscm(m, faces);
   EXPECT_EQ(p.flipped_triangles, 0u);
   EXPECT_LT(p.max_conformal_distortion - 1.0, 1e-6);
-  for (const auto& uv : p.uv) EXPECT_TRUE(std::isfinite(uv[0]) && std::isfinite(uv[1]));
-  EXPECT_NEAR(std::hypot(p.uv_of(16)[0] - p.uv_of(17)[0], p.uv_of(16)[1] - p.uv_of(17)[1]), 0.0, 1e-6);
-  EXPECT_NEAR(std::hypot(p.uv_of(0)[0] - p.uv_of(6)[0], p.uv_of(0)[1] - p.uv_of(6)[1]), 6.0, 1e-6);
+  for (const auto& uv : p.uv) EXPECT_TRUE(std::isfinite(uv.x) && std::isfinite(uv.y));
+  EXPECT_NEAR(std::hypot(p.uv_of(16).x - p.uv_of(17).x, p.uv_of(16).y - p.uv_of(17).y), 0.0, 1e-6);
+  EXPECT_NEAR(std::hypot(p.uv_of(0).x - p.uv_of(6).x, p.uv_of(0).y - p.uv_of(6).y), 6.0, 1e-6);
 }
 
 TEST(Lscm, RegionsThatAreNoDisksAreRefused) {
@@ -794,14 +794,14 @@ TEST(RemeshConstraints, CubeSidesShareTheirSamplesAndCancelCleanly) {
   }
   for (uint32_t r = 0; r < 6; ++r) {
     // Each side: a unit square in its domain, its 16 boundary samples on the square's outline.
-    const std::vector<std::array<double, 2>> uv = c.loop_samples_uv(r, 0);
+    const std::vector<cagekit::Vec2> uv = c.loop_samples_uv(r, 0);
     ASSERT_EQ(uv.size(), 16u);
     double area = 0.0;
     for (size_t i = 0; i < uv.size(); ++i) {
       const auto& p = uv[i];
       const auto& q = uv[(i + 1) % uv.size()];
-      area += 0.5 * (p[0] * q[1] - p[1] * q[0]);
-      EXPECT_NEAR(std::hypot(q[0] - p[0], q[1] - p[1]), 0.25, 1e-8);
+      area += 0.5 * (p.x * q.y - p.y * q.x);
+      EXPECT_NEAR(std::hypot(q.x - p.x, q.y - p.y), 0.25, 1e-8);
     }
     EXPECT_NEAR(area, 1.0, 1e-8);  // the 1e-10 regularising Laplacian shrinks it by ~1.5e-9
     EXPECT_EQ(c.loop_samples(r, 0).size(), 16u);

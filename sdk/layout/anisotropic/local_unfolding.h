@@ -18,19 +18,10 @@
 #include <vector>
 
 #include "core/polygon_mesh.h"
+#include "core/vec2.h"
 #include "layout/anisotropic/line_sample_database.h"
 
 CAGEKIT_NAMESPACE_BEGIN
-
-struct Vec2 {
-  double x = 0.0, y = 0.0;
-};
-inline Vec2 operator+(Vec2 a, Vec2 b) { return {a.x + b.x, a.y + b.y}; }
-inline Vec2 operator-(Vec2 a, Vec2 b) { return {a.x - b.x, a.y - b.y}; }
-inline Vec2 operator*(double s, Vec2 a) { return {s * a.x, s * a.y}; }
-inline double dot(Vec2 a, Vec2 b) { return a.x * b.x + a.y * b.y; }
-inline double cross(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
-inline double norm(Vec2 a) { return std::sqrt(dot(a, a)); }
 
 // Rigid map from a face's canonical frame into Ω: p -> R(angle) p + t.
 struct Placement {

@@ -120,7 +120,7 @@ double signed_domain_area(const RegionParameterization& parameterization, const 
     if (a == kNone || b == kNone) fail(Status::invalid_argument, "signed domain area: a loop vertex is not in the region");
     const auto& p = parameterization.uv[a];
     const auto& q = parameterization.uv[b];
-    area += p[0] * q[1] - p[1] * q[0];
+    area += p.x * q.y - p.y * q.x;
   }
   return 0.5 * area;
 }
@@ -223,8 +223,8 @@ RegionParameterization parameterize_region_lscm(const PolygonMesh& triangles, co
 
   out.uv.assign(n, {0.0, 0.0});
   for (uint32_t i = 0; i < n; ++i) {
-    out.uv[i][0] = column[i] >= 0 ? solution[column[i]] : pinned_value[i];
-    out.uv[i][1] = column[n + i] >= 0 ? solution[column[n + i]] : pinned_value[n + i];
+    out.uv[i].x = column[i] >= 0 ? solution[column[i]] : pinned_value[i];
+    out.uv[i].y = column[n + i] >= 0 ? solution[column[n + i]] : pinned_value[n + i];
   }
   double weighted = 0.0, total_area = 0.0;
   out.max_conformal_distortion = 1.0;
@@ -235,7 +235,7 @@ RegionParameterization parameterize_region_lscm(const PolygonMesh& triangles, co
     const double area = 0.5 * x[1] * y[2];
     const double longest = std::max({x[1], std::hypot(x[2], y[2]), std::hypot(x[2] - x[1], y[2])});
     if (!(2.0 * area > 1e-12 * longest * longest)) continue;
-    for (int j = 0; j < 3; ++j) u[j] = out.uv[vi[j]][0], v[j] = out.uv[vi[j]][1];
+    for (int j = 0; j < 3; ++j) u[j] = out.uv[vi[j]].x, v[j] = out.uv[vi[j]].y;
     double ratio, det;
     jacobian_quality(x, y, u, v, ratio, det);
     if (!(det > 0.0)) ++out.flipped_triangles;

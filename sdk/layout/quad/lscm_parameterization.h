@@ -30,13 +30,14 @@
 
 #include "core/polygon_mesh.h"
 #include "core/task_monitor.h"
+#include "core/vec2.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 
 struct RegionParameterization {
   std::vector<uint32_t> faces;                 // the region's input faces, increasing
   std::vector<uint32_t> vertices;              // its input vertices, increasing
-  std::vector<std::array<double, 2>> uv;       // per entry of `vertices`
+  std::vector<Vec2> uv;       // per entry of `vertices`
   std::array<uint32_t, 2> pinned_vertices{};   // input ids, at (0, 0) and (d, 0)
   // Quality over triangles of non-zero area: signed (u, v) area <= 0 counts as flipped; the
   // conformal distortion of a triangle is σ_max / σ_min of its Jacobian (1 for a similarity).
@@ -46,7 +47,7 @@ struct RegionParameterization {
 
   // Index of input vertex v in `vertices`, or 0xffffffff when v is not in the region.
   uint32_t local_index(uint32_t vertex) const;
-  const std::array<double, 2>& uv_of(uint32_t vertex) const { return uv[local_index(vertex)]; }
+  const Vec2& uv_of(uint32_t vertex) const { return uv[local_index(vertex)]; }
 };
 
 RegionParameterization parameterize_region_lscm(const PolygonMesh& triangles, const std::vector<uint32_t>& faces,

@@ -19,14 +19,7 @@ CAGEKIT_NAMESPACE_BEGIN
 
 namespace plane2 {
 
-double length(const Point2& a) { return std::hypot(a[0], a[1]); }
-
-Point2 normalized(const Point2& a) {
-  const double l = length(a);
-  return l > 0.0 ? Point2{a[0] / l, a[1] / l} : Point2{0.0, 0.0};
-}
-
-double ccw_angle(const Point2& from, const Point2& to) {
+double ccw_angle(const Vec2& from, const Vec2& to) {
   const double kTwoPi = 6.283185307179586;
   double a = std::atan2(cross(from, to), dot(from, to));
   if (a < 0.0) a += kTwoPi;
@@ -34,16 +27,16 @@ double ccw_angle(const Point2& from, const Point2& to) {
 }
 
 namespace {
-double orient(const Point2& a, const Point2& b, const Point2& c) { return cross(sub(b, a), sub(c, a)); }
-bool on_segment(const Point2& a, const Point2& b, const Point2& p) {
-  return std::min(a[0], b[0]) <= p[0] && p[0] <= std::max(a[0], b[0]) && std::min(a[1], b[1]) <= p[1] &&
-         p[1] <= std::max(a[1], b[1]);
+double orient(const Vec2& a, const Vec2& b, const Vec2& c) { return cross(b - a, c - a); }
+bool on_segment(const Vec2& a, const Vec2& b, const Vec2& p) {
+  return std::min(a.x, b.x) <= p.x && p.x <= std::max(a.x, b.x) && std::min(a.y, b.y) <= p.y &&
+         p.y <= std::max(a.y, b.y);
 }
 }  // namespace
 
-bool segments_intersect(const Point2& a, const Point2& b, const Point2& c, const Point2& d, double* s, double* t) {
-  if (std::max(a[0], b[0]) < std::min(c[0], d[0]) || std::max(c[0], d[0]) < std::min(a[0], b[0]) ||
-      std::max(a[1], b[1]) < std::min(c[1], d[1]) || std::max(c[1], d[1]) < std::min(a[1], b[1]))
+bool segments_intersect(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d, double* s, double* t) {
+  if (std::max(a.x, b.x) < std::min(c.x, d.x) || std::max(c.x, d.x) < std::min(a.x, b.x) ||
+      std::max(a.y, b.y) < std::min(c.y, d.y) || std::max(c.y, d.y) < std::min(a.y, b.y))
     return false;
   const double o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a), o4 = orient(c, d, b);
   if (((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0))) {
@@ -57,10 +50,10 @@ bool segments_intersect(const Point2& a, const Point2& b, const Point2& c, const
     if (t) *t = pt;
     return true;
   };
-  auto param = [](const Point2& p, const Point2& q, const Point2& x) {
-    const Point2 e = sub(q, p);
+  auto param = [](const Vec2& p, const Vec2& q, const Vec2& x) {
+    const Vec2 e = q - p;
     const double l2 = dot(e, e);
-    return l2 > 0.0 ? std::clamp(dot(sub(x, p), e) / l2, 0.0, 1.0) : 0.0;
+    return l2 > 0.0 ? std::clamp(dot(x - p, e) / l2, 0.0, 1.0) : 0.0;
   };
   if (o1 == 0 && on_segment(a, b, c)) return report(param(a, b, c), 0.0);
   if (o2 == 0 && on_segment(a, b, d)) return report(param(a, b, d), 1.0);
@@ -69,7 +62,7 @@ bool segments_intersect(const Point2& a, const Point2& b, const Point2& c, const
   return false;
 }
 
-double signed_area(const std::vector<Point2>& polygon) {
+double signed_area(const std::vector<Vec2>& polygon) {
   double a = 0.0;
   for (size_t i = 0, n = polygon.size(); i < n; ++i) a += cross(polygon[i], polygon[(i + 1) % n]);
   return 0.5 * a;
@@ -79,28 +72,28 @@ double signed_area(const std::vector<Point2>& polygon) {
 
 using namespace plane2;
 
-Point2 CubicBezier2::eval(double t) const {
+Vec2 CubicBezier2::eval(double t) const {
   const double s = 1.0 - t;
   const double b0 = s * s * s, b1 = 3 * s * s * t, b2 = 3 * s * t * t, b3 = t * t * t;
-  return {b0 * control[0][0] + b1 * control[1][0] + b2 * control[2][0] + b3 * control[3][0],
-          b0 * control[0][1] + b1 * control[1][1] + b2 * control[2][1] + b3 * control[3][1]};
+  return {b0 * control[0].x + b1 * control[1].x + b2 * control[2].x + b3 * control[3].x,
+          b0 * control[0].y + b1 * control[1].y + b2 * control[2].y + b3 * control[3].y};
 }
 
-Point2 CubicBezier2::derivative(double t) const {
+Vec2 CubicBezier2::derivative(double t) const {
   const double s = 1.0 - t;
-  const Point2 d0 = sub(control[1], control[0]), d1 = sub(control[2], control[1]), d2 = sub(control[3], control[2]);
-  return scale(add(add(scale(d0, s * s), scale(d1, 2 * s * t)), scale(d2, t * t)), 3.0);
+  const Vec2 d0 = control[1] - control[0], d1 = control[2] - control[1], d2 = control[3] - control[2];
+  return (d0 * (s * s) + d1 * (2 * s * t) + d2 * (t * t)) * 3.0;
 }
 
-Point2 CubicBezier2::second_derivative(double t) const {
-  const Point2 e0 = add(sub(control[2], scale(control[1], 2.0)), control[0]);
-  const Point2 e1 = add(sub(control[3], scale(control[2], 2.0)), control[1]);
-  return scale(add(scale(e0, 1.0 - t), scale(e1, t)), 6.0);
+Vec2 CubicBezier2::second_derivative(double t) const {
+  const Vec2 e0 = control[2] - control[1] * 2.0 + control[0];
+  const Vec2 e1 = control[3] - control[2] * 2.0 + control[1];
+  return (e0 * (1.0 - t) + e1 * t) * 6.0;
 }
 
-CubicBezier2 connecting_bezier(const Point2& ci, const Point2& qi, const Point2& cj, const Point2& qj, double lambda,
+CubicBezier2 connecting_bezier(const Vec2& ci, const Vec2& qi, const Vec2& cj, const Vec2& qj, double lambda,
                                double mu) {
-  return {{ci, add(ci, scale(qi, lambda)), add(cj, scale(qj, mu)), cj}};
+  return {{ci, ci + qi * lambda, cj + qj * mu, cj}};
 }
 
 namespace {
@@ -131,9 +124,9 @@ namespace {
 CAGEKIT_VECTOR_CLONES double bending_energy_below(const CubicBezier2& curve, const QuadratureNodes& nodes,
                                                    double bound) {
   // b' and b'' as combinations of the control-polygon differences (the hot loop of the network).
-  const Point2 d0 = sub(curve.control[1], curve.control[0]), d1 = sub(curve.control[2], curve.control[1]),
-               d2 = sub(curve.control[3], curve.control[2]);
-  const Point2 e0 = sub(d1, d0), e1 = sub(d2, d1);
+  const Vec2 d0 = curve.control[1] - curve.control[0], d1 = curve.control[2] - curve.control[1],
+             d2 = curve.control[3] - curve.control[2];
+  const Vec2 e0 = d1 - d0, e1 = d2 - d1;
   const size_t n = nodes.t.size();
   const double* S = nodes.s.data();
   const double* T = nodes.t.data();
@@ -151,8 +144,8 @@ CAGEKIT_VECTOR_CLONES double bending_energy_below(const CubicBezier2& curve, con
     int degenerate = 0;
     for (size_t j = 0; j < m; ++j) {
       const size_t i = first + j;
-      const double x1 = A[i] * d0[0] + B[i] * d1[0] + C[i] * d2[0], y1 = A[i] * d0[1] + B[i] * d1[1] + C[i] * d2[1];
-      const double x2 = 6 * (S[i] * e0[0] + T[i] * e1[0]), y2 = 6 * (S[i] * e0[1] + T[i] * e1[1]);
+      const double x1 = A[i] * d0.x + B[i] * d1.x + C[i] * d2.x, y1 = A[i] * d0.y + B[i] * d1.y + C[i] * d2.y;
+      const double x2 = 6 * (S[i] * e0.x + T[i] * e1.x), y2 = 6 * (S[i] * e0.y + T[i] * e1.y);
       const double speed2 = x1 * x1 + y1 * y1;
       degenerate |= !(speed2 > 0.0);
       const double cr = x1 * y2 - y1 * x2;
@@ -177,11 +170,11 @@ double bending_energy(const CubicBezier2& curve, int intervals) {
   return bending_energy_below(curve, other ? *other : default_nodes(), std::numeric_limits<double>::infinity());
 }
 
-BendingFit minimize_bending_energy(const Point2& ci, const Point2& qi, const Point2& cj, const Point2& qj) {
+BendingFit minimize_bending_energy(const Vec2& ci, const Vec2& qi, const Vec2& cj, const Vec2& qj) {
   BendingFit fit;
-  const double d = length(sub(cj, ci));
+  const double d = hypot_length(cj - ci);
   if (!(d > 0.0)) return fit;
-  const Point2 chord = scale(sub(cj, ci), 1.0 / d);
+  const Vec2 chord = (cj - ci) * (1.0 / d);
   // Facing collinear tangents: a straight segment, E ≡ 0 for every (λ, μ).
   if (std::fabs(cross(qi, chord)) < 1e-12 && std::fabs(cross(qj, chord)) < 1e-12 && dot(qi, chord) > 0.0 &&
       dot(qj, chord) < 0.0) {
@@ -194,7 +187,7 @@ BendingFit minimize_bending_energy(const Point2& ci, const Point2& qi, const Poi
   // E at (λ, μ), or any value >= bound once it is known to be at least that.
   auto energy_at = [&](double lambda, double mu, double bound = std::numeric_limits<double>::infinity()) {
     ++fit.evaluations;
-    if (segments_intersect(ci, add(ci, scale(qi, lambda)), cj, add(cj, scale(qj, mu))))
+    if (segments_intersect(ci, ci + qi * lambda, cj, cj + qj * mu))
       return std::numeric_limits<double>::infinity();
     return bending_energy_below(connecting_bezier(ci, qi, cj, qj, lambda, mu), nodes, bound);
   };
@@ -226,7 +219,7 @@ BendingFit minimize_bending_energy(const Point2& ci, const Point2& qi, const Poi
   // tangent lines (e.g. the quarter turn's optimum, λ = |X − c_i|, μ small): seeds there too.
   const double denominator = cross(qi, qj);
   if (std::fabs(denominator) > 1e-12) {
-    const double lx = cross(sub(cj, ci), qj) / denominator, mx = cross(sub(cj, ci), qi) / denominator;
+    const double lx = cross(cj - ci, qj) / denominator, mx = cross(cj - ci, qi) / denominator;
     if (lx > 0.0 && mx > 0.0) {
       for (const auto& ab : {std::array<double, 2>{0.95, 0.1}, {0.1, 0.95}, {0.67, 0.67}}) {
         const double l = std::max(lower, ab[0] * lx), u = std::max(lower, ab[1] * mx);
@@ -275,8 +268,8 @@ size_t BendingFitCache::KeyHash::operator()(const Key& k) const {
   return size_t(h ^ (h >> 33));
 }
 
-BendingFitCache::Key BendingFitCache::key(const Point2& ci, const Point2& qi, const Point2& cj, const Point2& qj) {
-  const double values[8] = {ci[0], ci[1], qi[0], qi[1], cj[0], cj[1], qj[0], qj[1]};
+BendingFitCache::Key BendingFitCache::key(const Vec2& ci, const Vec2& qi, const Vec2& cj, const Vec2& qj) {
+  const double values[8] = {ci.x, ci.y, qi.x, qi.y, cj.x, cj.y, qj.x, qj.y};
   Key k;
   std::memcpy(k.data(), values, sizeof values);
   return k;
@@ -293,7 +286,7 @@ const BendingFitCache::Entry* BendingFitCache::find(const Key& k) const {
 
 namespace {
 
-void validate(const std::vector<std::vector<Point2>>& loops, const CurveNetworkOptions& options) {
+void validate(const std::vector<std::vector<Vec2>>& loops, const CurveNetworkOptions& options) {
   if (loops.empty()) fail(Status::invalid_argument, "curve network: the region has no loop");
   if (!(options.min_angle >= 0.0 && options.min_angle < options.concave_angle && options.concave_angle < 6.2832) ||
       options.polyline_segments < 2 || options.polyline_segments > 4096 || options.threads < 0)
@@ -303,8 +296,8 @@ void validate(const std::vector<std::vector<Point2>>& loops, const CurveNetworkO
     if (loops[l].size() < 3)
       fail(Status::invalid_argument, "curve network: loop " + std::to_string(l) + " has fewer than 3 points");
     for (size_t i = 0; i < loops[l].size(); ++i) {
-      const Point2& p = loops[l][i];
-      if (!std::isfinite(p[0]) || !std::isfinite(p[1]))
+      const Vec2& p = loops[l][i];
+      if (!std::isfinite(p.x) || !std::isfinite(p.y))
         fail(Status::invalid_argument, "curve network: non-finite point in loop " + std::to_string(l));
       if (p == loops[l][(i + 1) % loops[l].size()])
         fail(Status::invalid_argument,
@@ -315,7 +308,7 @@ void validate(const std::vector<std::vector<Point2>>& loops, const CurveNetworkO
     fail(Status::invalid_argument, "curve network: the outer loop (first) is not counter-clockwise");
 }
 
-bool polyline_crosses_itself(const std::vector<Point2>& line) {
+bool polyline_crosses_itself(const std::vector<Vec2>& line) {
   const size_t n = line.size() - 1;
   for (size_t a = 0; a < n; ++a)
     for (size_t b = a + 2; b < n; ++b)
@@ -327,7 +320,7 @@ bool polyline_crosses_itself(const std::vector<Point2>& line) {
 // boundary edges incident to each end point). The polyline's pieces are grouped in runs of
 // kRun with a box each, so that an edge is tested only against the pieces of runs whose box it
 // meets (a filter: the same answer as testing every piece).
-bool polyline_crosses_boundary(const CurveNetwork& net, const std::vector<Point2>& line, uint32_t p0, uint32_t p1) {
+bool polyline_crosses_boundary(const CurveNetwork& net, const std::vector<Vec2>& line, uint32_t p0, uint32_t p1) {
   constexpr size_t kRun = 4;
   const size_t n = line.size() - 1;
   const size_t runs = (n + kRun - 1) / kRun;
@@ -335,22 +328,24 @@ bool polyline_crosses_boundary(const CurveNetwork& net, const std::vector<Point2
     double lo[2], hi[2];
   };
   Box boxes[4096 / kRun + 1];
-  Box all{{line[0][0], line[0][1]}, {line[0][0], line[0][1]}};
+  Box all{{line[0].x, line[0].y}, {line[0].x, line[0].y}};
   for (size_t r = 0; r < runs; ++r) {
     Box& b = boxes[r];
-    const Point2& first = line[r * kRun];
-    b = {{first[0], first[1]}, {first[0], first[1]}};
-    for (size_t i = r * kRun + 1; i <= std::min(n, (r + 1) * kRun); ++i)
-      for (int k = 0; k < 2; ++k) b.lo[k] = std::min(b.lo[k], line[i][k]), b.hi[k] = std::max(b.hi[k], line[i][k]);
+    const Vec2& first = line[r * kRun];
+    b = {{first.x, first.y}, {first.x, first.y}};
+    for (size_t i = r * kRun + 1; i <= std::min(n, (r + 1) * kRun); ++i) {
+      b.lo[0] = std::min(b.lo[0], line[i].x), b.hi[0] = std::max(b.hi[0], line[i].x);
+      b.lo[1] = std::min(b.lo[1], line[i].y), b.hi[1] = std::max(b.hi[1], line[i].y);
+    }
     for (int k = 0; k < 2; ++k) all.lo[k] = std::min(all.lo[k], b.lo[k]), all.hi[k] = std::max(all.hi[k], b.hi[k]);
   }
-  auto disjoint = [](const Box& box, const Point2& a, const Point2& b) {
-    return std::max(a[0], b[0]) < box.lo[0] || std::min(a[0], b[0]) > box.hi[0] || std::max(a[1], b[1]) < box.lo[1] ||
-           std::min(a[1], b[1]) > box.hi[1];
+  auto disjoint = [](const Box& box, const Vec2& a, const Vec2& b) {
+    return std::max(a.x, b.x) < box.lo[0] || std::min(a.x, b.x) > box.hi[0] || std::max(a.y, b.y) < box.lo[1] ||
+           std::min(a.y, b.y) > box.hi[1];
   };
   for (uint32_t e = 0; e < net.points.size(); ++e) {
     const uint32_t f = net.points[e].next;
-    const Point2 &a = net.points[e].uv, &b = net.points[f].uv;
+    const Vec2 &a = net.points[e].uv, &b = net.points[f].uv;
     if (disjoint(all, a, b)) continue;
     const bool at0 = e == p0 || f == p0, at1 = e == p1 || f == p1;
     for (size_t r = 0; r < runs; ++r) {
@@ -376,7 +371,7 @@ bool polyline_crosses_boundary(const CurveNetwork& net, const std::vector<Point2
 
 }  // namespace
 
-CurveNetwork build_curve_network(const std::vector<std::vector<Point2>>& loops, const CurveNetworkOptions& options,
+CurveNetwork build_curve_network(const std::vector<std::vector<Vec2>>& loops, const CurveNetworkOptions& options,
                                  const TaskMonitor& monitor, BendingFitCache* cache) {
   validate(loops, options);
   CurveNetwork net;
@@ -396,14 +391,14 @@ CurveNetwork build_curve_network(const std::vector<std::vector<Point2>>& loops, 
   // Internal angles and ports.
   for (uint32_t i = 0; i < net.points.size(); ++i) {
     NetworkPoint& p = net.points[i];
-    const Point2 to_next = normalized(sub(net.points[p.next].uv, p.uv));
-    const Point2 to_prev = normalized(sub(net.points[p.prev].uv, p.uv));
+    const Vec2 to_next = hypot_normalized(net.points[p.next].uv - p.uv);
+    const Vec2 to_prev = hypot_normalized(net.points[p.prev].uv - p.uv);
     p.angle = ccw_angle(to_next, to_prev);
     p.first_port = static_cast<uint32_t>(net.ports.size());
     if (!(p.angle > options.min_angle)) continue;
     auto rotated = [&](double a) {  // to_next turned counter-clockwise by a: into the region
-      return Point2{std::cos(a) * to_next[0] - std::sin(a) * to_next[1],
-                    std::sin(a) * to_next[0] + std::cos(a) * to_next[1]};
+      return Vec2{std::cos(a) * to_next.x - std::sin(a) * to_next.y,
+                  std::sin(a) * to_next.x + std::cos(a) * to_next.y};
     };
     if (p.angle > options.concave_angle) {
       net.ports.push_back({i, rotated(p.angle / 3.0)});
@@ -440,7 +435,7 @@ CurveNetwork build_curve_network(const std::vector<std::vector<Point2>>& loops, 
         const NetworkPort& pb = net.ports[b];
         if (pb.point == pa.point || pb.point == ca.next || pb.point == ca.prev) continue;
         const NetworkPoint& cb = net.points[pb.point];
-        const Point2 chord = sub(cb.uv, ca.uv);
+        const Vec2 chord = cb.uv - ca.uv;
         // A chord behind either tangent needs a turn of more than π/2 at that end.
         if (!(dot(chord, pa.tangent) > 0.0) || !(dot(chord, pb.tangent) < 0.0)) continue;
         ++out.considered;

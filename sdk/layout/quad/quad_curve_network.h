@@ -32,37 +32,30 @@
 #include <vector>
 
 #include "core/task_monitor.h"
+#include "core/vec2.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 
-using Point2 = std::array<double, 2>;
-
+// Geometry of the parameter plane used by the network, its selection and element energy.
 namespace plane2 {
-inline Point2 add(const Point2& a, const Point2& b) { return {a[0] + b[0], a[1] + b[1]}; }
-inline Point2 sub(const Point2& a, const Point2& b) { return {a[0] - b[0], a[1] - b[1]}; }
-inline Point2 scale(const Point2& a, double s) { return {a[0] * s, a[1] * s}; }
-inline double dot(const Point2& a, const Point2& b) { return a[0] * b[0] + a[1] * b[1]; }
-inline double cross(const Point2& a, const Point2& b) { return a[0] * b[1] - a[1] * b[0]; }
-double length(const Point2& a);
-Point2 normalized(const Point2& a);
 // Counter-clockwise angle in [0, 2π) that turns direction `from` onto direction `to`.
-double ccw_angle(const Point2& from, const Point2& to);
+double ccw_angle(const Vec2& from, const Vec2& to);
 // Closed segments [a, b] and [c, d] share a point (collinear overlaps included). When they cross
 // at a single point, *s and *t (optional) receive its parameters on the two segments.
-bool segments_intersect(const Point2& a, const Point2& b, const Point2& c, const Point2& d, double* s = nullptr,
+bool segments_intersect(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d, double* s = nullptr,
                         double* t = nullptr);
-double signed_area(const std::vector<Point2>& polygon);
+double signed_area(const std::vector<Vec2>& polygon);
 }  // namespace plane2
 
 struct CubicBezier2 {
-  std::array<Point2, 4> control;
-  Point2 eval(double t) const;
-  Point2 derivative(double t) const;
-  Point2 second_derivative(double t) const;
+  std::array<Vec2, 4> control;
+  Vec2 eval(double t) const;
+  Vec2 derivative(double t) const;
+  Vec2 second_derivative(double t) const;
 };
 
 // (6.2): b(t) = c_i B0 + (c_i + λ q_i) B1 + (c_j + μ q_j) B2 + c_j B3.
-CubicBezier2 connecting_bezier(const Point2& ci, const Point2& qi, const Point2& cj, const Point2& qj, double lambda,
+CubicBezier2 connecting_bezier(const Vec2& ci, const Vec2& qi, const Vec2& cj, const Vec2& qj, double lambda,
                                double mu);
 // (6.3) by composite 4-point Gauss-Legendre over `intervals` equal pieces of [0, 1]; +inf where
 // b' vanishes at a node.
@@ -74,7 +67,7 @@ struct BendingFit {
   bool valid = false;  // false: every trial point had crossing legs
 };
 // Minimum of (6.3) over λ, μ (see the file comment). q_i and q_j must be unit vectors.
-BendingFit minimize_bending_energy(const Point2& ci, const Point2& qi, const Point2& cj, const Point2& qj);
+BendingFit minimize_bending_energy(const Vec2& ci, const Vec2& qi, const Vec2& cj, const Vec2& qj);
 
 struct CurveNetworkOptions {
   double min_angle = 2.0943951023931957;      // ψ = 2π/3: eligibility needs α_i > ψ
@@ -84,7 +77,7 @@ struct CurveNetworkOptions {
 };
 
 struct NetworkPoint {
-  Point2 uv{};
+  Vec2 uv{};
   uint32_t loop = 0;
   uint32_t prev = 0, next = 0;  // neighbours on the loop (region on the left going to `next`)
   double angle = 0.0;           // internal angle α_i on the region's side, in (0, 2π)
@@ -93,14 +86,14 @@ struct NetworkPoint {
 
 struct NetworkPort {
   uint32_t point = 0;
-  Point2 tangent{};  // unit, into the region
+  Vec2 tangent{};  // unit, into the region
 };
 
 struct NetworkCurve {
   std::array<uint32_t, 2> ports{};  // ports[0] < ports[1]
   double lambda = 0.0, mu = 0.0, energy = 0.0;
   CubicBezier2 bezier;
-  std::vector<Point2> polyline;  // polyline_segments + 1 points, from ports[0] to ports[1]
+  std::vector<Vec2> polyline;  // polyline_segments + 1 points, from ports[0] to ports[1]
 };
 
 struct CurveNetwork {
@@ -131,9 +124,9 @@ class BendingFitCache {
   struct Entry {
     BendingFit fit;
     bool self_intersecting = false;
-    std::vector<Point2> polyline;  // empty when !fit.valid
+    std::vector<Vec2> polyline;  // empty when !fit.valid
   };
-  static Key key(const Point2& ci, const Point2& qi, const Point2& cj, const Point2& qj);
+  static Key key(const Vec2& ci, const Vec2& qi, const Vec2& cj, const Vec2& qj);
   // The entries are for one polyline_segments value; another value empties the cache first.
   void use_segments(int segments);
   const Entry* find(const Key& k) const;
@@ -148,7 +141,7 @@ class BendingFitCache {
 
 // `cache` (optional) is read by the workers and extended after them, so the result is the same
 // with or without it and for any thread count.
-CurveNetwork build_curve_network(const std::vector<std::vector<Point2>>& loops, const CurveNetworkOptions& options = {},
+CurveNetwork build_curve_network(const std::vector<std::vector<Vec2>>& loops, const CurveNetworkOptions& options = {},
                                  const TaskMonitor& monitor = {}, BendingFitCache* cache = nullptr);
 
 CAGEKIT_NAMESPACE_END

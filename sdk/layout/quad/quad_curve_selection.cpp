@@ -29,7 +29,7 @@ uint64_t crossing_id(uint32_t a, uint32_t b, uint32_t k) {
 
 // A strictly increasing function of ccw_angle(from, to) in [0, 4) without atan2 (the hot loop of
 // face tracing only compares angles).
-double pseudo_ccw_angle(const Point2& from, const Point2& to) {
+double pseudo_ccw_angle(const Vec2& from, const Vec2& to) {
   const double c = cross(from, to), d = dot(from, to);
   const double r = std::fabs(c) + std::fabs(d);
   if (!(r > 0.0)) return 0.0;
@@ -39,15 +39,15 @@ double pseudo_ccw_angle(const Point2& from, const Point2& to) {
 
 struct Crossing {
   double ta = 0.0, tb = 0.0;  // parameters on curves a < b
-  Point2 position{};
-  Point2 dir_a{}, dir_b{};    // forward polyline directions at the crossing
+  Vec2 position{};
+  Vec2 dir_a{}, dir_b{};    // forward polyline directions at the crossing
 };
 
 struct ChainVertex {
   double t = 0.0;
   uint64_t id = 0;
-  Point2 position{};
-  Point2 dir{};  // forward direction of the curve's polyline at this vertex
+  Vec2 position{};
+  Vec2 dir{};  // forward direction of the curve's polyline at this vertex
 };
 using Chain = std::vector<ChainVertex>;
 
@@ -75,7 +75,7 @@ struct CycleHash {
 
 struct Fan {
   HalfEdge edge;
-  Point2 direction;
+  Vec2 direction;
 };
 
 // At most four half-edges leave a vertex: two boundary edges and two ports, or two crossing curves.
@@ -301,7 +301,8 @@ class Arrangement {
       if (o == c) continue;
       const uint32_t a = std::min(c, o), b = std::max(c, o);
       for (const Crossing& x : crossings(a, b)) {
-        double angle = std::acos(std::clamp(std::fabs(dot(normalized(x.dir_a), normalized(x.dir_b))), 0.0, 1.0));
+        double angle =
+            std::acos(std::clamp(std::fabs(dot(hypot_normalized(x.dir_a), hypot_normalized(x.dir_b))), 0.0, 1.0));
         smallest = std::min(smallest, angle);
       }
     }
@@ -314,7 +315,7 @@ class Arrangement {
     for (const Face& f : faces_) {
       if (!f.alive) continue;
       std::vector<uint64_t> ids;
-      std::vector<Point2> polygon;
+      std::vector<Vec2> polygon;
       for (const HalfEdge& h : f.cycle) ids.push_back(h.from), polygon.push_back(view.position(h.from));
       const ElementRating rating = rate_element(polygon, weights_);
       if (rating.invalid) ++out.invalid_faces;
@@ -360,7 +361,7 @@ class Arrangement {
         if (chain[i].id == id) return i;
       fail(Status::internal_error, "quad selection: vertex missing from a curve's chain");
     }
-    Point2 position(uint64_t id) const {
+    Vec2 position(uint64_t id) const {
       if (!(id & kCrossingFlag)) return arr.net_.points[id].uv;
       const uint32_t a = uint32_t((id >> 39) & 0xFFFFFF);
       const Chain& c = chain(a);
@@ -372,8 +373,8 @@ class Arrangement {
       const CurveNetwork& net = arr.net_;
       if (!(v & kCrossingFlag)) {
         const NetworkPoint& p = net.points[v];
-        out.push_back({{v, -1 - int64_t(v), 1}, sub(net.points[p.next].uv, p.uv)});
-        out.push_back({{v, -1 - int64_t(p.prev), -1}, sub(net.points[p.prev].uv, p.uv)});
+        out.push_back({{v, -1 - int64_t(v), 1}, net.points[p.next].uv - p.uv});
+        out.push_back({{v, -1 - int64_t(p.prev), -1}, net.points[p.prev].uv - p.uv});
         for (uint32_t k = 0; k < p.port_count; ++k) {
           const int64_t c = port_curve(p.first_port + k);
           if (c < 0) continue;
@@ -382,7 +383,7 @@ class Arrangement {
           if (net.curves[c].ports[0] == p.first_port + k)
             out.push_back({{v, c, 1}, chain.front().dir});
           else
-            out.push_back({{v, c, -1}, scale(chain.back().dir, -1.0)});
+            out.push_back({{v, c, -1}, chain.back().dir * -1.0});
         }
         return out;
       }
@@ -391,22 +392,22 @@ class Arrangement {
         const Chain& chain = this->chain(c);
         const size_t i = locate(chain, v);
         if (i + 1 < chain.size()) out.push_back({{v, c, 1}, chain[i].dir});
-        if (i > 0) out.push_back({{v, c, -1}, scale(chain[i].dir, -1.0)});
+        if (i > 0) out.push_back({{v, c, -1}, chain[i].dir * -1.0});
       }
       return out;
     }
     // Target of h and the direction of its twin there.
-    std::pair<uint64_t, Point2> target(const HalfEdge& h) const {
+    std::pair<uint64_t, Vec2> target(const HalfEdge& h) const {
       const CurveNetwork& net = arr.net_;
       if (h.carrier < 0) {
         const uint32_t e = uint32_t(-1 - h.carrier), f = net.points[e].next;
-        if (h.dir > 0) return {f, sub(net.points[e].uv, net.points[f].uv)};
-        return {e, sub(net.points[f].uv, net.points[e].uv)};
+        if (h.dir > 0) return {f, net.points[e].uv - net.points[f].uv};
+        return {e, net.points[f].uv - net.points[e].uv};
       }
       const Chain& chain = this->chain(uint32_t(h.carrier));
       const size_t i = locate(chain, h.from);
       const size_t j = h.dir > 0 ? i + 1 : i - 1;
-      return {chain[j].id, scale(chain[j].dir, h.dir > 0 ? -1.0 : 1.0)};
+      return {chain[j].id, chain[j].dir * (h.dir > 0 ? -1.0 : 1.0)};
     }
   };
 
@@ -416,7 +417,7 @@ class Arrangement {
     if (it != crossing_cache_.end()) return it->second;
     std::vector<Crossing> found;
     const NetworkCurve &ca = net_.curves[a], &cb = net_.curves[b];
-    const std::vector<Point2>&pa = ca.polyline, &pb = cb.polyline;
+    const std::vector<Vec2>&pa = ca.polyline, &pb = cb.polyline;
     const size_t na = pa.size() - 1, nb = pb.size() - 1;
     const uint32_t ea[2] = {net_.ports[ca.ports[0]].point, net_.ports[ca.ports[1]].point};
     const uint32_t eb[2] = {net_.ports[cb.ports[0]].point, net_.ports[cb.ports[1]].point};
@@ -439,9 +440,9 @@ class Arrangement {
               Crossing x;
               x.ta = (double(s) + sigma) / double(na);
               x.tb = (double(u) + tau) / double(nb);
-              x.position = add(pa[s], scale(sub(pa[s + 1], pa[s]), sigma));
-              x.dir_a = sub(pa[s + 1], pa[s]);
-              x.dir_b = sub(pb[u + 1], pb[u]);
+              x.position = pa[s] + (pa[s + 1] - pa[s]) * sigma;
+              x.dir_a = pa[s + 1] - pa[s];
+              x.dir_b = pb[u + 1] - pb[u];
               if (x.ta <= 0.0 || x.ta >= 1.0 || x.tb <= 0.0 || x.tb >= 1.0) continue;  // at an end point
               found.push_back(x);
             }
@@ -460,9 +461,9 @@ class Arrangement {
   template <typename Selection>
   Chain build_chain(uint32_t c, const Selection& selection) {
     const NetworkCurve& curve = net_.curves[c];
-    const std::vector<Point2>& line = curve.polyline;
+    const std::vector<Vec2>& line = curve.polyline;
     Chain chain;
-    chain.push_back({0.0, net_.ports[curve.ports[0]].point, line.front(), sub(line[1], line[0])});
+    chain.push_back({0.0, net_.ports[curve.ports[0]].point, line.front(), line[1] - line[0]});
     for (uint32_t o : candidates_for_chain(selection)) {
       if (o == c) continue;
       const uint32_t a = std::min(c, o), b = std::max(c, o);
@@ -473,7 +474,7 @@ class Arrangement {
       }
     }
     const size_t n = line.size() - 1;
-    chain.push_back({1.0, net_.ports[curve.ports[1]].point, line.back(), sub(line[n], line[n - 1])});
+    chain.push_back({1.0, net_.ports[curve.ports[1]].point, line.back(), line[n] - line[n - 1]});
     std::sort(chain.begin() + 1, chain.end() - 1,
               [](const ChainVertex& x, const ChainVertex& y) { return x.t < y.t || (x.t == y.t && x.id < y.id); });
     return chain;
@@ -497,7 +498,7 @@ class Arrangement {
   Face trace(const View& view, const HalfEdge& start, Visited& visited) {
     Face face;
     std::vector<uint64_t> ids;
-    std::vector<Point2> polygon;
+    std::vector<Vec2> polygon;
     face.cycle.reserve(8), ids.reserve(8), polygon.reserve(8);
     HalfEdge h = start;
     const size_t limit = 4 * (net_.points.size() + 64 * (list_.size() + 8) * (list_.size() + 8));
@@ -524,7 +525,7 @@ class Arrangement {
     return face;
   }
 
-  double rate(std::vector<uint64_t> ids, const std::vector<Point2>& polygon) {
+  double rate(std::vector<uint64_t> ids, const std::vector<Vec2>& polygon) {
     std::rotate(ids.begin(), std::min_element(ids.begin(), ids.end()), ids.end());
     auto it = energy_cache_.find(ids);
     if (it != energy_cache_.end()) return it->second;
@@ -568,8 +569,9 @@ class Arrangement {
     bool meets(const Box& o) const {
       return lo[0] <= o.hi[0] && o.lo[0] <= hi[0] && lo[1] <= o.hi[1] && o.lo[1] <= hi[1];
     }
-    void add(const Point2& p) {
-      for (int k = 0; k < 2; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+    void add(const Vec2& p) {
+      lo[0] = std::min(lo[0], p.x), hi[0] = std::max(hi[0], p.x);
+      lo[1] = std::min(lo[1], p.y), hi[1] = std::max(hi[1], p.y);
     }
   };
   struct CurveBoxes {
@@ -581,16 +583,16 @@ class Arrangement {
     if (boxes_.empty()) {
       boxes_.resize(net_.curves.size());
       for (size_t k = 0; k < net_.curves.size(); ++k) {
-        const std::vector<Point2>& line = net_.curves[k].polyline;
+        const std::vector<Vec2>& line = net_.curves[k].polyline;
         const size_t n = line.size() - 1;
         CurveBoxes& b = boxes_[k];
-        b.all = {{line[0][0], line[0][1]}, {line[0][0], line[0][1]}};
+        b.all = {{line[0].x, line[0].y}, {line[0].x, line[0].y}};
         for (size_t r = 0; r * kRun < n; ++r) {
-          Box box{{line[r * kRun][0], line[r * kRun][1]}, {line[r * kRun][0], line[r * kRun][1]}};
+          Box box{{line[r * kRun].x, line[r * kRun].y}, {line[r * kRun].x, line[r * kRun].y}};
           for (size_t i = r * kRun + 1; i <= std::min(n, (r + 1) * kRun); ++i) box.add(line[i]);
           b.runs.push_back(box);
-          b.all.add(Point2{box.lo[0], box.lo[1]});
-          b.all.add(Point2{box.hi[0], box.hi[1]});
+          b.all.add(Vec2{box.lo[0], box.lo[1]});
+          b.all.add(Vec2{box.hi[0], box.hi[1]});
         }
       }
     }
@@ -623,25 +625,25 @@ class Arrangement {
   double energy_ = 0.0;
 };
 
-double unsigned_angle(const Point2& a, const Point2& b) {
-  return std::acos(std::clamp(dot(normalized(a), normalized(b)), -1.0, 1.0));
+double unsigned_angle(const Vec2& a, const Vec2& b) {
+  return std::acos(std::clamp(dot(hypot_normalized(a), hypot_normalized(b)), -1.0, 1.0));
 }
 
 // Phase I score of a curve end at port `port` with chord direction `chord` (pointing away).
-double end_score(const CurveNetwork& net, uint32_t port, const Point2& chord) {
+double end_score(const CurveNetwork& net, uint32_t port, const Vec2& chord) {
   const NetworkPort& q = net.ports[port];
   const NetworkPoint& p = net.points[q.point];
   if (p.port_count == 2) return 2.0 * unsigned_angle(chord, q.tangent);
-  return std::fabs(unsigned_angle(chord, sub(net.points[p.next].uv, p.uv)) - kPi / 2) +
-         std::fabs(unsigned_angle(chord, sub(net.points[p.prev].uv, p.uv)) - kPi / 2);
+  return std::fabs(unsigned_angle(chord, net.points[p.next].uv - p.uv) - kPi / 2) +
+         std::fabs(unsigned_angle(chord, net.points[p.prev].uv - p.uv) - kPi / 2);
 }
 
 std::vector<uint32_t> phase1_greedy(const CurveNetwork& net) {
   std::vector<std::pair<double, uint32_t>> order;
   for (uint32_t c = 0; c < net.curves.size(); ++c) {
     const NetworkCurve& curve = net.curves[c];
-    const Point2 a = net.points[net.ports[curve.ports[0]].point].uv, b = net.points[net.ports[curve.ports[1]].point].uv;
-    order.push_back({end_score(net, curve.ports[0], sub(b, a)) + end_score(net, curve.ports[1], sub(a, b)), c});
+    const Vec2 a = net.points[net.ports[curve.ports[0]].point].uv, b = net.points[net.ports[curve.ports[1]].point].uv;
+    order.push_back({end_score(net, curve.ports[0], b - a) + end_score(net, curve.ports[1], a - b), c});
   }
   std::sort(order.begin(), order.end());
   std::vector<char> used(net.ports.size(), 0);

@@ -68,7 +68,7 @@ struct QuadSelection {
   double tracked_energy = 0.0;
   // The region mesh in Ω (concave faces split): vertices, and per vertex its boundary point
   // (CurveNetwork::points index) or -1 for a curve crossing.
-  std::vector<Point2> vertices;
+  std::vector<Vec2> vertices;
   std::vector<int64_t> vertex_point;
   std::vector<std::vector<uint32_t>> faces;  // counter-clockwise
   size_t quads = 0, triangles = 0, pentagons = 0, larger = 0;  // valence counts of `faces`

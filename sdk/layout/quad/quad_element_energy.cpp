@@ -16,21 +16,21 @@ const double kPi = 3.14159265358979323846;
 const size_t kMaxSplitValence = 24;  // larger faces are not split (rated as they are)
 }  // namespace
 
-std::vector<double> interior_angles(const std::vector<Point2>& polygon) {
+std::vector<double> interior_angles(const std::vector<Vec2>& polygon) {
   const size_t n = polygon.size();
   std::vector<double> angles(n);
   for (size_t i = 0; i < n; ++i) {
-    const Point2& p = polygon[i];
-    angles[i] = ccw_angle(sub(polygon[(i + 1) % n], p), sub(polygon[(i + n - 1) % n], p));
+    const Vec2& p = polygon[i];
+    angles[i] = ccw_angle(polygon[(i + 1) % n] - p, polygon[(i + n - 1) % n] - p);
   }
   return angles;
 }
 
-QuadEnergyTerms quad_energy_terms(const std::array<Point2, 4>& quad) {
-  const std::vector<Point2> polygon(quad.begin(), quad.end());
+QuadEnergyTerms quad_energy_terms(const std::array<Vec2, 4>& quad) {
+  const std::vector<Vec2> polygon(quad.begin(), quad.end());
   const std::vector<double> g = interior_angles(polygon);
   double l[4], lmax = 0.0;
-  for (int i = 0; i < 4; ++i) l[i] = length(sub(quad[(i + 1) % 4], quad[i])), lmax = std::max(lmax, l[i]);
+  for (int i = 0; i < 4; ++i) l[i] = hypot_length(quad[(i + 1) % 4] - quad[i]), lmax = std::max(lmax, l[i]);
   QuadEnergyTerms e;
   for (int i = 0; i < 4; ++i) {
     e.orthogonality += std::fabs(g[i] - kPi / 2);             // (6.4)
@@ -43,7 +43,7 @@ QuadEnergyTerms quad_energy_terms(const std::array<Point2, 4>& quad) {
   return e;
 }
 
-double angle_deviation_energy(const std::vector<Point2>& polygon, double beta) {
+double angle_deviation_energy(const std::vector<Vec2>& polygon, double beta) {
   double e = 0.0;
   for (double g : interior_angles(polygon)) e += std::fabs(g - beta);  // (6.9)
   return e;
@@ -51,10 +51,10 @@ double angle_deviation_energy(const std::vector<Point2>& polygon, double beta) {
 
 namespace {
 
-double rate_convex(const std::vector<Point2>& polygon, const std::vector<double>& angles, const ElementWeights& w,
+double rate_convex(const std::vector<Vec2>& polygon, const std::vector<double>& angles, const ElementWeights& w,
                    uint32_t& t_joints) {
   size_t n = polygon.size();
-  std::vector<Point2> reduced = polygon;
+  std::vector<Vec2> reduced = polygon;
   double extra = 0.0;
   if (n > 4) {
     std::vector<size_t> straight;
@@ -84,7 +84,7 @@ double rate_convex(const std::vector<Point2>& polygon, const std::vector<double>
 
 // A diagonal (i, j) of a simple polygon lies inside it: it crosses no edge and both parts are
 // counter-clockwise.
-bool diagonal_inside(const std::vector<Point2>& polygon, size_t i, size_t j) {
+bool diagonal_inside(const std::vector<Vec2>& polygon, size_t i, size_t j) {
   const size_t n = polygon.size();
   for (size_t e = 0; e < n; ++e) {
     const size_t f = (e + 1) % n;
@@ -97,7 +97,7 @@ bool diagonal_inside(const std::vector<Point2>& polygon, size_t i, size_t j) {
 // Greedy split: each diagonal from the most concave vertex is scored by rating its two parts
 // without further splitting; only the best one is split recursively (O(n²) per level instead of
 // the exponential search over all split trees).
-ElementRating rate_recursive(const std::vector<Point2>& polygon, const ElementWeights& w, int depth, bool split) {
+ElementRating rate_recursive(const std::vector<Vec2>& polygon, const ElementWeights& w, int depth, bool split) {
   ElementRating rating;
   const size_t n = polygon.size();
   if (n < 3 || !(signed_area(polygon) > 0.0)) {
@@ -128,7 +128,7 @@ ElementRating rate_recursive(const std::vector<Point2>& polygon, const ElementWe
       }
       double score = 0.0;
       for (const auto& indices : part) {
-        std::vector<Point2> sub_polygon;
+        std::vector<Vec2> sub_polygon;
         for (uint32_t k : indices) sub_polygon.push_back(polygon[k]);
         score += signed_area(sub_polygon) > 0.0 ? rate_recursive(sub_polygon, w, depth + 1, false).energy
                                                 : std::numeric_limits<double>::infinity();
@@ -138,7 +138,7 @@ ElementRating rate_recursive(const std::vector<Point2>& polygon, const ElementWe
     if (std::isfinite(best_score)) {
       ElementRating combined;
       for (const auto& indices : best_part) {
-        std::vector<Point2> sub_polygon;
+        std::vector<Vec2> sub_polygon;
         for (uint32_t k : indices) sub_polygon.push_back(polygon[k]);
         const ElementRating r = rate_recursive(sub_polygon, w, depth + 1, true);
         combined.energy += r.energy;
@@ -161,7 +161,7 @@ ElementRating rate_recursive(const std::vector<Point2>& polygon, const ElementWe
 
 }  // namespace
 
-ElementRating rate_element(const std::vector<Point2>& polygon, const ElementWeights& weights) {
+ElementRating rate_element(const std::vector<Vec2>& polygon, const ElementWeights& weights) {
   return rate_recursive(polygon, weights, 0, true);
 }
 

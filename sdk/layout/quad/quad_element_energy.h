@@ -47,10 +47,10 @@ struct ElementWeights {
 };
 
 // Internal angles of a counter-clockwise polygon, each in [0, 2π).
-std::vector<double> interior_angles(const std::vector<Point2>& polygon);
-QuadEnergyTerms quad_energy_terms(const std::array<Point2, 4>& quad);
+std::vector<double> interior_angles(const std::vector<Vec2>& polygon);
+QuadEnergyTerms quad_energy_terms(const std::array<Vec2, 4>& quad);
 // (6.9) without weight.
-double angle_deviation_energy(const std::vector<Point2>& polygon, double beta);
+double angle_deviation_energy(const std::vector<Vec2>& polygon, double beta);
 
 struct ElementRating {
   double energy = 0.0;
@@ -59,6 +59,6 @@ struct ElementRating {
   uint32_t t_joints = 0;   // over all pieces
   bool invalid = false;
 };
-ElementRating rate_element(const std::vector<Point2>& polygon, const ElementWeights& weights);
+ElementRating rate_element(const std::vector<Vec2>& polygon, const ElementWeights& weights);
 
 CAGEKIT_NAMESPACE_END

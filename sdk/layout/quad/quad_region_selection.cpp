@@ -42,7 +42,7 @@ RegionQuadMeshes select_region_quads(const RemeshConstraints& constraints, const
     for (size_t k = next++; k < regions; k = next++) {
       if (worker == 0) monitor.report("quad region selection", double(done) / std::max<size_t>(1, regions));
       const uint32_t r = static_cast<uint32_t>(order[k]);
-      std::vector<std::vector<Point2>> loops;
+      std::vector<std::vector<Vec2>> loops;
       for (size_t l = 0; l < constraints.boundaries.region_loops[r].size(); ++l)
         loops.push_back(constraints.loop_samples_uv(r, l));
       if (failures && !(plane2::signed_area(loops[0]) > 0.0)) {
@@ -55,10 +55,10 @@ RegionQuadMeshes select_region_quads(const RemeshConstraints& constraints, const
       }
       std::string key;
       if (memo) {
-        for (const std::vector<Point2>& loop : loops) {
+        for (const std::vector<Vec2>& loop : loops) {
           const uint64_t n = loop.size();
           key.append(reinterpret_cast<const char*>(&n), sizeof(n));
-          key.append(reinterpret_cast<const char*>(loop.data()), loop.size() * sizeof(Point2));
+          key.append(reinterpret_cast<const char*>(loop.data()), loop.size() * sizeof(Vec2));
         }
         const std::lock_guard<std::mutex> lock(memo->mutex);
         const auto it = memo->entries.find(key);

@@ -33,7 +33,7 @@ namespace {
 // Region r's candidate curves for the current samples (steps 3 of one region), with the bending
 // fits of unchanged port pairs taken from `cache`.
 CurveNetwork region_network(const RemeshConstraints& constraints, uint32_t r, BendingFitCache& cache) {
-  std::vector<std::vector<Point2>> loops;
+  std::vector<std::vector<Vec2>> loops;
   for (size_t l = 0; l < constraints.boundaries.region_loops[r].size(); ++l)
     loops.push_back(constraints.loop_samples_uv(r, l));
   CurveNetworkOptions network_options;
@@ -49,7 +49,7 @@ BendingFitCache::Key curve_key(const CurveNetwork& network, const NetworkCurve& 
 // A port's identity across network rebuilds: its point and tangent.
 BendingFitCache::Key port_key(const CurveNetwork& network, uint32_t port) {
   const NetworkPort& p = network.ports[port];
-  const Point2 none{0.0, 0.0};
+  const Vec2 none{0.0, 0.0};
   return BendingFitCache::key(network.points[p.point].uv, p.tangent, none, none);
 }
 
@@ -371,12 +371,12 @@ std::vector<uint32_t> region_point_ids(const RemeshConstraints& c, const GlobalS
   return out;
 }
 
-double cross2(const Point2& o, const Point2& a, const Point2& b) {
-  return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+double cross2(const Vec2& o, const Vec2& a, const Vec2& b) {
+  return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
 }
 
 // Laplacian relaxation of the region mesh's inner vertices (vertex_point < 0) in Ω; see the header.
-void relax_region(const QuadSelection& s, int sweeps, std::vector<Point2>& uv) {
+void relax_region(const QuadSelection& s, int sweeps, std::vector<Vec2>& uv) {
   uv = s.vertices;
   const size_t n = uv.size();
   std::vector<std::vector<uint32_t>> neighbours(n), faces_of(n);
@@ -393,7 +393,7 @@ void relax_region(const QuadSelection& s, int sweeps, std::vector<Point2>& uv) {
     std::sort(list.begin(), list.end());
     list.erase(std::unique(list.begin(), list.end()), list.end());
   }
-  std::vector<Point2> polygon;
+  std::vector<Vec2> polygon;
   // Signed area > 0 and, at v and its two neighbours on the face, convex corners stay convex.
   auto acceptable = [&](uint32_t v) {
     for (uint32_t f : faces_of[v]) {
@@ -415,13 +415,13 @@ void relax_region(const QuadSelection& s, int sweeps, std::vector<Point2>& uv) {
   for (int sweep = 0; sweep < sweeps; ++sweep) {
     for (uint32_t v = 0; v < n; ++v) {
       if (s.vertex_point[v] >= 0 || neighbours[v].empty()) continue;
-      Point2 target{0.0, 0.0};
-      for (uint32_t w : neighbours[v]) target = plane2::add(target, uv[w]);
-      target = plane2::scale(target, 1.0 / double(neighbours[v].size()));
-      const Point2 old = uv[v];
+      Vec2 target{0.0, 0.0};
+      for (uint32_t w : neighbours[v]) target = target + uv[w];
+      target = target * (1.0 / double(neighbours[v].size()));
+      const Vec2 old = uv[v];
       uv[v] = target;
       if (acceptable(v)) continue;
-      uv[v] = plane2::scale(plane2::add(old, target), 0.5);
+      uv[v] = (old + target) * 0.5;
       if (!acceptable(v)) uv[v] = old;
     }
   }
@@ -440,7 +440,7 @@ struct RegionLocator {
   };
 
   // Closest point of triangle (a, b, c) to q, as barycentric weights, and its squared distance.
-  static double closest(const Point2& q, const Point2& a, const Point2& b, const Point2& c, std::array<double, 3>& w) {
+  static double closest(const Vec2& q, const Vec2& a, const Vec2& b, const Vec2& c, std::array<double, 3>& w) {
     const double area = cross2(a, b, c);
     if (area != 0.0) {
       const double wa = cross2(q, b, c) / area, wb = cross2(a, q, c) / area, wc = 1.0 - wa - wb;
@@ -450,16 +450,16 @@ struct RegionLocator {
       }
     }
     double best = HUGE_VAL;
-    const Point2* p[3] = {&a, &b, &c};
+    const Vec2* p[3] = {&a, &b, &c};
     for (int e = 0; e < 3; ++e) {
-      const Point2& u = *p[e];
-      const Point2& v = *p[(e + 1) % 3];
-      const Point2 d = plane2::sub(v, u);
-      const double len2 = plane2::dot(d, d);
-      const double t = len2 > 0.0 ? std::clamp(plane2::dot(plane2::sub(q, u), d) / len2, 0.0, 1.0) : 0.0;
-      const Point2 x = plane2::add(u, plane2::scale(d, t));
-      const Point2 r = plane2::sub(q, x);
-      const double d2 = plane2::dot(r, r);
+      const Vec2& u = *p[e];
+      const Vec2& v = *p[(e + 1) % 3];
+      const Vec2 d = v - u;
+      const double len2 = dot(d, d);
+      const double t = len2 > 0.0 ? std::clamp(dot(q - u, d) / len2, 0.0, 1.0) : 0.0;
+      const Vec2 x = u + d * t;
+      const Vec2 r = q - x;
+      const double d2 = dot(r, r);
       if (d2 < best) {
         best = d2;
         w = {0.0, 0.0, 0.0};
@@ -470,7 +470,7 @@ struct RegionLocator {
     return best;
   }
 
-  Hit locate(const Point2& q) const {
+  Hit locate(const Vec2& q) const {
     Hit hit;
     double best = HUGE_VAL;
     for (uint32_t f : domain->faces) {
@@ -647,9 +647,9 @@ struct GluedLayout {
   PolygonMesh mesh;
   std::vector<uint32_t> region;       // per face
   std::vector<Vec3> reference_normal; // per face
-  std::vector<Point2> corner_uv;      // per entry of mesh.face_vertices
+  std::vector<Vec2> corner_uv;      // per entry of mesh.face_vertices
 
-  void add_face(const std::vector<uint32_t>& ids, const std::vector<Point2>& uv, uint32_t r, const Vec3& normal) {
+  void add_face(const std::vector<uint32_t>& ids, const std::vector<Vec2>& uv, uint32_t r, const Vec3& normal) {
     mesh.add_face(ids.data(), ids.size());
     corner_uv.insert(corner_uv.end(), uv.begin(), uv.end());
     region.push_back(r);
@@ -677,7 +677,7 @@ size_t mend_glue_conflicts(GluedLayout& g, const PolygonMesh& tri, const RemeshC
     GluedLayout out;
     out.mesh.positions = mesh.positions;
     std::vector<uint32_t> ids;
-    std::vector<Point2> uv;
+    std::vector<Vec2> uv;
     for (uint32_t f = 0; f < mesh.num_faces(); ++f) {
       const uint32_t n = mesh.face_size(f), begin = mesh.face_offsets[f];
       ids.clear();
@@ -752,14 +752,14 @@ size_t mend_glue_conflicts(GluedLayout& g, const PolygonMesh& tri, const RemeshC
     GluedLayout out;
     out.mesh.positions = mesh.positions;
     auto corners = [&](uint32_t f) {
-      std::vector<std::pair<uint32_t, Point2>> c;
+      std::vector<std::pair<uint32_t, Vec2>> c;
       for (uint32_t k = 0; k < mesh.face_size(f); ++k)
         c.push_back({mesh.face_vertex(f, k), g.corner_uv[mesh.face_offsets[f] + k]});
       return c;
     };
     auto keep = [&](uint32_t f) {  // face f as it is
       std::vector<uint32_t> ids;
-      std::vector<Point2> uv;
+      std::vector<Vec2> uv;
       for (const auto& [v, p] : corners(f)) ids.push_back(v), uv.push_back(p);
       out.add_face(ids, uv, g.region[f], g.reference_normal[f]);
     };
@@ -770,10 +770,10 @@ size_t mend_glue_conflicts(GluedLayout& g, const PolygonMesh& tri, const RemeshC
       }
       const std::vector<uint32_t>& group = groups[size_t(group_of[f])];
       if (group.front() != f) continue;  // emitted with the group's first face
-      std::vector<std::pair<uint32_t, Point2>> loop = corners(f);
+      std::vector<std::pair<uint32_t, Vec2>> loop = corners(f);
       if (group.size() == 2) {
         // Join the two faces across their shared edge u -> v (v -> u in the other).
-        const std::vector<std::pair<uint32_t, Point2>> other = corners(group[1]);
+        const std::vector<std::pair<uint32_t, Vec2>> other = corners(group[1]);
         const size_t n = loop.size(), m = other.size();
         size_t i = n, j = m;
         for (size_t a = 0; a < n && i == n; ++a)
@@ -787,15 +787,15 @@ size_t mend_glue_conflicts(GluedLayout& g, const PolygonMesh& tri, const RemeshC
           continue;
         }
         // loop from v = loop[i+1] around to u = loop[i], then other from u's successor to v's predecessor.
-        std::vector<std::pair<uint32_t, Point2>> joined;
+        std::vector<std::pair<uint32_t, Vec2>> joined;
         for (size_t k = 1; k <= n; ++k) joined.push_back(loop[(i + k) % n]);
         for (size_t k = 2; k < m; ++k) joined.push_back(other[(j + k) % m]);
         loop = std::move(joined);
       }
       const uint32_t region = g.region[f];
-      Point2 centroid{0.0, 0.0};
-      for (const auto& c : loop) centroid = plane2::add(centroid, c.second);
-      centroid = plane2::scale(centroid, 1.0 / double(loop.size()));
+      Vec2 centroid{0.0, 0.0};
+      for (const auto& c : loop) centroid = centroid + c.second;
+      centroid = centroid * (1.0 / double(loop.size()));
       RegionLocator locator{&tri, &constraints.domains[region], {}};
       const RegionLocator::Hit hit = locator.locate(centroid);
       const Vec3 centre = locator.position(hit);
@@ -809,14 +809,14 @@ size_t mend_glue_conflicts(GluedLayout& g, const PolygonMesh& tri, const RemeshC
       bool folds = false;
       for (const std::vector<size_t>& piece : pieces) {
         std::vector<Vec3> points;
-        Point2 c{0.0, 0.0};
+        Vec2 c{0.0, 0.0};
         for (const size_t k : piece) {
           points.push_back(k == n ? centre : out.mesh.positions[loop[k].first]);
-          c = plane2::add(c, k == n ? centroid : loop[k].second);
+          c = c + (k == n ? centroid : loop[k].second);
         }
         std::vector<uint32_t> local(points.size());
         for (uint32_t k = 0; k < local.size(); ++k) local[k] = k;
-        const Vec3 expected = normals[locator.locate(plane2::scale(c, 1.0 / double(piece.size()))).face];
+        const Vec3 expected = normals[locator.locate(c * (1.0 / double(piece.size()))).face];
         folds = folds || !(dot(loop_normal(points, local), expected) > 0.0);
         piece_normal.push_back(expected);
       }
@@ -827,7 +827,7 @@ size_t mend_glue_conflicts(GluedLayout& g, const PolygonMesh& tri, const RemeshC
       const uint32_t inside = out.mesh.add_vertex(centre);
       for (size_t k = 0; k < pieces.size(); ++k) {
         std::vector<uint32_t> ids;
-        std::vector<Point2> uv;
+        std::vector<Vec2> uv;
         for (const size_t c : pieces[k]) {
           ids.push_back(c == n ? inside : loop[c].first);
           uv.push_back(c == n ? centroid : loop[c].second);
@@ -1139,7 +1139,7 @@ QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemesh
       if (point_ids.size() != meshes.networks[region].points.size())
         fail(Status::internal_error, "quad-dominant remeshing: region " + std::to_string(region) +
                                          ": network points do not match the constrained samples");
-      std::vector<Point2> uv;
+      std::vector<Vec2> uv;
       relax_region(s, o.relaxation_iterations, uv);
       RegionLocator locator{&tri, &constraints.domains[region], {}};
       std::vector<uint32_t> global(uv.size());
@@ -1154,15 +1154,15 @@ QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemesh
       }
       for (const std::vector<uint32_t>& face : s.faces) {
         std::vector<uint32_t> ids;
-        std::vector<Point2> corner_uv;
-        Point2 centroid{0.0, 0.0};
+        std::vector<Vec2> corner_uv;
+        Vec2 centroid{0.0, 0.0};
         for (uint32_t v : face) {
           ids.push_back(global[v]);
           corner_uv.push_back(uv[v]);
-          centroid = plane2::add(centroid, uv[v]);
+          centroid = centroid + uv[v];
         }
         layout.add_face(ids, corner_uv, region,
-                        normals[locator.locate(plane2::scale(centroid, 1.0 / double(face.size()))).face]);
+                        normals[locator.locate(centroid * (1.0 / double(face.size()))).face]);
       }
     }
     if (failures.empty()) r.mended_faces = mend_glue_conflicts(layout, tri, constraints, normals);

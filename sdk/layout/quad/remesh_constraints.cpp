@@ -102,7 +102,7 @@ RemeshConstraints compute_remesh_constraints(const PolygonMesh& triangles, const
         std::vector<Vec3> uv;
         for (uint32_t v : out.boundaries.arcs[arc].vertices) {
           const auto& p = domain.uv_of(v);
-          uv.push_back(Vec3{p[0], p[1], 0.0});
+          uv.push_back(Vec3{p.x, p.y, 0.0});
         }
         RegionArcDomain entry;
         entry.arc = arc;
@@ -125,16 +125,16 @@ RemeshConstraints compute_remesh_constraints(const PolygonMesh& triangles, const
         const size_t n = loop.arcs.size();
         // Direction in Ω_i leaving the loop's k-th anchor along arc k (walk direction), and
         // arriving at anchor k + 1 along it: chords to the point δ along the arc's parameter.
-        std::vector<std::array<double, 2>> leave(n), arrive(n);
+        std::vector<Vec2> leave(n), arrive(n);
         for (size_t k = 0; k < n; ++k) {
           const ArcCubic& planar = out.region_arcs[r][entry + k].planar;
           const double S = planar.parameter_length, h = std::min(S, options.spacing);
           const Vec3 p0 = planar.evaluate(0.0), p1 = planar.evaluate(h), q0 = planar.evaluate(S - h),
                      q1 = planar.evaluate(S);
-          std::array<double, 2> start{p1.x - p0.x, p1.y - p0.y}, end{q1.x - q0.x, q1.y - q0.y};
+          Vec2 start{p1.x - p0.x, p1.y - p0.y}, end{q1.x - q0.x, q1.y - q0.y};
           if (loop.reversed[k]) {
-            leave[k] = {-end[0], -end[1]};
-            arrive[k] = {-start[0], -start[1]};
+            leave[k] = {-end.x, -end.y};
+            arrive[k] = {-start.x, -start.y};
           } else {
             leave[k] = start;
             arrive[k] = end;
@@ -142,9 +142,9 @@ RemeshConstraints compute_remesh_constraints(const PolygonMesh& triangles, const
         }
         std::vector<size_t> corners;  // k: the anchor where arc k starts is a corner
         for (size_t k = 0; k < n; ++k) {
-          const std::array<double, 2>& in = arrive[(k + n - 1) % n];
-          const std::array<double, 2>& outd = leave[k];
-          const double cross = in[0] * outd[1] - in[1] * outd[0], dot = in[0] * outd[0] + in[1] * outd[1];
+          const Vec2& in = arrive[(k + n - 1) % n];
+          const Vec2& outd = leave[k];
+          const double cross = in.x * outd.y - in.y * outd.x, dot = in.x * outd.x + in.y * outd.y;
           if (cross == 0.0 && dot == 0.0) continue;
           const double internal = M_PI - std::atan2(cross, dot);  // region on the left
           if (internal < options.corner_angle) corners.push_back(k);
@@ -234,8 +234,8 @@ void resample_arc(RemeshConstraints& constraints, uint32_t arc, uint32_t segment
       for (const Vec3& p : evaluate_at(entry.planar, c.samples.t)) entry.samples_uv.push_back({p.x, p.y});
       const auto& a = constraints.domains[r].uv_of(ra.vertices.front());
       const auto& b = constraints.domains[r].uv_of(ra.vertices.back());
-      entry.samples_uv.front() = {a[0], a[1]};
-      entry.samples_uv.back() = {b[0], b[1]};
+      entry.samples_uv.front() = a;
+      entry.samples_uv.back() = b;
     }
   }
 }
@@ -380,12 +380,12 @@ std::vector<Vec3> RemeshConstraints::loop_samples(uint32_t region, size_t loop) 
   return out;
 }
 
-std::vector<std::array<double, 2>> RemeshConstraints::loop_samples_uv(uint32_t region, size_t loop) const {
+std::vector<Vec2> RemeshConstraints::loop_samples_uv(uint32_t region, size_t loop) const {
   const std::vector<RegionLoop>& loops = boundaries.region_loops.at(region);
   size_t first = 0;
   for (size_t i = 0; i < loop; ++i) first += loops[i].arcs.size();
   const RegionLoop& l = loops.at(loop);
-  std::vector<std::array<double, 2>> out;
+  std::vector<Vec2> out;
   for (size_t k = 0; k < l.arcs.size(); ++k) append_arc(out, region_arcs[region][first + k].samples_uv, l.reversed[k] != 0);
   return out;
 }

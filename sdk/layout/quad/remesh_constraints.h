@@ -14,12 +14,12 @@
 // Thread-safety: pure functions. Errors: those of compute_region_boundaries, fit_arc_cubic,
 // sample_arc_cubic and parameterize_region_lscm (e.g. invalid_mesh for a region with a handle);
 // invalid_argument for spacing <= 0; cancelled from the monitor.
-#include <array>
 #include <cstdint>
 #include <vector>
 
 #include "core/polygon_mesh.h"
 #include "core/task_monitor.h"
+#include "core/vec2.h"
 #include "layout/quad/arc_fit.h"
 #include "layout/quad/lscm_parameterization.h"
 #include "layout/quad/region_boundaries.h"
@@ -38,7 +38,7 @@ struct ArcConstraint {
 struct RegionArcDomain {
   uint32_t arc = 0;        // arc id
   ArcCubic planar;         // C̄ in Ω_i (z = 0), fitted to the arc's (u, v) in the arc's direction
-  std::vector<std::array<double, 2>> samples_uv;  // C̄(t_k), arc direction; ends = the anchors' (u, v)
+  std::vector<Vec2> samples_uv;  // C̄(t_k), arc direction; ends = the anchors' (u, v)
 };
 
 struct RemeshConstraints {
@@ -56,7 +56,7 @@ struct RemeshConstraints {
   std::vector<uint32_t> arc_border_loop;
 
   std::vector<Vec3> loop_samples(uint32_t region, size_t loop) const;
-  std::vector<std::array<double, 2>> loop_samples_uv(uint32_t region, size_t loop) const;
+  std::vector<Vec2> loop_samples_uv(uint32_t region, size_t loop) const;
 };
 
 struct ConstraintOptions {

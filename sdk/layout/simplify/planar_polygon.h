@@ -9,13 +9,10 @@
 #include <string>
 #include <vector>
 
+#include "core/vec2.h"
 #include "core/vec3.h"
 
 CAGEKIT_NAMESPACE_BEGIN
-
-struct Vec2 {
-  double x = 0, y = 0;
-};
 
 // An orthonormal frame (origin + axes u, v with u x v = normal) of a proxy plane.
 struct PlaneFrame {
