@@ -10,6 +10,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "core/edge_key.h"
 #include "core/status.h"
 
 CAGEKIT_NAMESPACE_BEGIN
@@ -27,7 +28,7 @@ std::vector<std::vector<uint32_t>> region_adjacency(const PolygonMesh& triangles
     const uint32_t f = faces[i], n = triangles.face_size(f);
     for (uint32_t k = 0; k < n; ++k) {
       const uint32_t a = triangles.face_vertex(f, k), b = triangles.face_vertex(f, (k + 1) % n);
-      const uint64_t key = (uint64_t(std::min(a, b)) << 32) | std::max(a, b);
+      const uint64_t key = edge_key(a, b);
       const auto [it, inserted] = first.emplace(key, i);
       if (!inserted) {
         adjacent[i].push_back(it->second);
@@ -224,7 +225,7 @@ std::vector<uint32_t> cut_region_handle(const PolygonMesh& triangles, const std:
     for (uint32_t k = 0; k < m; ++k) {
       const uint32_t a = triangles.face_vertex(f, k), b = triangles.face_vertex(f, (k + 1) % m);
       vertex_index.emplace(a, uint32_t(vertex_index.size()));
-      const uint64_t key = (uint64_t(std::min(a, b)) << 32) | std::max(a, b);
+      const uint64_t key = edge_key(a, b);
       const auto [it, inserted] = edge_index.emplace(key, uint32_t(edges.size()));
       if (inserted) {
         edges.push_back({a, b, {i, kNoFace}});

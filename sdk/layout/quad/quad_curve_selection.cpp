@@ -10,6 +10,8 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "core/angles.h"
+#include "core/edge_key.h"
 #include "core/status.h"
 
 CAGEKIT_NAMESPACE_BEGIN
@@ -18,7 +20,6 @@ using namespace plane2;
 
 namespace {
 
-const double kPi = 3.14159265358979323846;
 constexpr uint64_t kCrossingFlag = uint64_t(1) << 63;
 
 // Vertex ids: a boundary point p is p; the k-th crossing (by parameter on a) of curves a < b is
@@ -412,7 +413,7 @@ class Arrangement {
   };
 
   const std::vector<Crossing>& crossings(uint32_t a, uint32_t b) {
-    const uint64_t key = (uint64_t(a) << 32) | b;
+    const uint64_t key = directed_edge_key(a, b);
     auto it = crossing_cache_.find(key);
     if (it != crossing_cache_.end()) return it->second;
     std::vector<Crossing> found;
@@ -665,7 +666,7 @@ class Optimizer {
  public:
   Optimizer(const CurveNetwork& net, const SelectionOptions& options, const TaskMonitor& monitor, QuadSelection& stats)
       : net_(net), options_(options), monitor_(monitor), stats_(stats), arrangement_(net, options.weights) {
-    for (uint32_t c = 0; c < net.curves.size(); ++c) curve_of_[key(net.curves[c].ports[0], net.curves[c].ports[1])] = c;
+    for (uint32_t c = 0; c < net.curves.size(); ++c) curve_of_[edge_key(net.curves[c].ports[0], net.curves[c].ports[1])] = c;
   }
   Arrangement& arrangement() { return arrangement_; }
 
@@ -835,9 +836,8 @@ class Optimizer {
     }
   }
 
-  static uint64_t key(uint32_t a, uint32_t b) { return a < b ? (uint64_t(a) << 32 | b) : (uint64_t(b) << 32 | a); }
   int64_t curve(uint32_t a, uint32_t b) const {
-    auto it = curve_of_.find(key(a, b));
+    auto it = curve_of_.find(edge_key(a, b));
     return it == curve_of_.end() ? -1 : int64_t(it->second);
   }
 

@@ -7,12 +7,13 @@
 #include <limits>
 #include <numeric>
 
+#include "core/angles.h"
+
 CAGEKIT_NAMESPACE_BEGIN
 
 using namespace plane2;
 
 namespace {
-const double kPi = 3.14159265358979323846;
 const size_t kMaxSplitValence = 24;  // larger faces are not split (rated as they are)
 }  // namespace
 

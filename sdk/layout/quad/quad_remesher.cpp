@@ -296,8 +296,6 @@ void refine_sample_counts(RemeshConstraints& constraints, RegionQuadMeshes& mesh
   }
 }
 
-constexpr double kPi = 3.14159265358979323846;
-
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
@@ -585,13 +583,13 @@ std::vector<GlueConflict> glue_conflicts(const PolygonMesh& mesh, const std::vec
     for (uint32_t k = 0; k < n; ++k) {
       const uint32_t a = mesh.face_vertex(f, k), b = mesh.face_vertex(f, (k + 1) % n);
       undirected[edge_key(a, b)].push_back(f);
-      directed[(uint64_t(a) << 32) | b].push_back(f);
+      directed[directed_edge_key(a, b)].push_back(f);
     }
   }
   for (const auto& [edge, faces] : undirected)
-    if (faces.size() > 2) add_group(faces, uint32_t(edge >> 32), uint32_t(edge));
+    if (faces.size() > 2) add_group(faces, edge_key_first(edge), edge_key_second(edge));
   for (const auto& [edge, faces] : directed)
-    if (faces.size() > 1) add_group(faces, uint32_t(edge >> 32), uint32_t(edge));
+    if (faces.size() > 1) add_group(faces, edge_key_first(edge), edge_key_second(edge));
   // A vertex whose faces form two or more fans (joined through the edges at it): faces of
   // different fans conflict there.
   struct Corner { uint32_t vertex, face, prev, next; };
@@ -862,15 +860,15 @@ size_t merge_into_neighbours(const PolygonMesh& tri, std::vector<uint32_t>& face
     if (faces.second == 0xffffffffu) continue;
     const uint32_t a = face_region[faces.first], b = face_region[faces.second];
     if (a == b) continue;
-    const double length = norm(tri.positions[uint32_t(key >> 32)] - tri.positions[uint32_t(key)]);
-    if (listed[a] && b >= pinned) shared[(uint64_t(a) << 32) | b] += length;
-    if (listed[b] && a >= pinned) shared[(uint64_t(b) << 32) | a] += length;
+    const double length = norm(tri.positions[edge_key_first(key)] - tri.positions[edge_key_second(key)]);
+    if (listed[a] && b >= pinned) shared[directed_edge_key(a, b)] += length;
+    if (listed[b] && a >= pinned) shared[directed_edge_key(b, a)] += length;
   }
   std::vector<uint32_t> target(region_count);
   for (uint32_t r = 0; r < region_count; ++r) target[r] = r;
   std::vector<double> best(region_count, 0.0);
   for (const auto& [key, length] : shared) {
-    const uint32_t a = uint32_t(key >> 32), b = uint32_t(key);
+    const uint32_t a = edge_key_first(key), b = edge_key_second(key);
     if (length > best[a] || (length == best[a] && b < target[a] && target[a] != a)) best[a] = length, target[a] = b;
   }
   // A listed region merged into another listed region that is itself merged: follow the chain

@@ -7,6 +7,7 @@
 #include <string>
 #include <unordered_map>
 
+#include "core/angles.h"
 #include "core/edge_map.h"
 #include "core/status.h"
 
@@ -146,7 +147,7 @@ RemeshConstraints compute_remesh_constraints(const PolygonMesh& triangles, const
           const Vec2& outd = leave[k];
           const double cross = in.x * outd.y - in.y * outd.x, dot = in.x * outd.x + in.y * outd.y;
           if (cross == 0.0 && dot == 0.0) continue;
-          const double internal = M_PI - std::atan2(cross, dot);  // region on the left
+          const double internal = kPi - std::atan2(cross, dot);  // region on the left
           if (internal < options.corner_angle) corners.push_back(k);
         }
         const size_t first = corners.empty() ? 0 : corners.front();
