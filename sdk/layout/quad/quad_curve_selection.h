@@ -18,12 +18,8 @@
 // smallest resulting E followed by Phase II, with a backup of the best configuration restored at
 // the end (so the result is never worse than Phase I); then the polish (add_remove_moves).
 //
-// Incremental evaluation (the bottleneck the thesis names in §6.10): a move (remove R, add A)
-// rebuilds the crossing chains only of the curves in R ∪ A and of the selected curves they cross;
-// the dirty vertices are the chain vertices of R ∪ A and, on a crossed curve, the crossings that
-// appear or disappear and their chain neighbours; only the faces through a dirty vertex are
-// removed and traced again. Curve-curve crossings are computed once per pair, face energies are
-// cached by their vertex cycle, and a trial's ΔE is reused while the faces it removes are alive.
+// The meshing and the incremental evaluation of moves (the bottleneck the thesis names in
+// §6.10) are the arrangement's, quad_curve_arrangement.h; this file's functions are the optimiser.
 //
 // Thread-safety: pure function (separate regions can run on separate threads). Errors:
 // invalid_argument for a network without points or bad options; internal_error if a face cycle
