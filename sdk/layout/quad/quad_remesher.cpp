@@ -982,13 +982,19 @@ size_t count_feature_patches(const PolygonMesh& mesh, const SharpFeatures& featu
   return patches;
 }
 
-QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemeshOptions& o, const TaskMonitor& monitor) {
-  const auto start = std::chrono::steady_clock::now();
-  check_options(o);
-  const PolygonMesh tri = fan_triangulated(input, "quad-dominant remeshing");
-  require_triangle_mesh(tri, "quad-dominant remeshing");
-  QuadRemeshResult r;
+// The phases of remesh_quad_dominant (the pipeline of thesis ch. 6), in the order it runs them.
+namespace {
 
+// The input as triangles: polygons fan-triangulated, the input faces in order.
+PolygonMesh triangulated_input(const PolygonMesh& input) {
+  PolygonMesh tri = fan_triangulated(input, "quad-dominant remeshing");
+  require_triangle_mesh(tri, "quad-dominant remeshing");
+  return tri;
+}
+
+// The segmentation's options: the host's pinned regions and seeds as fan triangles, and the region
+// count (or the tolerance and the largest count).
+VsaOptions vsa_options(const PolygonMesh& input, const QuadRemeshOptions& o) {
   VsaOptions vo;
   if (!o.pinned_regions.empty() || !o.seed_faces.empty()) {
     // Input faces -> their fan triangles (fan_triangulated keeps the face order).
@@ -1020,14 +1026,25 @@ QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemesh
     vo.region_count = o.max_regions;
     vo.tolerance = o.region_tolerance;
   }
-  // A region count that cannot be met is adjusted (and reported), not refused: at least one
-  // region per connected component (each needs its own), at most one per triangle.
-  r.requested_regions = uint64_t(vo.region_count);
-  // The sharp input features (for the region count and, at the end, the creases).
+  return vo;
+}
+
+// The sharp input features (for the region count and, at the end, the creases); none when
+// creases are off.
+SharpFeatures sharp_input_features(const PolygonMesh& tri, const QuadRemeshOptions& o) {
   SharpFeatureOptions feature_options;
   feature_options.angle_degrees = std::clamp(o.crease_angle_degrees, 0.0, 180.0);
   const bool use_features = o.crease_angle_degrees >= 0.0;
-  const SharpFeatures features = use_features ? detect_sharp_features(tri, feature_options) : SharpFeatures{};
+  return use_features ? detect_sharp_features(tri, feature_options) : SharpFeatures{};
+}
+
+// VSA (thesis §6.3). A region count that cannot be met is adjusted (and reported), not refused:
+// without pinned regions or seeds, at least one region per connected component (each needs its
+// own) and, below the feature patches, regions_per_feature_patch per patch; at most one per
+// triangle.
+VsaSegmentation segment_regions(const PolygonMesh& tri, const SharpFeatures& features, const QuadRemeshOptions& o,
+                                VsaOptions& vo, const TaskMonitor& monitor, QuadRemeshResult& r) {
+  const bool use_features = o.crease_angle_degrees >= 0.0;
   if (o.pinned_regions.empty() && o.seed_faces.empty()) {
     const size_t components = count_face_components(tri);
     size_t wanted = std::max<size_t>(size_t(vo.region_count), components);
@@ -1050,345 +1067,498 @@ QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemesh
                                        " triangles");
   const VsaSegmentation segmentation = segment_vsa(tri, vo, monitor);
   r.l21_error = segmentation.total_area > 0.0 ? segmentation.total_error / segmentation.total_area : 0.0;
-  r.segmentation_seconds = seconds_since(start);
+  return segmentation;
+}
 
-  // Disk regions, then the layout; a region whose network, selection or glued faces fail is
-  // split in two and the layout redone (at most kLayoutAttempts times).
-  r.face_region = segmentation.face_region;
-  size_t region_count = segmentation.num_regions();
-  ConstraintOptions co;
-  co.spacing = spacing_from_bbox_fraction(tri, o.edge_length);
-  SelectionOptions so;
-  so.weights.triangle = o.triangle_weight;
-  so.weights.pentagon = o.pentagon_weight;
-  so.weights.t_joint = o.t_joint_weight;
+// What every layout attempt uses: the sample spacing δ, the element weights of the selection, the
+// input's triangle normals, and the input's topology (the glued layout must keep its components
+// and Euler characteristic).
+struct LayoutSettings {
+  ConstraintOptions constraints;
+  SelectionOptions selection;
   std::vector<Vec3> normals;
+  FaceTopology input_topology;
+};
+
+LayoutSettings layout_settings(const PolygonMesh& tri, const QuadRemeshOptions& o) {
+  LayoutSettings s;
+  s.constraints.spacing = spacing_from_bbox_fraction(tri, o.edge_length);
+  s.selection.weights.triangle = o.triangle_weight;
+  s.selection.weights.pentagon = o.pentagon_weight;
+  s.selection.weights.t_joint = o.t_joint_weight;
   std::vector<double> areas;
-  triangle_normals_and_areas(tri, normals, areas);
-  // The glued layout must keep the input's topology (components, Euler characteristic).
-  const FaceTopology input_topology = face_topology(tri);
+  triangle_normals_and_areas(tri, s.normals, areas);
+  s.input_topology = face_topology(tri);
+  return s;
+}
+
+// One layout of the regions: their count, constraints (arcs, samples, LSCM domains), curve
+// networks and selections, the samples with global ids, and the glued mesh.
+struct RegionLayout {
+  size_t region_count = 0;
   RemeshConstraints constraints;
   RegionQuadMeshes meshes;
   GlobalSamples samples;
   PolygonMesh glued;
   std::vector<Vec3> reference_normal;  // per glued face: the input normal under its centroid
+};
+
+// What the layout attempts carry from one to the next.
+struct LayoutRetries {
   // The first layout whose only fault is a face folded against the input (kept until a retry
   // does better; returned, with flipped_faces reported, when none does).
   struct FoldedLayout {
     bool kept = false;
-    size_t region_count = 0;
     std::vector<uint32_t> face_region;
-    RemeshConstraints constraints;
-    RegionQuadMeshes meshes;
-    GlobalSamples samples;
-    PolygonMesh glued;
-    std::vector<Vec3> reference_normal;
+    RegionLayout layout;
     uint64_t mended_faces = 0;
   } folded_layout;
   SelectionMemo memo;  // the regions a retry did not change are not selected again
   size_t previous_failures = SIZE_MAX;  // failing regions of the previous attempt
   std::vector<uint8_t> kept_in_conflict;  // per region: kept whole when a glue conflict split its partner
   std::vector<uint32_t> repeat_partners;  // kept-whole partners in conflict again: merged into a neighbour
+};
+
+// The regions made disks with injective LSCM maps (thesis §6.4.3, disk_regions.h); splits made
+// for it are counted and reported.
+std::vector<RegionParameterization> disk_region_domains(const PolygonMesh& tri, const QuadRemeshOptions& o,
+                                                        const TaskMonitor& monitor, size_t& region_count,
+                                                        QuadRemeshResult& r) {
+  DiskRegionReport disk;
+  std::vector<RegionParameterization> domains =
+      make_disk_regions(tri, r.face_region, region_count, o.pinned_regions.size(), {}, &disk, monitor);
+  r.split_regions += disk.split_regions;
+  if (disk.split_regions > 0)
+    monitor.log(LogLevel::info, "quad-dominant remeshing: " + std::to_string(disk.split_regions) +
+                                    " region split(s) for disk-like regions (" +
+                                    std::to_string(disk.topology_splits) + " closed or with handles, " +
+                                    std::to_string(disk.fold_splits) + " folded maps), " +
+                                    std::to_string(region_count) + " regions");
+  return domains;
+}
+
+// Every region's curve network and selection (thesis §6.5-6.7), then, when all of them
+// succeeded, the sample-count refinement. Returns the regions that failed.
+std::vector<RegionFailure> select_region_curves(const LayoutSettings& settings, const QuadRemeshOptions& o,
+                                                const TaskMonitor& monitor, SelectionMemo& memo, RegionLayout& layout,
+                                                QuadRemeshResult& r) {
+  std::vector<BendingFitCache> fit_caches;  // for the refinement's rebuilds of the same regions
+  std::vector<RegionFailure> failures;
+  layout.meshes = select_region_quads(layout.constraints, CurveNetworkOptions{}, settings.selection, o.threads, monitor,
+                                      o.sample_refinement_passes > 0 ? &fit_caches : nullptr, &failures, &memo);
+  for (uint32_t region = 0; region < layout.meshes.selections.size(); ++region)
+    if (layout.meshes.selections[region].invalid_faces > 0)
+      failures.push_back({region, "quad-dominant remeshing: region " + std::to_string(region) + " has " +
+                                      std::to_string(layout.meshes.selections[region].invalid_faces) +
+                                      " invalid (flipped or hole) faces"});
+  if (failures.empty() && o.sample_refinement_passes > 0) {
+    const auto refinement_start = std::chrono::steady_clock::now();
+    refine_sample_counts(layout.constraints, layout.meshes, settings.selection, fit_caches, o.sample_refinement_passes,
+                         size_t(o.sample_refinement_max_curves), o.threads, monitor);
+    r.refinement_seconds += seconds_since(refinement_start);
+  }
+  return failures;
+}
+
+// Post-processing (thesis §6.8): the regions' layouts glued by their shared samples, each
+// region's mesh relaxed in its domain and its inner vertices placed on the input surface, then
+// the glue conflicts mended. With `glue` false (a region failed) only the samples.
+GluedLayout glue_regions(const PolygonMesh& tri, const std::vector<Vec3>& normals, const QuadRemeshOptions& o,
+                         bool glue, const TaskMonitor& monitor, RegionLayout& layout, QuadRemeshResult& r) {
+  layout.samples = global_samples(tri, layout.constraints);
+  GluedLayout glued;
+  glued.mesh.positions = layout.samples.positions;
+  const size_t regions = layout.constraints.domains.size();
+  for (uint32_t region = 0; glue && region < regions; ++region) {
+    monitor.report("post-processing", 0.9 * double(region) / double(std::max<size_t>(1, regions)));
+    const QuadSelection& s = layout.meshes.selections[region];
+    const std::vector<uint32_t> point_ids = region_point_ids(layout.constraints, layout.samples, region);
+    if (point_ids.size() != layout.meshes.networks[region].points.size())
+      fail(Status::internal_error, "quad-dominant remeshing: region " + std::to_string(region) +
+                                       ": network points do not match the constrained samples");
+    std::vector<Vec2> uv;
+    relax_region(s, o.relaxation_iterations, uv);
+    RegionLocator locator{&tri, &layout.constraints.domains[region], {}};
+    std::vector<uint32_t> global(uv.size());
+    for (size_t v = 0; v < uv.size(); ++v) {
+      if (s.vertex_point[v] >= 0) {
+        global[v] = point_ids[size_t(s.vertex_point[v])];
+        continue;
+      }
+      const RegionLocator::Hit hit = locator.locate(uv[v]);
+      r.outside_domain_vertices += !hit.inside;
+      global[v] = glued.mesh.add_vertex(locator.position(hit));
+    }
+    for (const std::vector<uint32_t>& face : s.faces) {
+      std::vector<uint32_t> ids;
+      std::vector<Vec2> corner_uv;
+      Vec2 centroid{0.0, 0.0};
+      for (uint32_t v : face) {
+        ids.push_back(global[v]);
+        corner_uv.push_back(uv[v]);
+        centroid = centroid + uv[v];
+      }
+      glued.add_face(ids, corner_uv, region, normals[locator.locate(centroid * (1.0 / double(face.size()))).face]);
+    }
+  }
+  if (glue) r.mended_faces = mend_glue_conflicts(glued, tri, layout.constraints, normals);
+  return glued;
+}
+
+// The faults of a glued layout (`glued_region`: per glued face its region), as failures of the
+// regions to split. Faces of two regions that coincide or fold onto each other (a duplicate face,
+// an edge of three faces, a repeated vertex): the region of each pair with more triangles is
+// split so that the boundary chains the two share go to different parts; a region whose boundary
+// touches itself is split at that vertex (`conflict_split`: per region to split, the conflict it
+// is split at). Without such conflicts: faces folded against the input, and a layout that does
+// not keep the input's topology. Returns whether the layout's only fault is folded faces.
+bool find_layout_faults(const RegionLayout& layout, const std::vector<uint32_t>& glued_region,
+                        const std::vector<uint32_t>& face_region, const FaceTopology& input_topology, size_t pinned,
+                        LayoutRetries& retries, std::vector<RegionFailure>& failures,
+                        std::vector<GlueConflict>& conflict_split) {
+  const size_t region_count = layout.region_count;
+  const PolygonMesh& glued = layout.glued;
+  std::vector<uint32_t> triangles_in(region_count, 0);
+  for (const uint32_t region : face_region) ++triangles_in[region];
+  // A partner kept whole in an earlier conflict that conflicts again (with the split region
+  // or a part of it) is merged into its neighbour instead (polygon_mesh.off: a 4-triangle
+  // island region inside region 0 whose hole region 0's layout covers, whichever is split).
+  std::vector<uint8_t>& kept_in_conflict = retries.kept_in_conflict;
+  std::vector<uint32_t>& repeat_partners = retries.repeat_partners;
+  kept_in_conflict.resize(region_count, 0);
+  repeat_partners.clear();
+  for (GlueConflict c : glue_conflicts(glued, glued_region)) {
+    if (c.region != c.other && triangles_in[c.other] > triangles_in[c.region]) std::swap(c.region, c.other);
+    if (c.region != c.other && kept_in_conflict[c.other] && c.other >= pinned) repeat_partners.push_back(c.other);
+    conflict_split.push_back(c);
+  }
+  for (const GlueConflict& c : conflict_split)
+    if (c.region != c.other) kept_in_conflict[c.other] = 1;
+  std::sort(repeat_partners.begin(), repeat_partners.end());
+  repeat_partners.erase(std::unique(repeat_partners.begin(), repeat_partners.end()), repeat_partners.end());
+  // One split per region: at a pinch if it has one, else between its first conflict's ends.
+  std::stable_sort(conflict_split.begin(), conflict_split.end(), [](const GlueConflict& x, const GlueConflict& y) {
+    if (x.region != y.region) return x.region < y.region;
+    return (x.other == x.region) > (y.other == y.region);
+  });
+  conflict_split.erase(std::unique(conflict_split.begin(), conflict_split.end(),
+                                   [](const GlueConflict& x, const GlueConflict& y) { return x.region == y.region; }),
+                       conflict_split.end());
+  // A face that folds against the input surface under it (a region's face flipped where the
+  // region is thin): its region is split; if no retry unfolds them, the first such layout is
+  // kept (flipped_faces reports them; the fit and the journey's checks judge the surface).
+  if (conflict_split.empty()) {
+    std::vector<uint8_t> folded(region_count, 0);
+    std::vector<uint32_t> loop;
+    for (uint32_t f = 0; f < glued.num_faces(); ++f) {
+      loop.assign(glued.face_begin(f), glued.face_begin(f) + glued.face_size(f));
+      if (!(dot(loop_normal(glued.positions, loop), layout.reference_normal[f]) > 0.0)) folded[glued_region[f]] = 1;
+    }
+    for (uint32_t rg = 0; rg < region_count; ++rg)
+      if (folded[rg]) failures.push_back({rg, "region " + std::to_string(rg) + " has a face folded against the input"});
+  }
+  const size_t fold_failures = failures.size();
+  // A layout that does not keep the input's topology (a region whose faces fill one of its
+  // holes apart from the rest: the holes of a thin plate closed, a pillow left over them):
+  // the regions whose faces lie in more than one component of the glued mesh are split.
+  if (conflict_split.empty()) {
+    const FaceTopology glued_topology = face_topology(glued);
+    if (glued_topology.components != input_topology.components || glued_topology.euler != input_topology.euler) {
+      std::vector<uint32_t> region_component(region_count, 0xffffffffu);
+      std::vector<uint8_t> spread(region_count, 0);
+      for (uint32_t f = 0; f < glued.num_faces(); ++f) {
+        const uint32_t c = glued_topology.component[glued.face_vertex(f, 0)], rg = glued_region[f];
+        if (region_component[rg] == 0xffffffffu) region_component[rg] = c;
+        else if (region_component[rg] != c) spread[rg] = 1;
+      }
+      size_t listed = 0;
+      for (uint32_t rg = 0; rg < region_count; ++rg)
+        if (spread[rg]) {
+          failures.push_back({rg, "region " + std::to_string(rg) +
+                                      "'s faces fall apart in the glued mesh (it does not keep the input's "
+                                      "topology)"});
+          ++listed;
+        }
+      if (listed == 0)
+        failures.push_back({0, "the glued mesh has " + std::to_string(glued_topology.components) +
+                                   " components and Euler characteristic " + std::to_string(glued_topology.euler) +
+                                   ", the input " + std::to_string(input_topology.components) + " and " +
+                                   std::to_string(input_topology.euler)});
+    }
+  }
+  const bool only_folds = fold_failures > 0 && failures.size() == fold_failures;
+  for (const GlueConflict& c : conflict_split)
+    failures.push_back({c.region, "region " + std::to_string(c.region) +
+                                      (c.region == c.other ? "'s boundary touches itself, its faces repeat a vertex"
+                                                           : "'s faces coincide with or fold onto region " +
+                                                                 std::to_string(c.other) + "'s")});
+  return only_folds;
+}
+
+// Regions merged and split for the next layout attempt.
+struct RegionChanges {
+  size_t split = 0, merged = 0;
+  bool none() const { return split == 0 && merged == 0; }
+};
+
+// After a failed layout, unless the retries are over: the sliver regions (no area in their
+// loop) and repeated conflict partners merged into a neighbour, or, if none was merged, every
+// failing region split in two (at its glue conflict when it has one).
+RegionChanges merge_or_split_regions(const PolygonMesh& tri, const QuadRemeshOptions& o, int attempt,
+                                     const std::vector<RegionFailure>& failures,
+                                     const std::vector<GlueConflict>& conflict_split, RegionLayout& layout,
+                                     LayoutRetries& retries, std::vector<uint32_t>& face_region) {
+  size_t& region_count = layout.region_count;
+  size_t split = 0, merged = 0;
+  // A retry that did not lower the number of failing regions ends the retries (cheese.off:
+  // every split region's parts fail again, 4 layouts of 300 regions cost 30 s).
+  // A retry that merges a repeated conflict partner is made even when the count did not drop.
+  const bool retry = attempt + 1 < kLayoutAttempts &&
+                     (failures.size() < retries.previous_failures ||
+                      (!retries.repeat_partners.empty() && failures.size() <= retries.previous_failures));
+  retries.previous_failures = failures.size();
+  if (retry) {
+    std::vector<uint32_t> slivers;
+    for (const RegionFailure& failure : failures)
+      if (failure.degenerate_boundary && failure.region >= o.pinned_regions.size()) slivers.push_back(failure.region);
+    slivers.insert(slivers.end(), retries.repeat_partners.begin(), retries.repeat_partners.end());
+    merged = merge_into_neighbours(tri, face_region, region_count, o.pinned_regions.size(), slivers);
+    if (merged > 0) retries.kept_in_conflict.clear();  // the regions were renumbered
+  }
+  if (retry && merged == 0)
+    for (const RegionFailure& failure : failures) {
+      if (failure.region < o.pinned_regions.size()) continue;
+      size_t size = 0;
+      for (const uint32_t region : face_region) size += region == failure.region;
+      const auto conflict = std::lower_bound(
+          conflict_split.begin(), conflict_split.end(), failure.region,
+          [](const GlueConflict& c, uint32_t region) { return c.region < region; });
+      std::vector<uint32_t> second;
+      if (conflict != conflict_split.end() && conflict->region == failure.region)
+        second = conflict->other == failure.region
+                     ? split_region_at_pinch(tri, face_region, failure.region)
+                     : split_region_between(tri, face_region, failure.region, layout.glued.positions[conflict->u],
+                                            layout.glued.positions[conflict->v]);
+      else {
+        std::vector<uint32_t> faces;
+        for (uint32_t f = 0; f < face_region.size(); ++f)
+          if (face_region[f] == failure.region) faces.push_back(f);
+        second = split_region_in_two(tri, faces);
+      }
+      if (second.empty() || second.size() == size) continue;
+      for (const uint32_t f : second) face_region[f] = uint32_t(region_count);
+      ++region_count;
+      ++split;
+    }
+  return {split, merged};
+}
+
+// When no retry changes the regions any more: the kept layout whose only fault is folded faces
+// becomes the result.
+void take_folded_layout(const TaskMonitor& monitor, LayoutRetries::FoldedLayout& folded_layout, RegionLayout& layout,
+                        QuadRemeshResult& r) {
+  monitor.log(LogLevel::info, "quad-dominant remeshing: the retries did not unfold every face; the first layout "
+                              "with folded faces only is kept");
+  layout = std::move(folded_layout.layout);
+  r.face_region = std::move(folded_layout.face_region);
+  r.mended_faces = folded_layout.mended_faces;
+}
+
+// The failures of the last layout as the error (no retry changed the regions).
+[[noreturn]] void fail_layout(const std::vector<RegionFailure>& failures) {
+  std::string message = failures.front().message;
+  if (failures.size() > 1) message += " (and " + std::to_string(failures.size() - 1) + " more regions)";
+  fail(Status::internal_error,
+       message.rfind("quad-dominant", 0) == 0 ? message : "quad-dominant remeshing: " + message);
+}
+
+// A layout redone: counted, and reported with its first failure.
+void record_retry(const std::vector<RegionFailure>& failures, const RegionChanges& changes, const TaskMonitor& monitor,
+                  QuadRemeshResult& r) {
+  const size_t split = changes.split, merged = changes.merged;
+  r.split_regions += split;
+  r.merged_regions += merged;
+  r.layout_retries += 1;
+  const std::string& first_message = failures.front().message;
+  monitor.log(LogLevel::info, (first_message.rfind("quad-dominant", 0) == 0 ? "" : "quad-dominant remeshing: ") +
+                                  first_message +
+                                  (failures.size() > 1 ? " (and " + std::to_string(failures.size() - 1) + " more)"
+                                                       : std::string()) +
+                                  "; " + std::to_string(merged) + " sliver region(s) merged, " +
+                                  std::to_string(split) + " region(s) split, layout redone");
+}
+
+// Steps 1-4 of ch. 6 and the gluing (§6.8), per layout attempt: disk regions with their LSCM
+// domains, arcs and samples, every region's curve network and selection, the glued mesh and its
+// faults. A region whose network, selection or glued faces fail is split in two (or merged into
+// a neighbour) and the layout redone, at most kLayoutAttempts times.
+RegionLayout lay_out_regions(const PolygonMesh& tri, const VsaSegmentation& segmentation, const QuadRemeshOptions& o,
+                             const TaskMonitor& monitor, QuadRemeshResult& r) {
+  r.face_region = segmentation.face_region;
+  RegionLayout layout;
+  layout.region_count = segmentation.num_regions();
+  const LayoutSettings settings = layout_settings(tri, o);
+  LayoutRetries retries;
   for (int attempt = 0;; ++attempt) {
     auto t = std::chrono::steady_clock::now();
-    bool only_folds = false;  // this layout's only fault: faces folded against the input
-    DiskRegionReport disk;
-    std::vector<RegionParameterization> domains =
-        make_disk_regions(tri, r.face_region, region_count, o.pinned_regions.size(), {}, &disk, monitor);
-    r.split_regions += disk.split_regions;
-    if (disk.split_regions > 0)
-      monitor.log(LogLevel::info, "quad-dominant remeshing: " + std::to_string(disk.split_regions) +
-                                      " region split(s) for disk-like regions (" +
-                                      std::to_string(disk.topology_splits) + " closed or with handles, " +
-                                      std::to_string(disk.fold_splits) + " folded maps), " +
-                                      std::to_string(region_count) + " regions");
-    constraints = compute_remesh_constraints(tri, r.face_region, region_count, co, monitor, &domains);
+    std::vector<RegionParameterization> domains = disk_region_domains(tri, o, monitor, layout.region_count, r);
+    layout.constraints =
+        compute_remesh_constraints(tri, r.face_region, layout.region_count, settings.constraints, monitor, &domains);
     r.constraint_seconds += seconds_since(t);
 
     t = std::chrono::steady_clock::now();
-    std::vector<BendingFitCache> fit_caches;  // for the refinement's rebuilds of the same regions
-    std::vector<RegionFailure> failures;
-    meshes = select_region_quads(constraints, CurveNetworkOptions{}, so, o.threads, monitor,
-                                 o.sample_refinement_passes > 0 ? &fit_caches : nullptr, &failures, &memo);
-    for (uint32_t region = 0; region < meshes.selections.size(); ++region)
-      if (meshes.selections[region].invalid_faces > 0)
-        failures.push_back({region, "quad-dominant remeshing: region " + std::to_string(region) + " has " +
-                                        std::to_string(meshes.selections[region].invalid_faces) +
-                                        " invalid (flipped or hole) faces"});
-    if (failures.empty() && o.sample_refinement_passes > 0) {
-      const auto refinement_start = std::chrono::steady_clock::now();
-      refine_sample_counts(constraints, meshes, so, fit_caches, o.sample_refinement_passes,
-                           size_t(o.sample_refinement_max_curves), o.threads, monitor);
-      r.refinement_seconds += seconds_since(refinement_start);
-    }
+    std::vector<RegionFailure> failures = select_region_curves(settings, o, monitor, retries.memo, layout, r);
     r.selection_seconds += seconds_since(t);
 
-    // Post-processing: the regions' layouts glued by their shared samples.
     t = std::chrono::steady_clock::now();
-    samples = global_samples(tri, constraints);
-    GluedLayout layout;
-    layout.mesh.positions = samples.positions;
+    GluedLayout glued = glue_regions(tri, settings.normals, o, failures.empty(), monitor, layout, r);
+    layout.glued = std::move(glued.mesh);
+    layout.reference_normal = std::move(glued.reference_normal);
     std::vector<GlueConflict> conflict_split;  // per region to split (by region): the conflict it is split at
-    const size_t regions = constraints.domains.size();
-    for (uint32_t region = 0; failures.empty() && region < regions; ++region) {
-      monitor.report("post-processing", 0.9 * double(region) / double(std::max<size_t>(1, regions)));
-      const QuadSelection& s = meshes.selections[region];
-      const std::vector<uint32_t> point_ids = region_point_ids(constraints, samples, region);
-      if (point_ids.size() != meshes.networks[region].points.size())
-        fail(Status::internal_error, "quad-dominant remeshing: region " + std::to_string(region) +
-                                         ": network points do not match the constrained samples");
-      std::vector<Vec2> uv;
-      relax_region(s, o.relaxation_iterations, uv);
-      RegionLocator locator{&tri, &constraints.domains[region], {}};
-      std::vector<uint32_t> global(uv.size());
-      for (size_t v = 0; v < uv.size(); ++v) {
-        if (s.vertex_point[v] >= 0) {
-          global[v] = point_ids[size_t(s.vertex_point[v])];
-          continue;
-        }
-        const RegionLocator::Hit hit = locator.locate(uv[v]);
-        r.outside_domain_vertices += !hit.inside;
-        global[v] = layout.mesh.add_vertex(locator.position(hit));
-      }
-      for (const std::vector<uint32_t>& face : s.faces) {
-        std::vector<uint32_t> ids;
-        std::vector<Vec2> corner_uv;
-        Vec2 centroid{0.0, 0.0};
-        for (uint32_t v : face) {
-          ids.push_back(global[v]);
-          corner_uv.push_back(uv[v]);
-          centroid = centroid + uv[v];
-        }
-        layout.add_face(ids, corner_uv, region,
-                        normals[locator.locate(centroid * (1.0 / double(face.size()))).face]);
-      }
-    }
-    if (failures.empty()) r.mended_faces = mend_glue_conflicts(layout, tri, constraints, normals);
-    glued = std::move(layout.mesh);
-    const std::vector<uint32_t> glued_region = std::move(layout.region);
-    reference_normal = std::move(layout.reference_normal);
-    if (failures.empty()) {
-      // Faces of two regions that coincide or fold onto each other (a duplicate face, an edge of
-      // three faces, a repeated vertex): the region of each pair with more triangles is split so
-      // that the boundary chains the two share go to different parts; a region whose boundary
-      // touches itself is split at that vertex.
-      std::vector<uint32_t> triangles_in(region_count, 0);
-      for (const uint32_t region : r.face_region) ++triangles_in[region];
-      // A partner kept whole in an earlier conflict that conflicts again (with the split region
-      // or a part of it) is merged into its neighbour instead (polygon_mesh.off: a 4-triangle
-      // island region inside region 0 whose hole region 0's layout covers, whichever is split).
-      kept_in_conflict.resize(region_count, 0);
-      repeat_partners.clear();
-      for (GlueConflict c : glue_conflicts(glued, glued_region)) {
-        if (c.region != c.other && triangles_in[c.other] > triangles_in[c.region]) std::swap(c.region, c.other);
-        if (c.region != c.other && kept_in_conflict[c.other] && c.other >= o.pinned_regions.size())
-          repeat_partners.push_back(c.other);
-        conflict_split.push_back(c);
-      }
-      for (const GlueConflict& c : conflict_split)
-        if (c.region != c.other) kept_in_conflict[c.other] = 1;
-      std::sort(repeat_partners.begin(), repeat_partners.end());
-      repeat_partners.erase(std::unique(repeat_partners.begin(), repeat_partners.end()), repeat_partners.end());
-      // One split per region: at a pinch if it has one, else between its first conflict's ends.
-      std::stable_sort(conflict_split.begin(), conflict_split.end(), [](const GlueConflict& x, const GlueConflict& y) {
-        if (x.region != y.region) return x.region < y.region;
-        return (x.other == x.region) > (y.other == y.region);
-      });
-      conflict_split.erase(std::unique(conflict_split.begin(), conflict_split.end(),
-                                       [](const GlueConflict& x, const GlueConflict& y) { return x.region == y.region; }),
-                           conflict_split.end());
-      // A face that folds against the input surface under it (a region's face flipped where the
-      // region is thin): its region is split; if no retry unfolds them, the first such layout is
-      // kept (flipped_faces reports them; the fit and the journey's checks judge the surface).
-      if (conflict_split.empty()) {
-        std::vector<uint8_t> folded(region_count, 0);
-        std::vector<uint32_t> loop;
-        for (uint32_t f = 0; f < glued.num_faces(); ++f) {
-          loop.assign(glued.face_begin(f), glued.face_begin(f) + glued.face_size(f));
-          if (!(dot(loop_normal(glued.positions, loop), reference_normal[f]) > 0.0)) folded[glued_region[f]] = 1;
-        }
-        for (uint32_t rg = 0; rg < region_count; ++rg)
-          if (folded[rg]) failures.push_back({rg, "region " + std::to_string(rg) + " has a face folded against the input"});
-      }
-      const size_t fold_failures = failures.size();
-      // A layout that does not keep the input's topology (a region whose faces fill one of its
-      // holes apart from the rest: the holes of a thin plate closed, a pillow left over them):
-      // the regions whose faces lie in more than one component of the glued mesh are split.
-      if (conflict_split.empty()) {
-        const FaceTopology glued_topology = face_topology(glued);
-        if (glued_topology.components != input_topology.components || glued_topology.euler != input_topology.euler) {
-          std::vector<uint32_t> region_component(region_count, 0xffffffffu);
-          std::vector<uint8_t> spread(region_count, 0);
-          for (uint32_t f = 0; f < glued.num_faces(); ++f) {
-            const uint32_t c = glued_topology.component[glued.face_vertex(f, 0)], rg = glued_region[f];
-            if (region_component[rg] == 0xffffffffu) region_component[rg] = c;
-            else if (region_component[rg] != c) spread[rg] = 1;
-          }
-          size_t listed = 0;
-          for (uint32_t rg = 0; rg < region_count; ++rg)
-            if (spread[rg]) {
-              failures.push_back({rg, "region " + std::to_string(rg) +
-                                          "'s faces fall apart in the glued mesh (it does not keep the input's "
-                                          "topology)"});
-              ++listed;
-            }
-          if (listed == 0)
-            failures.push_back({0, "the glued mesh has " + std::to_string(glued_topology.components) +
-                                       " components and Euler characteristic " + std::to_string(glued_topology.euler) +
-                                       ", the input " + std::to_string(input_topology.components) + " and " +
-                                       std::to_string(input_topology.euler)});
-        }
-      }
-      only_folds = fold_failures > 0 && failures.size() == fold_failures;
-      for (const GlueConflict& c : conflict_split)
-        failures.push_back({c.region, "region " + std::to_string(c.region) +
-                                          (c.region == c.other ? "'s boundary touches itself, its faces repeat a vertex"
-                                                               : "'s faces coincide with or fold onto region " +
-                                                                     std::to_string(c.other) + "'s")});
-    }
+    bool only_folds = false;  // this layout's only fault: faces folded against the input
+    if (failures.empty())
+      only_folds = find_layout_faults(layout, glued.region, r.face_region, settings.input_topology,
+                                      o.pinned_regions.size(), retries, failures, conflict_split);
     r.postprocess_seconds += seconds_since(t);
     if (failures.empty()) break;
-    if (only_folds && !folded_layout.kept)
-      folded_layout = {true,     region_count, r.face_region, constraints,     meshes,
-                       samples,  glued,        reference_normal, r.mended_faces};
-    size_t split = 0, merged = 0;
-    // A retry that did not lower the number of failing regions ends the retries (cheese.off:
-    // every split region's parts fail again, 4 layouts of 300 regions cost 30 s).
-    // A retry that merges a repeated conflict partner is made even when the count did not drop.
-    const bool retry = attempt + 1 < kLayoutAttempts &&
-                       (failures.size() < previous_failures || (!repeat_partners.empty() && failures.size() <= previous_failures));
-    previous_failures = failures.size();
-    if (retry) {
-      std::vector<uint32_t> slivers;
-      for (const RegionFailure& failure : failures)
-        if (failure.degenerate_boundary && failure.region >= o.pinned_regions.size()) slivers.push_back(failure.region);
-      slivers.insert(slivers.end(), repeat_partners.begin(), repeat_partners.end());
-      merged = merge_into_neighbours(tri, r.face_region, region_count, o.pinned_regions.size(), slivers);
-      if (merged > 0) kept_in_conflict.clear();  // the regions were renumbered
-    }
-    if (retry && merged == 0)
-      for (const RegionFailure& failure : failures) {
-        if (failure.region < o.pinned_regions.size()) continue;
-        size_t size = 0;
-        for (const uint32_t region : r.face_region) size += region == failure.region;
-        const auto conflict = std::lower_bound(
-            conflict_split.begin(), conflict_split.end(), failure.region,
-            [](const GlueConflict& c, uint32_t region) { return c.region < region; });
-        std::vector<uint32_t> second;
-        if (conflict != conflict_split.end() && conflict->region == failure.region)
-          second = conflict->other == failure.region
-                       ? split_region_at_pinch(tri, r.face_region, failure.region)
-                       : split_region_between(tri, r.face_region, failure.region, glued.positions[conflict->u],
-                                              glued.positions[conflict->v]);
-        else {
-          std::vector<uint32_t> faces;
-          for (uint32_t f = 0; f < r.face_region.size(); ++f)
-            if (r.face_region[f] == failure.region) faces.push_back(f);
-          second = split_region_in_two(tri, faces);
-        }
-        if (second.empty() || second.size() == size) continue;
-        for (const uint32_t f : second) r.face_region[f] = uint32_t(region_count);
-        ++region_count;
-        ++split;
-      }
-    if (split == 0 && merged == 0 && folded_layout.kept) {
-      monitor.log(LogLevel::info, "quad-dominant remeshing: the retries did not unfold every face; the first layout "
-                                  "with folded faces only is kept");
-      region_count = folded_layout.region_count;
-      r.face_region = std::move(folded_layout.face_region);
-      constraints = std::move(folded_layout.constraints);
-      meshes = std::move(folded_layout.meshes);
-      samples = std::move(folded_layout.samples);
-      glued = std::move(folded_layout.glued);
-      reference_normal = std::move(folded_layout.reference_normal);
-      r.mended_faces = folded_layout.mended_faces;
+
+    if (only_folds && !retries.folded_layout.kept)
+      retries.folded_layout = {true, r.face_region, layout, r.mended_faces};
+    const RegionChanges changes =
+        merge_or_split_regions(tri, o, attempt, failures, conflict_split, layout, retries, r.face_region);
+    if (changes.none() && retries.folded_layout.kept) {
+      take_folded_layout(monitor, retries.folded_layout, layout, r);
       break;
     }
-    if (split == 0 && merged == 0) {
-      std::string message = failures.front().message;
-      if (failures.size() > 1) message += " (and " + std::to_string(failures.size() - 1) + " more regions)";
-      fail(Status::internal_error, message.rfind("quad-dominant", 0) == 0 ? message : "quad-dominant remeshing: " + message);
-    }
-    r.split_regions += split;
-    r.merged_regions += merged;
-    r.layout_retries += 1;
-    const std::string& first_message = failures.front().message;
-    monitor.log(LogLevel::info, (first_message.rfind("quad-dominant", 0) == 0 ? "" : "quad-dominant remeshing: ") +
-                                    first_message +
-                                    (failures.size() > 1 ? " (and " + std::to_string(failures.size() - 1) + " more)"
-                                                         : std::string()) +
-                                    "; " + std::to_string(merged) + " sliver region(s) merged, " +
-                                    std::to_string(split) + " region(s) split, layout redone");
+    if (changes.none()) fail_layout(failures);
+    record_retry(failures, changes, monitor, r);
   }
-  r.regions = region_count;
-  r.energy = meshes.energy;
-  for (const QuadSelection& s : meshes.selections) r.phase1_energy += s.phase1_energy;
-  r.arcs = constraints.arcs.size();
-  for (const ArcConstraint& arc : constraints.arcs) r.arc_segments.push_back(uint32_t(arc.samples.t.size() - 1));
-  r.samples = samples.positions.size();
-  auto t = std::chrono::steady_clock::now();
+  return layout;
+}
 
-  // Drop samples no face uses (none expected: every boundary edge of a region is a face edge).
+// The layout's figures in the result.
+void report_layout(const RegionLayout& layout, QuadRemeshResult& r) {
+  r.regions = layout.region_count;
+  r.energy = layout.meshes.energy;
+  for (const QuadSelection& s : layout.meshes.selections) r.phase1_energy += s.phase1_energy;
+  r.arcs = layout.constraints.arcs.size();
+  for (const ArcConstraint& arc : layout.constraints.arcs) r.arc_segments.push_back(uint32_t(arc.samples.t.size() - 1));
+  r.samples = layout.samples.positions.size();
+}
+
+// The glued mesh as the cage's mesh, without the samples no face uses (none expected: every
+// boundary edge of a region is a face edge). Returns the cage vertex of every glued vertex
+// (0xffffffff: dropped).
+std::vector<uint32_t> move_glued_mesh_into(PolygonMesh& glued, PolygonMesh& mesh) {
   std::vector<uint32_t> remap(glued.num_vertices(), 0xffffffffu);
-  PolygonMesh& mesh = r.cage.mesh;
   for (uint32_t& v : glued.face_vertices) {
     if (remap[v] == 0xffffffffu) remap[v] = mesh.add_vertex(glued.positions[v]);
     v = remap[v];
   }
   mesh.face_offsets = glued.face_offsets;
   mesh.face_vertices = glued.face_vertices;
+  return remap;
+}
 
-  std::vector<Vec3> vertex_normals(mesh.num_vertices(), Vec3{});
+// Faces whose normal disagrees with the input normal under their centroid (flipped_faces).
+uint64_t count_flipped_faces(const PolygonMesh& mesh, const std::vector<Vec3>& reference_normal) {
+  uint64_t flipped = 0;
   std::vector<uint32_t> loop;
+  for (size_t f = 0; f < mesh.num_faces(); ++f) {
+    loop.assign(mesh.face_begin(f), mesh.face_begin(f) + mesh.face_size(f));
+    flipped += !(dot(loop_normal(mesh.positions, loop), reference_normal[f]) > 0.0);
+  }
+  return flipped;
+}
+
+// Unit vertex normals from the faces' vector areas (for the quality figures).
+std::vector<Vec3> area_weighted_vertex_normals(const PolygonMesh& mesh) {
+  std::vector<Vec3> vertex_normals(mesh.num_vertices(), Vec3{});
   for (size_t f = 0; f < mesh.num_faces(); ++f) {
     const Vec3 area = mesh.face_vector_area(f);
     for (uint32_t k = 0; k < mesh.face_size(f); ++k) vertex_normals[mesh.face_vertex(f, k)] += area;
-    loop.assign(mesh.face_begin(f), mesh.face_begin(f) + mesh.face_size(f));
-    r.flipped_faces += !(dot(loop_normal(mesh.positions, loop), reference_normal[f]) > 0.0);
   }
   for (Vec3& n : vertex_normals) n = normalized(n);
+  return vertex_normals;
+}
 
-  // Creases on sharp interior arcs.
-  if (o.crease_angle_degrees >= 0.0) {
-    // A region boundary is made of input edges and VSA splits at features, so a piece's input
-    // edges count when they are sharp edges themselves (a boundary beside a feature, one
-    // triangle off, is not creased: counting edges with both ends near a feature, the organic
-    // meshes' crease density rose from 4.7 % to 8.6 %; edges_along_features, 2.8 -> 8.5 %).
-    std::unordered_set<uint64_t> tagged;
-    for (uint32_t a = 0; a < constraints.arcs.size(); ++a) {
-      const RegionArc& arc = constraints.boundaries.arcs[a];
-      if (arc.right_region == kMeshBorder) continue;
-      const std::vector<double> share = piece_sharp_share(features, arc, constraints.arcs[a]);
-      const std::vector<uint32_t> ids = samples.arc_ids(constraints, a);
-      bool sharp = false;
-      for (size_t k = 0; k + 1 < ids.size(); ++k) {
-        if (!(share[k] >= 0.5)) continue;
-        sharp = true;
-        const uint32_t v0 = remap[ids[k]], v1 = remap[ids[k + 1]];
-        if (v0 == 0xffffffffu || v1 == 0xffffffffu || !tagged.insert(edge_key(v0, v1)).second) continue;
-        r.cage.creases.push_back({v0, v1, kSharpnessInfinite});
-      }
-      r.crease_arcs += sharp;
+// Creases on sharp interior arcs. A region boundary is made of input edges and VSA splits at
+// features, so a piece's input edges count when they are sharp edges themselves (a boundary
+// beside a feature, one triangle off, is not creased: counting edges with both ends near a
+// feature, the organic meshes' crease density rose from 4.7 % to 8.6 %; edges_along_features,
+// 2.8 -> 8.5 %).
+void tag_creases(const RegionLayout& layout, const SharpFeatures& features, const std::vector<uint32_t>& remap,
+                 QuadRemeshResult& r) {
+  const RemeshConstraints& constraints = layout.constraints;
+  std::unordered_set<uint64_t> tagged;
+  for (uint32_t a = 0; a < constraints.arcs.size(); ++a) {
+    const RegionArc& arc = constraints.boundaries.arcs[a];
+    if (arc.right_region == kMeshBorder) continue;
+    const std::vector<double> share = piece_sharp_share(features, arc, constraints.arcs[a]);
+    const std::vector<uint32_t> ids = layout.samples.arc_ids(constraints, a);
+    bool sharp = false;
+    for (size_t k = 0; k + 1 < ids.size(); ++k) {
+      if (!(share[k] >= 0.5)) continue;
+      sharp = true;
+      const uint32_t v0 = remap[ids[k]], v1 = remap[ids[k + 1]];
+      if (v0 == 0xffffffffu || v1 == 0xffffffffu || !tagged.insert(edge_key(v0, v1)).second) continue;
+      r.cage.creases.push_back({v0, v1, kSharpnessInfinite});
     }
+    r.crease_arcs += sharp;
   }
-  r.creases = r.cage.creases.size();
-  monitor.report("post-processing", 0.95);
+}
 
+// The cage checked (an invalid one is an internal error) and its quality measured.
+void validate_and_measure(const std::vector<Vec3>& vertex_normals, QuadRemeshResult& r) {
   const ValidationReport check = validate_cage(r.cage, 4);
   if (!check.ok())
     fail(Status::internal_error, "quad-dominant remeshing produced an invalid mesh: " + check.summary());
-  static_cast<RemeshQuality&>(r) = measure_remesh_quality(mesh, vertex_normals);
-  r.postprocess_seconds += seconds_since(t);
-  monitor.report("post-processing", 1.0);
-  r.seconds = seconds_since(start);
+  static_cast<RemeshQuality&>(r) = measure_remesh_quality(r.cage.mesh, vertex_normals);
+}
+
+void log_timing(const QuadRemeshResult& r, size_t region_count, const TaskMonitor& monitor) {
   char timing[256];
   std::snprintf(timing, sizeof timing,
                 "quad-dominant remeshing: %zu faces, %zu regions in %.2f s (segmentation %.2f, disk regions and "
                 "constraints %.2f, selection %.2f of which sample-count refinement %.2f, post-processing %.2f; %llu "
                 "layout retries)",
-                mesh.num_faces(), region_count, r.seconds, r.segmentation_seconds, r.constraint_seconds,
+                r.cage.mesh.num_faces(), region_count, r.seconds, r.segmentation_seconds, r.constraint_seconds,
                 r.selection_seconds, r.refinement_seconds, r.postprocess_seconds, (unsigned long long)r.layout_retries);
   monitor.log(LogLevel::info, timing);
+}
+
+}  // namespace
+
+QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemeshOptions& o, const TaskMonitor& monitor) {
+  const auto start = std::chrono::steady_clock::now();
+  check_options(o);
+  const PolygonMesh tri = triangulated_input(input);
+  QuadRemeshResult r;
+
+  // Segmentation (§6.3).
+  VsaOptions vo = vsa_options(input, o);
+  r.requested_regions = uint64_t(vo.region_count);
+  const SharpFeatures features = sharp_input_features(tri, o);
+  const VsaSegmentation segmentation = segment_regions(tri, features, o, vo, monitor, r);
+  r.segmentation_seconds = seconds_since(start);
+
+  // Disk regions, arcs and samples, curve networks and selections, gluing (§6.4-6.8), retried.
+  RegionLayout layout = lay_out_regions(tri, segmentation, o, monitor, r);
+  report_layout(layout, r);
+
+  // The cage: the glued mesh, its creases, validation and quality figures.
+  const auto t = std::chrono::steady_clock::now();
+  const std::vector<uint32_t> remap = move_glued_mesh_into(layout.glued, r.cage.mesh);
+  r.flipped_faces = count_flipped_faces(r.cage.mesh, layout.reference_normal);
+  const std::vector<Vec3> vertex_normals = area_weighted_vertex_normals(r.cage.mesh);
+  if (o.crease_angle_degrees >= 0.0) tag_creases(layout, features, remap, r);
+  r.creases = r.cage.creases.size();
+  monitor.report("post-processing", 0.95);
+  validate_and_measure(vertex_normals, r);
+  r.postprocess_seconds += seconds_since(t);
+  monitor.report("post-processing", 1.0);
+  r.seconds = seconds_since(start);
+  log_timing(r, layout.region_count, monitor);
   return r;
 }
 
