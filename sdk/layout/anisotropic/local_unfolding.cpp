@@ -5,11 +5,9 @@
 #include <cmath>
 #include <limits>
 
-CAGEKIT_NAMESPACE_BEGIN
+#include "core/angles.h"
 
-namespace {
-constexpr double kPi = 3.14159265358979323846;
-}
+CAGEKIT_NAMESPACE_BEGIN
 
 FaceFrame face_frame(const PolygonMesh& mesh, uint32_t f) {
   FaceFrame fr;

@@ -11,6 +11,7 @@
 #include <string>
 #include <thread>
 
+#include "core/angles.h"
 #include "core/parallel_for.h"
 #include "core/simd_dispatch.h"
 #include "core/status.h"
@@ -20,9 +21,8 @@ CAGEKIT_NAMESPACE_BEGIN
 namespace plane2 {
 
 double ccw_angle(const Vec2& from, const Vec2& to) {
-  const double kTwoPi = 6.283185307179586;
   double a = std::atan2(cross(from, to), dot(from, to));
-  if (a < 0.0) a += kTwoPi;
+  if (a < 0.0) a += 2.0 * kPi;
   return a;
 }
 

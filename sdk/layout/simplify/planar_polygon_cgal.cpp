@@ -36,7 +36,6 @@ inline int orient(const Vec2& a, const Vec2& b, const Vec2& c) {
   return static_cast<int>(CGAL::orientation(Point(a.x, a.y), Point(b.x, b.y), Point(c.x, c.y)));
 }
 inline bool less_xy(const Vec2& a, const Vec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); }
-inline bool same(const Vec2& a, const Vec2& b) { return a.x == b.x && a.y == b.y; }
 // -1, 0, +1 lexicographic comparison.
 inline int compare_xy(const Vec2& a, const Vec2& b) {
   if (a.x != b.x) return a.x < b.x ? -1 : 1;
@@ -307,7 +306,7 @@ PolygonValidity check_small(const PolygonLoops& poly) {
       for (size_t lj = li; lj < nl; ++lj) {
         const auto& B = poly.loops[lj];
         for (size_t j = (lj == li ? i + 1 : 0); j < B.size(); ++j)
-          if (A[i] == B[j] || same(P[A[i]], P[B[j]]))
+          if (A[i] == B[j] || P[A[i]] == P[B[j]])
             return make(PolygonDefect::repeated_vertex,
                         "loop " + std::to_string(li) + " vertex " + std::to_string(i) + " and loop " +
                             std::to_string(lj) + " vertex " + std::to_string(j) +
@@ -382,7 +381,7 @@ PolygonValidity check_large(const PolygonLoops& poly, size_t m) {
       return c != 0 ? c < 0 : a.index < b.index;
     });
     for (size_t i = 1; i < items.size(); ++i)
-      if (same(items[i - 1].p, items[i].p)) {
+      if (items[i - 1].p == items[i].p) {
         const Item &a = items[i - 1], &b = items[i];
         return make(PolygonDefect::repeated_vertex,
                     "loop " + std::to_string(a.loop) + " vertex " + std::to_string(a.k) + " and loop " +
