@@ -16,7 +16,7 @@
 #include "layout/simplify/cage_builder.h"
 #include "layout/simplify/contour_refinement.h"
 #include "layout/simplify/face_merge_simplifier.h"
-#include "layout/simplify/planar_polygon.h"
+#include "layout/common/planar_polygon.h"
 #include "test_support.h"
 
 namespace {

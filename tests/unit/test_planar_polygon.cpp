@@ -14,7 +14,7 @@
 #include <set>
 
 #include "core/status.h"
-#include "layout/simplify/planar_polygon.h"
+#include "layout/common/planar_polygon.h"
 
 using namespace cagekit;
 

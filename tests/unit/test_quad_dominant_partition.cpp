@@ -13,7 +13,7 @@
 #include <set>
 
 #include "core/status.h"
-#include "layout/simplify/quad_dominant_partition.h"
+#include "layout/common/quad_dominant_partition.h"
 
 using namespace cagekit;
 

@@ -10,7 +10,7 @@
 #include "core/angles.h"
 #include "core/edge_key.h"
 #include "core/status.h"
-#include "layout/simplify/planar_polygon.h"
+#include "layout/common/planar_polygon.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 

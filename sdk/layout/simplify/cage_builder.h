@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "core/cage.h"
-#include "layout/simplify/face_merge_simplifier.h"
-#include "layout/simplify/quad_dominant_partition.h"
+#include "layout/common/quad_dominant_partition.h"
 #include "layout/common/sharp_input_features.h"
+#include "layout/simplify/face_merge_simplifier.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 

@@ -9,8 +9,8 @@
 
 #include "core/edge_key.h"
 #include "core/status.h"
+#include "layout/common/planar_polygon.h"
 #include "layout/simplify/cage_builder.h"
-#include "layout/simplify/planar_polygon.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 

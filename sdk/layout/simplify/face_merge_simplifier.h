@@ -13,7 +13,7 @@
 
 #include "core/polygon_mesh.h"
 #include "core/task_monitor.h"
-#include "layout/simplify/planar_polygon.h"
+#include "layout/common/planar_polygon.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 

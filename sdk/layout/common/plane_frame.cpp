@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <cmath>
 
-#include "layout/simplify/planar_polygon.h"
+#include "layout/common/planar_polygon.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 

@@ -3,7 +3,7 @@
 // triangulation without Steiner points.
 #include <algorithm>
 
-#include "layout/simplify/planar_polygon.h"
+#include "layout/common/planar_polygon.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 

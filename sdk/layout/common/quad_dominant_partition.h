@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "layout/simplify/planar_polygon.h"
+#include "layout/common/planar_polygon.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 

@@ -23,7 +23,7 @@
 
 #include "core/status.h"
 #include "layout/common/cgal_guard.h"
-#include "layout/simplify/planar_polygon.h"
+#include "layout/common/planar_polygon.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 

@@ -28,7 +28,7 @@
 
 #include "core/edge_key.h"
 #include "core/status.h"
-#include "layout/simplify/quad_dominant_partition.h"
+#include "layout/common/quad_dominant_partition.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 
