@@ -1397,6 +1397,9 @@ typedef struct cagekit_remesh_report {
   uint64_t mended_faces;          /* faces of the final layout repaired in place: where two regions' faces
                                      coincided (thin parts one face wide per side) a vertex was added inside
                                      one of them; a face repeating a vertex was cut there */
+  uint64_t partitioned_regions;   /* QUAD: regions whose layout still failed after the retries, laid out
+                                     instead by the quad-dominant partition of their polygon of boundary
+                                     samples (no inner vertices); 0 in most results */
 } cagekit_remesh_report;
 
 /* Remeshes `mesh` with `options` (NULL: defaults) into a new cage: the output polygon mesh, with

@@ -57,6 +57,7 @@ CAGEKIT_API cagekit_status cagekit_mesh_remesh(cagekit_mesh mesh, const cagekit_
       rep.merged_regions = r.merged_regions;
       rep.layout_retries = r.layout_retries;
       rep.mended_faces = r.mended_faces;
+      rep.partitioned_regions = r.partitioned_regions;
       cage = std::move(r.cage);
     } else {
       const cagekit::AnisotropicRemeshOptions ao = anisotropic_options_from_c(o);

@@ -54,7 +54,7 @@ class RemeshReport(_lib._Versioned):
                 ("holes", c_uint64), ("mean_alignment_deg", c_double), ("min_scaled_jacobian", c_double),
                 ("seconds", c_double), ("requested_regions", c_uint64), ("split_regions", c_uint64),
                 ("merged_regions", c_uint64), ("layout_retries", c_uint64),
-                ("mended_faces", c_uint64)]
+                ("mended_faces", c_uint64), ("partitioned_regions", c_uint64)]
 
 
 _lib.STRUCTS.update({"cagekit_remesh_options": RemeshOptions, "cagekit_remesh_report": RemeshReport})
@@ -73,7 +73,7 @@ def remesh(mesh, method=RemeshMethod.ANISOTROPIC, tolerance=0.002, feature_angle
     Returns (cage, report); the report holds faces, vertices, quads, interior_vertices,
     valence4_vertices, max_face_valence, max_vertex_valence, creases, regions, lines, holes,
     mean_alignment_deg, min_scaled_jacobian, seconds and (quad) requested_regions, split_regions,
-    merged_regions, layout_retries, mended_faces. Option values as the C API's
+    merged_regions, layout_retries, mended_faces, partitioned_regions. Option values as the C API's
     cagekit_remesh_options (method also as a name; weights = (triangle_weight, pentagon_weight,
     t_joint_weight)). Quad only: `seed_faces` (face ids that each start a region) and
     `pinned_regions` (a list of face-id lists, each a region the segmentation keeps as it is;

@@ -20,6 +20,7 @@
 #include "core/mesh_validation.h"
 #include "core/status.h"
 #include "layout/common/polygon_corners.h"
+#include "layout/common/quad_dominant_partition.h"
 #include "layout/quad/quad_region_selection.h"
 #include "layout/quad/remesh_constraints.h"
 #include "layout/common/sharp_input_features.h"
@@ -1388,6 +1389,150 @@ void record_retry(const std::vector<RegionFailure>& failures, const RegionChange
                                   std::to_string(split) + " region(s) split, layout redone");
 }
 
+// Simple cycles of a closed loop of point ids that may pass a point more than once (a region
+// boundary that touches itself): each repeat closes the cycle walked since the point's previous
+// visit. Positions index `ids`.
+std::vector<std::vector<uint32_t>> simple_cycles(const std::vector<uint32_t>& ids) {
+  std::vector<std::vector<uint32_t>> cycles;
+  std::vector<uint32_t> stack;  // positions
+  std::unordered_map<uint32_t, size_t> depth;  // id -> index in stack
+  for (uint32_t k = 0; k < ids.size(); ++k) {
+    const auto it = depth.find(ids[k]);
+    if (it != depth.end()) {
+      const size_t from = it->second;
+      cycles.emplace_back(stack.begin() + long(from), stack.end());
+      for (size_t i = from + 1; i < stack.size(); ++i) depth.erase(ids[stack[i]]);
+      stack.resize(from + 1);
+      continue;
+    }
+    depth[ids[k]] = stack.size();
+    stack.push_back(k);
+  }
+  cycles.push_back(stack);
+  cycles.erase(std::remove_if(cycles.begin(), cycles.end(), [](const std::vector<uint32_t>& c) { return c.size() < 3; }),
+               cycles.end());
+  return cycles;
+}
+
+// The cells of a planar polygon with holes (positions into `uv`): the quad-dominant partition of
+// thesis §3.4 (no Steiner points, convex cells) when the polygon is valid in the domain, else,
+// for a polygon without holes, the loop itself as one cell. Empty when neither applies.
+std::vector<std::vector<uint32_t>> polygon_cells(const std::vector<Vec2>& uv, const std::vector<std::vector<uint32_t>>& loops) {
+  PolygonLoops polygon;
+  std::vector<uint32_t> position;  // polygon point -> position in uv
+  for (const std::vector<uint32_t>& loop : loops) {
+    polygon.loops.emplace_back();
+    for (uint32_t k : loop) {
+      polygon.loops.back().push_back(uint32_t(polygon.points.size()));
+      polygon.points.push_back(uv[k]);
+      position.push_back(k);
+    }
+  }
+  std::vector<std::vector<uint32_t>> cells;
+  if (check_polygon_loops(polygon).ok()) {
+    std::vector<std::array<uint32_t, 3>> triangles;
+    triangulate_valid_polygon(polygon, triangles);
+    for (std::vector<uint32_t> cell : partition_quad_dominant(polygon, triangles).cells) {
+      for (uint32_t& p : cell) p = position[p];
+      cells.push_back(std::move(cell));
+    }
+  } else if (loops.size() == 1) {
+    cells.push_back(loops[0]);
+  }
+  return cells;
+}
+
+// Region `region`'s layout replaced by the simplest valid one over its samples: the cells of its
+// domain polygon (polygon_cells; a boundary that touches itself cut into simple cycles first). No
+// inner vertex. False when the region has none (an invalid domain with holes).
+bool use_polygon_cells(RegionLayout& layout, uint32_t region) {
+  const std::vector<uint32_t> ids = region_point_ids(layout.constraints, layout.samples, region);
+  std::vector<Vec2> uv;
+  std::vector<std::vector<uint32_t>> loops;
+  CurveNetwork network;
+  for (size_t l = 0; l < layout.constraints.boundaries.region_loops[region].size(); ++l) {
+    network.loop_begin.push_back(uint32_t(uv.size()));
+    loops.emplace_back();
+    for (const Vec2& p : layout.constraints.loop_samples_uv(region, l)) {
+      loops.back().push_back(uint32_t(uv.size()));
+      uv.push_back(p);
+    }
+  }
+  network.loop_begin.push_back(uint32_t(uv.size()));
+  if (ids.size() != uv.size()) return false;
+  std::vector<std::vector<uint32_t>> cells;
+  const std::vector<std::vector<uint32_t>> cycles = loops.size() == 1 ? simple_cycles(ids) : loops;
+  if (loops.size() == 1 && !(cycles.size() == 1 && cycles[0].size() == ids.size())) {
+    for (const std::vector<uint32_t>& cycle : cycles)
+      for (std::vector<uint32_t>& cell : polygon_cells(uv, {cycle})) cells.push_back(std::move(cell));
+  } else {
+    cells = polygon_cells(uv, loops);
+  }
+  if (cells.empty()) return false;
+  network.points.resize(uv.size());
+  QuadSelection selection;
+  selection.vertices = uv;
+  for (uint32_t k = 0; k < uv.size(); ++k) {
+    network.points[k].uv = uv[k];
+    selection.vertex_point.push_back(int64_t(k));
+  }
+  for (const std::vector<uint32_t>& cell : cells) {
+    const size_t n = cell.size();
+    selection.quads += n == 4, selection.triangles += n == 3, selection.pentagons += n == 5, selection.larger += n > 5;
+  }
+  selection.faces = std::move(cells);
+  // The totals lose the replaced selection (the cells have no energy of the selection's).
+  RegionQuadMeshes& meshes = layout.meshes;
+  meshes.energy -= meshes.selections[region].energy;
+  meshes.faces += selection.faces.size() - meshes.selections[region].faces.size();
+  meshes.quads += selection.quads - meshes.selections[region].quads;
+  meshes.networks[region] = std::move(network);
+  meshes.selections[region] = std::move(selection);
+  return true;
+}
+
+// The last resort (issue 19), when no retry changes the regions any more: every failing region
+// gets the simplest valid layout over its samples (use_polygon_cells), and the layout is glued
+// and its faults found again, for a few rounds (a region next to one given cells can fail
+// next). True when a layout without faults came out, or one whose only faults are folded faces
+// that no further round changes (what take_folded_layout accepts too); the regions given cells
+// are reported in partitioned_regions.
+bool lay_out_failing_regions_by_cells(const PolygonMesh& tri, const LayoutSettings& settings,
+                                      const QuadRemeshOptions& o, const TaskMonitor& monitor,
+                                      std::vector<RegionFailure> failures, LayoutRetries& retries, RegionLayout& layout,
+                                      QuadRemeshResult& r) {
+  constexpr int kRounds = 4;
+  if (layout.meshes.selections.size() != layout.region_count) return false;
+  std::vector<uint8_t> partitioned(layout.region_count, 0);
+  for (int round = 0; round < kRounds; ++round) {
+    size_t added = 0;
+    for (const RegionFailure& failure : failures) {
+      const uint32_t region = failure.region;
+      if (region >= layout.region_count || partitioned[region]) continue;
+      if (!use_polygon_cells(layout, region)) return false;
+      partitioned[region] = 1;
+      ++added;
+    }
+    GluedLayout glued = glue_regions(tri, settings.normals, o, true, monitor, layout, r);
+    layout.glued = std::move(glued.mesh);
+    layout.reference_normal = std::move(glued.reference_normal);
+    failures.clear();
+    std::vector<GlueConflict> conflict_split;
+    const bool only_folds = find_layout_faults(layout, glued.region, r.face_region, settings.input_topology,
+                                               o.pinned_regions.size(), retries, failures, conflict_split);
+    if (failures.empty() || (only_folds && added == 0)) {
+      r.partitioned_regions = uint64_t(std::count(partitioned.begin(), partitioned.end(), uint8_t(1)));
+      monitor.log(LogLevel::info, "quad-dominant remeshing: " + std::to_string(r.partitioned_regions) +
+                                      " region(s) whose layout failed laid out by the quad-dominant partition of "
+                                      "their domain polygon" +
+                                      (failures.empty() ? std::string() : std::string(" (folded faces left)")));
+      return true;
+    }
+    if (added == 0) return false;
+  }
+  return false;
+}
+
 // Steps 1-4 of ch. 6 and the gluing (§6.8), per layout attempt: disk regions with their LSCM
 // domains, arcs and samples, every region's curve network and selection, the glued mesh and its
 // faults. A region whose network, selection or glued faces fail is split in two (or merged into
@@ -1430,7 +1575,10 @@ RegionLayout lay_out_regions(const PolygonMesh& tri, const VsaSegmentation& segm
       take_folded_layout(monitor, retries.folded_layout, layout, r);
       break;
     }
-    if (changes.none()) fail_layout(failures);
+    if (changes.none()) {
+      if (lay_out_failing_regions_by_cells(tri, settings, o, monitor, failures, retries, layout, r)) break;
+      fail_layout(failures);
+    }
     record_retry(failures, changes, monitor, r);
   }
   return layout;

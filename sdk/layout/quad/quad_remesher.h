@@ -88,6 +88,12 @@ struct QuadRemeshResult : RemeshQuality {
   uint64_t layout_retries = 0;     // layouts redone after such splits or merges
   uint64_t mended_faces = 0;       // faces of the final layout repaired where two regions' faces
                                    // coincided or a face repeated a vertex (mend_glue_conflicts)
+  // The last resort (not in the thesis): regions whose layout still failed when no retry changed
+  // the regions any more, each laid out by the quad-dominant partition (thesis §3.4, no Steiner
+  // points) of its polygon of samples in its domain, or by the polygon itself when that is not a
+  // valid planar polygon but a single loop (a loop touching itself is cut into simple cycles
+  // first); the layout is then glued and checked again like any other.
+  uint64_t partitioned_regions = 0;
   // The VSA region of every triangle of the fan-triangulated input (input faces in order, a face
   // of n corners giving n - 2 triangles); the host's pinned regions are ids 0 .. pinned - 1.
   std::vector<uint32_t> face_region;
