@@ -1,12 +1,12 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 # Builds the Blender add-on zip (CMake target blender_addon_zip; the ctest fixture of
 # blender.addon_zip runs it too):
-#   cmake -DSOURCE_DIR=<repo>/bindings -DLIBRARY=<libcagekit.so> -DSTAGE=<dir> -DZIP=<out.zip>
+#   cmake -DSOURCE_DIR=<repo>/bindings -DLIBRARY=<libcagekit.so> -DSONAME=<libcagekit.so.N> -DSTAGE=<dir> -DZIP=<out.zip>
 #         [-DUSER_SCRIPTS=<scratch dir to empty>] -P make_addon_zip.cmake
 # Layout (one top-level folder, valid as a Blender 3.x add-on and as a 4.2+ extension):
 #   cagekit_blender/__init__.py, operators.py, ..., blender_manifest.toml
-#   cagekit_blender/cagekit/  the Python package, with libcagekit.so.1 next to its files
-foreach(var SOURCE_DIR LIBRARY STAGE ZIP)
+#   cagekit_blender/cagekit/  the Python package, with libcagekit.so.N (its SONAME) next to its files
+foreach(var SOURCE_DIR LIBRARY SONAME STAGE ZIP)
   if(NOT DEFINED ${var})
     message(FATAL_ERROR "make_addon_zip.cmake: -D${var}= is missing")
   endif()
@@ -22,7 +22,7 @@ file(COPY "${SOURCE_DIR}/python/cagekit" DESTINATION "${STAGE}/cagekit_blender"
      PATTERN "__pycache__" EXCLUDE PATTERN "*.pyc" EXCLUDE)
 # the real file (not the .so symlink chain) under the name the package looks for first
 file(REAL_PATH "${LIBRARY}" real)
-file(COPY_FILE "${real}" "${STAGE}/cagekit_blender/cagekit/libcagekit.so.1")
+file(COPY_FILE "${real}" "${STAGE}/cagekit_blender/cagekit/${SONAME}")
 file(REMOVE "${ZIP}")
 execute_process(COMMAND "${CMAKE_COMMAND}" -E tar cf "${ZIP}" --format=zip cagekit_blender
                 WORKING_DIRECTORY "${STAGE}" RESULT_VARIABLE rc)

@@ -72,16 +72,17 @@ extern "C" {
 #define CAGEKIT_MAKE_VERSION(major, minor, patch) \
   ((((uint32_t)(major)) << 22) | (((uint32_t)(minor)) << 12) | ((uint32_t)(patch)))
 #define CAGEKIT_VERSION_MAJOR 0
-#define CAGEKIT_VERSION_MINOR 1
+#define CAGEKIT_VERSION_MINOR 2
 #define CAGEKIT_VERSION_PATCH 0
 #define CAGEKIT_VERSION \
   CAGEKIT_MAKE_VERSION(CAGEKIT_VERSION_MAJOR, CAGEKIT_VERSION_MINOR, CAGEKIT_VERSION_PATCH)
 
 /* The ABI major version: incremented on any change that breaks binary compatibility (it is the
- * number in the shared library's soname, libcagekit.so.N). A host built against this header
- * passes CAGEKIT_ABI_VERSION in cagekit_context_desc and may compare it with
- * cagekit_abi_version() of the library it loaded. */
-#define CAGEKIT_ABI_VERSION 1
+ * number in the shared library's soname, libcagekit.so.N, and in its symbol version CAGEKIT_N).
+ * A host built against this header passes CAGEKIT_ABI_VERSION in cagekit_context_desc; a
+ * library of another ABI refuses it (CAGEKIT_ERROR_VERSION_MISMATCH) instead of reading structs
+ * laid out for another version. ABI 2 (0.2): the 1.0 contract in the making (ABI 1 was 0.1). */
+#define CAGEKIT_ABI_VERSION 2
 
 /* Version of the loaded library (CAGEKIT_MAKE_VERSION packing). Thread-safe, never fails. */
 CAGEKIT_API uint32_t cagekit_version(void);

@@ -1,7 +1,7 @@
 # Install tree and Debian package (included by the top-level CMakeLists.txt after the targets).
 #   cmake --install build --prefix PREFIX   installs
 #     bin/cagekit                                        the CLI (RUNPATH $ORIGIN/../<libdir>)
-#     <libdir>/libcagekit.so.<version>, .so.1, .so        the C ABI (SONAME libcagekit.so.1)
+#     <libdir>/libcagekit.so.<version>, .so.2, .so        the C ABI (SONAME libcagekit.so.2)
 #     include/cagekit/cagekit.h                          the public C99 header
 #     <libdir>/cmake/CageKit/CageKit{Config,ConfigVersion,Targets,Targets-<config>}.cmake
 #                                                        find_package(CageKit) -> CageKit::cagekit
@@ -69,7 +69,7 @@ if(CMAKE_SOURCE_DIR STREQUAL PROJECT_SOURCE_DIR)
   set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
   set(CPACK_DEBIAN_PACKAGE_MAINTAINER "CageKit developers")
   set(CPACK_DEBIAN_PACKAGE_SECTION science)
-  # Depends: from dpkg-shlibdeps (dpkg-dev) over the package's ELF files; shlibs for libcagekit.so.1.
+  # Depends: from dpkg-shlibdeps (dpkg-dev) over the package's ELF files; shlibs for libcagekit.so.2.
   set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
   set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS ON)
   set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS_POLICY ">=")

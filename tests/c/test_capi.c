@@ -62,6 +62,11 @@ static void context_rejects_other_abi_and_bad_struct_size(void) {
   CHECK_STATUS(cagekit_context_create(&desc, &context), CAGEKIT_ERROR_VERSION_MISMATCH);
   CHECK(context == NULL);
   CHECK(strstr(cagekit_last_error_message(NULL), "ABI") != NULL);
+  /* A host built against 0.1 (ABI 1, other struct layouts) is refused, not read. */
+  desc.abi_version = 1;
+  CHECK_STATUS(cagekit_context_create(&desc, &context), CAGEKIT_ERROR_VERSION_MISMATCH);
+  CHECK(context == NULL);
+  CHECK(strstr(cagekit_last_error_message(NULL), "ABI 1") != NULL);
   desc.abi_version = CAGEKIT_ABI_VERSION;
   desc.struct_size = 3;
   CHECK_STATUS(cagekit_context_create(&desc, &context), CAGEKIT_ERROR_INVALID_ARGUMENT);

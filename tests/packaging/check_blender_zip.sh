@@ -12,7 +12,7 @@ pass() { passed=$((passed + 1)); echo "[ OK   ] $1"; }
 fail() { failures=$((failures + 1)); echo "[ FAIL ] $1"; }
 
 zip="$tmp/cagekit_blender.zip"
-if "$cmake" -DSOURCE_DIR="$bindings" -DLIBRARY="$library" -DSTAGE="$tmp/stage" -DZIP="$zip" \
+if "$cmake" -DSOURCE_DIR="$bindings" -DLIBRARY="$library" -DSONAME="libcagekit.so.$soversion" -DSTAGE="$tmp/stage" -DZIP="$zip" \
      -P "$bindings/blender/make_addon_zip.cmake" >"$tmp/zip.log" 2>&1 && [ -s "$zip" ]
 then pass "add-on zip made"; else cat "$tmp/zip.log"; fail "make_addon_zip.cmake"; echo "$passed passed, $failures failed"; exit 1; fi
 

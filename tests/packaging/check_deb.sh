@@ -3,7 +3,7 @@
 # packaging.deb: `cpack -G DEB` of the build tree into a scratch folder (not the source tree),
 # then, with dpkg-deb, checks the package's files (library + links, header, CMake package,
 # cagekit.pc, CLI: exactly these), its control fields (Package, Version, Maintainer, a Depends line
-# computed by dpkg-shlibdeps, shlibs for libcagekit.so.1), and that the unpacked tree works:
+# computed by dpkg-shlibdeps, shlibs for libcagekit.so.2), and that the unpacked tree works:
 # the CLI runs and samples/c_host builds with pkg-config against it and runs.
 # usage: check_deb.sh CPACK CC BUILD_DIR SOURCE_DIR LIBDIR INCLUDEDIR BINDIR VERSION SOVERSION
 set -u

@@ -12,7 +12,7 @@ The SDK is the `cagekit` Python package over libcagekit (ctypes), bundled in the
 bl_info = {
     "name": "CageKit",
     "author": "CageKit authors",
-    "version": (0, 1, 0),
+    "version": (0, 2, 0),
     "blender": (3, 4, 0),
     "location": "View3D > Object > CageKit; View3D > Sidebar > CageKit",
     "description": "Structure-preserving Catmull-Clark cages from scans: simplify, fit, live multiresolution editing",

@@ -2,7 +2,7 @@
 """Finds the `cagekit` Python package.
 
 In the add-on zip (CMake target `blender_addon_zip`) the package is bundled inside the add-on
-folder (cagekit_blender/cagekit/, with libcagekit.so.1 next to its files, which is the package's
+folder (cagekit_blender/cagekit/, with libcagekit.so.2 next to its files, which is the package's
 own second lookup place); that layout is valid both for a Blender 3.x add-on and for a 4.2+
 extension (whose code must live in one package). From a source tree, `cagekit` is imported from
 sys.path (bindings/python) and the library found through CAGEKIT_LIBRARY.

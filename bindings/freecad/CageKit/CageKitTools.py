@@ -45,7 +45,7 @@ _cagekit = None
 
 def sdk():
     """The `cagekit` package: the copy bundled in this addon folder (CageKit/cagekit, with
-    libcagekit.so.1 next to it), else the one on sys.path (bindings/python in a source tree, with
+    libcagekit.so.2 next to it), else the one on sys.path (bindings/python in a source tree, with
     CAGEKIT_LIBRARY naming the library). ImportError carries the package's message."""
     global _cagekit
     if _cagekit is None:

@@ -37,7 +37,7 @@ from .surface import Surface
 
 ABI_VERSION = _lib.ABI_VERSION
 MAX_SUBDIVISION_LEVELS = _lib.MAX_SUBDIVISION_LEVELS
-__version__ = "0.1.0"
+__version__ = "0.2.0"
 library_path = _lib.path
 
 

@@ -7,9 +7,9 @@ compiler when one is available). Enumerations are passed as C ints.
 
 The library is looked up, in order, at:
   1. the path in the environment variable CAGEKIT_LIBRARY (the build tree's, in the tests);
-  2. a copy next to this package (cagekit/libcagekit.so.1, libcagekit.so, libcagekit.dylib,
+  2. a copy next to this package (cagekit/libcagekit.so.2, libcagekit.so, libcagekit.dylib,
      cagekit.dll), as an add-on bundles it;
-  3. the system's loader (libcagekit.so.1 on LD_LIBRARY_PATH / the ld.so cache).
+  3. the system's loader (libcagekit.so.2 on LD_LIBRARY_PATH / the ld.so cache).
 Its cagekit_abi_version() must equal ABI_VERSION (the header's CAGEKIT_ABI_VERSION).
 
 The library is loaded with ctypes.CDLL, so every call releases the GIL while it runs (other Python
@@ -21,7 +21,7 @@ import sys
 from ctypes import (CFUNCTYPE, POINTER, Structure, c_char_p, c_double, c_float, c_int, c_int32,
                     c_int64, c_size_t, c_uint32, c_uint64, c_void_p)
 
-ABI_VERSION = 1  # CAGEKIT_ABI_VERSION of the header these declarations follow
+ABI_VERSION = 2  # CAGEKIT_ABI_VERSION of the header these declarations follow
 SHARP = 10.0     # CAGEKIT_SHARP
 MAX_SUBDIVISION_LEVELS = 8
 ISSUE_KIND_COUNT = 8
