@@ -103,7 +103,7 @@ typedef enum cagekit_status {
   CAGEKIT_ERROR_SIZE_INSUFFICIENT = -4,  /* output capacity too small (two-call idiom) */
   CAGEKIT_ERROR_IO = -5,                 /* a file could not be opened, read or written */
   CAGEKIT_ERROR_PARSE = -6,              /* malformed or corrupt file content */
-  CAGEKIT_ERROR_UNSUPPORTED_FORMAT = -7, /* unknown file format or feature */
+  CAGEKIT_ERROR_UNSUPPORTED_FORMAT = -7, /* unknown file format, or a format version or variant not read */
   CAGEKIT_ERROR_INVALID_MESH = -8,       /* the mesh fails validation for this operation */
   CAGEKIT_ERROR_LIMIT_EXCEEDED = -9,     /* a size beyond what the library accepts */
   CAGEKIT_ERROR_CANCELLED = -10,         /* cancelled by the progress callback or _cancel() */
@@ -111,6 +111,12 @@ typedef enum cagekit_status {
   CAGEKIT_ERROR_VERSION_MISMATCH = -12,  /* the host was built for another ABI version */
   CAGEKIT_ERROR_QUALITY = -13,           /* a result was computed but misses its quality bounds (the
                                             message names the figure); nothing is returned */
+  CAGEKIT_ERROR_UNSUPPORTED_FEATURE = -14, /* the host's environment or the object lacks a feature the
+                                              call needs (a GL context older than the deformer needs,
+                                              exact normals on the GPU); the message names it */
+  CAGEKIT_ERROR_INVALID_OPERATION = -15, /* the call is not allowed in the object's current state or
+                                            order (an update before a first deform, no GL context
+                                            current); the message names what must come first */
   CAGEKIT_STATUS_MAX_ENUM = 0x7fffffff   /* forces 32-bit enums (any int value is representable) */
 } cagekit_status;
 
@@ -1097,8 +1103,8 @@ CAGEKIT_API void cagekit_cpu_deformer_release(cagekit_cpu_deformer deformer);
  * positions and normals (either may be NULL) receive vertex_count xyz triples each (unit
  * normals), for vertex_capacity >= the binding's vertex count.
  * Errors: INVALID_HANDLE, INVALID_ARGUMENT (control NULL, control_count not the binding's, a
- * non-finite control point, exact normals without their data), SIZE_INSUFFICIENT.
- * Not thread-safe on the same deformer. */
+ * non-finite control point), INVALID_OPERATION (exact normals from a binding made without their
+ * data), SIZE_INSUFFICIENT. Not thread-safe on the same deformer. */
 CAGEKIT_API cagekit_status cagekit_cpu_deformer_deform(cagekit_cpu_deformer deformer, const double* control,
                                                        uint32_t control_count, cagekit_normal_mode normals_mode,
                                                        uint32_t vertex_capacity, double* positions, double* normals);
@@ -1109,7 +1115,8 @@ CAGEKIT_API cagekit_status cagekit_cpu_deformer_deform(cagekit_cpu_deformer defo
  * vertices in their support are recomputed and written — the rest of `positions` / `normals` is
  * left as the caller had it from the earlier calls. *updated_count (may be NULL) receives the
  * number of vertices recomputed. Errors as cagekit_cpu_deformer_deform, plus INVALID_ARGUMENT for
- * a moved index out of range or a call before the first deform. */
+ * a moved index out of range, and INVALID_OPERATION for a call before the first deform or with
+ * another normals_mode than the last deform's. */
 CAGEKIT_API cagekit_status cagekit_cpu_deformer_update(cagekit_cpu_deformer deformer, const double* control,
                                                        uint32_t control_count, const uint32_t* moved,
                                                        uint32_t moved_count, cagekit_normal_mode normals_mode,
@@ -1217,9 +1224,9 @@ typedef struct cagekit_gl_deformer_info {
  * deformer keeps `binding` alive. options may be NULL. *out receives one reference.
  * Errors: INVALID_HANDLE (binding, or a non-NULL scan), INVALID_ARGUMENT (out or
  * get_proc_address NULL, bad struct_size or option, a scan whose vertex count differs),
- * UNSUPPORTED_FORMAT (no context current, a context older than GL 4.3 / GLES 3.1, an entry
- * point the callback does not provide, fewer than 4 compute shader storage blocks, or the
- * shader does not compile: the message names what is missing), LIMIT_EXCEEDED (a buffer above
+ * INVALID_OPERATION (no GL context current), UNSUPPORTED_FEATURE (a context older than GL 4.3
+ * / GLES 3.1, an entry point the callback does not provide, fewer than 4 compute shader storage
+ * blocks, or the shader does not compile: the message names what is missing), LIMIT_EXCEEDED (a buffer above
  * GL_MAX_SHADER_STORAGE_BLOCK_SIZE, too many vertices for the work-group limits),
  * OUT_OF_MEMORY (host memory or GL_OUT_OF_MEMORY). On error no GL object is left behind.
  * GL thread only (see above). */
@@ -1238,7 +1245,7 @@ CAGEKIT_API void cagekit_gl_deformer_release(cagekit_gl_deformer deformer);
  * is in the buffers of cagekit_gl_deformer_get_buffers, ready for vertex fetch (a memory
  * barrier is issued); GL commands are queued, not waited for.
  * Errors: INVALID_HANDLE, INVALID_ARGUMENT (control NULL, control_count not the binding's, a
- * non-finite control point, a normals_mode out of range), UNSUPPORTED_FORMAT (normals_mode
+ * non-finite control point, a normals_mode out of range), UNSUPPORTED_FEATURE (normals_mode
  * CAGEKIT_NORMALS_EXACT). GL thread only; modifies the deformer. */
 CAGEKIT_API cagekit_status cagekit_gl_deformer_deform(cagekit_gl_deformer deformer, const double* control,
                                                       uint32_t control_count, cagekit_normal_mode normals_mode);
@@ -1263,8 +1270,8 @@ CAGEKIT_API cagekit_status cagekit_gl_deformer_get_info(cagekit_gl_deformer defo
  * those given to set_reference_set. Normal displacement mode only (a binding made with
  * CAGEKIT_DISPLACEMENT_NORMAL); approximate normals.
  * Errors: INVALID_HANDLE, INVALID_ARGUMENT (NULL arrays, counts, an index out of range or
- * repeated, a non-finite point, a local-frame binding, deform_reference before a set),
- * UNSUPPORTED_FORMAT (the program does not build), OUT_OF_MEMORY. GL thread only; they change
+ * repeated, a non-finite point), INVALID_OPERATION (a local-frame binding, deform_reference
+ * before a set), UNSUPPORTED_FEATURE (the program does not build), OUT_OF_MEMORY. GL thread only; they change
  * no GL state of the host (also restored: vertex array, GL_ARRAY_BUFFER, transform feedback
  * object and buffer binding, GL_RASTERIZER_DISCARD). */
 CAGEKIT_API cagekit_status cagekit_gl_deformer_set_reference_set(cagekit_gl_deformer deformer, const uint32_t* edited,
@@ -1280,9 +1287,9 @@ CAGEKIT_API cagekit_status cagekit_gl_deformer_deform_reference(cagekit_gl_defor
  * the per-vertex data is 28 floats whatever |Q| (7 coefficients, 9 fixed, 3 x 4 combined
  * weights). deform_reference_affine then uploads only the 4 moved frame points (`frame`, 12
  * numbers). Normal displacement mode only. Errors: INVALID_HANDLE, INVALID_ARGUMENT (NULL
- * arrays, counts, an index out of range or repeated, a non-finite or coplanar frame, a local-frame
- * binding, deform_reference_affine before a set_reference_affine), UNSUPPORTED_FORMAT,
- * OUT_OF_MEMORY. GL thread only; the host's GL state is left unchanged. */
+ * arrays, counts, an index out of range or repeated, a non-finite or coplanar frame),
+ * INVALID_OPERATION (a local-frame binding, deform_reference_affine before a set_reference_affine),
+ * UNSUPPORTED_FEATURE, OUT_OF_MEMORY. GL thread only; the host's GL state is left unchanged. */
 CAGEKIT_API cagekit_status cagekit_gl_deformer_set_reference_affine(cagekit_gl_deformer deformer,
                                                                     const uint32_t* edited, uint32_t edited_count,
                                                                     const double* frame, const double* control,

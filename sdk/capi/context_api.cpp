@@ -69,6 +69,8 @@ static_assert(static_cast<int>(Status::cancelled) == CAGEKIT_ERROR_CANCELLED);
 static_assert(static_cast<int>(Status::internal_error) == CAGEKIT_ERROR_INTERNAL);
 static_assert(static_cast<int>(Status::version_mismatch) == CAGEKIT_ERROR_VERSION_MISMATCH);
 static_assert(static_cast<int>(Status::quality) == CAGEKIT_ERROR_QUALITY);
+static_assert(static_cast<int>(Status::unsupported_feature) == CAGEKIT_ERROR_UNSUPPORTED_FEATURE);
+static_assert(static_cast<int>(Status::invalid_operation) == CAGEKIT_ERROR_INVALID_OPERATION);
 static_assert(static_cast<int>(cagekit::LogLevel::warning) == CAGEKIT_LOG_WARNING);
 
 extern "C" {
@@ -86,7 +88,7 @@ CAGEKIT_API uint32_t cagekit_abi_version(void) { return CAGEKIT_ABI_VERSION; }
 
 CAGEKIT_API const char* cagekit_status_string(cagekit_status status) {
   if (status > 0) return "success";
-  if (status < CAGEKIT_ERROR_QUALITY) return "unknown status";
+  if (status < CAGEKIT_ERROR_INVALID_OPERATION) return "unknown status";
   return cagekit::status_name(static_cast<Status>(status));
 }
 

@@ -92,7 +92,7 @@ CAGEKIT_API cagekit_status cagekit_gl_deformer_deform(cagekit_gl_deformer deform
     cagekit_gl_deformer_t& d = checked(deformer, "deformer");
     const int32_t mode = raw_enum(normals_mode);
     if (mode == CAGEKIT_NORMALS_EXACT)
-      fail(Status::unsupported_format, "the GL deformer computes approximate normals only (exact normals: use the CPU "
+      fail(Status::unsupported_feature, "the GL deformer computes approximate normals only (exact normals: use the CPU "
                                        "deformer)");
     if (mode != CAGEKIT_NORMALS_APPROXIMATE) fail(Status::invalid_argument, "normals_mode is not a cagekit_normal_mode");
     read_control(d, control, control_count);

@@ -60,9 +60,9 @@ cagekit_status update_into(cagekit_cpu_deformer deformer, const double* control,
   return guarded(context_of(deformer), [&] {
     cagekit_cpu_deformer_t& d = checked(deformer, "deformer");
     const cagekit::NormalMode mode = checked_normal_mode(normals_mode);
-    if (!d.deformed) fail(Status::invalid_argument, "cagekit_cpu_deformer_update before a first successful deform");
+    if (!d.deformed) fail(Status::invalid_operation, "cagekit_cpu_deformer_update before a first successful deform");
     if ((mode == cagekit::NormalMode::exact) != d.exact)
-      fail(Status::invalid_argument, "normals_mode differs from the last deform's");
+      fail(Status::invalid_operation, "normals_mode differs from the last deform's");
     if (moved_count > 0) require_not_null(moved, "moved");
     read_control(d, control, control_count);
     check_capacity(d, vertex_capacity, positions, normals);

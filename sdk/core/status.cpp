@@ -19,6 +19,8 @@ const char* status_name(Status status) {
     case Status::internal_error: return "internal error";
     case Status::version_mismatch: return "version mismatch";
     case Status::quality: return "result misses its quality bounds";
+    case Status::unsupported_feature: return "unsupported feature";
+    case Status::invalid_operation: return "invalid operation";
   }
   return "unknown status";
 }

@@ -25,6 +25,8 @@ enum class Status : int {
   internal_error = -11,
   version_mismatch = -12,
   quality = -13,  // a result was computed but misses its quality bounds
+  unsupported_feature = -14,  // the host's environment lacks a feature the call needs (GL version, ...)
+  invalid_operation = -15,    // the call is not allowed in the object's current state (call order)
 };
 
 const char* status_name(Status status);

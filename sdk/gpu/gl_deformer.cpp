@@ -102,22 +102,22 @@ GlDeformer::GlDeformer(const ScanBinding& b, const std::vector<uint32_t>& triang
 void GlDeformer::load_functions(GlGetProcAddress get_proc_address, void* user_data) {
   gl_.GetString = reinterpret_cast<PFNGLGETSTRINGPROC>(get_proc_address("glGetString", user_data));
   if (gl_.GetString == nullptr)
-    fail(Status::unsupported_format, "gl deformer: the get-proc-address callback has no glGetString (is a context current?)");
+    fail(Status::invalid_operation, "gl deformer: the get-proc-address callback has no glGetString (is a context current?)");
   const char* version = reinterpret_cast<const char*>(gl_.GetString(GL_VERSION));
   if (version == nullptr)
-    fail(Status::unsupported_format, "gl deformer: glGetString(GL_VERSION) returned NULL: no GL context is current");
+    fail(Status::invalid_operation, "gl deformer: glGetString(GL_VERSION) returned NULL: no GL context is current");
   version_string_ = version;
   version_ = parse_gl_version(version);
   if (!version_.parsed)
-    fail(Status::unsupported_format, "gl deformer: cannot parse GL_VERSION \"" + version_string_ + "\"");
+    fail(Status::unsupported_feature, "gl deformer: cannot parse GL_VERSION \"" + version_string_ + "\"");
   if (!version_.has_compute())
-    fail(Status::unsupported_format, "gl deformer: needs OpenGL 4.3 or OpenGL ES 3.1 (compute shaders, shader "
+    fail(Status::unsupported_feature, "gl deformer: needs OpenGL 4.3 or OpenGL ES 3.1 (compute shaders, shader "
                                      "storage buffers); the current context is \"" + version_string_ + "\"");
   const char* renderer = reinterpret_cast<const char*>(gl_.GetString(GL_RENDERER));
   renderer_ = renderer ? renderer : "";
   const std::vector<std::string> missing = gl_.load(get_proc_address, user_data);
   if (!missing.empty())
-    fail(Status::unsupported_format, "gl deformer: the get-proc-address callback did not provide " + join(missing));
+    fail(Status::unsupported_feature, "gl deformer: the get-proc-address callback did not provide " + join(missing));
 }
 
 // The context's limits the deformer needs: storage blocks, work groups for n vertices, block size.
@@ -137,10 +137,10 @@ void GlDeformer::query_limits(size_t n) {
     block_size = size32 < 0 ? GLint64(INT32_MAX) : GLint64(size32);
   }
   if (blocks < 4 || bindings < 4)
-    fail(Status::unsupported_format, "gl deformer: needs 4 shader storage blocks in a compute shader; the context has " +
+    fail(Status::unsupported_feature, "gl deformer: needs 4 shader storage blocks in a compute shader; the context has " +
                                          std::to_string(blocks) + " (bindings: " + std::to_string(bindings) + ")");
   if (groups_x < 1 || groups_y < 1)
-    fail(Status::unsupported_format, "gl deformer: GL_MAX_COMPUTE_WORK_GROUP_COUNT is 0");
+    fail(Status::unsupported_feature, "gl deformer: GL_MAX_COMPUTE_WORK_GROUP_COUNT is 0");
   max_block_size_ = block_size, max_groups_x_ = groups_x, max_groups_y_ = groups_y;
   const uint64_t groups = (uint64_t(n) + kLocalSize - 1) / kLocalSize;
   if (groups > uint64_t(groups_x) * uint64_t(groups_y))
@@ -229,7 +229,7 @@ void GlDeformer::compile_program() {
                                    : "#version 430 core\n#line 1\n";
   const char* sources[] = {prefix, kShaderDeformComp};
   const GLuint shader = gl_.CreateShader(GL_COMPUTE_SHADER);
-  if (shader == 0) fail(Status::unsupported_format, "gl deformer: glCreateShader(GL_COMPUTE_SHADER) failed");
+  if (shader == 0) fail(Status::unsupported_feature, "gl deformer: glCreateShader(GL_COMPUTE_SHADER) failed");
   gl_.ShaderSource(shader, 2, sources, nullptr);
   gl_.CompileShader(shader);
   auto log_of = [](GLuint object, PFNGLGETSHADERIVPROC get_iv, PFNGLGETSHADERINFOLOGPROC get_log) {
@@ -245,7 +245,7 @@ void GlDeformer::compile_program() {
   if (!ok) {
     const std::string log = log_of(shader, gl_.GetShaderiv, gl_.GetShaderInfoLog);
     gl_.DeleteShader(shader);
-    fail(Status::unsupported_format, "gl deformer: shaders/deform.comp does not compile on \"" + renderer_ + "\": " + log);
+    fail(Status::unsupported_feature, "gl deformer: shaders/deform.comp does not compile on \"" + renderer_ + "\": " + log);
   }
   program_ = gl_.CreateProgram();
   gl_.AttachShader(program_, shader);
@@ -254,7 +254,7 @@ void GlDeformer::compile_program() {
   gl_.GetProgramiv(program_, GL_LINK_STATUS, &ok);
   if (!ok) {
     const std::string log = log_of(program_, gl_.GetProgramiv, gl_.GetProgramInfoLog);
-    fail(Status::unsupported_format, "gl deformer: shaders/deform.comp does not link on \"" + renderer_ + "\": " + log);
+    fail(Status::unsupported_feature, "gl deformer: shaders/deform.comp does not link on \"" + renderer_ + "\": " + log);
   }
   count_location_ = gl_.GetUniformLocation(program_, "u_vertex_count");
   mode_location_ = gl_.GetUniformLocation(program_, "u_local_frame");
@@ -353,7 +353,7 @@ void GlDeformer::build_reference(const std::vector<uint32_t>& edited, const std:
                                  const float* control) {
   const ScanBinding& b = binding_;
   if (b.mode != DisplacementMode::normal)
-    fail(Status::invalid_argument, "gl deformer: the reference mode is the thesis's normal-displacement mode; the "
+    fail(Status::invalid_operation, "gl deformer: the reference mode is the thesis's normal-displacement mode; the "
                                    "binding uses local-frame displacement");
   const uint32_t max_q = reference_max_edited();
   if (edited.empty() || slots > max_q)
@@ -428,7 +428,7 @@ void GlDeformer::build_reference(const std::vector<uint32_t>& edited, const std:
       char buffer[2048] = {};
       gl_.GetProgramInfoLog(program, sizeof(buffer), nullptr, buffer);
       gl_.DeleteProgram(program);
-      fail(Status::unsupported_format, "gl deformer: the reference vertex program does not build on \"" + renderer_ +
+      fail(Status::unsupported_feature, "gl deformer: the reference vertex program does not build on \"" + renderer_ +
                                            "\": " + log + buffer);
     }
     reference_program_ = program;
@@ -464,7 +464,7 @@ void GlDeformer::build_reference(const std::vector<uint32_t>& edited, const std:
 
 void GlDeformer::deform_reference(const float* control) {
   if (reference_q_.empty() || reference_affine_)
-    fail(Status::invalid_argument, "gl deformer: deform_reference needs a set_reference_set first");
+    fail(Status::invalid_operation, "gl deformer: deform_reference needs a set_reference_set first");
   for (size_t k = 0; k < reference_q_.size(); ++k)
     for (int c = 0; c < 3; ++c) reference_uniforms_[3 * k + c] = control[3 * size_t(reference_q_[k]) + c];
   draw_reference();
@@ -472,7 +472,7 @@ void GlDeformer::deform_reference(const float* control) {
 
 void GlDeformer::deform_reference_affine(const double frame[12]) {
   if (reference_q_.empty() || !reference_affine_)
-    fail(Status::invalid_argument, "gl deformer: deform_reference_affine needs a set_reference_affine first");
+    fail(Status::invalid_operation, "gl deformer: deform_reference_affine needs a set_reference_affine first");
   for (int k = 0; k < 12; ++k) {
     if (!std::isfinite(frame[k])) fail(Status::invalid_argument, "gl deformer: the moved frame is not finite");
     reference_uniforms_[size_t(k)] = float(frame[k]);

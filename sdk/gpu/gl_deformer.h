@@ -30,8 +30,9 @@ class GlDeformer {
   static constexpr uint32_t kStride = 24, kPositionOffset = 0, kNormalOffset = 12;
 
   // `triangles`: 3 vertex indices each (< binding.num_vertices()); may be empty (no index
-  // buffer). Throws Error: unsupported_format (the context lacks GL >= 4.3 / GLES >= 3.1, an
-  // entry point, a limit, or the shader does not compile), limit_exceeded (a buffer larger than
+  // buffer). Throws Error: invalid_operation (no context current), unsupported_feature (the
+  // context lacks GL >= 4.3 / GLES >= 3.1, an entry point, a limit, or the shader does not
+  // compile), limit_exceeded (a buffer larger than
   // the context's GL_MAX_SHADER_STORAGE_BLOCK_SIZE), out_of_memory (GL_OUT_OF_MEMORY),
   // invalid_argument (bad binding / triangles). No GL object is left behind on failure.
   // The binding must outlive the deformer (the reference mode reads it again).
@@ -51,10 +52,10 @@ class GlDeformer {
   // generated for |Q| that rebuilds position and approximate normal; its output goes through
   // transform feedback into the same output buffer as deform()'s. `edited` = Q, 1..max
   // distinct control indices (max: GL_MAX_VERTEX_ATTRIBS - 5, 11 with the minimum 16). Normal
-  // displacement mode only (the thesis's). Throws invalid_argument, unsupported_format.
+  // displacement mode only (the thesis's). Throws invalid_argument, unsupported_feature.
   void set_reference_set(const std::vector<uint32_t>& edited, const float* control);
   // Per frame: uploads the |Q| points of `control` (3 * control_count() floats; the others must
-  // equal those given to set_reference_set) as uniforms and draws. Throws invalid_argument
+  // equal those given to set_reference_set) as uniforms and draws. Throws invalid_operation
   // before a set_reference_set.
   void deform_reference(const float* control);
   // The affine-frame variant (§8.6.2 (b), after [BK04]): every point c_j of Q moves by one
@@ -62,7 +63,7 @@ class GlDeformer {
   // coplanar). With c_j = sum_l xi_jl q_l (8.13) the dynamic attributes are the 4 combined
   // weights (sum_j xi_jl phi_j, ...) — 28 floats per vertex whatever |Q| — and a frame uploads
   // the 4 moved frame points (12 floats) with deform_reference_affine. `edited` may then hold
-  // any number of distinct control points. Throws invalid_argument, unsupported_format.
+  // any number of distinct control points. Throws invalid_argument, unsupported_feature.
   void set_reference_affine(const std::vector<uint32_t>& edited, const double frame[12], const float* control);
   void deform_reference_affine(const double frame[12]);
   uint32_t reference_floats_per_vertex() const { return reference_q_.empty() ? 0 : 16 + 3 * uint32_t(reference_slots_); }

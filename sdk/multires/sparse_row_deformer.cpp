@@ -63,7 +63,7 @@ void SparseRowDeformer::deform(const std::vector<Vec3>& control, Vec3* positions
                                        " control points, got " + std::to_string(control.size()));
   const bool exact = mode == NormalMode::exact;
   if (exact && (b_.phi_uu.size() != b_.num_entries() || b_.displacement_gradient.size() != 2 * b_.num_vertices()))
-    fail(Status::invalid_argument, "deformer: exact normals need a binding made with exact_normals");
+    fail(Status::invalid_operation, "deformer: exact normals need a binding made with exact_normals");
   if (mode != NormalMode::approximate && !exact) fail(Status::invalid_argument, "deformer: unknown normal mode");
   const size_t n = b_.num_vertices();
   control_ = control;
@@ -86,7 +86,7 @@ void SparseRowDeformer::deform(const std::vector<Vec3>& control, Vec3* positions
 }
 
 void check_update_control(size_t last_count, size_t bound_count, size_t given_count) {
-  if (last_count != bound_count) fail(Status::invalid_argument, "deformer: update() before a first deform()");
+  if (last_count != bound_count) fail(Status::invalid_operation, "deformer: update() before a first deform()");
   if (given_count != last_count)
     fail(Status::invalid_argument, "deformer: expected " + std::to_string(last_count) + " control points");
 }
@@ -100,7 +100,7 @@ size_t SparseRowDeformer::update(const std::vector<Vec3>& control, const std::ve
                            Vec3* normals, NormalMode mode) {
   check_update_control(control_.size(), b_.num_control_vertices, control.size());
   const bool exact = mode == NormalMode::exact;
-  if (exact && !have_second_) fail(Status::invalid_argument, "deformer: exact normals need a deform() in exact mode first");
+  if (exact && !have_second_) fail(Status::invalid_operation, "deformer: exact normals need a deform() in exact mode first");
   check_moved_control(moved, control.size());
   if (++stamp_ == 0) {  // wrapped: reset the stamps
     std::fill(touched_stamp_.begin(), touched_stamp_.end(), 0);

@@ -24,8 +24,8 @@ CAGEKIT_NAMESPACE_BEGIN
 enum class NormalMode { approximate, exact };
 
 // The control points an update() is given against the ones of the last deform(): throws
-// invalid_argument before a first deform() (`last_count` differs from the binding's
-// `bound_count`) or when `given_count` differs from it.
+// invalid_operation before a first deform() (`last_count` differs from the binding's
+// `bound_count`) and invalid_argument when `given_count` differs from it.
 void check_update_control(size_t last_count, size_t bound_count, size_t given_count);
 // Throws invalid_argument when a moved control vertex is out of range.
 void check_moved_control(const std::vector<uint32_t>& moved, size_t control_count);

@@ -53,6 +53,9 @@ static void version_is_consistent(void) {
   CHECK(CAGEKIT_MAKE_VERSION(1, 2, 3) > CAGEKIT_MAKE_VERSION(1, 1, 999));
   CHECK(strcmp(cagekit_status_string(CAGEKIT_ERROR_PARSE), "parse error") == 0);
   CHECK(strcmp(cagekit_status_string((cagekit_status)-999), "unknown status") == 0);
+  CHECK(strcmp(cagekit_status_string(CAGEKIT_ERROR_UNSUPPORTED_FEATURE), "unsupported feature") == 0);
+  CHECK(strcmp(cagekit_status_string(CAGEKIT_ERROR_INVALID_OPERATION), "invalid operation") == 0);
+  CHECK(strcmp(cagekit_status_string((cagekit_status)(CAGEKIT_ERROR_INVALID_OPERATION - 1)), "unknown status") == 0);
 }
 
 static void context_rejects_other_abi_and_bad_struct_size(void) {
@@ -956,7 +959,7 @@ static void cpu_deformer_float32_outputs_match_double(void) {
   CHECK_OK(cagekit_cpu_deformer_create(binding, 1, &fresh));
   CHECK_STATUS(cagekit_cpu_deformer_update_f32(fresh, control, 8, moved, 2, CAGEKIT_NORMALS_APPROXIMATE, 300,
                                                positions32, normals32, NULL),
-               CAGEKIT_ERROR_INVALID_ARGUMENT); /* before a first deform */
+               CAGEKIT_ERROR_INVALID_OPERATION); /* before a first deform */
   CHECK_OK(cagekit_cpu_deformer_deform_f32(fresh, control, 8, CAGEKIT_NORMALS_APPROXIMATE, 300, positions32, normals32));
   moved[0] = 8;
   CHECK_STATUS(cagekit_cpu_deformer_update_f32(fresh, control, 8, moved, 1, CAGEKIT_NORMALS_APPROXIMATE, 300,
@@ -1036,7 +1039,7 @@ static void multires_binding_reproduces_and_deforms_the_scan(void) {
                CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK_STATUS(cagekit_cpu_deformer_update(incremental, control, 8, moved, 0, CAGEKIT_NORMALS_APPROXIMATE, 300,
                                            positions2, normals2, NULL),
-               CAGEKIT_ERROR_INVALID_ARGUMENT); /* mode differs from the last deform's */
+               CAGEKIT_ERROR_INVALID_OPERATION); /* mode differs from the last deform's */
   control[0] = NAN;
   CHECK_STATUS(cagekit_cpu_deformer_deform(full, control, 8, CAGEKIT_NORMALS_EXACT, 300, positions, normals),
                CAGEKIT_ERROR_INVALID_ARGUMENT);

@@ -3,7 +3,8 @@
 // under CI): GPU equals CPU (positions 1e-5 of the diagonal, normals 0.05 deg) in both
 // displacement modes on desktop GL 4.3+ (core and compatibility profiles) and GLES 3.1+; the
 // host's GL state is unchanged by every call; contexts or loaders lacking features fail with
-// UNSUPPORTED_FORMAT and a message.
+// UNSUPPORTED_FEATURE and a message, calls out of order (no context current, a reference deform
+// before its set) with INVALID_OPERATION.
 // Skips (with the reason) when no EGL display or context can be made.
 #include <gtest/gtest.h>
 
@@ -252,10 +253,10 @@ TEST(GlDeformer, reference_mode_equals_cpu) {
     binding = s.bind(CAGEKIT_DISPLACEMENT_LOCAL_FRAME);
     ASSERT_EQ(cagekit_gl_deformer_create(binding, nullptr, EglContext::get_proc_address, nullptr, nullptr, &gpu),
               CAGEKIT_SUCCESS);
-    EXPECT_EQ(cagekit_gl_deformer_deform_reference(gpu, s.cage_positions.data(), m), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(cagekit_gl_deformer_deform_reference(gpu, s.cage_positions.data(), m), CAGEKIT_ERROR_INVALID_OPERATION);
     const uint32_t one[1] = {0};
     EXPECT_EQ(cagekit_gl_deformer_set_reference_set(gpu, one, 1, s.cage_positions.data(), m),
-              CAGEKIT_ERROR_INVALID_ARGUMENT);
+              CAGEKIT_ERROR_INVALID_OPERATION);
     EXPECT_NE(std::string(cagekit_last_error_message(s.context)).find("local-frame"), std::string::npos);
     cagekit_gl_deformer_release(gpu);
     cagekit_binding_release(binding);
@@ -337,7 +338,7 @@ TEST(GlDeformer, reference_affine_variant_equals_cpu) {
     // |Q| mode and affine mode do not mix.
     const uint32_t one[1] = {0};
     ASSERT_EQ(cagekit_gl_deformer_set_reference_set(gpu, one, 1, s.cage_positions.data(), m), CAGEKIT_SUCCESS);
-    EXPECT_EQ(cagekit_gl_deformer_deform_reference_affine(gpu, frame), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(cagekit_gl_deformer_deform_reference_affine(gpu, frame), CAGEKIT_ERROR_INVALID_OPERATION);
     cagekit_gl_deformer_release(gpu);
     cagekit_cpu_deformer_release(cpu);
     cagekit_binding_release(binding);
@@ -534,14 +535,14 @@ TEST(GlDeformer, missing_features_are_an_error_not_a_crash) {
     Hiding hide{"glDispatchCompute"};
     cagekit_gl_deformer gpu = reinterpret_cast<cagekit_gl_deformer>(&hide);  // must be set to NULL
     EXPECT_EQ(cagekit_gl_deformer_create(binding, s.scan, hiding_get_proc_address, &hide, nullptr, &gpu),
-              CAGEKIT_ERROR_UNSUPPORTED_FORMAT);
+              CAGEKIT_ERROR_UNSUPPORTED_FEATURE);
     EXPECT_EQ(gpu, nullptr);
     const std::string message = cagekit_last_error_message(s.context);
     std::printf("hidden glDispatchCompute: %s\n", message.c_str());
     EXPECT_NE(message.find("glDispatchCompute"), std::string::npos);
     Hiding hide_version{"glGetString"};
     EXPECT_EQ(cagekit_gl_deformer_create(binding, s.scan, hiding_get_proc_address, &hide_version, nullptr, &gpu),
-              CAGEKIT_ERROR_UNSUPPORTED_FORMAT);
+              CAGEKIT_ERROR_INVALID_OPERATION);  // no glGetString: no context current
     EXPECT_NE(std::string(cagekit_last_error_message(s.context)).find("glGetString"), std::string::npos);
     // Arguments.
     EXPECT_EQ(cagekit_gl_deformer_create(binding, s.scan, nullptr, nullptr, nullptr, &gpu), CAGEKIT_ERROR_INVALID_ARGUMENT);
@@ -576,7 +577,7 @@ TEST(GlDeformer, missing_features_are_an_error_not_a_crash) {
     EXPECT_EQ(cagekit_gl_deformer_deform(gpu, control.data(), m - 1, CAGEKIT_NORMALS_APPROXIMATE),
               CAGEKIT_ERROR_INVALID_ARGUMENT);
     EXPECT_EQ(cagekit_gl_deformer_deform(gpu, nullptr, m, CAGEKIT_NORMALS_APPROXIMATE), CAGEKIT_ERROR_INVALID_ARGUMENT);
-    EXPECT_EQ(cagekit_gl_deformer_deform(gpu, control.data(), m, CAGEKIT_NORMALS_EXACT), CAGEKIT_ERROR_UNSUPPORTED_FORMAT);
+    EXPECT_EQ(cagekit_gl_deformer_deform(gpu, control.data(), m, CAGEKIT_NORMALS_EXACT), CAGEKIT_ERROR_UNSUPPORTED_FEATURE);
     EXPECT_EQ(cagekit_gl_deformer_deform(gpu, control.data(), m, cagekit_normal_mode(-1)), CAGEKIT_ERROR_INVALID_ARGUMENT);
     control[5] = NAN;
     EXPECT_EQ(cagekit_gl_deformer_deform(gpu, control.data(), m, CAGEKIT_NORMALS_APPROXIMATE),
@@ -599,7 +600,7 @@ TEST(GlDeformer, missing_features_are_an_error_not_a_crash) {
       g_fake_version = version;
       cagekit_gl_deformer gpu = reinterpret_cast<cagekit_gl_deformer>(&ctx);
       EXPECT_EQ(cagekit_gl_deformer_create(binding, s.scan, old_get_proc_address, nullptr, nullptr, &gpu),
-                CAGEKIT_ERROR_UNSUPPORTED_FORMAT) << version;
+                CAGEKIT_ERROR_UNSUPPORTED_FEATURE) << version;
       EXPECT_EQ(gpu, nullptr);
       const std::string message = cagekit_last_error_message(s.context);
       std::printf("context \"%s\": %s\n", version, message.c_str());
@@ -620,7 +621,7 @@ TEST(GlDeformer, missing_features_are_an_error_not_a_crash) {
       GLint value;
       cagekit_status expected;
       const char* message;
-    } cases[] = {{GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS, 2, CAGEKIT_ERROR_UNSUPPORTED_FORMAT, "4 shader storage blocks"},
+    } cases[] = {{GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS, 2, CAGEKIT_ERROR_UNSUPPORTED_FEATURE, "4 shader storage blocks"},
                  {GL_MAX_SHADER_STORAGE_BLOCK_SIZE, 4096, CAGEKIT_ERROR_LIMIT_EXCEEDED, "GL_MAX_SHADER_STORAGE_BLOCK_SIZE"}};
     for (const auto& c : cases) {
       g_fake_limit = {c.limit, c.value};
@@ -636,7 +637,7 @@ TEST(GlDeformer, missing_features_are_an_error_not_a_crash) {
     // No context current at all.
     cagekit_gl_deformer gpu = nullptr;
     EXPECT_EQ(cagekit_gl_deformer_create(binding, s.scan, EglContext::get_proc_address, nullptr, nullptr, &gpu),
-              CAGEKIT_ERROR_UNSUPPORTED_FORMAT);
+              CAGEKIT_ERROR_INVALID_OPERATION);
     std::printf("no current context: %s\n", cagekit_last_error_message(s.context));
   }
   cagekit_binding_release(binding);

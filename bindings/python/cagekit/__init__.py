@@ -20,7 +20,8 @@ numpy is needed for arrays only: `import cagekit` works without it.
 from . import _lib
 from ._errors import (CageKitError, CancelledError, FileIOError, InternalError, InvalidArgumentError,
                       InvalidHandleError, InvalidMeshError, LimitExceededError, OutOfMemoryError, ParseError,
-                      SizeInsufficientError, UnsupportedFormatError, VersionMismatchError, QualityError)
+                      SizeInsufficientError, UnsupportedFormatError, VersionMismatchError, QualityError,
+                      UnsupportedFeatureError, InvalidOperationError)
 from ._formats import FileFormat
 from ._handle import live_handles
 from ._records import Record
@@ -57,6 +58,7 @@ __all__ = [
     "InternalError", "InvalidArgumentError", "InvalidHandleError", "InvalidMeshError", "LevelQuery",
     "LimitExceededError", "LimitPatches", "LogLevel", "LsqSolver", "Mesh", "MeshIssue", "NormalMode",
     "OutOfMemoryError", "ParseError", "ProjectionMode", "Record", "RemeshMethod", "RepairSteps", "ScanMethod", "SizeInsufficientError", "Surface",
-    "UnsupportedFormatError", "VersionMismatchError", "QualityError", "abi_version", "bind", "default_context", "fit",
+    "UnsupportedFormatError", "VersionMismatchError", "QualityError", "UnsupportedFeatureError",
+    "InvalidOperationError", "abi_version", "bind", "default_context", "fit",
     "library_path", "limit_patches", "live_handles", "remesh", "scan_to_cage", "simplify", "version",
 ]

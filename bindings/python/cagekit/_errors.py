@@ -79,10 +79,20 @@ class QualityError(CageKitError):
     status = -13
 
 
+class UnsupportedFeatureError(CageKitError):
+    """The environment or the object lacks a feature the call needs (a GL context too old, ...)."""
+    status = -14
+
+
+class InvalidOperationError(CageKitError):
+    """The call is not allowed in the object's current state (an update before a first deform, ...)."""
+    status = -15
+
+
 ERROR_CLASSES = {cls.status: cls for cls in (
     InvalidArgumentError, InvalidHandleError, OutOfMemoryError, SizeInsufficientError, FileIOError, ParseError,
     UnsupportedFormatError, InvalidMeshError, LimitExceededError, CancelledError, InternalError,
-    VersionMismatchError, QualityError)}
+    VersionMismatchError, QualityError, UnsupportedFeatureError, InvalidOperationError)}
 
 
 def status_name(status):

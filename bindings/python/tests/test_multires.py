@@ -69,7 +69,7 @@ class Binding(HandleCheck):
             with self.assertRaises(cagekit.InvalidArgumentError):
                 full.deform(control)
         with cagekit.bind(self.fitted, self.scan) as binding, cagekit.CpuDeformer(binding) as deformer:
-            with self.assertRaises(cagekit.InvalidArgumentError):  # no exact-normal data
+            with self.assertRaises(cagekit.InvalidOperationError):  # a binding without exact-normal data
                 deformer.deform(binding.control_points(), normal_mode="exact")
 
     def test_float32_outputs_are_the_float64_ones_rounded(self):
