@@ -92,6 +92,18 @@ CAGEKIT_API const char* cagekit_version_string(void);
 CAGEKIT_API uint32_t cagekit_abi_version(void);
 
 /* ------------------------------------------------------------------------------------------ */
+/* Booleans                                                                                   */
+/* ------------------------------------------------------------------------------------------ */
+
+/* The one boolean type of the API, in every options, report and info struct: CAGEKIT_FALSE (0)
+ * or CAGEKIT_TRUE (1). An input field of any other value is rejected with
+ * CAGEKIT_ERROR_INVALID_ARGUMENT ("cagekit_<struct>.<field> must be 0 or 1, not N"); the library
+ * writes only 0 or 1. */
+typedef uint32_t cagekit_bool32;
+#define CAGEKIT_FALSE 0u
+#define CAGEKIT_TRUE 1u
+
+/* ------------------------------------------------------------------------------------------ */
 /* Status codes and errors                                                                    */
 /* ------------------------------------------------------------------------------------------ */
 
@@ -287,7 +299,7 @@ typedef enum cagekit_mesh_issue {
 
 typedef struct cagekit_validation_report {
   size_t struct_size;                        /* sizeof(cagekit_validation_report) */
-  int valid;                                 /* 1 when no error-level issue was found */
+  cagekit_bool32 valid;                      /* 1 when no error-level issue was found */
   uint32_t issue_flags;                      /* bit (1u << cagekit_mesh_issue) per kind found */
   uint64_t issue_counts[CAGEKIT_ISSUE_KIND_COUNT];
 } cagekit_validation_report;
@@ -344,7 +356,7 @@ typedef struct cagekit_mesh_info {
   uint64_t triangles, quads, other_polygons;
   uint64_t boundary_edges, boundary_loops, components, unreferenced_vertices;
   int64_t genus;                /* -1 when the mesh is not manifold */
-  int manifold;                 /* 1 when edge- and vertex-manifold with valid indices */
+  cagekit_bool32 manifold;      /* 1 when edge- and vertex-manifold with valid indices */
   double bbox_min[3], bbox_max[3], bbox_diagonal;
   uint64_t creases, corners, holes; /* tags (cages only; 0 for meshes) */
   uint64_t invalid_faces;       /* faces with bad indices or < 3 distinct vertices (ignored above) */
@@ -431,7 +443,7 @@ typedef enum cagekit_file_format {
 typedef struct cagekit_write_options {
   size_t struct_size;               /* sizeof(cagekit_write_options) */
   cagekit_file_format format;       /* AUTO: from the file extension (files only) */
-  int ply_binary;                   /* 1: binary little-endian PLY (default), 0: ascii */
+  cagekit_bool32 ply_binary;        /* 1: binary little-endian PLY (default), 0: ascii */
   int draco_position_bits;          /* position quantization, 1..30 (default 14) */
   int draco_speed;                  /* 0 (smallest) .. 10 (fastest) (default 5) */
 } cagekit_write_options;
@@ -484,7 +496,7 @@ CAGEKIT_API cagekit_status cagekit_cage_write_memory(cagekit_cage cage, const ca
 typedef struct cagekit_subdivide_options {
   size_t struct_size;       /* sizeof(cagekit_subdivide_options) */
   uint32_t levels;          /* 0 .. CAGEKIT_MAX_SUBDIVISION_LEVELS (default 1) */
-  int limit_positions;      /* 1: move the refined vertices onto the limit surface */
+  cagekit_bool32 limit_positions; /* 1: move the refined vertices onto the limit surface */
 } cagekit_subdivide_options;
 
 #define CAGEKIT_SUBDIVIDE_OPTIONS_INIT { sizeof(cagekit_subdivide_options), 1, 0 }
@@ -612,7 +624,7 @@ typedef struct cagekit_limit_patch {
   uint32_t cage_face;    /* the cage face it belongs to */
   double u0, v0, u1, v1; /* its square in the ptex face: Bezier parameters (s, t) in [0,1]^2 are the
                             ptex location (u0 + s (u1 - u0), v0 + t (v1 - v0)) */
-  uint32_t exact;        /* 1: the polynomial is the limit surface; 0: an approximation */
+  cagekit_bool32 exact;  /* 1: the polynomial is the limit surface; 0: an approximation */
   uint32_t reserved;     /* 0 */
   double error;          /* measured largest distance to the limit surface, model units (rounding
                             level for exact patches) */
@@ -759,7 +771,7 @@ typedef struct cagekit_cage_options {
   size_t struct_size;           /* sizeof(cagekit_cage_options) */
   double crease_angle_degrees;  /* CLUSTER_ANGLE: tag cage edges between clusters whose normals differ more
                                    (default 30; < 0: never). SHARP_INPUT: unused */
-  int tag_boundary_edges;       /* 1: tag the mesh-boundary edges as creases (default 1) */
+  cagekit_bool32 tag_boundary_edges; /* 1: tag the mesh-boundary edges as creases (default 1) */
   uint32_t exact_partition_limit; /* faces up to this many vertices are partitioned optimally (default 20) */
   /* CLUSTER_ANGLE: also require the input itself to be sharp along the two clusters' border:
    * the length-weighted mean angle between the normals of the input faces on either side of the
@@ -836,7 +848,7 @@ typedef struct cagekit_fit_options {
                                    of A^T A, finite and >= 0 (default 0: none, as in the thesis) */
   double tangential_weight;     /* weight of the residuals' tangential part in the control-vertex step,
                                    in [0, 1] (default 1: point-distance least squares, the thesis's) */
-  int32_t keep_crease_vertices; /* 1: vertices on infinitely sharp crease edges and corner-tagged vertices
+  cagekit_bool32 keep_crease_vertices; /* 1: vertices on infinitely sharp crease edges and corner-tagged vertices
                                    keep their positions (cages built on the scan); 0 (default): all move */
   cagekit_projection_mode projection; /* default CAGEKIT_PROJECTION_EXACT */
   cagekit_lsq_solver solver;    /* default CAGEKIT_LSQ_DIRECT */
@@ -856,7 +868,7 @@ typedef struct cagekit_fit_options {
                                    the thesis) */
   double weak_fairing;          /* weight of those rows relative to the mean diagonal of A^T A, finite and
                                    >= 0 (default 1) */
-  int32_t select_best_two_sided; /* 1 (default): return the state with the lowest two-sided RMS distance
+  cagekit_bool32 select_best_two_sided; /* 1 (default): return the state with the lowest two-sided RMS distance
                                     (scan -> surface and surface -> scan, cagekit_fit_two_sided), not the
                                     last one; 0: the last state kept (the thesis's rule alone) */
   /* Appended after 1.0's first members; a caller whose struct_size ends before it gets the default. */
@@ -917,9 +929,9 @@ typedef struct cagekit_fit_report {
                                    0 .. min(pass_count, pass_capacity) - 1 are written; a capacity that
                                    is too small is NOT an error (the fit is not repeated: pass
                                    max_passes + 1 entries to get them all). Kept by the call. */
-  int32_t stopped_by_tolerance; /* OUT: 1 when (7.2) ended the fit before max_passes */
-  int32_t rejected_last_step;   /* OUT: 1 when the last step would have increased L2 and was undone */
-  int32_t fairing_used;         /* OUT: 1 when the fairing term was active */
+  cagekit_bool32 stopped_by_tolerance; /* OUT: 1 when (7.2) ended the fit before max_passes */
+  cagekit_bool32 rejected_last_step; /* OUT: 1 when the last step would have increased L2 and was undone */
+  cagekit_bool32 fairing_used;  /* OUT: 1 when the fairing term was active */
   uint64_t unsupported_control_vertices; /* OUT: control vertices with no scan vertex in their support in
                                             the last step (without fairing they keep their position) */
   double bbox_diagonal;         /* OUT: of the scan's vertices */
@@ -987,7 +999,7 @@ typedef enum cagekit_displacement_mode {
 typedef struct cagekit_bind_options {
   size_t struct_size;                  /* sizeof(cagekit_bind_options) */
   cagekit_displacement_mode mode;      /* default CAGEKIT_DISPLACEMENT_NORMAL */
-  int32_t exact_normals;               /* 1: also store the data of the exact normals (8.4)-(8.7) */
+  cagekit_bool32 exact_normals;        /* 1: also store the data of the exact normals (8.4)-(8.7) */
   uint32_t threads;                    /* 0 = all cores */
   double sharp_angle_degrees;          /* sharp features (thesis §8.5.2): >= 0 binds every scan
                                           vertex once per smooth sector (sectors split by edges
@@ -1009,7 +1021,7 @@ typedef struct cagekit_binding_info {
                                           relative to the scan's bbox diagonal (0 in local-frame mode) */
   uint64_t vertices_with_sideways_residual; /* normal mode: vertices above 1e-6 of the diagonal */
   double bbox_diagonal;
-  int32_t has_exact_normals;
+  cagekit_bool32 has_exact_normals;
   /* Appended (issue #5): the CPU deformer's compact table (sdk/multires/patch_deformer_table.h). */
   double deform_bytes_per_vertex;      /* bytes read + written per vertex in one full CPU frame of
                                           positions + approximate normals (table, outputs, control) */
@@ -1018,7 +1030,7 @@ typedef struct cagekit_binding_info {
   /* Appended: sector split (cagekit_bind_options.sharp_angle_degrees >= 0). */
   uint32_t scan_vertex_count;          /* the scan's vertices; vertex_count - scan_vertex_count
                                           are copies made at sharp features (equal without split) */
-  int32_t has_sector_split;            /* 1: bound vertices are per smooth sector (see below) */
+  cagekit_bool32 has_sector_split;     /* 1: bound vertices are per smooth sector (see below) */
 } cagekit_binding_info;
 
 /* Binds every vertex of `scan` to the limit surface of `cage` (exact closest points, §7.4).
@@ -1177,7 +1189,7 @@ typedef cagekit_gl_proc (*cagekit_gl_get_proc_address_fn)(const char* name, void
 
 typedef struct cagekit_gl_deformer_options {
   size_t struct_size;                  /* sizeof(cagekit_gl_deformer_options) */
-  int32_t optimize_vertex_cache;       /* 1 (default): reorder the triangles for the post-transform
+  cagekit_bool32 optimize_vertex_cache; /* 1 (default): reorder the triangles for the post-transform
                                           vertex cache (meshoptimizer); 0: keep the scan's order */
 } cagekit_gl_deformer_options;
 
@@ -1206,7 +1218,7 @@ typedef struct cagekit_gl_deformer_info {
   size_t struct_size;                  /* sizeof(cagekit_gl_deformer_info) */
   const char* renderer;                /* GL_RENDERER and GL_VERSION at create: owned by the */
   const char* version;                 /* deformer, valid until its last release */
-  int32_t is_es;                       /* 1: OpenGL ES context */
+  cagekit_bool32 is_es;                /* 1: OpenGL ES context */
   uint32_t vertex_count;
   uint32_t control_count;
   uint32_t index_count;
@@ -1454,7 +1466,7 @@ typedef struct cagekit_scan_to_cage_options {
   cagekit_scan_method method;       /* default CAGEKIT_SCAN_SIMPLIFY */
   /* Conditioning (the first phase): cagekit_mesh_repair's steps without DROP_INVALID_FACES (bad
      indices and NaN/Inf stay INVALID_MESH) plus the removal of unreferenced vertices. */
-  int32_t repair;                   /* 1 (default): condition the scan; 0: refuse an invalid scan */
+  cagekit_bool32 repair;            /* 1 (default): condition the scan; 0: refuse an invalid scan */
   cagekit_component_mode components; /* default CAGEKIT_COMPONENTS_ALL */
   double weld_tolerance_rel;        /* vertices closer than this x the bounding-box diagonal are welded,
                                        finite and >= 0 (default 1e-7; 0: exact duplicates only) */
@@ -1478,7 +1490,7 @@ typedef struct cagekit_scan_to_cage_options {
   double max_limit_to_scan_rel;     /* finite and > 0 (default 0.05) */
   double limit_to_scan_factor;      /* finite and > 0 (default 3) */
   uint64_t small_input_faces;       /* default 1000 */
-  int32_t fallback_to_simplify;     /* 1 (default): a QUAD / ANISOTROPIC result that is not good (or that
+  cagekit_bool32 fallback_to_simplify; /* 1 (default): a QUAD / ANISOTROPIC result that is not good (or that
                                        fails) is replaced by SIMPLIFY at `target` faces; the report says so
                                        and why. 0: it is an error. */
   uint32_t finer_simplify_attempts; /* a SIMPLIFY result whose limit surface strays from the scan is tried
@@ -1512,8 +1524,8 @@ typedef struct cagekit_scan_to_cage_report {
   /* 2. the method */
   cagekit_scan_method requested_method;
   cagekit_scan_method used_method;  /* differs after a fallback */
-  int32_t fallback;                 /* 1 when the requested method's result was replaced */
-  int32_t input_is_cage;            /* 1 when the conditioned scan had no more faces than the method would
+  cagekit_bool32 fallback;          /* 1 when the requested method's result was replaced */
+  cagekit_bool32 input_is_cage;     /* 1 when the conditioned scan had no more faces than the method would
                                        make and is its own cage (edges sharper than 40 degrees creased) */
   char fallback_reason[256];        /* why the fallback happened (NUL-terminated, "" when none) */
   uint32_t level, level_count;      /* SIMPLIFY: the level chosen and the hierarchy's level count */
@@ -1551,7 +1563,7 @@ typedef struct cagekit_scan_to_cage_report {
      journey remedies them, keeping the good result with the fewest: the fit is run again with more fairing
      (fit_fairing_used), a tiny input is creased more, SIMPLIFY tries the finer targets too. */
   uint64_t scan_self_intersections, unfitted_self_intersections;
-  int32_t scan_self_intersections_counted; /* 1 when scan_self_intersections was counted */
+  cagekit_bool32 scan_self_intersections_counted; /* 1 when scan_self_intersections was counted */
   double own_cage_crease_angle_deg; /* input_is_cage: the crease angle used (40 by default, 20 or 0 =
                                        every edge creased after a self-intersection remedy) */
   double fit_fairing_used;          /* the fit's fairing weight of the result (the option's, or 0.01 / 0.1
@@ -1559,7 +1571,7 @@ typedef struct cagekit_scan_to_cage_report {
                                        from the scan, which is fitted again with more fairing before any
                                        finer target or fallback is tried) */
   /* Appended: the last phase (cagekit_scan_to_cage_options.two_sided_refit_factor). */
-  int32_t two_sided_refit;          /* 1 when the returned fit is the two-sided refit */
+  cagekit_bool32 two_sided_refit;   /* 1 when the returned fit is the two-sided refit */
   double one_sided_fit_max_rel;     /* then: max(scan -> limit, limit -> scan) of the one-sided fit it
                                        replaced (0 when two_sided_refit is 0) */
 } cagekit_scan_to_cage_report;

@@ -24,7 +24,6 @@ int32_t raw_enum(const E& value) {
   return raw;
 }
 
-
 using cagekit::Error;
 using cagekit::Status;
 using cagekit::fail;
@@ -85,6 +84,14 @@ void release_handle(H* handle) {
 template <class T>
 void require_not_null(const T* pointer, const char* name) {
   if (pointer == nullptr) fail(Status::invalid_argument, std::string(name) + " must not be NULL");
+}
+
+// A cagekit_bool32 input field: 0 or 1, anything else is invalid_argument naming
+// "cagekit_<struct>.<field>" (`name`).
+inline bool bool_from_c(cagekit_bool32 value, const char* name) {
+  if (value > CAGEKIT_TRUE)
+    fail(Status::invalid_argument, std::string(name) + " must be 0 or 1, not " + std::to_string(value));
+  return value == CAGEKIT_TRUE;
 }
 
 // Copies a caller's versioned input struct over `defaults`, reading only struct_size bytes.

@@ -64,8 +64,6 @@ CAGEKIT_API cagekit_status cagekit_gl_deformer_create(cagekit_binding binding, c
     if (get_proc_address == nullptr) fail(Status::invalid_argument, "get_proc_address must not be NULL");
     cagekit_gl_deformer_options defaults = CAGEKIT_GL_DEFORMER_OPTIONS_INIT;
     const cagekit_gl_deformer_options o = read_versioned(options, defaults, "cagekit_gl_deformer_options");
-    if (o.optimize_vertex_cache != 0 && o.optimize_vertex_cache != 1)
-      fail(Status::invalid_argument, "cagekit_gl_deformer_options.optimize_vertex_cache must be 0 or 1");
     std::vector<uint32_t> triangles;
     if (scan != nullptr) {
       const cagekit_mesh_t& m = checked(scan, "scan");
@@ -76,7 +74,7 @@ CAGEKIT_API cagekit_status cagekit_gl_deformer_create(cagekit_binding binding, c
       triangles = triangles_of(m.mesh);
     }
     cagekit::GlDeformerOptions go;
-    go.optimize_vertex_cache = o.optimize_vertex_cache == 1;
+    go.optimize_vertex_cache = bool_from_c(o.optimize_vertex_cache, "cagekit_gl_deformer_options.optimize_vertex_cache");
     auto deformer = std::make_unique<cagekit::GlDeformer>(
         b.binding, triangles, reinterpret_cast<cagekit::GlGetProcAddress>(get_proc_address), user_data, go);
     *out = std::make_unique<cagekit_gl_deformer_t>(b.context, &b, std::move(deformer)).release();

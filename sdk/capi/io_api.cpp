@@ -27,7 +27,7 @@ cagekit::WriteOptions write_options(const cagekit_write_options* options) {
     fail(Status::invalid_argument, "draco_speed must be in 0..10, not " + std::to_string(o.draco_speed));
   cagekit::WriteOptions w;
   w.format = checked_format(o.format);
-  w.ply_binary = o.ply_binary != 0;
+  w.ply_binary = bool_from_c(o.ply_binary, "cagekit_write_options.ply_binary");
   w.draco_position_bits = o.draco_position_bits;
   w.draco_speed = o.draco_speed;
   return w;

@@ -92,14 +92,12 @@ CAGEKIT_API cagekit_status cagekit_multires_bind(cagekit_cage cage, cagekit_mesh
     const int32_t mode = raw_enum(o.mode);
     if (mode != CAGEKIT_DISPLACEMENT_NORMAL && mode != CAGEKIT_DISPLACEMENT_LOCAL_FRAME)
       fail(Status::invalid_argument, "cagekit_bind_options.mode is not a cagekit_displacement_mode");
-    if (o.exact_normals != 0 && o.exact_normals != 1)
-      fail(Status::invalid_argument, "cagekit_bind_options.exact_normals must be 0 or 1");
     if (o.threads > 1024) fail(Status::invalid_argument, "cagekit_bind_options.threads must be <= 1024");
     require_scan_face_indices_in_range(m.mesh);
     cagekit::BindOptions bo;
     bo.mode = mode == CAGEKIT_DISPLACEMENT_LOCAL_FRAME ? cagekit::DisplacementMode::local_frame
                                                        : cagekit::DisplacementMode::normal;
-    bo.exact_normals = o.exact_normals == 1;
+    bo.exact_normals = bool_from_c(o.exact_normals, "cagekit_bind_options.exact_normals");
     bo.threads = int(o.threads);
     if (!(o.sharp_angle_degrees < 0) && !(o.sharp_angle_degrees <= 180))
       fail(Status::invalid_argument, "cagekit_bind_options.sharp_angle_degrees must be < 0 (off) or in [0, 180]");

@@ -62,9 +62,6 @@ cagekit::FitOptions fit_options_from_c(const cagekit_fit_options* options) {
   check_real(o.tolerance, 0.0, inf, false, "tolerance");
   check_real(o.fairing, 0.0, inf, false, "fairing");
   check_real(o.tangential_weight, 0.0, 1.0, false, "tangential_weight");
-  if (o.keep_crease_vertices != 0 && o.keep_crease_vertices != 1)
-    fail(Status::invalid_argument,
-         "cagekit_fit_options.keep_crease_vertices must be 0 or 1, not " + std::to_string(o.keep_crease_vertices));
   cagekit::FitOptions f;
   const int32_t projection = raw_enum(o.projection), solver = raw_enum(o.solver);
   if (projection == CAGEKIT_PROJECTION_EXACT)
@@ -87,21 +84,18 @@ cagekit::FitOptions fit_options_from_c(const cagekit_fit_options* options) {
   check_range(o.projection_seed_resolution, 1, 64, "projection_seed_resolution");
   check_real(o.weak_support_fraction, 0.0, inf, false, "weak_support_fraction");
   check_real(o.weak_fairing, 0.0, inf, false, "weak_fairing");
-  if (o.select_best_two_sided != 0 && o.select_best_two_sided != 1)
-    fail(Status::invalid_argument, "cagekit_fit_options.select_best_two_sided must be 0 or 1, not " +
-                                       std::to_string(o.select_best_two_sided));
   f.max_passes = static_cast<int>(o.max_passes);
   f.tolerance = o.tolerance;
   f.fairing = o.fairing;
   f.tangential_weight = o.tangential_weight;
-  f.keep_crease_vertices_on_samples = o.keep_crease_vertices != 0;
+  f.keep_crease_vertices_on_samples = bool_from_c(o.keep_crease_vertices, "cagekit_fit_options.keep_crease_vertices");
   f.threads = static_cast<int>(o.threads);
   f.closest_point.max_steps = static_cast<int>(o.max_projection_steps);
   f.closest_point.epsilon = o.projection_epsilon;
   f.closest_point.seed_resolution = static_cast<int>(o.projection_seed_resolution);
   f.weak_support_fraction = o.weak_support_fraction;
   f.weak_fairing = o.weak_fairing;
-  f.select_best_two_sided = o.select_best_two_sided != 0;
+  f.select_best_two_sided = bool_from_c(o.select_best_two_sided, "cagekit_fit_options.select_best_two_sided");
   check_real(o.reverse_sample_factor, 0.0, 100.0, false, "reverse_sample_factor");
   f.reverse_sample_factor = o.reverse_sample_factor;
   check_real(o.crease_feature_reach, 0.0, 1.0, false, "crease_feature_reach");
@@ -175,7 +169,7 @@ cagekit::CageBuildOptions cage_options_from_c(const cagekit_cage_options* option
   bo.features.angle_degrees = o.feature_angle_degrees;
   bo.crease_angle_degrees = o.crease_angle_degrees;
   bo.input_crease_angle_degrees = o.input_crease_angle_degrees;
-  bo.tag_boundary_edges = o.tag_boundary_edges != 0;
+  bo.tag_boundary_edges = bool_from_c(o.tag_boundary_edges, "cagekit_cage_options.tag_boundary_edges");
   bo.partition.exact_vertex_limit = static_cast<int>(o.exact_partition_limit);
   return bo;
 }

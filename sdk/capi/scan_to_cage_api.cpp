@@ -22,9 +22,7 @@ cagekit::ScanToCageOptions options_from_c(const cagekit_scan_to_cage_options* op
     case CAGEKIT_SCAN_ANISOTROPIC: s.method = cagekit::ScanMethod::anisotropic; break;
     default: fail(Status::invalid_argument, "cagekit_scan_to_cage_options.method is not a cagekit_scan_method");
   }
-  if (o.repair != 0 && o.repair != 1)
-    fail(Status::invalid_argument, "cagekit_scan_to_cage_options.repair must be 0 or 1");
-  s.conditioning.repair = o.repair != 0;
+  s.conditioning.repair = bool_from_c(o.repair, "cagekit_scan_to_cage_options.repair");
   switch (raw_enum(o.components)) {
     case CAGEKIT_COMPONENTS_ALL: s.conditioning.components = cagekit::ComponentMode::all; break;
     case CAGEKIT_COMPONENTS_LARGEST: s.conditioning.components = cagekit::ComponentMode::largest; break;
@@ -62,9 +60,7 @@ cagekit::ScanToCageOptions options_from_c(const cagekit_scan_to_cage_options* op
   s.max_limit_to_scan = o.max_limit_to_scan_rel;
   s.limit_to_scan_factor = o.limit_to_scan_factor;
   s.small_input_faces = o.small_input_faces;
-  if (o.fallback_to_simplify != 0 && o.fallback_to_simplify != 1)
-    fail(Status::invalid_argument, "cagekit_scan_to_cage_options.fallback_to_simplify must be 0 or 1");
-  s.fallback_to_simplify = o.fallback_to_simplify != 0;
+  s.fallback_to_simplify = bool_from_c(o.fallback_to_simplify, "cagekit_scan_to_cage_options.fallback_to_simplify");
   if (o.finer_simplify_attempts > 8)
     fail(Status::invalid_argument, "cagekit_scan_to_cage_options.finer_simplify_attempts must be in 0..8");
   s.finer_simplify_attempts = int(o.finer_simplify_attempts);

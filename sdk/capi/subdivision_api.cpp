@@ -43,7 +43,7 @@ CAGEKIT_API cagekit_status cagekit_cage_subdivide(cagekit_cage cage, const cagek
                                          ", not " + std::to_string(o.levels));
     cagekit::RefineOptions ro;
     ro.levels = static_cast<int>(o.levels);
-    ro.limit_positions = o.limit_positions != 0;
+    ro.limit_positions = bool_from_c(o.limit_positions, "cagekit_subdivide_options.limit_positions");
     cagekit::Cage refined = cagekit::refine_uniform(c.cage, ro, c.context->monitor());
     *out = std::make_unique<cagekit_cage_t>(c.context, std::move(refined)).release();
   });

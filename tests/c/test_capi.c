@@ -1869,6 +1869,59 @@ static void scan_to_cage_conditions_fits_and_judges(void) {
   cagekit_context_release(context);
 }
 
+/* cagekit_bool32, one rule for every boolean input: 0 or 1; 2 is INVALID_ARGUMENT with the
+ * message "cagekit_<struct>.<field> must be 0 or 1, not 2", before any work. */
+static void booleans_are_0_or_1(void) {
+  cagekit_context context = new_context();
+  cagekit_mesh mesh = new_cube(context);
+  cagekit_cage cage = new_creased_cube(context);
+  cagekit_cage out = NULL;
+  cagekit_blob blob = NULL;
+  cagekit_binding binding = NULL;
+  cagekit_hierarchy hierarchy = NULL;
+  cagekit_write_options write = CAGEKIT_WRITE_OPTIONS_INIT;
+  cagekit_subdivide_options subdivide = CAGEKIT_SUBDIVIDE_OPTIONS_INIT;
+  cagekit_cage_options cage_options = CAGEKIT_CAGE_OPTIONS_INIT;
+  cagekit_fit_options fit = CAGEKIT_FIT_OPTIONS_INIT;
+  cagekit_bind_options bind = CAGEKIT_BIND_OPTIONS_INIT;
+  cagekit_scan_to_cage_options scan = CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT;
+  CHECK(CAGEKIT_TRUE == 1u && CAGEKIT_FALSE == 0u && sizeof(cagekit_bool32) == 4);
+  write.format = CAGEKIT_FORMAT_PLY;
+  write.ply_binary = 2;
+  CHECK_STATUS(cagekit_cage_write_memory(cage, &write, &blob, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context), "cagekit_write_options.ply_binary must be 0 or 1, not 2") != NULL);
+  CHECK(blob == NULL);
+  subdivide.limit_positions = 2;
+  CHECK_STATUS(cagekit_cage_subdivide(cage, &subdivide, &out), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context), "cagekit_subdivide_options.limit_positions") != NULL);
+  CHECK_OK(cagekit_hierarchy_create(mesh, NULL, &hierarchy));
+  cage_options.tag_boundary_edges = 2;
+  CHECK_STATUS(cagekit_hierarchy_build_cage(hierarchy, &cage_options, &out, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context), "cagekit_cage_options.tag_boundary_edges") != NULL);
+  fit.keep_crease_vertices = 2;
+  CHECK_STATUS(cagekit_cage_fit(cage, mesh, &fit, &out, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context), "cagekit_fit_options.keep_crease_vertices") != NULL);
+  fit.keep_crease_vertices = CAGEKIT_FALSE;
+  fit.select_best_two_sided = 0xffffffffu;
+  CHECK_STATUS(cagekit_cage_fit(cage, mesh, &fit, &out, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context), "cagekit_fit_options.select_best_two_sided") != NULL);
+  bind.exact_normals = 2;
+  CHECK_STATUS(cagekit_multires_bind(cage, mesh, &bind, &binding), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context), "cagekit_bind_options.exact_normals") != NULL);
+  scan.repair = 2;
+  CHECK_STATUS(cagekit_scan_to_cage(mesh, &scan, &out, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context), "cagekit_scan_to_cage_options.repair") != NULL);
+  scan.repair = CAGEKIT_TRUE;
+  scan.fallback_to_simplify = 7;
+  CHECK_STATUS(cagekit_scan_to_cage(mesh, &scan, &out, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context), "cagekit_scan_to_cage_options.fallback_to_simplify") != NULL);
+  CHECK(out == NULL && binding == NULL);
+  cagekit_hierarchy_release(hierarchy);
+  cagekit_cage_release(cage);
+  cagekit_mesh_release(mesh);
+  cagekit_context_release(context);
+}
+
 int main(void) {
   static const c_test_case tests[] = {
       {"version_is_consistent", version_is_consistent},
@@ -1891,6 +1944,7 @@ int main(void) {
       {"simplification_hierarchy_browses_levels_and_builds_a_cage",
        simplification_hierarchy_browses_levels_and_builds_a_cage},
       {"out_of_range_enum_values_are_rejected", out_of_range_enum_values_are_rejected},
+      {"booleans_are_0_or_1", booleans_are_0_or_1},
       {"memory_budget_fails_cleanly_before_allocating", memory_budget_fails_cleanly_before_allocating},
       {"multires_binding_reproduces_and_deforms_the_scan", multires_binding_reproduces_and_deforms_the_scan},
       {"cpu_deformer_float32_outputs_match_double", cpu_deformer_float32_outputs_match_double},

@@ -27,6 +27,7 @@ MAX_SUBDIVISION_LEVELS = 8
 ISSUE_KIND_COUNT = 8
 
 c_enum = c_int
+c_bool32 = c_uint32  # cagekit_bool32: 0 or 1
 c_status = c_int
 _u32p = POINTER(c_uint32)
 _u64p = POINTER(c_uint64)
@@ -67,7 +68,7 @@ class MeshDesc(_Versioned):
 
 
 class ValidationReport(_Versioned):
-    _fields_ = [("struct_size", c_size_t), ("valid", c_int), ("issue_flags", c_uint32),
+    _fields_ = [("struct_size", c_size_t), ("valid", c_bool32), ("issue_flags", c_uint32),
                 ("issue_counts", c_uint64 * ISSUE_KIND_COUNT)]
 
 
@@ -87,14 +88,14 @@ class MeshInfo(_Versioned):
     _fields_ = [("struct_size", c_size_t)] + [(name, c_uint64) for name in (
         "vertices", "faces", "edges", "triangles", "quads", "other_polygons", "boundary_edges",
         "boundary_loops", "components", "unreferenced_vertices")] + [
-        ("genus", c_int64), ("manifold", c_int), ("bbox_min", c_double * 3), ("bbox_max", c_double * 3),
+        ("genus", c_int64), ("manifold", c_bool32), ("bbox_min", c_double * 3), ("bbox_max", c_double * 3),
         ("bbox_diagonal", c_double), ("creases", c_uint64), ("corners", c_uint64), ("holes", c_uint64),
         ("invalid_faces", c_uint64)]
 
 
 # --- files -----------------------------------------------------------------------------------
 class WriteOptions(_Versioned):
-    _fields_ = [("struct_size", c_size_t), ("format", c_enum), ("ply_binary", c_int),
+    _fields_ = [("struct_size", c_size_t), ("format", c_enum), ("ply_binary", c_bool32),
                 ("draco_position_bits", c_int), ("draco_speed", c_int)]
     _defaults = {"format": 0, "ply_binary": 1, "draco_position_bits": 14, "draco_speed": 5}
 
@@ -105,7 +106,7 @@ class WriteReport(_Versioned):
 
 # --- subdivision and evaluation --------------------------------------------------------------
 class SubdivideOptions(_Versioned):
-    _fields_ = [("struct_size", c_size_t), ("levels", c_uint32), ("limit_positions", c_int)]
+    _fields_ = [("struct_size", c_size_t), ("levels", c_uint32), ("limit_positions", c_bool32)]
     _defaults = {"levels": 1, "limit_positions": 0}
 
 
@@ -139,7 +140,7 @@ class PolygonalLevelInfo(_Versioned):
 
 
 class CageOptions(_Versioned):
-    _fields_ = [("struct_size", c_size_t), ("crease_angle_degrees", c_double), ("tag_boundary_edges", c_int),
+    _fields_ = [("struct_size", c_size_t), ("crease_angle_degrees", c_double), ("tag_boundary_edges", c_bool32),
                 ("exact_partition_limit", c_uint32), ("input_crease_angle_degrees", c_double),
                 ("crease_rule", c_int32), ("feature_angle_degrees", c_double)]
     _defaults = {"crease_angle_degrees": 30.0, "tag_boundary_edges": 1, "exact_partition_limit": 20,
@@ -172,11 +173,11 @@ class ApproximationError(_Versioned):
 # --- fitting ---------------------------------------------------------------------------------
 class FitOptions(_Versioned):
     _fields_ = [("struct_size", c_size_t), ("max_passes", c_uint32), ("tolerance", c_double),
-                ("fairing", c_double), ("tangential_weight", c_double), ("keep_crease_vertices", c_int32),
+                ("fairing", c_double), ("tangential_weight", c_double), ("keep_crease_vertices", c_bool32),
                 ("projection", c_enum), ("solver", c_enum), ("threads", c_uint32),
                 ("max_projection_steps", c_uint32), ("projection_epsilon", c_double),
                 ("projection_seed_resolution", c_uint32), ("weak_support_fraction", c_double),
-                ("weak_fairing", c_double), ("select_best_two_sided", c_int32),
+                ("weak_fairing", c_double), ("select_best_two_sided", c_bool32),
                 ("reverse_sample_factor", c_double), ("crease_feature_reach", c_double)]
     _defaults = {"max_passes": 5, "tolerance": 1e-4, "fairing": 0.0, "tangential_weight": 1.0,
                  "keep_crease_vertices": 0, "projection": 0, "solver": 0, "threads": 0,
@@ -198,8 +199,8 @@ class FitTwoSided(Structure):
 
 class FitReport(_Versioned):
     _fields_ = [("struct_size", c_size_t), ("pass_count", c_uint32), ("pass_capacity", c_uint32),
-                ("passes", POINTER(FitPass)), ("stopped_by_tolerance", c_int32), ("rejected_last_step", c_int32),
-                ("fairing_used", c_int32), ("unsupported_control_vertices", c_uint64), ("bbox_diagonal", c_double),
+                ("passes", POINTER(FitPass)), ("stopped_by_tolerance", c_bool32), ("rejected_last_step", c_bool32),
+                ("fairing_used", c_bool32), ("unsupported_control_vertices", c_uint64), ("bbox_diagonal", c_double),
                 ("seconds", c_double), ("initial", FitPass), ("final", FitPass), ("best_pass", c_uint32),
                 ("weakly_supported_control_vertices", c_uint64), ("initial_two_sided", FitTwoSided),
                 ("final_two_sided", FitTwoSided)]
@@ -207,7 +208,7 @@ class FitReport(_Versioned):
 
 # --- multiresolution -------------------------------------------------------------------------
 class BindOptions(_Versioned):
-    _fields_ = [("struct_size", c_size_t), ("mode", c_enum), ("exact_normals", c_int32), ("threads", c_uint32),
+    _fields_ = [("struct_size", c_size_t), ("mode", c_enum), ("exact_normals", c_bool32), ("threads", c_uint32),
                 ("sharp_angle_degrees", c_double)]
     _defaults = {"mode": 0, "exact_normals": 0, "threads": 0, "sharp_angle_degrees": -1.0}
 
@@ -216,8 +217,8 @@ class BindingInfo(_Versioned):
     _fields_ = [("struct_size", c_size_t), ("vertex_count", c_uint32), ("control_count", c_uint32),
                 ("basis_entries", c_uint64), ("max_sideways_residual", c_double),
                 ("vertices_with_sideways_residual", c_uint64), ("bbox_diagonal", c_double),
-                ("has_exact_normals", c_int32), ("deform_bytes_per_vertex", c_double), ("compact_cells", c_uint32),
-                ("irregular_vertices", c_uint32), ("scan_vertex_count", c_uint32), ("has_sector_split", c_int32)]
+                ("has_exact_normals", c_bool32), ("deform_bytes_per_vertex", c_double), ("compact_cells", c_uint32),
+                ("irregular_vertices", c_uint32), ("scan_vertex_count", c_uint32), ("has_sector_split", c_bool32)]
 
 
 # --- GL deformer (declared for completeness; it needs the host's GL context) ------------------
@@ -226,7 +227,7 @@ GL_GET_PROC_ADDRESS_FN = CFUNCTYPE(c_void_p, c_char_p, c_void_p)
 
 
 class GlDeformerOptions(_Versioned):
-    _fields_ = [("struct_size", c_size_t), ("optimize_vertex_cache", c_int32)]
+    _fields_ = [("struct_size", c_size_t), ("optimize_vertex_cache", c_bool32)]
     _defaults = {"optimize_vertex_cache": 1}
 
 
@@ -237,7 +238,7 @@ class GlDeformerBuffers(_Versioned):
 
 
 class GlDeformerInfo(_Versioned):
-    _fields_ = [("struct_size", c_size_t), ("renderer", c_char_p), ("version", c_char_p), ("is_es", c_int32),
+    _fields_ = [("struct_size", c_size_t), ("renderer", c_char_p), ("version", c_char_p), ("is_es", c_bool32),
                 ("vertex_count", c_uint32), ("control_count", c_uint32), ("index_count", c_uint32),
                 ("acmr_before", c_double), ("acmr_after", c_double), ("gpu_bytes", c_uint64),
                 ("reference_floats_per_vertex", c_uint32), ("reference_max_edited", c_uint32)]

@@ -45,7 +45,7 @@ class LimitPatchInfo(_lib._Versioned):
 
 class LimitPatch(Structure):
     _fields_ = [("ptex_face", c_uint32), ("cage_face", c_uint32), ("u0", c_double), ("v0", c_double),
-                ("u1", c_double), ("v1", c_double), ("exact", c_uint32), ("reserved", c_uint32),
+                ("u1", c_double), ("v1", c_double), ("exact", _lib.c_bool32), ("reserved", c_uint32),
                 ("error", c_double), ("control_points", c_double * 48)]
 
 

@@ -17,7 +17,7 @@ _lib.STRUCTS, so that tests/test_abi.py checks them with the rest.
 """
 import ctypes
 import enum
-from ctypes import POINTER, c_char, c_double, c_int32, c_size_t, c_uint32, c_uint64, c_void_p
+from ctypes import POINTER, c_char, c_double, c_size_t, c_uint32, c_uint64, c_void_p
 
 from . import _lib
 from ._records import enum_value as _enum, from_struct
@@ -39,12 +39,12 @@ class ComponentMode(enum.IntEnum):
 
 # --- declarations (include/cagekit/cagekit.h, "scan to cage") -----------------------------------
 class ScanToCageOptions(_lib._Versioned):
-    _fields_ = [("struct_size", c_size_t), ("method", _lib.c_enum), ("repair", c_int32), ("components", _lib.c_enum),
+    _fields_ = [("struct_size", c_size_t), ("method", _lib.c_enum), ("repair", _lib.c_bool32), ("components", _lib.c_enum),
                 ("weld_tolerance_rel", c_double), ("target_query", _lib.c_enum), ("target", c_double),
                 ("cage", c_void_p), ("remesh", c_void_p), ("fit", c_void_p), ("limit_levels", c_uint32),
                 ("self_intersection_level", c_uint32), ("max_limit_to_scan_rel", c_double),
                 ("limit_to_scan_factor", c_double), ("small_input_faces", c_uint64),
-                ("fallback_to_simplify", c_int32), ("finer_simplify_attempts", c_uint32),
+                ("fallback_to_simplify", _lib.c_bool32), ("finer_simplify_attempts", c_uint32),
                 ("two_sided_refit_factor", c_double)]
     _defaults = {"method": 0, "repair": 1, "components": 0, "weld_tolerance_rel": 1e-7, "target_query": 0,
                  "target": 60.0, "cage": None, "remesh": None, "fit": None, "limit_levels": 3,
@@ -63,8 +63,8 @@ class ScanToCageReport(_lib._Versioned):
                      "dropped_degenerate_faces", "dropped_duplicate_faces", "split_vertices", "flipped_faces",
                      "non_orientable_components", "removed_unreferenced_vertices", "components",
                      "dropped_components", "dropped_component_faces") +
-                [("requested_method", _lib.c_enum), ("used_method", _lib.c_enum), ("fallback", c_int32),
-                 ("input_is_cage", c_int32), ("fallback_reason", c_char * 256), ("level", c_uint32),
+                [("requested_method", _lib.c_enum), ("used_method", _lib.c_enum), ("fallback", _lib.c_bool32),
+                 ("input_is_cage", _lib.c_bool32), ("fallback_reason", c_char * 256), ("level", c_uint32),
                  ("level_count", c_uint32)] +
                 _u64("level_faces", "level_faces_with_holes", "cage_vertices", "cage_faces", "cage_quads",
                      "cage_triangles", "creases", "remesh_regions", "remesh_lines", "remesh_holes",
@@ -83,8 +83,8 @@ class ScanToCageReport(_lib._Versioned):
                 [("method_seconds", c_double), ("fit_seconds", c_double), ("seconds", c_double),
                  ("simplify_target_used", c_double)] +
                 _u64("scan_self_intersections", "unfitted_self_intersections") +
-                [("scan_self_intersections_counted", c_int32), ("own_cage_crease_angle_deg", c_double),
-                 ("fit_fairing_used", c_double), ("two_sided_refit", c_int32),
+                [("scan_self_intersections_counted", _lib.c_bool32), ("own_cage_crease_angle_deg", c_double),
+                 ("fit_fairing_used", c_double), ("two_sided_refit", _lib.c_bool32),
                  ("one_sided_fit_max_rel", c_double)])
 
 
