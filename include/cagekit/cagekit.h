@@ -710,7 +710,8 @@ typedef struct cagekit_polygonal_level_info {
   uint32_t level;
   uint64_t faces, vertices, faces_with_holes;
   uint64_t invalid_faces;       /* faces failing the injectivity test, re-checked independently (0 expected) */
-  double l2_error;              /* sum of the faces' (3.3) terms, normalised (see sdk/layout/simplify/README.md) */
+  double l2_error;              /* sum of the faces' (3.3) terms, lengths in units of sqrt(the input's mean
+                                   face area) */
   double l21_error;             /* sum of the faces' (3.4) terms, normalised */
 } cagekit_polygonal_level_info;
 
@@ -754,7 +755,7 @@ CAGEKIT_API cagekit_status cagekit_hierarchy_get_refined_polygon_mesh(cagekit_hi
 typedef enum cagekit_crease_rule {
   /* Where the scan itself is sharp (the default): at least 90 % of the length of the input edges
    * along the cage edge's border between the two clusters run along sharp input features, the
-   * one definition all methods use (CAGEKIT_REMESH_* follow it too): input edges whose two faces'
+   * one definition all methods use (both remeshers follow it too): input edges whose two faces'
    * normals differ by more than feature_angle_degrees, confirmed by the mean normals of the faces
    * around the edge on either side differing by more than half that angle (a scan's noise is not
    * sharp), on connected feature lines of at least 2 % of the bounding-box diagonal. Organic
@@ -778,8 +779,6 @@ typedef struct cagekit_cage_options {
    * input edges that separate the clusters must exceed this (degrees). Default -1: off (the
    * clusters' normals alone decide). SHARP_INPUT: unused. */
   double input_crease_angle_degrees;
-  /* Members below were appended for issue 20; a caller whose struct_size ends before them gets
-   * their defaults (so the SHARP_INPUT rule). */
   cagekit_crease_rule crease_rule;  /* default CAGEKIT_CREASES_SHARP_INPUT */
   double feature_angle_degrees;     /* SHARP_INPUT: the dihedral angle above which an input edge may be a
                                        sharp feature, in [0, 180] (default 40; the remeshers' default too) */
@@ -871,7 +870,6 @@ typedef struct cagekit_fit_options {
   cagekit_bool32 select_best_two_sided; /* 1 (default): return the state with the lowest two-sided RMS distance
                                     (scan -> surface and surface -> scan, cagekit_fit_two_sided), not the
                                     last one; 0: the last state kept (the thesis's rule alone) */
-  /* Appended after 1.0's first members; a caller whose struct_size ends before it gets the default. */
   double reverse_sample_factor; /* two-sided least squares (not in the thesis): each step also pulls the
                                    limit surface's grid points (projection_seed_resolution + 1)^2 per ptex
                                    face) that lie farther than this x the scan -> surface RMS from the
@@ -879,7 +877,6 @@ typedef struct cagekit_fit_options {
                                    stopped by the two-sided RMS instead of L2. Needs the scan's faces
                                    (ignored for bare points). Finite, 0..100 (default 0: off, the thesis's
                                    one-sided fit; cagekit_scan_to_cage's last phase uses 3) */
-  /* Appended after reverse_sample_factor; a caller whose struct_size ends before it gets the default. */
   double crease_feature_reach;  /* crease-feature rows (not in the thesis): each step also pulls the points
                                    of the limit surface's crease curves (along the cage's infinitely sharp
                                    edges with two faces) that lie within this x the scan's bounding-box
@@ -1022,12 +1019,12 @@ typedef struct cagekit_binding_info {
   uint64_t vertices_with_sideways_residual; /* normal mode: vertices above 1e-6 of the diagonal */
   double bbox_diagonal;
   cagekit_bool32 has_exact_normals;
-  /* Appended (issue #5): the CPU deformer's compact table (sdk/multires/patch_deformer_table.h). */
+  /* The CPU deformer's compact table. */
   double deform_bytes_per_vertex;      /* bytes read + written per vertex in one full CPU frame of
                                           positions + approximate normals (table, outputs, control) */
   uint32_t compact_cells;              /* bicubic cells of the table (0: no table, sparse rows used) */
   uint32_t irregular_vertices;         /* vertices the table evaluates from their sparse rows */
-  /* Appended: sector split (cagekit_bind_options.sharp_angle_degrees >= 0). */
+  /* Sector split (cagekit_bind_options.sharp_angle_degrees >= 0). */
   uint32_t scan_vertex_count;          /* the scan's vertices; vertex_count - scan_vertex_count
                                           are copies made at sharp features (equal without split) */
   cagekit_bool32 has_sector_split;     /* 1: bound vertices are per smooth sector (see below) */
@@ -1050,8 +1047,8 @@ CAGEKIT_API cagekit_status cagekit_binding_get_info(cagekit_binding binding, cag
  * vertex); a saved binding keeps the cage it was made from, the options and per vertex the foot
  * point, displacement and normal coefficients, and reading it rebuilds the limit surface, the
  * basis rows and the deformer's compact table from them: the result equals the binding that was
- * saved, bit for bit. Format: little-endian sections, documented in sdk/multires/binding_file.h;
- * ~118 bytes per scan vertex (normal mode), ~134 (local frame or exact normals).
+ * saved, bit for bit. Format: little-endian sections, versioned; about
+ * 118 bytes per scan vertex (normal mode), 134 (local frame or exact normals).
  * Writing: to a file atomically (a failed write never leaves a partial file) or into a new
  * blob. Reads the binding; thread-safe. Errors: INVALID_HANDLE, INVALID_ARGUMENT (path or out
  * NULL), IO. */
@@ -1087,8 +1084,7 @@ CAGEKIT_API cagekit_status cagekit_binding_get_faces(cagekit_binding binding, ui
  * vertex order; where that order does not follow the cells, the stores are scattered and cost
  * most of a full frame. A host that may renumber its scan (e.g. on import) applies this order
  * once (new index of order[k] = k, faces remapped) and binds again: the writes become sequential
- * streaming stores (on 2 cores, 625K-triangle scan: 226-280 full frames/s with double outputs
- * against 192-231 in the scan's own order, tests/bench/RESULTS.md).
+ * streaming stores, which makes full frames faster.
  * Optional; the deformer gives the same positions either way. Two-call sizing as above.
  * Thread-safe. Errors: INVALID_HANDLE, INVALID_ARGUMENT (count NULL), SIZE_INSUFFICIENT. */
 CAGEKIT_API cagekit_status cagekit_binding_get_deformer_vertex_order(cagekit_binding binding, uint32_t capacity,
@@ -1135,7 +1131,7 @@ CAGEKIT_API cagekit_status cagekit_cpu_deformer_update(cagekit_cpu_deformer defo
                                                        uint32_t vertex_capacity, double* positions, double* normals,
                                                        uint32_t* updated_count);
 
-/* Appended (issue #5): the same two calls writing float32 positions and normals (xyz triples,
+/* The same two calls writing float32 positions and normals (xyz triples,
  * 3 * vertex_count floats each; either may be NULL), for hosts that draw float32 vertex arrays
  * (half the bytes written per frame; the full recompute is faster). `control` stays double.
  * Every value written is the double call's value rounded to float (the deformer's compact path
@@ -1321,126 +1317,130 @@ CAGEKIT_API cagekit_status cagekit_gl_deformer_read_back(cagekit_gl_deformer def
 /* Remeshing (thesis chapter 5: anisotropic; chapter 6: two-step quad-dominant)              */
 /* ------------------------------------------------------------------------------------------ */
 
-/* Remeshing methods. ANISOTROPIC samples the surface with lines of principal curvature (plus
- * feature and boundary lines) and meshes their intersections into a quad-dominant mesh whose
- * edges follow the principal directions (thesis ch. 5, sdk/layout/anisotropic/README.md). QUAD is the
- * two-step quad-dominant remesher (thesis ch. 6): a VSA segmentation into `regions` nearly flat
- * regions, samples at spacing `edge_length` on the region boundaries (shared by both
- * neighbours), per region a curve network in a conformal parameterisation and an energy-driven
- * selection of its curves (weights of Table 6.1), Laplacian relaxation, mapping back to the
- * surface and gluing the regions; region boundaries whose dihedral angle exceeds
- * `feature_angle_degrees` become crease tags. Other methods may be added with new values;
- * options and report are shared. */
-typedef enum cagekit_remesh_method {
-  CAGEKIT_REMESH_ANISOTROPIC = 0,
-  CAGEKIT_REMESH_QUAD = 1,
-  CAGEKIT_REMESH_METHOD_MAX_ENUM = 0x7fffffff
-} cagekit_remesh_method;
+/* Two remeshers turn a triangle mesh into a quad-dominant cage, each with its own options and
+ * report: cagekit_mesh_remesh_anisotropic (thesis ch. 5) samples the surface with lines of
+ * principal curvature (plus feature and boundary lines) and meshes their intersections, so the
+ * cage's edges follow the principal directions;
+ * cagekit_mesh_remesh_quad (thesis ch. 6) segments the surface into nearly flat regions (VSA),
+ * samples their boundaries (shared by both neighbours), lays out each region by an energy-driven
+ * selection of curves in a conformal parameterisation (weights of Table 6.1), relaxes, maps back
+ * to the surface and glues the regions. Both tag the cage edges on
+ * feature lines / sharp region boundaries as infinitely sharp creases. */
 
-typedef struct cagekit_remesh_options {
-  size_t struct_size;             /* sizeof(cagekit_remesh_options) */
-  cagekit_remesh_method method;   /* default CAGEKIT_REMESH_ANISOTROPIC */
-  double tolerance;               /* ANISOTROPIC: approximation tolerance relative to the bbox diagonal, in
-                                     (0, 1]; the line spacing follows the chord-height rule (5.10) (default
-                                     0.002). QUAD: unused */
-  double feature_angle_degrees;   /* ANISOTROPIC: edges whose faces' normals differ by more than this become
-                                     feature lines and crease tags. QUAD: region boundaries whose input edges'
-                                     length-weighted mean dihedral angle exceeds this become crease tags.
-                                     < 0: none; <= 180 (default 40) */
-  uint32_t max_face_valence;      /* ANISOTROPIC: faces with more corners are split, >= 3 (default 5). QUAD:
-                                     checked, unused (the selection's energy keeps valences low) */
-  uint32_t threads;               /* worker threads (ANISOTROPIC: curvature field; QUAD: regions of the curve
-                                     selection), 0 = all cores (default 0) */
-  double curvature_radius;        /* ANISOTROPIC: curvature averaging radius relative to the bbox diagonal
-                                     (thesis: 0.01), capped at 6 mean edge lengths (bounded cost on dense
-                                     meshes); 0: three mean edge lengths (default 0.01). QUAD: unused */
-  /* Members below were appended for CAGEKIT_REMESH_QUAD; a caller whose struct_size ends before
-   * them gets their defaults. */
-  double edge_length;             /* QUAD: δ, the spacing of the samples on the region boundaries relative
-                                     to the bbox diagonal, in (0, 1] (thesis: 0.02-0.10; default 0.05) */
-  uint32_t regions;               /* QUAD: number of VSA regions |S|, <= the triangle count; 0: the first
-                                     count (up to 200) whose L2,1 error / area <= region_tolerance
-                                     (default 30) */
-  double region_tolerance;        /* QUAD with regions = 0: a mean of |n_f - N|^2, >= 0 (default 0.01) */
-  double triangle_weight;         /* QUAD: w_tri of Table 6.1, the cost of a triangle, > 0 (default 40) */
-  double pentagon_weight;         /* QUAD: w_PT, the cost of a pentagon, > 0 (default 40) */
-  double t_joint_weight;          /* QUAD: w_T, the cost of a T-joint, > 0 (default 100) */
-  uint32_t refinement_passes;     /* QUAD: sweeps of the sample-count refinement (not in the thesis): an arc
-                                     next to an irregular region gets one sample more or fewer when
-                                     re-selecting its regions makes the cage more regular there; <= 16.
-                                     0: off (faster; a few points fewer quads / valence-4 vertices,
-                                     tests/bench/RESULTS.md) (default 1) */
-  /* Members below were appended for the host's control of the QUAD segmentation; a caller whose
-   * struct_size ends before them gets none. Face ids are the input mesh's (a polygon stands for
-   * all of its triangles). The arrays are read during the call only (the caller keeps them). */
-  const uint32_t* seed_faces;     /* QUAD: faces that each start a VSA region (they then relax like the
-                                     others); distinct, not pinned. NULL with seed_face_count 0 (default) */
-  uint32_t seed_face_count;
-  uint32_t pinned_region_count;   /* QUAD: regions the host fixes: region k is the faces
-                                     pinned_faces[pinned_region_offsets[k] .. pinned_region_offsets[k + 1]),
-                                     edge-connected, disjoint, never changed by the segmentation and
-                                     counted in `regions` (default 0) */
-  const uint32_t* pinned_region_offsets; /* pinned_region_count + 1 non-decreasing offsets, first 0 */
-  const uint32_t* pinned_faces;
-} cagekit_remesh_options;
-
-#define CAGEKIT_REMESH_OPTIONS_INIT                                                                          \
-  { sizeof(cagekit_remesh_options), CAGEKIT_REMESH_ANISOTROPIC, 0.002, 40.0, 5, 0, 0.01, 0.05, 30, 0.01, 40.0, 40.0, \
-    100.0, 1, NULL, 0, 0, NULL, NULL }
-
-typedef struct cagekit_remesh_report {
-  size_t struct_size;             /* sizeof(cagekit_remesh_report) */
+/* Figures of a remeshed cage, the same for both remeshers. */
+typedef struct cagekit_remesh_quality {
   uint64_t faces, vertices, quads;
   uint64_t interior_vertices;     /* vertices not on a boundary edge of the output */
   uint64_t valence4_vertices;     /* interior vertices with 4 edges */
   uint32_t max_face_valence, max_vertex_valence;
-  uint64_t creases;               /* output edges on feature lines / sharp region boundaries (tagged
-                                     infinitely sharp) */
-  uint64_t regions;               /* anisotropic: connected regions of confident input faces; quad: VSA regions */
-  uint64_t lines;                 /* anisotropic: sampled lines of all types; quad: region-boundary arcs */
-  uint64_t holes;                 /* half-edges that could not be closed into faces (0 expected) */
-  double mean_alignment_deg;      /* anisotropic: mean angle between the output edges along curvature lines and
-                                     the nearer principal direction (mean of the two ends' directions, i.e. the
-                                     tangent at the middle of a curved edge), over edges whose ends lie on
-                                     confident faces (Λ >= cos π/6) */
+  uint64_t creases;               /* cage edges tagged infinitely sharp */
   double min_scaled_jacobian;     /* min over face corners of sin(corner angle) (the scaled Jacobian of a quad
                                      corner); T-joint vertices (within 10° of straight) are not corners;
                                      < 0 only at a concave corner */
   double seconds;                 /* whole call */
-  /* QUAD: how the regions were made disk-like (0 for ANISOTROPIC). */
-  uint64_t requested_regions;     /* the count asked for (`regions` of the options, or max_regions): raised to
-                                     the mesh's connected components and capped at its triangles when no
-                                     regions are pinned or seeded */
+} cagekit_remesh_quality;
+
+typedef struct cagekit_anisotropic_options {
+  size_t struct_size;             /* sizeof(cagekit_anisotropic_options) */
+  double tolerance;               /* approximation tolerance relative to the bbox diagonal, in (0, 1]; the line
+                                     spacing follows the chord-height rule (5.10) (default 0.002) */
+  double feature_angle_degrees;   /* edges whose faces' normals differ by more than this become feature lines
+                                     and crease tags; < 0: none; <= 180 (default 40) */
+  uint32_t max_face_valence;      /* faces with more corners are split, 3..1000000 (default 5) */
+  uint32_t threads;               /* worker threads of the curvature field, 0..1024; 0 = all cores (default) */
+  double curvature_radius;        /* curvature averaging radius relative to the bbox diagonal (thesis: 0.01),
+                                     capped at 6 mean edge lengths (bounded cost on dense meshes); 0: three
+                                     mean edge lengths; in [0, 1] (default 0.01) */
+} cagekit_anisotropic_options;
+
+#define CAGEKIT_ANISOTROPIC_OPTIONS_INIT { sizeof(cagekit_anisotropic_options), 0.002, 40.0, 5, 0, 0.01 }
+
+typedef struct cagekit_anisotropic_report {
+  size_t struct_size;             /* sizeof(cagekit_anisotropic_report) */
+  cagekit_remesh_quality quality;
+  uint64_t regions;               /* connected regions of confident input faces */
+  uint64_t lines;                 /* sampled lines of all types */
+  uint64_t holes;                 /* half-edges that could not be closed into faces (0 expected) */
+  double mean_alignment_deg;      /* mean angle between the output edges along curvature lines and the nearer
+                                     principal direction (mean of the two ends' directions, i.e. the tangent
+                                     at the middle of a curved edge), over edges whose ends lie on confident
+                                     faces (Λ >= cos π/6) */
+} cagekit_anisotropic_report;
+
+typedef struct cagekit_quad_remesh_options {
+  size_t struct_size;             /* sizeof(cagekit_quad_remesh_options) */
+  double edge_length;             /* δ, the spacing of the samples on the region boundaries relative to the
+                                     bbox diagonal, in (0, 1] (thesis: 0.02-0.10; default 0.05) */
+  uint32_t regions;               /* number of VSA regions |S|, 0..1000000; 0: the first count (up to 200)
+                                     whose L2,1 error / area <= region_tolerance (default 30) */
+  double region_tolerance;        /* used with regions = 0: a mean of |n_f - N|^2, finite and >= 0 (default
+                                     0.01) */
+  double crease_angle_degrees;    /* region boundaries whose input edges' length-weighted mean dihedral angle
+                                     exceeds this become crease tags; < 0: none; <= 180 (default 40) */
+  double triangle_weight;         /* w_tri of Table 6.1, the cost of a triangle, finite and > 0 (default 40) */
+  double pentagon_weight;         /* w_PT, the cost of a pentagon, finite and > 0 (default 40) */
+  double t_joint_weight;          /* w_T, the cost of a T-joint, finite and > 0 (default 100) */
+  uint32_t refinement_passes;     /* sweeps of the sample-count refinement (not in the thesis): an arc next to
+                                     an irregular region gets one sample more or fewer when re-selecting its
+                                     regions makes the cage more regular there; 0..16. 0: off (faster; a few
+                                     points fewer quads / valence-4 vertices) (default 1) */
+  uint32_t threads;               /* workers over the regions of the curve selection, 0..1024; 0 = all cores
+                                     (default) */
+  /* The host's control of the segmentation. Face ids are the input mesh's (a polygon stands for
+   * all of its triangles). The arrays are read during the call only (the caller keeps them). */
+  const uint32_t* seed_faces;     /* faces that each start a VSA region (they then relax like the others);
+                                     distinct, not pinned. NULL with seed_face_count 0 (default) */
+  uint32_t seed_face_count;
+  uint32_t pinned_region_count;   /* regions the host fixes: region k is the faces
+                                     pinned_faces[pinned_region_offsets[k] .. pinned_region_offsets[k + 1]),
+                                     edge-connected, disjoint, never changed by the segmentation and counted
+                                     in `regions` (default 0) */
+  const uint32_t* pinned_region_offsets; /* pinned_region_count + 1 non-decreasing offsets, first 0 */
+  const uint32_t* pinned_faces;
+} cagekit_quad_remesh_options;
+
+#define CAGEKIT_QUAD_REMESH_OPTIONS_INIT                                                                   \
+  { sizeof(cagekit_quad_remesh_options), 0.05, 30, 0.01, 40.0, 40.0, 40.0, 100.0, 1, 0, NULL, 0, 0, NULL, NULL }
+
+typedef struct cagekit_quad_remesh_report {
+  size_t struct_size;             /* sizeof(cagekit_quad_remesh_report) */
+  cagekit_remesh_quality quality;
+  uint64_t regions;               /* VSA regions used, after the splits below */
+  uint64_t arcs;                  /* region-boundary arcs */
+  uint64_t requested_regions;     /* the count asked for (`regions` of the options, or 200 by tolerance):
+                                     raised to the mesh's connected components and capped at its triangles
+                                     when no regions are pinned or seeded */
   uint64_t split_regions;         /* regions split: closed, with a handle, a folding map, or a failed layout */
   uint64_t merged_regions;        /* sliver regions (their sample loop has no area) merged into a neighbour */
   uint64_t layout_retries;        /* layouts redone after such splits or merges (at most 3) */
   uint64_t mended_faces;          /* faces of the final layout repaired in place: where two regions' faces
                                      coincided (thin parts one face wide per side) a vertex was added inside
                                      one of them; a face repeating a vertex was cut there */
-  uint64_t partitioned_regions;   /* QUAD: regions whose layout still failed after the retries, laid out
-                                     instead by the quad-dominant partition of their polygon of boundary
-                                     samples (no inner vertices); 0 in most results */
-} cagekit_remesh_report;
+  uint64_t partitioned_regions;   /* regions whose layout still failed after the retries, laid out instead by
+                                     the quad-dominant partition of their polygon of boundary samples (no
+                                     inner vertices); 0 in most results */
+} cagekit_quad_remesh_report;
 
-/* Remeshes `mesh` with `options` (NULL: defaults) into a new cage: the output polygon mesh, with
- * the edges on feature lines (ANISOTROPIC) or sharp region boundaries (QUAD) tagged as infinitely
- * sharp creases; the output is a valid oriented 2-manifold. The mesh must be an oriented
- * 2-manifold (boundary allowed) with finite positions; faces with more than 3 vertices are
- * fan-triangulated first. Errors: INVALID_ARGUMENT (NULL out, bad options or method; QUAD: with
- * pinned regions or seeds, more regions than triangles or fewer than the mesh's connected
- * components; without them the count is adjusted and reported), INVALID_MESH (naming the
+/* Remeshes `mesh` into a new cage: a valid oriented 2-manifold polygon mesh whose edges on
+ * feature lines (anisotropic) or sharp region boundaries (quad) are tagged as infinitely sharp
+ * creases. The mesh must be an oriented 2-manifold (boundary allowed) with finite positions;
+ * faces with more than 3 vertices are fan-triangulated first. `options` NULL: the defaults;
+ * `report` may be NULL. *out receives one reference.
+ * Errors: INVALID_HANDLE; INVALID_ARGUMENT (out NULL, an option out of its range, naming it; quad:
+ * with pinned regions or seeds, more regions than triangles or fewer than the mesh's connected
+ * components — without them the count is adjusted and reported); INVALID_MESH (naming the
  * problem: faces with < 3 or repeated vertices, bad indices, non-manifold or inconsistently
- * oriented edges, non-finite positions, an empty or zero-extent mesh; QUAD: a pinned region with
- * a handle; other regions that are closed, have a handle or fold are split), CANCELLED,
- * OUT_OF_MEMORY, INTERNAL (the result failed its validity check after the retries, naming the
- * region). An input on which no lines
- * intersect (ANISOTROPIC, too large a tolerance for its size) is INVALID_MESH with a message
- * saying so. `report` may be NULL.
- * Long operation (progress stages ANISOTROPIC "curvature field", "curvature lines", "meshing";
- * QUAD "vsa segmentation", "remesh constraints", "quad region selection", "post-processing";
- * cancel). Reads `mesh`; thread-safe for distinct outputs. */
-CAGEKIT_API cagekit_status cagekit_mesh_remesh(cagekit_mesh mesh, const cagekit_remesh_options* options,
-                                               cagekit_cage* out, cagekit_remesh_report* report);
+ * oriented edges, non-finite positions, an empty or zero-extent mesh; anisotropic: no two lines
+ * intersect (too large a tolerance for the mesh's size); quad: a pinned region with a handle —
+ * other regions that are closed, have a handle or fold are split); CANCELLED; OUT_OF_MEMORY;
+ * INTERNAL (the result failed its validity check after the retries, naming the region).
+ * Long operations (progress stages anisotropic "curvature field", "curvature lines", "meshing";
+ * quad "vsa segmentation", "remesh constraints", "quad region selection", "post-processing";
+ * cancel). Reads `mesh`; thread-safe. */
+CAGEKIT_API cagekit_status cagekit_mesh_remesh_anisotropic(cagekit_mesh mesh, const cagekit_anisotropic_options* options,
+                                                           cagekit_cage* out, cagekit_anisotropic_report* report);
+CAGEKIT_API cagekit_status cagekit_mesh_remesh_quad(cagekit_mesh mesh, const cagekit_quad_remesh_options* options,
+                                                    cagekit_cage* out, cagekit_quad_remesh_report* report);
 
 /* ------------------------------------------------------------------------------------------ */
 /* Scan to cage: the whole journey in one call                                                 */
@@ -1475,8 +1475,9 @@ typedef struct cagekit_scan_to_cage_options {
   cagekit_level_query target_query;
   double target;                    /* >= 1 (default 60) */
   const cagekit_cage_options* cage; /* SIMPLIFY's cage options; NULL = defaults. Read during the call. */
-  const cagekit_remesh_options* remesh; /* QUAD / ANISOTROPIC options (its `method` is ignored: `method`
-                                           above decides); NULL = defaults. Read during the call. */
+  const cagekit_quad_remesh_options* quad;          /* QUAD's options; NULL = defaults. Read during the call. */
+  const cagekit_anisotropic_options* anisotropic;   /* ANISOTROPIC's options; NULL = defaults. Read during
+                                                       the call. */
   const cagekit_fit_options* fit;   /* NULL = defaults. Read during the call. */
   uint32_t limit_levels;            /* the fitted cage is refined this often onto its limit for the error
                                        figures and *limit_out, 1..CAGEKIT_MAX_SUBDIVISION_LEVELS (default 3) */
@@ -1496,7 +1497,6 @@ typedef struct cagekit_scan_to_cage_options {
   uint32_t finer_simplify_attempts; /* a SIMPLIFY result whose limit surface strays from the scan is tried
                                        again at 2x, 4x, ... the target, at most this often, 0..8 (default 2;
                                        0: never); report->simplify_target_used says which was returned */
-  /* Appended after 1.0's first members; a caller whose struct_size ends before it gets the default. */
   double two_sided_refit_factor;    /* the last phase: the good result's cage is fitted again by two-sided
                                        least squares (cagekit_fit_options.reverse_sample_factor = this), and
                                        that fit is kept when the larger of the limit's two one-sided maxima
@@ -1507,7 +1507,7 @@ typedef struct cagekit_scan_to_cage_options {
 
 #define CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT                                                               \
   { sizeof(cagekit_scan_to_cage_options), CAGEKIT_SCAN_SIMPLIFY, 1, CAGEKIT_COMPONENTS_ALL, 1e-7,         \
-    CAGEKIT_LEVEL_BY_FACES, 60.0, NULL, NULL, NULL, 3, 2, 0.05, 3.0, 1000, 1, 2, 3.0 }
+    CAGEKIT_LEVEL_BY_FACES, 60.0, NULL, NULL, NULL, NULL, 3, 2, 0.05, 3.0, 1000, 1, 2, 3.0 }
 
 /* Every figure of one scan-to-cage run. Distances are relative to the conditioned scan's
  * bounding-box diagonal. */
@@ -1532,10 +1532,10 @@ typedef struct cagekit_scan_to_cage_report {
   uint64_t level_faces, level_faces_with_holes; /* SIMPLIFY: polygons of that level */
   uint64_t cage_vertices, cage_faces, cage_quads, cage_triangles; /* the fitted cage */
   uint64_t creases;                 /* crease edges of the cage */
-  uint64_t remesh_regions, remesh_lines, remesh_holes; /* as cagekit_remesh_report's regions, lines, holes */
+  uint64_t remesh_regions, remesh_lines, remesh_holes; /* regions; lines (anisotropic) or arcs (quad); holes (anisotropic) */
   uint64_t interior_vertices, valence4_vertices; /* of the cage */
   uint32_t max_face_valence, max_vertex_valence;
-  double mean_alignment_deg;        /* ANISOTROPIC, as in cagekit_remesh_report */
+  double mean_alignment_deg;        /* ANISOTROPIC, as in cagekit_anisotropic_report */
   double method_scan_to_cage_max_rel, method_cage_to_scan_max_rel, method_mean_rel; /* the initial cage's
                                        control mesh against the scan */
   /* 3. the cage */
@@ -1570,7 +1570,7 @@ typedef struct cagekit_scan_to_cage_report {
                                        after a remedy: for self-intersections, or for a limit that strayed
                                        from the scan, which is fitted again with more fairing before any
                                        finer target or fallback is tried) */
-  /* Appended: the last phase (cagekit_scan_to_cage_options.two_sided_refit_factor). */
+  /* The last phase (cagekit_scan_to_cage_options.two_sided_refit_factor). */
   cagekit_bool32 two_sided_refit;   /* 1 when the returned fit is the two-sided refit */
   double one_sided_fit_max_rel;     /* then: max(scan -> limit, limit -> scan) of the one-sided fit it
                                        replaced (0 when two_sided_refit is 0) */
@@ -1586,7 +1586,7 @@ typedef struct cagekit_scan_to_cage_report {
  * NULL) the fitted cage refined limit_levels times onto its limit, and *report (may be NULL)
  * holds every figure. `fit_report` (may be NULL) receives the fit's report exactly as
  * cagekit_cage_fit writes it (its pass array is the caller's, as there). Hosts keep the
- * individual steps (cagekit_mesh_repair, cagekit_hierarchy_*, cagekit_mesh_remesh,
+ * individual steps (cagekit_mesh_repair, cagekit_hierarchy_*, cagekit_mesh_remesh_*,
  * cagekit_cage_fit) for finer control.
  *
  * Errors: INVALID_HANDLE, INVALID_ARGUMENT (NULL cage_out, bad struct_size, an option out of range,

@@ -80,15 +80,28 @@ int command_convert(Args& args);
 int command_subdivide(Args& args);
 int command_simplify(Args& args);
 int command_remesh(Args& args);
+// The remesher a command runs and its options.
+struct RemeshSettings {
+  bool quad = false;  // cagekit_mesh_remesh_quad; else cagekit_mesh_remesh_anisotropic
+  cagekit_anisotropic_options anisotropic = CAGEKIT_ANISOTROPIC_OPTIONS_INIT;
+  cagekit_quad_remesh_options quad_options = CAGEKIT_QUAD_REMESH_OPTIONS_INIT;
+};
+// What both remeshers' reports say, as remesh_json_fields prints it (quad: lines = arcs, no holes
+// or alignment).
+struct RemeshFigures {
+  cagekit_remesh_quality quality{};
+  uint64_t regions = 0, lines = 0, holes = 0;
+  double mean_alignment_deg = 0.0;
+};
 // --method/--tolerance/--feature-angle/... (anisotropic) and --edge-length/--regions/--weights/...
 // (quad) of remesh and `pipeline --method anisotropic|quad` (values out of range: Failure with
 // kExitBadInput).
-cagekit_remesh_options parse_remesh_options(Args& args, const std::string& method);
+RemeshSettings parse_remesh_options(Args& args, const std::string& method);
 // The method and its main settings as JSON fields (no braces): "method": "anisotropic",
 // "tolerance": ... or "method": "quad", "edge_length": ..., "weights": [tri, pent, tjoint].
-std::string remesh_method_json(const cagekit_remesh_options& options);
+std::string remesh_method_json(const RemeshSettings& settings);
 // The report's JSON fields (no braces): faces, vertices, quads_pct, ..., mean_alignment_deg.
-std::string remesh_json_fields(const cagekit_remesh_report& report, const cagekit_approximation_error& error);
+std::string remesh_json_fields(const RemeshFigures& figures, const cagekit_approximation_error& error);
 int command_demo(Args& args);
 int command_fit(Args& args);
 int command_pipeline(Args& args);

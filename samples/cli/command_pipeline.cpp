@@ -77,7 +77,7 @@ int command_pipeline(Args& args) {
   int faces = -1, vertices = -1, limit_levels = 3;
   double fit_tolerance = -1.0, weld = 1e-7, two_sided_refit = 3.0;
   cagekit_cage_options cage = CAGEKIT_CAGE_OPTIONS_INIT;
-  cagekit_remesh_options remesh = CAGEKIT_REMESH_OPTIONS_INIT;
+  RemeshSettings remesh;
   try {
     method = args.option("--method", "simplify");
     const bool remeshing = method == "anisotropic" || method == "quad";
@@ -116,7 +116,8 @@ int command_pipeline(Args& args) {
   options.target_query = vertices > 0 ? CAGEKIT_LEVEL_BY_VERTICES : CAGEKIT_LEVEL_BY_FACES;
   if (faces > 0 || vertices > 0) options.target = faces > 0 ? faces : vertices;
   options.cage = &cage;
-  options.remesh = &remesh;
+  options.quad = &remesh.quad_options;
+  options.anisotropic = &remesh.anisotropic;
   options.fit = &fit;
   options.limit_levels = static_cast<uint32_t>(limit_levels);
   options.two_sided_refit_factor = two_sided_refit;
@@ -162,21 +163,20 @@ int command_pipeline(Args& args) {
                   json_number(method_error.hausdorff_sym_rel) + ", \"mean_rel\": " +
                   json_number(method_error.mean_rel) + "}, \"seconds\": " + json_number(r.method_seconds) + "}";
   } else {
-    cagekit_remesh_report rr = {};
-    rr.struct_size = sizeof(rr);
-    rr.faces = r.cage_faces;
-    rr.vertices = r.cage_vertices;
-    rr.quads = r.cage_quads;
-    rr.interior_vertices = r.interior_vertices;
-    rr.valence4_vertices = r.valence4_vertices;
-    rr.max_face_valence = r.max_face_valence;
-    rr.max_vertex_valence = r.max_vertex_valence;
-    rr.creases = r.creases;
+    RemeshFigures rr;
+    rr.quality.faces = r.cage_faces;
+    rr.quality.vertices = r.cage_vertices;
+    rr.quality.quads = r.cage_quads;
+    rr.quality.interior_vertices = r.interior_vertices;
+    rr.quality.valence4_vertices = r.valence4_vertices;
+    rr.quality.max_face_valence = r.max_face_valence;
+    rr.quality.max_vertex_valence = r.max_vertex_valence;
+    rr.quality.creases = r.creases;
     rr.regions = r.remesh_regions;
     rr.lines = r.remesh_lines;
     rr.holes = r.remesh_holes;
     rr.mean_alignment_deg = r.mean_alignment_deg;
-    remesh.method = r.used_method == CAGEKIT_SCAN_QUAD ? CAGEKIT_REMESH_QUAD : CAGEKIT_REMESH_ANISOTROPIC;
+    remesh.quad = r.used_method == CAGEKIT_SCAN_QUAD;
     method_json = "\"remesh\": {" + remesh_method_json(remesh) + ", " + remesh_json_fields(rr, method_error) +
                   ", \"seconds\": " + json_number(r.method_seconds) + "}";
   }

@@ -22,7 +22,7 @@ double percent(uint64_t part, uint64_t whole) { return whole ? 100.0 * double(pa
 namespace {
 
 // "--weights TRI,PENT,TJOINT": three positive finite numbers.
-void parse_weights(const std::string& text, cagekit_remesh_options& o) {
+void parse_weights(const std::string& text, cagekit_quad_remesh_options& o) {
   double w[3];
   const char* p = text.c_str();
   for (int i = 0; i < 3; ++i) {
@@ -39,56 +39,62 @@ void parse_weights(const std::string& text, cagekit_remesh_options& o) {
 
 }  // namespace
 
-cagekit_remesh_options parse_remesh_options(Args& args, const std::string& method) {
-  cagekit_remesh_options o = CAGEKIT_REMESH_OPTIONS_INIT;
+RemeshSettings parse_remesh_options(Args& args, const std::string& method) {
+  RemeshSettings settings;
   if (method != "anisotropic" && method != "quad")
     throw Failure(kExitBadInput, "--method must be 'anisotropic' or 'quad', not '" + method + "'");
   try {
     if (method == "quad") {
-      o.method = CAGEKIT_REMESH_QUAD;
+      cagekit_quad_remesh_options& o = settings.quad_options;
+      settings.quad = true;
       o.edge_length = args.real("--edge-length", 0.05, 1e-4, 1.0);
       o.regions = static_cast<uint32_t>(args.integer("--regions", 30, 0, 1000000));
       o.region_tolerance = args.real("--region-tolerance", 0.01, 0.0, 4.0);
       const std::string weights = args.option("--weights", "");
       if (!weights.empty()) parse_weights(weights, o);
       o.refinement_passes = static_cast<uint32_t>(args.integer("--refinement-passes", 1, 0, 16));
+      o.crease_angle_degrees = args.real("--feature-angle", 40.0, -1.0, 180.0);
+      o.threads = static_cast<uint32_t>(args.integer("--threads", 0, 0, 1024));
     } else {
-      o.method = CAGEKIT_REMESH_ANISOTROPIC;
+      cagekit_anisotropic_options& o = settings.anisotropic;
       o.tolerance = args.real("--tolerance", 0.002, 1e-7, 1.0);
       o.max_face_valence = static_cast<uint32_t>(args.integer("--max-face-valence", 5, 3, 1000));
       o.curvature_radius = args.real("--curvature-radius", 0.01, 0.0, 1.0);
+      o.feature_angle_degrees = args.real("--feature-angle", 40.0, -1.0, 180.0);
+      o.threads = static_cast<uint32_t>(args.integer("--threads", 0, 0, 1024));
     }
-    o.feature_angle_degrees = args.real("--feature-angle", 40.0, -1.0, 180.0);
-    o.threads = static_cast<uint32_t>(args.integer("--threads", 0, 0, 1024));
   } catch (const Failure& f) {  // option values are input: exit code 2
     throw Failure(f.code == kExitUsage ? kExitBadInput : f.code, f.what());
   }
-  return o;
+  return settings;
 }
 
-std::string remesh_method_json(const cagekit_remesh_options& o) {
+std::string remesh_method_json(const RemeshSettings& settings) {
   char buffer[256];
-  if (o.method == CAGEKIT_REMESH_QUAD)
+  const cagekit_quad_remesh_options& q = settings.quad_options;
+  if (settings.quad)
     std::snprintf(buffer, sizeof(buffer), "\"method\": \"quad\", \"edge_length\": %.9g, \"weights\": [%.9g, %.9g, %.9g], "
                   "\"refinement_passes\": %u",
-                  o.edge_length, o.triangle_weight, o.pentagon_weight, o.t_joint_weight, o.refinement_passes);
+                  q.edge_length, q.triangle_weight, q.pentagon_weight, q.t_joint_weight, q.refinement_passes);
   else
-    std::snprintf(buffer, sizeof(buffer), "\"method\": \"anisotropic\", \"tolerance\": %.9g", o.tolerance);
+    std::snprintf(buffer, sizeof(buffer), "\"method\": \"anisotropic\", \"tolerance\": %.9g",
+                  settings.anisotropic.tolerance);
   return buffer;
 }
 
-std::string remesh_json_fields(const cagekit_remesh_report& r, const cagekit_approximation_error& e) {
+std::string remesh_json_fields(const RemeshFigures& f, const cagekit_approximation_error& e) {
+  const cagekit_remesh_quality& q = f.quality;
   char buffer[1024];
   std::snprintf(buffer, sizeof(buffer),
                 "\"faces\": %llu, \"vertices\": %llu, \"quads_pct\": %.3f, \"valence4_vertices_pct\": %.3f, "
                 "\"max_face_valence\": %u, \"max_vertex_valence\": %u, \"creases\": %llu, \"hausdorff_rel\": %.9g, "
                 "\"hausdorff_sym_rel\": %.9g, \"min_scaled_jacobian\": %.6f, \"regions\": %llu, "
                 "\"mean_alignment_deg\": %.4f, \"lines\": %llu, \"holes\": %llu",
-                (unsigned long long)r.faces, (unsigned long long)r.vertices, percent(r.quads, r.faces),
-                percent(r.valence4_vertices, r.interior_vertices), r.max_face_valence, r.max_vertex_valence,
-                (unsigned long long)r.creases, e.hausdorff_rel, e.hausdorff_sym_rel, r.min_scaled_jacobian,
-                (unsigned long long)r.regions, r.mean_alignment_deg, (unsigned long long)r.lines,
-                (unsigned long long)r.holes);
+                (unsigned long long)q.faces, (unsigned long long)q.vertices, percent(q.quads, q.faces),
+                percent(q.valence4_vertices, q.interior_vertices), q.max_face_valence, q.max_vertex_valence,
+                (unsigned long long)q.creases, e.hausdorff_rel, e.hausdorff_sym_rel, q.min_scaled_jacobian,
+                (unsigned long long)f.regions, f.mean_alignment_deg, (unsigned long long)f.lines,
+                (unsigned long long)f.holes);
   return buffer;
 }
 
@@ -101,7 +107,7 @@ int command_remesh(Args& args) {
   const bool json = args.flag("--json");
   const std::string method = args.option("--method", "");
   if (method.empty()) throw Failure(kExitUsage, std::string("usage: ") + usage + " (--method is required)");
-  const cagekit_remesh_options options = parse_remesh_options(args, method);
+  const RemeshSettings settings = parse_remesh_options(args, method);
   const auto files = args.positional(2, 2, usage);
   const cagekit_file_format out_format = format_from_extension(files[1]);
   const auto start = std::chrono::steady_clock::now();
@@ -109,10 +115,27 @@ int command_remesh(Args& args) {
   Session session(quiet);
   Mesh input;
   session.check(cagekit_mesh_read_file(session.context(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, input.out()), files[0]);
-  cagekit_remesh_report report = {};
-  report.struct_size = sizeof(report);
+  RemeshFigures figures;
   Cage output;
-  session.check(cagekit_mesh_remesh(input.get(), &options, output.out(), &report), files[0]);
+  if (settings.quad) {
+    cagekit_quad_remesh_report report = {};
+    report.struct_size = sizeof(report);
+    session.check(cagekit_mesh_remesh_quad(input.get(), &settings.quad_options, output.out(), &report), files[0]);
+    figures.quality = report.quality;
+    figures.regions = report.regions;
+    figures.lines = report.arcs;
+  } else {
+    cagekit_anisotropic_report report = {};
+    report.struct_size = sizeof(report);
+    session.check(cagekit_mesh_remesh_anisotropic(input.get(), &settings.anisotropic, output.out(), &report),
+                  files[0]);
+    figures.quality = report.quality;
+    figures.regions = report.regions;
+    figures.lines = report.lines;
+    figures.holes = report.holes;
+    figures.mean_alignment_deg = report.mean_alignment_deg;
+  }
+  const cagekit_remesh_quality& quality = figures.quality;
   cagekit_write_options write = CAGEKIT_WRITE_OPTIONS_INIT;
   write.format = out_format;
   session.check(cagekit_cage_write_file(output.get(), files[1].c_str(), &write, nullptr), files[1]);
@@ -125,21 +148,21 @@ int command_remesh(Args& args) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   if (json) {
-    std::printf("{%s, %s, \"remesh_seconds\": %.3f, \"seconds\": %.3f}\n", remesh_method_json(options).c_str(),
-                remesh_json_fields(report, error).c_str(), report.seconds, seconds);
+    std::printf("{%s, %s, \"remesh_seconds\": %.3f, \"seconds\": %.3f}\n", remesh_method_json(settings).c_str(),
+                remesh_json_fields(figures, error).c_str(), quality.seconds, seconds);
   } else if (!quiet) {
-    char settings[128];
-    if (options.method == CAGEKIT_REMESH_QUAD)
-      std::snprintf(settings, sizeof(settings), "%llu regions, edge length %g", (unsigned long long)report.regions,
-                    options.edge_length);
+    char described[128];
+    if (settings.quad)
+      std::snprintf(described, sizeof(described), "%llu regions, edge length %g", (unsigned long long)figures.regions,
+                    settings.quad_options.edge_length);
     else
-      std::snprintf(settings, sizeof(settings), "tolerance %g", options.tolerance);
+      std::snprintf(described, sizeof(described), "tolerance %g", settings.anisotropic.tolerance);
     std::printf("%s -> %s (%s, %s): %llu faces (%.1f%% quads), %llu vertices (%.1f%% interior valence 4), "
                 "%llu creases, ",
-                files[0].c_str(), files[1].c_str(), method.c_str(), settings, (unsigned long long)report.faces,
-                percent(report.quads, report.faces), (unsigned long long)report.vertices,
-                percent(report.valence4_vertices, report.interior_vertices), (unsigned long long)report.creases);
-    if (options.method == CAGEKIT_REMESH_ANISOTROPIC) std::printf("mean alignment %.2f deg, ", report.mean_alignment_deg);
+                files[0].c_str(), files[1].c_str(), method.c_str(), described, (unsigned long long)quality.faces,
+                percent(quality.quads, quality.faces), (unsigned long long)quality.vertices,
+                percent(quality.valence4_vertices, quality.interior_vertices), (unsigned long long)quality.creases);
+    if (!settings.quad) std::printf("mean alignment %.2f deg, ", figures.mean_alignment_deg);
     std::printf("Hausdorff %.3g of the diagonal, %.2f s\n", error.hausdorff_sym_rel, seconds);
   }
   return kExitOk;

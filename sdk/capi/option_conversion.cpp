@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The C option structs -> the C++ options, each checked once, shared by every entry point that
-// takes them (cagekit_cage_fit, cagekit_hierarchy_build_cage, cagekit_mesh_remesh,
-// cagekit_scan_to_cage).
+// takes them (cagekit_cage_fit, cagekit_hierarchy_build_cage, cagekit_mesh_remesh_anisotropic,
+// cagekit_mesh_remesh_quad, cagekit_scan_to_cage). One table per struct drives its checks and
+// conversion, and is checked against the header's *_INIT defaults at compile time.
 #include "capi/option_conversion.h"
 
 #include <cmath>
@@ -9,29 +10,10 @@
 #include <string>
 
 #include "capi/api_guard.h"
+#include "capi/option_rules.h"
 
 namespace cagekit_capi {
 
-namespace {
-
-
-void check_range(uint32_t value, uint32_t min, uint32_t max, const char* name) {
-  if (value < min || value > max)
-    fail(Status::invalid_argument, std::string("cagekit_fit_options.") + name + " must be in " + std::to_string(min) +
-                                       ".." + std::to_string(max) + ", not " + std::to_string(value));
-}
-
-void check_real(double value, double min, double max, bool min_exclusive, const char* name) {
-  const bool ok = std::isfinite(value) && (min_exclusive ? value > min : value >= min) && value <= max;
-  if (!ok) {
-    std::string range = std::isinf(max) ? std::string(min_exclusive ? "> " : ">= ") + std::to_string(min)
-                                        : "in [" + std::to_string(min) + ", " + std::to_string(max) + "]";
-    fail(Status::invalid_argument,
-         std::string("cagekit_fit_options.") + name + " must be finite and " + range + ", not " + std::to_string(value));
-  }
-}
-
-}  // namespace
 
 cagekit_fit_pass fit_pass_to_c(const cagekit::FitPassStatistics& s) {
   cagekit_fit_pass p{};
@@ -54,52 +36,42 @@ cagekit_fit_two_sided fit_two_sided_to_c(const cagekit::FitPassStatistics& s) {
   return t;
 }
 
+// cagekit_fit_options: field, default (CAGEKIT_FIT_OPTIONS_INIT), rule, C++ destination in `f`.
+#define CAGEKIT_FIT_OPTION_TABLE(X, A)                                                                   \
+  X(A, max_passes, 5, (UintIn{0, 100000}), f.max_passes)                                                 \
+  X(A, tolerance, 1e-4, at_least(0.0), f.tolerance)                                                      \
+  X(A, fairing, 0.0, at_least(0.0), f.fairing)                                                           \
+  X(A, tangential_weight, 1.0, closed_range(0.0, 1.0), f.tangential_weight)                              \
+  X(A, keep_crease_vertices, 0, Boolean{}, f.keep_crease_vertices_on_samples)                            \
+  X(A, projection, CAGEKIT_PROJECTION_EXACT, kProjectionModes, f.projection)                             \
+  X(A, solver, CAGEKIT_LSQ_DIRECT, kSolvers, f.solver)                                                   \
+  X(A, threads, 0, (UintIn{0, 1024}), f.threads)                                                         \
+  X(A, max_projection_steps, 500, (UintIn{0, 100000}), f.closest_point.max_steps)                        \
+  X(A, projection_epsilon, 1e-6, greater_than(0.0), f.closest_point.epsilon)                            \
+  X(A, projection_seed_resolution, 4, (UintIn{1, 64}), f.closest_point.seed_resolution)                  \
+  X(A, weak_support_fraction, 0.05, at_least(0.0), f.weak_support_fraction)                              \
+  X(A, weak_fairing, 1.0, at_least(0.0), f.weak_fairing)                                                 \
+  X(A, select_best_two_sided, 1, Boolean{}, f.select_best_two_sided)                                     \
+  X(A, reverse_sample_factor, 0.0, closed_range(0.0, 100.0), f.reverse_sample_factor)                    \
+  X(A, crease_feature_reach, 0.02, closed_range(0.0, 1.0), f.crease_feature_reach)
+
+constexpr EnumRule<cagekit::ProjectionMode, 2> kProjectionModes{
+    "cagekit_projection_mode",
+    {{CAGEKIT_PROJECTION_EXACT, "CAGEKIT_PROJECTION_EXACT", cagekit::ProjectionMode::exact},
+     {CAGEKIT_PROJECTION_PIECEWISE_LINEAR, "CAGEKIT_PROJECTION_PIECEWISE_LINEAR",
+      cagekit::ProjectionMode::piecewise_linear}}};
+constexpr EnumRule<cagekit::LeastSquaresSolver, 2> kSolvers{
+    "cagekit_lsq_solver",
+    {{CAGEKIT_LSQ_DIRECT, "CAGEKIT_LSQ_DIRECT", cagekit::LeastSquaresSolver::direct},
+     {CAGEKIT_LSQ_CGLS, "CAGEKIT_LSQ_CGLS", cagekit::LeastSquaresSolver::cgls}}};
+
+constexpr cagekit_fit_options kFitDefaults = CAGEKIT_FIT_OPTIONS_INIT;
+CAGEKIT_FIT_OPTION_TABLE(CAGEKIT_ASSERT_DEFAULT, kFitDefaults)
+
 cagekit::FitOptions fit_options_from_c(const cagekit_fit_options* options) {
-  const cagekit_fit_options defaults = CAGEKIT_FIT_OPTIONS_INIT;
-  const cagekit_fit_options o = read_versioned(options, defaults, "cagekit_fit_options");
-  const double inf = HUGE_VAL;
-  check_range(o.max_passes, 0, 100000, "max_passes");
-  check_real(o.tolerance, 0.0, inf, false, "tolerance");
-  check_real(o.fairing, 0.0, inf, false, "fairing");
-  check_real(o.tangential_weight, 0.0, 1.0, false, "tangential_weight");
+  const cagekit_fit_options o = read_versioned(options, kFitDefaults, "cagekit_fit_options");
   cagekit::FitOptions f;
-  const int32_t projection = raw_enum(o.projection), solver = raw_enum(o.solver);
-  if (projection == CAGEKIT_PROJECTION_EXACT)
-    f.projection = cagekit::ProjectionMode::exact;
-  else if (projection == CAGEKIT_PROJECTION_PIECEWISE_LINEAR)
-    f.projection = cagekit::ProjectionMode::piecewise_linear;
-  else
-    fail(Status::invalid_argument, "cagekit_fit_options.projection (" + std::to_string(projection) +
-                                       ") is not a cagekit_projection_mode");
-  if (solver == CAGEKIT_LSQ_DIRECT)
-    f.solver = cagekit::LeastSquaresSolver::direct;
-  else if (solver == CAGEKIT_LSQ_CGLS)
-    f.solver = cagekit::LeastSquaresSolver::cgls;
-  else
-    fail(Status::invalid_argument,
-         "cagekit_fit_options.solver (" + std::to_string(solver) + ") is not a cagekit_lsq_solver");
-  check_range(o.threads, 0, 1024, "threads");
-  check_range(o.max_projection_steps, 0, 100000, "max_projection_steps");
-  check_real(o.projection_epsilon, 0.0, inf, true, "projection_epsilon");
-  check_range(o.projection_seed_resolution, 1, 64, "projection_seed_resolution");
-  check_real(o.weak_support_fraction, 0.0, inf, false, "weak_support_fraction");
-  check_real(o.weak_fairing, 0.0, inf, false, "weak_fairing");
-  f.max_passes = static_cast<int>(o.max_passes);
-  f.tolerance = o.tolerance;
-  f.fairing = o.fairing;
-  f.tangential_weight = o.tangential_weight;
-  f.keep_crease_vertices_on_samples = bool_from_c(o.keep_crease_vertices, "cagekit_fit_options.keep_crease_vertices");
-  f.threads = static_cast<int>(o.threads);
-  f.closest_point.max_steps = static_cast<int>(o.max_projection_steps);
-  f.closest_point.epsilon = o.projection_epsilon;
-  f.closest_point.seed_resolution = static_cast<int>(o.projection_seed_resolution);
-  f.weak_support_fraction = o.weak_support_fraction;
-  f.weak_fairing = o.weak_fairing;
-  f.select_best_two_sided = bool_from_c(o.select_best_two_sided, "cagekit_fit_options.select_best_two_sided");
-  check_real(o.reverse_sample_factor, 0.0, 100.0, false, "reverse_sample_factor");
-  f.reverse_sample_factor = o.reverse_sample_factor;
-  check_real(o.crease_feature_reach, 0.0, 1.0, false, "crease_feature_reach");
-  f.crease_feature_reach = o.crease_feature_reach;
+  CAGEKIT_FIT_OPTION_TABLE(CAGEKIT_APPLY_OPTION, "cagekit_fit_options.")
   return f;
 }
 
@@ -147,99 +119,104 @@ void write_fit_report(cagekit_fit_report* report, const PassArray& passes, const
   write_versioned(report, r, "cagekit_fit_report");
 }
 
+// cagekit_cage_options: field, default (CAGEKIT_CAGE_OPTIONS_INIT), rule, C++ destination in `bo`.
+#define CAGEKIT_CAGE_OPTION_TABLE(X, A)                                                               \
+  X(A, crease_angle_degrees, 30.0, at_most(180.0), bo.crease_angle_degrees)                           \
+  X(A, tag_boundary_edges, 1, Boolean{}, bo.tag_boundary_edges)                                       \
+  X(A, exact_partition_limit, 20, (UintIn{3, 64}), bo.partition.exact_vertex_limit)                   \
+  X(A, input_crease_angle_degrees, -1.0, at_most(180.0), bo.input_crease_angle_degrees)               \
+  X(A, crease_rule, CAGEKIT_CREASES_SHARP_INPUT, kCreaseRules, bo.crease_rule)                        \
+  X(A, feature_angle_degrees, 40.0, closed_range(0.0, 180.0), bo.features.angle_degrees)
+
+constexpr EnumRule<cagekit::CreaseRule, 2> kCreaseRules{
+    "cagekit_crease_rule",
+    {{CAGEKIT_CREASES_SHARP_INPUT, "CAGEKIT_CREASES_SHARP_INPUT", cagekit::CreaseRule::sharp_input},
+     {CAGEKIT_CREASES_CLUSTER_ANGLE, "CAGEKIT_CREASES_CLUSTER_ANGLE", cagekit::CreaseRule::cluster_angle}}};
+
+constexpr cagekit_cage_options kCageDefaults = CAGEKIT_CAGE_OPTIONS_INIT;
+CAGEKIT_CAGE_OPTION_TABLE(CAGEKIT_ASSERT_DEFAULT, kCageDefaults)
+
 cagekit::CageBuildOptions cage_options_from_c(const cagekit_cage_options* options) {
-  const cagekit_cage_options defaults = CAGEKIT_CAGE_OPTIONS_INIT;
-  const cagekit_cage_options o = read_versioned(options, defaults, "cagekit_cage_options");
-  if (!std::isfinite(o.crease_angle_degrees)) fail(Status::invalid_argument, "crease_angle_degrees must be finite");
-  if (!std::isfinite(o.input_crease_angle_degrees))
-    fail(Status::invalid_argument, "cagekit_cage_options.input_crease_angle_degrees must be finite");
-  if (o.exact_partition_limit < 3 || o.exact_partition_limit > 64)
-    fail(Status::invalid_argument, "exact_partition_limit must be in 3..64");
-  if (!(o.feature_angle_degrees >= 0.0 && o.feature_angle_degrees <= 180.0))
-    fail(Status::invalid_argument, "cagekit_cage_options.feature_angle_degrees must be in [0, 180]");
+  const cagekit_cage_options o = read_versioned(options, kCageDefaults, "cagekit_cage_options");
   cagekit::CageBuildOptions bo;
-  const int32_t rule = raw_enum(o.crease_rule);
-  if (rule == CAGEKIT_CREASES_SHARP_INPUT)
-    bo.crease_rule = cagekit::CreaseRule::sharp_input;
-  else if (rule == CAGEKIT_CREASES_CLUSTER_ANGLE)
-    bo.crease_rule = cagekit::CreaseRule::cluster_angle;
-  else
-    fail(Status::invalid_argument,
-         "cagekit_cage_options.crease_rule (" + std::to_string(rule) + ") is not a cagekit_crease_rule");
-  bo.features.angle_degrees = o.feature_angle_degrees;
-  bo.crease_angle_degrees = o.crease_angle_degrees;
-  bo.input_crease_angle_degrees = o.input_crease_angle_degrees;
-  bo.tag_boundary_edges = bool_from_c(o.tag_boundary_edges, "cagekit_cage_options.tag_boundary_edges");
-  bo.partition.exact_vertex_limit = static_cast<int>(o.exact_partition_limit);
+  CAGEKIT_CAGE_OPTION_TABLE(CAGEKIT_APPLY_OPTION, "cagekit_cage_options.")
   return bo;
 }
 
-void check_remesh_options(const cagekit_remesh_options& o) {
-  if (std::isnan(o.feature_angle_degrees) || o.feature_angle_degrees > 180.0)
-    fail(Status::invalid_argument, "feature_angle_degrees must be <= 180 (< 0: no feature lines)");
-  if (o.max_face_valence < 3 || o.max_face_valence > 1000000)
-    fail(Status::invalid_argument, "max_face_valence must be >= 3");
-  if (o.threads > 1024) fail(Status::invalid_argument, "threads must be <= 1024");
+// cagekit_anisotropic_options: field, default (CAGEKIT_ANISOTROPIC_OPTIONS_INIT), rule, C++
+// destination in `ao`.
+#define CAGEKIT_ANISOTROPIC_OPTION_TABLE(X, A)                                                        \
+  X(A, tolerance, 0.002, half_open_range(0.0, 1.0), ao.tolerance)                                     \
+  X(A, feature_angle_degrees, 40.0, at_most(180.0), ao.feature_angle_degrees)                         \
+  X(A, max_face_valence, 5, (UintIn{3, 1000000}), ao.max_face_valence)                                \
+  X(A, threads, 0, (UintIn{0, 1024}), ao.threads)                                                     \
+  X(A, curvature_radius, 0.01, closed_range(0.0, 1.0), ao.disk_radius_bbox)
+
+constexpr cagekit_anisotropic_options kAnisotropicDefaults = CAGEKIT_ANISOTROPIC_OPTIONS_INIT;
+CAGEKIT_ANISOTROPIC_OPTION_TABLE(CAGEKIT_ASSERT_DEFAULT, kAnisotropicDefaults)
+
+cagekit::AnisotropicRemeshOptions anisotropic_options_from_c(const cagekit_anisotropic_options* options) {
+  const cagekit_anisotropic_options o = read_versioned(options, kAnisotropicDefaults, "cagekit_anisotropic_options");
+  cagekit::AnisotropicRemeshOptions ao;
+  CAGEKIT_ANISOTROPIC_OPTION_TABLE(CAGEKIT_APPLY_OPTION, "cagekit_anisotropic_options.")
+  return ao;
 }
 
-cagekit::QuadRemeshOptions quad_options_from_c(const cagekit_remesh_options& o, uint64_t input_faces) {
-  check_remesh_options(o);
-  if (!(o.edge_length > 0.0) || !(o.edge_length <= 1.0))
-    fail(Status::invalid_argument, "edge_length must be in (0, 1] (relative to the bounding-box diagonal)");
-  if (o.regions > 1000000) fail(Status::invalid_argument, "regions must be <= 1000000 (0: by region_tolerance)");
-  if (o.regions == 0 && (!(o.region_tolerance >= 0.0) || !std::isfinite(o.region_tolerance)))
-    fail(Status::invalid_argument, "region_tolerance must be finite and >= 0");
-  if (!(o.triangle_weight > 0.0) || !(o.pentagon_weight > 0.0) || !(o.t_joint_weight > 0.0) ||
-      !std::isfinite(o.triangle_weight) || !std::isfinite(o.pentagon_weight) || !std::isfinite(o.t_joint_weight))
-    fail(Status::invalid_argument, "triangle_weight, pentagon_weight and t_joint_weight must be positive and finite");
-  if (o.refinement_passes > 16) fail(Status::invalid_argument, "refinement_passes must be <= 16");
+// cagekit_quad_remesh_options: field, default (CAGEKIT_QUAD_REMESH_OPTIONS_INIT), rule, C++
+// destination in `qo`; the seed and pinned-region arrays are checked after the table.
+#define CAGEKIT_QUAD_REMESH_OPTION_TABLE(X, A)                                                        \
+  X(A, edge_length, 0.05, half_open_range(0.0, 1.0), qo.edge_length)                                  \
+  X(A, regions, 30, (UintIn{0, 1000000}), qo.regions)                                                 \
+  X(A, region_tolerance, 0.01, at_least(0.0), qo.region_tolerance)                                    \
+  X(A, crease_angle_degrees, 40.0, at_most(180.0), qo.crease_angle_degrees)                           \
+  X(A, triangle_weight, 40.0, greater_than(0.0), qo.triangle_weight)                                  \
+  X(A, pentagon_weight, 40.0, greater_than(0.0), qo.pentagon_weight)                                  \
+  X(A, t_joint_weight, 100.0, greater_than(0.0), qo.t_joint_weight)                                   \
+  X(A, refinement_passes, 1, (UintIn{0, 16}), qo.sample_refinement_passes)                            \
+  X(A, threads, 0, (UintIn{0, 1024}), qo.threads)                                                     \
+  X(A, seed_faces, NULL, ByHand{}, qo.seed_faces)                                                     \
+  X(A, seed_face_count, 0, ByHand{}, qo.seed_faces)                                                   \
+  X(A, pinned_region_count, 0, ByHand{}, qo.pinned_regions)                                           \
+  X(A, pinned_region_offsets, NULL, ByHand{}, qo.pinned_regions)                                      \
+  X(A, pinned_faces, NULL, ByHand{}, qo.pinned_regions)
+
+constexpr cagekit_quad_remesh_options kQuadRemeshDefaults = CAGEKIT_QUAD_REMESH_OPTIONS_INIT;
+CAGEKIT_QUAD_REMESH_OPTION_TABLE(CAGEKIT_ASSERT_DEFAULT, kQuadRemeshDefaults)
+
+cagekit::QuadRemeshOptions quad_options_from_c(const cagekit_quad_remesh_options* options, uint64_t input_faces) {
+  const cagekit_quad_remesh_options o = read_versioned(options, kQuadRemeshDefaults, "cagekit_quad_remesh_options");
   cagekit::QuadRemeshOptions qo;
-  qo.regions = int(o.regions);
-  qo.region_tolerance = o.region_tolerance;
-  qo.edge_length = o.edge_length;
-  qo.triangle_weight = o.triangle_weight;
-  qo.pentagon_weight = o.pentagon_weight;
-  qo.t_joint_weight = o.t_joint_weight;
-  qo.sample_refinement_passes = int(o.refinement_passes);
-  qo.crease_angle_degrees = o.feature_angle_degrees;
-  qo.threads = int(o.threads);
+  CAGEKIT_QUAD_REMESH_OPTION_TABLE(CAGEKIT_APPLY_OPTION, "cagekit_quad_remesh_options.")
   if (o.seed_face_count > 0) {
-    if (!o.seed_faces) fail(Status::invalid_argument, "seed_faces is NULL with seed_face_count > 0");
+    if (!o.seed_faces)
+      fail(Status::invalid_argument, "cagekit_quad_remesh_options.seed_faces must not be NULL with seed_face_count " +
+                                         std::to_string(o.seed_face_count));
     if (o.seed_face_count > input_faces)
-      fail(Status::invalid_argument, "seed_face_count exceeds the mesh's face count");
+      fail(Status::invalid_argument, "cagekit_quad_remesh_options.seed_face_count must be at most the mesh's " +
+                                         std::to_string(input_faces) + " faces, not " +
+                                         std::to_string(o.seed_face_count));
     qo.seed_faces.assign(o.seed_faces, o.seed_faces + o.seed_face_count);
   }
   if (o.pinned_region_count > 0) {
     if (!o.pinned_region_offsets || !o.pinned_faces)
-      fail(Status::invalid_argument, "pinned_region_offsets and pinned_faces must not be NULL with "
-                                     "pinned_region_count > 0");
+      fail(Status::invalid_argument, "cagekit_quad_remesh_options.pinned_region_offsets and pinned_faces must not "
+                                     "be NULL with pinned_region_count " + std::to_string(o.pinned_region_count));
     if (o.pinned_region_count > input_faces)
-      fail(Status::invalid_argument, "pinned_region_count exceeds the mesh's face count");
-    if (o.pinned_region_offsets[0] != 0) fail(Status::invalid_argument, "pinned_region_offsets[0] must be 0");
+      fail(Status::invalid_argument, "cagekit_quad_remesh_options.pinned_region_count must be at most the mesh's " +
+                                         std::to_string(input_faces) + " faces, not " +
+                                         std::to_string(o.pinned_region_count));
+    if (o.pinned_region_offsets[0] != 0)
+      fail(Status::invalid_argument, "cagekit_quad_remesh_options.pinned_region_offsets[0] must be 0, not " +
+                                         std::to_string(o.pinned_region_offsets[0]));
     for (uint32_t k = 0; k < o.pinned_region_count; ++k) {
       const uint32_t begin = o.pinned_region_offsets[k], end = o.pinned_region_offsets[k + 1];
       if (end < begin || end > input_faces)
-        fail(Status::invalid_argument, "pinned_region_offsets must be non-decreasing and cover at most the "
-                                       "mesh's face count (region " + std::to_string(k) + ")");
+        fail(Status::invalid_argument, "cagekit_quad_remesh_options.pinned_region_offsets must be non-decreasing "
+                                       "and at most the mesh's face count (region " + std::to_string(k) + ")");
       qo.pinned_regions.emplace_back(o.pinned_faces + begin, o.pinned_faces + end);
     }
   }
   return qo;
-}
-
-cagekit::AnisotropicRemeshOptions anisotropic_options_from_c(const cagekit_remesh_options& o) {
-  check_remesh_options(o);
-  if (!(o.tolerance > 0.0) || !(o.tolerance <= 1.0))
-    fail(Status::invalid_argument, "tolerance must be in (0, 1] (relative to the bounding-box diagonal)");
-  if (!(o.curvature_radius >= 0.0) || !(o.curvature_radius <= 1.0))
-    fail(Status::invalid_argument, "curvature_radius must be in [0, 1]");
-  cagekit::AnisotropicRemeshOptions ao;
-  ao.tolerance = o.tolerance;
-  ao.feature_angle_degrees = o.feature_angle_degrees;
-  ao.max_face_valence = int(o.max_face_valence);
-  ao.disk_radius_bbox = o.curvature_radius;
-  ao.threads = int(o.threads);
-  return ao;
 }
 
 }  // namespace cagekit_capi

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The C option structs -> the C++ options: every field checked once (Error(invalid_argument)
-// naming the field), shared by the entry points that take the same struct.
+// "cagekit_<struct>.<field> must be …"), shared by the entry points that take the same struct.
 #include <cstdint>
 
 #include <cagekit/cagekit.h>
@@ -17,11 +17,9 @@ namespace cagekit_capi {
 cagekit::FitOptions fit_options_from_c(const cagekit_fit_options* options);
 cagekit::CageBuildOptions cage_options_from_c(const cagekit_cage_options* options);
 
-// cagekit_remesh_options, checked for its method (the fields of the other method are not read).
-// `input_faces` bounds the quad method's seed and pinned-face lists.
-void check_remesh_options(const cagekit_remesh_options& o);
-cagekit::QuadRemeshOptions quad_options_from_c(const cagekit_remesh_options& o, uint64_t input_faces);
-cagekit::AnisotropicRemeshOptions anisotropic_options_from_c(const cagekit_remesh_options& o);
+// `input_faces` bounds the quad remesher's seed and pinned-face lists.
+cagekit::AnisotropicRemeshOptions anisotropic_options_from_c(const cagekit_anisotropic_options* options);
+cagekit::QuadRemeshOptions quad_options_from_c(const cagekit_quad_remesh_options* options, uint64_t input_faces);
 
 // The fit report's pass array (an input inside the output struct), read before the fit so that
 // a bad struct_size fails before any work.

@@ -6,67 +6,60 @@
 
 #include "capi/api_guard.h"
 #include "capi/option_conversion.h"
+#include "capi/option_rules.h"
 #include "pipeline/scan_to_cage.h"
 
 using namespace cagekit_capi;
 
 namespace {
 
+// cagekit_scan_to_cage_options: field, default (CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT), rule, C++
+// destination in `s`; the nested option structs are converted after the table.
+#define CAGEKIT_SCAN_TO_CAGE_OPTION_TABLE(X, A)                                                            \
+  X(A, method, CAGEKIT_SCAN_SIMPLIFY, kScanMethods, s.method)                                              \
+  X(A, repair, 1, Boolean{}, s.conditioning.repair)                                                        \
+  X(A, components, CAGEKIT_COMPONENTS_ALL, kComponentModes, s.conditioning.components)                     \
+  X(A, weld_tolerance_rel, 1e-7, at_least(0.0), s.conditioning.weld_tolerance_relative)                    \
+  X(A, target_query, CAGEKIT_LEVEL_BY_FACES, kTargetQueries, s.target_is_vertices)                         \
+  X(A, target, 60.0, closed_range(1.0, 1e12), s.target)                                                    \
+  X(A, cage, NULL, ByHand{}, s.cage)                                                                       \
+  X(A, quad, NULL, ByHand{}, s.quad)                                                                       \
+  X(A, anisotropic, NULL, ByHand{}, s.anisotropic)                                                         \
+  X(A, fit, NULL, ByHand{}, s.fit)                                                                         \
+  X(A, limit_levels, 3, (UintIn{1, CAGEKIT_MAX_SUBDIVISION_LEVELS}), s.limit_levels)                       \
+  X(A, self_intersection_level, 2, (UintIn{0, CAGEKIT_MAX_SUBDIVISION_LEVELS}), s.self_intersection_level) \
+  X(A, max_limit_to_scan_rel, 0.05, greater_than(0.0), s.max_limit_to_scan)                                \
+  X(A, limit_to_scan_factor, 3.0, greater_than(0.0), s.limit_to_scan_factor)                               \
+  X(A, small_input_faces, 1000, (UintIn{0, UINT64_MAX}), s.small_input_faces)                              \
+  X(A, fallback_to_simplify, 1, Boolean{}, s.fallback_to_simplify)                                         \
+  X(A, finer_simplify_attempts, 2, (UintIn{0, 8}), s.finer_simplify_attempts)                              \
+  X(A, two_sided_refit_factor, 3.0, closed_range(0.0, 100.0), s.two_sided_refit_factor)
+
+constexpr EnumRule<cagekit::ScanMethod, 3> kScanMethods{
+    "cagekit_scan_method",
+    {{CAGEKIT_SCAN_SIMPLIFY, "CAGEKIT_SCAN_SIMPLIFY", cagekit::ScanMethod::simplify},
+     {CAGEKIT_SCAN_QUAD, "CAGEKIT_SCAN_QUAD", cagekit::ScanMethod::quad},
+     {CAGEKIT_SCAN_ANISOTROPIC, "CAGEKIT_SCAN_ANISOTROPIC", cagekit::ScanMethod::anisotropic}}};
+constexpr EnumRule<cagekit::ComponentMode, 2> kComponentModes{
+    "cagekit_component_mode",
+    {{CAGEKIT_COMPONENTS_ALL, "CAGEKIT_COMPONENTS_ALL", cagekit::ComponentMode::all},
+     {CAGEKIT_COMPONENTS_LARGEST, "CAGEKIT_COMPONENTS_LARGEST", cagekit::ComponentMode::largest}}};
+// The level query decides whether `target` counts vertices.
+constexpr EnumRule<bool, 2> kTargetQueries{"cagekit_level_query",
+                                           {{CAGEKIT_LEVEL_BY_FACES, "CAGEKIT_LEVEL_BY_FACES", false},
+                                            {CAGEKIT_LEVEL_BY_VERTICES, "CAGEKIT_LEVEL_BY_VERTICES", true}}};
+
+constexpr cagekit_scan_to_cage_options kScanToCageDefaults = CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT;
+CAGEKIT_SCAN_TO_CAGE_OPTION_TABLE(CAGEKIT_ASSERT_DEFAULT, kScanToCageDefaults)
+
 cagekit::ScanToCageOptions options_from_c(const cagekit_scan_to_cage_options* options, uint64_t input_faces) {
-  const cagekit_scan_to_cage_options defaults = CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT;
-  const cagekit_scan_to_cage_options o = read_versioned(options, defaults, "cagekit_scan_to_cage_options");
+  const cagekit_scan_to_cage_options o = read_versioned(options, kScanToCageDefaults, "cagekit_scan_to_cage_options");
   cagekit::ScanToCageOptions s;
-  switch (raw_enum(o.method)) {
-    case CAGEKIT_SCAN_SIMPLIFY: s.method = cagekit::ScanMethod::simplify; break;
-    case CAGEKIT_SCAN_QUAD: s.method = cagekit::ScanMethod::quad; break;
-    case CAGEKIT_SCAN_ANISOTROPIC: s.method = cagekit::ScanMethod::anisotropic; break;
-    default: fail(Status::invalid_argument, "cagekit_scan_to_cage_options.method is not a cagekit_scan_method");
-  }
-  s.conditioning.repair = bool_from_c(o.repair, "cagekit_scan_to_cage_options.repair");
-  switch (raw_enum(o.components)) {
-    case CAGEKIT_COMPONENTS_ALL: s.conditioning.components = cagekit::ComponentMode::all; break;
-    case CAGEKIT_COMPONENTS_LARGEST: s.conditioning.components = cagekit::ComponentMode::largest; break;
-    default: fail(Status::invalid_argument, "cagekit_scan_to_cage_options.components is not a cagekit_component_mode");
-  }
-  if (!std::isfinite(o.weld_tolerance_rel) || o.weld_tolerance_rel < 0)
-    fail(Status::invalid_argument, "cagekit_scan_to_cage_options.weld_tolerance_rel must be finite and >= 0");
-  s.conditioning.weld_tolerance_relative = o.weld_tolerance_rel;
-  const int32_t query = raw_enum(o.target_query);
-  if (query != CAGEKIT_LEVEL_BY_FACES && query != CAGEKIT_LEVEL_BY_VERTICES)
-    fail(Status::invalid_argument,
-         "cagekit_scan_to_cage_options.target_query must be CAGEKIT_LEVEL_BY_FACES or CAGEKIT_LEVEL_BY_VERTICES");
-  if (!(o.target >= 1) || !(o.target <= 1e12))
-    fail(Status::invalid_argument, "cagekit_scan_to_cage_options.target must be in [1, 1e12]");
-  s.target = static_cast<uint64_t>(o.target);
-  s.target_is_vertices = query == CAGEKIT_LEVEL_BY_VERTICES;
+  CAGEKIT_SCAN_TO_CAGE_OPTION_TABLE(CAGEKIT_APPLY_OPTION, "cagekit_scan_to_cage_options.")
   s.cage = cage_options_from_c(o.cage);
-  const cagekit_remesh_options remesh_defaults = CAGEKIT_REMESH_OPTIONS_INIT;
-  const cagekit_remesh_options remesh = read_versioned(o.remesh, remesh_defaults, "cagekit_remesh_options");
-  if (s.method == cagekit::ScanMethod::quad) s.quad = quad_options_from_c(remesh, input_faces);
-  if (s.method == cagekit::ScanMethod::anisotropic) s.anisotropic = anisotropic_options_from_c(remesh);
+  if (s.method == cagekit::ScanMethod::quad) s.quad = quad_options_from_c(o.quad, input_faces);
+  if (s.method == cagekit::ScanMethod::anisotropic) s.anisotropic = anisotropic_options_from_c(o.anisotropic);
   s.fit = fit_options_from_c(o.fit);
-  if (o.limit_levels < 1 || o.limit_levels > CAGEKIT_MAX_SUBDIVISION_LEVELS)
-    fail(Status::invalid_argument, "cagekit_scan_to_cage_options.limit_levels must be in 1.." +
-                                       std::to_string(CAGEKIT_MAX_SUBDIVISION_LEVELS));
-  if (o.self_intersection_level > CAGEKIT_MAX_SUBDIVISION_LEVELS)
-    fail(Status::invalid_argument, "cagekit_scan_to_cage_options.self_intersection_level must be in 0.." +
-                                       std::to_string(CAGEKIT_MAX_SUBDIVISION_LEVELS));
-  s.limit_levels = int(o.limit_levels);
-  s.self_intersection_level = int(o.self_intersection_level);
-  if (!std::isfinite(o.max_limit_to_scan_rel) || !(o.max_limit_to_scan_rel > 0) ||
-      !std::isfinite(o.limit_to_scan_factor) || !(o.limit_to_scan_factor > 0))
-    fail(Status::invalid_argument,
-         "cagekit_scan_to_cage_options.max_limit_to_scan_rel and limit_to_scan_factor must be finite and > 0");
-  s.max_limit_to_scan = o.max_limit_to_scan_rel;
-  s.limit_to_scan_factor = o.limit_to_scan_factor;
-  s.small_input_faces = o.small_input_faces;
-  s.fallback_to_simplify = bool_from_c(o.fallback_to_simplify, "cagekit_scan_to_cage_options.fallback_to_simplify");
-  if (o.finer_simplify_attempts > 8)
-    fail(Status::invalid_argument, "cagekit_scan_to_cage_options.finer_simplify_attempts must be in 0..8");
-  s.finer_simplify_attempts = int(o.finer_simplify_attempts);
-  if (!std::isfinite(o.two_sided_refit_factor) || !(o.two_sided_refit_factor >= 0) || o.two_sided_refit_factor > 100)
-    fail(Status::invalid_argument, "cagekit_scan_to_cage_options.two_sided_refit_factor must be finite and in 0..100");
-  s.two_sided_refit_factor = o.two_sided_refit_factor;
   return s;
 }
 

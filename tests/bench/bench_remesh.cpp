@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// bench_remesh: CageKit's remeshing (cagekit_mesh_remesh: the anisotropic curvature-line method
+// bench_remesh: CageKit's remeshing (cagekit_mesh_remesh_anisotropic / _quad: the anisotropic curvature-line method
 // of thesis ch. 5, issue #8, and the two-step quad-dominant method of ch. 6, issue #7) against
 // QuadriFlow as Blender 3.4 runs it (bpy.ops.object.quadriflow_remesh,
 // ../shared/spec/peer-measurements.md §3), at CageKit's output face count, on the same input.
@@ -11,7 +11,7 @@
 //
 // Method: CageKit runs in-process through the C API in a fork()ed child (the input already a
 // cagekit_mesh; malloc_trim(0), VmHWM reset through /proc/self/clear_refs, VmRSS read, then only
-// cagekit_mesh_remesh is timed, wall and process CPU; VmHWM right after); median of 3 children (1
+// the remesh call is timed, wall and process CPU; VmHWM right after); median of 3 children (1
 // for bunny-1.1M), peak memory from the first. The child writes the cage with
 // cagekit_cage_write_file. QuadriFlow: `blender -b --factory-startup --python
 // quadriflow_blender.py -- IN OUT TARGET SCALE RUNS` (std::system), timing the operator only with
@@ -31,14 +31,14 @@
 // Usage: bench_remesh [--quick] [--no-quadriflow] [--method anisotropic|quad] [--tolerance REL]...
 //                     [--curvature-radius REL] [--mesh NAME]...
 //        bench_remesh --corpus [DIR] [--no-quadriflow] [--timeout S] [--mesh cgal/NAME.off]...
-// (--corpus, issue 19: the quad method with cagekit_remesh_options' defaults on every mesh of the
+// (--corpus, issue 19: the quad method with cagekit_quad_remesh_options' defaults on every mesh of the
 // corpus (default ../shared/corpus) after the pipeline's conditioning, against QuadriFlow at its
 // face count on the same conditioned mesh; one run per tool, no alignment figure; QuadriFlow
 // killed after --timeout seconds, default 600; see run_corpus)
 // (--quick: 1 run per tool, no bunny-1.1M; --method: only that method (default both; quad runs on
 // fandisk, rocker-arm and bunny only, see quad_settings); --tolerance: the anisotropic tolerances
 // to run, default 0.002;
-// --curvature-radius: cagekit_remesh_options.curvature_radius, default 0.01, 0 = 3 mean edges —
+// --curvature-radius: cagekit_anisotropic_options.curvature_radius, default 0.01, 0 = 3 mean edges —
 // the scoring field keeps the default; --mesh: only these of fandisk, rocker-arm, bunny, bunny-1.1M)
 #include <algorithm>
 #include <cmath>
@@ -86,14 +86,14 @@ using bench::seconds_since;
 // no thesis figure to match).
 struct Setting {
   std::string method_name;
-  cagekit_remesh_method method = CAGEKIT_REMESH_ANISOTROPIC;
+  bool quad = false;                              // else anisotropic
   double tolerance = 0.002;                       // anisotropic
   uint32_t regions = 0;                           // quad
   double edge_length = 0, weights[3] = {0, 0, 0};  // quad
   uint32_t refinement_passes = 1;                  // quad
   std::string label() const {
     char b[128];
-    if (method == CAGEKIT_REMESH_QUAD)
+    if (quad)
       std::snprintf(b, sizeof b, "%u regions, δ %g%%, %g/%g/%g%s", regions, 100 * edge_length, weights[0], weights[1],
                     weights[2], refinement_passes ? "" : ", no refinement");
     else
@@ -105,7 +105,7 @@ struct Setting {
 std::vector<Setting> quad_settings(const std::string& mesh) {
   Setting q;
   q.method_name = "quad";
-  q.method = CAGEKIT_REMESH_QUAD;
+  q.quad = true;
   if (mesh == "fandisk") q.regions = 30, q.edge_length = 0.10, q.weights[0] = q.weights[1] = q.weights[2] = 500;
   else if (mesh == "rocker-arm") q.regions = 41, q.edge_length = 0.06, q.weights[0] = 20, q.weights[1] = q.weights[2] = 70;
   else if (mesh == "bunny") q.regions = 60, q.edge_length = 0.04, q.weights[0] = 40, q.weights[1] = 40, q.weights[2] = 100;
@@ -201,25 +201,30 @@ RunResult remesh_child(const cagekit::PolygonMesh& mesh, const Setting& setting,
     cagekit_mesh handle = nullptr;
     if (cagekit_mesh_create(ctx, &desc, &handle) != CAGEKIT_SUCCESS)
       throw std::runtime_error(std::string("mesh_create: ") + cagekit_last_error_message(ctx));
-    cagekit_remesh_options options = CAGEKIT_REMESH_OPTIONS_INIT;
-    options.method = setting.method;
-    options.tolerance = setting.tolerance;
-    options.curvature_radius = curvature_radius;
-    if (setting.method == CAGEKIT_REMESH_QUAD && setting.regions > 0) {  // else the option defaults
-      options.regions = setting.regions;
-      options.edge_length = setting.edge_length;
-      options.triangle_weight = setting.weights[0];
-      options.pentagon_weight = setting.weights[1];
-      options.t_joint_weight = setting.weights[2];
-      options.refinement_passes = setting.refinement_passes;
+    cagekit_anisotropic_options anisotropic = CAGEKIT_ANISOTROPIC_OPTIONS_INIT;
+    anisotropic.tolerance = setting.tolerance;
+    anisotropic.curvature_radius = curvature_radius;
+    cagekit_quad_remesh_options quad = CAGEKIT_QUAD_REMESH_OPTIONS_INIT;
+    if (setting.quad && setting.regions > 0) {  // else the option defaults
+      quad.regions = setting.regions;
+      quad.edge_length = setting.edge_length;
+      quad.triangle_weight = setting.weights[0];
+      quad.pentagon_weight = setting.weights[1];
+      quad.t_joint_weight = setting.weights[2];
+      quad.refinement_passes = setting.refinement_passes;
     }
-    cagekit_remesh_report report;
-    std::memset(&report, 0, sizeof report);
-    report.struct_size = sizeof report;
+    cagekit_anisotropic_report anisotropic_report;
+    std::memset(&anisotropic_report, 0, sizeof anisotropic_report);
+    anisotropic_report.struct_size = sizeof anisotropic_report;
+    cagekit_quad_remesh_report quad_report;
+    std::memset(&quad_report, 0, sizeof quad_report);
+    quad_report.struct_size = sizeof quad_report;
     cagekit_cage cage = nullptr;
     Meter m;
     m.begin();
-    const cagekit_status status = cagekit_mesh_remesh(handle, &options, &cage, &report);
+    const cagekit_status status = setting.quad
+                                      ? cagekit_mesh_remesh_quad(handle, &quad, &cage, &quad_report)
+                                      : cagekit_mesh_remesh_anisotropic(handle, &anisotropic, &cage, &anisotropic_report);
     m.end();
     if (status != CAGEKIT_SUCCESS) {
       std::snprintf(r.error, sizeof r.error, "%s", cagekit_last_error_message(ctx));
@@ -229,9 +234,9 @@ RunResult remesh_child(const cagekit::PolygonMesh& mesh, const Setting& setting,
       r.cpu = m.cpu;
       r.peak_mib = double(m.peak_kib) / 1024.0;
       r.before_mib = double(m.before_kib) / 1024.0;
-      r.faces = report.faces;
-      r.holes = report.holes;
-      r.report_alignment = report.mean_alignment_deg;
+      r.faces = setting.quad ? quad_report.quality.faces : anisotropic_report.quality.faces;
+      r.holes = anisotropic_report.holes;
+      r.report_alignment = anisotropic_report.mean_alignment_deg;
       if (cagekit_cage_write_file(cage, out_path.c_str(), nullptr, nullptr) != CAGEKIT_SUCCESS) {
         r.ok = false;
         std::snprintf(r.error, sizeof r.error, "write: %s", cagekit_last_error_message(ctx));
@@ -406,7 +411,7 @@ double median_of(std::vector<double> v) {
 
 double recall(const Quality& q) { return q.sharp ? 100.0 * double(q.sharp_followed) / double(q.sharp) : 100.0; }
 
-// The quad method with cagekit_remesh_options' defaults (those of the good rate, issue 18's run
+// The quad method with cagekit_quad_remesh_options' defaults (those of the good rate, issue 18's run
 // settings) on each corpus mesh after the pipeline's conditioning (the input both tools get);
 // QuadriFlow at CageKit's face count on the same conditioned mesh, scaled to a 100-unit diagonal
 // (its 1e-4 shortest-edge rule is absolute). One run per tool; meshes the pipeline keeps as their
@@ -422,8 +427,8 @@ int run_corpus(const std::string& corpus, const std::vector<std::string>& only, 
   std::filesystem::create_directories(tmp);
   Setting quad;
   quad.method_name = "quad";
-  quad.method = CAGEKIT_REMESH_QUAD;  // regions 0: the option defaults
-  const cagekit_remesh_options defaults = CAGEKIT_REMESH_OPTIONS_INIT;
+  quad.quad = true;  // regions 0: the option defaults
+  const cagekit_quad_remesh_options defaults = CAGEKIT_QUAD_REMESH_OPTIONS_INIT;
   std::printf("corpus %s: %zu meshes; quad with the defaults (%u regions, δ %g of the diagonal, weights %g/%g/%g, "
               "%u refinement pass(es)); QuadriFlow timeout %d s\n\n",
               corpus.c_str(), all.size(), defaults.regions, defaults.edge_length, defaults.triangle_weight,
@@ -570,7 +575,7 @@ int run_corpus(const std::string& corpus, const std::vector<std::string>& only, 
                 "%.1f%% / %.1f%%\n",
                 median_of(cq), median_of(qq), median_of(cv), median_of(qv), median_of(cs), median_of(qs));
   }
-  std::printf("\nCageKit: cagekit_mesh_remesh only, one fork()ed child per mesh; QuadriFlow: Blender %s operator only, "
+  std::printf("\nCageKit: cagekit_mesh_remesh_* only, one fork()ed child per mesh; QuadriFlow: Blender %s operator only, "
               "one call. Hausdorff: symmetric, / the conditioned input's bbox diagonal; sharp recall: input edges with "
               "dihedral > %.0f° whose midpoint lies within δ/4 of an output edge.\n",
               blender ? "3.4" : "(absent)", kSharpAngle);
@@ -582,7 +587,7 @@ int run_corpus(const std::string& corpus, const std::vector<std::string>& only, 
 
 int main(int argc, char** argv) {
   bool quick = false, peer = true, aniso = true, quad = true;
-  double curvature_radius = 0.01;  // cagekit_remesh_options default
+  double curvature_radius = 0.01;  // cagekit_anisotropic_options default
   std::vector<double> tolerances;
   std::vector<std::string> only;
   std::string corpus;  // --corpus: the corpus mode
@@ -626,7 +631,7 @@ int main(int argc, char** argv) {
     return run_corpus(corpus, only, blender, timeout_s);
   }
   std::printf("# bench_remesh: CageKit remeshing vs QuadriFlow (Blender)\n\nload average at start: %s\n"
-              "CageKit options: cagekit_remesh_options defaults, curvature_radius %g%s\n",
+              "CageKit options: cagekit_anisotropic_options defaults, curvature_radius %g%s\n",
               load_average().c_str(), curvature_radius, curvature_radius == 0.01 ? " (the default)" : "");
   if (!blender)
     std::printf("%s: the QuadriFlow rows are skipped\n", peer ? "blender not found on PATH" : "--no-quadriflow");
@@ -850,7 +855,7 @@ int main(int argc, char** argv) {
                   yes(fa > fb));
     }
   }
-  std::printf("\nCageKit: median of %d children (1 for bunny-1.1M), cagekit_mesh_remesh only (threads: all cores for "
+  std::printf("\nCageKit: median of %d children (1 for bunny-1.1M), cagekit_mesh_remesh_* only (threads: all cores for "
               "the curvature field); peak = the first child's VmHWM after the call, 'before' = its VmRSS before. "
               "QuadriFlow: Blender %s, operator only, median of %d calls (1 for bunny-1.1M); Blender's peak includes "
               "Blender and the imported mesh. Alignment: every output edge, at the input face nearest its midpoint, "

@@ -1493,42 +1493,43 @@ static cagekit_mesh new_three_triangles_on_one_edge(cagekit_context context) {
 static void anisotropic_remesh_follows_a_cylinder(void) {
   cagekit_context context = new_context();
   cagekit_mesh mesh = new_triangle_cylinder(context, 96, 96);
-  cagekit_remesh_options options = CAGEKIT_REMESH_OPTIONS_INIT;
-  cagekit_remesh_report report;
+  cagekit_anisotropic_options options = CAGEKIT_ANISOTROPIC_OPTIONS_INIT;
+  cagekit_anisotropic_report report;
   cagekit_cage cage = NULL;
   cagekit_mesh_info info;
   memset(&report, 0, sizeof(report));
   report.struct_size = sizeof(report);
   options.tolerance = 0.001;
   options.curvature_radius = 0.0;
-  CHECK_OK(cagekit_mesh_remesh(mesh, &options, &cage, &report));
-  CHECK(report.faces > 300);
-  CHECK(report.quads >= report.faces * 95 / 100);
-  CHECK(report.max_face_valence <= 5);
+  CHECK_OK(cagekit_mesh_remesh_anisotropic(mesh, &options, &cage, &report));
+  CHECK(report.quality.faces > 300);
+  CHECK(report.quality.quads >= report.quality.faces * 95 / 100);
+  CHECK(report.quality.max_face_valence <= 5);
   CHECK(report.holes == 0);
-  CHECK(report.creases == 0);
-  CHECK(report.min_scaled_jacobian > 0.5);
+  CHECK(report.quality.creases == 0);
+  CHECK(report.quality.min_scaled_jacobian > 0.5);
   CHECK(report.mean_alignment_deg < 2.0);
   memset(&info, 0, sizeof(info));
   info.struct_size = sizeof(info);
   CHECK_OK(cagekit_cage_get_info(cage, &info));
-  CHECK(info.faces == report.faces);
+  CHECK(info.faces == report.quality.faces);
   cagekit_cage_release(cage);
   /* Bad arguments. */
   cage = (cagekit_cage)1;
   options.tolerance = 0.0;
-  CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_mesh_remesh_anisotropic(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK(cage == NULL);
+  CHECK(strstr(cagekit_last_error_message(context),
+               "cagekit_anisotropic_options.tolerance must be finite and in (0, 1], not 0") != NULL);
   options.tolerance = 0.002;
-  options.method = (cagekit_remesh_method)7;
-  CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
-  options.method = CAGEKIT_REMESH_ANISOTROPIC;
   options.max_face_valence = 2;
-  CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
-  CHECK_STATUS(cagekit_mesh_remesh(mesh, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_mesh_remesh_anisotropic(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context),
+               "cagekit_anisotropic_options.max_face_valence must be in 3..1000000, not 2") != NULL);
+  CHECK_STATUS(cagekit_mesh_remesh_anisotropic(mesh, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   cagekit_mesh_release(mesh);
   mesh = new_three_triangles_on_one_edge(context);
-  CHECK_STATUS(cagekit_mesh_remesh(mesh, NULL, &cage, NULL), CAGEKIT_ERROR_INVALID_MESH);
+  CHECK_STATUS(cagekit_mesh_remesh_anisotropic(mesh, NULL, &cage, NULL), CAGEKIT_ERROR_INVALID_MESH);
   CHECK(strstr(cagekit_last_error_message(context), "manifold") != NULL ||
         strstr(cagekit_last_error_message(context), "edge") != NULL);
   cagekit_mesh_release(mesh);
@@ -1539,7 +1540,7 @@ static void anisotropic_remesh_follows_a_cylinder(void) {
     desc.memory_budget_bytes = 1u << 20;
     CHECK_OK(cagekit_context_create(&desc, &context));
     mesh = new_triangle_cylinder(context, 96, 96);
-    CHECK_STATUS(cagekit_mesh_remesh(mesh, NULL, &cage, NULL), CAGEKIT_ERROR_OUT_OF_MEMORY);
+    CHECK_STATUS(cagekit_mesh_remesh_anisotropic(mesh, NULL, &cage, NULL), CAGEKIT_ERROR_OUT_OF_MEMORY);
     cagekit_mesh_release(mesh);
     cagekit_context_release(context);
   }
@@ -1548,48 +1549,47 @@ static void anisotropic_remesh_follows_a_cylinder(void) {
 static void quad_remesh_of_a_cylinder(void) {
   cagekit_context context = new_context();
   cagekit_mesh mesh = new_triangle_cylinder(context, 32, 24);
-  cagekit_remesh_options options = CAGEKIT_REMESH_OPTIONS_INIT;
-  cagekit_remesh_report report;
+  cagekit_quad_remesh_options options = CAGEKIT_QUAD_REMESH_OPTIONS_INIT;
+  cagekit_quad_remesh_report report;
   cagekit_cage cage = NULL;
   cagekit_mesh_info info;
   CHECK(options.edge_length == 0.05 && options.regions == 30 && options.t_joint_weight == 100.0 &&
         options.refinement_passes == 1);
   memset(&report, 0, sizeof(report));
   report.struct_size = sizeof(report);
-  options.method = CAGEKIT_REMESH_QUAD;
   options.regions = 6;
   options.edge_length = 0.08;
-  CHECK_OK(cagekit_mesh_remesh(mesh, &options, &cage, &report));
+  CHECK_OK(cagekit_mesh_remesh_quad(mesh, &options, &cage, &report));
   CHECK(report.regions == 6);
-  CHECK(report.faces > 50);
-  CHECK(report.quads >= report.faces * 90 / 100);
-  CHECK(report.creases == 0); /* a smooth surface: no sharp region boundary */
-  CHECK(report.min_scaled_jacobian > 0.0);
+  CHECK(report.quality.faces > 50);
+  CHECK(report.quality.quads >= report.quality.faces * 90 / 100);
+  CHECK(report.quality.creases == 0); /* a smooth surface: no sharp region boundary */
+  CHECK(report.quality.min_scaled_jacobian > 0.0);
   memset(&info, 0, sizeof(info));
   info.struct_size = sizeof(info);
   CHECK_OK(cagekit_cage_get_info(cage, &info));
-  CHECK(info.faces == report.faces && info.vertices == report.vertices);
+  CHECK(info.faces == report.quality.faces && info.vertices == report.quality.vertices);
   cagekit_cage_release(cage);
   {
-    /* A caller built before the QUAD members: struct_size ends at curvature_radius, so
-     * edge_length, regions and the weights take their defaults (30 regions, 5% spacing). */
-    cagekit_remesh_options old = CAGEKIT_REMESH_OPTIONS_INIT;
-    old.struct_size = offsetof(cagekit_remesh_options, edge_length);
-    old.method = CAGEKIT_REMESH_QUAD;
-    old.edge_length = -1.0; /* not read */
-    CHECK_OK(cagekit_mesh_remesh(mesh, &old, &cage, &report));
+    /* A caller whose struct ends before `regions` (an older, shorter struct): the fields it
+     * lacks take their defaults (30 regions). */
+    cagekit_quad_remesh_options old = CAGEKIT_QUAD_REMESH_OPTIONS_INIT;
+    old.struct_size = offsetof(cagekit_quad_remesh_options, regions);
+    old.regions = 0xffffffffu; /* not read */
+    CHECK_OK(cagekit_mesh_remesh_quad(mesh, &old, &cage, &report));
     CHECK(report.regions == 30);
     cagekit_cage_release(cage);
   }
   /* Bad options: precise errors, out stays NULL. */
   cage = (cagekit_cage)1;
   options.edge_length = 0.0;
-  CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_mesh_remesh_quad(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK(cage == NULL);
-  CHECK(strstr(cagekit_last_error_message(context), "edge_length") != NULL);
+  CHECK(strstr(cagekit_last_error_message(context),
+               "cagekit_quad_remesh_options.edge_length must be finite and in (0, 1], not 0") != NULL);
   options.edge_length = 0.08;
   options.pentagon_weight = -5.0;
-  CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_mesh_remesh_quad(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK(strstr(cagekit_last_error_message(context), "weight") != NULL);
   options.pentagon_weight = 40.0;
   {
@@ -1598,7 +1598,7 @@ static void quad_remesh_of_a_cylinder(void) {
     options.regions = 1000000;
     options.seed_faces = seed;
     options.seed_face_count = 1;
-    CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    CHECK_STATUS(cagekit_mesh_remesh_quad(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
     CHECK(strstr(cagekit_last_error_message(context), "regions") != NULL);
     options.seed_faces = NULL;
     options.seed_face_count = 0;
@@ -1611,7 +1611,7 @@ static void quad_remesh_of_a_cylinder(void) {
     options.refinement_passes = 0;
     memset(&report, 0, sizeof(report));
     report.struct_size = sizeof(report);
-    CHECK_OK(cagekit_mesh_remesh(mesh, &options, &cage, &report));
+    CHECK_OK(cagekit_mesh_remesh_quad(mesh, &options, &cage, &report));
     CHECK(report.requested_regions == 1000000);
     CHECK(report.regions + report.merged_regions == 32 * 24 * 2 + report.split_regions);
     options.edge_length = 0.08;
@@ -1621,7 +1621,7 @@ static void quad_remesh_of_a_cylinder(void) {
   }
   options.regions = 6;
   options.refinement_passes = 17;
-  CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_mesh_remesh_quad(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK(strstr(cagekit_last_error_message(context), "refinement_passes") != NULL);
   options.refinement_passes = 1;
   {
@@ -1634,26 +1634,26 @@ static void quad_remesh_of_a_cylinder(void) {
     options.pinned_faces = pinned_faces;
     options.seed_faces = seeds;
     options.seed_face_count = 2;
-    CHECK_OK(cagekit_mesh_remesh(mesh, &options, &cage, &report));
-    CHECK(report.regions == 6 && report.faces > 20);
+    CHECK_OK(cagekit_mesh_remesh_quad(mesh, &options, &cage, &report));
+    CHECK(report.regions == 6 && report.quality.faces > 20);
     cagekit_cage_release(cage);
     options.pinned_faces = far_faces; /* not edge-connected */
-    CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    CHECK_STATUS(cagekit_mesh_remesh_quad(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
     CHECK(strstr(cagekit_last_error_message(context), "connected") != NULL);
     options.pinned_faces = pinned_faces;
     options.pinned_region_offsets = bad_offsets; /* beyond the face count */
-    CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    CHECK_STATUS(cagekit_mesh_remesh_quad(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
     CHECK(strstr(cagekit_last_error_message(context), "pinned_region_offsets") != NULL);
     options.pinned_region_offsets = NULL;
-    CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    CHECK_STATUS(cagekit_mesh_remesh_quad(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
     options.pinned_region_count = 0;
     options.seed_faces = NULL; /* with a count */
-    CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    CHECK_STATUS(cagekit_mesh_remesh_quad(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
     options.seed_faces = pinned_faces;
     options.seed_face_count = 1;
     options.regions = 1000; /* fine; then a seed out of range */
     options.seed_faces = &bad_offsets[1];
-    CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    CHECK_STATUS(cagekit_mesh_remesh_quad(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
     CHECK(strstr(cagekit_last_error_message(context), "out of range") != NULL);
     options.seed_faces = NULL;
     options.seed_face_count = 0;
@@ -1661,11 +1661,14 @@ static void quad_remesh_of_a_cylinder(void) {
   }
   options.regions = 0;
   options.region_tolerance = -1.0;
-  CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_mesh_remesh_quad(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context),
+               "cagekit_quad_remesh_options.region_tolerance must be finite and >= 0, not -1") != NULL);
+  options.region_tolerance = 0.01;
   cagekit_mesh_release(mesh);
   mesh = new_three_triangles_on_one_edge(context);
   options.regions = 1;
-  CHECK_STATUS(cagekit_mesh_remesh(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_MESH);
+  CHECK_STATUS(cagekit_mesh_remesh_quad(mesh, &options, &cage, NULL), CAGEKIT_ERROR_INVALID_MESH);
   CHECK(strstr(cagekit_last_error_message(context), "edge") != NULL);
   cagekit_mesh_release(mesh);
   cagekit_context_release(context);

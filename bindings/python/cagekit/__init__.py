@@ -31,7 +31,7 @@ from .fit import LsqSolver, ProjectionMode, fit
 from .limit_patches import LimitPatches, limit_patches
 from .mesh import Mesh, MeshIssue, RepairSteps
 from .multires import Binding, CpuDeformer, DisplacementMode, NormalMode, bind
-from .remesh import RemeshMethod, remesh
+from .remesh import remesh_anisotropic, remesh_quad
 from .scan_to_cage import ComponentMode, ScanMethod, scan_to_cage
 from .simplify import Hierarchy, LevelQuery, simplify
 from .surface import Surface
@@ -57,8 +57,8 @@ __all__ = [
     "CancelledError", "ComponentMode", "Context", "CpuDeformer", "DisplacementMode", "FileFormat", "FileIOError", "Hierarchy",
     "InternalError", "InvalidArgumentError", "InvalidHandleError", "InvalidMeshError", "LevelQuery",
     "LimitExceededError", "LimitPatches", "LogLevel", "LsqSolver", "Mesh", "MeshIssue", "NormalMode",
-    "OutOfMemoryError", "ParseError", "ProjectionMode", "Record", "RemeshMethod", "RepairSteps", "ScanMethod", "SizeInsufficientError", "Surface",
+    "OutOfMemoryError", "ParseError", "ProjectionMode", "Record", "RepairSteps", "ScanMethod", "SizeInsufficientError", "Surface",
     "UnsupportedFormatError", "VersionMismatchError", "QualityError", "UnsupportedFeatureError",
     "InvalidOperationError", "abi_version", "bind", "default_context", "fit",
-    "library_path", "limit_patches", "live_handles", "remesh", "scan_to_cage", "simplify", "version",
+    "library_path", "limit_patches", "live_handles", "remesh_anisotropic", "remesh_quad", "scan_to_cage", "simplify", "version",
 ]

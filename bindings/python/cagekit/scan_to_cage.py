@@ -23,7 +23,7 @@ from . import _lib
 from ._records import enum_value as _enum, from_struct
 from .cage import Cage
 from .fit import LsqSolver, ProjectionMode
-from .remesh import RemeshOptions
+from .remesh import anisotropic_options, quad_options
 
 
 class ScanMethod(enum.IntEnum):
@@ -41,13 +41,13 @@ class ComponentMode(enum.IntEnum):
 class ScanToCageOptions(_lib._Versioned):
     _fields_ = [("struct_size", c_size_t), ("method", _lib.c_enum), ("repair", _lib.c_bool32), ("components", _lib.c_enum),
                 ("weld_tolerance_rel", c_double), ("target_query", _lib.c_enum), ("target", c_double),
-                ("cage", c_void_p), ("remesh", c_void_p), ("fit", c_void_p), ("limit_levels", c_uint32),
+                ("cage", c_void_p), ("quad", c_void_p), ("anisotropic", c_void_p), ("fit", c_void_p), ("limit_levels", c_uint32),
                 ("self_intersection_level", c_uint32), ("max_limit_to_scan_rel", c_double),
                 ("limit_to_scan_factor", c_double), ("small_input_faces", c_uint64),
                 ("fallback_to_simplify", _lib.c_bool32), ("finer_simplify_attempts", c_uint32),
                 ("two_sided_refit_factor", c_double)]
     _defaults = {"method": 0, "repair": 1, "components": 0, "weld_tolerance_rel": 1e-7, "target_query": 0,
-                 "target": 60.0, "cage": None, "remesh": None, "fit": None, "limit_levels": 3,
+                 "target": 60.0, "cage": None, "quad": None, "anisotropic": None, "fit": None, "limit_levels": 3,
                  "self_intersection_level": 2, "max_limit_to_scan_rel": 0.05, "limit_to_scan_factor": 3.0,
                  "small_input_faces": 1000, "fallback_to_simplify": 1, "finer_simplify_attempts": 2,
                  "two_sided_refit_factor": 3.0}
@@ -101,25 +101,20 @@ _lib._declare(_lib.lib)  # ImportError naming the function when the loaded libra
 def scan_to_cage(scan, method=ScanMethod.SIMPLIFY, faces=60, repair=True, components=ComponentMode.ALL,
                  weld_tolerance_rel=1e-7, crease_rule="sharp-input", feature_angle_degrees=40.0,
                  crease_angle_degrees=30.0, input_crease_angle_degrees=-1.0,
-                 remesh=None, fit=None, limit_levels=3, self_intersection_level=2, max_limit_to_scan_rel=0.05,
+                 quad=None, anisotropic=None, fit=None, limit_levels=3, self_intersection_level=2, max_limit_to_scan_rel=0.05,
                  limit_to_scan_factor=3.0, small_input_faces=1000, fallback_to_simplify=True,
                  finer_simplify_attempts=2, two_sided_refit_factor=3.0):
     """Runs the journey on `scan` (a Mesh, not changed). Returns (cage, limit, report): the fitted
     Cage with crease tags, its limit mesh (refined `limit_levels` times) as a Cage, and a record
     of every figure of cagekit_scan_to_cage_report (fallback_reason as str, methods as
     ScanMethod). `faces`: simplify's target and the fallback's. Creases as Hierarchy.build_cage
-    (crease_rule, feature_angle_degrees, crease_angle_degrees, input_crease_angle_degrees). `remesh`: a dict of
-    cagekit.remesh()'s option names for quad / anisotropic (weights as a 3-tuple); `fit`: a dict
+    (crease_rule, feature_angle_degrees, crease_angle_degrees, input_crease_angle_degrees). `quad` / `anisotropic`:
+    dicts of cagekit.remesh_quad()'s / remesh_anisotropic()'s keyword arguments; `fit`: a dict
     of cagekit.fit()'s option names. `two_sided_refit_factor`: the last phase's two-sided refit (0: not
     tried; report.two_sided_refit says whether it was kept). Raises QualityError when no good result
     could be made."""
-    remesh_options = None
-    if remesh is not None:
-        r = dict(remesh)
-        weights = r.pop("weights", None)
-        if weights is not None:
-            r["triangle_weight"], r["pentagon_weight"], r["t_joint_weight"] = (float(w) for w in weights)
-        remesh_options = RemeshOptions.new(**r)
+    quad_struct, keep_alive = quad_options(**(quad or {}))
+    anisotropic_struct = anisotropic_options(**(anisotropic or {}))
     fit_options = None
     if fit is not None:
         f = dict(fit)
@@ -143,8 +138,8 @@ def scan_to_cage(scan, method=ScanMethod.SIMPLIFY, faces=60, repair=True, compon
         finer_simplify_attempts=int(finer_simplify_attempts),
         two_sided_refit_factor=float(two_sided_refit_factor))
     options.cage = ctypes.cast(ctypes.pointer(cage_options), c_void_p)
-    if remesh_options is not None:
-        options.remesh = ctypes.cast(ctypes.pointer(remesh_options), c_void_p)
+    options.quad = ctypes.cast(ctypes.pointer(quad_struct), c_void_p)
+    options.anisotropic = ctypes.cast(ctypes.pointer(anisotropic_struct), c_void_p)
     if fit_options is not None:
         options.fit = ctypes.cast(ctypes.pointer(fit_options), c_void_p)
     report = ScanToCageReport.new()
@@ -152,6 +147,7 @@ def scan_to_cage(scan, method=ScanMethod.SIMPLIFY, faces=60, repair=True, compon
     scan._context._call(_lib.lib.cagekit_scan_to_cage, scan._handle, ctypes.byref(options), ctypes.byref(cage_out),
                         ctypes.byref(limit_out), ctypes.byref(report), None,
                         outs=[(cage_out, Cage._release_name), (limit_out, Cage._release_name)])
+    del keep_alive
     cage = Cage._wrap(cage_out.value, scan._context)
     limit = Cage._wrap(limit_out.value, scan._context)
     record = from_struct(report, "ScanToCageReport", skip=("struct_size", "fallback_reason"))

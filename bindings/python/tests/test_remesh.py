@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""cagekit.remesh (cagekit_mesh_remesh): the anisotropic method on an open cylinder, the report,
-and bad input / options as exceptions."""
+"""cagekit.remesh_anisotropic / remesh_quad (cagekit_mesh_remesh_anisotropic / _quad): the
+anisotropic method on an open cylinder, the quad method on a cube, the reports, and bad input /
+options as exceptions."""
 import math
 
 import numpy as np
@@ -26,7 +27,7 @@ class Remesh(HandleCheck):
     def test_a_cylinder_becomes_quads_along_its_curvature_lines(self):
         positions, triangles = open_cylinder()
         with cagekit.Mesh.from_arrays(positions, triangles) as mesh:
-            cage, report = cagekit.remesh(mesh, method="anisotropic", tolerance=0.002, feature_angle_degrees=-1)
+            cage, report = cagekit.remesh_anisotropic(mesh, tolerance=0.002, feature_angle_degrees=-1)
             with cage:
                 info = cage.info()
                 self.assertEqual((info.faces, info.vertices), (report.faces, report.vertices))
@@ -41,7 +42,7 @@ class Remesh(HandleCheck):
     def test_quad_method_gives_a_closed_quad_dominant_cage(self):
         positions, triangles = grid_cube(6)
         with cagekit.Mesh.from_arrays(positions, triangles) as mesh:
-            cage, report = cagekit.remesh(mesh, method="quad", regions=6, edge_length=0.1, weights=(100, 100, 100))
+            cage, report = cagekit.remesh_quad(mesh, regions=6, edge_length=0.1, weights=(100, 100, 100))
             with cage:
                 info = cage.info()
                 self.assertEqual((info.faces, info.vertices), (report.faces, report.vertices))
@@ -55,32 +56,36 @@ class Remesh(HandleCheck):
                 self.assertGreater(report.creases, 0)  # the twelve 90° edges are sharp region boundaries
                 self.assertLess(mesh.measure_error(cage).hausdorff_rel, 0.02)
             with self.assertRaises(cagekit.InvalidArgumentError):
-                cagekit.remesh(mesh, method="quad", edge_length=0.0)
+                cagekit.remesh_quad(mesh, edge_length=0.0)
             with self.assertRaises(cagekit.InvalidArgumentError):
-                cagekit.remesh(mesh, method="quad", weights=(1, -1, 1))
+                cagekit.remesh_quad(mesh, weights=(1, -1, 1))
             with self.assertRaises(ValueError):
-                cagekit.remesh(mesh, method="quad", weights=(1, 1))
+                cagekit.remesh_quad(mesh, weights=(1, 1))
             # Host control of the segmentation: two adjacent triangles pinned, one seed.
-            cage, report = cagekit.remesh(mesh, method="quad", regions=7, edge_length=0.1, weights=(100, 100, 100),
+            cage, report = cagekit.remesh_quad(mesh, regions=7, edge_length=0.1, weights=(100, 100, 100),
                                           pinned_regions=[[0, 1]], seed_faces=[100])
             with cage:
                 self.assertEqual(report.regions, 7)
                 self.assertTrue(cage.info().manifold)
             with self.assertRaises(cagekit.InvalidArgumentError):  # a seed inside the pinned set
-                cagekit.remesh(mesh, method="quad", regions=7, edge_length=0.1, pinned_regions=[[0, 1]], seed_faces=[1])
+                cagekit.remesh_quad(mesh, regions=7, edge_length=0.1, pinned_regions=[[0, 1]], seed_faces=[1])
             with self.assertRaises(cagekit.InvalidArgumentError):  # out of range
-                cagekit.remesh(mesh, method="quad", regions=7, edge_length=0.1, seed_faces=[10 ** 6])
+                cagekit.remesh_quad(mesh, regions=7, edge_length=0.1, seed_faces=[10 ** 6])
 
     def test_bad_options_and_input_are_exceptions(self):
         positions, triangles = grid_cube(4)
         with cagekit.Mesh.from_arrays(positions, triangles) as mesh:
+            with self.assertRaises(cagekit.InvalidArgumentError) as caught:
+                cagekit.remesh_anisotropic(mesh, tolerance=0.0)
+            self.assertIn("cagekit_anisotropic_options.tolerance must be finite and in (0, 1], not 0",
+                          str(caught.exception))
             with self.assertRaises(cagekit.InvalidArgumentError):
-                cagekit.remesh(mesh, tolerance=0.0)
-            with self.assertRaises(cagekit.InvalidArgumentError):
-                cagekit.remesh(mesh, max_face_valence=2)
-            with self.assertRaises(ValueError):
-                cagekit.remesh(mesh, method="no-such-method")
+                cagekit.remesh_anisotropic(mesh, max_face_valence=2)
+            with self.assertRaises(TypeError):  # each remesher takes only its own options
+                cagekit.remesh_quad(mesh, tolerance=0.01)
         bad = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, float("nan")]], dtype=np.float64)
         with cagekit.Mesh.from_arrays(bad, np.array([[0, 1, 2], [0, 2, 3], [0, 3, 1], [1, 3, 2]], dtype=np.uint32)) as m:
             with self.assertRaises(cagekit.InvalidMeshError):
-                cagekit.remesh(m)
+                cagekit.remesh_anisotropic(m)
+            with self.assertRaises(cagekit.InvalidMeshError):
+                cagekit.remesh_quad(m)

@@ -6,7 +6,7 @@
 //   vertex; interior = not on an edge used by one face only);
 // - measure_feature_alignment: the share of the input's sharp edges that an output edge follows;
 // - measure_remesh_quality: the figures the remeshers report (quad_remesher.h,
-//   anisotropic_remesher.h; the C API's cagekit_remesh_report), counts plus the scaled Jacobian.
+//   anisotropic_remesher.h; the C API's cagekit_remesh_quality), counts plus the scaled Jacobian.
 #include <array>
 #include <cstdint>
 #include <vector>
