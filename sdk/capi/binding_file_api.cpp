@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Saved bindings (.ckb): write a binding with its cage, read one back (sdk/multires/binding_file.h).
 #include "capi/api_guard.h"
+#include "capi/option_rules.h"
 #include "core/io/file_io.h"
 #include "multires/binding_file.h"
 
@@ -14,7 +15,7 @@ cagekit_status read(cagekit_context context, const char* path, const void* data,
     require_not_null(out, "out");
     *out = nullptr;
     checked(context, "context");
-    if (threads > 1024) fail(Status::invalid_argument, "threads must be <= 1024");
+    apply(kThreads, threads, "threads", threads);
     std::vector<uint8_t> file;
     const uint8_t* bytes = static_cast<const uint8_t*>(data);
     if (path) {

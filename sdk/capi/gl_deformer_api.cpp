@@ -4,6 +4,7 @@
 
 #include "capi/api_guard.h"
 #include "capi/mesh_conversion.h"
+#include "capi/option_conversion.h"
 #include "gpu/gl_deformer.h"
 
 using namespace cagekit_capi;
@@ -62,8 +63,7 @@ CAGEKIT_API cagekit_status cagekit_gl_deformer_create(cagekit_binding binding, c
     *out = nullptr;
     cagekit_binding_t& b = checked(binding, "binding");
     if (get_proc_address == nullptr) fail(Status::invalid_argument, "get_proc_address must not be NULL");
-    cagekit_gl_deformer_options defaults = CAGEKIT_GL_DEFORMER_OPTIONS_INIT;
-    const cagekit_gl_deformer_options o = read_versioned(options, defaults, "cagekit_gl_deformer_options");
+    const cagekit::GlDeformerOptions go = gl_deformer_options_from_c(options);
     std::vector<uint32_t> triangles;
     if (scan != nullptr) {
       const cagekit_mesh_t& m = checked(scan, "scan");
@@ -73,8 +73,6 @@ CAGEKIT_API cagekit_status cagekit_gl_deformer_create(cagekit_binding binding, c
       require_scan_face_indices_in_range(m.mesh);
       triangles = triangles_of(m.mesh);
     }
-    cagekit::GlDeformerOptions go;
-    go.optimize_vertex_cache = bool_from_c(o.optimize_vertex_cache, "cagekit_gl_deformer_options.optimize_vertex_cache");
     auto deformer = std::make_unique<cagekit::GlDeformer>(
         b.binding, triangles, reinterpret_cast<cagekit::GlGetProcAddress>(get_proc_address), user_data, go);
     *out = std::make_unique<cagekit_gl_deformer_t>(b.context, &b, std::move(deformer)).release();

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // File and memory I/O of meshes and cages, and the blob handle that carries encoded bytes.
-#include <cmath>
 
 #include "capi/api_guard.h"
 #include "capi/mesh_conversion.h"
+#include "capi/option_conversion.h"
 #include "core/io/mesh_io.h"
 #include "core/mesh_validation.h"
 
@@ -18,20 +18,6 @@ cagekit::FileFormat checked_format(const cagekit_file_format& format) {
   return static_cast<cagekit::FileFormat>(raw);
 }
 
-cagekit::WriteOptions write_options(const cagekit_write_options* options) {
-  cagekit_write_options defaults = CAGEKIT_WRITE_OPTIONS_INIT;
-  const cagekit_write_options o = read_versioned(options, defaults, "cagekit_write_options");
-  if (o.draco_position_bits < 1 || o.draco_position_bits > 30)
-    fail(Status::invalid_argument, "draco_position_bits must be in 1..30, not " + std::to_string(o.draco_position_bits));
-  if (o.draco_speed < 0 || o.draco_speed > 10)
-    fail(Status::invalid_argument, "draco_speed must be in 0..10, not " + std::to_string(o.draco_speed));
-  cagekit::WriteOptions w;
-  w.format = checked_format(o.format);
-  w.ply_binary = bool_from_c(o.ply_binary, "cagekit_write_options.ply_binary");
-  w.draco_position_bits = o.draco_position_bits;
-  w.draco_speed = o.draco_speed;
-  return w;
-}
 
 void write_report(cagekit_write_report* report, const cagekit::WriteReport& r) {
   if (!report) return;
@@ -65,7 +51,7 @@ cagekit_status write_file(cagekit_context context, const cagekit::Cage& cage, co
                           const cagekit_write_options* options, cagekit_write_report* report) {
   return guarded(context, [&] {
     require_not_null(path, "path");
-    const cagekit::WriteOptions o = write_options(options);
+    const cagekit::WriteOptions o = write_options_from_c(options);
     warn_if_tags_dropped(*context, cage, o, path);
     cagekit::WriteReport r;
     cagekit::write_cage_to_file(path, cage, o, &r, context->monitor());
@@ -76,7 +62,7 @@ cagekit_status write_file(cagekit_context context, const cagekit::Cage& cage, co
 cagekit_status write_memory(cagekit_context context, const cagekit::Cage& cage, const cagekit_write_options* options,
                             cagekit_blob* out, cagekit_write_report* report) {
   return guarded(context, [&] {
-    const cagekit::WriteOptions o = write_options(options);
+    const cagekit::WriteOptions o = write_options_from_c(options);
     if (o.format == cagekit::FileFormat::unknown)
       fail(Status::invalid_argument, "options->format must name a format when writing to memory");
     warn_if_tags_dropped(*context, cage, o, nullptr);

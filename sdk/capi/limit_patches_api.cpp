@@ -1,11 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The limit surface as bicubic Bezier patches (subdiv/limit_patches.h).
-#include <algorithm>
-#include <cmath>
-#include <limits>
-#include <thread>
 
 #include "capi/api_guard.h"
+#include "capi/option_conversion.h"
 #include "subdiv/limit_patches.h"
 
 using namespace cagekit_capi;
@@ -18,21 +15,7 @@ CAGEKIT_API cagekit_status cagekit_limit_patches_create(cagekit_cage cage, const
     require_not_null(out, "out");
     *out = nullptr;
     cagekit_cage_t& c = checked(cage, "cage");
-    cagekit_limit_patch_options defaults = CAGEKIT_LIMIT_PATCH_OPTIONS_INIT;
-    const cagekit_limit_patch_options o = read_versioned(options, defaults, "cagekit_limit_patch_options");
-    if (!(o.tolerance > 0.0) || !std::isfinite(o.tolerance))
-      fail(Status::invalid_argument, "cagekit_limit_patch_options.tolerance must be finite and > 0");
-    if (o.max_depth > static_cast<uint32_t>(cagekit::kMaxLimitPatchDepth))
-      fail(Status::invalid_argument, "cagekit_limit_patch_options.max_depth must be at most " +
-                                         std::to_string(cagekit::kMaxLimitPatchDepth) + ", not " +
-                                         std::to_string(o.max_depth));
-    if (o.threads > 1024)
-      fail(Status::invalid_argument, "cagekit_limit_patch_options.threads must be at most 1024, not " +
-                                         std::to_string(o.threads));
-    cagekit::LimitPatchOptions lo;
-    lo.tolerance = o.tolerance;
-    lo.max_depth = static_cast<int>(o.max_depth);
-    lo.threads = o.threads != 0 ? static_cast<int>(o.threads) : int(std::max(1u, std::thread::hardware_concurrency()));
+    const cagekit::LimitPatchOptions lo = limit_patch_options_from_c(options);
     cagekit::LimitPatches patches = cagekit::build_limit_patches(c.cage, lo, c.context->monitor());
     *out = std::make_unique<cagekit_limit_patches_t>(c.context, std::move(patches)).release();
   });

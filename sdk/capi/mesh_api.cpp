@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Mesh handles: creation from caller buffers, read-back, validation, repair, statistics.
-#include <cmath>
 
 #include "capi/api_guard.h"
 #include "capi/mesh_conversion.h"
+#include "capi/option_conversion.h"
 #include "core/mesh_repair.h"
 #include "core/mesh_statistics.h"
 #include "core/mesh_validation.h"
@@ -222,18 +222,7 @@ CAGEKIT_API cagekit_status cagekit_mesh_repair(cagekit_mesh mesh, const cagekit_
     require_not_null(out, "out");
     *out = nullptr;
     cagekit_mesh_t& m = checked(mesh, "mesh");
-    cagekit_repair_options defaults = CAGEKIT_REPAIR_OPTIONS_INIT;
-    const cagekit_repair_options o = read_versioned(options, defaults, "cagekit_repair_options");
-    if (!std::isfinite(o.weld_tolerance) || o.weld_tolerance < 0)
-      fail(Status::invalid_argument, "weld_tolerance must be finite and >= 0");
-    cagekit::RepairOptions ro;
-    ro.weld_tolerance = (o.steps & CAGEKIT_REPAIR_WELD) ? o.weld_tolerance : -1.0;
-    ro.drop_invalid_faces = o.steps & CAGEKIT_REPAIR_DROP_INVALID_FACES;
-    ro.drop_degenerate_faces = o.steps & CAGEKIT_REPAIR_DROP_DEGENERATE_FACES;
-    ro.drop_duplicate_faces = o.steps & CAGEKIT_REPAIR_DROP_DUPLICATE_FACES;
-    ro.split_non_manifold = o.steps & CAGEKIT_REPAIR_SPLIT_NON_MANIFOLD;
-    ro.orient_consistently = o.steps & CAGEKIT_REPAIR_ORIENT;
-    ro.remove_unreferenced_vertices = o.steps & CAGEKIT_REPAIR_REMOVE_UNREFERENCED;
+    const cagekit::RepairOptions ro = repair_options_from_c(options);
     cagekit::RepairReport rr;
     cagekit::PolygonMesh repaired = cagekit::repair_mesh(m.mesh, ro, &rr, m.context->monitor());
     if (report) {

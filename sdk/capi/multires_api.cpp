@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Multiresolution editing (thesis ch. 8): binding handles and CPU deformers.
 #include <algorithm>
-#include <cmath>
 
 #include "capi/api_guard.h"
 #include "capi/mesh_conversion.h"
+#include "capi/option_conversion.h"
+#include "capi/option_rules.h"
 #include "multires/deformer_vertex_order.h"
 
 using namespace cagekit_capi;
@@ -87,21 +88,8 @@ CAGEKIT_API cagekit_status cagekit_multires_bind(cagekit_cage cage, cagekit_mesh
     *out = nullptr;
     cagekit_cage_t& c = checked(cage, "cage");
     cagekit_mesh_t& m = checked(scan, "scan");
-    cagekit_bind_options defaults = CAGEKIT_BIND_OPTIONS_INIT;
-    const cagekit_bind_options o = read_versioned(options, defaults, "cagekit_bind_options");
-    const int32_t mode = raw_enum(o.mode);
-    if (mode != CAGEKIT_DISPLACEMENT_NORMAL && mode != CAGEKIT_DISPLACEMENT_LOCAL_FRAME)
-      fail(Status::invalid_argument, "cagekit_bind_options.mode is not a cagekit_displacement_mode");
-    if (o.threads > 1024) fail(Status::invalid_argument, "cagekit_bind_options.threads must be <= 1024");
+    const cagekit::BindOptions bo = bind_options_from_c(options);
     require_scan_face_indices_in_range(m.mesh);
-    cagekit::BindOptions bo;
-    bo.mode = mode == CAGEKIT_DISPLACEMENT_LOCAL_FRAME ? cagekit::DisplacementMode::local_frame
-                                                       : cagekit::DisplacementMode::normal;
-    bo.exact_normals = bool_from_c(o.exact_normals, "cagekit_bind_options.exact_normals");
-    bo.threads = int(o.threads);
-    if (!(o.sharp_angle_degrees < 0) && !(o.sharp_angle_degrees <= 180))
-      fail(Status::invalid_argument, "cagekit_bind_options.sharp_angle_degrees must be < 0 (off) or in [0, 180]");
-    bo.sharp_angle_degrees = o.sharp_angle_degrees < 0 ? -1.0 : o.sharp_angle_degrees;
     cagekit::ScanBinding binding = cagekit::bind_scan_to_cage(c.cage, m.mesh, bo, c.context->monitor());
     *out = std::make_unique<cagekit_binding_t>(c.context, std::move(binding), c.cage, bo).release();
   });
@@ -176,7 +164,7 @@ CAGEKIT_API cagekit_status cagekit_cpu_deformer_create(cagekit_binding binding, 
     require_not_null(out, "out");
     *out = nullptr;
     cagekit_binding_t& b = checked(binding, "binding");
-    if (threads > 1024) fail(Status::invalid_argument, "threads must be <= 1024");
+    apply(kThreads, threads, "threads", threads);
     *out = std::make_unique<cagekit_cpu_deformer_t>(b.context, &b, int(threads)).release();
   });
 }

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstddef>
 #include <string>
+#include <thread>
 
 #include "capi/api_guard.h"
 #include "capi/option_rules.h"
@@ -45,7 +46,7 @@ cagekit_fit_two_sided fit_two_sided_to_c(const cagekit::FitPassStatistics& s) {
   X(A, keep_crease_vertices, 0, Boolean{}, f.keep_crease_vertices_on_samples)                            \
   X(A, projection, CAGEKIT_PROJECTION_EXACT, kProjectionModes, f.projection)                             \
   X(A, solver, CAGEKIT_LSQ_DIRECT, kSolvers, f.solver)                                                   \
-  X(A, threads, 0, (UintIn{0, 1024}), f.threads)                                                         \
+  X(A, threads, 0, kThreads, f.threads)                                                         \
   X(A, max_projection_steps, 500, (UintIn{0, 100000}), f.closest_point.max_steps)                        \
   X(A, projection_epsilon, 1e-6, greater_than(0.0), f.closest_point.epsilon)                            \
   X(A, projection_seed_resolution, 4, (UintIn{1, 64}), f.closest_point.seed_resolution)                  \
@@ -149,7 +150,7 @@ cagekit::CageBuildOptions cage_options_from_c(const cagekit_cage_options* option
   X(A, tolerance, 0.002, half_open_range(0.0, 1.0), ao.tolerance)                                     \
   X(A, feature_angle_degrees, 40.0, at_most(180.0), ao.feature_angle_degrees)                         \
   X(A, max_face_valence, 5, (UintIn{3, 1000000}), ao.max_face_valence)                                \
-  X(A, threads, 0, (UintIn{0, 1024}), ao.threads)                                                     \
+  X(A, threads, 0, kThreads, ao.threads)                                                     \
   X(A, curvature_radius, 0.01, closed_range(0.0, 1.0), ao.disk_radius_bbox)
 
 constexpr cagekit_anisotropic_options kAnisotropicDefaults = CAGEKIT_ANISOTROPIC_OPTIONS_INIT;
@@ -173,7 +174,7 @@ cagekit::AnisotropicRemeshOptions anisotropic_options_from_c(const cagekit_aniso
   X(A, pentagon_weight, 40.0, greater_than(0.0), qo.pentagon_weight)                                  \
   X(A, t_joint_weight, 100.0, greater_than(0.0), qo.t_joint_weight)                                   \
   X(A, refinement_passes, 1, (UintIn{0, 16}), qo.sample_refinement_passes)                            \
-  X(A, threads, 0, (UintIn{0, 1024}), qo.threads)                                                     \
+  X(A, threads, 0, kThreads, qo.threads)                                                     \
   X(A, seed_faces, NULL, ByHand{}, qo.seed_faces)                                                     \
   X(A, seed_face_count, 0, ByHand{}, qo.seed_faces)                                                   \
   X(A, pinned_region_count, 0, ByHand{}, qo.pinned_regions)                                           \
@@ -217,6 +218,153 @@ cagekit::QuadRemeshOptions quad_options_from_c(const cagekit_quad_remesh_options
     }
   }
   return qo;
+}
+
+// cagekit_write_options: field, default (CAGEKIT_WRITE_OPTIONS_INIT), rule, C++ destination in `w`.
+#define CAGEKIT_WRITE_OPTION_TABLE(X, A)                                                              \
+  X(A, format, CAGEKIT_FORMAT_AUTO, kFileFormats, w.format)                                           \
+  X(A, ply_binary, 1, Boolean{}, w.ply_binary)                                                        \
+  X(A, draco_position_bits, 14, (UintIn{1, 30}), w.draco_position_bits)                               \
+  X(A, draco_speed, 5, (UintIn{0, 10}), w.draco_speed)
+
+constexpr EnumRule<cagekit::FileFormat, 6> kFileFormats{
+    "cagekit_file_format",
+    {{CAGEKIT_FORMAT_AUTO, "CAGEKIT_FORMAT_AUTO", cagekit::FileFormat::unknown},
+     {CAGEKIT_FORMAT_OBJ, "CAGEKIT_FORMAT_OBJ", cagekit::FileFormat::obj},
+     {CAGEKIT_FORMAT_PLY, "CAGEKIT_FORMAT_PLY", cagekit::FileFormat::ply},
+     {CAGEKIT_FORMAT_OFF, "CAGEKIT_FORMAT_OFF", cagekit::FileFormat::off},
+     {CAGEKIT_FORMAT_DRACO, "CAGEKIT_FORMAT_DRACO", cagekit::FileFormat::draco},
+     {CAGEKIT_FORMAT_STL, "CAGEKIT_FORMAT_STL", cagekit::FileFormat::stl}}};
+
+constexpr cagekit_write_options kWriteDefaults = CAGEKIT_WRITE_OPTIONS_INIT;
+CAGEKIT_WRITE_OPTION_TABLE(CAGEKIT_ASSERT_DEFAULT, kWriteDefaults)
+
+cagekit::WriteOptions write_options_from_c(const cagekit_write_options* options) {
+  const cagekit_write_options o = read_versioned(options, kWriteDefaults, "cagekit_write_options");
+  cagekit::WriteOptions w;
+  CAGEKIT_WRITE_OPTION_TABLE(CAGEKIT_APPLY_OPTION, "cagekit_write_options.")
+  return w;
+}
+
+// cagekit_repair_options: field, default (CAGEKIT_REPAIR_OPTIONS_INIT), rule, destination; the
+// steps become the C++ flags after the table.
+#define CAGEKIT_REPAIR_OPTION_TABLE(X, A)                                                             \
+  X(A, steps, CAGEKIT_REPAIR_DEFAULT, (FlagsIn{0x7f, "CAGEKIT_REPAIR_*"}), steps)                     \
+  X(A, weld_tolerance, 0.0, at_least(0.0), ro.weld_tolerance)
+
+constexpr cagekit_repair_options kRepairDefaults = CAGEKIT_REPAIR_OPTIONS_INIT;
+CAGEKIT_REPAIR_OPTION_TABLE(CAGEKIT_ASSERT_DEFAULT, kRepairDefaults)
+
+cagekit::RepairOptions repair_options_from_c(const cagekit_repair_options* options) {
+  const cagekit_repair_options o = read_versioned(options, kRepairDefaults, "cagekit_repair_options");
+  cagekit::RepairOptions ro;
+  uint32_t steps = 0;
+  CAGEKIT_REPAIR_OPTION_TABLE(CAGEKIT_APPLY_OPTION, "cagekit_repair_options.")
+  if (!(steps & CAGEKIT_REPAIR_WELD)) ro.weld_tolerance = -1.0;
+  ro.drop_invalid_faces = steps & CAGEKIT_REPAIR_DROP_INVALID_FACES;
+  ro.drop_degenerate_faces = steps & CAGEKIT_REPAIR_DROP_DEGENERATE_FACES;
+  ro.drop_duplicate_faces = steps & CAGEKIT_REPAIR_DROP_DUPLICATE_FACES;
+  ro.split_non_manifold = steps & CAGEKIT_REPAIR_SPLIT_NON_MANIFOLD;
+  ro.orient_consistently = steps & CAGEKIT_REPAIR_ORIENT;
+  ro.remove_unreferenced_vertices = steps & CAGEKIT_REPAIR_REMOVE_UNREFERENCED;
+  return ro;
+}
+
+// cagekit_subdivide_options (CAGEKIT_SUBDIVIDE_OPTIONS_INIT) -> `ro`.
+#define CAGEKIT_SUBDIVIDE_OPTION_TABLE(X, A)                                                          \
+  X(A, levels, 1, (UintIn{0, CAGEKIT_MAX_SUBDIVISION_LEVELS}), ro.levels)                             \
+  X(A, limit_positions, 0, Boolean{}, ro.limit_positions)
+
+constexpr cagekit_subdivide_options kSubdivideDefaults = CAGEKIT_SUBDIVIDE_OPTIONS_INIT;
+CAGEKIT_SUBDIVIDE_OPTION_TABLE(CAGEKIT_ASSERT_DEFAULT, kSubdivideDefaults)
+
+cagekit::RefineOptions subdivide_options_from_c(const cagekit_subdivide_options* options) {
+  const cagekit_subdivide_options o = read_versioned(options, kSubdivideDefaults, "cagekit_subdivide_options");
+  cagekit::RefineOptions ro;
+  CAGEKIT_SUBDIVIDE_OPTION_TABLE(CAGEKIT_APPLY_OPTION, "cagekit_subdivide_options.")
+  return ro;
+}
+
+// cagekit_surface_options (CAGEKIT_SURFACE_OPTIONS_INIT) -> `so`.
+#define CAGEKIT_SURFACE_OPTION_TABLE(X, A)                                                            \
+  X(A, isolation_level, 2, (UintIn{1, 10}), so.isolation_level)                                       \
+  X(A, sharp_isolation_level, 10, (UintIn{1, 10}), so.sharp_extraordinary_isolation_level)
+
+constexpr cagekit_surface_options kSurfaceDefaults = CAGEKIT_SURFACE_OPTIONS_INIT;
+CAGEKIT_SURFACE_OPTION_TABLE(CAGEKIT_ASSERT_DEFAULT, kSurfaceDefaults)
+
+cagekit::SurfaceOptions surface_options_from_c(const cagekit_surface_options* options) {
+  const cagekit_surface_options o = read_versioned(options, kSurfaceDefaults, "cagekit_surface_options");
+  cagekit::SurfaceOptions so;
+  CAGEKIT_SURFACE_OPTION_TABLE(CAGEKIT_APPLY_OPTION, "cagekit_surface_options.")
+  return so;
+}
+
+// cagekit_limit_patch_options (CAGEKIT_LIMIT_PATCH_OPTIONS_INIT) -> `lo`; threads 0 becomes the
+// hardware's thread count after the table.
+#define CAGEKIT_LIMIT_PATCH_OPTION_TABLE(X, A)                                                        \
+  X(A, tolerance, 1e-4, greater_than(0.0), lo.tolerance)                                              \
+  X(A, max_depth, 8, (UintIn{0, cagekit::kMaxLimitPatchDepth}), lo.max_depth)                         \
+  X(A, threads, 0, kThreads, lo.threads)
+
+constexpr cagekit_limit_patch_options kLimitPatchDefaults = CAGEKIT_LIMIT_PATCH_OPTIONS_INIT;
+CAGEKIT_LIMIT_PATCH_OPTION_TABLE(CAGEKIT_ASSERT_DEFAULT, kLimitPatchDefaults)
+
+cagekit::LimitPatchOptions limit_patch_options_from_c(const cagekit_limit_patch_options* options) {
+  const cagekit_limit_patch_options o = read_versioned(options, kLimitPatchDefaults, "cagekit_limit_patch_options");
+  cagekit::LimitPatchOptions lo;
+  CAGEKIT_LIMIT_PATCH_OPTION_TABLE(CAGEKIT_APPLY_OPTION, "cagekit_limit_patch_options.")
+  if (lo.threads == 0) lo.threads = int(std::max(1u, std::thread::hardware_concurrency()));
+  return lo;
+}
+
+// cagekit_simplify_options (CAGEKIT_SIMPLIFY_OPTIONS_INIT) -> `so`.
+#define CAGEKIT_SIMPLIFY_OPTION_TABLE(X, A) X(A, tie_break_epsilon, 0.01, at_least(0.0), so.tie_break_epsilon)
+
+constexpr cagekit_simplify_options kSimplifyDefaults = CAGEKIT_SIMPLIFY_OPTIONS_INIT;
+CAGEKIT_SIMPLIFY_OPTION_TABLE(CAGEKIT_ASSERT_DEFAULT, kSimplifyDefaults)
+
+cagekit::SimplifyOptions simplify_options_from_c(const cagekit_simplify_options* options) {
+  const cagekit_simplify_options o = read_versioned(options, kSimplifyDefaults, "cagekit_simplify_options");
+  cagekit::SimplifyOptions so;
+  CAGEKIT_SIMPLIFY_OPTION_TABLE(CAGEKIT_APPLY_OPTION, "cagekit_simplify_options.")
+  return so;
+}
+
+// cagekit_bind_options (CAGEKIT_BIND_OPTIONS_INIT) -> `bo`; a negative sharp angle is "off" (-1).
+#define CAGEKIT_BIND_OPTION_TABLE(X, A)                                                               \
+  X(A, mode, CAGEKIT_DISPLACEMENT_NORMAL, kDisplacementModes, bo.mode)                                \
+  X(A, exact_normals, 0, Boolean{}, bo.exact_normals)                                                 \
+  X(A, threads, 0, kThreads, bo.threads)                                                     \
+  X(A, sharp_angle_degrees, -1.0, at_most(180.0), bo.sharp_angle_degrees)
+
+constexpr EnumRule<cagekit::DisplacementMode, 2> kDisplacementModes{
+    "cagekit_displacement_mode",
+    {{CAGEKIT_DISPLACEMENT_NORMAL, "CAGEKIT_DISPLACEMENT_NORMAL", cagekit::DisplacementMode::normal},
+     {CAGEKIT_DISPLACEMENT_LOCAL_FRAME, "CAGEKIT_DISPLACEMENT_LOCAL_FRAME", cagekit::DisplacementMode::local_frame}}};
+
+constexpr cagekit_bind_options kBindDefaults = CAGEKIT_BIND_OPTIONS_INIT;
+CAGEKIT_BIND_OPTION_TABLE(CAGEKIT_ASSERT_DEFAULT, kBindDefaults)
+
+cagekit::BindOptions bind_options_from_c(const cagekit_bind_options* options) {
+  const cagekit_bind_options o = read_versioned(options, kBindDefaults, "cagekit_bind_options");
+  cagekit::BindOptions bo;
+  CAGEKIT_BIND_OPTION_TABLE(CAGEKIT_APPLY_OPTION, "cagekit_bind_options.")
+  if (bo.sharp_angle_degrees < 0) bo.sharp_angle_degrees = -1.0;
+  return bo;
+}
+
+// cagekit_gl_deformer_options (CAGEKIT_GL_DEFORMER_OPTIONS_INIT) -> `go`.
+#define CAGEKIT_GL_DEFORMER_OPTION_TABLE(X, A) X(A, optimize_vertex_cache, 1, Boolean{}, go.optimize_vertex_cache)
+
+constexpr cagekit_gl_deformer_options kGlDeformerDefaults = CAGEKIT_GL_DEFORMER_OPTIONS_INIT;
+CAGEKIT_GL_DEFORMER_OPTION_TABLE(CAGEKIT_ASSERT_DEFAULT, kGlDeformerDefaults)
+
+cagekit::GlDeformerOptions gl_deformer_options_from_c(const cagekit_gl_deformer_options* options) {
+  const cagekit_gl_deformer_options o = read_versioned(options, kGlDeformerDefaults, "cagekit_gl_deformer_options");
+  cagekit::GlDeformerOptions go;
+  CAGEKIT_GL_DEFORMER_OPTION_TABLE(CAGEKIT_APPLY_OPTION, "cagekit_gl_deformer_options.")
+  return go;
 }
 
 }  // namespace cagekit_capi

@@ -6,7 +6,15 @@
 
 #include <cagekit/cagekit.h>
 
+#include "core/io/mesh_io.h"
+#include "core/mesh_repair.h"
 #include "fit/surface_fitter.h"
+#include "gpu/gl_deformer.h"
+#include "layout/simplify/face_merge_simplifier.h"
+#include "multires/scan_binding.h"
+#include "subdiv/limit_patches.h"
+#include "subdiv/subdivision_surface.h"
+#include "subdiv/uniform_refinement.h"
 #include "layout/anisotropic/anisotropic_remesher.h"
 #include "layout/simplify/cage_builder.h"
 #include "layout/quad/quad_remesher.h"
@@ -17,6 +25,14 @@ namespace cagekit_capi {
 cagekit::FitOptions fit_options_from_c(const cagekit_fit_options* options);
 cagekit::CageBuildOptions cage_options_from_c(const cagekit_cage_options* options);
 
+cagekit::WriteOptions write_options_from_c(const cagekit_write_options* options);
+cagekit::RepairOptions repair_options_from_c(const cagekit_repair_options* options);
+cagekit::RefineOptions subdivide_options_from_c(const cagekit_subdivide_options* options);
+cagekit::SurfaceOptions surface_options_from_c(const cagekit_surface_options* options);
+cagekit::LimitPatchOptions limit_patch_options_from_c(const cagekit_limit_patch_options* options);
+cagekit::SimplifyOptions simplify_options_from_c(const cagekit_simplify_options* options);
+cagekit::BindOptions bind_options_from_c(const cagekit_bind_options* options);
+cagekit::GlDeformerOptions gl_deformer_options_from_c(const cagekit_gl_deformer_options* options);
 // `input_faces` bounds the quad remesher's seed and pinned-face lists.
 cagekit::AnisotropicRemeshOptions anisotropic_options_from_c(const cagekit_anisotropic_options* options);
 cagekit::QuadRemeshOptions quad_options_from_c(const cagekit_quad_remesh_options* options, uint64_t input_faces);

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <string>
+#include <type_traits>
 
 #include "capi/api_guard.h"
 
@@ -18,6 +19,9 @@ namespace cagekit_capi {
 struct UintIn {
   uint64_t min, max;
 };
+
+// Worker-thread counts: 0 (all cores) .. 1024, everywhere.
+constexpr UintIn kThreads{0, 1024};
 
 // A finite real number, bounded below and above (an infinite bound is no bound), each bound
 // inclusive or exclusive.
@@ -67,11 +71,30 @@ inline std::string rule_text(const RealIn& r) {
   return "any value";
 }
 
-template <class Dest>
-void apply(const UintIn& rule, uint64_t value, const char* name, Dest& dest) {
-  if (value < rule.min || value > rule.max)
+template <class V, class Dest>
+void apply(const UintIn& rule, V value, const char* name, Dest& dest) {
+  static_assert(std::is_integral<V>::value, "UintIn is for integer fields");
+  bool negative = false;
+  if constexpr (std::is_signed<V>::value) negative = value < 0;
+  if (negative || static_cast<uint64_t>(value) < rule.min || static_cast<uint64_t>(value) > rule.max)
     fail(Status::invalid_argument, std::string(name) + " must be in " + std::to_string(rule.min) + ".." +
                                        std::to_string(rule.max) + ", not " + std::to_string(value));
+  dest = static_cast<Dest>(value);
+}
+
+// A bit set: only the bits of `known` may be set.
+struct FlagsIn {
+  uint32_t known;
+  const char* flags;  // the flags' common name, e.g. "CAGEKIT_REPAIR_*"
+};
+template <class Dest>
+void apply(const FlagsIn& rule, uint32_t value, const char* name, Dest& dest) {
+  if ((value & ~rule.known) != 0) {
+    char text[96];
+    std::snprintf(text, sizeof(text), " must be a combination of %s flags (0x%x), not 0x%x", rule.flags, rule.known,
+                  value);
+    fail(Status::invalid_argument, std::string(name) + text);
+  }
   dest = static_cast<Dest>(value);
 }
 

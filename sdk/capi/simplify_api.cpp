@@ -31,12 +31,7 @@ CAGEKIT_API cagekit_status cagekit_hierarchy_create(cagekit_mesh mesh, const cag
     require_not_null(out, "out");
     *out = nullptr;
     cagekit_mesh_t& m = checked(mesh, "mesh");
-    cagekit_simplify_options defaults = CAGEKIT_SIMPLIFY_OPTIONS_INIT;
-    const cagekit_simplify_options o = read_versioned(options, defaults, "cagekit_simplify_options");
-    if (!std::isfinite(o.tie_break_epsilon) || o.tie_break_epsilon < 0)
-      fail(Status::invalid_argument, "tie_break_epsilon must be finite and >= 0");
-    cagekit::SimplifyOptions so;
-    so.tie_break_epsilon = o.tie_break_epsilon;
+    const cagekit::SimplifyOptions so = simplify_options_from_c(options);
     cagekit::SimplificationHierarchy hierarchy(m.mesh, so, m.context->monitor());
     *out = std::make_unique<cagekit_hierarchy_t>(m.context, std::move(hierarchy)).release();
   });

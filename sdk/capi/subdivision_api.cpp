@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Catmull-Clark refinement, limit points and limit-surface evaluation.
-#include <cmath>
 
 #include "capi/api_guard.h"
+#include "capi/option_conversion.h"
 #include "subdiv/subdivision_surface.h"
 #include "subdiv/uniform_refinement.h"
 
@@ -36,14 +36,7 @@ CAGEKIT_API cagekit_status cagekit_cage_subdivide(cagekit_cage cage, const cagek
     require_not_null(out, "out");
     *out = nullptr;
     cagekit_cage_t& c = checked(cage, "cage");
-    cagekit_subdivide_options defaults = CAGEKIT_SUBDIVIDE_OPTIONS_INIT;
-    const cagekit_subdivide_options o = read_versioned(options, defaults, "cagekit_subdivide_options");
-    if (o.levels > CAGEKIT_MAX_SUBDIVISION_LEVELS)
-      fail(Status::invalid_argument, "levels must be at most " + std::to_string(CAGEKIT_MAX_SUBDIVISION_LEVELS) +
-                                         ", not " + std::to_string(o.levels));
-    cagekit::RefineOptions ro;
-    ro.levels = static_cast<int>(o.levels);
-    ro.limit_positions = bool_from_c(o.limit_positions, "cagekit_subdivide_options.limit_positions");
+    const cagekit::RefineOptions ro = subdivide_options_from_c(options);
     cagekit::Cage refined = cagekit::refine_uniform(c.cage, ro, c.context->monitor());
     *out = std::make_unique<cagekit_cage_t>(c.context, std::move(refined)).release();
   });
@@ -72,16 +65,8 @@ CAGEKIT_API cagekit_status cagekit_surface_create(cagekit_cage cage, const cagek
     require_not_null(out, "out");
     *out = nullptr;
     cagekit_cage_t& c = checked(cage, "cage");
-    cagekit_surface_options defaults = CAGEKIT_SURFACE_OPTIONS_INIT;
-    const cagekit_surface_options o = read_versioned(options, defaults, "cagekit_surface_options");
-    if (o.isolation_level < 1 || o.isolation_level > 10)
-      fail(Status::invalid_argument, "isolation_level must be in 1..10, not " + std::to_string(o.isolation_level));
-    if (o.sharp_isolation_level < 1 || o.sharp_isolation_level > 10)
-      fail(Status::invalid_argument, "sharp_isolation_level must be in 1..10, not " + std::to_string(o.sharp_isolation_level));
+    const cagekit::SurfaceOptions so = surface_options_from_c(options);
     c.context->monitor().report("surface", 0.0);
-    cagekit::SurfaceOptions so;
-    so.isolation_level = static_cast<int>(o.isolation_level);
-    so.sharp_extraordinary_isolation_level = static_cast<int>(o.sharp_isolation_level);
     cagekit::SubdivisionSurface surface(c.cage, so);
     c.context->monitor().report("surface", 1.0);
     *out = std::make_unique<cagekit_surface_t>(c.context, std::move(surface)).release();

@@ -1925,6 +1925,68 @@ static void booleans_are_0_or_1(void) {
   cagekit_context_release(context);
 }
 
+/* Every options struct is checked by its table, with one message format naming the struct and
+ * the field, the rule and the value: integers, reals, flags, enums and thread counts alike. */
+static void option_errors_name_struct_field_rule_and_value(void) {
+  cagekit_context context = new_context();
+  cagekit_mesh mesh = new_cube(context);
+  cagekit_cage cage = new_creased_cube(context);
+  cagekit_cage out = NULL;
+  cagekit_mesh repaired = NULL;
+  cagekit_blob blob = NULL;
+  cagekit_binding binding = NULL;
+  cagekit_limit_patches patches = NULL;
+  cagekit_write_options write = CAGEKIT_WRITE_OPTIONS_INIT;
+  cagekit_subdivide_options subdivide = CAGEKIT_SUBDIVIDE_OPTIONS_INIT;
+  cagekit_repair_options repair = CAGEKIT_REPAIR_OPTIONS_INIT;
+  cagekit_fit_options fit = CAGEKIT_FIT_OPTIONS_INIT;
+  cagekit_bind_options bind = CAGEKIT_BIND_OPTIONS_INIT;
+  cagekit_limit_patch_options limit = CAGEKIT_LIMIT_PATCH_OPTIONS_INIT;
+  cagekit_scan_to_cage_options scan = CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT;
+  write.format = CAGEKIT_FORMAT_DRACO;
+  write.draco_position_bits = 0;
+  CHECK_STATUS(cagekit_cage_write_memory(cage, &write, &blob, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context),
+               "cagekit_write_options.draco_position_bits must be in 1..30, not 0") != NULL);
+  write.draco_position_bits = 14;
+  write.draco_speed = -1;
+  CHECK_STATUS(cagekit_cage_write_memory(cage, &write, &blob, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context), "cagekit_write_options.draco_speed must be in 0..10, not -1") != NULL);
+  subdivide.levels = 99;
+  CHECK_STATUS(cagekit_cage_subdivide(cage, &subdivide, &out), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context), "cagekit_subdivide_options.levels must be in 0..") != NULL);
+  CHECK(strstr(cagekit_last_error_message(context), ", not 99") != NULL);
+  repair.steps = 0x100;
+  CHECK_STATUS(cagekit_mesh_repair(mesh, &repair, &repaired, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context),
+               "cagekit_repair_options.steps must be a combination of CAGEKIT_REPAIR_* flags (0x7f), not 0x100") != NULL);
+  fit.projection = (cagekit_projection_mode)9;
+  CHECK_STATUS(cagekit_cage_fit(cage, mesh, &fit, &out, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context),
+               "cagekit_fit_options.projection must be a cagekit_projection_mode (CAGEKIT_PROJECTION_EXACT, "
+               "CAGEKIT_PROJECTION_PIECEWISE_LINEAR), not 9") != NULL);
+  fit.projection = CAGEKIT_PROJECTION_EXACT;
+  fit.tangential_weight = 1.5;
+  CHECK_STATUS(cagekit_cage_fit(cage, mesh, &fit, &out, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context),
+               "cagekit_fit_options.tangential_weight must be finite and in [0, 1], not 1.5") != NULL);
+  bind.threads = 5000;
+  CHECK_STATUS(cagekit_multires_bind(cage, mesh, &bind, &binding), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context), "cagekit_bind_options.threads must be in 0..1024, not 5000") != NULL);
+  limit.tolerance = 0.0;
+  CHECK_STATUS(cagekit_limit_patches_create(cage, &limit, &patches), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context),
+               "cagekit_limit_patch_options.tolerance must be finite and > 0, not 0") != NULL);
+  scan.target = 0.5;
+  CHECK_STATUS(cagekit_scan_to_cage(mesh, &scan, &out, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context),
+               "cagekit_scan_to_cage_options.target must be finite and in [1, 1e+12], not 0.5") != NULL);
+  CHECK(out == NULL && repaired == NULL && blob == NULL && binding == NULL && patches == NULL);
+  cagekit_cage_release(cage);
+  cagekit_mesh_release(mesh);
+  cagekit_context_release(context);
+}
+
 int main(void) {
   static const c_test_case tests[] = {
       {"version_is_consistent", version_is_consistent},
@@ -1948,6 +2010,7 @@ int main(void) {
        simplification_hierarchy_browses_levels_and_builds_a_cage},
       {"out_of_range_enum_values_are_rejected", out_of_range_enum_values_are_rejected},
       {"booleans_are_0_or_1", booleans_are_0_or_1},
+      {"option_errors_name_struct_field_rule_and_value", option_errors_name_struct_field_rule_and_value},
       {"memory_budget_fails_cleanly_before_allocating", memory_budget_fails_cleanly_before_allocating},
       {"multires_binding_reproduces_and_deforms_the_scan", multires_binding_reproduces_and_deforms_the_scan},
       {"cpu_deformer_float32_outputs_match_double", cpu_deformer_float32_outputs_match_double},
