@@ -66,15 +66,7 @@ constexpr EnumRule<cagekit::LeastSquaresSolver, 2> kSolvers{
     {{CAGEKIT_LSQ_DIRECT, "CAGEKIT_LSQ_DIRECT", cagekit::LeastSquaresSolver::direct},
      {CAGEKIT_LSQ_CGLS, "CAGEKIT_LSQ_CGLS", cagekit::LeastSquaresSolver::cgls}}};
 
-constexpr cagekit_fit_options kFitDefaults = CAGEKIT_FIT_OPTIONS_INIT;
-CAGEKIT_FIT_OPTION_TABLE(CAGEKIT_ASSERT_DEFAULT, kFitDefaults)
-
-cagekit::FitOptions fit_options_from_c(const cagekit_fit_options* options) {
-  const cagekit_fit_options o = read_versioned(options, kFitDefaults, "cagekit_fit_options");
-  cagekit::FitOptions f;
-  CAGEKIT_FIT_OPTION_TABLE(CAGEKIT_APPLY_OPTION, "cagekit_fit_options.")
-  return f;
-}
+CAGEKIT_OPTIONS_FROM_C(fit_options_from_c, cagekit_fit_options, CAGEKIT_FIT_OPTIONS_INIT, CAGEKIT_FIT_OPTION_TABLE, cagekit::FitOptions, f, {})
 
 PassArray read_pass_array(const cagekit_fit_report* report) {
   PassArray a;
@@ -134,15 +126,7 @@ constexpr EnumRule<cagekit::CreaseRule, 2> kCreaseRules{
     {{CAGEKIT_CREASES_SHARP_INPUT, "CAGEKIT_CREASES_SHARP_INPUT", cagekit::CreaseRule::sharp_input},
      {CAGEKIT_CREASES_CLUSTER_ANGLE, "CAGEKIT_CREASES_CLUSTER_ANGLE", cagekit::CreaseRule::cluster_angle}}};
 
-constexpr cagekit_cage_options kCageDefaults = CAGEKIT_CAGE_OPTIONS_INIT;
-CAGEKIT_CAGE_OPTION_TABLE(CAGEKIT_ASSERT_DEFAULT, kCageDefaults)
-
-cagekit::CageBuildOptions cage_options_from_c(const cagekit_cage_options* options) {
-  const cagekit_cage_options o = read_versioned(options, kCageDefaults, "cagekit_cage_options");
-  cagekit::CageBuildOptions bo;
-  CAGEKIT_CAGE_OPTION_TABLE(CAGEKIT_APPLY_OPTION, "cagekit_cage_options.")
-  return bo;
-}
+CAGEKIT_OPTIONS_FROM_C(cage_options_from_c, cagekit_cage_options, CAGEKIT_CAGE_OPTIONS_INIT, CAGEKIT_CAGE_OPTION_TABLE, cagekit::CageBuildOptions, bo, {})
 
 // cagekit_anisotropic_options: field, default (CAGEKIT_ANISOTROPIC_OPTIONS_INIT), rule, C++
 // destination in `ao`.
@@ -153,15 +137,7 @@ cagekit::CageBuildOptions cage_options_from_c(const cagekit_cage_options* option
   X(A, threads, 0, kThreads, ao.threads)                                                     \
   X(A, curvature_radius, 0.01, closed_range(0.0, 1.0), ao.disk_radius_bbox)
 
-constexpr cagekit_anisotropic_options kAnisotropicDefaults = CAGEKIT_ANISOTROPIC_OPTIONS_INIT;
-CAGEKIT_ANISOTROPIC_OPTION_TABLE(CAGEKIT_ASSERT_DEFAULT, kAnisotropicDefaults)
-
-cagekit::AnisotropicRemeshOptions anisotropic_options_from_c(const cagekit_anisotropic_options* options) {
-  const cagekit_anisotropic_options o = read_versioned(options, kAnisotropicDefaults, "cagekit_anisotropic_options");
-  cagekit::AnisotropicRemeshOptions ao;
-  CAGEKIT_ANISOTROPIC_OPTION_TABLE(CAGEKIT_APPLY_OPTION, "cagekit_anisotropic_options.")
-  return ao;
-}
+CAGEKIT_OPTIONS_FROM_C(anisotropic_options_from_c, cagekit_anisotropic_options, CAGEKIT_ANISOTROPIC_OPTIONS_INIT, CAGEKIT_ANISOTROPIC_OPTION_TABLE, cagekit::AnisotropicRemeshOptions, ao, {})
 
 // cagekit_quad_remesh_options: field, default (CAGEKIT_QUAD_REMESH_OPTIONS_INIT), rule, C++
 // destination in `qo`; the seed and pinned-region arrays are checked after the table.
@@ -181,13 +157,13 @@ cagekit::AnisotropicRemeshOptions anisotropic_options_from_c(const cagekit_aniso
   X(A, pinned_region_offsets, NULL, ByHand{}, qo.pinned_regions)                                      \
   X(A, pinned_faces, NULL, ByHand{}, qo.pinned_regions)
 
-constexpr cagekit_quad_remesh_options kQuadRemeshDefaults = CAGEKIT_QUAD_REMESH_OPTIONS_INIT;
-CAGEKIT_QUAD_REMESH_OPTION_TABLE(CAGEKIT_ASSERT_DEFAULT, kQuadRemeshDefaults)
+CAGEKIT_OPTIONS_FROM_C(quad_options_by_table, cagekit_quad_remesh_options, CAGEKIT_QUAD_REMESH_OPTIONS_INIT,
+                       CAGEKIT_QUAD_REMESH_OPTION_TABLE, cagekit::QuadRemeshOptions, qo, {})
 
 cagekit::QuadRemeshOptions quad_options_from_c(const cagekit_quad_remesh_options* options, uint64_t input_faces) {
-  const cagekit_quad_remesh_options o = read_versioned(options, kQuadRemeshDefaults, "cagekit_quad_remesh_options");
-  cagekit::QuadRemeshOptions qo;
-  CAGEKIT_QUAD_REMESH_OPTION_TABLE(CAGEKIT_APPLY_OPTION, "cagekit_quad_remesh_options.")
+  cagekit::QuadRemeshOptions qo = quad_options_by_table(options);
+  const cagekit_quad_remesh_options o = read_versioned(options, k_cagekit_quad_remesh_options_defaults,
+                                                       "cagekit_quad_remesh_options");
   if (o.seed_face_count > 0) {
     if (!o.seed_faces)
       fail(Status::invalid_argument, "cagekit_quad_remesh_options.seed_faces must not be NULL with seed_face_count " +
@@ -236,69 +212,44 @@ constexpr EnumRule<cagekit::FileFormat, 6> kFileFormats{
      {CAGEKIT_FORMAT_DRACO, "CAGEKIT_FORMAT_DRACO", cagekit::FileFormat::draco},
      {CAGEKIT_FORMAT_STL, "CAGEKIT_FORMAT_STL", cagekit::FileFormat::stl}}};
 
-constexpr cagekit_write_options kWriteDefaults = CAGEKIT_WRITE_OPTIONS_INIT;
-CAGEKIT_WRITE_OPTION_TABLE(CAGEKIT_ASSERT_DEFAULT, kWriteDefaults)
+CAGEKIT_OPTIONS_FROM_C(write_options_from_c, cagekit_write_options, CAGEKIT_WRITE_OPTIONS_INIT, CAGEKIT_WRITE_OPTION_TABLE, cagekit::WriteOptions, w, {})
 
-cagekit::WriteOptions write_options_from_c(const cagekit_write_options* options) {
-  const cagekit_write_options o = read_versioned(options, kWriteDefaults, "cagekit_write_options");
-  cagekit::WriteOptions w;
-  CAGEKIT_WRITE_OPTION_TABLE(CAGEKIT_APPLY_OPTION, "cagekit_write_options.")
-  return w;
-}
-
-// cagekit_repair_options: field, default (CAGEKIT_REPAIR_OPTIONS_INIT), rule, destination; the
-// steps become the C++ flags after the table.
-#define CAGEKIT_REPAIR_OPTION_TABLE(X, A)                                                             \
-  X(A, steps, CAGEKIT_REPAIR_DEFAULT, (FlagsIn{0x7f, "CAGEKIT_REPAIR_*"}), steps)                     \
-  X(A, weld_tolerance, 0.0, at_least(0.0), ro.weld_tolerance)
-
-constexpr cagekit_repair_options kRepairDefaults = CAGEKIT_REPAIR_OPTIONS_INIT;
-CAGEKIT_REPAIR_OPTION_TABLE(CAGEKIT_ASSERT_DEFAULT, kRepairDefaults)
-
-cagekit::RepairOptions repair_options_from_c(const cagekit_repair_options* options) {
-  const cagekit_repair_options o = read_versioned(options, kRepairDefaults, "cagekit_repair_options");
-  cagekit::RepairOptions ro;
-  uint32_t steps = 0;
-  CAGEKIT_REPAIR_OPTION_TABLE(CAGEKIT_APPLY_OPTION, "cagekit_repair_options.")
-  if (!(steps & CAGEKIT_REPAIR_WELD)) ro.weld_tolerance = -1.0;
+// cagekit_repair_options (CAGEKIT_REPAIR_OPTIONS_INIT) -> `ro`: the steps become its flags (WELD
+// off: no welding, tolerance -1).
+struct RepairSteps {
+  FlagsIn flags;
+};
+void apply(const RepairSteps& rule, uint32_t steps, const char* name, cagekit::RepairOptions& ro) {
+  apply(rule.flags, steps, name, steps);
   ro.drop_invalid_faces = steps & CAGEKIT_REPAIR_DROP_INVALID_FACES;
   ro.drop_degenerate_faces = steps & CAGEKIT_REPAIR_DROP_DEGENERATE_FACES;
   ro.drop_duplicate_faces = steps & CAGEKIT_REPAIR_DROP_DUPLICATE_FACES;
   ro.split_non_manifold = steps & CAGEKIT_REPAIR_SPLIT_NON_MANIFOLD;
   ro.orient_consistently = steps & CAGEKIT_REPAIR_ORIENT;
   ro.remove_unreferenced_vertices = steps & CAGEKIT_REPAIR_REMOVE_UNREFERENCED;
-  return ro;
 }
+
+#define CAGEKIT_REPAIR_OPTION_TABLE(X, A)                                                             \
+  X(A, steps, CAGEKIT_REPAIR_DEFAULT, (RepairSteps{{0x7f, "CAGEKIT_REPAIR_*"}}), ro)                  \
+  X(A, weld_tolerance, 0.0, at_least(0.0), ro.weld_tolerance)
+
+CAGEKIT_OPTIONS_FROM_C(repair_options_from_c, cagekit_repair_options, CAGEKIT_REPAIR_OPTIONS_INIT,
+                       CAGEKIT_REPAIR_OPTION_TABLE, cagekit::RepairOptions, ro,
+                       if (!(o.steps & CAGEKIT_REPAIR_WELD)) ro.weld_tolerance = -1.0;)
 
 // cagekit_subdivide_options (CAGEKIT_SUBDIVIDE_OPTIONS_INIT) -> `ro`.
 #define CAGEKIT_SUBDIVIDE_OPTION_TABLE(X, A)                                                          \
   X(A, levels, 1, (UintIn{0, CAGEKIT_MAX_SUBDIVISION_LEVELS}), ro.levels)                             \
   X(A, limit_positions, 0, Boolean{}, ro.limit_positions)
 
-constexpr cagekit_subdivide_options kSubdivideDefaults = CAGEKIT_SUBDIVIDE_OPTIONS_INIT;
-CAGEKIT_SUBDIVIDE_OPTION_TABLE(CAGEKIT_ASSERT_DEFAULT, kSubdivideDefaults)
-
-cagekit::RefineOptions subdivide_options_from_c(const cagekit_subdivide_options* options) {
-  const cagekit_subdivide_options o = read_versioned(options, kSubdivideDefaults, "cagekit_subdivide_options");
-  cagekit::RefineOptions ro;
-  CAGEKIT_SUBDIVIDE_OPTION_TABLE(CAGEKIT_APPLY_OPTION, "cagekit_subdivide_options.")
-  return ro;
-}
+CAGEKIT_OPTIONS_FROM_C(subdivide_options_from_c, cagekit_subdivide_options, CAGEKIT_SUBDIVIDE_OPTIONS_INIT, CAGEKIT_SUBDIVIDE_OPTION_TABLE, cagekit::RefineOptions, ro, {})
 
 // cagekit_surface_options (CAGEKIT_SURFACE_OPTIONS_INIT) -> `so`.
 #define CAGEKIT_SURFACE_OPTION_TABLE(X, A)                                                            \
   X(A, isolation_level, 2, (UintIn{1, 10}), so.isolation_level)                                       \
   X(A, sharp_isolation_level, 10, (UintIn{1, 10}), so.sharp_extraordinary_isolation_level)
 
-constexpr cagekit_surface_options kSurfaceDefaults = CAGEKIT_SURFACE_OPTIONS_INIT;
-CAGEKIT_SURFACE_OPTION_TABLE(CAGEKIT_ASSERT_DEFAULT, kSurfaceDefaults)
-
-cagekit::SurfaceOptions surface_options_from_c(const cagekit_surface_options* options) {
-  const cagekit_surface_options o = read_versioned(options, kSurfaceDefaults, "cagekit_surface_options");
-  cagekit::SurfaceOptions so;
-  CAGEKIT_SURFACE_OPTION_TABLE(CAGEKIT_APPLY_OPTION, "cagekit_surface_options.")
-  return so;
-}
+CAGEKIT_OPTIONS_FROM_C(surface_options_from_c, cagekit_surface_options, CAGEKIT_SURFACE_OPTIONS_INIT, CAGEKIT_SURFACE_OPTION_TABLE, cagekit::SurfaceOptions, so, {})
 
 // cagekit_limit_patch_options (CAGEKIT_LIMIT_PATCH_OPTIONS_INIT) -> `lo`; threads 0 becomes the
 // hardware's thread count after the table.
@@ -307,29 +258,14 @@ cagekit::SurfaceOptions surface_options_from_c(const cagekit_surface_options* op
   X(A, max_depth, 8, (UintIn{0, cagekit::kMaxLimitPatchDepth}), lo.max_depth)                         \
   X(A, threads, 0, kThreads, lo.threads)
 
-constexpr cagekit_limit_patch_options kLimitPatchDefaults = CAGEKIT_LIMIT_PATCH_OPTIONS_INIT;
-CAGEKIT_LIMIT_PATCH_OPTION_TABLE(CAGEKIT_ASSERT_DEFAULT, kLimitPatchDefaults)
-
-cagekit::LimitPatchOptions limit_patch_options_from_c(const cagekit_limit_patch_options* options) {
-  const cagekit_limit_patch_options o = read_versioned(options, kLimitPatchDefaults, "cagekit_limit_patch_options");
-  cagekit::LimitPatchOptions lo;
-  CAGEKIT_LIMIT_PATCH_OPTION_TABLE(CAGEKIT_APPLY_OPTION, "cagekit_limit_patch_options.")
-  if (lo.threads == 0) lo.threads = int(std::max(1u, std::thread::hardware_concurrency()));
-  return lo;
-}
+CAGEKIT_OPTIONS_FROM_C(limit_patch_options_from_c, cagekit_limit_patch_options, CAGEKIT_LIMIT_PATCH_OPTIONS_INIT,
+                       CAGEKIT_LIMIT_PATCH_OPTION_TABLE, cagekit::LimitPatchOptions, lo,
+                       if (lo.threads == 0) lo.threads = int(std::max(1u, std::thread::hardware_concurrency()));)
 
 // cagekit_simplify_options (CAGEKIT_SIMPLIFY_OPTIONS_INIT) -> `so`.
 #define CAGEKIT_SIMPLIFY_OPTION_TABLE(X, A) X(A, tie_break_epsilon, 0.01, at_least(0.0), so.tie_break_epsilon)
 
-constexpr cagekit_simplify_options kSimplifyDefaults = CAGEKIT_SIMPLIFY_OPTIONS_INIT;
-CAGEKIT_SIMPLIFY_OPTION_TABLE(CAGEKIT_ASSERT_DEFAULT, kSimplifyDefaults)
-
-cagekit::SimplifyOptions simplify_options_from_c(const cagekit_simplify_options* options) {
-  const cagekit_simplify_options o = read_versioned(options, kSimplifyDefaults, "cagekit_simplify_options");
-  cagekit::SimplifyOptions so;
-  CAGEKIT_SIMPLIFY_OPTION_TABLE(CAGEKIT_APPLY_OPTION, "cagekit_simplify_options.")
-  return so;
-}
+CAGEKIT_OPTIONS_FROM_C(simplify_options_from_c, cagekit_simplify_options, CAGEKIT_SIMPLIFY_OPTIONS_INIT, CAGEKIT_SIMPLIFY_OPTION_TABLE, cagekit::SimplifyOptions, so, {})
 
 // cagekit_bind_options (CAGEKIT_BIND_OPTIONS_INIT) -> `bo`; a negative sharp angle is "off" (-1).
 #define CAGEKIT_BIND_OPTION_TABLE(X, A)                                                               \
@@ -343,28 +279,63 @@ constexpr EnumRule<cagekit::DisplacementMode, 2> kDisplacementModes{
     {{CAGEKIT_DISPLACEMENT_NORMAL, "CAGEKIT_DISPLACEMENT_NORMAL", cagekit::DisplacementMode::normal},
      {CAGEKIT_DISPLACEMENT_LOCAL_FRAME, "CAGEKIT_DISPLACEMENT_LOCAL_FRAME", cagekit::DisplacementMode::local_frame}}};
 
-constexpr cagekit_bind_options kBindDefaults = CAGEKIT_BIND_OPTIONS_INIT;
-CAGEKIT_BIND_OPTION_TABLE(CAGEKIT_ASSERT_DEFAULT, kBindDefaults)
-
-cagekit::BindOptions bind_options_from_c(const cagekit_bind_options* options) {
-  const cagekit_bind_options o = read_versioned(options, kBindDefaults, "cagekit_bind_options");
-  cagekit::BindOptions bo;
-  CAGEKIT_BIND_OPTION_TABLE(CAGEKIT_APPLY_OPTION, "cagekit_bind_options.")
-  if (bo.sharp_angle_degrees < 0) bo.sharp_angle_degrees = -1.0;
-  return bo;
-}
+CAGEKIT_OPTIONS_FROM_C(bind_options_from_c, cagekit_bind_options, CAGEKIT_BIND_OPTIONS_INIT, CAGEKIT_BIND_OPTION_TABLE,
+                       cagekit::BindOptions, bo, if (bo.sharp_angle_degrees < 0) bo.sharp_angle_degrees = -1.0;)
 
 // cagekit_gl_deformer_options (CAGEKIT_GL_DEFORMER_OPTIONS_INIT) -> `go`.
 #define CAGEKIT_GL_DEFORMER_OPTION_TABLE(X, A) X(A, optimize_vertex_cache, 1, Boolean{}, go.optimize_vertex_cache)
 
-constexpr cagekit_gl_deformer_options kGlDeformerDefaults = CAGEKIT_GL_DEFORMER_OPTIONS_INIT;
-CAGEKIT_GL_DEFORMER_OPTION_TABLE(CAGEKIT_ASSERT_DEFAULT, kGlDeformerDefaults)
+CAGEKIT_OPTIONS_FROM_C(gl_deformer_options_from_c, cagekit_gl_deformer_options, CAGEKIT_GL_DEFORMER_OPTIONS_INIT, CAGEKIT_GL_DEFORMER_OPTION_TABLE, cagekit::GlDeformerOptions, go, {})
 
-cagekit::GlDeformerOptions gl_deformer_options_from_c(const cagekit_gl_deformer_options* options) {
-  const cagekit_gl_deformer_options o = read_versioned(options, kGlDeformerDefaults, "cagekit_gl_deformer_options");
-  cagekit::GlDeformerOptions go;
-  CAGEKIT_GL_DEFORMER_OPTION_TABLE(CAGEKIT_APPLY_OPTION, "cagekit_gl_deformer_options.")
-  return go;
+// cagekit_scan_to_cage_options: field, default (CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT), rule, C++
+// destination in `s`; the nested option structs are converted after the table.
+#define CAGEKIT_SCAN_TO_CAGE_OPTION_TABLE(X, A)                                                            \
+  X(A, method, CAGEKIT_SCAN_SIMPLIFY, kScanMethods, s.method)                                              \
+  X(A, repair, 1, Boolean{}, s.conditioning.repair)                                                        \
+  X(A, components, CAGEKIT_COMPONENTS_ALL, kComponentModes, s.conditioning.components)                     \
+  X(A, weld_tolerance_rel, 1e-7, at_least(0.0), s.conditioning.weld_tolerance_relative)                    \
+  X(A, target_query, CAGEKIT_LEVEL_BY_FACES, kTargetQueries, s.target_is_vertices)                         \
+  X(A, target, 60.0, closed_range(1.0, 1e12), s.target)                                                    \
+  X(A, cage, NULL, ByHand{}, s.cage)                                                                       \
+  X(A, quad, NULL, ByHand{}, s.quad)                                                                       \
+  X(A, anisotropic, NULL, ByHand{}, s.anisotropic)                                                         \
+  X(A, fit, NULL, ByHand{}, s.fit)                                                                         \
+  X(A, limit_levels, 3, (UintIn{1, CAGEKIT_MAX_SUBDIVISION_LEVELS}), s.limit_levels)                       \
+  X(A, self_intersection_level, 2, (UintIn{0, CAGEKIT_MAX_SUBDIVISION_LEVELS}), s.self_intersection_level) \
+  X(A, max_limit_to_scan_rel, 0.05, greater_than(0.0), s.max_limit_to_scan)                                \
+  X(A, limit_to_scan_factor, 3.0, greater_than(0.0), s.limit_to_scan_factor)                               \
+  X(A, small_input_faces, 1000, (UintIn{0, UINT64_MAX}), s.small_input_faces)                              \
+  X(A, fallback_to_simplify, 1, Boolean{}, s.fallback_to_simplify)                                         \
+  X(A, finer_simplify_attempts, 2, (UintIn{0, 8}), s.finer_simplify_attempts)                              \
+  X(A, two_sided_refit_factor, 3.0, closed_range(0.0, 100.0), s.two_sided_refit_factor)
+
+constexpr EnumRule<cagekit::ScanMethod, 3> kScanMethods{
+    "cagekit_scan_method",
+    {{CAGEKIT_SCAN_SIMPLIFY, "CAGEKIT_SCAN_SIMPLIFY", cagekit::ScanMethod::simplify},
+     {CAGEKIT_SCAN_QUAD, "CAGEKIT_SCAN_QUAD", cagekit::ScanMethod::quad},
+     {CAGEKIT_SCAN_ANISOTROPIC, "CAGEKIT_SCAN_ANISOTROPIC", cagekit::ScanMethod::anisotropic}}};
+constexpr EnumRule<cagekit::ComponentMode, 2> kComponentModes{
+    "cagekit_component_mode",
+    {{CAGEKIT_COMPONENTS_ALL, "CAGEKIT_COMPONENTS_ALL", cagekit::ComponentMode::all},
+     {CAGEKIT_COMPONENTS_LARGEST, "CAGEKIT_COMPONENTS_LARGEST", cagekit::ComponentMode::largest}}};
+// The level query decides whether `target` counts vertices.
+constexpr EnumRule<bool, 2> kTargetQueries{"cagekit_level_query",
+                                           {{CAGEKIT_LEVEL_BY_FACES, "CAGEKIT_LEVEL_BY_FACES", false},
+                                            {CAGEKIT_LEVEL_BY_VERTICES, "CAGEKIT_LEVEL_BY_VERTICES", true}}};
+
+CAGEKIT_OPTIONS_FROM_C(scan_to_cage_options_by_table, cagekit_scan_to_cage_options, CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT,
+                       CAGEKIT_SCAN_TO_CAGE_OPTION_TABLE, cagekit::ScanToCageOptions, s, {})
+
+cagekit::ScanToCageOptions scan_to_cage_options_from_c(const cagekit_scan_to_cage_options* options,
+                                                       uint64_t input_faces) {
+  cagekit::ScanToCageOptions s = scan_to_cage_options_by_table(options);
+  const cagekit_scan_to_cage_options o = read_versioned(options, k_cagekit_scan_to_cage_options_defaults,
+                                                        "cagekit_scan_to_cage_options");
+  s.cage = cage_options_from_c(o.cage);
+  if (s.method == cagekit::ScanMethod::quad) s.quad = quad_options_from_c(o.quad, input_faces);
+  if (s.method == cagekit::ScanMethod::anisotropic) s.anisotropic = anisotropic_options_from_c(o.anisotropic);
+  s.fit = fit_options_from_c(o.fit);
+  return s;
 }
 
 }  // namespace cagekit_capi

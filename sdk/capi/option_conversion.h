@@ -12,6 +12,7 @@
 #include "gpu/gl_deformer.h"
 #include "layout/simplify/face_merge_simplifier.h"
 #include "multires/scan_binding.h"
+#include "pipeline/scan_to_cage.h"
 #include "subdiv/limit_patches.h"
 #include "subdiv/subdivision_surface.h"
 #include "subdiv/uniform_refinement.h"
@@ -36,6 +37,8 @@ cagekit::GlDeformerOptions gl_deformer_options_from_c(const cagekit_gl_deformer_
 // `input_faces` bounds the quad remesher's seed and pinned-face lists.
 cagekit::AnisotropicRemeshOptions anisotropic_options_from_c(const cagekit_anisotropic_options* options);
 cagekit::QuadRemeshOptions quad_options_from_c(const cagekit_quad_remesh_options* options, uint64_t input_faces);
+cagekit::ScanToCageOptions scan_to_cage_options_from_c(const cagekit_scan_to_cage_options* options,
+                                                       uint64_t input_faces);
 
 // The fit report's pass array (an input inside the output struct), read before the fit so that
 // a bad struct_size fails before any work.

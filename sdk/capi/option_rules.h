@@ -137,4 +137,19 @@ void apply(ByHand, const V&, const char*, Dest&) {}
 #define CAGEKIT_APPLY_OPTION(prefix, field, default_value, rule, destination) \
   apply(rule, o.field, prefix #field, destination);
 
+// Defines `cpp_type function(const c_struct* options)` from a table: the caller's struct is read
+// over the header's defaults `init` (NULL: the defaults; a shorter struct_size: the defaults for
+// the rest), each row is applied into `var`, then the statements `finish` ({} for none) run with
+// `o` and `var` in scope.
+#define CAGEKIT_OPTIONS_FROM_C(function, c_struct, init, table, cpp_type, var, ...)            \
+  constexpr c_struct k_##c_struct##_defaults = init;                                           \
+  table(CAGEKIT_ASSERT_DEFAULT, k_##c_struct##_defaults)                                       \
+  cpp_type function(const c_struct* options) {                                                 \
+    const c_struct o = read_versioned(options, k_##c_struct##_defaults, #c_struct);            \
+    cpp_type var;                                                                              \
+    table(CAGEKIT_APPLY_OPTION, #c_struct ".")                                                 \
+    __VA_ARGS__                                                                                \
+    return var;                                                                                \
+  }
+
 }  // namespace cagekit_capi

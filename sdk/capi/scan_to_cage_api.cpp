@@ -6,62 +6,11 @@
 
 #include "capi/api_guard.h"
 #include "capi/option_conversion.h"
-#include "capi/option_rules.h"
 #include "pipeline/scan_to_cage.h"
 
 using namespace cagekit_capi;
 
 namespace {
-
-// cagekit_scan_to_cage_options: field, default (CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT), rule, C++
-// destination in `s`; the nested option structs are converted after the table.
-#define CAGEKIT_SCAN_TO_CAGE_OPTION_TABLE(X, A)                                                            \
-  X(A, method, CAGEKIT_SCAN_SIMPLIFY, kScanMethods, s.method)                                              \
-  X(A, repair, 1, Boolean{}, s.conditioning.repair)                                                        \
-  X(A, components, CAGEKIT_COMPONENTS_ALL, kComponentModes, s.conditioning.components)                     \
-  X(A, weld_tolerance_rel, 1e-7, at_least(0.0), s.conditioning.weld_tolerance_relative)                    \
-  X(A, target_query, CAGEKIT_LEVEL_BY_FACES, kTargetQueries, s.target_is_vertices)                         \
-  X(A, target, 60.0, closed_range(1.0, 1e12), s.target)                                                    \
-  X(A, cage, NULL, ByHand{}, s.cage)                                                                       \
-  X(A, quad, NULL, ByHand{}, s.quad)                                                                       \
-  X(A, anisotropic, NULL, ByHand{}, s.anisotropic)                                                         \
-  X(A, fit, NULL, ByHand{}, s.fit)                                                                         \
-  X(A, limit_levels, 3, (UintIn{1, CAGEKIT_MAX_SUBDIVISION_LEVELS}), s.limit_levels)                       \
-  X(A, self_intersection_level, 2, (UintIn{0, CAGEKIT_MAX_SUBDIVISION_LEVELS}), s.self_intersection_level) \
-  X(A, max_limit_to_scan_rel, 0.05, greater_than(0.0), s.max_limit_to_scan)                                \
-  X(A, limit_to_scan_factor, 3.0, greater_than(0.0), s.limit_to_scan_factor)                               \
-  X(A, small_input_faces, 1000, (UintIn{0, UINT64_MAX}), s.small_input_faces)                              \
-  X(A, fallback_to_simplify, 1, Boolean{}, s.fallback_to_simplify)                                         \
-  X(A, finer_simplify_attempts, 2, (UintIn{0, 8}), s.finer_simplify_attempts)                              \
-  X(A, two_sided_refit_factor, 3.0, closed_range(0.0, 100.0), s.two_sided_refit_factor)
-
-constexpr EnumRule<cagekit::ScanMethod, 3> kScanMethods{
-    "cagekit_scan_method",
-    {{CAGEKIT_SCAN_SIMPLIFY, "CAGEKIT_SCAN_SIMPLIFY", cagekit::ScanMethod::simplify},
-     {CAGEKIT_SCAN_QUAD, "CAGEKIT_SCAN_QUAD", cagekit::ScanMethod::quad},
-     {CAGEKIT_SCAN_ANISOTROPIC, "CAGEKIT_SCAN_ANISOTROPIC", cagekit::ScanMethod::anisotropic}}};
-constexpr EnumRule<cagekit::ComponentMode, 2> kComponentModes{
-    "cagekit_component_mode",
-    {{CAGEKIT_COMPONENTS_ALL, "CAGEKIT_COMPONENTS_ALL", cagekit::ComponentMode::all},
-     {CAGEKIT_COMPONENTS_LARGEST, "CAGEKIT_COMPONENTS_LARGEST", cagekit::ComponentMode::largest}}};
-// The level query decides whether `target` counts vertices.
-constexpr EnumRule<bool, 2> kTargetQueries{"cagekit_level_query",
-                                           {{CAGEKIT_LEVEL_BY_FACES, "CAGEKIT_LEVEL_BY_FACES", false},
-                                            {CAGEKIT_LEVEL_BY_VERTICES, "CAGEKIT_LEVEL_BY_VERTICES", true}}};
-
-constexpr cagekit_scan_to_cage_options kScanToCageDefaults = CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT;
-CAGEKIT_SCAN_TO_CAGE_OPTION_TABLE(CAGEKIT_ASSERT_DEFAULT, kScanToCageDefaults)
-
-cagekit::ScanToCageOptions options_from_c(const cagekit_scan_to_cage_options* options, uint64_t input_faces) {
-  const cagekit_scan_to_cage_options o = read_versioned(options, kScanToCageDefaults, "cagekit_scan_to_cage_options");
-  cagekit::ScanToCageOptions s;
-  CAGEKIT_SCAN_TO_CAGE_OPTION_TABLE(CAGEKIT_APPLY_OPTION, "cagekit_scan_to_cage_options.")
-  s.cage = cage_options_from_c(o.cage);
-  if (s.method == cagekit::ScanMethod::quad) s.quad = quad_options_from_c(o.quad, input_faces);
-  if (s.method == cagekit::ScanMethod::anisotropic) s.anisotropic = anisotropic_options_from_c(o.anisotropic);
-  s.fit = fit_options_from_c(o.fit);
-  return s;
-}
 
 cagekit_scan_method method_to_c(cagekit::ScanMethod m) {
   switch (m) {
@@ -166,7 +115,7 @@ CAGEKIT_API cagekit_status cagekit_scan_to_cage(cagekit_mesh scan, const cagekit
     *cage_out = nullptr;
     if (limit_out) *limit_out = nullptr;
     cagekit_mesh_t& m = checked(scan, "scan");
-    const cagekit::ScanToCageOptions o = options_from_c(options, m.mesh.num_faces());
+    const cagekit::ScanToCageOptions o = scan_to_cage_options_from_c(options, m.mesh.num_faces());
     const PassArray passes = read_pass_array(fit_report);
     if (report) {  // a bad struct_size fails before any work
       cagekit_scan_to_cage_report probe{};
