@@ -366,66 +366,6 @@ typedef struct cagekit_mesh_info {
 CAGEKIT_API cagekit_status cagekit_mesh_get_info(cagekit_mesh mesh, cagekit_mesh_info* info);
 
 /* ------------------------------------------------------------------------------------------ */
-/* Cage: a Catmull-Clark control mesh with crease tags                                        */
-/* ------------------------------------------------------------------------------------------ */
-
-/* Sharpness of an infinitely sharp crease or corner (the thesis's binary tag). Values in
- * (0, CAGEKIT_SHARP) are OpenSubdiv semi-sharp creases; values >= CAGEKIT_SHARP are infinite. */
-#define CAGEKIT_SHARP 10.0f
-
-typedef enum cagekit_boundary_rule {
-  /* Boundary edges are infinitely sharp; boundary vertices follow the crease rules and are not
-   * pinned (the thesis's rule, §2.2.1). The default. */
-  CAGEKIT_BOUNDARY_EDGES_ONLY = 0,
-  /* As above, and boundary vertices with only two incident edges are pinned corners. */
-  CAGEKIT_BOUNDARY_EDGES_AND_CORNERS = 1,
-  CAGEKIT_BOUNDARY_MAX_ENUM = 0x7fffffff
-} cagekit_boundary_rule;
-
-/* Creates a cage whose control mesh is a copy of `mesh`, with no tags and the default boundary
- * rule. The mesh must be valid (cagekit_mesh_validate); otherwise INVALID_MESH with the first
- * problem in the message. Thread-safe; reads `mesh`. */
-CAGEKIT_API cagekit_status cagekit_cage_create(cagekit_mesh mesh, cagekit_cage* out);
-CAGEKIT_API void cagekit_cage_retain(cagekit_cage cage);
-CAGEKIT_API void cagekit_cage_release(cagekit_cage cage);
-
-/* A new mesh handle holding a copy of the cage's control mesh. Reads. */
-CAGEKIT_API cagekit_status cagekit_cage_get_mesh(cagekit_cage cage, cagekit_mesh* out);
-
-/* Replaces the crease tags: `count` edges given as vertex pairs (2 * count indices, each pair
- * an edge of the control mesh, either orientation) with a sharpness each (`sharpness` may be
- * NULL: all CAGEKIT_SHARP). A sharpness of 0 removes the tag. Fails with INVALID_ARGUMENT naming
- * the first pair that is not an edge or a sharpness that is negative or not finite; the tags are
- * then unchanged. Modifies. */
-CAGEKIT_API cagekit_status cagekit_cage_set_creases(cagekit_cage cage, uint32_t count, const uint32_t* vertex_pairs,
-                                                    const float* sharpness);
-/* Reads the crease tags (two-call idiom over creases; vertex_pairs holds 2 * capacity entries;
- * either output array may be NULL). Reads. */
-CAGEKIT_API cagekit_status cagekit_cage_get_creases(cagekit_cage cage, uint32_t capacity, uint32_t* count_out,
-                                                    uint32_t* vertex_pairs, float* sharpness);
-
-/* Replaces the corner tags (vertex indices with sharpness; sharpness NULL = CAGEKIT_SHARP).
- * Modifies. */
-CAGEKIT_API cagekit_status cagekit_cage_set_corners(cagekit_cage cage, uint32_t count, const uint32_t* vertices,
-                                                    const float* sharpness);
-/* Reads the corner tags (two-call idiom). Reads. */
-CAGEKIT_API cagekit_status cagekit_cage_get_corners(cagekit_cage cage, uint32_t capacity, uint32_t* count_out,
-                                                    uint32_t* vertices, float* sharpness);
-
-/* Replaces the set of hole faces (faces that are not part of the limit surface). Modifies. */
-CAGEKIT_API cagekit_status cagekit_cage_set_holes(cagekit_cage cage, uint32_t count, const uint32_t* faces);
-/* Reads the hole faces (two-call idiom). Reads. */
-CAGEKIT_API cagekit_status cagekit_cage_get_holes(cagekit_cage cage, uint32_t capacity, uint32_t* count_out,
-                                                  uint32_t* faces);
-
-/* Sets / gets the boundary interpolation rule. set: modifies; get: reads. */
-CAGEKIT_API cagekit_status cagekit_cage_set_boundary_rule(cagekit_cage cage, cagekit_boundary_rule rule);
-CAGEKIT_API cagekit_status cagekit_cage_get_boundary_rule(cagekit_cage cage, cagekit_boundary_rule* rule);
-
-/* Statistics of the control mesh plus tag counts. Reads. */
-CAGEKIT_API cagekit_status cagekit_cage_get_info(cagekit_cage cage, cagekit_mesh_info* info);
-
-/* ------------------------------------------------------------------------------------------ */
 /* Files and streams: OBJ, PLY (ascii/binary), OFF, Draco; STL (read only)                    */
 /* ------------------------------------------------------------------------------------------ */
 
@@ -486,6 +426,66 @@ CAGEKIT_API cagekit_status cagekit_cage_write_file(cagekit_cage cage, const char
                                                    cagekit_write_report* report);
 CAGEKIT_API cagekit_status cagekit_cage_write_memory(cagekit_cage cage, const cagekit_write_options* options,
                                                      cagekit_blob* out, cagekit_write_report* report);
+
+/* ------------------------------------------------------------------------------------------ */
+/* Cage: a Catmull-Clark control mesh with crease tags                                        */
+/* ------------------------------------------------------------------------------------------ */
+
+/* Sharpness of an infinitely sharp crease or corner (the thesis's binary tag). Values in
+ * (0, CAGEKIT_SHARP) are OpenSubdiv semi-sharp creases; values >= CAGEKIT_SHARP are infinite. */
+#define CAGEKIT_SHARP 10.0f
+
+typedef enum cagekit_boundary_rule {
+  /* Boundary edges are infinitely sharp; boundary vertices follow the crease rules and are not
+   * pinned (the thesis's rule, §2.2.1). The default. */
+  CAGEKIT_BOUNDARY_EDGES_ONLY = 0,
+  /* As above, and boundary vertices with only two incident edges are pinned corners. */
+  CAGEKIT_BOUNDARY_EDGES_AND_CORNERS = 1,
+  CAGEKIT_BOUNDARY_MAX_ENUM = 0x7fffffff
+} cagekit_boundary_rule;
+
+/* Creates a cage whose control mesh is a copy of `mesh`, with no tags and the default boundary
+ * rule. The mesh must be valid (cagekit_mesh_validate); otherwise INVALID_MESH with the first
+ * problem in the message. Thread-safe; reads `mesh`. */
+CAGEKIT_API cagekit_status cagekit_cage_create(cagekit_mesh mesh, cagekit_cage* out);
+CAGEKIT_API void cagekit_cage_retain(cagekit_cage cage);
+CAGEKIT_API void cagekit_cage_release(cagekit_cage cage);
+
+/* A new mesh handle holding a copy of the cage's control mesh. Reads. */
+CAGEKIT_API cagekit_status cagekit_cage_get_mesh(cagekit_cage cage, cagekit_mesh* out);
+
+/* Replaces the crease tags: `count` edges given as vertex pairs (2 * count indices, each pair
+ * an edge of the control mesh, either orientation) with a sharpness each (`sharpness` may be
+ * NULL: all CAGEKIT_SHARP). A sharpness of 0 removes the tag. Fails with INVALID_ARGUMENT naming
+ * the first pair that is not an edge or a sharpness that is negative or not finite; the tags are
+ * then unchanged. Modifies. */
+CAGEKIT_API cagekit_status cagekit_cage_set_creases(cagekit_cage cage, uint32_t count, const uint32_t* vertex_pairs,
+                                                    const float* sharpness);
+/* Reads the crease tags (two-call idiom over creases; vertex_pairs holds 2 * capacity entries;
+ * either output array may be NULL). Reads. */
+CAGEKIT_API cagekit_status cagekit_cage_get_creases(cagekit_cage cage, uint32_t capacity, uint32_t* count_out,
+                                                    uint32_t* vertex_pairs, float* sharpness);
+
+/* Replaces the corner tags (vertex indices with sharpness; sharpness NULL = CAGEKIT_SHARP).
+ * Modifies. */
+CAGEKIT_API cagekit_status cagekit_cage_set_corners(cagekit_cage cage, uint32_t count, const uint32_t* vertices,
+                                                    const float* sharpness);
+/* Reads the corner tags (two-call idiom). Reads. */
+CAGEKIT_API cagekit_status cagekit_cage_get_corners(cagekit_cage cage, uint32_t capacity, uint32_t* count_out,
+                                                    uint32_t* vertices, float* sharpness);
+
+/* Replaces the set of hole faces (faces that are not part of the limit surface). Modifies. */
+CAGEKIT_API cagekit_status cagekit_cage_set_holes(cagekit_cage cage, uint32_t count, const uint32_t* faces);
+/* Reads the hole faces (two-call idiom). Reads. */
+CAGEKIT_API cagekit_status cagekit_cage_get_holes(cagekit_cage cage, uint32_t capacity, uint32_t* count_out,
+                                                  uint32_t* faces);
+
+/* Sets / gets the boundary interpolation rule. set: modifies; get: reads. */
+CAGEKIT_API cagekit_status cagekit_cage_set_boundary_rule(cagekit_cage cage, cagekit_boundary_rule rule);
+CAGEKIT_API cagekit_status cagekit_cage_get_boundary_rule(cagekit_cage cage, cagekit_boundary_rule* rule);
+
+/* Statistics of the control mesh plus tag counts. Reads. */
+CAGEKIT_API cagekit_status cagekit_cage_get_info(cagekit_cage cage, cagekit_mesh_info* info);
 
 /* ------------------------------------------------------------------------------------------ */
 /* Catmull-Clark subdivision                                                                  */
@@ -572,81 +572,6 @@ CAGEKIT_API cagekit_status cagekit_surface_evaluate_basis(cagekit_surface surfac
                                                           uint32_t capacity, uint32_t* count_out,
                                                           uint32_t* indices, double* w, double* wu, double* wv,
                                                           double* wuu, double* wuv, double* wvv);
-
-
-/* ------------------------------------------------------------------------------------------ */
-/* Limit surface as bicubic Bezier patches (for CAD kernels: STEP, B-spline faces)            */
-/* ------------------------------------------------------------------------------------------ */
-
-/* The limit surface of a cage (as cagekit_surface_create with default options evaluates it) as
- * bicubic Bezier patches, each on a dyadic square of one ptex face; the squares tile every ptex
- * face with a limit surface. Where the limit surface is one polynomial (regular B-spline patches,
- * also at infinitely sharp creases and boundaries) the patch IS the limit surface ("exact", to
- * rounding). Around extraordinary vertices it is not polynomial: there a patch approximates it
- * (border curves fitted to limit points along each border with the corners on the surface, inner
- * points by least squares), and a square is split into 4 while its measured error exceeds the
- * tolerance and max_depth allows. Crease edges and ptex face borders are always patch borders, so
- * sharp features are kept. The error of a patch is measured as the largest distance between patch
- * and limit surface at equal parameters on a 33 x 33 grid (not a bound between the samples).
- * Neighbouring patches meet exactly when both are exact or both approximated on equal squares, and
- * within the sum of their errors otherwise (sew with a tolerance of 2 x max_error). */
-typedef struct cagekit_limit_patches_t* cagekit_limit_patches;
-
-typedef struct cagekit_limit_patch_options {
-  size_t struct_size; /* sizeof(cagekit_limit_patch_options) */
-  double tolerance;   /* largest distance allowed between an approximated patch and the limit surface,
-                         as a fraction of the bounding-box diagonal of the cage's control points;
-                         finite and > 0 (default 1e-4) */
-  uint32_t max_depth; /* how often a square that is not one polynomial may be split into 4, 0..12
-                         (default 8); patches still above the tolerance at that depth are kept and
-                         counted in over_tolerance_count */
-  uint32_t threads;   /* worker threads, 0..1024; 0 (default) = the number of hardware threads.
-                         The patches do not depend on it. */
-} cagekit_limit_patch_options;
-
-#define CAGEKIT_LIMIT_PATCH_OPTIONS_INIT { sizeof(cagekit_limit_patch_options), 1e-4, 8, 0 }
-
-typedef struct cagekit_limit_patch_info {
-  size_t struct_size;            /* set by the caller: sizeof(cagekit_limit_patch_info) */
-  uint32_t patch_count;          /* exact_count + approximated_count */
-  uint32_t exact_count;          /* patches equal to the limit surface */
-  uint32_t approximated_count;
-  uint32_t over_tolerance_count; /* approximated patches above the tolerance (max_depth reached) */
-  double max_error;              /* largest measured error of an approximated patch, model units */
-  double max_error_rel;          /* max_error / bbox_diagonal */
-  double bbox_diagonal;          /* of the cage's control points */
-  double tolerance;              /* the absolute tolerance: options.tolerance * bbox_diagonal */
-} cagekit_limit_patch_info;
-
-/* One patch. Not versioned: its layout is fixed for this ABI version. */
-typedef struct cagekit_limit_patch {
-  uint32_t ptex_face;    /* ptex face (numbering of cagekit_surface_get_ptex_face) */
-  uint32_t cage_face;    /* the cage face it belongs to */
-  double u0, v0, u1, v1; /* its square in the ptex face: Bezier parameters (s, t) in [0,1]^2 are the
-                            ptex location (u0 + s (u1 - u0), v0 + t (v1 - v0)) */
-  cagekit_bool32 exact;  /* 1: the polynomial is the limit surface; 0: an approximation */
-  uint32_t reserved;     /* 0 */
-  double error;          /* measured largest distance to the limit surface, model units (rounding
-                            level for exact patches) */
-  double control_points[48]; /* bicubic Bezier control net: point (i, j), i along s, j along t, is
-                                control_points[3 * (4 * j + i) + 0..2], with weight B_i(s) B_j(t) */
-} cagekit_limit_patch;
-
-/* Builds the patches of `cage`'s limit surface. Long operation (progress stage "limit patches",
- * cancel). Fails with INVALID_ARGUMENT for bad options, INVALID_MESH for a cage that cannot be
- * subdivided, LIMIT_EXCEEDED when more than 2^20 patches would be needed (raise the tolerance or
- * lower max_depth), OUT_OF_MEMORY against the context's memory budget. The result is immutable
- * and may be read from several threads at once. Release with cagekit_limit_patches_release. */
-CAGEKIT_API cagekit_status cagekit_limit_patches_create(cagekit_cage cage, const cagekit_limit_patch_options* options,
-                                                        cagekit_limit_patches* out);
-CAGEKIT_API void cagekit_limit_patches_retain(cagekit_limit_patches patches);
-CAGEKIT_API void cagekit_limit_patches_release(cagekit_limit_patches patches);
-/* Counts and errors. Reads. */
-CAGEKIT_API cagekit_status cagekit_limit_patches_get_info(cagekit_limit_patches patches, cagekit_limit_patch_info* info);
-/* Copies patches [first, first + count) into `out` (count entries); INVALID_ARGUMENT when the range
- * is not inside [0, patch_count). Patches are ordered by ptex face, then by quadtree order. Reads. */
-CAGEKIT_API cagekit_status cagekit_limit_patches_get(cagekit_limit_patches patches, uint32_t first, uint32_t count,
-                                                     cagekit_limit_patch* out);
 
 /* ------------------------------------------------------------------------------------------ */
 /* Structure-preserving simplification (thesis chapter 3)                                     */
@@ -816,6 +741,135 @@ CAGEKIT_API cagekit_status cagekit_mesh_measure_error(cagekit_mesh input, cageki
                                                       cagekit_approximation_error* error);
 
 /* ------------------------------------------------------------------------------------------ */
+/* Remeshing (thesis chapter 5: anisotropic; chapter 6: two-step quad-dominant)              */
+/* ------------------------------------------------------------------------------------------ */
+
+/* Two remeshers turn a triangle mesh into a quad-dominant cage, each with its own options and
+ * report: cagekit_mesh_remesh_anisotropic (thesis ch. 5) samples the surface with lines of
+ * principal curvature (plus feature and boundary lines) and meshes their intersections, so the
+ * cage's edges follow the principal directions;
+ * cagekit_mesh_remesh_quad (thesis ch. 6) segments the surface into nearly flat regions (VSA),
+ * samples their boundaries (shared by both neighbours), lays out each region by an energy-driven
+ * selection of curves in a conformal parameterisation (weights of Table 6.1), relaxes, maps back
+ * to the surface and glues the regions. Both tag the cage edges on
+ * feature lines / sharp region boundaries as infinitely sharp creases. */
+
+/* Figures of a remeshed cage, the same for both remeshers. */
+typedef struct cagekit_remesh_quality {
+  uint64_t faces, vertices, quads;
+  uint64_t interior_vertices;     /* vertices not on a boundary edge of the output */
+  uint64_t valence4_vertices;     /* interior vertices with 4 edges */
+  uint32_t max_face_valence, max_vertex_valence;
+  uint64_t creases;               /* cage edges tagged infinitely sharp */
+  double min_scaled_jacobian;     /* min over face corners of sin(corner angle) (the scaled Jacobian of a quad
+                                     corner); T-joint vertices (within 10° of straight) are not corners;
+                                     < 0 only at a concave corner */
+  double seconds;                 /* whole call */
+} cagekit_remesh_quality;
+
+typedef struct cagekit_anisotropic_options {
+  size_t struct_size;             /* sizeof(cagekit_anisotropic_options) */
+  double tolerance;               /* approximation tolerance relative to the bbox diagonal, in (0, 1]; the line
+                                     spacing follows the chord-height rule (5.10) (default 0.002) */
+  double feature_angle_degrees;   /* edges whose faces' normals differ by more than this become feature lines
+                                     and crease tags; < 0: none; <= 180 (default 40) */
+  uint32_t max_face_valence;      /* faces with more corners are split, 3..1000000 (default 5) */
+  uint32_t threads;               /* worker threads of the curvature field, 0..1024; 0 = all cores (default) */
+  double curvature_radius;        /* curvature averaging radius relative to the bbox diagonal (thesis: 0.01),
+                                     capped at 6 mean edge lengths (bounded cost on dense meshes); 0: three
+                                     mean edge lengths; in [0, 1] (default 0.01) */
+} cagekit_anisotropic_options;
+
+#define CAGEKIT_ANISOTROPIC_OPTIONS_INIT { sizeof(cagekit_anisotropic_options), 0.002, 40.0, 5, 0, 0.01 }
+
+typedef struct cagekit_anisotropic_report {
+  size_t struct_size;             /* sizeof(cagekit_anisotropic_report) */
+  cagekit_remesh_quality quality;
+  uint64_t regions;               /* connected regions of confident input faces */
+  uint64_t lines;                 /* sampled lines of all types */
+  uint64_t holes;                 /* half-edges that could not be closed into faces (0 expected) */
+  double mean_alignment_deg;      /* mean angle between the output edges along curvature lines and the nearer
+                                     principal direction (mean of the two ends' directions, i.e. the tangent
+                                     at the middle of a curved edge), over edges whose ends lie on confident
+                                     faces (Λ >= cos π/6) */
+} cagekit_anisotropic_report;
+
+typedef struct cagekit_quad_remesh_options {
+  size_t struct_size;             /* sizeof(cagekit_quad_remesh_options) */
+  double edge_length;             /* δ, the spacing of the samples on the region boundaries relative to the
+                                     bbox diagonal, in (0, 1] (thesis: 0.02-0.10; default 0.05) */
+  uint32_t regions;               /* number of VSA regions |S|, 0..1000000; 0: the first count (up to 200)
+                                     whose L2,1 error / area <= region_tolerance (default 30) */
+  double region_tolerance;        /* used with regions = 0: a mean of |n_f - N|^2, finite and >= 0 (default
+                                     0.01) */
+  double crease_angle_degrees;    /* region boundaries whose input edges' length-weighted mean dihedral angle
+                                     exceeds this become crease tags; < 0: none; <= 180 (default 40) */
+  double triangle_weight;         /* w_tri of Table 6.1, the cost of a triangle, finite and > 0 (default 40) */
+  double pentagon_weight;         /* w_PT, the cost of a pentagon, finite and > 0 (default 40) */
+  double t_joint_weight;          /* w_T, the cost of a T-joint, finite and > 0 (default 100) */
+  uint32_t refinement_passes;     /* sweeps of the sample-count refinement (not in the thesis): an arc next to
+                                     an irregular region gets one sample more or fewer when re-selecting its
+                                     regions makes the cage more regular there; 0..16. 0: off (faster; a few
+                                     points fewer quads / valence-4 vertices) (default 1) */
+  uint32_t threads;               /* workers over the regions of the curve selection, 0..1024; 0 = all cores
+                                     (default) */
+  /* The host's control of the segmentation. Face ids are the input mesh's (a polygon stands for
+   * all of its triangles). The arrays are read during the call only (the caller keeps them). */
+  const uint32_t* seed_faces;     /* faces that each start a VSA region (they then relax like the others);
+                                     distinct, not pinned. NULL with seed_face_count 0 (default) */
+  uint32_t seed_face_count;
+  uint32_t pinned_region_count;   /* regions the host fixes: region k is the faces
+                                     pinned_faces[pinned_region_offsets[k] .. pinned_region_offsets[k + 1]),
+                                     edge-connected, disjoint, never changed by the segmentation and counted
+                                     in `regions` (default 0) */
+  const uint32_t* pinned_region_offsets; /* pinned_region_count + 1 non-decreasing offsets, first 0 */
+  const uint32_t* pinned_faces;
+} cagekit_quad_remesh_options;
+
+#define CAGEKIT_QUAD_REMESH_OPTIONS_INIT                                                                   \
+  { sizeof(cagekit_quad_remesh_options), 0.05, 30, 0.01, 40.0, 40.0, 40.0, 100.0, 1, 0, NULL, 0, 0, NULL, NULL }
+
+typedef struct cagekit_quad_remesh_report {
+  size_t struct_size;             /* sizeof(cagekit_quad_remesh_report) */
+  cagekit_remesh_quality quality;
+  uint64_t regions;               /* VSA regions used, after the splits below */
+  uint64_t arcs;                  /* region-boundary arcs */
+  uint64_t requested_regions;     /* the count asked for (`regions` of the options, or 200 by tolerance):
+                                     raised to the mesh's connected components and capped at its triangles
+                                     when no regions are pinned or seeded */
+  uint64_t split_regions;         /* regions split: closed, with a handle, a folding map, or a failed layout */
+  uint64_t merged_regions;        /* sliver regions (their sample loop has no area) merged into a neighbour */
+  uint64_t layout_retries;        /* layouts redone after such splits or merges (at most 3) */
+  uint64_t mended_faces;          /* faces of the final layout repaired in place: where two regions' faces
+                                     coincided (thin parts one face wide per side) a vertex was added inside
+                                     one of them; a face repeating a vertex was cut there */
+  uint64_t partitioned_regions;   /* regions whose layout still failed after the retries, laid out instead by
+                                     the quad-dominant partition of their polygon of boundary samples (no
+                                     inner vertices); 0 in most results */
+} cagekit_quad_remesh_report;
+
+/* Remeshes `mesh` into a new cage: a valid oriented 2-manifold polygon mesh whose edges on
+ * feature lines (anisotropic) or sharp region boundaries (quad) are tagged as infinitely sharp
+ * creases. The mesh must be an oriented 2-manifold (boundary allowed) with finite positions;
+ * faces with more than 3 vertices are fan-triangulated first. `options` NULL: the defaults;
+ * `report` may be NULL. *out receives one reference.
+ * Errors: INVALID_HANDLE; INVALID_ARGUMENT (out NULL, an option out of its range, naming it; quad:
+ * with pinned regions or seeds, more regions than triangles or fewer than the mesh's connected
+ * components — without them the count is adjusted and reported); INVALID_MESH (naming the
+ * problem: faces with < 3 or repeated vertices, bad indices, non-manifold or inconsistently
+ * oriented edges, non-finite positions, an empty or zero-extent mesh; anisotropic: no two lines
+ * intersect (too large a tolerance for the mesh's size); quad: a pinned region with a handle —
+ * other regions that are closed, have a handle or fold are split); CANCELLED; OUT_OF_MEMORY;
+ * INTERNAL (the result failed its validity check after the retries, naming the region).
+ * Long operations (progress stages anisotropic "curvature field", "curvature lines", "meshing";
+ * quad "vsa segmentation", "remesh constraints", "quad region selection", "post-processing";
+ * cancel). Reads `mesh`; thread-safe. */
+CAGEKIT_API cagekit_status cagekit_mesh_remesh_anisotropic(cagekit_mesh mesh, const cagekit_anisotropic_options* options,
+                                                           cagekit_cage* out, cagekit_anisotropic_report* report);
+CAGEKIT_API cagekit_status cagekit_mesh_remesh_quad(cagekit_mesh mesh, const cagekit_quad_remesh_options* options,
+                                                    cagekit_cage* out, cagekit_quad_remesh_report* report);
+
+/* ------------------------------------------------------------------------------------------ */
 /* Fitting the limit surface to a scan (thesis chapter 7)                                     */
 /* ------------------------------------------------------------------------------------------ */
 
@@ -973,6 +1027,168 @@ typedef struct cagekit_fit_report {
  * other threads' read-only calls meanwhile, not modified. */
 CAGEKIT_API cagekit_status cagekit_cage_fit(cagekit_cage cage, cagekit_mesh scan, const cagekit_fit_options* options,
                                             cagekit_cage* out, cagekit_fit_report* report);
+
+/* ------------------------------------------------------------------------------------------ */
+/* Scan to cage: the whole journey in one call                                                 */
+/* ------------------------------------------------------------------------------------------ */
+
+/* How the initial cage is made. */
+typedef enum cagekit_scan_method {
+  CAGEKIT_SCAN_SIMPLIFY = 0,    /* structure-preserving simplification (thesis ch. 3) + quad-dominant cage */
+  CAGEKIT_SCAN_QUAD = 1,        /* two-step quad-dominant remeshing (thesis ch. 6) */
+  CAGEKIT_SCAN_ANISOTROPIC = 2, /* curvature-line remeshing (thesis ch. 5) */
+  CAGEKIT_SCAN_METHOD_MAX_ENUM = 0x7fffffff
+} cagekit_scan_method;
+
+/* Which connected components of the scan are kept by the conditioning. */
+typedef enum cagekit_component_mode {
+  CAGEKIT_COMPONENTS_ALL = 0,     /* every component (the default) */
+  CAGEKIT_COMPONENTS_LARGEST = 1, /* only the one with the most faces (scans with stray pieces) */
+  CAGEKIT_COMPONENTS_MAX_ENUM = 0x7fffffff
+} cagekit_component_mode;
+
+typedef struct cagekit_scan_to_cage_options {
+  size_t struct_size;               /* sizeof(cagekit_scan_to_cage_options) */
+  cagekit_scan_method method;       /* default CAGEKIT_SCAN_SIMPLIFY */
+  /* Conditioning (the first phase): cagekit_mesh_repair's steps without DROP_INVALID_FACES (bad
+     indices and NaN/Inf stay INVALID_MESH) plus the removal of unreferenced vertices. */
+  cagekit_bool32 repair;            /* 1 (default): condition the scan; 0: refuse an invalid scan */
+  cagekit_component_mode components; /* default CAGEKIT_COMPONENTS_ALL */
+  double weld_tolerance_rel;        /* vertices closer than this x the bounding-box diagonal are welded,
+                                       finite and >= 0 (default 1e-7; 0: exact duplicates only) */
+  /* SIMPLIFY: the coarsest level with at most `target` faces (CAGEKIT_LEVEL_BY_FACES, default) or
+     vertices (CAGEKIT_LEVEL_BY_VERTICES); also the face count of the fallback. */
+  cagekit_level_query target_query;
+  double target;                    /* >= 1 (default 60) */
+  const cagekit_cage_options* cage; /* SIMPLIFY's cage options; NULL = defaults. Read during the call. */
+  const cagekit_quad_remesh_options* quad;          /* QUAD's options; NULL = defaults. Read during the call. */
+  const cagekit_anisotropic_options* anisotropic;   /* ANISOTROPIC's options; NULL = defaults. Read during
+                                                       the call. */
+  const cagekit_fit_options* fit;   /* NULL = defaults. Read during the call. */
+  uint32_t limit_levels;            /* the fitted cage is refined this often onto its limit for the error
+                                       figures and *limit_out, 1..CAGEKIT_MAX_SUBDIVISION_LEVELS (default 3) */
+  uint32_t self_intersection_level; /* the level of the limit mesh whose self-intersections are counted,
+                                       0..CAGEKIT_MAX_SUBDIVISION_LEVELS (default 2; 0: not counted) */
+  /* The good-result rule: the limit surface -> scan distance must be at most
+     max(max_limit_to_scan_rel, limit_to_scan_factor x the scan -> limit distance) (relative to the
+     diagonal), except for inputs with fewer than small_input_faces faces, whose smooth limit may
+     bulge away from coarse facets; the cage must be valid and manifold with no holes the
+     conditioned scan does not have. */
+  double max_limit_to_scan_rel;     /* finite and > 0 (default 0.05) */
+  double limit_to_scan_factor;      /* finite and > 0 (default 3) */
+  uint64_t small_input_faces;       /* default 1000 */
+  cagekit_bool32 fallback_to_simplify; /* 1 (default): a QUAD / ANISOTROPIC result that is not good (or that
+                                       fails) is replaced by SIMPLIFY at `target` faces; the report says so
+                                       and why. 0: it is an error. */
+  uint32_t finer_simplify_attempts; /* a SIMPLIFY result whose limit surface strays from the scan is tried
+                                       again at 2x, 4x, ... the target, at most this often, 0..8 (default 2;
+                                       0: never); report->simplify_target_used says which was returned */
+  double two_sided_refit_factor;    /* the last phase: the good result's cage is fitted again by two-sided
+                                       least squares (cagekit_fit_options.reverse_sample_factor = this), and
+                                       that fit is kept when the larger of the limit's two one-sided maxima
+                                       drops by at least 5 %, with no more self-intersections and still good; the method,
+                                       target and remedies are chosen by the one-sided fit. Finite, 0..100
+                                       (default 3; 0: not tried) */
+} cagekit_scan_to_cage_options;
+
+#define CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT                                                               \
+  { sizeof(cagekit_scan_to_cage_options), CAGEKIT_SCAN_SIMPLIFY, 1, CAGEKIT_COMPONENTS_ALL, 1e-7,         \
+    CAGEKIT_LEVEL_BY_FACES, 60.0, NULL, NULL, NULL, NULL, 3, 2, 0.05, 3.0, 1000, 1, 2, 3.0 }
+
+/* Every figure of one scan-to-cage run. Distances are relative to the conditioned scan's
+ * bounding-box diagonal. */
+typedef struct cagekit_scan_to_cage_report {
+  size_t struct_size;               /* sizeof(cagekit_scan_to_cage_report) */
+  /* 1. conditioning */
+  uint64_t input_vertices, input_faces;
+  uint64_t conditioned_vertices, conditioned_faces;
+  uint64_t welded_vertices, dropped_degenerate_faces, dropped_duplicate_faces;
+  uint64_t split_vertices;          /* added to split non-manifold edges / vertices and non-orientable parts */
+  uint64_t flipped_faces, non_orientable_components, removed_unreferenced_vertices;
+  uint64_t components;              /* connected components kept */
+  uint64_t dropped_components, dropped_component_faces; /* CAGEKIT_COMPONENTS_LARGEST */
+  /* 2. the method */
+  cagekit_scan_method requested_method;
+  cagekit_scan_method used_method;  /* differs after a fallback */
+  cagekit_bool32 fallback;          /* 1 when the requested method's result was replaced */
+  cagekit_bool32 input_is_cage;     /* 1 when the conditioned scan had no more faces than the method would
+                                       make and is its own cage (edges sharper than 40 degrees creased) */
+  char fallback_reason[256];        /* why the fallback happened (NUL-terminated, "" when none) */
+  uint32_t level, level_count;      /* SIMPLIFY: the level chosen and the hierarchy's level count */
+  uint64_t level_faces, level_faces_with_holes; /* SIMPLIFY: polygons of that level */
+  uint64_t cage_vertices, cage_faces, cage_quads, cage_triangles; /* the fitted cage */
+  uint64_t creases;                 /* crease edges of the cage */
+  uint64_t remesh_regions, remesh_lines, remesh_holes; /* regions; lines (anisotropic) or arcs (quad); holes (anisotropic) */
+  uint64_t interior_vertices, valence4_vertices; /* of the cage */
+  uint32_t max_face_valence, max_vertex_valence;
+  double mean_alignment_deg;        /* ANISOTROPIC, as in cagekit_anisotropic_report */
+  double method_scan_to_cage_max_rel, method_cage_to_scan_max_rel, method_mean_rel; /* the initial cage's
+                                       control mesh against the scan */
+  /* 3. the cage */
+  uint64_t input_boundary_loops, cage_boundary_loops;
+  uint64_t holes_added;             /* always 0 on success */
+  /* 4. the fit (all figures as cagekit_fit_report's) */
+  uint32_t fit_pass_count, fit_best_pass;
+  cagekit_fit_pass fit_initial, fit_final;
+  cagekit_fit_two_sided fit_initial_two_sided, fit_final_two_sided;
+  uint64_t unsupported_control_vertices, weakly_supported_control_vertices;
+  /* 5. the limit surface */
+  uint32_t limit_levels;
+  uint64_t limit_faces;
+  double scan_to_limit_max_rel;     /* max over scan vertices of the distance to the limit mesh */
+  double limit_to_scan_max_rel;     /* max over limit-mesh samples of the distance to the scan's surface */
+  double limit_mean_rel;            /* mean scan-vertex distance */
+  uint64_t self_intersections;      /* intersecting triangle pairs of the level-`self_intersection_level`
+                                       limit mesh (quads split along the diagonal that folds least) */
+  uint64_t self_intersection_triangles; /* triangles tested */
+  double method_seconds, fit_seconds, seconds;
+  double simplify_target_used;      /* SIMPLIFY (also as the fallback): the target of the returned level */
+  /* Counted only when self_intersections > 0 (else 0): the conditioned scan's own intersecting
+     pairs (a faithful surface inherits them) and the initial cage's limit mesh's before the fit
+     (whether the method or the fit made them). While the limit has more than the scan, the
+     journey remedies them, keeping the good result with the fewest: the fit is run again with more fairing
+     (fit_fairing_used), a tiny input is creased more, SIMPLIFY tries the finer targets too. */
+  uint64_t scan_self_intersections, unfitted_self_intersections;
+  cagekit_bool32 scan_self_intersections_counted; /* 1 when scan_self_intersections was counted */
+  double own_cage_crease_angle_deg; /* input_is_cage: the crease angle used (40 by default, 20 or 0 =
+                                       every edge creased after a self-intersection remedy) */
+  double fit_fairing_used;          /* the fit's fairing weight of the result (the option's, or 0.01 / 0.1
+                                       after a remedy: for self-intersections, or for a limit that strayed
+                                       from the scan, which is fitted again with more fairing before any
+                                       finer target or fallback is tried) */
+  /* The last phase (cagekit_scan_to_cage_options.two_sided_refit_factor). */
+  cagekit_bool32 two_sided_refit;   /* 1 when the returned fit is the two-sided refit */
+  double one_sided_fit_max_rel;     /* then: max(scan -> limit, limit -> scan) of the one-sided fit it
+                                       replaced (0 when two_sided_refit is 0) */
+} cagekit_scan_to_cage_report;
+
+/* The whole journey from a scan to a fitted cage, in named phases: conditioning (repair as
+ * above, one info log line naming every change) -> the method (an input that already has fewer
+ * faces than the method would make is its own cage) -> a valid manifold cage without new holes
+ * -> fit of its limit surface (cagekit_cage_fit) -> the limit surface measured against the scan
+ * both ways and its self-intersections counted -> the good-result rule (options above) -> a
+ * two-sided refit of the good result, kept only when closer to the scan (two_sided_refit_factor). Status
+ * SUCCESS means a good result: *cage_out is the fitted cage with crease tags, *limit_out (may be
+ * NULL) the fitted cage refined limit_levels times onto its limit, and *report (may be NULL)
+ * holds every figure. `fit_report` (may be NULL) receives the fit's report exactly as
+ * cagekit_cage_fit writes it (its pass array is the caller's, as there). Hosts keep the
+ * individual steps (cagekit_mesh_repair, cagekit_hierarchy_*, cagekit_mesh_remesh_*,
+ * cagekit_cage_fit) for finer control.
+ *
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (NULL cage_out, bad struct_size, an option out of range,
+ * naming it), INVALID_MESH (out-of-range indices or non-finite positions, naming the first; an
+ * invalid scan with repair 0; no faces, or nothing left after conditioning), QUALITY (no good result:
+ * the message names the method and the figure, e.g. "the limit surface strays 7.2 % of the
+ * diagonal from the scan"), CANCELLED, OUT_OF_MEMORY (also the context's memory budget). On error
+ * the outputs are NULL and *report is unspecified.
+ *
+ * Long operation (progress: the stages of each phase, "conditioning", the method's, "fit",
+ * "error"; cancel), using the threads its options give. Reads `scan`; thread-safe for distinct
+ * outputs. */
+CAGEKIT_API cagekit_status cagekit_scan_to_cage(cagekit_mesh scan, const cagekit_scan_to_cage_options* options,
+                                                cagekit_cage* cage_out, cagekit_cage* limit_out,
+                                                cagekit_scan_to_cage_report* report,
+                                                cagekit_fit_report* fit_report);
 
 /* ------------------------------------------------------------------------------------------ */
 /* Multiresolution editing (thesis ch. 8): bind a scan to a cage, deform it on the CPU          */
@@ -1151,458 +1367,78 @@ CAGEKIT_API cagekit_status cagekit_cpu_deformer_update_f32(cagekit_cpu_deformer 
                                                            uint32_t* updated_count);
 
 /* ------------------------------------------------------------------------------------------ */
-/* GPU deformer in the host's GL context (thesis §8.6)                                          */
+/* Limit surface as bicubic Bezier patches (for CAD kernels: STEP, B-spline faces)            */
 /* ------------------------------------------------------------------------------------------ */
 
-/* Deforms a bound scan on the GPU, inside the HOST's OpenGL (>= 4.3, core or compatibility) or
- * OpenGL ES (>= 3.1) context, as OpenXR's graphics bindings attach to a host context: the
- * library has no GL loader and no window system of its own; it reaches GL only through the
- * host's get-proc-address callback. The binding is uploaded once (float32); each deform call
- * uploads the control points and runs one compute dispatch that writes positions and
- * approximate normals (8.11)-(8.12) into a buffer object the host binds as vertex attributes;
- * the scan's triangles are in an element buffer reordered for vertex-cache locality (§8.6.4).
- *
- * Rules (as OpenSubdiv's GL evaluators):
- * - Every call, release included, must be made on the thread where the host's GL context (the
- *   one current at create, or one sharing its objects) is current. Not thread-safe otherwise.
- * - Every call restores the GL state it changes (current program, GL_SHADER_STORAGE_BUFFER
- *   generic and indexed 0..3 bindings, GL_COPY_READ_BUFFER / GL_COPY_WRITE_BUFFER bindings); no
- *   vertex-array object, GL_ARRAY_BUFFER or GL_ELEMENT_ARRAY_BUFFER binding is touched.
- * - create drains glGetError() first (errors the host had not read are discarded); deform,
- *   get_* and read_back never call glGetError.
- * - The GL buffer names belong to the deformer: the host may bind them and read them, not
- *   delete, resize or write them. They are deleted by the last release. */
-typedef struct cagekit_gl_deformer_t* cagekit_gl_deformer;
+/* The limit surface of a cage (as cagekit_surface_create with default options evaluates it) as
+ * bicubic Bezier patches, each on a dyadic square of one ptex face; the squares tile every ptex
+ * face with a limit surface. Where the limit surface is one polynomial (regular B-spline patches,
+ * also at infinitely sharp creases and boundaries) the patch IS the limit surface ("exact", to
+ * rounding). Around extraordinary vertices it is not polynomial: there a patch approximates it
+ * (border curves fitted to limit points along each border with the corners on the surface, inner
+ * points by least squares), and a square is split into 4 while its measured error exceeds the
+ * tolerance and max_depth allows. Crease edges and ptex face borders are always patch borders, so
+ * sharp features are kept. The error of a patch is measured as the largest distance between patch
+ * and limit surface at equal parameters on a 33 x 33 grid (not a bound between the samples).
+ * Neighbouring patches meet exactly when both are exact or both approximated on equal squares, and
+ * within the sum of their errors otherwise (sew with a tolerance of 2 x max_error). */
+typedef struct cagekit_limit_patches_t* cagekit_limit_patches;
 
-/* A GL entry point as returned by eglGetProcAddress / glXGetProcAddress / wglGetProcAddress
- * (cast by the library to the function's real type). */
-typedef void (*cagekit_gl_proc)(void);
-/* The host's loader: the address of GL function `name` ("glDispatchCompute", ...) of its
- * current context, or NULL if it has none. Called only during cagekit_gl_deformer_create, on
- * the calling thread. On platforms where the window system's function does not return core
- * functions (WGL: GL 1.1 ones), the host resolves those itself. */
-typedef cagekit_gl_proc (*cagekit_gl_get_proc_address_fn)(const char* name, void* user_data);
+typedef struct cagekit_limit_patch_options {
+  size_t struct_size; /* sizeof(cagekit_limit_patch_options) */
+  double tolerance;   /* largest distance allowed between an approximated patch and the limit surface,
+                         as a fraction of the bounding-box diagonal of the cage's control points;
+                         finite and > 0 (default 1e-4) */
+  uint32_t max_depth; /* how often a square that is not one polynomial may be split into 4, 0..12
+                         (default 8); patches still above the tolerance at that depth are kept and
+                         counted in over_tolerance_count */
+  uint32_t threads;   /* worker threads, 0..1024; 0 (default) = the number of hardware threads.
+                         The patches do not depend on it. */
+} cagekit_limit_patch_options;
 
-typedef struct cagekit_gl_deformer_options {
-  size_t struct_size;                  /* sizeof(cagekit_gl_deformer_options) */
-  cagekit_bool32 optimize_vertex_cache; /* 1 (default): reorder the triangles for the post-transform
-                                          vertex cache (meshoptimizer); 0: keep the scan's order */
-} cagekit_gl_deformer_options;
+#define CAGEKIT_LIMIT_PATCH_OPTIONS_INIT { sizeof(cagekit_limit_patch_options), 1e-4, 8, 0 }
 
-#define CAGEKIT_GL_DEFORMER_OPTIONS_INIT { sizeof(cagekit_gl_deformer_options), 1 }
+typedef struct cagekit_limit_patch_info {
+  size_t struct_size;            /* set by the caller: sizeof(cagekit_limit_patch_info) */
+  uint32_t patch_count;          /* exact_count + approximated_count */
+  uint32_t exact_count;          /* patches equal to the limit surface */
+  uint32_t approximated_count;
+  uint32_t over_tolerance_count; /* approximated patches above the tolerance (max_depth reached) */
+  double max_error;              /* largest measured error of an approximated patch, model units */
+  double max_error_rel;          /* max_error / bbox_diagonal */
+  double bbox_diagonal;          /* of the cage's control points */
+  double tolerance;              /* the absolute tolerance: options.tolerance * bbox_diagonal */
+} cagekit_limit_patch_info;
 
-/* Where the deformed vertices are, for glVertexAttribPointer / glDrawElements. Today positions
- * and normals are interleaved in one buffer (position_buffer == normal_buffer, stride 24), but
- * hosts should use the fields as given. Components are GL_FLOAT (0x1406), 3 per attribute;
- * indices are GL_UNSIGNED_INT (0x1405), GL_TRIANGLES, into the scan's vertex order. */
-typedef struct cagekit_gl_deformer_buffers {
-  size_t struct_size;                  /* sizeof(cagekit_gl_deformer_buffers) */
-  uint32_t position_buffer;            /* GL buffer name */
-  uint32_t position_offset;            /* bytes */
-  uint32_t position_stride;            /* bytes */
-  uint32_t normal_buffer;              /* GL buffer name; unit normals */
-  uint32_t normal_offset;
-  uint32_t normal_stride;
-  uint32_t component_type;             /* GL_FLOAT */
-  uint32_t vertex_count;               /* = the binding's vertex count */
-  uint32_t index_buffer;               /* GL buffer name; 0 when created without a scan mesh */
-  uint32_t index_count;                /* 3 per triangle (polygons fan-triangulated) */
-  uint32_t index_type;                 /* GL_UNSIGNED_INT */
-} cagekit_gl_deformer_buffers;
+/* One patch. Not versioned: its layout is fixed for this ABI version. */
+typedef struct cagekit_limit_patch {
+  uint32_t ptex_face;    /* ptex face (numbering of cagekit_surface_get_ptex_face) */
+  uint32_t cage_face;    /* the cage face it belongs to */
+  double u0, v0, u1, v1; /* its square in the ptex face: Bezier parameters (s, t) in [0,1]^2 are the
+                            ptex location (u0 + s (u1 - u0), v0 + t (v1 - v0)) */
+  cagekit_bool32 exact;  /* 1: the polynomial is the limit surface; 0: an approximation */
+  uint32_t reserved;     /* 0 */
+  double error;          /* measured largest distance to the limit surface, model units (rounding
+                            level for exact patches) */
+  double control_points[48]; /* bicubic Bezier control net: point (i, j), i along s, j along t, is
+                                control_points[3 * (4 * j + i) + 0..2], with weight B_i(s) B_j(t) */
+} cagekit_limit_patch;
 
-typedef struct cagekit_gl_deformer_info {
-  size_t struct_size;                  /* sizeof(cagekit_gl_deformer_info) */
-  const char* renderer;                /* GL_RENDERER and GL_VERSION at create: owned by the */
-  const char* version;                 /* deformer, valid until its last release */
-  cagekit_bool32 is_es;                /* 1: OpenGL ES context */
-  uint32_t vertex_count;
-  uint32_t control_count;
-  uint32_t index_count;
-  double acmr_before;                  /* average cache miss ratio (16-entry FIFO) of the scan's */
-  double acmr_after;                   /* triangles as given and as uploaded */
-  uint64_t gpu_bytes;                  /* bytes of GL buffer memory the deformer holds */
-  uint32_t reference_floats_per_vertex; /* reference mode: 16 + 3|Q| once a set is given (28 in
-                                          the affine-frame variant), else 0 */
-  uint32_t reference_max_edited;       /* reference mode: the largest |Q| (GL_MAX_VERTEX_ATTRIBS - 5) */
-} cagekit_gl_deformer_info;
-
-/* Creates a GPU deformer of `binding` in the host's current GL context. `scan` (may be NULL:
- * no index buffer) supplies the triangles to draw; it must have the binding's vertex count (it
- * is normally the mesh the binding was made from); it is read during the call only. The
- * deformer keeps `binding` alive. options may be NULL. *out receives one reference.
- * Errors: INVALID_HANDLE (binding, or a non-NULL scan), INVALID_ARGUMENT (out or
- * get_proc_address NULL, bad struct_size or option, a scan whose vertex count differs),
- * INVALID_OPERATION (no GL context current), UNSUPPORTED_FEATURE (a context older than GL 4.3
- * / GLES 3.1, an entry point the callback does not provide, fewer than 4 compute shader storage
- * blocks, or the shader does not compile: the message names what is missing), LIMIT_EXCEEDED (a buffer above
- * GL_MAX_SHADER_STORAGE_BLOCK_SIZE, too many vertices for the work-group limits),
- * OUT_OF_MEMORY (host memory or GL_OUT_OF_MEMORY). On error no GL object is left behind.
- * GL thread only (see above). */
-CAGEKIT_API cagekit_status cagekit_gl_deformer_create(cagekit_binding binding, cagekit_mesh scan,
-                                                      cagekit_gl_get_proc_address_fn get_proc_address,
-                                                      void* user_data, const cagekit_gl_deformer_options* options,
-                                                      cagekit_gl_deformer* out);
-CAGEKIT_API void cagekit_gl_deformer_retain(cagekit_gl_deformer deformer);
-/* The last release deletes the GL objects: the host's context must be current on the calling
- * thread (releasing after the context is destroyed leaks nothing on the CPU side but is
- * undefined on the GL side, as for any GL object). */
-CAGEKIT_API void cagekit_gl_deformer_release(cagekit_gl_deformer deformer);
-
-/* Recomputes every vertex: `control` holds control_count xyz triples (the cage's vertices,
- * moved; converted to float). Only CAGEKIT_NORMALS_APPROXIMATE is done on the GPU. The result
- * is in the buffers of cagekit_gl_deformer_get_buffers, ready for vertex fetch (a memory
- * barrier is issued); GL commands are queued, not waited for.
- * Errors: INVALID_HANDLE, INVALID_ARGUMENT (control NULL, control_count not the binding's, a
- * non-finite control point, a normals_mode out of range), UNSUPPORTED_FEATURE (normals_mode
- * CAGEKIT_NORMALS_EXACT). GL thread only; modifies the deformer. */
-CAGEKIT_API cagekit_status cagekit_gl_deformer_deform(cagekit_gl_deformer deformer, const double* control,
-                                                      uint32_t control_count, cagekit_normal_mode normals_mode);
-
-/* The GL names and layout of the output and index buffers (fixed for the deformer's life).
- * Errors: INVALID_HANDLE, INVALID_ARGUMENT (buffers NULL or bad struct_size). Makes no GL call. */
-CAGEKIT_API cagekit_status cagekit_gl_deformer_get_buffers(cagekit_gl_deformer deformer,
-                                                           cagekit_gl_deformer_buffers* buffers);
-/* Errors: INVALID_HANDLE, INVALID_ARGUMENT (info NULL or bad struct_size). Makes no GL call. */
-CAGEKIT_API cagekit_status cagekit_gl_deformer_get_info(cagekit_gl_deformer deformer, cagekit_gl_deformer_info* info);
-
-/* The thesis's own GPU path (§8.6 (a)-(c)), kept as a reference mode for benchmarks: all data
- * as vertex attributes — 16 + 3|Q| floats per vertex for the set Q of edited control points (the
- * 7 displacement / normal coefficients, the part of S, S_u, S_v of the points outside Q, and
- * phi, phi_u, phi_v of each point of Q) — and a vertex program generated for |Q|, whose
- * output goes through transform feedback into the same buffer as cagekit_gl_deformer_deform's.
- * set_reference_set defines Q (`edited`, edited_count distinct indices, 1 ..
- * info.reference_max_edited: 11 with the GL minimum of 16 attributes) and the positions of the
- * other control points (`control`, control_count xyz triples); it rebuilds the attribute
- * buffer (as the thesis does whenever Q changes). deform_reference then reads only the points
- * of Q from `control` (3|Q| floats uploaded as uniforms per frame); the others must still equal
- * those given to set_reference_set. Normal displacement mode only (a binding made with
- * CAGEKIT_DISPLACEMENT_NORMAL); approximate normals.
- * Errors: INVALID_HANDLE, INVALID_ARGUMENT (NULL arrays, counts, an index out of range or
- * repeated, a non-finite point), INVALID_OPERATION (a local-frame binding, deform_reference
- * before a set), UNSUPPORTED_FEATURE (the program does not build), OUT_OF_MEMORY. GL thread only; they change
- * no GL state of the host (also restored: vertex array, GL_ARRAY_BUFFER, transform feedback
- * object and buffer binding, GL_RASTERIZER_DISCARD). */
-CAGEKIT_API cagekit_status cagekit_gl_deformer_set_reference_set(cagekit_gl_deformer deformer, const uint32_t* edited,
-                                                                 uint32_t edited_count, const double* control,
-                                                                 uint32_t control_count);
-CAGEKIT_API cagekit_status cagekit_gl_deformer_deform_reference(cagekit_gl_deformer deformer, const double* control,
-                                                                uint32_t control_count);
-/* The affine-frame variant of the reference mode (§8.6.2 (b), after Botsch & Kobbelt 2004):
- * every point of Q moves by one affine map, given by where it takes four frame points.
- * set_reference_affine: Q = `edited` (edited_count distinct indices, any number), `frame` the 12
- * coordinates of the frame points q_0..q_3 (not coplanar) in the pose of `control` (control_count
- * xyz triples, all control points). Each point of Q is written c_j = sum_l xi_jl q_l (8.13), so
- * the per-vertex data is 28 floats whatever |Q| (7 coefficients, 9 fixed, 3 x 4 combined
- * weights). deform_reference_affine then uploads only the 4 moved frame points (`frame`, 12
- * numbers). Normal displacement mode only. Errors: INVALID_HANDLE, INVALID_ARGUMENT (NULL
- * arrays, counts, an index out of range or repeated, a non-finite or coplanar frame),
- * INVALID_OPERATION (a local-frame binding, deform_reference_affine before a set_reference_affine),
- * UNSUPPORTED_FEATURE, OUT_OF_MEMORY. GL thread only; the host's GL state is left unchanged. */
-CAGEKIT_API cagekit_status cagekit_gl_deformer_set_reference_affine(cagekit_gl_deformer deformer,
-                                                                    const uint32_t* edited, uint32_t edited_count,
-                                                                    const double* frame, const double* control,
-                                                                    uint32_t control_count);
-CAGEKIT_API cagekit_status cagekit_gl_deformer_deform_reference_affine(cagekit_gl_deformer deformer,
-                                                                       const double* frame);
-
-/* Copies the last deform's result to the CPU (waits for the GPU; for tests and tools, not for
- * drawing): positions and normals (either may be NULL) receive vertex_count xyz triples, for
- * vertex_capacity >= the vertex count. Before a first deform the contents are undefined.
- * Errors: INVALID_HANDLE, SIZE_INSUFFICIENT, INTERNAL (the buffer could not be mapped).
- * GL thread only. */
-CAGEKIT_API cagekit_status cagekit_gl_deformer_read_back(cagekit_gl_deformer deformer, uint32_t vertex_capacity,
-                                                         double* positions, double* normals);
-
-/* ------------------------------------------------------------------------------------------ */
-/* Remeshing (thesis chapter 5: anisotropic; chapter 6: two-step quad-dominant)              */
-/* ------------------------------------------------------------------------------------------ */
-
-/* Two remeshers turn a triangle mesh into a quad-dominant cage, each with its own options and
- * report: cagekit_mesh_remesh_anisotropic (thesis ch. 5) samples the surface with lines of
- * principal curvature (plus feature and boundary lines) and meshes their intersections, so the
- * cage's edges follow the principal directions;
- * cagekit_mesh_remesh_quad (thesis ch. 6) segments the surface into nearly flat regions (VSA),
- * samples their boundaries (shared by both neighbours), lays out each region by an energy-driven
- * selection of curves in a conformal parameterisation (weights of Table 6.1), relaxes, maps back
- * to the surface and glues the regions. Both tag the cage edges on
- * feature lines / sharp region boundaries as infinitely sharp creases. */
-
-/* Figures of a remeshed cage, the same for both remeshers. */
-typedef struct cagekit_remesh_quality {
-  uint64_t faces, vertices, quads;
-  uint64_t interior_vertices;     /* vertices not on a boundary edge of the output */
-  uint64_t valence4_vertices;     /* interior vertices with 4 edges */
-  uint32_t max_face_valence, max_vertex_valence;
-  uint64_t creases;               /* cage edges tagged infinitely sharp */
-  double min_scaled_jacobian;     /* min over face corners of sin(corner angle) (the scaled Jacobian of a quad
-                                     corner); T-joint vertices (within 10° of straight) are not corners;
-                                     < 0 only at a concave corner */
-  double seconds;                 /* whole call */
-} cagekit_remesh_quality;
-
-typedef struct cagekit_anisotropic_options {
-  size_t struct_size;             /* sizeof(cagekit_anisotropic_options) */
-  double tolerance;               /* approximation tolerance relative to the bbox diagonal, in (0, 1]; the line
-                                     spacing follows the chord-height rule (5.10) (default 0.002) */
-  double feature_angle_degrees;   /* edges whose faces' normals differ by more than this become feature lines
-                                     and crease tags; < 0: none; <= 180 (default 40) */
-  uint32_t max_face_valence;      /* faces with more corners are split, 3..1000000 (default 5) */
-  uint32_t threads;               /* worker threads of the curvature field, 0..1024; 0 = all cores (default) */
-  double curvature_radius;        /* curvature averaging radius relative to the bbox diagonal (thesis: 0.01),
-                                     capped at 6 mean edge lengths (bounded cost on dense meshes); 0: three
-                                     mean edge lengths; in [0, 1] (default 0.01) */
-} cagekit_anisotropic_options;
-
-#define CAGEKIT_ANISOTROPIC_OPTIONS_INIT { sizeof(cagekit_anisotropic_options), 0.002, 40.0, 5, 0, 0.01 }
-
-typedef struct cagekit_anisotropic_report {
-  size_t struct_size;             /* sizeof(cagekit_anisotropic_report) */
-  cagekit_remesh_quality quality;
-  uint64_t regions;               /* connected regions of confident input faces */
-  uint64_t lines;                 /* sampled lines of all types */
-  uint64_t holes;                 /* half-edges that could not be closed into faces (0 expected) */
-  double mean_alignment_deg;      /* mean angle between the output edges along curvature lines and the nearer
-                                     principal direction (mean of the two ends' directions, i.e. the tangent
-                                     at the middle of a curved edge), over edges whose ends lie on confident
-                                     faces (Λ >= cos π/6) */
-} cagekit_anisotropic_report;
-
-typedef struct cagekit_quad_remesh_options {
-  size_t struct_size;             /* sizeof(cagekit_quad_remesh_options) */
-  double edge_length;             /* δ, the spacing of the samples on the region boundaries relative to the
-                                     bbox diagonal, in (0, 1] (thesis: 0.02-0.10; default 0.05) */
-  uint32_t regions;               /* number of VSA regions |S|, 0..1000000; 0: the first count (up to 200)
-                                     whose L2,1 error / area <= region_tolerance (default 30) */
-  double region_tolerance;        /* used with regions = 0: a mean of |n_f - N|^2, finite and >= 0 (default
-                                     0.01) */
-  double crease_angle_degrees;    /* region boundaries whose input edges' length-weighted mean dihedral angle
-                                     exceeds this become crease tags; < 0: none; <= 180 (default 40) */
-  double triangle_weight;         /* w_tri of Table 6.1, the cost of a triangle, finite and > 0 (default 40) */
-  double pentagon_weight;         /* w_PT, the cost of a pentagon, finite and > 0 (default 40) */
-  double t_joint_weight;          /* w_T, the cost of a T-joint, finite and > 0 (default 100) */
-  uint32_t refinement_passes;     /* sweeps of the sample-count refinement (not in the thesis): an arc next to
-                                     an irregular region gets one sample more or fewer when re-selecting its
-                                     regions makes the cage more regular there; 0..16. 0: off (faster; a few
-                                     points fewer quads / valence-4 vertices) (default 1) */
-  uint32_t threads;               /* workers over the regions of the curve selection, 0..1024; 0 = all cores
-                                     (default) */
-  /* The host's control of the segmentation. Face ids are the input mesh's (a polygon stands for
-   * all of its triangles). The arrays are read during the call only (the caller keeps them). */
-  const uint32_t* seed_faces;     /* faces that each start a VSA region (they then relax like the others);
-                                     distinct, not pinned. NULL with seed_face_count 0 (default) */
-  uint32_t seed_face_count;
-  uint32_t pinned_region_count;   /* regions the host fixes: region k is the faces
-                                     pinned_faces[pinned_region_offsets[k] .. pinned_region_offsets[k + 1]),
-                                     edge-connected, disjoint, never changed by the segmentation and counted
-                                     in `regions` (default 0) */
-  const uint32_t* pinned_region_offsets; /* pinned_region_count + 1 non-decreasing offsets, first 0 */
-  const uint32_t* pinned_faces;
-} cagekit_quad_remesh_options;
-
-#define CAGEKIT_QUAD_REMESH_OPTIONS_INIT                                                                   \
-  { sizeof(cagekit_quad_remesh_options), 0.05, 30, 0.01, 40.0, 40.0, 40.0, 100.0, 1, 0, NULL, 0, 0, NULL, NULL }
-
-typedef struct cagekit_quad_remesh_report {
-  size_t struct_size;             /* sizeof(cagekit_quad_remesh_report) */
-  cagekit_remesh_quality quality;
-  uint64_t regions;               /* VSA regions used, after the splits below */
-  uint64_t arcs;                  /* region-boundary arcs */
-  uint64_t requested_regions;     /* the count asked for (`regions` of the options, or 200 by tolerance):
-                                     raised to the mesh's connected components and capped at its triangles
-                                     when no regions are pinned or seeded */
-  uint64_t split_regions;         /* regions split: closed, with a handle, a folding map, or a failed layout */
-  uint64_t merged_regions;        /* sliver regions (their sample loop has no area) merged into a neighbour */
-  uint64_t layout_retries;        /* layouts redone after such splits or merges (at most 3) */
-  uint64_t mended_faces;          /* faces of the final layout repaired in place: where two regions' faces
-                                     coincided (thin parts one face wide per side) a vertex was added inside
-                                     one of them; a face repeating a vertex was cut there */
-  uint64_t partitioned_regions;   /* regions whose layout still failed after the retries, laid out instead by
-                                     the quad-dominant partition of their polygon of boundary samples (no
-                                     inner vertices); 0 in most results */
-} cagekit_quad_remesh_report;
-
-/* Remeshes `mesh` into a new cage: a valid oriented 2-manifold polygon mesh whose edges on
- * feature lines (anisotropic) or sharp region boundaries (quad) are tagged as infinitely sharp
- * creases. The mesh must be an oriented 2-manifold (boundary allowed) with finite positions;
- * faces with more than 3 vertices are fan-triangulated first. `options` NULL: the defaults;
- * `report` may be NULL. *out receives one reference.
- * Errors: INVALID_HANDLE; INVALID_ARGUMENT (out NULL, an option out of its range, naming it; quad:
- * with pinned regions or seeds, more regions than triangles or fewer than the mesh's connected
- * components — without them the count is adjusted and reported); INVALID_MESH (naming the
- * problem: faces with < 3 or repeated vertices, bad indices, non-manifold or inconsistently
- * oriented edges, non-finite positions, an empty or zero-extent mesh; anisotropic: no two lines
- * intersect (too large a tolerance for the mesh's size); quad: a pinned region with a handle —
- * other regions that are closed, have a handle or fold are split); CANCELLED; OUT_OF_MEMORY;
- * INTERNAL (the result failed its validity check after the retries, naming the region).
- * Long operations (progress stages anisotropic "curvature field", "curvature lines", "meshing";
- * quad "vsa segmentation", "remesh constraints", "quad region selection", "post-processing";
- * cancel). Reads `mesh`; thread-safe. */
-CAGEKIT_API cagekit_status cagekit_mesh_remesh_anisotropic(cagekit_mesh mesh, const cagekit_anisotropic_options* options,
-                                                           cagekit_cage* out, cagekit_anisotropic_report* report);
-CAGEKIT_API cagekit_status cagekit_mesh_remesh_quad(cagekit_mesh mesh, const cagekit_quad_remesh_options* options,
-                                                    cagekit_cage* out, cagekit_quad_remesh_report* report);
-
-/* ------------------------------------------------------------------------------------------ */
-/* Scan to cage: the whole journey in one call                                                 */
-/* ------------------------------------------------------------------------------------------ */
-
-/* How the initial cage is made. */
-typedef enum cagekit_scan_method {
-  CAGEKIT_SCAN_SIMPLIFY = 0,    /* structure-preserving simplification (thesis ch. 3) + quad-dominant cage */
-  CAGEKIT_SCAN_QUAD = 1,        /* two-step quad-dominant remeshing (thesis ch. 6) */
-  CAGEKIT_SCAN_ANISOTROPIC = 2, /* curvature-line remeshing (thesis ch. 5) */
-  CAGEKIT_SCAN_METHOD_MAX_ENUM = 0x7fffffff
-} cagekit_scan_method;
-
-/* Which connected components of the scan are kept by the conditioning. */
-typedef enum cagekit_component_mode {
-  CAGEKIT_COMPONENTS_ALL = 0,     /* every component (the default) */
-  CAGEKIT_COMPONENTS_LARGEST = 1, /* only the one with the most faces (scans with stray pieces) */
-  CAGEKIT_COMPONENTS_MAX_ENUM = 0x7fffffff
-} cagekit_component_mode;
-
-typedef struct cagekit_scan_to_cage_options {
-  size_t struct_size;               /* sizeof(cagekit_scan_to_cage_options) */
-  cagekit_scan_method method;       /* default CAGEKIT_SCAN_SIMPLIFY */
-  /* Conditioning (the first phase): cagekit_mesh_repair's steps without DROP_INVALID_FACES (bad
-     indices and NaN/Inf stay INVALID_MESH) plus the removal of unreferenced vertices. */
-  cagekit_bool32 repair;            /* 1 (default): condition the scan; 0: refuse an invalid scan */
-  cagekit_component_mode components; /* default CAGEKIT_COMPONENTS_ALL */
-  double weld_tolerance_rel;        /* vertices closer than this x the bounding-box diagonal are welded,
-                                       finite and >= 0 (default 1e-7; 0: exact duplicates only) */
-  /* SIMPLIFY: the coarsest level with at most `target` faces (CAGEKIT_LEVEL_BY_FACES, default) or
-     vertices (CAGEKIT_LEVEL_BY_VERTICES); also the face count of the fallback. */
-  cagekit_level_query target_query;
-  double target;                    /* >= 1 (default 60) */
-  const cagekit_cage_options* cage; /* SIMPLIFY's cage options; NULL = defaults. Read during the call. */
-  const cagekit_quad_remesh_options* quad;          /* QUAD's options; NULL = defaults. Read during the call. */
-  const cagekit_anisotropic_options* anisotropic;   /* ANISOTROPIC's options; NULL = defaults. Read during
-                                                       the call. */
-  const cagekit_fit_options* fit;   /* NULL = defaults. Read during the call. */
-  uint32_t limit_levels;            /* the fitted cage is refined this often onto its limit for the error
-                                       figures and *limit_out, 1..CAGEKIT_MAX_SUBDIVISION_LEVELS (default 3) */
-  uint32_t self_intersection_level; /* the level of the limit mesh whose self-intersections are counted,
-                                       0..CAGEKIT_MAX_SUBDIVISION_LEVELS (default 2; 0: not counted) */
-  /* The good-result rule: the limit surface -> scan distance must be at most
-     max(max_limit_to_scan_rel, limit_to_scan_factor x the scan -> limit distance) (relative to the
-     diagonal), except for inputs with fewer than small_input_faces faces, whose smooth limit may
-     bulge away from coarse facets; the cage must be valid and manifold with no holes the
-     conditioned scan does not have. */
-  double max_limit_to_scan_rel;     /* finite and > 0 (default 0.05) */
-  double limit_to_scan_factor;      /* finite and > 0 (default 3) */
-  uint64_t small_input_faces;       /* default 1000 */
-  cagekit_bool32 fallback_to_simplify; /* 1 (default): a QUAD / ANISOTROPIC result that is not good (or that
-                                       fails) is replaced by SIMPLIFY at `target` faces; the report says so
-                                       and why. 0: it is an error. */
-  uint32_t finer_simplify_attempts; /* a SIMPLIFY result whose limit surface strays from the scan is tried
-                                       again at 2x, 4x, ... the target, at most this often, 0..8 (default 2;
-                                       0: never); report->simplify_target_used says which was returned */
-  double two_sided_refit_factor;    /* the last phase: the good result's cage is fitted again by two-sided
-                                       least squares (cagekit_fit_options.reverse_sample_factor = this), and
-                                       that fit is kept when the larger of the limit's two one-sided maxima
-                                       drops by at least 5 %, with no more self-intersections and still good; the method,
-                                       target and remedies are chosen by the one-sided fit. Finite, 0..100
-                                       (default 3; 0: not tried) */
-} cagekit_scan_to_cage_options;
-
-#define CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT                                                               \
-  { sizeof(cagekit_scan_to_cage_options), CAGEKIT_SCAN_SIMPLIFY, 1, CAGEKIT_COMPONENTS_ALL, 1e-7,         \
-    CAGEKIT_LEVEL_BY_FACES, 60.0, NULL, NULL, NULL, NULL, 3, 2, 0.05, 3.0, 1000, 1, 2, 3.0 }
-
-/* Every figure of one scan-to-cage run. Distances are relative to the conditioned scan's
- * bounding-box diagonal. */
-typedef struct cagekit_scan_to_cage_report {
-  size_t struct_size;               /* sizeof(cagekit_scan_to_cage_report) */
-  /* 1. conditioning */
-  uint64_t input_vertices, input_faces;
-  uint64_t conditioned_vertices, conditioned_faces;
-  uint64_t welded_vertices, dropped_degenerate_faces, dropped_duplicate_faces;
-  uint64_t split_vertices;          /* added to split non-manifold edges / vertices and non-orientable parts */
-  uint64_t flipped_faces, non_orientable_components, removed_unreferenced_vertices;
-  uint64_t components;              /* connected components kept */
-  uint64_t dropped_components, dropped_component_faces; /* CAGEKIT_COMPONENTS_LARGEST */
-  /* 2. the method */
-  cagekit_scan_method requested_method;
-  cagekit_scan_method used_method;  /* differs after a fallback */
-  cagekit_bool32 fallback;          /* 1 when the requested method's result was replaced */
-  cagekit_bool32 input_is_cage;     /* 1 when the conditioned scan had no more faces than the method would
-                                       make and is its own cage (edges sharper than 40 degrees creased) */
-  char fallback_reason[256];        /* why the fallback happened (NUL-terminated, "" when none) */
-  uint32_t level, level_count;      /* SIMPLIFY: the level chosen and the hierarchy's level count */
-  uint64_t level_faces, level_faces_with_holes; /* SIMPLIFY: polygons of that level */
-  uint64_t cage_vertices, cage_faces, cage_quads, cage_triangles; /* the fitted cage */
-  uint64_t creases;                 /* crease edges of the cage */
-  uint64_t remesh_regions, remesh_lines, remesh_holes; /* regions; lines (anisotropic) or arcs (quad); holes (anisotropic) */
-  uint64_t interior_vertices, valence4_vertices; /* of the cage */
-  uint32_t max_face_valence, max_vertex_valence;
-  double mean_alignment_deg;        /* ANISOTROPIC, as in cagekit_anisotropic_report */
-  double method_scan_to_cage_max_rel, method_cage_to_scan_max_rel, method_mean_rel; /* the initial cage's
-                                       control mesh against the scan */
-  /* 3. the cage */
-  uint64_t input_boundary_loops, cage_boundary_loops;
-  uint64_t holes_added;             /* always 0 on success */
-  /* 4. the fit (all figures as cagekit_fit_report's) */
-  uint32_t fit_pass_count, fit_best_pass;
-  cagekit_fit_pass fit_initial, fit_final;
-  cagekit_fit_two_sided fit_initial_two_sided, fit_final_two_sided;
-  uint64_t unsupported_control_vertices, weakly_supported_control_vertices;
-  /* 5. the limit surface */
-  uint32_t limit_levels;
-  uint64_t limit_faces;
-  double scan_to_limit_max_rel;     /* max over scan vertices of the distance to the limit mesh */
-  double limit_to_scan_max_rel;     /* max over limit-mesh samples of the distance to the scan's surface */
-  double limit_mean_rel;            /* mean scan-vertex distance */
-  uint64_t self_intersections;      /* intersecting triangle pairs of the level-`self_intersection_level`
-                                       limit mesh (quads split along the diagonal that folds least) */
-  uint64_t self_intersection_triangles; /* triangles tested */
-  double method_seconds, fit_seconds, seconds;
-  double simplify_target_used;      /* SIMPLIFY (also as the fallback): the target of the returned level */
-  /* Counted only when self_intersections > 0 (else 0): the conditioned scan's own intersecting
-     pairs (a faithful surface inherits them) and the initial cage's limit mesh's before the fit
-     (whether the method or the fit made them). While the limit has more than the scan, the
-     journey remedies them, keeping the good result with the fewest: the fit is run again with more fairing
-     (fit_fairing_used), a tiny input is creased more, SIMPLIFY tries the finer targets too. */
-  uint64_t scan_self_intersections, unfitted_self_intersections;
-  cagekit_bool32 scan_self_intersections_counted; /* 1 when scan_self_intersections was counted */
-  double own_cage_crease_angle_deg; /* input_is_cage: the crease angle used (40 by default, 20 or 0 =
-                                       every edge creased after a self-intersection remedy) */
-  double fit_fairing_used;          /* the fit's fairing weight of the result (the option's, or 0.01 / 0.1
-                                       after a remedy: for self-intersections, or for a limit that strayed
-                                       from the scan, which is fitted again with more fairing before any
-                                       finer target or fallback is tried) */
-  /* The last phase (cagekit_scan_to_cage_options.two_sided_refit_factor). */
-  cagekit_bool32 two_sided_refit;   /* 1 when the returned fit is the two-sided refit */
-  double one_sided_fit_max_rel;     /* then: max(scan -> limit, limit -> scan) of the one-sided fit it
-                                       replaced (0 when two_sided_refit is 0) */
-} cagekit_scan_to_cage_report;
-
-/* The whole journey from a scan to a fitted cage, in named phases: conditioning (repair as
- * above, one info log line naming every change) -> the method (an input that already has fewer
- * faces than the method would make is its own cage) -> a valid manifold cage without new holes
- * -> fit of its limit surface (cagekit_cage_fit) -> the limit surface measured against the scan
- * both ways and its self-intersections counted -> the good-result rule (options above) -> a
- * two-sided refit of the good result, kept only when closer to the scan (two_sided_refit_factor). Status
- * SUCCESS means a good result: *cage_out is the fitted cage with crease tags, *limit_out (may be
- * NULL) the fitted cage refined limit_levels times onto its limit, and *report (may be NULL)
- * holds every figure. `fit_report` (may be NULL) receives the fit's report exactly as
- * cagekit_cage_fit writes it (its pass array is the caller's, as there). Hosts keep the
- * individual steps (cagekit_mesh_repair, cagekit_hierarchy_*, cagekit_mesh_remesh_*,
- * cagekit_cage_fit) for finer control.
- *
- * Errors: INVALID_HANDLE, INVALID_ARGUMENT (NULL cage_out, bad struct_size, an option out of range,
- * naming it), INVALID_MESH (out-of-range indices or non-finite positions, naming the first; an
- * invalid scan with repair 0; no faces, or nothing left after conditioning), QUALITY (no good result:
- * the message names the method and the figure, e.g. "the limit surface strays 7.2 % of the
- * diagonal from the scan"), CANCELLED, OUT_OF_MEMORY (also the context's memory budget). On error
- * the outputs are NULL and *report is unspecified.
- *
- * Long operation (progress: the stages of each phase, "conditioning", the method's, "fit",
- * "error"; cancel), using the threads its options give. Reads `scan`; thread-safe for distinct
- * outputs. */
-CAGEKIT_API cagekit_status cagekit_scan_to_cage(cagekit_mesh scan, const cagekit_scan_to_cage_options* options,
-                                                cagekit_cage* cage_out, cagekit_cage* limit_out,
-                                                cagekit_scan_to_cage_report* report,
-                                                cagekit_fit_report* fit_report);
+/* Builds the patches of `cage`'s limit surface. Long operation (progress stage "limit patches",
+ * cancel). Fails with INVALID_ARGUMENT for bad options, INVALID_MESH for a cage that cannot be
+ * subdivided, LIMIT_EXCEEDED when more than 2^20 patches would be needed (raise the tolerance or
+ * lower max_depth), OUT_OF_MEMORY against the context's memory budget. The result is immutable
+ * and may be read from several threads at once. Release with cagekit_limit_patches_release. */
+CAGEKIT_API cagekit_status cagekit_limit_patches_create(cagekit_cage cage, const cagekit_limit_patch_options* options,
+                                                        cagekit_limit_patches* out);
+CAGEKIT_API void cagekit_limit_patches_retain(cagekit_limit_patches patches);
+CAGEKIT_API void cagekit_limit_patches_release(cagekit_limit_patches patches);
+/* Counts and errors. Reads. */
+CAGEKIT_API cagekit_status cagekit_limit_patches_get_info(cagekit_limit_patches patches, cagekit_limit_patch_info* info);
+/* Copies patches [first, first + count) into `out` (count entries); INVALID_ARGUMENT when the range
+ * is not inside [0, patch_count). Patches are ordered by ptex face, then by quadtree order. Reads. */
+CAGEKIT_API cagekit_status cagekit_limit_patches_get(cagekit_limit_patches patches, uint32_t first, uint32_t count,
+                                                     cagekit_limit_patch* out);
 
 #ifdef __cplusplus
 }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <cagekit/cagekit.h>
+#include <cagekit/cagekit_gl.h>
 
 namespace cli {
 

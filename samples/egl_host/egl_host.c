@@ -27,6 +27,8 @@
 #include <time.h>
 
 #include <cagekit/cagekit.h>
+#define CAGEKIT_ENABLE_EXPERIMENTAL /* the third pass runs the thesis's reference mode */
+#include <cagekit/cagekit_gl.h>
 
 /* ---- GL entry points, loaded through eglGetProcAddress like the library does ---------------- */
 #define GL_FUNCTIONS(X)                                                                            \

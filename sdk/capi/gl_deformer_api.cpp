@@ -2,6 +2,9 @@
 // GPU deformer in the host's GL context (thesis §8.6): the C shim over gpu/GlDeformer.
 #include <memory>
 
+#define CAGEKIT_ENABLE_EXPERIMENTAL  // defines the experimental reference mode too
+#include <cagekit/cagekit_gl.h>
+
 #include "capi/api_guard.h"
 #include "capi/mesh_conversion.h"
 #include "capi/option_conversion.h"

@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include <cagekit/cagekit.h>
+#include <cagekit/cagekit_gl.h>
 
 #include "core/io/mesh_io.h"
 #include "core/mesh_repair.h"

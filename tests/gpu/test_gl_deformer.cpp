@@ -9,7 +9,8 @@
 #include <gtest/gtest.h>
 
 #include <GL/glcorearb.h>
-#include <cagekit/cagekit.h>
+#define CAGEKIT_ENABLE_EXPERIMENTAL  // the thesis's reference mode is tested too
+#include <cagekit/cagekit_gl.h>
 
 #include <algorithm>
 #include <cmath>

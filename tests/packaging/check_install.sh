@@ -84,10 +84,13 @@ if grep -q 'add_library(CageKit::cagekit SHARED IMPORTED)' "$targets/CageKitTarg
 then pass "CageKit::cagekit: shared imported target without link dependencies or build-tree paths"
 else cat "$targets"/CageKitTargets*.cmake; fail "exported target leaks dependencies or paths"; fi
 
-# 5. the header alone, strict C99
+# 5. the headers alone, strict C99: the main one, and the opt-in GL binding on top of it
 printf '#include <cagekit/cagekit.h>\nint main(void) { return cagekit_abi_version() == CAGEKIT_ABI_VERSION ? 0 : 1; }\n' >"$tmp/header_only.c"
 if "$cc" -std=c99 -Wall -Wextra -pedantic -Werror -fsyntax-only -I"$prefix/$includedir" "$tmp/header_only.c" >"$tmp/header.log" 2>&1
 then pass "installed <cagekit/cagekit.h> compiles alone as C99 (-pedantic -Werror)"; else cat "$tmp/header.log"; fail "header as C99"; fi
+printf '#include <cagekit/cagekit_gl.h>\nint main(void) { cagekit_gl_deformer_options o = CAGEKIT_GL_DEFORMER_OPTIONS_INIT; return (int)o.optimize_vertex_cache - 1; }\n' >"$tmp/gl_header_only.c"
+if "$cc" -std=c99 -Wall -Wextra -pedantic -Werror -fsyntax-only -I"$prefix/$includedir" "$tmp/gl_header_only.c" >"$tmp/gl_header.log" 2>&1
+then pass "installed <cagekit/cagekit_gl.h> compiles as C99 (-pedantic -Werror)"; else cat "$tmp/gl_header.log"; fail "GL header as C99"; fi
 
 # 6. the installed CLI runs from the prefix without LD_LIBRARY_PATH and makes the input scan
 # resolves_to_prefix PROGRAM PREFIX: the dynamic loader picks PREFIX's libcagekit for PROGRAM.

@@ -15,12 +15,16 @@ import cagekit
 from cagekit import _lib
 
 HEADER = os.path.join(support.HERE, "..", "..", "..", "include", "cagekit", "cagekit.h")
+GL_HEADER = os.path.join(os.path.dirname(HEADER), "cagekit_gl.h")
 
 
 def header_text():
-    """The header without its comments."""
-    with open(HEADER) as f:
-        return re.sub(r"/\*.*?\*/", "", f.read(), flags=re.S)
+    """The public headers (the main one and the GL binding) without their comments."""
+    text = ""
+    for path in (HEADER, GL_HEADER):
+        with open(path) as f:
+            text += re.sub(r"/\*.*?\*/", "", f.read(), flags=re.S)
+    return text
 
 
 def header_functions():
@@ -52,7 +56,8 @@ class DeclarationsMatchTheHeader(unittest.TestCase):
         cc = os.environ.get("CC") or shutil.which("cc") or shutil.which("gcc") or shutil.which("clang")
         if not cc:
             self.skipTest("no C compiler to compare the struct layouts with")
-        lines = ["#include <cagekit/cagekit.h>", "#include <stddef.h>", "#include <stdio.h>", "int main(void) {"]
+        lines = ["#include <cagekit/cagekit.h>", "#include <cagekit/cagekit_gl.h>", "#include <stddef.h>",
+                 "#include <stdio.h>", "int main(void) {"]
         expected = []
         for cname, cls in sorted(_lib.STRUCTS.items()):
             lines.append('  printf("%%s %%zu\\n", "%s", sizeof(%s));' % (cname, cname))
