@@ -34,7 +34,12 @@ _u64p = POINTER(c_uint64)
 
 
 class _Versioned(Structure):
-    """A struct that begins with struct_size; new() sets it and any defaults."""
+    """A struct that begins with struct_size; new() sets it and any defaults.
+
+    _defaults is the one place a struct's default values are written in Python: the header's
+    CAGEKIT_*_INIT list (fields left out are 0 / NULL, as in C, where the list's missing entries
+    are zero). The functions' keyword defaults are read from defaults() instead of being written
+    again, and tests/test_abi.py compares new() with the header's INIT list field by field."""
 
     _defaults = {}
 
@@ -45,6 +50,13 @@ class _Versioned(Structure):
         for name, value in {**cls._defaults, **values}.items():
             setattr(s, name, value)
         return s
+
+    @classmethod
+    def defaults(cls):
+        """{field: value} of every field of new() but struct_size (as ctypes reads it back: int,
+        float, None for NULL), for the keyword defaults of the functions that fill the struct."""
+        s = cls.new()
+        return {name: getattr(s, name) for name, *_ in cls._fields_ if name != "struct_size"}
 
 
 # --- context ---------------------------------------------------------------------------------
@@ -149,6 +161,11 @@ class CageOptions(_Versioned):
 
 # cagekit_crease_rule, by name (the Python API takes the names).
 CREASE_RULES = {"sharp-input": 0, "cluster-angle": 1}
+
+
+def crease_rule_name(value):
+    """The name of the cagekit_crease_rule `value` (the inverse of crease_rule_value)."""
+    return {v: k for k, v in CREASE_RULES.items()}[value]
 
 
 def crease_rule_value(rule):

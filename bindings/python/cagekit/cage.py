@@ -20,6 +20,10 @@ from .context import resolve
 from .mesh import Mesh, read_faces, read_positions
 
 SHARP = _lib.SHARP
+# CAGEKIT_*_OPTIONS_INIT of the structs filled here, written once (in _lib).
+_WRITE = _lib.WriteOptions.defaults()
+_SUBDIVIDE = _lib.SubdivideOptions.defaults()
+_SURFACE = _lib.SurfaceOptions.defaults()
 
 
 class BoundaryRule(enum.IntEnum):
@@ -83,12 +87,14 @@ class Cage(Handle):
         return cls._make(ctx, _lib.lib.cagekit_cage_read_memory, ctx._handle, address, size,
                          int(_formats.file_format(format)))
 
-    def write(self, path, format="auto", *, ply_binary=True, draco_position_bits=14, draco_speed=5):
+    def write(self, path, format="auto", *, ply_binary=bool(_WRITE["ply_binary"]),
+              draco_position_bits=_WRITE["draco_position_bits"], draco_speed=_WRITE["draco_speed"]):
         """Writes atomically (PLY and OFF drop the tags with a logged warning)."""
         return _formats.write_file(self, "cagekit_cage_write_file", path, format, ply_binary,
                                    draco_position_bits, draco_speed)
 
-    def to_bytes(self, format, *, ply_binary=True, draco_position_bits=14, draco_speed=5, report=False):
+    def to_bytes(self, format, *, ply_binary=bool(_WRITE["ply_binary"]),
+                 draco_position_bits=_WRITE["draco_position_bits"], draco_speed=_WRITE["draco_speed"], report=False):
         return _formats.write_memory(self, "cagekit_cage_write_memory", format, ply_binary,
                                      draco_position_bits, draco_speed, report)
 
@@ -182,7 +188,7 @@ class Cage(Handle):
         self._context._call(_lib.lib.cagekit_cage_set_boundary_rule, self._handle, int(rule))
 
     # --- subdivision and the limit surface ----------------------------------------------------
-    def subdivide(self, levels=1, limit_positions=False):
+    def subdivide(self, levels=_SUBDIVIDE["levels"], limit_positions=bool(_SUBDIVIDE["limit_positions"])):
         """A new cage refined `levels` times (0..8), tags refined; limit_positions moves the
         vertices onto the limit surface. Long operation (progress, cancel)."""
         options = _lib.SubdivideOptions.new(levels=int(levels), limit_positions=1 if limit_positions else 0)
@@ -198,7 +204,8 @@ class Cage(Handle):
                             _lib.address(nrm))
         return pos, nrm
 
-    def surface(self, isolation_level=2, sharp_isolation_level=10):
+    def surface(self, isolation_level=_SURFACE["isolation_level"],
+                sharp_isolation_level=_SURFACE["sharp_isolation_level"]):
         """A limit-surface evaluator (a snapshot of this cage). Long operation."""
         from .surface import Surface
         options = _lib.SurfaceOptions.new(isolation_level=int(isolation_level),

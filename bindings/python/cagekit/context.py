@@ -32,6 +32,9 @@ class LogLevel(enum.IntEnum):
     ERROR = 3
 
 
+_DESC = _lib.ContextDesc.defaults()  # CAGEKIT_CONTEXT_DESC_INIT, written once (in _lib.ContextDesc)
+
+
 def _progress_trampoline(ref):
     def progress(user_data, stage, fraction):
         # The whole body is inside try: even a KeyboardInterrupt delivered here (Ctrl-C during a
@@ -87,7 +90,8 @@ class Context(Handle):
     _release_name = "cagekit_context_release"
     _kind = "context"
 
-    def __init__(self, log=None, log_level=LogLevel.WARNING, progress=None, memory_budget_bytes=0):
+    def __init__(self, log=None, log_level=LogLevel(_DESC["log_level"]), progress=None,
+                 memory_budget_bytes=_DESC["memory_budget_bytes"]):
         self._local = threading.local()
         self._log = log
         self._progress = progress

@@ -25,10 +25,15 @@ class LsqSolver(enum.IntEnum):
     CGLS = 1    # conjugate gradients, warm-started
 
 
-def fit(cage, scan, max_passes=5, tolerance=1e-4, fairing=0.0, tangential_weight=1.0,
-        keep_crease_vertices=False, projection=ProjectionMode.EXACT, solver=LsqSolver.DIRECT, threads=0,
-        max_projection_steps=500, projection_epsilon=1e-6, projection_seed_resolution=4,
-        crease_feature_reach=0.02):
+_D = _lib.FitOptions.defaults()  # CAGEKIT_FIT_OPTIONS_INIT, written once (in _lib.FitOptions)
+
+
+def fit(cage, scan, max_passes=_D["max_passes"], tolerance=_D["tolerance"], fairing=_D["fairing"],
+        tangential_weight=_D["tangential_weight"], keep_crease_vertices=bool(_D["keep_crease_vertices"]),
+        projection=ProjectionMode(_D["projection"]), solver=LsqSolver(_D["solver"]), threads=_D["threads"],
+        max_projection_steps=_D["max_projection_steps"], projection_epsilon=_D["projection_epsilon"],
+        projection_seed_resolution=_D["projection_seed_resolution"],
+        crease_feature_reach=_D["crease_feature_reach"]):
     """Fits `cage` (not changed) to the vertices of `scan` (a Mesh). Returns (new Cage with the
     same faces and tags, report). The report holds pass_count, passes (a list of records with
     l2, rms_rel, max_rel, mean_rel, max_rel_interior, seconds, unconverged_projections,

@@ -61,6 +61,9 @@ _lib.PROTOTYPES.update({
 _lib._declare(_lib.lib)  # ImportError naming the function when the loaded library lacks one
 
 
+_D = LimitPatchOptions.defaults()  # CAGEKIT_LIMIT_PATCH_OPTIONS_INIT, written once (in LimitPatchOptions)
+
+
 def _patch_dtype():
     """The numpy record type laid out exactly as cagekit_limit_patch (offsets from ctypes)."""
     names, formats, offsets = [], [], []
@@ -86,7 +89,7 @@ class LimitPatches(Handle):
     _release_name = "cagekit_limit_patches_release"
     _kind = "limit patches"
 
-    def __init__(self, cage, tolerance=1e-4, max_depth=8, threads=0):
+    def __init__(self, cage, tolerance=_D["tolerance"], max_depth=_D["max_depth"], threads=_D["threads"]):
         """tolerance: the largest distance allowed between an approximated patch and the limit
         surface, as a fraction of the bounding-box diagonal of the cage's control points (> 0);
         max_depth: how often a square that is not one polynomial may be split into 4 (0..12);
@@ -188,6 +191,6 @@ class LimitPatches(Handle):
         return np.einsum("ni,nj,nijc->nc", bs, bt, cp)
 
 
-def limit_patches(cage, tolerance=1e-4, max_depth=8, threads=0):
+def limit_patches(cage, tolerance=_D["tolerance"], max_depth=_D["max_depth"], threads=_D["threads"]):
     """LimitPatches(cage, tolerance, max_depth, threads)."""
     return LimitPatches(cage, tolerance=tolerance, max_depth=max_depth, threads=threads)

@@ -23,6 +23,11 @@ from ._records import from_struct
 from .context import resolve
 
 
+# CAGEKIT_WRITE_OPTIONS_INIT and CAGEKIT_REPAIR_OPTIONS_INIT, written once (in _lib).
+_WRITE = _lib.WriteOptions.defaults()
+_REPAIR = _lib.RepairOptions.defaults()
+
+
 class MeshIssue(enum.IntEnum):
     INDEX_OUT_OF_RANGE = 0
     NON_FINITE_POSITION = 1
@@ -113,12 +118,14 @@ class Mesh(Handle):
                          int(_formats.file_format(format)))
 
     # --- writing -----------------------------------------------------------------------------
-    def write(self, path, format="auto", *, ply_binary=True, draco_position_bits=14, draco_speed=5):
+    def write(self, path, format="auto", *, ply_binary=bool(_WRITE["ply_binary"]),
+              draco_position_bits=_WRITE["draco_position_bits"], draco_speed=_WRITE["draco_speed"]):
         """Writes atomically; returns a record with `bytes` and `max_position_error`."""
         return _formats.write_file(self, "cagekit_mesh_write_file", path, format, ply_binary,
                                    draco_position_bits, draco_speed)
 
-    def to_bytes(self, format, *, ply_binary=True, draco_position_bits=14, draco_speed=5, report=False):
+    def to_bytes(self, format, *, ply_binary=bool(_WRITE["ply_binary"]),
+                 draco_position_bits=_WRITE["draco_position_bits"], draco_speed=_WRITE["draco_speed"], report=False):
         """The file's bytes in `format` ('obj', 'ply', 'off', 'drc'); with report=True also the
         write report."""
         return _formats.write_memory(self, "cagekit_mesh_write_memory", format, ply_binary,
@@ -176,7 +183,7 @@ class Mesh(Handle):
             return record
         return _validation_record(report, message)
 
-    def repair(self, steps=RepairSteps.DEFAULT, weld_tolerance=0.0):
+    def repair(self, steps=RepairSteps(_REPAIR["steps"]), weld_tolerance=_REPAIR["weld_tolerance"]):
         """A repaired copy (this mesh is unchanged) and the repair report. Long operation."""
         options = _lib.RepairOptions.new(steps=int(steps), weld_tolerance=float(weld_tolerance))
         report = _lib.RepairReport.new()
