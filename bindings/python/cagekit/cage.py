@@ -17,7 +17,9 @@ from ._handle import Handle
 from ._numpy import np
 from ._records import from_struct
 from .context import resolve
+from .fit import fit as _fit
 from .mesh import Mesh, read_faces, read_positions
+from .surface import Surface
 
 SHARP = _lib.SHARP
 # CAGEKIT_*_OPTIONS_INIT of the structs filled here, written once (in _lib).
@@ -207,12 +209,10 @@ class Cage(Handle):
     def surface(self, isolation_level=_SURFACE["isolation_level"],
                 sharp_isolation_level=_SURFACE["sharp_isolation_level"]):
         """A limit-surface evaluator (a snapshot of this cage). Long operation."""
-        from .surface import Surface
         options = _lib.SurfaceOptions.new(isolation_level=int(isolation_level),
                                           sharp_isolation_level=int(sharp_isolation_level))
         return Surface._make(self._context, _lib.lib.cagekit_surface_create, self._handle, ctypes.byref(options))
 
     def fit(self, scan, **options):
         """cagekit.fit(self, scan, **options): (fitted Cage, FitReport)."""
-        from .fit import fit
-        return fit(self, scan, **options)
+        return _fit(self, scan, **options)
