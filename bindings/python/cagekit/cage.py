@@ -51,7 +51,7 @@ class Cage(Handle):
         names the first problem otherwise), without tags."""
         out = ctypes.c_void_p()
         mesh._context._call(_lib.lib.cagekit_cage_create, mesh._handle, ctypes.byref(out),
-                            outs=[(out, self._release_name)])
+                            outs=[(out, self._release())])
         Handle.__init__(self, out.value, mesh._context)
 
     @classmethod

@@ -139,8 +139,8 @@ class Context(Handle):
 
     def _call(self, fn, *args, outs=()):
         """Calls a C function of this context's objects; raises the stored callback exception or
-        the status's CageKitError. outs: (c_void_p, release function name) outputs to release
-        when an exception is raised although the call made them."""
+        the status's CageKitError. outs: (c_void_p, release function, or its name in _lib.lib)
+        outputs to release when an exception is raised although the call made them."""
         local = self._local
         local.pending = None
         status = fn(*args)
@@ -148,7 +148,7 @@ class Context(Handle):
         if pending is not None:
             for out, release in outs:
                 if out.value:
-                    getattr(_lib.lib, release)(out.value)
+                    (getattr(_lib.lib, release) if isinstance(release, str) else release)(out.value)
                     out.value = None
             raise pending
         if status < 0:

@@ -52,7 +52,7 @@ def fit(cage, scan, max_passes=_D["max_passes"], tolerance=_D["tolerance"], fair
     report = _lib.FitReport.new(pass_capacity=capacity, passes=ctypes.cast(passes, ctypes.POINTER(_lib.FitPass)))
     out = ctypes.c_void_p()
     cage._context._call(_lib.lib.cagekit_cage_fit, cage._handle, scan._handle, ctypes.byref(options),
-                        ctypes.byref(out), ctypes.byref(report), outs=[(out, cage._release_name)])
+                        ctypes.byref(out), ctypes.byref(report), outs=[(out, cage._release())])
     # Made through the input's class: this module does not import cage.py, which imports it for
     # Cage.fit, so the two have one import direction.
     fitted = type(cage)._wrap(out.value, cage._context)

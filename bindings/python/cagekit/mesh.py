@@ -189,7 +189,7 @@ class Mesh(Handle):
         report = _lib.RepairReport.new()
         out = ctypes.c_void_p()
         self._context._call(_lib.lib.cagekit_mesh_repair, self._handle, ctypes.byref(options), ctypes.byref(out),
-                            ctypes.byref(report), outs=[(out, self._release_name)])
+                            ctypes.byref(report), outs=[(out, self._release())])
         return Mesh._wrap(out.value, self._context), from_struct(report, "RepairReport")
 
     def info(self):

@@ -143,7 +143,7 @@ class CpuDeformer(Handle):
     def __init__(self, binding, threads=0):
         out = ctypes.c_void_p()
         binding._context._call(_lib.lib.cagekit_cpu_deformer_create, binding._handle, int(threads),
-                               ctypes.byref(out), outs=[(out, self._release_name)])
+                               ctypes.byref(out), outs=[(out, self._release())])
         Handle.__init__(self, out.value, binding._context)
         self.binding = binding
         info = binding.info()

@@ -12,8 +12,9 @@ holes -> the fit (two-sided best state) -> the limit surface measured both ways 
 falling back from quad / anisotropic to simplify, unless fallback_to_simplify is False). Long
 operation (progress, cancel); the GIL is released for the whole call.
 
-The C declarations of this part of the header are made here and added to _lib.PROTOTYPES and
-_lib.STRUCTS, so that tests/test_abi.py checks them with the rest.
+The C declarations of this part of the header are made here, in this module's STRUCTS and
+PROTOTYPES and on its own function objects (`lib`, a _lib.Functions), which change nothing in
+_lib; tests/test_abi.py finds them and checks them with the rest.
 """
 import ctypes
 import enum
@@ -88,14 +89,13 @@ class ScanToCageReport(_lib._Versioned):
                  ("one_sided_fit_max_rel", c_double)])
 
 
-_lib.STRUCTS.update({"cagekit_scan_to_cage_options": ScanToCageOptions,
-                     "cagekit_scan_to_cage_report": ScanToCageReport})
-_lib.PROTOTYPES.update({
+STRUCTS = {"cagekit_scan_to_cage_options": ScanToCageOptions, "cagekit_scan_to_cage_report": ScanToCageReport}
+PROTOTYPES = {
     "cagekit_scan_to_cage": (_lib.c_status, [c_void_p, POINTER(ScanToCageOptions), POINTER(c_void_p),
                                              POINTER(c_void_p), POINTER(ScanToCageReport),
                                              POINTER(_lib.FitReport)]),
-})
-_lib._declare(_lib.lib)  # ImportError naming the function when the loaded library lacks one
+}
+lib = _lib.Functions(PROTOTYPES)  # ImportError naming the function when the loaded library lacks one
 
 
 # CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT and CAGEKIT_CAGE_OPTIONS_INIT, written once (in the structs).
@@ -160,9 +160,9 @@ def scan_to_cage(scan, method=ScanMethod(_D["method"]), faces=_D["target"], repa
         options.fit = ctypes.cast(ctypes.pointer(fit_options), c_void_p)
     report = ScanToCageReport.new()
     cage_out, limit_out = ctypes.c_void_p(), ctypes.c_void_p()
-    scan._context._call(_lib.lib.cagekit_scan_to_cage, scan._handle, ctypes.byref(options), ctypes.byref(cage_out),
+    scan._context._call(lib.cagekit_scan_to_cage, scan._handle, ctypes.byref(options), ctypes.byref(cage_out),
                         ctypes.byref(limit_out), ctypes.byref(report), None,
-                        outs=[(cage_out, Cage._release_name), (limit_out, Cage._release_name)])
+                        outs=[(cage_out, Cage._release()), (limit_out, Cage._release())])
     cage = Cage._wrap(cage_out.value, scan._context)
     limit = Cage._wrap(limit_out.value, scan._context)
     record = from_struct(report, "ScanToCageReport", skip=("struct_size", "fallback_reason"))

@@ -43,7 +43,7 @@ class Hierarchy(Handle):
         options = _lib.SimplifyOptions.new(tie_break_epsilon=float(tie_break_epsilon))
         out = ctypes.c_void_p()
         mesh._context._call(_lib.lib.cagekit_hierarchy_create, mesh._handle, ctypes.byref(options),
-                            ctypes.byref(out), outs=[(out, self._release_name)])
+                            ctypes.byref(out), outs=[(out, self._release())])
         Handle.__init__(self, out.value, mesh._context)
 
     @property
@@ -165,7 +165,7 @@ class Hierarchy(Handle):
         report = _lib.CageReport.new()
         out = ctypes.c_void_p()
         self._context._call(_lib.lib.cagekit_hierarchy_build_cage, self._handle, ctypes.byref(options),
-                            ctypes.byref(out), ctypes.byref(report), outs=[(out, Cage._release_name)])
+                            ctypes.byref(out), ctypes.byref(report), outs=[(out, Cage._release())])
         return Cage._wrap(out.value, self._context), from_struct(report, "CageReport")
 
 

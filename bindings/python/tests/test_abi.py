@@ -37,16 +37,29 @@ def header_functions():
     return out
 
 
-def declared_structs():
-    """C name -> ctypes class of every struct the package declares: the STRUCTS of each of its
-    modules that has one (so a module's new declarations are checked without a list here)."""
+def _declared(attribute):
+    """C name -> (module, value) of every entry of the dict `attribute` (STRUCTS or PROTOTYPES)
+    of each module of the package that has one: _lib's core and the modules that declare their
+    part of the header themselves, found without a list here."""
     out = {}
     for info in pkgutil.iter_modules(cagekit.__path__):
         module = importlib.import_module("cagekit." + info.name)
-        for cname, cls in getattr(module, "STRUCTS", {}).items():
-            if out.setdefault(cname, cls) is not cls:
-                raise AssertionError("%s is declared twice (%s)" % (cname, module.__name__))
+        for cname, value in getattr(module, attribute, {}).items():
+            if out.setdefault(cname, (module, value))[1] is not value:
+                raise AssertionError("%s is declared twice (%s, %s)" % (cname, out[cname][0].__name__,
+                                                                        module.__name__))
     return out
+
+
+def declared_structs():
+    """C name -> ctypes class of every struct the package declares."""
+    return {cname: cls for cname, (module, cls) in _declared("STRUCTS").items()}
+
+
+def declared_functions():
+    """C name -> (the module's function table `lib`, (restype, argtypes)) of every function the
+    package declares."""
+    return {name: (module.lib, prototype) for name, (module, prototype) in _declared("PROTOTYPES").items()}
 
 
 def _evaluate(expr, constants):
@@ -135,17 +148,20 @@ def init_macro(cname):
 class DeclarationsMatchTheHeader(unittest.TestCase):
     def test_every_function_is_declared_with_its_parameter_count(self):
         functions = header_functions()
+        declared = declared_functions()
         self.assertGreater(len(functions), 90)
-        self.assertEqual(sorted(set(functions) - set(_lib.PROTOTYPES)), [], "functions without a prototype")
-        self.assertEqual(sorted(set(_lib.PROTOTYPES) - set(functions)), [], "prototypes not in the header")
+        self.assertEqual(sorted(set(functions) - set(declared)), [], "functions without a prototype")
+        self.assertEqual(sorted(set(declared) - set(functions)), [], "prototypes not in the header")
         for name, count in functions.items():
-            self.assertEqual(len(_lib.PROTOTYPES[name][1]), count, name)
-            self.assertEqual(getattr(_lib.lib, name).argtypes, _lib.PROTOTYPES[name][1], name)
+            table, (restype, argtypes) = declared[name]
+            self.assertEqual(len(argtypes), count, name)
+            self.assertEqual(getattr(table, name).argtypes, argtypes, name)  # the object the module calls
+            self.assertEqual(getattr(table, name).restype, restype, name)
 
     def test_every_struct_is_declared_with_the_header_fields(self):
         text = header_text()
         structs = re.findall(r"typedef struct (cagekit_\w+) \{", text)
-        self.assertEqual(sorted(set(structs)), sorted(_lib.STRUCTS))
+        self.assertEqual(sorted(set(structs)), sorted(declared_structs()))
 
     def test_struct_defaults_are_the_header_initializers(self):
         # Each declared struct with a CAGEKIT_<NAME>_INIT macro: new() (what every function sends
@@ -222,7 +238,7 @@ class DeclarationsMatchTheHeader(unittest.TestCase):
             self.skipTest("no C compiler to compare the struct layouts with")
         lines = ["#include <cagekit/cagekit.h>", "#include <stddef.h>", "#include <stdio.h>", "int main(void) {"]
         expected = []
-        for cname, cls in sorted(_lib.STRUCTS.items()):
+        for cname, cls in sorted(declared_structs().items()):
             lines.append('  printf("%%s %%zu\\n", "%s", sizeof(%s));' % (cname, cname))
             expected.append("%s %d" % (cname, ctypes.sizeof(cls)))
             for field in cls._fields_:
