@@ -105,20 +105,34 @@ class Cage(Handle):
         """A Mesh holding a copy of the control mesh."""
         return Mesh._make(self._context, _lib.lib.cagekit_cage_get_mesh, self._handle)
 
+    def _control_mesh(self):
+        """(positions, face sizes, flat indices), read from C on the first call (one copy of the
+        control mesh) and kept. No method changes a cage's control mesh (the tag setters change
+        tags only; subdivide, fit and remesh make new cages), so the arrays never go stale; a
+        method that changed positions or faces would have to set _mesh_arrays to None."""
+        self._handle  # a closed cage raises ValueError, cached arrays or not
+        arrays = getattr(self, "_mesh_arrays", None)
+        if arrays is None:
+            with self.mesh() as m:
+                arrays = (read_positions(m, m._handle),) + read_faces(m, m._handle)
+            self._mesh_arrays = arrays
+        return arrays
+
     @property
     def positions(self):
-        """(N, 3) float64 control points."""
-        with self.mesh() as m:
-            return read_positions(m, m._handle)
+        """(N, 3) float64 control points: a copy (the caller may change it) of the array read once,
+        on the first access to positions, faces or face_arrays(), and cached, since a cage's
+        positions never change; repeated accesses make no C call."""
+        return self._control_mesh()[0].copy()
 
     @property
     def faces(self):
-        with self.mesh() as m:
-            return _arrays.split_faces(*read_faces(m, m._handle))
+        """As Mesh.faces, from the cached control mesh (see positions)."""
+        return _arrays.split_faces(*(a.copy() for a in self._control_mesh()[1:]))
 
     def face_arrays(self):
-        with self.mesh() as m:
-            return read_faces(m, m._handle)
+        """(face_sizes, flat_indices) uint32 copies, from the cached control mesh (see positions)."""
+        return tuple(a.copy() for a in self._control_mesh()[1:])
 
     def info(self):
         """Control-mesh statistics plus tag counts (creases, corners, holes)."""
