@@ -127,7 +127,8 @@ class Cage(Handle):
 
     @property
     def faces(self):
-        """As Mesh.faces, from the cached control mesh (see positions)."""
+        """A list with one 1-D uint32 array of vertex indices per face, as Mesh.faces, from the
+        cached control mesh (see positions)."""
         return _arrays.split_faces(*(a.copy() for a in self._control_mesh()[1:]))
 
     def face_arrays(self):

@@ -3,7 +3,7 @@
 
     mesh = cagekit.Mesh.from_arrays(positions, faces)   # (N,3) float64/float32, faces as below
     mesh.positions                                      # (N,3) float64 copy
-    mesh.faces                                          # (F,k) uint32, or a list of arrays
+    mesh.faces                                          # a list of uint32 arrays, one per face
     mesh.validate()                                     # raises InvalidMeshError naming the problem
     fixed, report = mesh.repair()
     data = mesh.to_bytes("ply"); again = cagekit.Mesh.from_bytes(data)
@@ -162,7 +162,10 @@ class Mesh(Handle):
 
     @property
     def faces(self):
-        """(F, k) uint32 array when every face has k vertices, else a list of uint32 arrays."""
+        """A list with one 1-D uint32 array of vertex indices per face, for every mesh (triangles,
+        quads or mixed polygons alike; [] without faces). np.array(mesh.faces) makes the (F, k)
+        array of a mesh whose faces all have k vertices; face_arrays() is the flat form without
+        an object per face (for large meshes)."""
         return _arrays.split_faces(*self.face_arrays())
 
     # --- checks ------------------------------------------------------------------------------
