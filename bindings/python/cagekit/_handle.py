@@ -20,6 +20,7 @@ def live_handles():
 
 class Handle:
     _release_name = None  # the cagekit_*_release function of the type
+    _functions = None     # where _release_name is declared: None for _lib.lib, else a module's _lib.Functions
     _kind = "handle"
 
     @classmethod
@@ -33,8 +34,13 @@ class Handle:
     def _make(cls, ctx, fn, *args):
         """Calls fn(*args, &out) through the context `ctx` and wraps *out."""
         out = ctypes.c_void_p()
-        ctx._call(fn, *args, ctypes.byref(out), outs=[(out, cls._release_name)])
+        ctx._call(fn, *args, ctypes.byref(out), outs=[(out, cls._release())])
         return cls._wrap(out.value, ctx)
+
+    @classmethod
+    def _release(cls):
+        """The declared cagekit_*_release function of the type."""
+        return getattr(_lib.lib if cls._functions is None else cls._functions, cls._release_name)
 
     def __init__(self, ptr, context):
         global _live
@@ -65,7 +71,7 @@ class Handle:
         global _live
         ptr, self._ptr = getattr(self, "_ptr", None), None
         if ptr is not None:
-            getattr(_lib.lib, self._release_name)(ptr)
+            self._release()(ptr)
             with _live_lock:
                 _live -= 1
 

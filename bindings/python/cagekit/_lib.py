@@ -1,9 +1,13 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Loading libcagekit and declaring the C API (include/cagekit/cagekit.h) for ctypes.
 
-Every function of the header has its argtypes/restype here; every struct is a ctypes.Structure
-with the header's fields in the header's order (tests/test_abi.py compares the offsets with a C
-compiler when one is available). Enumerations are passed as C ints.
+Every struct is a ctypes.Structure with the header's fields in the header's order, and every
+function has its argtypes/restype, in a STRUCTS and a PROTOTYPES dict: those of the core here,
+declared once on `lib` below; those of a part of the header that has its own module
+(limit_patches.py, scan_to_cage.py) in that module, on its own function objects (Functions), so
+that no module changes another's declarations or this module's dicts at import time.
+tests/test_abi.py collects the dicts of every module and compares them with the header (the
+offsets with a C compiler when one is available). Enumerations are passed as C ints.
 
 The library is looked up, in order, at:
   1. the path in the environment variable CAGEKIT_LIBRARY (the build tree's, in the tests);
@@ -34,7 +38,12 @@ _u64p = POINTER(c_uint64)
 
 
 class _Versioned(Structure):
-    """A struct that begins with struct_size; new() sets it and any defaults."""
+    """A struct that begins with struct_size; new() sets it and any defaults.
+
+    _defaults is the one place a struct's default values are written in Python: the header's
+    CAGEKIT_*_INIT list (fields left out are 0 / NULL, as in C, where the list's missing entries
+    are zero). The functions' keyword defaults are read from defaults() instead of being written
+    again, and tests/test_abi.py compares new() with the header's INIT list field by field."""
 
     _defaults = {}
 
@@ -45,6 +54,13 @@ class _Versioned(Structure):
         for name, value in {**cls._defaults, **values}.items():
             setattr(s, name, value)
         return s
+
+    @classmethod
+    def defaults(cls):
+        """{field: value} of every field of new() but struct_size (as ctypes reads it back: int,
+        float, None for NULL), for the keyword defaults of the functions that fill the struct."""
+        s = cls.new()
+        return {name: getattr(s, name) for name, *_ in cls._fields_ if name != "struct_size"}
 
 
 # --- context ---------------------------------------------------------------------------------
@@ -149,6 +165,11 @@ class CageOptions(_Versioned):
 
 # cagekit_crease_rule, by name (the Python API takes the names).
 CREASE_RULES = {"sharp-input": 0, "cluster-angle": 1}
+
+
+def crease_rule_name(value):
+    """The name of the cagekit_crease_rule `value` (the inverse of crease_rule_value)."""
+    return {v: k for k, v in CREASE_RULES.items()}[value]
 
 
 def crease_rule_value(rule):
@@ -425,15 +446,41 @@ def _load():
                       + "\n  ".join(errors))
 
 
+def _missing(name):
+    return ImportError("cagekit: the loaded libcagekit has no %s (an older library?)" % name)
+
+
 def _declare(lib):
+    """Declares PROTOTYPES on lib's shared function objects (lib.name), once, below.
+
+    remesh.py still adds its declarations to PROTOTYPES and STRUCTS and calls this again; it is to
+    declare its own with Functions as limit_patches.py does (issue 22), then this is called once."""
     for name, (restype, argtypes) in PROTOTYPES.items():
         try:
             fn = getattr(lib, name)
         except AttributeError as e:
-            raise ImportError("cagekit: the loaded libcagekit has no %s (an older library?)" % name) from e
+            raise _missing(name) from e
         fn.restype = restype
         fn.argtypes = argtypes
     return lib
+
+
+class Functions:
+    """The C functions of one module's PROTOTYPES, as attributes (fns.cagekit_...).
+
+    Each is a function object of its own (lib[name] makes a new one; lib.name is shared and
+    cached), so that a module declaring its part of the header changes neither `lib` nor another
+    module's functions. ImportError naming the function when the loaded library lacks one."""
+
+    def __init__(self, prototypes):
+        for name, (restype, argtypes) in prototypes.items():
+            try:
+                fn = lib[name]
+            except AttributeError as e:
+                raise _missing(name) from e
+            fn.restype = restype
+            fn.argtypes = argtypes
+            setattr(self, name, fn)
 
 
 lib, path = _load()

@@ -17,9 +17,15 @@ from ._handle import Handle
 from ._numpy import np
 from ._records import from_struct
 from .context import resolve
+from .fit import fit as _fit
 from .mesh import Mesh, read_faces, read_positions
+from .surface import Surface
 
 SHARP = _lib.SHARP
+# CAGEKIT_*_OPTIONS_INIT of the structs filled here, written once (in _lib).
+_WRITE = _lib.WriteOptions.defaults()
+_SUBDIVIDE = _lib.SubdivideOptions.defaults()
+_SURFACE = _lib.SurfaceOptions.defaults()
 
 
 class BoundaryRule(enum.IntEnum):
@@ -45,7 +51,7 @@ class Cage(Handle):
         names the first problem otherwise), without tags."""
         out = ctypes.c_void_p()
         mesh._context._call(_lib.lib.cagekit_cage_create, mesh._handle, ctypes.byref(out),
-                            outs=[(out, self._release_name)])
+                            outs=[(out, self._release())])
         Handle.__init__(self, out.value, mesh._context)
 
     @classmethod
@@ -83,12 +89,14 @@ class Cage(Handle):
         return cls._make(ctx, _lib.lib.cagekit_cage_read_memory, ctx._handle, address, size,
                          int(_formats.file_format(format)))
 
-    def write(self, path, format="auto", *, ply_binary=True, draco_position_bits=14, draco_speed=5):
+    def write(self, path, format="auto", *, ply_binary=bool(_WRITE["ply_binary"]),
+              draco_position_bits=_WRITE["draco_position_bits"], draco_speed=_WRITE["draco_speed"]):
         """Writes atomically (PLY and OFF drop the tags with a logged warning)."""
         return _formats.write_file(self, "cagekit_cage_write_file", path, format, ply_binary,
                                    draco_position_bits, draco_speed)
 
-    def to_bytes(self, format, *, ply_binary=True, draco_position_bits=14, draco_speed=5, report=False):
+    def to_bytes(self, format, *, ply_binary=bool(_WRITE["ply_binary"]),
+                 draco_position_bits=_WRITE["draco_position_bits"], draco_speed=_WRITE["draco_speed"], report=False):
         return _formats.write_memory(self, "cagekit_cage_write_memory", format, ply_binary,
                                      draco_position_bits, draco_speed, report)
 
@@ -97,20 +105,35 @@ class Cage(Handle):
         """A Mesh holding a copy of the control mesh."""
         return Mesh._make(self._context, _lib.lib.cagekit_cage_get_mesh, self._handle)
 
+    def _control_mesh(self):
+        """(positions, face sizes, flat indices), read from C on the first call (one copy of the
+        control mesh) and kept. No method changes a cage's control mesh (the tag setters change
+        tags only; subdivide, fit and remesh make new cages), so the arrays never go stale; a
+        method that changed positions or faces would have to set _mesh_arrays to None."""
+        self._handle  # a closed cage raises ValueError, cached arrays or not
+        arrays = getattr(self, "_mesh_arrays", None)
+        if arrays is None:
+            with self.mesh() as m:
+                arrays = (read_positions(m, m._handle),) + read_faces(m, m._handle)
+            self._mesh_arrays = arrays
+        return arrays
+
     @property
     def positions(self):
-        """(N, 3) float64 control points."""
-        with self.mesh() as m:
-            return read_positions(m, m._handle)
+        """(N, 3) float64 control points: a copy (the caller may change it) of the array read once,
+        on the first access to positions, faces or face_arrays(), and cached, since a cage's
+        positions never change; repeated accesses make no C call."""
+        return self._control_mesh()[0].copy()
 
     @property
     def faces(self):
-        with self.mesh() as m:
-            return _arrays.split_faces(*read_faces(m, m._handle))
+        """A list with one 1-D uint32 array of vertex indices per face, as Mesh.faces, from the
+        cached control mesh (see positions)."""
+        return _arrays.split_faces(*(a.copy() for a in self._control_mesh()[1:]))
 
     def face_arrays(self):
-        with self.mesh() as m:
-            return read_faces(m, m._handle)
+        """(face_sizes, flat_indices) uint32 copies, from the cached control mesh (see positions)."""
+        return tuple(a.copy() for a in self._control_mesh()[1:])
 
     def info(self):
         """Control-mesh statistics plus tag counts (creases, corners, holes)."""
@@ -182,7 +205,7 @@ class Cage(Handle):
         self._context._call(_lib.lib.cagekit_cage_set_boundary_rule, self._handle, int(rule))
 
     # --- subdivision and the limit surface ----------------------------------------------------
-    def subdivide(self, levels=1, limit_positions=False):
+    def subdivide(self, levels=_SUBDIVIDE["levels"], limit_positions=bool(_SUBDIVIDE["limit_positions"])):
         """A new cage refined `levels` times (0..8), tags refined; limit_positions moves the
         vertices onto the limit surface. Long operation (progress, cancel)."""
         options = _lib.SubdivideOptions.new(levels=int(levels), limit_positions=1 if limit_positions else 0)
@@ -198,14 +221,13 @@ class Cage(Handle):
                             _lib.address(nrm))
         return pos, nrm
 
-    def surface(self, isolation_level=2, sharp_isolation_level=10):
+    def surface(self, isolation_level=_SURFACE["isolation_level"],
+                sharp_isolation_level=_SURFACE["sharp_isolation_level"]):
         """A limit-surface evaluator (a snapshot of this cage). Long operation."""
-        from .surface import Surface
         options = _lib.SurfaceOptions.new(isolation_level=int(isolation_level),
                                           sharp_isolation_level=int(sharp_isolation_level))
         return Surface._make(self._context, _lib.lib.cagekit_surface_create, self._handle, ctypes.byref(options))
 
     def fit(self, scan, **options):
         """cagekit.fit(self, scan, **options): (fitted Cage, FitReport)."""
-        from .fit import fit
-        return fit(self, scan, **options)
+        return _fit(self, scan, **options)

@@ -32,6 +32,9 @@ class LogLevel(enum.IntEnum):
     ERROR = 3
 
 
+_DESC = _lib.ContextDesc.defaults()  # CAGEKIT_CONTEXT_DESC_INIT, written once (in _lib.ContextDesc)
+
+
 def _progress_trampoline(ref):
     def progress(user_data, stage, fraction):
         # The whole body is inside try: even a KeyboardInterrupt delivered here (Ctrl-C during a
@@ -87,7 +90,8 @@ class Context(Handle):
     _release_name = "cagekit_context_release"
     _kind = "context"
 
-    def __init__(self, log=None, log_level=LogLevel.WARNING, progress=None, memory_budget_bytes=0):
+    def __init__(self, log=None, log_level=LogLevel(_DESC["log_level"]), progress=None,
+                 memory_budget_bytes=_DESC["memory_budget_bytes"]):
         self._local = threading.local()
         self._log = log
         self._progress = progress
@@ -135,8 +139,8 @@ class Context(Handle):
 
     def _call(self, fn, *args, outs=()):
         """Calls a C function of this context's objects; raises the stored callback exception or
-        the status's CageKitError. outs: (c_void_p, release function name) outputs to release
-        when an exception is raised although the call made them."""
+        the status's CageKitError. outs: (c_void_p, release function, or its name in _lib.lib)
+        outputs to release when an exception is raised although the call made them."""
         local = self._local
         local.pending = None
         status = fn(*args)
@@ -144,7 +148,7 @@ class Context(Handle):
         if pending is not None:
             for out, release in outs:
                 if out.value:
-                    getattr(_lib.lib, release)(out.value)
+                    (getattr(_lib.lib, release) if isinstance(release, str) else release)(out.value)
                     out.value = None
             raise pending
         if status < 0:

@@ -12,7 +12,6 @@ import enum
 
 from . import _lib
 from ._records import enum_value as _enum, from_struct
-from .cage import Cage
 
 
 class ProjectionMode(enum.IntEnum):
@@ -25,12 +24,17 @@ class LsqSolver(enum.IntEnum):
     CGLS = 1    # conjugate gradients, warm-started
 
 
-def fit(cage, scan, max_passes=5, tolerance=1e-4, fairing=0.0, tangential_weight=1.0,
-        keep_crease_vertices=False, projection=ProjectionMode.EXACT, solver=LsqSolver.DIRECT, threads=0,
-        max_projection_steps=500, projection_epsilon=1e-6, projection_seed_resolution=4,
-        crease_feature_reach=0.02):
-    """Fits `cage` (not changed) to the vertices of `scan` (a Mesh). Returns (new Cage with the
-    same faces and tags, report). The report holds pass_count, passes (a list of records with
+_D = _lib.FitOptions.defaults()  # CAGEKIT_FIT_OPTIONS_INIT, written once (in _lib.FitOptions)
+
+
+def fit(cage, scan, max_passes=_D["max_passes"], tolerance=_D["tolerance"], fairing=_D["fairing"],
+        tangential_weight=_D["tangential_weight"], keep_crease_vertices=bool(_D["keep_crease_vertices"]),
+        projection=ProjectionMode(_D["projection"]), solver=LsqSolver(_D["solver"]), threads=_D["threads"],
+        max_projection_steps=_D["max_projection_steps"], projection_epsilon=_D["projection_epsilon"],
+        projection_seed_resolution=_D["projection_seed_resolution"],
+        crease_feature_reach=_D["crease_feature_reach"]):
+    """Fits `cage` (not changed) to the vertices of `scan` (a Mesh). Returns (new Cage (of the class
+    of `cage`) with the same faces and tags, report). The report holds pass_count, passes (a list of records with
     l2, rms_rel, max_rel, mean_rel, max_rel_interior, seconds, unconverged_projections,
     mean_projection_steps; entry 0 = the initial cage), initial, final, stopped_by_tolerance,
     rejected_last_step, fairing_used, unsupported_control_vertices, bbox_diagonal, seconds.
@@ -48,8 +52,10 @@ def fit(cage, scan, max_passes=5, tolerance=1e-4, fairing=0.0, tangential_weight
     report = _lib.FitReport.new(pass_capacity=capacity, passes=ctypes.cast(passes, ctypes.POINTER(_lib.FitPass)))
     out = ctypes.c_void_p()
     cage._context._call(_lib.lib.cagekit_cage_fit, cage._handle, scan._handle, ctypes.byref(options),
-                        ctypes.byref(out), ctypes.byref(report), outs=[(out, Cage._release_name)])
-    fitted = Cage._wrap(out.value, cage._context)
+                        ctypes.byref(out), ctypes.byref(report), outs=[(out, cage._release())])
+    # Made through the input's class: this module does not import cage.py, which imports it for
+    # Cage.fit, so the two have one import direction.
+    fitted = type(cage)._wrap(out.value, cage._context)
     record = from_struct(report, "FitReport", skip=("struct_size", "passes", "pass_capacity"))
     record.passes = [from_struct(passes[i], "FitPass") for i in range(min(report.pass_count, capacity))]
     for name in ("stopped_by_tolerance", "rejected_last_step", "fairing_used"):

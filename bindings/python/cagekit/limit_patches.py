@@ -19,8 +19,9 @@ quadtree order. Bezier (s, t) in [0, 1]^2 of patch k is the ptex location
 Creation is a long operation (progress, cancel) with the cage's context. The object is
 immutable; its arrays are read once, on first use, and cached (copies are handed out).
 
-The C declarations of this part of the header are made here and added to _lib.PROTOTYPES and
-_lib.STRUCTS, so that tests/test_abi.py checks them with the rest.
+The C declarations of this part of the header are made here, in this module's STRUCTS and
+PROTOTYPES and on its own function objects (`lib`, a _lib.Functions), which change nothing in
+_lib; tests/test_abi.py finds them and checks them with the rest.
 """
 import ctypes
 from ctypes import POINTER, Structure, c_double, c_size_t, c_uint32, c_void_p
@@ -49,16 +50,19 @@ class LimitPatch(Structure):
                 ("error", c_double), ("control_points", c_double * 48)]
 
 
-_lib.STRUCTS.update({"cagekit_limit_patch_options": LimitPatchOptions,
-                     "cagekit_limit_patch_info": LimitPatchInfo, "cagekit_limit_patch": LimitPatch})
-_lib.PROTOTYPES.update({
+STRUCTS = {"cagekit_limit_patch_options": LimitPatchOptions, "cagekit_limit_patch_info": LimitPatchInfo,
+           "cagekit_limit_patch": LimitPatch}
+PROTOTYPES = {
     "cagekit_limit_patches_create": (_lib.c_status, [c_void_p, POINTER(LimitPatchOptions), POINTER(c_void_p)]),
     "cagekit_limit_patches_retain": (None, [c_void_p]),
     "cagekit_limit_patches_release": (None, [c_void_p]),
     "cagekit_limit_patches_get_info": (_lib.c_status, [c_void_p, POINTER(LimitPatchInfo)]),
     "cagekit_limit_patches_get": (_lib.c_status, [c_void_p, c_uint32, c_uint32, c_void_p]),
-})
-_lib._declare(_lib.lib)  # ImportError naming the function when the loaded library lacks one
+}
+lib = _lib.Functions(PROTOTYPES)  # ImportError naming the function when the loaded library lacks one
+
+
+_D = LimitPatchOptions.defaults()  # CAGEKIT_LIMIT_PATCH_OPTIONS_INIT, written once (in LimitPatchOptions)
 
 
 def _patch_dtype():
@@ -84,9 +88,10 @@ class LimitPatches(Handle):
     """The limit surface of a cage as bicubic Bezier patches (see the module doc)."""
 
     _release_name = "cagekit_limit_patches_release"
+    _functions = lib
     _kind = "limit patches"
 
-    def __init__(self, cage, tolerance=1e-4, max_depth=8, threads=0):
+    def __init__(self, cage, tolerance=_D["tolerance"], max_depth=_D["max_depth"], threads=_D["threads"]):
         """tolerance: the largest distance allowed between an approximated patch and the limit
         surface, as a fraction of the bounding-box diagonal of the cage's control points (> 0);
         max_depth: how often a square that is not one polynomial may be split into 4 (0..12);
@@ -95,8 +100,8 @@ class LimitPatches(Handle):
         LimitExceededError. Long operation (progress stage "limit patches", cancel)."""
         options = LimitPatchOptions.new(tolerance=float(tolerance), max_depth=int(max_depth), threads=int(threads))
         out = ctypes.c_void_p()
-        cage._context._call(_lib.lib.cagekit_limit_patches_create, cage._handle, ctypes.byref(options),
-                            ctypes.byref(out), outs=[(out, self._release_name)])
+        cage._context._call(lib.cagekit_limit_patches_create, cage._handle, ctypes.byref(options),
+                            ctypes.byref(out), outs=[(out, self._release())])
         Handle.__init__(self, out.value, cage._context)
         self._records = None
         self._info = None
@@ -108,7 +113,7 @@ class LimitPatches(Handle):
         tolerance (the absolute one: options.tolerance * bbox_diagonal)."""
         if self._info is None:
             info = LimitPatchInfo.new()
-            self._context._call(_lib.lib.cagekit_limit_patches_get_info, self._handle, ctypes.byref(info))
+            self._context._call(lib.cagekit_limit_patches_get_info, self._handle, ctypes.byref(info))
             self._info = from_struct(info, "LimitPatchInfo")
         return self._info
 
@@ -122,7 +127,7 @@ class LimitPatches(Handle):
         if count is None:
             count = max(total - int(first), 0)
         out = np.zeros(int(count), dtype=_patch_dtype())
-        self._context._call(_lib.lib.cagekit_limit_patches_get, self._handle, int(first), int(count),
+        self._context._call(lib.cagekit_limit_patches_get, self._handle, int(first), int(count),
                             _lib.address(out))
         return out
 
@@ -188,6 +193,6 @@ class LimitPatches(Handle):
         return np.einsum("ni,nj,nijc->nc", bs, bt, cp)
 
 
-def limit_patches(cage, tolerance=1e-4, max_depth=8, threads=0):
+def limit_patches(cage, tolerance=_D["tolerance"], max_depth=_D["max_depth"], threads=_D["threads"]):
     """LimitPatches(cage, tolerance, max_depth, threads)."""
     return LimitPatches(cage, tolerance=tolerance, max_depth=max_depth, threads=threads)

@@ -3,7 +3,7 @@
 
     mesh = cagekit.Mesh.from_arrays(positions, faces)   # (N,3) float64/float32, faces as below
     mesh.positions                                      # (N,3) float64 copy
-    mesh.faces                                          # (F,k) uint32, or a list of arrays
+    mesh.faces                                          # a list of uint32 arrays, one per face
     mesh.validate()                                     # raises InvalidMeshError naming the problem
     fixed, report = mesh.repair()
     data = mesh.to_bytes("ply"); again = cagekit.Mesh.from_bytes(data)
@@ -21,6 +21,11 @@ from ._handle import Handle
 from ._numpy import np
 from ._records import from_struct
 from .context import resolve
+
+
+# CAGEKIT_WRITE_OPTIONS_INIT and CAGEKIT_REPAIR_OPTIONS_INIT, written once (in _lib).
+_WRITE = _lib.WriteOptions.defaults()
+_REPAIR = _lib.RepairOptions.defaults()
 
 
 class MeshIssue(enum.IntEnum):
@@ -113,12 +118,14 @@ class Mesh(Handle):
                          int(_formats.file_format(format)))
 
     # --- writing -----------------------------------------------------------------------------
-    def write(self, path, format="auto", *, ply_binary=True, draco_position_bits=14, draco_speed=5):
+    def write(self, path, format="auto", *, ply_binary=bool(_WRITE["ply_binary"]),
+              draco_position_bits=_WRITE["draco_position_bits"], draco_speed=_WRITE["draco_speed"]):
         """Writes atomically; returns a record with `bytes` and `max_position_error`."""
         return _formats.write_file(self, "cagekit_mesh_write_file", path, format, ply_binary,
                                    draco_position_bits, draco_speed)
 
-    def to_bytes(self, format, *, ply_binary=True, draco_position_bits=14, draco_speed=5, report=False):
+    def to_bytes(self, format, *, ply_binary=bool(_WRITE["ply_binary"]),
+                 draco_position_bits=_WRITE["draco_position_bits"], draco_speed=_WRITE["draco_speed"], report=False):
         """The file's bytes in `format` ('obj', 'ply', 'off', 'drc'); with report=True also the
         write report."""
         return _formats.write_memory(self, "cagekit_mesh_write_memory", format, ply_binary,
@@ -155,7 +162,10 @@ class Mesh(Handle):
 
     @property
     def faces(self):
-        """(F, k) uint32 array when every face has k vertices, else a list of uint32 arrays."""
+        """A list with one 1-D uint32 array of vertex indices per face, for every mesh (triangles,
+        quads or mixed polygons alike; [] without faces). np.array(mesh.faces) makes the (F, k)
+        array of a mesh whose faces all have k vertices; face_arrays() is the flat form without
+        an object per face (for large meshes)."""
         return _arrays.split_faces(*self.face_arrays())
 
     # --- checks ------------------------------------------------------------------------------
@@ -176,13 +186,13 @@ class Mesh(Handle):
             return record
         return _validation_record(report, message)
 
-    def repair(self, steps=RepairSteps.DEFAULT, weld_tolerance=0.0):
+    def repair(self, steps=RepairSteps(_REPAIR["steps"]), weld_tolerance=_REPAIR["weld_tolerance"]):
         """A repaired copy (this mesh is unchanged) and the repair report. Long operation."""
         options = _lib.RepairOptions.new(steps=int(steps), weld_tolerance=float(weld_tolerance))
         report = _lib.RepairReport.new()
         out = ctypes.c_void_p()
         self._context._call(_lib.lib.cagekit_mesh_repair, self._handle, ctypes.byref(options), ctypes.byref(out),
-                            ctypes.byref(report), outs=[(out, self._release_name)])
+                            ctypes.byref(report), outs=[(out, self._release())])
         return Mesh._wrap(out.value, self._context), from_struct(report, "RepairReport")
 
     def info(self):

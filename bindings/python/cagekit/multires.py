@@ -119,7 +119,11 @@ class Binding(Handle):
         return sizes, flat
 
 
-def bind(cage, scan, mode=DisplacementMode.NORMAL, exact_normals=False, threads=0, sharp_angle_degrees=-1.0):
+_BIND = _lib.BindOptions.defaults()  # CAGEKIT_BIND_OPTIONS_INIT, written once (in _lib.BindOptions)
+
+
+def bind(cage, scan, mode=DisplacementMode(_BIND["mode"]), exact_normals=bool(_BIND["exact_normals"]),
+         threads=_BIND["threads"], sharp_angle_degrees=_BIND["sharp_angle_degrees"]):
     """Binds every vertex of `scan` to the limit surface of `cage` (usually fitted to it first).
     mode: 'normal' or 'local_frame'; sharp_angle_degrees >= 0 binds one copy of a vertex per
     smooth sector at sharp edges. Long operation (progress "bind", cancel)."""
@@ -139,7 +143,7 @@ class CpuDeformer(Handle):
     def __init__(self, binding, threads=0):
         out = ctypes.c_void_p()
         binding._context._call(_lib.lib.cagekit_cpu_deformer_create, binding._handle, int(threads),
-                               ctypes.byref(out), outs=[(out, self._release_name)])
+                               ctypes.byref(out), outs=[(out, self._release())])
         Handle.__init__(self, out.value, binding._context)
         self.binding = binding
         info = binding.info()

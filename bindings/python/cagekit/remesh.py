@@ -15,8 +15,10 @@ diagonal) apart, `weights` = (w_tri, w_PT, w_T) of Table 6.1; region boundaries 
 `crease_angle_degrees` are tagged as creases (progress stages "vsa segmentation", "remesh
 constraints", "quad region selection", "post-processing"; cancel).
 
-The C declarations of this part of the header are made here and added to _lib.PROTOTYPES and
-_lib.STRUCTS, so that tests/test_abi.py checks them with the rest.
+The C declarations of this part of the header are made here, in this module's STRUCTS and
+PROTOTYPES and on its own function objects (`lib`, a _lib.Functions), which change nothing in
+_lib; tests/test_abi.py checks them with the rest. Keyword defaults come from the structs'
+defaults (CAGEKIT_*_INIT, written once).
 """
 import ctypes
 from ctypes import POINTER, c_double, c_size_t, c_uint32, c_uint64, c_void_p
@@ -63,20 +65,26 @@ class QuadRemeshReport(_lib._Versioned):
                 ("layout_retries", c_uint64), ("mended_faces", c_uint64), ("partitioned_regions", c_uint64)]
 
 
-_lib.STRUCTS.update({"cagekit_remesh_quality": RemeshQuality, "cagekit_anisotropic_options": AnisotropicOptions,
-                     "cagekit_anisotropic_report": AnisotropicReport,
-                     "cagekit_quad_remesh_options": QuadRemeshOptions, "cagekit_quad_remesh_report": QuadRemeshReport})
-_lib.PROTOTYPES.update({
+STRUCTS = {"cagekit_remesh_quality": RemeshQuality, "cagekit_anisotropic_options": AnisotropicOptions,
+           "cagekit_anisotropic_report": AnisotropicReport, "cagekit_quad_remesh_options": QuadRemeshOptions,
+           "cagekit_quad_remesh_report": QuadRemeshReport}
+PROTOTYPES = {
     "cagekit_mesh_remesh_anisotropic": (_lib.c_status, [c_void_p, POINTER(AnisotropicOptions), POINTER(c_void_p),
                                                         POINTER(AnisotropicReport)]),
     "cagekit_mesh_remesh_quad": (_lib.c_status, [c_void_p, POINTER(QuadRemeshOptions), POINTER(c_void_p),
                                                  POINTER(QuadRemeshReport)]),
-})
-_lib._declare(_lib.lib)  # ImportError naming the function when the loaded library lacks one
+}
+lib = _lib.Functions(PROTOTYPES)  # ImportError naming the function when the loaded library lacks one
+
+# CAGEKIT_ANISOTROPIC_OPTIONS_INIT and CAGEKIT_QUAD_REMESH_OPTIONS_INIT, written once (in the structs).
+_A = AnisotropicOptions.defaults()
+_Q = QuadRemeshOptions.defaults()
+_WEIGHTS = (_Q["triangle_weight"], _Q["pentagon_weight"], _Q["t_joint_weight"])
 
 
-def quad_options(edge_length=0.05, regions=30, region_tolerance=0.01, crease_angle_degrees=40.0,
-                 weights=(40.0, 40.0, 100.0), refinement_passes=1, threads=0, seed_faces=None, pinned_regions=None):
+def quad_options(edge_length=_Q["edge_length"], regions=_Q["regions"], region_tolerance=_Q["region_tolerance"],
+                 crease_angle_degrees=_Q["crease_angle_degrees"], weights=_WEIGHTS,
+                 refinement_passes=_Q["refinement_passes"], threads=_Q["threads"], seed_faces=None, pinned_regions=None):
     """A QuadRemeshOptions (cagekit_quad_remesh_options) from remesh_quad's keyword arguments, and the
     ctypes arrays it points to (keep them alive until the call returns)."""
     if len(weights) != 3:
@@ -102,8 +110,9 @@ def quad_options(edge_length=0.05, regions=30, region_tolerance=0.01, crease_ang
     return options, (seeds, offsets, pinned_faces)
 
 
-def anisotropic_options(tolerance=0.002, feature_angle_degrees=40.0, max_face_valence=5, threads=0,
-                        curvature_radius=0.01):
+def anisotropic_options(tolerance=_A["tolerance"], feature_angle_degrees=_A["feature_angle_degrees"],
+                        max_face_valence=_A["max_face_valence"], threads=_A["threads"],
+                        curvature_radius=_A["curvature_radius"]):
     """An AnisotropicOptions (cagekit_anisotropic_options) from remesh_anisotropic's keyword arguments."""
     return AnisotropicOptions.new(tolerance=float(tolerance), feature_angle_degrees=float(feature_angle_degrees),
                                   max_face_valence=int(max_face_valence), threads=int(threads),
@@ -116,8 +125,9 @@ def _report_record(report, name):
     return Record(name, **from_struct(report.quality).as_dict(), **record.as_dict())
 
 
-def remesh_anisotropic(mesh, tolerance=0.002, feature_angle_degrees=40.0, max_face_valence=5, threads=0,
-                       curvature_radius=0.01):
+def remesh_anisotropic(mesh, tolerance=_A["tolerance"], feature_angle_degrees=_A["feature_angle_degrees"],
+                       max_face_valence=_A["max_face_valence"], threads=_A["threads"],
+                       curvature_radius=_A["curvature_radius"]):
     """Remeshes `mesh` (an oriented 2-manifold Mesh; polygons are fan-triangulated first) along its
     curvature lines into a new Cage with crease tags on feature lines. Returns (cage, report); the
     report holds faces, vertices, quads, interior_vertices, valence4_vertices, max_face_valence,
@@ -126,13 +136,15 @@ def remesh_anisotropic(mesh, tolerance=0.002, feature_angle_degrees=40.0, max_fa
     options = anisotropic_options(tolerance, feature_angle_degrees, max_face_valence, threads, curvature_radius)
     report = AnisotropicReport.new()
     out = ctypes.c_void_p()
-    mesh._context._call(_lib.lib.cagekit_mesh_remesh_anisotropic, mesh._handle, ctypes.byref(options),
-                        ctypes.byref(out), ctypes.byref(report), outs=[(out, Cage._release_name)])
+    mesh._context._call(lib.cagekit_mesh_remesh_anisotropic, mesh._handle, ctypes.byref(options),
+                        ctypes.byref(out), ctypes.byref(report), outs=[(out, Cage._release())])
     return Cage._wrap(out.value, mesh._context), _report_record(report, "AnisotropicReport")
 
 
-def remesh_quad(mesh, edge_length=0.05, regions=30, region_tolerance=0.01, crease_angle_degrees=40.0,
-                weights=(40.0, 40.0, 100.0), refinement_passes=1, threads=0, seed_faces=None, pinned_regions=None):
+def remesh_quad(mesh, edge_length=_Q["edge_length"], regions=_Q["regions"], region_tolerance=_Q["region_tolerance"],
+                crease_angle_degrees=_Q["crease_angle_degrees"], weights=_WEIGHTS,
+                refinement_passes=_Q["refinement_passes"], threads=_Q["threads"], seed_faces=None,
+                pinned_regions=None):
     """Remeshes `mesh` (an oriented 2-manifold Mesh; polygons are fan-triangulated first) by the
     two-step quad-dominant method into a new Cage with crease tags on sharp region boundaries.
     Returns (cage, report); the report holds the quality figures (faces, vertices, quads,
@@ -146,7 +158,7 @@ def remesh_quad(mesh, edge_length=0.05, regions=30, region_tolerance=0.01, creas
                                        refinement_passes, threads, seed_faces, pinned_regions)
     report = QuadRemeshReport.new()
     out = ctypes.c_void_p()
-    mesh._context._call(_lib.lib.cagekit_mesh_remesh_quad, mesh._handle, ctypes.byref(options), ctypes.byref(out),
-                        ctypes.byref(report), outs=[(out, Cage._release_name)])
+    mesh._context._call(lib.cagekit_mesh_remesh_quad, mesh._handle, ctypes.byref(options), ctypes.byref(out),
+                        ctypes.byref(report), outs=[(out, Cage._release())])
     del keep_alive
     return Cage._wrap(out.value, mesh._context), _report_record(report, "QuadRemeshReport")

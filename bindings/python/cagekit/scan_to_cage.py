@@ -12,8 +12,9 @@ holes -> the fit (two-sided best state) -> the limit surface measured both ways 
 falling back from quad / anisotropic to simplify, unless fallback_to_simplify is False). Long
 operation (progress, cancel); the GIL is released for the whole call.
 
-The C declarations of this part of the header are made here and added to _lib.PROTOTYPES and
-_lib.STRUCTS, so that tests/test_abi.py checks them with the rest.
+The C declarations of this part of the header are made here, in this module's STRUCTS and
+PROTOTYPES and on its own function objects (`lib`, a _lib.Functions), which change nothing in
+_lib; tests/test_abi.py finds them and checks them with the rest.
 """
 import ctypes
 import enum
@@ -88,22 +89,32 @@ class ScanToCageReport(_lib._Versioned):
                  ("one_sided_fit_max_rel", c_double)])
 
 
-_lib.STRUCTS.update({"cagekit_scan_to_cage_options": ScanToCageOptions,
-                     "cagekit_scan_to_cage_report": ScanToCageReport})
-_lib.PROTOTYPES.update({
+STRUCTS = {"cagekit_scan_to_cage_options": ScanToCageOptions, "cagekit_scan_to_cage_report": ScanToCageReport}
+PROTOTYPES = {
     "cagekit_scan_to_cage": (_lib.c_status, [c_void_p, POINTER(ScanToCageOptions), POINTER(c_void_p),
                                              POINTER(c_void_p), POINTER(ScanToCageReport),
                                              POINTER(_lib.FitReport)]),
-})
-_lib._declare(_lib.lib)  # ImportError naming the function when the loaded library lacks one
+}
+lib = _lib.Functions(PROTOTYPES)  # ImportError naming the function when the loaded library lacks one
 
 
-def scan_to_cage(scan, method=ScanMethod.SIMPLIFY, faces=60, repair=True, components=ComponentMode.ALL,
-                 weld_tolerance_rel=1e-7, crease_rule="sharp-input", feature_angle_degrees=40.0,
-                 crease_angle_degrees=30.0, input_crease_angle_degrees=-1.0,
-                 quad=None, anisotropic=None, fit=None, limit_levels=3, self_intersection_level=2, max_limit_to_scan_rel=0.05,
-                 limit_to_scan_factor=3.0, small_input_faces=1000, fallback_to_simplify=True,
-                 finer_simplify_attempts=2, two_sided_refit_factor=3.0):
+# CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT and CAGEKIT_CAGE_OPTIONS_INIT, written once (in the structs).
+_D = ScanToCageOptions.defaults()
+_CAGE = _lib.CageOptions.defaults()
+
+
+def scan_to_cage(scan, method=ScanMethod(_D["method"]), faces=_D["target"], repair=bool(_D["repair"]),
+                 components=ComponentMode(_D["components"]), weld_tolerance_rel=_D["weld_tolerance_rel"],
+                 crease_rule=_lib.crease_rule_name(_CAGE["crease_rule"]),
+                 feature_angle_degrees=_CAGE["feature_angle_degrees"],
+                 crease_angle_degrees=_CAGE["crease_angle_degrees"],
+                 input_crease_angle_degrees=_CAGE["input_crease_angle_degrees"],
+                 quad=None, anisotropic=None, fit=None, limit_levels=_D["limit_levels"],
+                 self_intersection_level=_D["self_intersection_level"],
+                 max_limit_to_scan_rel=_D["max_limit_to_scan_rel"], limit_to_scan_factor=_D["limit_to_scan_factor"],
+                 small_input_faces=_D["small_input_faces"], fallback_to_simplify=bool(_D["fallback_to_simplify"]),
+                 finer_simplify_attempts=_D["finer_simplify_attempts"],
+                 two_sided_refit_factor=_D["two_sided_refit_factor"]):
     """Runs the journey on `scan` (a Mesh, not changed). Returns (cage, limit, report): the fitted
     Cage with crease tags, its limit mesh (refined `limit_levels` times) as a Cage, and a record
     of every figure of cagekit_scan_to_cage_report (fallback_reason as str, methods as
@@ -144,9 +155,9 @@ def scan_to_cage(scan, method=ScanMethod.SIMPLIFY, faces=60, repair=True, compon
         options.fit = ctypes.cast(ctypes.pointer(fit_options), c_void_p)
     report = ScanToCageReport.new()
     cage_out, limit_out = ctypes.c_void_p(), ctypes.c_void_p()
-    scan._context._call(_lib.lib.cagekit_scan_to_cage, scan._handle, ctypes.byref(options), ctypes.byref(cage_out),
+    scan._context._call(lib.cagekit_scan_to_cage, scan._handle, ctypes.byref(options), ctypes.byref(cage_out),
                         ctypes.byref(limit_out), ctypes.byref(report), None,
-                        outs=[(cage_out, Cage._release_name), (limit_out, Cage._release_name)])
+                        outs=[(cage_out, Cage._release()), (limit_out, Cage._release())])
     del keep_alive
     cage = Cage._wrap(cage_out.value, scan._context)
     limit = Cage._wrap(limit_out.value, scan._context)

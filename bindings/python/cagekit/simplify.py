@@ -19,6 +19,11 @@ from .cage import Cage
 from .mesh import Mesh
 
 
+# CAGEKIT_SIMPLIFY_OPTIONS_INIT and CAGEKIT_CAGE_OPTIONS_INIT, written once (in _lib).
+_SIMPLIFY = _lib.SimplifyOptions.defaults()
+_CAGE = _lib.CageOptions.defaults()
+
+
 class LevelQuery(enum.IntEnum):
     BY_FACES = 0
     BY_VERTICES = 1
@@ -32,13 +37,13 @@ class Hierarchy(Handle):
     _release_name = "cagekit_hierarchy_release"
     _kind = "hierarchy"
 
-    def __init__(self, mesh, tie_break_epsilon=0.01):
+    def __init__(self, mesh, tie_break_epsilon=_SIMPLIFY["tie_break_epsilon"]):
         """Simplifies `mesh` (valid apart from unreferenced vertices, else InvalidMeshError) to
         its coarsest level. Long operation (progress, cancel) with the mesh's context."""
         options = _lib.SimplifyOptions.new(tie_break_epsilon=float(tie_break_epsilon))
         out = ctypes.c_void_p()
         mesh._context._call(_lib.lib.cagekit_hierarchy_create, mesh._handle, ctypes.byref(options),
-                            ctypes.byref(out), outs=[(out, self._release_name)])
+                            ctypes.byref(out), outs=[(out, self._release())])
         Handle.__init__(self, out.value, mesh._context)
 
     @property
@@ -139,8 +144,12 @@ class Hierarchy(Handle):
         return Mesh._make(self._context, _lib.lib.cagekit_hierarchy_get_refined_polygon_mesh, self._handle,
                           float(chord_tolerance))
 
-    def build_cage(self, crease_rule="sharp-input", feature_angle_degrees=40.0, crease_angle_degrees=30.0,
-                   tag_boundary_edges=True, exact_partition_limit=20, input_crease_angle_degrees=-1.0):
+    def build_cage(self, crease_rule=_lib.crease_rule_name(_CAGE["crease_rule"]),
+                   feature_angle_degrees=_CAGE["feature_angle_degrees"],
+                   crease_angle_degrees=_CAGE["crease_angle_degrees"],
+                   tag_boundary_edges=bool(_CAGE["tag_boundary_edges"]),
+                   exact_partition_limit=_CAGE["exact_partition_limit"],
+                   input_crease_angle_degrees=_CAGE["input_crease_angle_degrees"]):
         """The quad-dominant control cage of the current level with crease tags, and its report
         (quads, triangles, pentagons, other_polygons, creases, ...). crease_rule "sharp-input"
         (default): creases where the scan is sharp (input edges above feature_angle_degrees,
@@ -156,11 +165,11 @@ class Hierarchy(Handle):
         report = _lib.CageReport.new()
         out = ctypes.c_void_p()
         self._context._call(_lib.lib.cagekit_hierarchy_build_cage, self._handle, ctypes.byref(options),
-                            ctypes.byref(out), ctypes.byref(report), outs=[(out, Cage._release_name)])
+                            ctypes.byref(out), ctypes.byref(report), outs=[(out, Cage._release())])
         return Cage._wrap(out.value, self._context), from_struct(report, "CageReport")
 
 
-def simplify(mesh, faces=None, vertices=None, tie_break_epsilon=0.01, **cage_options):
+def simplify(mesh, faces=None, vertices=None, tie_break_epsilon=_SIMPLIFY["tie_break_epsilon"], **cage_options):
     """Simplifies `mesh` to at most `faces` faces or `vertices` vertices and builds the
     quad-dominant cage: (Cage, CageReport). cage_options as Hierarchy.build_cage."""
     with Hierarchy(mesh, tie_break_epsilon) as hierarchy:

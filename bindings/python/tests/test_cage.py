@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Cages: tags, formats that keep them, subdivision, limit points and surface evaluation."""
 import unittest
+from unittest import mock
 
 import numpy as np
 from support import CUBE, CUBE_EDGES, CUBE_QUADS, HandleCheck
@@ -46,6 +47,22 @@ class CageTags(HandleCheck):
             np.testing.assert_array_equal(cage.faces, CUBE_QUADS)
             with cage.mesh() as mesh:
                 self.assertEqual(mesh.counts(), (8, 6, 24))
+
+    def test_the_control_mesh_is_read_once_and_handed_out_as_copies(self):
+        with cagekit.Cage.from_arrays(CUBE, CUBE_QUADS) as cage:
+            first = cage.positions
+            first[0] = 7.0  # the caller's copy
+            with mock.patch.object(cagekit.Cage, "mesh", side_effect=AssertionError("C read again")):
+                np.testing.assert_array_equal(cage.positions, CUBE)
+                self.assertIsNot(cage.positions, cage.positions)
+                sizes, flat = cage.face_arrays()
+                flat[:] = 0
+                np.testing.assert_array_equal(cage.face_arrays()[1], CUBE_QUADS.reshape(-1))
+                np.testing.assert_array_equal(cage.faces, CUBE_QUADS)
+                cage.set_creases(CUBE_EDGES)  # tags only: the cached control mesh stays right
+                np.testing.assert_array_equal(cage.positions, CUBE)
+        with self.assertRaises(ValueError):  # closed: no stale answer from the cache
+            cage.positions
 
 
 class Subdivision(HandleCheck):

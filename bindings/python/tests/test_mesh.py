@@ -16,8 +16,10 @@ class MeshRoundTrips(HandleCheck):
         with cagekit.Mesh.from_arrays(positions, triangles) as mesh:
             self.assertEqual(mesh.counts(), (len(positions), len(triangles), 3 * len(triangles)))
             np.testing.assert_array_equal(mesh.positions, positions)
-            self.assertEqual(mesh.faces.dtype, np.uint32)
-            np.testing.assert_array_equal(mesh.faces, triangles)
+            faces = mesh.faces
+            self.assertIsInstance(faces, list)  # one type for every mesh
+            self.assertEqual({(type(f), f.dtype, f.shape) for f in faces}, {(np.ndarray, np.dtype(np.uint32), (3,))})
+            np.testing.assert_array_equal(np.array(faces), triangles)
             as32 = mesh.get_positions(np.float32)
             self.assertEqual(as32.dtype, np.float32)
             np.testing.assert_array_equal(as32, positions.astype(np.float32))
@@ -34,9 +36,15 @@ class MeshRoundTrips(HandleCheck):
                 got_sizes, got_flat = mesh.face_arrays()
                 np.testing.assert_array_equal(got_sizes, sizes)
                 np.testing.assert_array_equal(got_flat, flat)
+                self.assertIsInstance(mesh.faces, list)
+                self.assertEqual({f.dtype for f in mesh.faces}, {np.dtype(np.uint32)})
                 self.assertEqual([list(f) for f in mesh.faces], faces)
                 info = mesh.info()
                 self.assertEqual((info.quads, info.triangles, info.genus, info.manifold), (5, 2, 0, 1))
+            with cagekit.Cage.from_arrays(CUBE, **form) as cage:
+                self.assertEqual([list(f) for f in cage.faces], faces)  # the same type as Mesh.faces
+        with cagekit.Mesh.from_arrays(CUBE) as mesh:
+            self.assertEqual(mesh.faces, [])  # no faces: still a list
         with self.assertRaises(ValueError):
             cagekit.Mesh.from_arrays(CUBE[:, :2], CUBE_QUADS)
         with self.assertRaises(ValueError):
@@ -84,7 +92,7 @@ class MeshRoundTrips(HandleCheck):
             data += struct.pack("<3f", 0, 0, 1) + positions[list(t)].astype("<f4").tobytes() + b"\0\0"
         with cagekit.Mesh.from_bytes(data) as back:  # sniffed by the binary size rule
             self.assertEqual(back.counts(), (len(positions), len(triangles), 3 * len(triangles)))
-            np.testing.assert_array_equal(back.positions[back.faces], positions[triangles])
+            np.testing.assert_array_equal(back.positions[np.array(back.faces)], positions[triangles])
         with cagekit.Mesh.from_arrays(positions, triangles) as mesh, tempfile.TemporaryDirectory() as tmp:
             with self.assertRaises(cagekit.UnsupportedFormatError) as caught:
                 mesh.to_bytes("stl")

@@ -104,6 +104,7 @@ class Fitting(HandleCheck):
                 cagekit.Cage.from_arrays(CUBE, CUBE_QUADS) as cube:
             fitted, report = cagekit.fit(cube, scan, max_passes=4, tolerance=0.0, threads=2)
             with fitted:
+                self.assertIs(type(fitted), cagekit.Cage)
                 self.assertEqual(report.pass_count, len(report.passes))
                 self.assertGreaterEqual(report.pass_count, 2)
                 l2 = [p.l2 for p in report.passes]
@@ -119,6 +120,7 @@ class Fitting(HandleCheck):
                 np.testing.assert_array_equal(fitted.faces, CUBE_QUADS)
             again, report = cube.fit(scan, max_passes=2, projection="piecewise_linear", solver="cgls")
             with again:
+                self.assertIs(type(again), cagekit.Cage)
                 self.assertLess(report.final.l2, report.initial.l2)
             with self.assertRaises(cagekit.InvalidArgumentError) as caught:
                 cagekit.fit(cube, scan, tangential_weight=2.0)
