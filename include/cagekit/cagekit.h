@@ -586,9 +586,17 @@ typedef struct cagekit_hierarchy_t* cagekit_hierarchy;
 typedef struct cagekit_simplify_options {
   size_t struct_size;           /* sizeof(cagekit_simplify_options) */
   double tie_break_epsilon;     /* weight of the valence/angle tie-break (3.8), >= 0 (default 0.01) */
+  /* The host's sharp edges (e.g. the edges a Blender user marked sharp): sharp_edge_count edges
+   * of the input mesh as vertex pairs, 2 * sharp_edge_count indices. They stay borders of every level
+   * (no merge crosses one; a line of them is straightened like any border), and the hierarchy
+   * keeps them: cagekit_hierarchy_build_cage tags the cage edges along them as creases.
+   * NULL with 0 (default). Read during the call; a pair that is not an edge of the mesh is
+   * INVALID_ARGUMENT. */
+  const uint32_t* sharp_edges;
+  uint32_t sharp_edge_count;
 } cagekit_simplify_options;
 
-#define CAGEKIT_SIMPLIFY_OPTIONS_INIT { sizeof(cagekit_simplify_options), 0.01 }
+#define CAGEKIT_SIMPLIFY_OPTIONS_INIT { sizeof(cagekit_simplify_options), 0.01, NULL, 0 }
 
 /* Simplifies `mesh` to its coarsest level, recording every operation. The mesh must be valid
  * apart from unreferenced vertices (else INVALID_MESH naming the problem; cagekit_mesh_repair
@@ -707,9 +715,17 @@ typedef struct cagekit_cage_options {
   cagekit_crease_rule crease_rule;  /* default CAGEKIT_CREASES_SHARP_INPUT */
   double feature_angle_degrees;     /* SHARP_INPUT: the dihedral angle above which an input edge may be a
                                        sharp feature, in [0, 180] (default 40; the remeshers' default too) */
+  /* The host's sharp edges (e.g. the edges a Blender user marked sharp): sharp_edge_count edges
+   * of the input mesh as vertex pairs, 2 * sharp_edge_count indices. SHARP_INPUT: sharp features whatever
+   * their angle, so the cage edges along them become creases (with those the hierarchy was made
+   * with). CLUSTER_ANGLE: unused (the thesis's rule alone).
+   * NULL with 0 (default). Read during the call; a pair that is not an edge of the mesh is
+   * INVALID_ARGUMENT. */
+  const uint32_t* sharp_edges;
+  uint32_t sharp_edge_count;
 } cagekit_cage_options;
 
-#define CAGEKIT_CAGE_OPTIONS_INIT { sizeof(cagekit_cage_options), 30.0, 1, 20, -1.0, CAGEKIT_CREASES_SHARP_INPUT, 40.0 }
+#define CAGEKIT_CAGE_OPTIONS_INIT { sizeof(cagekit_cage_options), 30.0, 1, 20, -1.0, CAGEKIT_CREASES_SHARP_INPUT, 40.0, NULL, 0 }
 
 typedef struct cagekit_cage_report {
   size_t struct_size;           /* sizeof(cagekit_cage_report) */
@@ -778,9 +794,16 @@ typedef struct cagekit_anisotropic_options {
   double curvature_radius;        /* curvature averaging radius relative to the bbox diagonal (thesis: 0.01),
                                      capped at 6 mean edge lengths (bounded cost on dense meshes); 0: three
                                      mean edge lengths; in [0, 1] (default 0.01) */
+  /* The host's sharp edges (e.g. the edges a Blender user marked sharp): sharp_edge_count edges
+   * of the input mesh as vertex pairs, 2 * sharp_edge_count indices. Feature lines (sampled as lines,
+   * tagged as creases) whatever their angle, also with feature_angle_degrees < 0.
+   * NULL with 0 (default). Read during the call; a pair that is not an edge of the mesh is
+   * INVALID_ARGUMENT. */
+  const uint32_t* sharp_edges;
+  uint32_t sharp_edge_count;
 } cagekit_anisotropic_options;
 
-#define CAGEKIT_ANISOTROPIC_OPTIONS_INIT { sizeof(cagekit_anisotropic_options), 0.002, 40.0, 5, 0, 0.01 }
+#define CAGEKIT_ANISOTROPIC_OPTIONS_INIT { sizeof(cagekit_anisotropic_options), 0.002, 40.0, 5, 0, 0.01, NULL, 0 }
 
 typedef struct cagekit_anisotropic_report {
   size_t struct_size;             /* sizeof(cagekit_anisotropic_report) */
@@ -824,10 +847,19 @@ typedef struct cagekit_quad_remesh_options {
                                      in `regions` (default 0) */
   const uint32_t* pinned_region_offsets; /* pinned_region_count + 1 non-decreasing offsets, first 0 */
   const uint32_t* pinned_faces;
+  /* The host's sharp edges (e.g. the edges a Blender user marked sharp): sharp_edge_count edges
+   * of the input mesh as vertex pairs, 2 * sharp_edge_count indices. Region borders: no VSA region grows
+   * across one and each patch they enclose gets a region of its own (the count is raised to the
+   * patches, as to the components); region boundaries along them are tagged as creases, also
+   * with crease_angle_degrees < 0.
+   * NULL with 0 (default). Read during the call; a pair that is not an edge of the mesh is
+   * INVALID_ARGUMENT. */
+  const uint32_t* sharp_edges;
+  uint32_t sharp_edge_count;
 } cagekit_quad_remesh_options;
 
 #define CAGEKIT_QUAD_REMESH_OPTIONS_INIT                                                                   \
-  { sizeof(cagekit_quad_remesh_options), 0.05, 30, 0.01, 40.0, 40.0, 40.0, 100.0, 1, 0, NULL, 0, 0, NULL, NULL }
+  { sizeof(cagekit_quad_remesh_options), 0.05, 30, 0.01, 40.0, 40.0, 40.0, 100.0, 1, 0, NULL, 0, 0, NULL, NULL, NULL, 0 }
 
 typedef struct cagekit_quad_remesh_report {
   size_t struct_size;             /* sizeof(cagekit_quad_remesh_report) */
@@ -1089,11 +1121,19 @@ typedef struct cagekit_scan_to_cage_options {
                                        drops by at least 5 %, with no more self-intersections and still good; the method,
                                        target and remedies are chosen by the one-sided fit. Finite, 0..100
                                        (default 3; 0: not tried) */
+  /* The host's sharp edges, as vertex pairs of `scan` (2 * sharp_edge_count indices): after the
+   * conditioning they are found again by their ends' positions and given to every method (as
+   * the sharp_edges of the simplify, cage, quad and anisotropic options, including the
+   * fallback); the report counts those found and those dropped (ends welded together, faces
+   * dropped). The nested option structs' own sharp_edges must be empty here. NULL with 0
+   * (default). Read during the call. */
+  const uint32_t* sharp_edges;
+  uint32_t sharp_edge_count;
 } cagekit_scan_to_cage_options;
 
 #define CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT                                                               \
   { sizeof(cagekit_scan_to_cage_options), CAGEKIT_SCAN_SIMPLIFY, 1, CAGEKIT_COMPONENTS_ALL, 1e-7,         \
-    CAGEKIT_LEVEL_BY_FACES, 60.0, NULL, NULL, NULL, NULL, 3, 2, 0.05, 3.0, 1000, 1, 2, 3.0 }
+    CAGEKIT_LEVEL_BY_FACES, 60.0, NULL, NULL, NULL, NULL, 3, 2, 0.05, 3.0, 1000, 1, 2, 3.0, NULL, 0 }
 
 /* Every figure of one scan-to-cage run. Distances are relative to the conditioned scan's
  * bounding-box diagonal. */
@@ -1160,6 +1200,8 @@ typedef struct cagekit_scan_to_cage_report {
   cagekit_bool32 two_sided_refit;   /* 1 when the returned fit is the two-sided refit */
   double one_sided_fit_max_rel;     /* then: max(scan -> limit, limit -> scan) of the one-sided fit it
                                        replaced (0 when two_sided_refit is 0) */
+  uint64_t sharp_edges;             /* the options' sharp edges found on the conditioned scan ... */
+  uint64_t sharp_edges_dropped;     /* ... and not found (their ends welded together or dropped) */
 } cagekit_scan_to_cage_report;
 
 /* The whole journey from a scan to a fitted cage, in named phases: conditioning (repair as

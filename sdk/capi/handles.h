@@ -100,10 +100,11 @@ struct cagekit_limit_patches_t : ContextBound {
 
 struct cagekit_hierarchy_t : ContextBound {
   static constexpr cagekit_capi::HandleType kType = cagekit_capi::HandleType::hierarchy;
-  cagekit_hierarchy_t(cagekit_context c, cagekit::SimplificationHierarchy h)
-      : ContextBound(kType, c), hierarchy(std::move(h)), level(hierarchy.extract()) {}
+  cagekit_hierarchy_t(cagekit_context c, cagekit::SimplificationHierarchy h, std::vector<uint64_t> locked)
+      : ContextBound(kType, c), hierarchy(std::move(h)), level(hierarchy.extract()), sharp_edges(std::move(locked)) {}
   cagekit::SimplificationHierarchy hierarchy;
   cagekit::PolygonalLevel level;  // extract() of the current level, refreshed by set_level
+  std::vector<uint64_t> sharp_edges;  // the host's, locked in the hierarchy: creases of its cages
 };
 
 struct cagekit_binding_t : ContextBound {

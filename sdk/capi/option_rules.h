@@ -10,8 +10,10 @@
 #include <cstdio>
 #include <string>
 #include <type_traits>
+#include <vector>
 
 #include "capi/api_guard.h"
+#include "core/edge_key.h"
 
 namespace cagekit_capi {
 
@@ -127,6 +129,25 @@ void apply(const EnumRule<T, N>& rule, const E& value, const char* name, T& dest
 
 template <class V, class Dest>
 void apply(ByHand, const V&, const char*, Dest&) {}
+
+// The sharp_edges / sharp_edge_count pair of an options struct as edge keys: a non-NULL array
+// when the count is not 0, no pair joining a vertex to itself (whether each is an edge of the
+// mesh the algorithm checks). `prefix`: "cagekit_<struct>.".
+inline std::vector<uint64_t> sharp_edges_from_c(const uint32_t* pairs, uint32_t count, const std::string& prefix) {
+  std::vector<uint64_t> keys;
+  if (count == 0) return keys;
+  if (pairs == nullptr)
+    fail(Status::invalid_argument, prefix + "sharp_edges must not be NULL with sharp_edge_count " + std::to_string(count));
+  keys.reserve(count);
+  for (uint32_t i = 0; i < count; ++i) {
+    const uint32_t a = pairs[2 * size_t(i)], b = pairs[2 * size_t(i) + 1];
+    if (a == b)
+      fail(Status::invalid_argument, prefix + "sharp_edges: pair " + std::to_string(i) + " (" + std::to_string(a) +
+                                         ", " + std::to_string(b) + ") is no edge");
+    keys.push_back(cagekit::edge_key(a, b));
+  }
+  return keys;
+}
 
 // Expansions of a table row X(A, field, default, rule, destination); A is the table's argument.
 // The header's *_INIT macro must give each field the table's default (A: the INIT value)...

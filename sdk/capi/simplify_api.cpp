@@ -33,7 +33,7 @@ CAGEKIT_API cagekit_status cagekit_hierarchy_create(cagekit_mesh mesh, const cag
     cagekit_mesh_t& m = checked(mesh, "mesh");
     const cagekit::SimplifyOptions so = simplify_options_from_c(options);
     cagekit::SimplificationHierarchy hierarchy(m.mesh, so, m.context->monitor());
-    *out = std::make_unique<cagekit_hierarchy_t>(m.context, std::move(hierarchy)).release();
+    *out = std::make_unique<cagekit_hierarchy_t>(m.context, std::move(hierarchy), so.locked_edges).release();
   });
 }
 
@@ -198,7 +198,9 @@ CAGEKIT_API cagekit_status cagekit_hierarchy_build_cage(cagekit_hierarchy hierar
     require_not_null(out, "out");
     *out = nullptr;
     const cagekit_hierarchy_t& h = checked(hierarchy, "hierarchy");
-    const cagekit::CageBuildOptions bo = cage_options_from_c(options);
+    cagekit::CageBuildOptions bo = cage_options_from_c(options);
+    std::vector<uint64_t>& host = bo.features.host_edges;  // the hierarchy's and the options' own
+    host.insert(host.end(), h.sharp_edges.begin(), h.sharp_edges.end());
     cagekit::CageBuildReport br;
     cagekit::Cage cage = cagekit::build_quad_dominant_cage(h.hierarchy.input(), h.level, bo, &br);
     if (report) {

@@ -4,11 +4,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <set>
 #include <memory>
+#include <set>
+#include <unordered_map>
+#include <unordered_set>
 #include <utility>
 #include <vector>
 
+#include "core/edge_key.h"
 #include "core/mesh_statistics.h"
 #include "core/mesh_validation.h"
 #include "core/status.h"
@@ -486,24 +489,74 @@ const char* scan_method_name(ScanMethod method) {
   return "unknown";
 }
 
-ScanToCageResult scan_to_cage(const PolygonMesh& scan, const ScanToCageOptions& options, const TaskMonitor& monitor) {
+namespace {
+
+// Phase 1c: the host's sharp edges (input vertex pairs) on the conditioned scan, found by their
+// ends' positions, given to every method.
+ScanToCageOptions with_sharp_edges(const ScanToCageOptions& options, const PolygonMesh& scan, ScanToCageResult& r) {
+  ScanToCageOptions o = options;
+  if (options.sharp_edges.empty()) return o;
+  const PolygonMesh& mesh = r.conditioned;
+  struct PositionHash {
+    size_t operator()(const Vec3& p) const {
+      return std::hash<double>()(p.x) ^ (std::hash<double>()(p.y) * 31) ^ (std::hash<double>()(p.z) * 1031);
+    }
+  };
+  struct PositionEqual {
+    bool operator()(const Vec3& a, const Vec3& b) const { return a.x == b.x && a.y == b.y && a.z == b.z; }
+  };
+  std::unordered_map<Vec3, uint32_t, PositionHash, PositionEqual> vertex_at;
+  for (uint32_t v = 0; v < mesh.num_vertices(); ++v) vertex_at.emplace(mesh.positions[v], v);
+  std::unordered_set<uint64_t> edges;
+  for (size_t f = 0; f < mesh.num_faces(); ++f)
+    for (uint32_t k = 0; k < mesh.face_size(f); ++k)
+      edges.insert(edge_key(mesh.face_vertex(f, k), mesh.face_vertex(f, (k + 1) % mesh.face_size(f))));
+  std::vector<uint64_t> mapped;
+  for (const uint64_t key : options.sharp_edges) {
+    const uint32_t a = edge_key_first(key), b = edge_key_second(key);
+    if (a >= scan.num_vertices() || b >= scan.num_vertices())
+      fail(Status::invalid_argument, "scan_to_cage: sharp edge (" + std::to_string(a) + ", " + std::to_string(b) +
+                                         ") names a vertex the scan does not have");
+    const auto ia = vertex_at.find(scan.positions[a]), ib = vertex_at.find(scan.positions[b]);
+    if (ia == vertex_at.end() || ib == vertex_at.end() || ia->second == ib->second ||
+        !edges.count(edge_key(ia->second, ib->second))) {
+      ++r.sharp_edges_dropped;
+      continue;
+    }
+    mapped.push_back(edge_key(ia->second, ib->second));
+  }
+  std::sort(mapped.begin(), mapped.end());
+  mapped.erase(std::unique(mapped.begin(), mapped.end()), mapped.end());
+  r.sharp_edges = mapped.size();
+  o.simplify.locked_edges = mapped;
+  o.cage.features.host_edges = mapped;
+  o.quad.sharp_edges = mapped;
+  o.anisotropic.sharp_edges = mapped;
+  return o;
+}
+
+}  // namespace
+
+ScanToCageResult scan_to_cage(const PolygonMesh& scan, const ScanToCageOptions& given, const TaskMonitor& monitor) {
   const auto start = Clock::now();
-  if (options.limit_levels < 1 || options.limit_levels > kMaxUniformLevels)
+  if (given.limit_levels < 1 || given.limit_levels > kMaxUniformLevels)
     fail(Status::invalid_argument, "scan_to_cage: limit_levels must be in 1.." + std::to_string(kMaxUniformLevels));
-  if (options.self_intersection_level < 0 || options.self_intersection_level > kMaxUniformLevels)
+  if (given.self_intersection_level < 0 || given.self_intersection_level > kMaxUniformLevels)
     fail(Status::invalid_argument,
          "scan_to_cage: self_intersection_level must be in 0.." + std::to_string(kMaxUniformLevels));
-  if (!(options.max_limit_to_scan > 0) || !std::isfinite(options.max_limit_to_scan) ||
-      !(options.limit_to_scan_factor > 0) || !std::isfinite(options.limit_to_scan_factor))
+  if (!(given.max_limit_to_scan > 0) || !std::isfinite(given.max_limit_to_scan) ||
+      !(given.limit_to_scan_factor > 0) || !std::isfinite(given.limit_to_scan_factor))
     fail(Status::invalid_argument, "scan_to_cage: max_limit_to_scan and limit_to_scan_factor must be finite and > 0");
-  if (options.method == ScanMethod::simplify && options.target == 0)
+  if (given.method == ScanMethod::simplify && given.target == 0)
     fail(Status::invalid_argument, "scan_to_cage: the simplification target must be at least 1");
 
   ScanToCageResult r;
-  r.requested = options.method;
+  r.requested = given.method;
   // Phase 1.
-  r.conditioned = condition_input(scan, options.conditioning, &r.conditioning, monitor);
+  r.conditioned = condition_input(scan, given.conditioning, &r.conditioning, monitor);
   r.input_boundary_loops = compute_mesh_statistics(r.conditioned).boundary_loops;
+  const ScanToCageOptions with_host_edges = with_sharp_edges(given, scan, r);
+  const ScanToCageOptions& options = with_host_edges;
   r.sharp_features = sharp_feature_segments(r.conditioned, options, monitor);
 
   std::string problem;
@@ -532,6 +585,8 @@ ScanToCageResult scan_to_cage(const PolygonMesh& scan, const ScanToCageOptions& 
     fresh.fallback = true;
     fresh.fallback_reason = r.fallback_reason;
     fresh.input_boundary_loops = r.input_boundary_loops;
+    fresh.sharp_edges = r.sharp_edges;
+    fresh.sharp_edges_dropped = r.sharp_edges_dropped;
     fresh.sharp_features = r.sharp_features;
     r = std::move(fresh);
     ScanToCageOptions simplify = options;

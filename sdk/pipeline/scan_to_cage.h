@@ -76,6 +76,11 @@ struct ScanToCageOptions {
   bool remedy_self_intersections = true;
   // The two-sided refit of the last phase (FitOptions::reverse_sample_factor; 0: not tried).
   double two_sided_refit_factor = 3.0;
+  // The host's sharp edges as vertex pairs of the INPUT scan (edge_key()s): after conditioning
+  // they are found again by their end positions and given to every method (simplify's locked
+  // edges and cage creases, the remeshers' sharp edges); an edge whose ends were welded away or
+  // that is no edge of the conditioned scan is dropped (counted in the result).
+  std::vector<uint64_t> sharp_edges;
 };
 
 struct ScanToCageResult {
@@ -87,6 +92,7 @@ struct ScanToCageResult {
   ScanMethod requested = ScanMethod::simplify, used = ScanMethod::simplify;
   bool input_is_cage = false;      // the conditioned input was its own cage (tiny input)
   bool fallback = false;           // the requested method's result was replaced by simplify
+  uint64_t sharp_edges = 0, sharp_edges_dropped = 0;  // the host's, found / not found after conditioning
   std::string fallback_reason;     // why ("" when no fallback)
   // simplify
   size_t level = 0, level_count = 0;

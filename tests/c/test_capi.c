@@ -1674,6 +1674,134 @@ static void quad_remesh_of_a_cylinder(void) {
   cagekit_context_release(context);
 }
 
+/* The creases of `cage`: their count, and whether every crease vertex lies at height z (within
+ * 1e-6). */
+static uint32_t creases_at_height(cagekit_cage cage, double z, int* all_at_z) {
+  cagekit_mesh mesh = NULL;
+  uint32_t count = 0, vertices = 0, i;
+  uint32_t* pairs;
+  double* positions;
+  CHECK_OK(cagekit_cage_get_creases(cage, 0, &count, NULL, NULL));
+  CHECK_OK(cagekit_cage_get_mesh(cage, &mesh));
+  CHECK_OK(cagekit_mesh_get_positions(mesh, CAGEKIT_SCALAR_FLOAT64, 0, &vertices, NULL));
+  pairs = (uint32_t*)malloc(2 * (size_t)(count + 1) * sizeof(uint32_t));
+  positions = (double*)malloc(3 * (size_t)(vertices + 1) * sizeof(double));
+  CHECK_OK(cagekit_cage_get_creases(cage, count, &count, pairs, NULL));
+  CHECK_OK(cagekit_mesh_get_positions(mesh, CAGEKIT_SCALAR_FLOAT64, vertices, &vertices, positions));
+  *all_at_z = 1;
+  for (i = 0; i < 2 * count; ++i)
+    if (fabs(positions[3 * pairs[i] + 2] - z) > 1e-6) *all_at_z = 0;
+  free(pairs);
+  free(positions);
+  cagekit_mesh_release(mesh);
+  return count;
+}
+
+/* The host's sharp edges (issue 22): a ring of edges halfway up a smooth open cylinder, which
+ * nothing would make sharp by its angle. Every method keeps it: simplify never merges across it
+ * and the cage's creases lie on it; the remeshers' creases lie on it (with their angle tests
+ * off); scan_to_cage finds it again after conditioning. Bad pairs are INVALID_ARGUMENT. */
+static void sharp_edges_are_kept_by_every_method(void) {
+  enum { kAround = 32, kAlong = 16 };
+  cagekit_context context = new_context();
+  cagekit_mesh mesh = new_triangle_cylinder(context, kAround, kAlong);
+  uint32_t ring[2 * kAround], bad[2] = {0, 2 * kAround + 5}, i, levels = 0, level = 0, count = 0;
+  uint32_t clusters[2 * kAround * kAlong];
+  int at_mid = 0, straddles = 0;
+  cagekit_hierarchy hierarchy = NULL;
+  cagekit_cage cage = NULL, limit = NULL;
+  cagekit_simplify_options simplify = CAGEKIT_SIMPLIFY_OPTIONS_INIT;
+  cagekit_cage_options cage_options = CAGEKIT_CAGE_OPTIONS_INIT;
+  cagekit_quad_remesh_options quad = CAGEKIT_QUAD_REMESH_OPTIONS_INIT;
+  cagekit_anisotropic_options anisotropic = CAGEKIT_ANISOTROPIC_OPTIONS_INIT;
+  cagekit_scan_to_cage_options scan = CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT;
+  cagekit_scan_to_cage_report report;
+  for (i = 0; i < kAround; ++i) { /* row kAlong / 2: z = 2 */
+    ring[2 * i] = (kAlong / 2) * kAround + i;
+    ring[2 * i + 1] = (kAlong / 2) * kAround + (i + 1) % kAround;
+  }
+  cage_options.tag_boundary_edges = CAGEKIT_FALSE;
+  /* Simplify: without the ring the coarse cage of a smooth cylinder has no crease at all. */
+  CHECK_OK(cagekit_hierarchy_create(mesh, NULL, &hierarchy));
+  CHECK_OK(cagekit_hierarchy_find_level(hierarchy, CAGEKIT_LEVEL_BY_FACES, 12, &level));
+  CHECK_OK(cagekit_hierarchy_set_level(hierarchy, level));
+  CHECK_OK(cagekit_hierarchy_build_cage(hierarchy, &cage_options, &cage, NULL));
+  CHECK(creases_at_height(cage, 2.0, &at_mid) == 0);
+  cagekit_cage_release(cage);
+  cagekit_hierarchy_release(hierarchy);
+  simplify.sharp_edges = ring;
+  simplify.sharp_edge_count = kAround;
+  CHECK_OK(cagekit_hierarchy_create(mesh, &simplify, &hierarchy));
+  CHECK_OK(cagekit_hierarchy_get_level_count(hierarchy, &levels));
+  CHECK_OK(cagekit_hierarchy_set_level(hierarchy, levels - 1)); /* the coarsest level */
+  CHECK_OK(cagekit_hierarchy_get_clusters(hierarchy, 2 * kAround * kAlong, &count, clusters));
+  CHECK(count == 2 * kAround * kAlong);
+  for (i = 0; i < count; ++i) { /* faces of rows below the ring never share a cluster with those above */
+    uint32_t k;
+    for (k = 0; k < count; ++k)
+      if (clusters[i] == clusters[k] && (i < count / 2) != (k < count / 2)) straddles = 1;
+  }
+  CHECK(!straddles);
+  CHECK_OK(cagekit_hierarchy_find_level(hierarchy, CAGEKIT_LEVEL_BY_FACES, 12, &level));
+  CHECK_OK(cagekit_hierarchy_set_level(hierarchy, level));
+  CHECK_OK(cagekit_hierarchy_build_cage(hierarchy, &cage_options, &cage, NULL)); /* creases from the hierarchy */
+  CHECK(creases_at_height(cage, 2.0, &at_mid) >= 3 && at_mid);
+  cagekit_cage_release(cage);
+  cagekit_hierarchy_release(hierarchy);
+  /* Quad: region borders on the ring, creases there only (the angle test off). */
+  quad.regions = 6;
+  quad.edge_length = 0.08;
+  quad.crease_angle_degrees = -1.0;
+  quad.sharp_edges = ring;
+  quad.sharp_edge_count = kAround;
+  CHECK_OK(cagekit_mesh_remesh_quad(mesh, &quad, &cage, NULL));
+  CHECK(creases_at_height(cage, 2.0, &at_mid) >= 3 && at_mid);
+  cagekit_cage_release(cage);
+  /* Anisotropic: a feature line along the ring (the angle test off). */
+  anisotropic.tolerance = 0.004;
+  anisotropic.feature_angle_degrees = -1.0;
+  anisotropic.sharp_edges = ring;
+  anisotropic.sharp_edge_count = kAround;
+  CHECK_OK(cagekit_mesh_remesh_anisotropic(mesh, &anisotropic, &cage, NULL));
+  CHECK(creases_at_height(cage, 2.0, &at_mid) >= 3 && at_mid);
+  cagekit_cage_release(cage);
+  /* scan_to_cage: the ring found again after conditioning. */
+  memset(&report, 0, sizeof(report));
+  report.struct_size = sizeof(report);
+  scan.target = 12;
+  scan.cage = &cage_options;
+  scan.sharp_edges = ring;
+  scan.sharp_edge_count = kAround;
+  CHECK_OK(cagekit_scan_to_cage(mesh, &scan, &cage, &limit, &report, NULL));
+  CHECK(report.sharp_edges == kAround && report.sharp_edges_dropped == 0);
+  CHECK(creases_at_height(cage, 2.0, &at_mid) >= 3);
+  cagekit_cage_release(cage);
+  cagekit_cage_release(limit);
+  /* Bad pairs: not an edge, NULL with a count, nested in scan_to_cage. */
+  cage = NULL;
+  quad.sharp_edges = bad;
+  quad.sharp_edge_count = 1;
+  CHECK_STATUS(cagekit_mesh_remesh_quad(mesh, &quad, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context), "is not an edge of the mesh") != NULL);
+  anisotropic.sharp_edges = bad;
+  anisotropic.sharp_edge_count = 1;
+  CHECK_STATUS(cagekit_mesh_remesh_anisotropic(mesh, &anisotropic, &cage, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  simplify.sharp_edges = bad;
+  simplify.sharp_edge_count = 1;
+  CHECK_STATUS(cagekit_hierarchy_create(mesh, &simplify, &hierarchy), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context), "is not an edge of the mesh") != NULL);
+  simplify.sharp_edges = NULL;
+  CHECK_STATUS(cagekit_hierarchy_create(mesh, &simplify, &hierarchy), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context),
+               "cagekit_simplify_options.sharp_edges must not be NULL with sharp_edge_count 1") != NULL);
+  cage_options.sharp_edges = ring;
+  cage_options.sharp_edge_count = kAround;
+  CHECK_STATUS(cagekit_scan_to_cage(mesh, &scan, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(cage == NULL && hierarchy == NULL);
+  cagekit_mesh_release(mesh);
+  cagekit_context_release(context);
+}
+
 /* The whole journey in one call (cagekit_scan_to_cage): a clean scan, the same scan as a
  * triangle soup with one triangle flipped (welded and oriented by the conditioning), a tiny input
  * that is its own cage, bounds that cannot be met (QUALITY, nothing returned) and bad input. */
@@ -2022,6 +2150,7 @@ int main(void) {
       {"fit_rejects_bad_arguments_and_can_be_cancelled", fit_rejects_bad_arguments_and_can_be_cancelled},
       {"anisotropic_remesh_follows_a_cylinder", anisotropic_remesh_follows_a_cylinder},
       {"quad_remesh_of_a_cylinder", quad_remesh_of_a_cylinder},
+      {"sharp_edges_are_kept_by_every_method", sharp_edges_are_kept_by_every_method},
       {"scan_to_cage_conditions_fits_and_judges", scan_to_cage_conditions_fits_and_judges},
   };
   return run_tests(tests, (int)(sizeof(tests) / sizeof(tests[0])));

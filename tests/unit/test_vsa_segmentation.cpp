@@ -12,6 +12,7 @@
 #include <random>
 #include <set>
 
+#include "core/edge_key.h"
 #include "core/edge_map.h"
 #include "layout/quad/arc_fit.h"
 #include "layout/quad/lscm_parameterization.h"
@@ -176,6 +177,38 @@ TEST(VsaSegmentation, DisconnectedMeshGetsRegionsInEveryComponent) {
   EXPECT_LT(seg.total_error, 1e-12 * seg.total_area);
   EXPECT_TRUE(regions_connected(m, seg.face_region, 12));
   EXPECT_EQ(status_of([&] { segment(m, 1); }), Status::invalid_argument);  // fewer regions than components
+}
+
+TEST(VsaSegmentation, BarrierEdgesAreRegionBordersAndEnclosedPatchesGetRegions) {
+  // A smooth cylinder cut by two barrier rings (at a quarter and at half its height): no region
+  // has faces on two sides of a ring, every patch gets a region, and fewer regions than patches
+  // are refused as fewer than components are (each patch is a component of its own).
+  const int around = 24, along = 16;
+  const PolygonMesh m = cagekit_test::triangle_cylinder(1.0, 4.0, around, along);
+  VsaOptions options;
+  options.region_count = 5;
+  for (const int row : {along / 4, along / 2})
+    for (int i = 0; i < around; ++i)
+      options.barrier_edges.push_back(cagekit::edge_key(uint32_t(row * around + i),
+                                                        uint32_t(row * around + (i + 1) % around)));
+  std::sort(options.barrier_edges.begin(), options.barrier_edges.end());
+  const VsaSegmentation seg = cagekit::segment_vsa(m, options);
+  ASSERT_EQ(seg.num_regions(), 5u);
+  auto band = [&](size_t f) {  // 0 below the first ring, 1 between, 2 above the second
+    double z = 0;
+    for (uint32_t k = 0; k < 3; ++k) z += m.positions[m.face_vertex(f, k)].z / 3.0;
+    return z < 1.0 ? 0 : z < 2.0 ? 1 : 2;
+  };
+  std::map<uint32_t, std::set<int>> bands_of_region;
+  for (size_t f = 0; f < m.num_faces(); ++f) bands_of_region[seg.face_region[f]].insert(band(f));
+  std::set<int> covered;
+  for (const auto& [region, bands] : bands_of_region) {
+    EXPECT_EQ(bands.size(), 1u) << "region " << region << " crosses a barrier";
+    covered.insert(*bands.begin());
+  }
+  EXPECT_EQ(covered.size(), 3u);
+  options.region_count = 2;  // three patches
+  EXPECT_EQ(status_of([&] { cagekit::segment_vsa(m, options); }), Status::invalid_argument);
 }
 
 TEST(VsaSegmentation, BadInputGivesPreciseErrors) {

@@ -141,7 +141,8 @@ class SurfacePoint(Structure):
 
 # --- simplification --------------------------------------------------------------------------
 class SimplifyOptions(_Versioned):
-    _fields_ = [("struct_size", c_size_t), ("tie_break_epsilon", c_double)]
+    _fields_ = [("struct_size", c_size_t), ("tie_break_epsilon", c_double), ("sharp_edges", c_void_p),
+                ("sharp_edge_count", c_uint32)]
     _defaults = {"tie_break_epsilon": 0.01}
 
 
@@ -158,7 +159,8 @@ class PolygonalLevelInfo(_Versioned):
 class CageOptions(_Versioned):
     _fields_ = [("struct_size", c_size_t), ("crease_angle_degrees", c_double), ("tag_boundary_edges", c_bool32),
                 ("exact_partition_limit", c_uint32), ("input_crease_angle_degrees", c_double),
-                ("crease_rule", c_int32), ("feature_angle_degrees", c_double)]
+                ("crease_rule", c_int32), ("feature_angle_degrees", c_double), ("sharp_edges", c_void_p),
+                ("sharp_edge_count", c_uint32)]
     _defaults = {"crease_angle_degrees": 30.0, "tag_boundary_edges": 1, "exact_partition_limit": 20,
                  "input_crease_angle_degrees": -1.0, "crease_rule": 0, "feature_angle_degrees": 40.0}
 
@@ -170,6 +172,24 @@ CREASE_RULES = {"sharp-input": 0, "cluster-angle": 1}
 def crease_rule_name(value):
     """The name of the cagekit_crease_rule `value` (the inverse of crease_rule_value)."""
     return {v: k for k, v in CREASE_RULES.items()}[value]
+
+
+def sharp_edge_array(edges):
+    """The host's sharp edges (pairs of vertex indices: a list of pairs or an (E, 2) array; None:
+    none) as (ctypes uint32 array of 2E indices, E), for an options struct's sharp_edges /
+    sharp_edge_count; keep the array alive until the call returns."""
+    pairs = [(int(a), int(b)) for a, b in (edges if edges is not None else [])]
+    flat = (c_uint32 * (2 * len(pairs)))(*[v for pair in pairs for v in pair])
+    return flat, len(pairs)
+
+
+def set_sharp_edges(options, edges):
+    """Sets options.sharp_edges / sharp_edge_count from `edges` (see sharp_edge_array); returns
+    the array to keep alive."""
+    flat, count = sharp_edge_array(edges)
+    options.sharp_edge_count = count
+    options.sharp_edges = ctypes.cast(flat, c_void_p) if count else None
+    return flat
 
 
 def crease_rule_value(rule):

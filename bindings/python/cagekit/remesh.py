@@ -37,9 +37,10 @@ class RemeshQuality(ctypes.Structure):
 
 class AnisotropicOptions(_lib._Versioned):
     _fields_ = [("struct_size", c_size_t), ("tolerance", c_double), ("feature_angle_degrees", c_double),
-                ("max_face_valence", c_uint32), ("threads", c_uint32), ("curvature_radius", c_double)]
+                ("max_face_valence", c_uint32), ("threads", c_uint32), ("curvature_radius", c_double),
+                ("sharp_edges", c_void_p), ("sharp_edge_count", c_uint32)]
     _defaults = {"tolerance": 0.002, "feature_angle_degrees": 40.0, "max_face_valence": 5, "threads": 0,
-                 "curvature_radius": 0.01}
+                 "curvature_radius": 0.01, "sharp_edges": None, "sharp_edge_count": 0}
 
 
 class AnisotropicReport(_lib._Versioned):
@@ -52,11 +53,12 @@ class QuadRemeshOptions(_lib._Versioned):
                 ("region_tolerance", c_double), ("crease_angle_degrees", c_double), ("triangle_weight", c_double),
                 ("pentagon_weight", c_double), ("t_joint_weight", c_double), ("refinement_passes", c_uint32),
                 ("threads", c_uint32), ("seed_faces", c_void_p), ("seed_face_count", c_uint32),
-                ("pinned_region_count", c_uint32), ("pinned_region_offsets", c_void_p), ("pinned_faces", c_void_p)]
+                ("pinned_region_count", c_uint32), ("pinned_region_offsets", c_void_p), ("pinned_faces", c_void_p),
+                ("sharp_edges", c_void_p), ("sharp_edge_count", c_uint32)]
     _defaults = {"edge_length": 0.05, "regions": 30, "region_tolerance": 0.01, "crease_angle_degrees": 40.0,
                  "triangle_weight": 40.0, "pentagon_weight": 40.0, "t_joint_weight": 100.0, "refinement_passes": 1,
                  "threads": 0, "seed_faces": None, "seed_face_count": 0, "pinned_region_count": 0,
-                 "pinned_region_offsets": None, "pinned_faces": None}
+                 "pinned_region_offsets": None, "pinned_faces": None, "sharp_edges": None, "sharp_edge_count": 0}
 
 
 class QuadRemeshReport(_lib._Versioned):
@@ -84,7 +86,8 @@ _WEIGHTS = (_Q["triangle_weight"], _Q["pentagon_weight"], _Q["t_joint_weight"])
 
 def quad_options(edge_length=_Q["edge_length"], regions=_Q["regions"], region_tolerance=_Q["region_tolerance"],
                  crease_angle_degrees=_Q["crease_angle_degrees"], weights=_WEIGHTS,
-                 refinement_passes=_Q["refinement_passes"], threads=_Q["threads"], seed_faces=None, pinned_regions=None):
+                 refinement_passes=_Q["refinement_passes"], threads=_Q["threads"], seed_faces=None, pinned_regions=None,
+                 sharp_edges=None):
     """A QuadRemeshOptions (cagekit_quad_remesh_options) from remesh_quad's keyword arguments, and the
     ctypes arrays it points to (keep them alive until the call returns)."""
     if len(weights) != 3:
@@ -107,16 +110,19 @@ def quad_options(edge_length=_Q["edge_length"], regions=_Q["regions"], region_to
     if pinned:
         options.pinned_region_offsets = ctypes.cast(offsets, c_void_p)
         options.pinned_faces = ctypes.cast(pinned_faces, c_void_p)
-    return options, (seeds, offsets, pinned_faces)
+    sharp = _lib.set_sharp_edges(options, sharp_edges)
+    return options, (seeds, offsets, pinned_faces, sharp)
 
 
 def anisotropic_options(tolerance=_A["tolerance"], feature_angle_degrees=_A["feature_angle_degrees"],
                         max_face_valence=_A["max_face_valence"], threads=_A["threads"],
-                        curvature_radius=_A["curvature_radius"]):
-    """An AnisotropicOptions (cagekit_anisotropic_options) from remesh_anisotropic's keyword arguments."""
-    return AnisotropicOptions.new(tolerance=float(tolerance), feature_angle_degrees=float(feature_angle_degrees),
-                                  max_face_valence=int(max_face_valence), threads=int(threads),
-                                  curvature_radius=float(curvature_radius))
+                        curvature_radius=_A["curvature_radius"], sharp_edges=None):
+    """An AnisotropicOptions (cagekit_anisotropic_options) from remesh_anisotropic's keyword
+    arguments, and the array it points to (keep it alive until the call returns)."""
+    options = AnisotropicOptions.new(tolerance=float(tolerance), feature_angle_degrees=float(feature_angle_degrees),
+                                     max_face_valence=int(max_face_valence), threads=int(threads),
+                                     curvature_radius=float(curvature_radius))
+    return options, _lib.set_sharp_edges(options, sharp_edges)
 
 
 def _report_record(report, name):
@@ -127,24 +133,27 @@ def _report_record(report, name):
 
 def remesh_anisotropic(mesh, tolerance=_A["tolerance"], feature_angle_degrees=_A["feature_angle_degrees"],
                        max_face_valence=_A["max_face_valence"], threads=_A["threads"],
-                       curvature_radius=_A["curvature_radius"]):
+                       curvature_radius=_A["curvature_radius"], sharp_edges=None):
     """Remeshes `mesh` (an oriented 2-manifold Mesh; polygons are fan-triangulated first) along its
     curvature lines into a new Cage with crease tags on feature lines. Returns (cage, report); the
     report holds faces, vertices, quads, interior_vertices, valence4_vertices, max_face_valence,
     max_vertex_valence, creases, min_scaled_jacobian, seconds, regions, lines, holes and
-    mean_alignment_deg. Options as cagekit_anisotropic_options."""
-    options = anisotropic_options(tolerance, feature_angle_degrees, max_face_valence, threads, curvature_radius)
+    mean_alignment_deg. Options as cagekit_anisotropic_options; `sharp_edges`: the host's sharp
+    edges (vertex pairs of `mesh`), feature lines whatever their angle."""
+    options, keep_alive = anisotropic_options(tolerance, feature_angle_degrees, max_face_valence, threads,
+                                              curvature_radius, sharp_edges)
     report = AnisotropicReport.new()
     out = ctypes.c_void_p()
     mesh._context._call(lib.cagekit_mesh_remesh_anisotropic, mesh._handle, ctypes.byref(options),
                         ctypes.byref(out), ctypes.byref(report), outs=[(out, Cage._release())])
+    del keep_alive
     return Cage._wrap(out.value, mesh._context), _report_record(report, "AnisotropicReport")
 
 
 def remesh_quad(mesh, edge_length=_Q["edge_length"], regions=_Q["regions"], region_tolerance=_Q["region_tolerance"],
                 crease_angle_degrees=_Q["crease_angle_degrees"], weights=_WEIGHTS,
                 refinement_passes=_Q["refinement_passes"], threads=_Q["threads"], seed_faces=None,
-                pinned_regions=None):
+                pinned_regions=None, sharp_edges=None):
     """Remeshes `mesh` (an oriented 2-manifold Mesh; polygons are fan-triangulated first) by the
     two-step quad-dominant method into a new Cage with crease tags on sharp region boundaries.
     Returns (cage, report); the report holds the quality figures (faces, vertices, quads,
@@ -153,9 +162,10 @@ def remesh_quad(mesh, edge_length=_Q["edge_length"], regions=_Q["regions"], regi
     merged_regions, layout_retries, mended_faces and partitioned_regions. Options as
     cagekit_quad_remesh_options; weights = (triangle_weight, pentagon_weight, t_joint_weight);
     `seed_faces`: face ids that each start a region; `pinned_regions`: a list of face-id lists,
-    each a region the segmentation keeps as it is (counted in `regions`)."""
+    each a region the segmentation keeps as it is (counted in `regions`); `sharp_edges`: the
+    host's sharp edges (vertex pairs of `mesh`), region borders and creases."""
     options, keep_alive = quad_options(edge_length, regions, region_tolerance, crease_angle_degrees, weights,
-                                       refinement_passes, threads, seed_faces, pinned_regions)
+                                       refinement_passes, threads, seed_faces, pinned_regions, sharp_edges)
     report = QuadRemeshReport.new()
     out = ctypes.c_void_p()
     mesh._context._call(lib.cagekit_mesh_remesh_quad, mesh._handle, ctypes.byref(options), ctypes.byref(out),

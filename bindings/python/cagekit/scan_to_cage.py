@@ -46,12 +46,14 @@ class ScanToCageOptions(_lib._Versioned):
                 ("self_intersection_level", c_uint32), ("max_limit_to_scan_rel", c_double),
                 ("limit_to_scan_factor", c_double), ("small_input_faces", c_uint64),
                 ("fallback_to_simplify", _lib.c_bool32), ("finer_simplify_attempts", c_uint32),
-                ("two_sided_refit_factor", c_double)]
+                ("two_sided_refit_factor", c_double), ("sharp_edges", c_void_p),
+                ("sharp_edge_count", c_uint32)]
     _defaults = {"method": 0, "repair": 1, "components": 0, "weld_tolerance_rel": 1e-7, "target_query": 0,
                  "target": 60.0, "cage": None, "quad": None, "anisotropic": None, "fit": None, "limit_levels": 3,
                  "self_intersection_level": 2, "max_limit_to_scan_rel": 0.05, "limit_to_scan_factor": 3.0,
                  "small_input_faces": 1000, "fallback_to_simplify": 1, "finer_simplify_attempts": 2,
-                 "two_sided_refit_factor": 3.0}
+                 "two_sided_refit_factor": 3.0, "sharp_edges": None,
+                 "sharp_edge_count": 0}
 
 
 def _u64(*names):
@@ -86,7 +88,7 @@ class ScanToCageReport(_lib._Versioned):
                 _u64("scan_self_intersections", "unfitted_self_intersections") +
                 [("scan_self_intersections_counted", _lib.c_bool32), ("own_cage_crease_angle_deg", c_double),
                  ("fit_fairing_used", c_double), ("two_sided_refit", _lib.c_bool32),
-                 ("one_sided_fit_max_rel", c_double)])
+                 ("one_sided_fit_max_rel", c_double), ("sharp_edges", c_uint64), ("sharp_edges_dropped", c_uint64)])
 
 
 STRUCTS = {"cagekit_scan_to_cage_options": ScanToCageOptions, "cagekit_scan_to_cage_report": ScanToCageReport}
@@ -114,7 +116,7 @@ def scan_to_cage(scan, method=ScanMethod(_D["method"]), faces=_D["target"], repa
                  max_limit_to_scan_rel=_D["max_limit_to_scan_rel"], limit_to_scan_factor=_D["limit_to_scan_factor"],
                  small_input_faces=_D["small_input_faces"], fallback_to_simplify=bool(_D["fallback_to_simplify"]),
                  finer_simplify_attempts=_D["finer_simplify_attempts"],
-                 two_sided_refit_factor=_D["two_sided_refit_factor"]):
+                 two_sided_refit_factor=_D["two_sided_refit_factor"], sharp_edges=None):
     """Runs the journey on `scan` (a Mesh, not changed). Returns (cage, limit, report): the fitted
     Cage with crease tags, its limit mesh (refined `limit_levels` times) as a Cage, and a record
     of every figure of cagekit_scan_to_cage_report (fallback_reason as str, methods as
@@ -122,10 +124,12 @@ def scan_to_cage(scan, method=ScanMethod(_D["method"]), faces=_D["target"], repa
     (crease_rule, feature_angle_degrees, crease_angle_degrees, input_crease_angle_degrees). `quad` / `anisotropic`:
     dicts of cagekit.remesh_quad()'s / remesh_anisotropic()'s keyword arguments; `fit`: a dict
     of cagekit.fit()'s option names. `two_sided_refit_factor`: the last phase's two-sided refit (0: not
-    tried; report.two_sided_refit says whether it was kept). Raises QualityError when no good result
-    could be made."""
+    tried; report.two_sided_refit says whether it was kept). `sharp_edges`: the host's sharp edges
+    (vertex pairs of `scan`), found again after the conditioning and given to every method
+    (report.sharp_edges / sharp_edges_dropped). Raises QualityError when no good result could be
+    made."""
     quad_struct, keep_alive = quad_options(**(quad or {}))
-    anisotropic_struct = anisotropic_options(**(anisotropic or {}))
+    anisotropic_struct, anisotropic_keep_alive = anisotropic_options(**(anisotropic or {}))
     fit_options = None
     if fit is not None:
         f = dict(fit)
@@ -148,6 +152,7 @@ def scan_to_cage(scan, method=ScanMethod(_D["method"]), faces=_D["target"], repa
         small_input_faces=int(small_input_faces), fallback_to_simplify=1 if fallback_to_simplify else 0,
         finer_simplify_attempts=int(finer_simplify_attempts),
         two_sided_refit_factor=float(two_sided_refit_factor))
+    sharp_keep_alive = _lib.set_sharp_edges(options, sharp_edges)
     options.cage = ctypes.cast(ctypes.pointer(cage_options), c_void_p)
     options.quad = ctypes.cast(ctypes.pointer(quad_struct), c_void_p)
     options.anisotropic = ctypes.cast(ctypes.pointer(anisotropic_struct), c_void_p)
@@ -158,7 +163,7 @@ def scan_to_cage(scan, method=ScanMethod(_D["method"]), faces=_D["target"], repa
     scan._context._call(lib.cagekit_scan_to_cage, scan._handle, ctypes.byref(options), ctypes.byref(cage_out),
                         ctypes.byref(limit_out), ctypes.byref(report), None,
                         outs=[(cage_out, Cage._release()), (limit_out, Cage._release())])
-    del keep_alive
+    del keep_alive, anisotropic_keep_alive, sharp_keep_alive
     cage = Cage._wrap(cage_out.value, scan._context)
     limit = Cage._wrap(limit_out.value, scan._context)
     record = from_struct(report, "ScanToCageReport", skip=("struct_size", "fallback_reason"))

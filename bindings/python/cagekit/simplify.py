@@ -37,13 +37,17 @@ class Hierarchy(Handle):
     _release_name = "cagekit_hierarchy_release"
     _kind = "hierarchy"
 
-    def __init__(self, mesh, tie_break_epsilon=_SIMPLIFY["tie_break_epsilon"]):
+    def __init__(self, mesh, tie_break_epsilon=_SIMPLIFY["tie_break_epsilon"], sharp_edges=None):
         """Simplifies `mesh` (valid apart from unreferenced vertices, else InvalidMeshError) to
-        its coarsest level. Long operation (progress, cancel) with the mesh's context."""
+        its coarsest level. `sharp_edges`: the host's sharp edges (vertex pairs of `mesh`), borders
+        of every level and creases of every cage built from it. Long operation (progress, cancel)
+        with the mesh's context."""
         options = _lib.SimplifyOptions.new(tie_break_epsilon=float(tie_break_epsilon))
+        keep_alive = _lib.set_sharp_edges(options, sharp_edges)
         out = ctypes.c_void_p()
         mesh._context._call(_lib.lib.cagekit_hierarchy_create, mesh._handle, ctypes.byref(options),
                             ctypes.byref(out), outs=[(out, self._release())])
+        del keep_alive
         Handle.__init__(self, out.value, mesh._context)
 
     @property
@@ -149,19 +153,21 @@ class Hierarchy(Handle):
                    crease_angle_degrees=_CAGE["crease_angle_degrees"],
                    tag_boundary_edges=bool(_CAGE["tag_boundary_edges"]),
                    exact_partition_limit=_CAGE["exact_partition_limit"],
-                   input_crease_angle_degrees=_CAGE["input_crease_angle_degrees"]):
+                   input_crease_angle_degrees=_CAGE["input_crease_angle_degrees"], sharp_edges=None):
         """The quad-dominant control cage of the current level with crease tags, and its report
         (quads, triangles, pentagons, other_polygons, creases, ...). crease_rule "sharp-input"
         (default): creases where the scan is sharp (input edges above feature_angle_degrees,
         noise filtered); "cluster-angle": the thesis's rule, clusters whose normals differ by more
         than crease_angle_degrees (and, with input_crease_angle_degrees >= 0, an input that is
-        that sharp on average along their border)."""
+        that sharp on average along their border). `sharp_edges`: more host sharp edges (vertex
+        pairs of the input), creases like those the hierarchy was made with (sharp-input rule)."""
         options = _lib.CageOptions.new(crease_rule=_lib.crease_rule_value(crease_rule),
                                        feature_angle_degrees=float(feature_angle_degrees),
                                        crease_angle_degrees=float(crease_angle_degrees),
                                        tag_boundary_edges=1 if tag_boundary_edges else 0,
                                        exact_partition_limit=int(exact_partition_limit),
                                        input_crease_angle_degrees=float(input_crease_angle_degrees))
+        keep_alive = _lib.set_sharp_edges(options, sharp_edges)
         report = _lib.CageReport.new()
         out = ctypes.c_void_p()
         self._context._call(_lib.lib.cagekit_hierarchy_build_cage, self._handle, ctypes.byref(options),
@@ -169,9 +175,11 @@ class Hierarchy(Handle):
         return Cage._wrap(out.value, self._context), from_struct(report, "CageReport")
 
 
-def simplify(mesh, faces=None, vertices=None, tie_break_epsilon=_SIMPLIFY["tie_break_epsilon"], **cage_options):
+def simplify(mesh, faces=None, vertices=None, tie_break_epsilon=_SIMPLIFY["tie_break_epsilon"], sharp_edges=None,
+             **cage_options):
     """Simplifies `mesh` to at most `faces` faces or `vertices` vertices and builds the
-    quad-dominant cage: (Cage, CageReport). cage_options as Hierarchy.build_cage."""
-    with Hierarchy(mesh, tie_break_epsilon) as hierarchy:
+    quad-dominant cage: (Cage, CageReport). `sharp_edges` as Hierarchy(); cage_options as
+    Hierarchy.build_cage."""
+    with Hierarchy(mesh, tie_break_epsilon, sharp_edges) as hierarchy:
         hierarchy.set_level(faces=faces, vertices=vertices)
         return hierarchy.build_cage(**cage_options)

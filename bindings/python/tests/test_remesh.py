@@ -89,3 +89,39 @@ class Remesh(HandleCheck):
                 cagekit.remesh_anisotropic(m)
             with self.assertRaises(cagekit.InvalidMeshError):
                 cagekit.remesh_quad(m)
+
+
+class SharpEdges(HandleCheck):
+    """The host's sharp edges (a ring halfway up a smooth cylinder, sharp by no angle) are kept by
+    every method: the creases of each cage lie on the ring."""
+
+    def test_every_method_keeps_the_ring(self):
+        rings, segments = 16, 32
+        positions, triangles = open_cylinder(rings=rings, segments=segments, height=4.0)
+        row = rings // 2
+        ring = [(row * segments + k, row * segments + (k + 1) % segments) for k in range(segments)]
+        mid = 4.0 * row / rings
+
+        def crease_heights(cage):
+            points = cage.positions
+            return {round(float(points[v][2]), 6) for pair in cage.creases[0] for v in pair}
+
+        with cagekit.Mesh.from_arrays(positions, triangles) as mesh:
+            cage, _ = cagekit.simplify(mesh, faces=12, sharp_edges=ring, tag_boundary_edges=False)
+            with cage:
+                self.assertEqual(crease_heights(cage), {mid})
+            cage, report = cagekit.remesh_quad(mesh, regions=6, edge_length=0.08, crease_angle_degrees=-1,
+                                               sharp_edges=ring)
+            with cage:
+                self.assertGreater(report.creases, 0)
+                self.assertEqual(crease_heights(cage), {mid})
+            cage, report = cagekit.remesh_anisotropic(mesh, tolerance=0.004, feature_angle_degrees=-1,
+                                                      sharp_edges=ring)
+            with cage:
+                self.assertGreater(report.creases, 0)
+                self.assertEqual(crease_heights(cage), {mid})
+            cage, limit, report = cagekit.scan_to_cage(mesh, faces=12, sharp_edges=ring)
+            with cage, limit:
+                self.assertEqual((report.sharp_edges, report.sharp_edges_dropped), (segments, 0))
+            with self.assertRaises(cagekit.InvalidArgumentError):  # not an edge of the mesh
+                cagekit.remesh_quad(mesh, sharp_edges=[(0, 2 * segments + 5)])

@@ -105,9 +105,11 @@ AnisotropicRemeshResult remesh_anisotropic(const PolygonMesh& input, const Aniso
   check_memory_estimate(estimate_sum(estimate_product(tri.num_faces(), 560), estimate_product(tri.num_vertices(), 64)),
                         "anisotropic remeshing");
   std::vector<uint8_t> features;
-  if (o.feature_angle_degrees >= 0.0) {  // the sharp input features every method's creases follow
-    SharpFeatureOptions fo;
-    fo.angle_degrees = std::min(o.feature_angle_degrees, 180.0);
+  if (o.feature_angle_degrees >= 0.0 || !o.sharp_edges.empty()) {  // the sharp input features every
+    SharpFeatureOptions fo;                                           // method's creases follow
+    fo.angle_degrees = std::clamp(o.feature_angle_degrees, 0.0, 180.0);
+    fo.detect = o.feature_angle_degrees >= 0.0;
+    fo.host_edges = o.sharp_edges;
     features = detect_sharp_features(tri, fo).corner_flags;
   }
 

@@ -21,6 +21,9 @@ struct AnisotropicRemeshOptions {
   double disk_radius_bbox = 0.01;      // curvature averaging radius / bbox diagonal (thesis: 1%), capped at
                                        // 6 mean edge lengths; <= 0: 3 mean edge lengths
   int threads = 0;                     // curvature field workers (0 = hardware concurrency)
+  // The host's sharp edges (edge_key()s of input edges): feature lines (and crease tags) whatever
+  // their angle, also with feature_angle_degrees < 0.
+  std::vector<uint64_t> sharp_edges;
 };
 
 // The RemeshQuality part: faces, vertices, quads, valences, min scaled Jacobian of cage.mesh.

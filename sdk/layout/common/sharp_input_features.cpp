@@ -2,7 +2,9 @@
 // Sharp input features (the shared crease definition); see sharp_input_features.h.
 #include "layout/common/sharp_input_features.h"
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <string>
 #include <unordered_map>
 
@@ -168,8 +170,41 @@ std::vector<uint8_t> faceted_networks(const PolygonMesh& mesh, const detail::Edg
 }
 }  // namespace
 
-SharpFeatures detect_sharp_features(const PolygonMesh& mesh, const SharpFeatureOptions& o) {
-  check_input(mesh, o);
+namespace {
+
+// The host's edges joined to `out` (sorted keys, corner flags, length); each must be a mesh edge.
+void add_host_edges(const PolygonMesh& mesh, const std::vector<uint64_t>& host, SharpFeatures& out) {
+  std::vector<uint64_t> keys = host;
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  std::vector<uint8_t> found(keys.size(), 0);
+  for (size_t f = 0; f < mesh.num_faces(); ++f) {
+    const uint32_t n = mesh.face_size(f);
+    for (uint32_t k = 0; k < n; ++k) {
+      const uint32_t a = mesh.face_vertex(f, k), b = mesh.face_vertex(f, (k + 1) % n);
+      const auto it = std::lower_bound(keys.begin(), keys.end(), edge_key(a, b));
+      if (it == keys.end() || *it != edge_key(a, b)) continue;
+      out.corner_flags[mesh.face_offsets[f] + k] = 1;
+      found[size_t(it - keys.begin())] = 1;
+    }
+  }
+  std::vector<uint64_t> added;
+  for (size_t i = 0; i < keys.size(); ++i) {
+    const uint32_t a = edge_key_first(keys[i]), b = edge_key_second(keys[i]);
+    if (!found[i])
+      fail(Status::invalid_argument, "sharp features: host edge (" + std::to_string(a) + ", " + std::to_string(b) +
+                                         ") is not an edge of the mesh");
+    if (std::binary_search(out.edges.begin(), out.edges.end(), keys[i])) continue;
+    added.push_back(keys[i]);
+    out.length += norm(mesh.positions[b] - mesh.positions[a]);
+  }
+  out.host_edges = keys.size();
+  std::vector<uint64_t> merged;
+  std::merge(out.edges.begin(), out.edges.end(), added.begin(), added.end(), std::back_inserter(merged));
+  out.edges.swap(merged);
+}
+
+SharpFeatures detected_sharp_features(const PolygonMesh& mesh, const SharpFeatureOptions& o) {
   SharpFeatures out;
   out.corner_flags.assign(mesh.num_face_vertices(), 0);
   const size_t nf = mesh.num_faces();
@@ -292,6 +327,20 @@ SharpFeatures detect_sharp_features(const PolygonMesh& mesh, const SharpFeatureO
   std::sort(out.edges.begin(), out.edges.end());
   for (size_t c = 0; c < out.corner_flags.size(); ++c)
     if (map.corner_edge[c] != detail::kNone) out.corner_flags[c] = sharp[map.corner_edge[c]];
+  return out;
+}
+
+}  // namespace
+
+SharpFeatures detect_sharp_features(const PolygonMesh& mesh, const SharpFeatureOptions& o) {
+  check_input(mesh, o);
+  SharpFeatures out;
+  if (o.detect) {
+    out = detected_sharp_features(mesh, o);
+  } else {
+    out.corner_flags.assign(mesh.num_face_vertices(), 0);
+  }
+  if (!o.host_edges.empty()) add_host_edges(mesh, o.host_edges, out);
   return out;
 }
 

@@ -49,6 +49,10 @@ struct SharpFeatureOptions {
   uint32_t min_edges = 1;        // per feature line
   double max_turn_degrees = 60.0;  // a feature line continues through a vertex where it turns less, in [0, 180]
   double max_side_bend_fraction = 0.15;  // test 4, in [0, 1] (1: off)
+  // The host's sharp edges (edge_key()s of mesh edges, e.g. the edges a Blender user marked
+  // sharp): sharp whatever the tests say. detect = false: these alone (no angle test).
+  std::vector<uint64_t> host_edges;
+  bool detect = true;
 };
 
 struct SharpFeatures {
@@ -58,14 +62,16 @@ struct SharpFeatures {
   uint64_t noise_edges = 0;     // of those, failing test 2
   uint64_t short_edges = 0;     // of those passing 2, dropped by test 3
   uint64_t faceted_edges = 0;   // of those passing 3, dropped by test 4
+  uint64_t host_edges = 0;      // the host's sharp edges (each counted once, detected or not)
   double length = 0.0;          // total length of the sharp edges
 
   bool contains(uint32_t a, uint32_t b) const { return std::binary_search(edges.begin(), edges.end(), edge_key(a, b)); }
 };
 
-// Sharp features of `mesh` (polygons; a face's normal is its vector area's direction). Faces
-// must be valid polygons (indices in range, >= 3 distinct vertices, finite positions): else
-// Error(invalid_mesh); options out of range: Error(invalid_argument). Degenerate faces (zero
+// Sharp features of `mesh` (polygons; a face's normal is its vector area's direction), plus the
+// host's edges. Faces must be valid polygons (indices in range, >= 3 distinct vertices, finite
+// positions): else Error(invalid_mesh); options out of range, or a host edge that is not an
+// edge of `mesh`: Error(invalid_argument). Degenerate faces (zero
 // area) have no normal and make no edge sharp. O(faces x neighbours x passes).
 SharpFeatures detect_sharp_features(const PolygonMesh& mesh, const SharpFeatureOptions& options = {});
 

@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "layout/common/triangle_mesh_input.h"
 
+#include <algorithm>
 #include <string>
+
+#include "core/edge_key.h"
 
 #include "core/status.h"
 
@@ -36,12 +39,17 @@ void require_triangle_mesh(const PolygonMesh& mesh, const char* who) {
   }
 }
 
-void build_face_adjacency(FaceAdjacency& adjacency, const PolygonMesh& mesh) {
+void build_face_adjacency(FaceAdjacency& adjacency, const PolygonMesh& mesh, const std::vector<uint64_t>& barriers) {
   build_edge_map(adjacency.edges, mesh, std::vector<uint8_t>(mesh.num_faces(), 1));
   const detail::EdgeMap& map = adjacency.edges;
   const size_t nf = mesh.num_faces();
+  auto barrier = [&](size_t e) {
+    return !barriers.empty() &&
+           std::binary_search(barriers.begin(), barriers.end(), edge_key(map.edge_lo[e], map.edge_hi[e]));
+  };
   std::vector<uint32_t> count(nf + 1, 0);
   for (size_t e = 0; e < map.num_edges(); ++e) {
+    if (barrier(e)) continue;
     const uint32_t k = map.valence(e);
     for (const uint32_t* c = map.corners_begin(e); c != map.corners_end(e); ++c) count[map.corner_face[*c] + 1] += k - 1;
   }
@@ -49,10 +57,12 @@ void build_face_adjacency(FaceAdjacency& adjacency, const PolygonMesh& mesh) {
   for (size_t f = 0; f < nf; ++f) adjacency.offsets[f + 1] = adjacency.offsets[f] + count[f + 1];
   adjacency.neighbours.assign(adjacency.offsets[nf], 0);
   std::vector<uint32_t> fill(adjacency.offsets.begin(), adjacency.offsets.end() - 1);
-  for (size_t e = 0; e < map.num_edges(); ++e)
+  for (size_t e = 0; e < map.num_edges(); ++e) {
+    if (barrier(e)) continue;
     for (const uint32_t* a = map.corners_begin(e); a != map.corners_end(e); ++a)
       for (const uint32_t* b = map.corners_begin(e); b != map.corners_end(e); ++b)
         if (a != b) adjacency.neighbours[fill[map.corner_face[*a]]++] = map.corner_face[*b];
+  }
 }
 
 void require_oriented_manifold_edges(const detail::EdgeMap& edges, const char* who) {

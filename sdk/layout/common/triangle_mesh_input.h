@@ -26,7 +26,10 @@ struct FaceAdjacency {
   std::vector<uint32_t> offsets{0};  // neighbours of f: neighbours[offsets[f] .. offsets[f+1])
   std::vector<uint32_t> neighbours;
 };
-void build_face_adjacency(FaceAdjacency& adjacency, const PolygonMesh& mesh);
+// Faces are neighbours across every edge but the `barriers` (sorted edge_key()s; a region border
+// the host fixed): faces joined only across barriers are in different components.
+void build_face_adjacency(FaceAdjacency& adjacency, const PolygonMesh& mesh,
+                          const std::vector<uint64_t>& barriers = {});
 
 // Throws Error(invalid_mesh) naming `who` when an edge has more than two faces or its two faces
 // run it in the same direction (the region boundary tracing and LSCM need an oriented

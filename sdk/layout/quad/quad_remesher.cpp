@@ -1035,8 +1035,33 @@ VsaOptions vsa_options(const PolygonMesh& input, const QuadRemeshOptions& o) {
 SharpFeatures sharp_input_features(const PolygonMesh& tri, const QuadRemeshOptions& o) {
   SharpFeatureOptions feature_options;
   feature_options.angle_degrees = std::clamp(o.crease_angle_degrees, 0.0, 180.0);
-  const bool use_features = o.crease_angle_degrees >= 0.0;
+  feature_options.detect = o.crease_angle_degrees >= 0.0;
+  feature_options.host_edges = o.sharp_edges;
+  const bool use_features = feature_options.detect || !o.sharp_edges.empty();
   return use_features ? detect_sharp_features(tri, feature_options) : SharpFeatures{};
+}
+
+// Patches the host's sharp edges enclose (faces joined across every other edge): each needs a
+// region of its own.
+size_t count_sharp_edge_patches(const PolygonMesh& tri, const std::vector<uint64_t>& sorted_sharp_edges) {
+  FaceAdjacency adjacency;
+  build_face_adjacency(adjacency, tri, sorted_sharp_edges);
+  const size_t nf = tri.num_faces();
+  std::vector<uint8_t> seen(nf, 0);
+  size_t patches = 0;
+  for (uint32_t s = 0; s < nf; ++s) {
+    if (seen[s]) continue;
+    ++patches;
+    std::vector<uint32_t> stack{s};
+    seen[s] = 1;
+    while (!stack.empty()) {
+      const uint32_t f = stack.back();
+      stack.pop_back();
+      for (uint32_t k = adjacency.offsets[f]; k < adjacency.offsets[f + 1]; ++k)
+        if (!seen[adjacency.neighbours[k]]) seen[adjacency.neighbours[k]] = 1, stack.push_back(adjacency.neighbours[k]);
+    }
+  }
+  return patches;
 }
 
 // VSA (thesis §6.3). A region count that cannot be met is adjusted (and reported), not refused:
@@ -1045,9 +1070,15 @@ SharpFeatures sharp_input_features(const PolygonMesh& tri, const QuadRemeshOptio
 // triangle.
 VsaSegmentation segment_regions(const PolygonMesh& tri, const SharpFeatures& features, const QuadRemeshOptions& o,
                                 VsaOptions& vo, const TaskMonitor& monitor, QuadRemeshResult& r) {
-  const bool use_features = o.crease_angle_degrees >= 0.0;
+  const bool use_features = o.crease_angle_degrees >= 0.0 || !o.sharp_edges.empty();
+  if (!o.sharp_edges.empty()) {
+    vo.barrier_edges = o.sharp_edges;
+    std::sort(vo.barrier_edges.begin(), vo.barrier_edges.end());
+    vo.barrier_edges.erase(std::unique(vo.barrier_edges.begin(), vo.barrier_edges.end()), vo.barrier_edges.end());
+  }
   if (o.pinned_regions.empty() && o.seed_faces.empty()) {
-    const size_t components = count_face_components(tri);
+    const size_t components =
+        vo.barrier_edges.empty() ? count_face_components(tri) : count_sharp_edge_patches(tri, vo.barrier_edges);
     size_t wanted = std::max<size_t>(size_t(vo.region_count), components);
     size_t patches = 0;
     if (o.regions > 0 && o.regions_per_feature_patch > 0.0 && use_features && !features.edges.empty()) {
@@ -1699,7 +1730,7 @@ QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemesh
   const std::vector<uint32_t> remap = move_glued_mesh_into(layout.glued, r.cage.mesh);
   r.flipped_faces = count_flipped_faces(r.cage.mesh, layout.reference_normal);
   const std::vector<Vec3> vertex_normals = area_weighted_vertex_normals(r.cage.mesh);
-  if (o.crease_angle_degrees >= 0.0) tag_creases(layout, features, remap, r);
+  if (o.crease_angle_degrees >= 0.0 || !o.sharp_edges.empty()) tag_creases(layout, features, remap, r);
   r.creases = r.cage.creases.size();
   monitor.report("post-processing", 0.95);
   validate_and_measure(vertex_normals, r);

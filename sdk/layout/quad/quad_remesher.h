@@ -73,6 +73,10 @@ struct QuadRemeshOptions {
   // (edge-connected, disjoint; counted in `regions`), each seed face starts a region.
   std::vector<std::vector<uint32_t>> pinned_regions;
   std::vector<uint32_t> seed_faces;
+  // The host's sharp edges (edge_key()s of input edges): region borders of the segmentation (no
+  // region grows across one; each patch they enclose gets a region) and crease tags where the
+  // region boundaries follow them (also with crease_angle_degrees < 0).
+  std::vector<uint64_t> sharp_edges;
 };
 
 // The RemeshQuality part: faces, vertices, quads, valences, min scaled Jacobian of cage.mesh.

@@ -7,6 +7,7 @@
 #include <string>
 #include <utility>
 
+#include "core/edge_key.h"
 #include "core/status.h"
 #include "layout/common/triangle_mesh_input.h"
 
@@ -103,7 +104,7 @@ class VsaSolver {
  public:
   VsaSolver(const PolygonMesh& mesh, const VsaOptions& options, const TaskMonitor& monitor, VsaSegmentation& out)
       : mesh_(mesh), options_(options), monitor_(monitor), out_(out) {
-    build_face_adjacency(adjacency_, mesh);
+    build_face_adjacency(adjacency_, mesh, options.barrier_edges);
     triangle_normals_and_areas(mesh, normal_, area_);
     centroid_.resize(mesh.num_faces());
     for (size_t f = 0; f < mesh.num_faces(); ++f)
@@ -148,6 +149,11 @@ class VsaSolver {
     return area_[f] * dot(d, d);
   }
   bool pinned(uint32_t r) const { return r < num_pinned_; }
+  bool across_barrier(size_t e) const {
+    const std::vector<uint64_t>& b = options_.barrier_edges;
+    const detail::EdgeMap& edges = adjacency_.edges;
+    return !b.empty() && std::binary_search(b.begin(), b.end(), edge_key(edges.edge_lo[e], edges.edge_hi[e]));
+  }
 
   void initial_regions();
   void choose_seeds();
@@ -417,6 +423,7 @@ void VsaSolver::teleport() {
     for (uint32_t f = 0; f < state_.face_region.size(); ++f) ++size[state_.face_region[f]];
     const detail::EdgeMap& edges = adjacency_.edges;
     for (size_t e = 0; e < edges.num_edges(); ++e) {
+      if (across_barrier(e)) continue;  // the regions either side are no neighbours
       const uint32_t* h = edges.corners_begin(e);
       for (uint32_t a = 0; a + 1 < edges.valence(e); ++a) {
         const uint32_t i = state_.face_region[edges.corner_face[h[a]]];

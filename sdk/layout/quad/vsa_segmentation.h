@@ -71,6 +71,9 @@ struct VsaOptions {
   // Host-given regions (fixed) and seeds (each starts one region).
   std::vector<std::vector<uint32_t>> pinned_regions;
   std::vector<uint32_t> seed_faces;
+  // Edges no region grows across (sorted edge_key()s, e.g. the host's sharp edges): every patch
+  // they enclose is a component of its own and gets at least one region.
+  std::vector<uint64_t> barrier_edges;
 };
 
 struct VsaTeleport {

@@ -6,6 +6,7 @@
 #include <map>
 #include <tuple>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "core/angles.h"
 #include "core/edge_key.h"
@@ -259,6 +260,7 @@ Cage build_quad_dominant_cage(const PolygonMesh& input, const PolygonalLevel& le
     uint64_t pair;  // edge_key of the two clusters
     double length, angle;
     bool sharp;
+    bool host = false;  // one of the host's sharp edges
   };
   std::vector<BorderEdge> border_edges;
   if (clusters_known && (by_input || (by_angle && options.input_crease_angle_degrees >= 0))) {
@@ -287,6 +289,11 @@ Cage build_quad_dominant_cage(const PolygonMesh& input, const PolygonalLevel& le
       for (size_t i = 0; i < border_edges.size(); ++i) ends[i] = {border_edges[i].a, border_edges[i].b};
       const std::vector<uint8_t> along = edges_along_features(input, features, ends, options.features.angle_degrees);
       for (size_t i = 0; i < border_edges.size(); ++i) border_edges[i].sharp = along[i] != 0;
+      const std::vector<uint64_t>& host = options.features.host_edges;
+      if (!host.empty()) {
+        const std::unordered_set<uint64_t> host_set(host.begin(), host.end());
+        for (BorderEdge& e : border_edges) e.host = host_set.count(edge_key(e.a, e.b)) != 0;
+      }
     }
   }
   // cluster_angle with the input check: the length-weighted mean dihedral angle of the input
@@ -309,6 +316,7 @@ Cage build_quad_dominant_cage(const PolygonMesh& input, const PolygonalLevel& le
   // pair) the sharp and the total length.
   struct BorderChain {
     double sharp = 0.0, total = 0.0;
+    double host = 0.0;  // length along the host's sharp edges
     std::vector<uint32_t> vertices;  // input vertices of the chain
   };
   std::map<std::pair<uint64_t, uint64_t>, BorderChain> chain;  // (edge, pair) -> its chain
@@ -322,13 +330,14 @@ Cage build_quad_dominant_cage(const PolygonMesh& input, const PolygonalLevel& le
       for (uint32_t start : {border_edges[e0].a, border_edges[e0].b}) {
         if (!is_cage_vertex[start]) continue;
         const uint64_t pair = border_edges[e0].pair;
-        double sharp = 0.0, total = 0.0;
+        double sharp = 0.0, total = 0.0, host = 0.0;
         uint32_t edge = e0, at = start;
         std::vector<uint32_t> vertices{start};
         for (size_t step = 0; step <= border_edges.size(); ++step) {
           const BorderEdge& be = border_edges[edge];
           total += be.length;
           sharp += be.sharp ? be.length : 0.0;
+          host += be.host ? be.length : 0.0;
           at = be.a == at ? be.b : be.a;
           vertices.push_back(at);
           if (is_cage_vertex[at]) {
@@ -336,6 +345,7 @@ Cage build_quad_dominant_cage(const PolygonMesh& input, const PolygonalLevel& le
               BorderChain& acc = chain[{edge_key(start, at), pair}];
               acc.sharp += sharp;
               acc.total += total;
+              acc.host += host;
               acc.vertices.insert(acc.vertices.end(), vertices.begin(), vertices.end());
             }
             break;
@@ -398,6 +408,8 @@ Cage build_quad_dominant_cage(const PolygonMesh& input, const PolygonalLevel& le
     const uint32_t iu = r.input_vertex_of[u], iw = r.input_vertex_of[w];
     const auto it = chain.find({edge_key(iu, iw), edge_key(ca, cb)});
     if (it == chain.end() || !(it->second.total > 0.0)) return false;  // not a border chord
+    // Along the host's sharp edges: a crease whatever the angles (the host says it is sharp).
+    if (it->second.host >= options.sharp_share * it->second.total) return true;
     // The two clusters must also meet at an angle (half the feature angle): a border that runs
     // beside a feature line over flat or smooth surface is not a crease.
     if (!(dot(level.faces[ca].normal, level.faces[cb].normal) < cos_half_feature)) return false;

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <new>
 #include <string>
+#include <unordered_set>
 
 #include "core/mesh_validation.h"
 #include "core/status.h"
@@ -394,7 +395,11 @@ class Builder {
   // version/alive for the staleness test of every popped candidate).
   static constexpr uint32_t kDeadVersion = 0xffffffffu;
   std::vector<uint32_t> ver_;
+  // Borders no merge crosses: options_.locked_edges, then the chords that replace two of them.
+  std::unordered_set<uint64_t> locked_;
 
+  bool locked(uint32_t a, uint32_t b) const { return !locked_.empty() && locked_.count(edge_key(a, b)) != 0; }
+  bool shares_locked_edge(uint32_t f, uint32_t g) const;
   PlaneFrame frame_of(const Vec3& centroid_input, const Vec3& normal) const {
     return PlaneFrame::from_normal(impl_.normalised(centroid_input), normal);
   }
@@ -430,6 +435,7 @@ class Builder {
   void choose_normalisation(std::vector<uint32_t>& corners);
   void normalise_positions();
   void allocate_work_state(const std::vector<uint32_t>& corners);
+  void lock_edges();
   void init_work_faces();
   void record_input_level();
   void remove_interior_valence2_vertices();
@@ -556,6 +562,7 @@ bool Builder::evaluate_merge(uint32_t f, uint32_t g, double& e) const {
     for (size_t i = 0; i < m; ++i) {
       const uint32_t p = loop[(i + m - 1) % m], a = loop[i], b = loop[(i + 1) % m], c = loop[(i + 2) % m];
       if (fs_.face_of_halfedge(b, a) != g) continue;
+      if (locked(a, b)) return false;
       ++shared;
       if (fs_.face_of_halfedge(a, p) != g) {
         const StarEntry* h = fs_.star_entry(a, g);
@@ -657,8 +664,12 @@ void Builder::push_candidates(uint32_t f) {
       if (g == kNoFace) continue;
       Neighbour& x = nbs_[twin_slot_[base + i]];
       if (!x.ok) continue;
-      ++x.shared;
       const uint32_t a = loop[i], b = loop[(i + 1) % m];
+      if (locked(a, b)) {
+        x.ok = false;  // no candidate: the border between f and g is locked
+        continue;
+      }
+      ++x.shared;
       if (twin_[base + (i + m - 1) % m] != g) {
         const StarEntry* h = fs_.star_entry(a, g);
         const double d = inner_angle(pos_[loop[(i + m - 1) % m]], pos_[a], pos_[h->next], x.n) - kPi / 2;
@@ -720,7 +731,12 @@ bool Builder::try_remove_interior(uint32_t v) {
   if (e1.prev != e0.next || e1.next != e0.prev) return false;  // not an interior valence-2 vertex
   const uint32_t u = e0.prev, w = e0.next;
   if (fs_.edge_exists(u, w)) return false;
+  // Where a locked line meets an unlocked border the vertex stays (the line's end); inside a
+  // locked line the chord that replaces two of its edges is locked in turn.
+  const bool locked_line = locked(u, v);
+  if (locked_line != locked(v, w)) return false;
   if (!removal_valid(e0.face, v) || !removal_valid(e1.face, v)) return false;
+  if (locked_line) locked_.insert(edge_key(u, w));
   update_cdt_for_removal(e0.face, v);
   update_cdt_for_removal(e1.face, v);
   fs_.remove_loop_vertex(e0.face, v);
@@ -814,7 +830,17 @@ bool Builder::closes_pillow(const std::vector<std::vector<uint32_t>>& loops) con
   return other != kNoFace && fs_.faces[other].num_loop_vertices() == count;
 }
 
+bool Builder::shares_locked_edge(uint32_t f, uint32_t g) const {
+  for (const auto& loop : fs_.faces[f].loops) {
+    const size_t m = loop.size();
+    for (size_t i = 0; i < m; ++i)
+      if (fs_.face_of_halfedge(loop[(i + 1) % m], loop[i]) == g && locked(loop[i], loop[(i + 1) % m])) return true;
+  }
+  return false;
+}
+
 bool Builder::try_merge(uint32_t f, uint32_t g, double e) {
+  if (!locked_.empty() && shares_locked_edge(f, g)) return false;
   std::vector<std::vector<uint32_t>>& loops = merge_loops_;  // reused buffers
   uint64_t shared = 0;
   if (!fs_.splice(f, g, loops, shared)) return false;
@@ -1015,6 +1041,21 @@ void Builder::record_input_level() {
 }
 
 // Interior valence-2 vertices of a polygonal input are removed right away (one step).
+void Builder::lock_edges() {
+  if (options_.locked_edges.empty()) return;
+  std::unordered_set<uint64_t> input_edges;
+  for (size_t f = 0; f < mesh_.num_faces(); ++f) {
+    const uint32_t n = mesh_.face_size(f);
+    for (uint32_t k = 0; k < n; ++k) input_edges.insert(edge_key(mesh_.face_vertex(f, k), mesh_.face_vertex(f, (k + 1) % n)));
+  }
+  for (const uint64_t key : options_.locked_edges) {
+    if (!input_edges.count(key))
+      fail(Status::invalid_argument, "simplify: locked edge (" + std::to_string(edge_key_first(key)) + ", " +
+                                         std::to_string(edge_key_second(key)) + ") is not an edge of the mesh");
+    locked_.insert(key);
+  }
+}
+
 void Builder::remove_interior_valence2_vertices() {
   const size_t nf = mesh_.num_faces();
   for (uint32_t f = 0; f < nf; ++f) mark_dirty(f);
@@ -1078,6 +1119,7 @@ void Builder::run() {
   if (mesh_.num_faces() >= 0x7fffffffu || mesh_.num_vertices() >= 0x7fffffffu)
     fail(Status::invalid_argument, "simplify: mesh too large");
   allocate_work_state(corners);
+  lock_edges();
   init_work_faces();
   record_input_level();
   remove_interior_valence2_vertices();

@@ -24,6 +24,11 @@ struct SimplifyOptions {
   // scratch and throw Error(internal_error) unless the committed one has the minimum priority.
   // O(n) validity checks per operation: small meshes only.
   bool verify_greedy_order = false;
+  // Input edges (edge_key()s of mesh edges, e.g. the host's sharp edges) that stay borders of
+  // every level: no merge crosses one. A border made of them is still straightened (a vertex
+  // between two of them may go, its chord then stays a border); a vertex where such a line meets
+  // an unlocked border stays. An edge that is not an input edge: Error(invalid_argument).
+  std::vector<uint64_t> locked_edges;
 };
 
 // One face of a level: an outer loop and holes, as INPUT vertex indices (loops[0] outer,
