@@ -121,7 +121,7 @@ void write_fit_report(cagekit_fit_report* report, const PassArray& passes, const
   X(A, crease_rule, CAGEKIT_CREASES_SHARP_INPUT, kCreaseRules, bo.crease_rule)                        \
   X(A, feature_angle_degrees, 40.0, closed_range(0.0, 180.0), bo.features.angle_degrees)                \
   X(A, sharp_edges, NULL, ByHand{}, bo.features.host_edges)                                           \
-  X(A, sharp_edge_count, 0, ByHand{}, bo.features.host_edges)
+  X(A, sharp_edge_count, 0, (SharpEdgePairs{o.sharp_edges}), bo.features.host_edges)
 
 constexpr EnumRule<cagekit::CreaseRule, 2> kCreaseRules{
     "cagekit_crease_rule",
@@ -129,9 +129,7 @@ constexpr EnumRule<cagekit::CreaseRule, 2> kCreaseRules{
      {CAGEKIT_CREASES_CLUSTER_ANGLE, "CAGEKIT_CREASES_CLUSTER_ANGLE", cagekit::CreaseRule::cluster_angle}}};
 
 CAGEKIT_OPTIONS_FROM_C(cage_options_from_c, cagekit_cage_options, CAGEKIT_CAGE_OPTIONS_INIT, CAGEKIT_CAGE_OPTION_TABLE,
-                       cagekit::CageBuildOptions, bo,
-                       bo.features.host_edges = sharp_edges_from_c(o.sharp_edges, o.sharp_edge_count,
-                                                                   "cagekit_cage_options.");)
+                       cagekit::CageBuildOptions, bo, {})
 
 // cagekit_anisotropic_options: field, default (CAGEKIT_ANISOTROPIC_OPTIONS_INIT), rule, C++
 // destination in `ao`.
@@ -142,12 +140,10 @@ CAGEKIT_OPTIONS_FROM_C(cage_options_from_c, cagekit_cage_options, CAGEKIT_CAGE_O
   X(A, threads, 0, kThreads, ao.threads)                                                     \
   X(A, curvature_radius, 0.01, closed_range(0.0, 1.0), ao.disk_radius_bbox)                          \
   X(A, sharp_edges, NULL, ByHand{}, ao.sharp_edges)                                                   \
-  X(A, sharp_edge_count, 0, ByHand{}, ao.sharp_edges)
+  X(A, sharp_edge_count, 0, (SharpEdgePairs{o.sharp_edges}), ao.sharp_edges)
 
 CAGEKIT_OPTIONS_FROM_C(anisotropic_options_from_c, cagekit_anisotropic_options, CAGEKIT_ANISOTROPIC_OPTIONS_INIT,
-                       CAGEKIT_ANISOTROPIC_OPTION_TABLE, cagekit::AnisotropicRemeshOptions, ao,
-                       ao.sharp_edges = sharp_edges_from_c(o.sharp_edges, o.sharp_edge_count,
-                                                           "cagekit_anisotropic_options.");)
+                       CAGEKIT_ANISOTROPIC_OPTION_TABLE, cagekit::AnisotropicRemeshOptions, ao, {})
 
 // cagekit_quad_remesh_options: field, default (CAGEKIT_QUAD_REMESH_OPTIONS_INIT), rule, C++
 // destination in `qo`; the seed and pinned-region arrays are checked after the table.
@@ -167,12 +163,10 @@ CAGEKIT_OPTIONS_FROM_C(anisotropic_options_from_c, cagekit_anisotropic_options, 
   X(A, pinned_region_offsets, NULL, ByHand{}, qo.pinned_regions)                                      \
   X(A, pinned_faces, NULL, ByHand{}, qo.pinned_regions)                                              \
   X(A, sharp_edges, NULL, ByHand{}, qo.sharp_edges)                                                   \
-  X(A, sharp_edge_count, 0, ByHand{}, qo.sharp_edges)
+  X(A, sharp_edge_count, 0, (SharpEdgePairs{o.sharp_edges}), qo.sharp_edges)
 
 CAGEKIT_OPTIONS_FROM_C(quad_options_by_table, cagekit_quad_remesh_options, CAGEKIT_QUAD_REMESH_OPTIONS_INIT,
-                       CAGEKIT_QUAD_REMESH_OPTION_TABLE, cagekit::QuadRemeshOptions, qo,
-                       qo.sharp_edges = sharp_edges_from_c(o.sharp_edges, o.sharp_edge_count,
-                                                           "cagekit_quad_remesh_options.");)
+                       CAGEKIT_QUAD_REMESH_OPTION_TABLE, cagekit::QuadRemeshOptions, qo, {})
 
 cagekit::QuadRemeshOptions quad_options_from_c(const cagekit_quad_remesh_options* options, uint64_t input_faces) {
   cagekit::QuadRemeshOptions qo = quad_options_by_table(options);
@@ -280,12 +274,10 @@ CAGEKIT_OPTIONS_FROM_C(limit_patch_options_from_c, cagekit_limit_patch_options, 
 #define CAGEKIT_SIMPLIFY_OPTION_TABLE(X, A)                                                           \
   X(A, tie_break_epsilon, 0.01, at_least(0.0), so.tie_break_epsilon)                                  \
   X(A, sharp_edges, NULL, ByHand{}, so.locked_edges)                                                  \
-  X(A, sharp_edge_count, 0, ByHand{}, so.locked_edges)
+  X(A, sharp_edge_count, 0, (SharpEdgePairs{o.sharp_edges}), so.locked_edges)
 
 CAGEKIT_OPTIONS_FROM_C(simplify_options_from_c, cagekit_simplify_options, CAGEKIT_SIMPLIFY_OPTIONS_INIT,
-                       CAGEKIT_SIMPLIFY_OPTION_TABLE, cagekit::SimplifyOptions, so,
-                       so.locked_edges = sharp_edges_from_c(o.sharp_edges, o.sharp_edge_count,
-                                                            "cagekit_simplify_options.");)
+                       CAGEKIT_SIMPLIFY_OPTION_TABLE, cagekit::SimplifyOptions, so, {})
 
 // cagekit_bind_options (CAGEKIT_BIND_OPTIONS_INIT) -> `bo`; a negative sharp angle is "off" (-1).
 #define CAGEKIT_BIND_OPTION_TABLE(X, A)                                                               \
@@ -329,7 +321,7 @@ CAGEKIT_OPTIONS_FROM_C(gl_deformer_options_from_c, cagekit_gl_deformer_options, 
   X(A, finer_simplify_attempts, 2, (UintIn{0, 8}), s.finer_simplify_attempts)                              \
   X(A, two_sided_refit_factor, 3.0, closed_range(0.0, 100.0), s.two_sided_refit_factor)                \
   X(A, sharp_edges, NULL, ByHand{}, s.sharp_edges)                                                         \
-  X(A, sharp_edge_count, 0, ByHand{}, s.sharp_edges)
+  X(A, sharp_edge_count, 0, (SharpEdgePairs{o.sharp_edges}), s.sharp_edges)
 
 constexpr EnumRule<cagekit::ScanMethod, 3> kScanMethods{
     "cagekit_scan_method",
@@ -361,7 +353,6 @@ cagekit::ScanToCageOptions scan_to_cage_options_from_c(const cagekit_scan_to_cag
     fail(Status::invalid_argument, "cagekit_scan_to_cage_options: give the sharp edges in its own sharp_edges (the "
                                    "scan's vertex pairs, found again after the conditioning), not in the nested "
                                    "cage, quad or anisotropic options");
-  s.sharp_edges = sharp_edges_from_c(o.sharp_edges, o.sharp_edge_count, "cagekit_scan_to_cage_options.");
   return s;
 }
 

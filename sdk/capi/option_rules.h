@@ -149,6 +149,15 @@ inline std::vector<uint64_t> sharp_edges_from_c(const uint32_t* pairs, uint32_t 
   return keys;
 }
 
+// The row of sharp_edge_count: the rule holds the struct's sharp_edges pointer (SharpEdgePairs{o.sharp_edges}).
+struct SharpEdgePairs {
+  const uint32_t* pairs;
+};
+inline void apply(const SharpEdgePairs& rule, uint32_t count, const char* name, std::vector<uint64_t>& dest) {
+  const std::string field(name);
+  dest = sharp_edges_from_c(rule.pairs, count, field.substr(0, field.rfind('.') + 1));
+}
+
 // Expansions of a table row X(A, field, default, rule, destination); A is the table's argument.
 // The header's *_INIT macro must give each field the table's default (A: the INIT value)...
 #define CAGEKIT_ASSERT_DEFAULT(init, field, default_value, rule, destination) \

@@ -99,8 +99,8 @@ cagekit_scan_to_cage_report report_to_c(const cagekit::ScanToCageResult& r, uint
   c.fit_fairing_used = r.fit_fairing_used;
   c.two_sided_refit = r.two_sided_refit ? 1 : 0;
   c.one_sided_fit_max_rel = r.one_sided_fit_max_rel;
-  c.sharp_edges = r.sharp_edges;
-  c.sharp_edges_dropped = r.sharp_edges_dropped;
+  c.sharp_edges = r.host_sharp_edges.found;
+  c.sharp_edges_dropped = r.host_sharp_edges.dropped;
   return c;
 }
 

@@ -520,14 +520,14 @@ ScanToCageOptions with_sharp_edges(const ScanToCageOptions& options, const Polyg
     const auto ia = vertex_at.find(scan.positions[a]), ib = vertex_at.find(scan.positions[b]);
     if (ia == vertex_at.end() || ib == vertex_at.end() || ia->second == ib->second ||
         !edges.count(edge_key(ia->second, ib->second))) {
-      ++r.sharp_edges_dropped;
+      ++r.host_sharp_edges.dropped;
       continue;
     }
     mapped.push_back(edge_key(ia->second, ib->second));
   }
   std::sort(mapped.begin(), mapped.end());
   mapped.erase(std::unique(mapped.begin(), mapped.end()), mapped.end());
-  r.sharp_edges = mapped.size();
+  r.host_sharp_edges.found = mapped.size();
   o.simplify.locked_edges = mapped;
   o.cage.features.host_edges = mapped;
   o.quad.sharp_edges = mapped;
@@ -585,8 +585,7 @@ ScanToCageResult scan_to_cage(const PolygonMesh& scan, const ScanToCageOptions& 
     fresh.fallback = true;
     fresh.fallback_reason = r.fallback_reason;
     fresh.input_boundary_loops = r.input_boundary_loops;
-    fresh.sharp_edges = r.sharp_edges;
-    fresh.sharp_edges_dropped = r.sharp_edges_dropped;
+    fresh.host_sharp_edges = r.host_sharp_edges;
     fresh.sharp_features = r.sharp_features;
     r = std::move(fresh);
     ScanToCageOptions simplify = options;

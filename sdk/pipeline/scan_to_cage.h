@@ -92,7 +92,9 @@ struct ScanToCageResult {
   ScanMethod requested = ScanMethod::simplify, used = ScanMethod::simplify;
   bool input_is_cage = false;      // the conditioned input was its own cage (tiny input)
   bool fallback = false;           // the requested method's result was replaced by simplify
-  uint64_t sharp_edges = 0, sharp_edges_dropped = 0;  // the host's, found / not found after conditioning
+  struct HostSharpEdges {
+    uint64_t found = 0, dropped = 0;  // the options' sharp edges found / not found after conditioning
+  } host_sharp_edges;
   std::string fallback_reason;     // why ("" when no fallback)
   // simplify
   size_t level = 0, level_count = 0;
