@@ -28,9 +28,21 @@
  *   means "all defaults".
  *
  * - Buffers. Inputs are copied: the library never keeps a caller pointer after a call returns.
- *   Outputs use the two-call idiom (as OpenXR): call with capacity 0 (the buffer may be NULL) to
- *   get the required count, allocate, call again. A capacity that is too small yields
- *   CAGEKIT_ERROR_SIZE_INSUFFICIENT with the required count still written.
+ *   Every array output has one shape, OpenXR's two-call idiom: the parameters
+ *   `uint32_t <x>_capacity` (uint64_t where counts can exceed 2^32), `uint32_t* <x>_count_out`
+ *   and the array or arrays the count sizes (`T* <x>s`, or named for what they hold). Capacities
+ *   and counts are in elements (vertices, creases, ...): an array of xyz triples holds
+ *   3 * capacity scalars. Call with capacity 0 to get the count, allocate, call again. The rules:
+ *   - <x>_count_out must not be NULL (INVALID_ARGUMENT naming it); it receives the required
+ *     count on success and on SIZE_INSUFFICIENT.
+ *   - <x>_capacity 0: only the count is written; the array may be NULL and is not touched.
+ *   - A nonzero capacity below the required count: CAGEKIT_ERROR_SIZE_INSUFFICIENT (the message
+ *     names the array and both numbers); the array's contents are then unspecified.
+ *   - A nonzero capacity with a NULL array: INVALID_ARGUMENT.
+ *   - Several arrays sized by one count (positions and normals, ...) share one capacity/count
+ *     pair; each of them may be NULL to skip it.
+ *   Functions say "Two-call (Buffers)" and what is counted. An array whose length the caller
+ *   gives as an input (cagekit_surface_evaluate's points, one per location) is not two-call.
  *
  * - Enumerations have a *_MAX_ENUM member (as Vulkan's) so that they are 32-bit and any int a
  *   caller passes is a defined value; out-of-range values are rejected with INVALID_ARGUMENT.
@@ -268,15 +280,14 @@ CAGEKIT_API cagekit_status cagekit_mesh_get_counts(cagekit_mesh mesh, uint32_t* 
                                                    uint64_t* face_index_count);
 
 /* Copies the positions as `type` xyz triples (3 * vertex_count scalars) into `positions`.
- * Two-call idiom over vertices: capacity is in vertices, *vertex_count_out receives
- * vertex_count. Reads. */
+ * Two-call (Buffers) over vertices. Reads. */
 CAGEKIT_API cagekit_status cagekit_mesh_get_positions(cagekit_mesh mesh, cagekit_scalar_type type,
                                                       uint32_t vertex_capacity, uint32_t* vertex_count_out,
                                                       void* positions);
 
 /* Copies the faces: face_sizes (face_count entries) and face_indices (sum of sizes entries).
- * Two-call idiom on both arrays; either array may be NULL with capacity 0 to query sizes only.
- * Reads. */
+ * Two-call (Buffers) on each array, over faces and over indices; both counts are written before
+ * either capacity is checked. Reads. */
 CAGEKIT_API cagekit_status cagekit_mesh_get_faces(cagekit_mesh mesh, uint32_t face_capacity, uint32_t* face_count_out,
                                                   uint32_t* face_sizes, uint64_t index_capacity,
                                                   uint64_t* index_count_out, uint32_t* face_indices);
@@ -461,23 +472,25 @@ CAGEKIT_API cagekit_status cagekit_cage_get_mesh(cagekit_cage cage, cagekit_mesh
  * then unchanged. Modifies. */
 CAGEKIT_API cagekit_status cagekit_cage_set_creases(cagekit_cage cage, uint32_t count, const uint32_t* vertex_pairs,
                                                     const float* sharpness);
-/* Reads the crease tags (two-call idiom over creases; vertex_pairs holds 2 * capacity entries;
- * either output array may be NULL). Reads. */
-CAGEKIT_API cagekit_status cagekit_cage_get_creases(cagekit_cage cage, uint32_t capacity, uint32_t* count_out,
-                                                    uint32_t* vertex_pairs, float* sharpness);
+/* Reads the crease tags. Two-call (Buffers) over creases, shared by vertex_pairs (2 per crease)
+ * and sharpness. Reads. */
+CAGEKIT_API cagekit_status cagekit_cage_get_creases(cagekit_cage cage, uint32_t crease_capacity,
+                                                    uint32_t* crease_count_out, uint32_t* vertex_pairs,
+                                                    float* sharpness);
 
 /* Replaces the corner tags (vertex indices with sharpness; sharpness NULL = CAGEKIT_SHARP).
  * Modifies. */
 CAGEKIT_API cagekit_status cagekit_cage_set_corners(cagekit_cage cage, uint32_t count, const uint32_t* vertices,
                                                     const float* sharpness);
-/* Reads the corner tags (two-call idiom). Reads. */
-CAGEKIT_API cagekit_status cagekit_cage_get_corners(cagekit_cage cage, uint32_t capacity, uint32_t* count_out,
-                                                    uint32_t* vertices, float* sharpness);
+/* Reads the corner tags. Two-call (Buffers) over corners, shared by vertices and sharpness.
+ * Reads. */
+CAGEKIT_API cagekit_status cagekit_cage_get_corners(cagekit_cage cage, uint32_t corner_capacity,
+                                                    uint32_t* corner_count_out, uint32_t* vertices, float* sharpness);
 
 /* Replaces the set of hole faces (faces that are not part of the limit surface). Modifies. */
 CAGEKIT_API cagekit_status cagekit_cage_set_holes(cagekit_cage cage, uint32_t count, const uint32_t* faces);
-/* Reads the hole faces (two-call idiom). Reads. */
-CAGEKIT_API cagekit_status cagekit_cage_get_holes(cagekit_cage cage, uint32_t capacity, uint32_t* count_out,
+/* Reads the hole faces. Two-call (Buffers) over holes. Reads. */
+CAGEKIT_API cagekit_status cagekit_cage_get_holes(cagekit_cage cage, uint32_t hole_capacity, uint32_t* hole_count_out,
                                                   uint32_t* faces);
 
 /* Sets / gets the boundary interpolation rule. set: modifies; get: reads. */
@@ -508,8 +521,8 @@ typedef struct cagekit_subdivide_options {
 CAGEKIT_API cagekit_status cagekit_cage_subdivide(cagekit_cage cage, const cagekit_subdivide_options* options,
                                                   cagekit_cage* out);
 
-/* Limit-surface positions and unit normals of the cage's control vertices (xyz per vertex;
- * either output may be NULL). Two-call idiom over vertices. Reads. */
+/* Limit-surface positions and unit normals of the cage's control vertices (xyz per vertex).
+ * Two-call (Buffers) over vertices, shared by positions and normals. Reads. */
 CAGEKIT_API cagekit_status cagekit_cage_get_limit_points(cagekit_cage cage, uint32_t vertex_capacity,
                                                          uint32_t* vertex_count_out, double* positions,
                                                          double* normals);
@@ -565,11 +578,10 @@ CAGEKIT_API cagekit_status cagekit_surface_evaluate(cagekit_surface surface, con
 
 /* The basis functions phi_j (thesis (2.24)) that are non-zero at `location`, and their
  * derivatives: position = sum_k w[k] * control[indices[k]], du = sum_k wu[k] * control[...], etc.
- * Two-call idiom over the number of control vertices involved; every output array may be NULL.
- * Reads. */
+ * Two-call (Buffers) over the control vertices involved, shared by the seven arrays. Reads. */
 CAGEKIT_API cagekit_status cagekit_surface_evaluate_basis(cagekit_surface surface,
                                                           const cagekit_surface_location* location,
-                                                          uint32_t capacity, uint32_t* count_out,
+                                                          uint32_t basis_capacity, uint32_t* basis_count_out,
                                                           uint32_t* indices, double* w, double* wu, double* wv,
                                                           double* wuu, double* wuv, double* wvv);
 
@@ -654,8 +666,8 @@ CAGEKIT_API cagekit_status cagekit_hierarchy_get_current_info(cagekit_hierarchy 
 
 /* The current level's faces: for face f, loops_per_face[f] loops (the first is the outer loop,
  * counter-clockwise seen from outside; the others are holes); for each loop in order,
- * loop_sizes[l] INPUT vertex indices in loop_vertices. Two-call idiom on the three arrays
- * (each may be NULL with capacity 0). Reads. */
+ * loop_sizes[l] INPUT vertex indices in loop_vertices. Two-call (Buffers) on each array, over
+ * faces, loops and indices; every count is written before any capacity is checked. Reads. */
 CAGEKIT_API cagekit_status cagekit_hierarchy_get_faces(cagekit_hierarchy hierarchy, uint32_t face_capacity,
                                                        uint32_t* face_count_out, uint32_t* loops_per_face,
                                                        uint32_t loop_capacity, uint32_t* loop_count_out,
@@ -663,9 +675,10 @@ CAGEKIT_API cagekit_status cagekit_hierarchy_get_faces(cagekit_hierarchy hierarc
                                                        uint64_t* index_count_out, uint32_t* loop_vertices);
 
 /* The cluster map of the current level: for each input face, the index of the level face that
- * contains it. Two-call idiom over input faces. Reads. */
-CAGEKIT_API cagekit_status cagekit_hierarchy_get_clusters(cagekit_hierarchy hierarchy, uint32_t capacity,
-                                                          uint32_t* count_out, uint32_t* cluster_of_input_face);
+ * contains it. Two-call (Buffers) over input faces. Reads. */
+CAGEKIT_API cagekit_status cagekit_hierarchy_get_clusters(cagekit_hierarchy hierarchy, uint32_t input_face_capacity,
+                                                          uint32_t* input_face_count_out,
+                                                          uint32_t* cluster_of_input_face);
 
 /* The current level as a polygon mesh over the input vertices it uses (renumbered densely):
  * faces without holes as they are, faces with holes split into their constrained Delaunay
@@ -1006,12 +1019,7 @@ typedef struct cagekit_fit_two_sided {
 typedef struct cagekit_fit_report {
   size_t struct_size;           /* sizeof(cagekit_fit_report) */
   uint32_t pass_count;          /* OUT: states measured, including the initial cage (entry 0): 1 + the
-                                   control-vertex steps kept */
-  uint32_t pass_capacity;       /* IN: entries of `passes` */
-  cagekit_fit_pass* passes;     /* IN: caller array of pass_capacity entries, or NULL. OUT: entries
-                                   0 .. min(pass_count, pass_capacity) - 1 are written; a capacity that
-                                   is too small is NOT an error (the fit is not repeated: pass
-                                   max_passes + 1 entries to get them all). Kept by the call. */
+                                   control-vertex steps kept (the count of cagekit_cage_fit's passes) */
   cagekit_bool32 stopped_by_tolerance; /* OUT: 1 when (7.2) ended the fit before max_passes */
   cagekit_bool32 rejected_last_step; /* OUT: 1 when the last step would have increased L2 and was undone */
   cagekit_bool32 fairing_used;  /* OUT: 1 when the fairing term was active */
@@ -1045,20 +1053,29 @@ typedef struct cagekit_fit_report {
  * Every scan vertex is a sample (faces are used to find the scan boundary and for the surface ->
  * scan distances), so the scan
  * need not be a valid mesh, but its face indices must be in range and its positions finite.
- * options may be NULL (defaults); report may be NULL. The caller keeps ownership of
- * report->passes; the library writes it only during the call.
+ * options may be NULL (defaults); report may be NULL.
  *
- * Errors: INVALID_HANDLE (cage or scan), INVALID_ARGUMENT (out NULL, a bad struct_size, an
- * option out of range or NaN, naming the field; a scan with no vertices, a face index out of
- * range or a non-finite position), INVALID_MESH (a cage whose limit surface cannot be built),
- * CANCELLED (stage "fit"; progress is reported at least once per pass), OUT_OF_MEMORY.
- * On error *out is NULL and *report is unspecified.
+ * `passes` receives the figures of every state measured (entry 0 the initial cage, then one per
+ * control-vertex step kept; entry report->best_pass is the state returned). Two-call (Buffers)
+ * over states, except that the fit is not repeated for a second call: max_passes + 1 entries
+ * always suffice, and a nonzero pass_capacity below max_passes + 1 fails with SIZE_INSUFFICIENT
+ * (*pass_count_out = max_passes + 1) before any work, so a short array never costs a fit. On
+ * success *pass_count_out is the number of states measured (report->pass_count); with
+ * pass_capacity 0 the fit runs and only that count is written.
+ *
+ * Errors: INVALID_HANDLE (cage or scan), INVALID_ARGUMENT (out or pass_count_out NULL, passes
+ * NULL with a nonzero pass_capacity, a bad struct_size, an option out of range or NaN, naming the
+ * field; a scan with no vertices, a face index out of range or a non-finite position),
+ * SIZE_INSUFFICIENT (pass_capacity, before any work), INVALID_MESH (a cage whose limit surface
+ * cannot be built), CANCELLED (stage "fit"; progress is reported at least once per pass),
+ * OUT_OF_MEMORY. On error *out is NULL and *report and `passes` are unspecified.
  *
  * Long operation (progress, cancel), using up to options->threads worker threads internally;
  * callbacks still run on the calling thread. Reads `cage` and `scan`: both may be used by
  * other threads' read-only calls meanwhile, not modified. */
 CAGEKIT_API cagekit_status cagekit_cage_fit(cagekit_cage cage, cagekit_mesh scan, const cagekit_fit_options* options,
-                                            cagekit_cage* out, cagekit_fit_report* report);
+                                            cagekit_cage* out, cagekit_fit_report* report, uint32_t pass_capacity,
+                                            uint32_t* pass_count_out, cagekit_fit_pass* passes);
 
 /* ------------------------------------------------------------------------------------------ */
 /* Scan to cage: the whole journey in one call                                                 */
@@ -1212,25 +1229,30 @@ typedef struct cagekit_scan_to_cage_report {
  * two-sided refit of the good result, kept only when closer to the scan (two_sided_refit_factor). Status
  * SUCCESS means a good result: *cage_out is the fitted cage with crease tags, *limit_out (may be
  * NULL) the fitted cage refined limit_levels times onto its limit, and *report (may be NULL)
- * holds every figure. `fit_report` (may be NULL) receives the fit's report exactly as
- * cagekit_cage_fit writes it (its pass array is the caller's, as there). Hosts keep the
- * individual steps (cagekit_mesh_repair, cagekit_hierarchy_*, cagekit_mesh_remesh_*,
- * cagekit_cage_fit) for finer control.
+ * holds every figure. The returned cage's fit is reported as cagekit_cage_fit reports it:
+ * `fit_report` (may be NULL) and its states in `fit_passes` (fit_pass_capacity,
+ * fit_pass_count_out: two-call (Buffers) as cagekit_cage_fit's passes, with max_passes the
+ * options->fit one: max_passes + 1 entries always suffice, and a shorter nonzero capacity fails
+ * with SIZE_INSUFFICIENT before any work). Hosts keep the individual steps (cagekit_mesh_repair,
+ * cagekit_hierarchy_*, cagekit_mesh_remesh_*, cagekit_cage_fit) for finer control.
  *
- * Errors: INVALID_HANDLE, INVALID_ARGUMENT (NULL cage_out, bad struct_size, an option out of range,
- * naming it), INVALID_MESH (out-of-range indices or non-finite positions, naming the first; an
- * invalid scan with repair 0; no faces, or nothing left after conditioning), QUALITY (no good result:
- * the message names the method and the figure, e.g. "the limit surface strays 7.2 % of the
- * diagonal from the scan"), CANCELLED, OUT_OF_MEMORY (also the context's memory budget). On error
- * the outputs are NULL and *report is unspecified.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (NULL cage_out or fit_pass_count_out, fit_passes NULL with
+ * a nonzero fit_pass_capacity, bad struct_size, an option out of range, naming it),
+ * SIZE_INSUFFICIENT (fit_pass_capacity, before any work), INVALID_MESH (out-of-range indices or
+ * non-finite positions, naming the first; an invalid scan with repair 0; no faces, or nothing left
+ * after conditioning), QUALITY (no good result: the message names the method and the figure, e.g.
+ * "the limit surface strays 7.2 % of the diagonal from the scan"), CANCELLED, OUT_OF_MEMORY (also
+ * the context's memory budget). On error the outputs are NULL and *report, *fit_report and
+ * `fit_passes` are unspecified.
  *
  * Long operation (progress: the stages of each phase, "conditioning", the method's, "fit",
  * "error"; cancel), using the threads its options give. Reads `scan`; thread-safe for distinct
  * outputs. */
 CAGEKIT_API cagekit_status cagekit_scan_to_cage(cagekit_mesh scan, const cagekit_scan_to_cage_options* options,
                                                 cagekit_cage* cage_out, cagekit_cage* limit_out,
-                                                cagekit_scan_to_cage_report* report,
-                                                cagekit_fit_report* fit_report);
+                                                cagekit_scan_to_cage_report* report, cagekit_fit_report* fit_report,
+                                                uint32_t fit_pass_capacity, uint32_t* fit_pass_count_out,
+                                                cagekit_fit_pass* fit_passes);
 
 /* ------------------------------------------------------------------------------------------ */
 /* Multiresolution editing (thesis ch. 8): bind a scan to a cage, deform it on the CPU          */
@@ -1325,28 +1347,30 @@ CAGEKIT_API cagekit_status cagekit_binding_read_memory(cagekit_context context, 
 /* With a sector split: bound vertex i copies scan vertex sources[i] (the first
  * info.scan_vertex_count are the scan's own, in order; copies follow), and the scan's faces
  * over the bound vertices (same faces, same order; draw these, and give a mesh made of them to
- * cagekit_gl_deformer_create). Without a split, sources[i] = i and *face_count = 0 (the scan's
- * own faces apply). Two-call sizing: with capacity 0 (arrays may be NULL) only the counts are
- * written; with a smaller nonzero capacity SIZE_INSUFFICIENT. Thread-safe.
- * Errors: INVALID_HANDLE, INVALID_ARGUMENT (a count pointer NULL), SIZE_INSUFFICIENT. */
-CAGEKIT_API cagekit_status cagekit_binding_get_vertex_sources(cagekit_binding binding, uint32_t capacity,
-                                                              uint32_t* count, uint32_t* sources);
+ * cagekit_gl_deformer_create). Without a split, sources[i] = i and *face_count_out = 0 (the
+ * scan's own faces apply). Two-call (Buffers): sources over bound vertices; the faces as
+ * cagekit_mesh_get_faces's. Thread-safe.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (a count pointer NULL, an array NULL with a nonzero
+ * capacity), SIZE_INSUFFICIENT. */
+CAGEKIT_API cagekit_status cagekit_binding_get_vertex_sources(cagekit_binding binding, uint32_t vertex_capacity,
+                                                              uint32_t* vertex_count_out, uint32_t* sources);
 CAGEKIT_API cagekit_status cagekit_binding_get_faces(cagekit_binding binding, uint32_t face_capacity,
-                                                     uint32_t* face_count, uint32_t* face_sizes,
-                                                     uint64_t index_capacity, uint64_t* index_count,
+                                                     uint32_t* face_count_out, uint32_t* face_sizes,
+                                                     uint64_t index_capacity, uint64_t* index_count_out,
                                                      uint32_t* face_indices);
 /* A renumbering of the scan's vertices in the order the CPU deformer writes them (cells in table
  * order, then the irregular vertices; with a sector split a copy counts for its scan vertex):
- * order[k] is the scan vertex that becomes vertex k, each scan vertex once (count = the scan's
- * vertex count). The deformer writes positions and normals into the caller's arrays in the scan's
- * vertex order; where that order does not follow the cells, the stores are scattered and cost
- * most of a full frame. A host that may renumber its scan (e.g. on import) applies this order
+ * order[k] is the scan vertex that becomes vertex k, each scan vertex once (the count is the
+ * scan's vertex count). The deformer writes positions and normals into the caller's arrays in
+ * the scan's vertex order; where that order does not follow the cells, the stores are scattered
+ * and cost most of a full frame. A host that may renumber its scan (e.g. on import) applies this order
  * once (new index of order[k] = k, faces remapped) and binds again: the writes become sequential
  * streaming stores, which makes full frames faster.
- * Optional; the deformer gives the same positions either way. Two-call sizing as above.
- * Thread-safe. Errors: INVALID_HANDLE, INVALID_ARGUMENT (count NULL), SIZE_INSUFFICIENT. */
-CAGEKIT_API cagekit_status cagekit_binding_get_deformer_vertex_order(cagekit_binding binding, uint32_t capacity,
-                                                                     uint32_t* count, uint32_t* order);
+ * Optional; the deformer gives the same positions either way. Two-call (Buffers) over scan
+ * vertices. Thread-safe. Errors: INVALID_HANDLE, INVALID_ARGUMENT (vertex_count_out NULL, order
+ * NULL with a nonzero capacity), SIZE_INSUFFICIENT. */
+CAGEKIT_API cagekit_status cagekit_binding_get_deformer_vertex_order(cagekit_binding binding, uint32_t vertex_capacity,
+                                                                     uint32_t* vertex_count_out, uint32_t* order);
 /* The cage the binding was made on (a new cage handle, one reference: a copy the caller may
  * edit and pass its positions to a deformer). Thread-safe.
  * Errors: INVALID_HANDLE, INVALID_ARGUMENT (out NULL), OUT_OF_MEMORY. */
@@ -1366,31 +1390,36 @@ CAGEKIT_API void cagekit_cpu_deformer_retain(cagekit_cpu_deformer deformer);
 CAGEKIT_API void cagekit_cpu_deformer_release(cagekit_cpu_deformer deformer);
 
 /* Full recompute: `control` holds control_count xyz triples (the cage's vertices, moved);
- * positions and normals (either may be NULL) receive vertex_count xyz triples each (unit
- * normals), for vertex_capacity >= the binding's vertex count.
- * Errors: INVALID_HANDLE, INVALID_ARGUMENT (control NULL, control_count not the binding's, a
- * non-finite control point), INVALID_OPERATION (exact normals from a binding made without their
- * data), SIZE_INSUFFICIENT. Not thread-safe on the same deformer. */
+ * positions and normals receive an xyz triple per bound vertex (unit normals). Two-call
+ * (Buffers) over the bound vertices (cagekit_binding_info.vertex_count), shared by positions and
+ * normals (either may be NULL; both NULL with a nonzero capacity deforms without output).
+ * vertex_capacity 0 makes the call a query: only *vertex_count_out is written, nothing is
+ * deformed and the other arguments are not read. Hosts that know the count pass it every frame.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (vertex_count_out NULL, control NULL, control_count
+ * not the binding's, a non-finite control point), INVALID_OPERATION (exact normals from a binding
+ * made without their data), SIZE_INSUFFICIENT. Not thread-safe on the same deformer. */
 CAGEKIT_API cagekit_status cagekit_cpu_deformer_deform(cagekit_cpu_deformer deformer, const double* control,
                                                        uint32_t control_count, cagekit_normal_mode normals_mode,
-                                                       uint32_t vertex_capacity, double* positions, double* normals);
+                                                       uint32_t vertex_capacity, uint32_t* vertex_count_out,
+                                                       double* positions, double* normals);
 
 /* Incremental: only the control points listed in `moved` (moved_count indices) changed since the
  * last deform/update call of this deformer (which must have had the same normals_mode); the
  * other entries of `control` are not read (they must equal the previous call's). Only the
  * vertices in their support are recomputed and written — the rest of `positions` / `normals` is
  * left as the caller had it from the earlier calls. *updated_count (may be NULL) receives the
- * number of vertices recomputed. Errors as cagekit_cpu_deformer_deform, plus INVALID_ARGUMENT for
+ * number of vertices recomputed. The outputs as cagekit_cpu_deformer_deform's (vertex_capacity 0:
+ * a query that updates nothing). Errors as cagekit_cpu_deformer_deform, plus INVALID_ARGUMENT for
  * a moved index out of range, and INVALID_OPERATION for a call before the first deform or with
  * another normals_mode than the last deform's. */
 CAGEKIT_API cagekit_status cagekit_cpu_deformer_update(cagekit_cpu_deformer deformer, const double* control,
                                                        uint32_t control_count, const uint32_t* moved,
                                                        uint32_t moved_count, cagekit_normal_mode normals_mode,
-                                                       uint32_t vertex_capacity, double* positions, double* normals,
-                                                       uint32_t* updated_count);
+                                                       uint32_t vertex_capacity, uint32_t* vertex_count_out,
+                                                       double* positions, double* normals, uint32_t* updated_count);
 
-/* The same two calls writing float32 positions and normals (xyz triples,
- * 3 * vertex_count floats each; either may be NULL), for hosts that draw float32 vertex arrays
+/* The same two calls writing float32 positions and normals (xyz triples, 3 floats per bound
+ * vertex; two-call over the bound vertices as there), for hosts that draw float32 vertex arrays
  * (half the bytes written per frame; the full recompute is faster). `control` stays double.
  * Every value written is the double call's value rounded to float (the deformer's compact path
  * evaluates in float32 anyway; positions are formed in double, then rounded). The arrays are
@@ -1401,12 +1430,13 @@ CAGEKIT_API cagekit_status cagekit_cpu_deformer_update(cagekit_cpu_deformer defo
  * SIZE_INSUFFICIENT; not thread-safe on the same deformer). */
 CAGEKIT_API cagekit_status cagekit_cpu_deformer_deform_f32(cagekit_cpu_deformer deformer, const double* control,
                                                            uint32_t control_count, cagekit_normal_mode normals_mode,
-                                                           uint32_t vertex_capacity, float* positions, float* normals);
+                                                           uint32_t vertex_capacity, uint32_t* vertex_count_out,
+                                                           float* positions, float* normals);
 CAGEKIT_API cagekit_status cagekit_cpu_deformer_update_f32(cagekit_cpu_deformer deformer, const double* control,
                                                            uint32_t control_count, const uint32_t* moved,
                                                            uint32_t moved_count, cagekit_normal_mode normals_mode,
-                                                           uint32_t vertex_capacity, float* positions, float* normals,
-                                                           uint32_t* updated_count);
+                                                           uint32_t vertex_capacity, uint32_t* vertex_count_out,
+                                                           float* positions, float* normals, uint32_t* updated_count);
 
 /* ------------------------------------------------------------------------------------------ */
 /* Limit surface as bicubic Bezier patches (for CAD kernels: STEP, B-spline faces)            */
@@ -1477,10 +1507,10 @@ CAGEKIT_API void cagekit_limit_patches_retain(cagekit_limit_patches patches);
 CAGEKIT_API void cagekit_limit_patches_release(cagekit_limit_patches patches);
 /* Counts and errors. Reads. */
 CAGEKIT_API cagekit_status cagekit_limit_patches_get_info(cagekit_limit_patches patches, cagekit_limit_patch_info* info);
-/* Copies patches [first, first + count) into `out` (count entries); INVALID_ARGUMENT when the range
- * is not inside [0, patch_count). Patches are ordered by ptex face, then by quadtree order. Reads. */
-CAGEKIT_API cagekit_status cagekit_limit_patches_get(cagekit_limit_patches patches, uint32_t first, uint32_t count,
-                                                     cagekit_limit_patch* out);
+/* Copies every patch into `patch_array`, ordered by ptex face, then by quadtree order. Two-call
+ * (Buffers) over patches (the count is cagekit_limit_patch_info.patch_count). Reads. */
+CAGEKIT_API cagekit_status cagekit_limit_patches_get(cagekit_limit_patches patches, uint32_t patch_capacity,
+                                                     uint32_t* patch_count_out, cagekit_limit_patch* patch_array);
 
 #ifdef __cplusplus
 }

@@ -133,12 +133,15 @@ CAGEKIT_API cagekit_status cagekit_gl_deformer_get_buffers(cagekit_gl_deformer d
 CAGEKIT_API cagekit_status cagekit_gl_deformer_get_info(cagekit_gl_deformer deformer, cagekit_gl_deformer_info* info);
 
 /* Copies the last deform's result to the CPU (waits for the GPU; for tests and tools, not for
- * drawing): positions and normals (either may be NULL) receive vertex_count xyz triples, for
- * vertex_capacity >= the vertex count. Before a first deform the contents are undefined.
- * Errors: INVALID_HANDLE, SIZE_INSUFFICIENT, INTERNAL (the buffer could not be mapped).
- * GL thread only. */
+ * drawing): positions and normals receive an xyz triple per vertex. Two-call (cagekit.h,
+ * Buffers) over the vertices, shared by positions and normals (either may be NULL); with
+ * vertex_capacity 0 only *vertex_count_out is written and no GL call is made. Before a first
+ * deform the contents are undefined.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (vertex_count_out NULL), SIZE_INSUFFICIENT, INTERNAL
+ * (the buffer could not be mapped). GL thread only. */
 CAGEKIT_API cagekit_status cagekit_gl_deformer_read_back(cagekit_gl_deformer deformer, uint32_t vertex_capacity,
-                                                         double* positions, double* normals);
+                                                         uint32_t* vertex_count_out, double* positions,
+                                                         double* normals);
 
 /* ------------------------------------------------------------------------------------------ */
 /* Experimental: the thesis's vertex-attribute path                                           */

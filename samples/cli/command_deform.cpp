@@ -84,8 +84,10 @@ int command_deform(Args& args) {
   session.check(cagekit_cpu_deformer_create(binding.get(), 0, deformer.out()), "deformer");
   std::vector<double> positions(3 * size_t(info.vertex_count));
   const auto t1 = std::chrono::steady_clock::now();
+  uint32_t deformed = 0;
   session.check(cagekit_cpu_deformer_deform(deformer.get(), after.data(), uint32_t(after.size() / 3),
-                                            CAGEKIT_NORMALS_APPROXIMATE, info.vertex_count, positions.data(), nullptr),
+                                            CAGEKIT_NORMALS_APPROXIMATE, info.vertex_count, &deformed,
+                                            positions.data(), nullptr),
                 "deform");
   const double deform_seconds = seconds_since(t1);
 
@@ -209,31 +211,32 @@ int command_bench_deform(Args& args) {
   session.check(cagekit_mesh_get_faces(scan.get(), 0, &faces, nullptr, 0, &indices, nullptr), files[0]);
   std::vector<double> positions(3 * size_t(info.vertex_count)), normals(positions.size());
   const uint32_t n = info.vertex_count;
+  uint32_t written = 0;  // the deform calls' vertex count output (n)
   const double step = 1e-4 * info.bbox_diagonal;
   // Full recompute: every control point moves every frame.
   session.check(cagekit_cpu_deformer_deform(deformer.get(), control.data(), m, CAGEKIT_NORMALS_APPROXIMATE, n,
-                                            positions.data(), normals.data()), "deform");
+                                            &written, positions.data(), normals.data()), "deform");
   auto t0 = std::chrono::steady_clock::now();
   for (int f = 0; f < frames; ++f) {
     for (double& c : control) c += (f % 2 ? -step : step);
     session.check(cagekit_cpu_deformer_deform(deformer.get(), control.data(), m, CAGEKIT_NORMALS_APPROXIMATE, n,
-                                              positions.data(), normals.data()), "deform");
+                                              &written, positions.data(), normals.data()), "deform");
   }
   const double full_fps = frames / seconds_since(t0);
   // The same into float32 arrays (cagekit_cpu_deformer_deform_f32: what GL / Blender hosts draw).
   std::vector<float> positions_f32(positions.size()), normals_f32(normals.size());
   session.check(cagekit_cpu_deformer_deform_f32(deformer.get(), control.data(), m, CAGEKIT_NORMALS_APPROXIMATE, n,
-                                                positions_f32.data(), normals_f32.data()), "deform_f32");
+                                                &written, positions_f32.data(), normals_f32.data()), "deform_f32");
   t0 = std::chrono::steady_clock::now();
   for (int f = 0; f < frames; ++f) {
     for (double& c : control) c += (f % 2 ? -step : step);
     session.check(cagekit_cpu_deformer_deform_f32(deformer.get(), control.data(), m, CAGEKIT_NORMALS_APPROXIMATE, n,
-                                                  positions_f32.data(), normals_f32.data()), "deform_f32");
+                                                  &written, positions_f32.data(), normals_f32.data()), "deform_f32");
   }
   const double full_fps_f32 = frames / seconds_since(t0);
   // Back to the double arrays (the incremental run below updates them).
   session.check(cagekit_cpu_deformer_deform(deformer.get(), control.data(), m, CAGEKIT_NORMALS_APPROXIMATE, n,
-                                            positions.data(), normals.data()), "deform");
+                                            &written, positions.data(), normals.data()), "deform");
   // Incremental: K control points move per frame.
   std::vector<uint32_t> moved;
   for (int k = 0; k < moved_count && k < int(m); ++k) moved.push_back(uint32_t((uint64_t(k) * 2654435761u) % m));
@@ -245,7 +248,8 @@ int command_bench_deform(Args& args) {
     for (uint32_t j : moved) control[3 * size_t(j)] += (f % 2 ? -step : step);
     uint32_t updated = 0;
     session.check(cagekit_cpu_deformer_update(deformer.get(), control.data(), m, moved.data(), uint32_t(moved.size()),
-                                              CAGEKIT_NORMALS_APPROXIMATE, n, positions.data(), normals.data(), &updated),
+                                              CAGEKIT_NORMALS_APPROXIMATE, n, &written, positions.data(),
+                                              normals.data(), &updated),
                   "update");
     updated_total += updated;
   }

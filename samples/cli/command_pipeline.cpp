@@ -132,13 +132,13 @@ int command_pipeline(Args& args) {
   FitResult fit_result;
   fit_result.passes.assign(size_t(fit.max_passes) + 1, cagekit_fit_pass{});
   fit_result.report.struct_size = sizeof(cagekit_fit_report);
-  fit_result.report.pass_capacity = static_cast<uint32_t>(fit_result.passes.size());
-  fit_result.report.passes = fit_result.passes.data();
+  uint32_t pass_count = 0;
   Cage fitted, limit;
-  session.check(cagekit_scan_to_cage(scan.get(), &options, fitted.out(), limit.out(), &r, &fit_result.report),
+  session.check(cagekit_scan_to_cage(scan.get(), &options, fitted.out(), limit.out(), &r, &fit_result.report,
+                                     static_cast<uint32_t>(fit_result.passes.size()), &pass_count,
+                                     fit_result.passes.data()),
                 files[0]);
-  fit_result.passes.resize(std::min<size_t>(fit_result.report.pass_count, fit_result.passes.size()));
-  fit_result.report.passes = fit_result.passes.data();
+  fit_result.passes.resize(pass_count);
   cagekit_write_options write = CAGEKIT_WRITE_OPTIONS_INIT;
   const std::string cage_path = files[1] + "/cage.obj", limit_path = files[1] + "/limit.obj";
   session.check(cagekit_cage_write_file(fitted.get(), cage_path.c_str(), &write, nullptr), cage_path);

@@ -161,11 +161,11 @@ void run_fit(const Session& session, cagekit_cage cage, cagekit_mesh scan, const
   result->passes.assign(size_t(options.max_passes) + 1, cagekit_fit_pass{});
   result->report = cagekit_fit_report{};
   result->report.struct_size = sizeof(cagekit_fit_report);
-  result->report.pass_capacity = static_cast<uint32_t>(result->passes.size());
-  result->report.passes = result->passes.data();
-  session.check(cagekit_cage_fit(cage, scan, &options, fitted->out(), &result->report), what);
-  result->passes.resize(std::min<size_t>(result->report.pass_count, result->passes.size()));
-  result->report.passes = result->passes.data();
+  uint32_t pass_count = 0;
+  session.check(cagekit_cage_fit(cage, scan, &options, fitted->out(), &result->report,
+                                 static_cast<uint32_t>(result->passes.size()), &pass_count, result->passes.data()),
+                what);
+  result->passes.resize(pass_count);
 }
 
 std::string fit_json(const FitResult& fit, const cagekit_fit_options& options) {

@@ -211,6 +211,7 @@ static int make_cage(cagekit_mesh scan, cagekit_cage* out) {
   static const uint32_t faces[24] = {0, 2, 3, 1, 4, 5, 7, 6, 0, 1, 5, 4, 2, 6, 7, 3, 0, 4, 6, 2, 1, 3, 7, 5};
   double p[24];
   int i, ok;
+  uint32_t pass_count;
   cagekit_mesh_desc desc = CAGEKIT_MESH_DESC_INIT;
   cagekit_mesh cube = NULL;
   cagekit_cage coarse = NULL, refined = NULL;
@@ -223,7 +224,7 @@ static int make_cage(cagekit_mesh scan, cagekit_cage* out) {
   fit.max_passes = 3;
   ok = check(cagekit_mesh_create(g_context, &desc, &cube), "cube") && check(cagekit_cage_create(cube, &coarse), "cube cage") &&
        check(cagekit_cage_subdivide(coarse, &twice, &refined), "refined cage") &&
-       check(cagekit_cage_fit(refined, scan, &fit, out, NULL), "fitting the cage");
+       check(cagekit_cage_fit(refined, scan, &fit, out, NULL, 0, &pass_count, NULL), "fitting the cage");
   cagekit_cage_release(refined), cagekit_cage_release(coarse), cagekit_mesh_release(cube);
   return ok;
 }
@@ -497,8 +498,10 @@ int main(int argc, char** argv) {
         for (j = 0; j < 4; ++j) control[3 * drag[j]] += amount, control[3 * drag[j] + 1] += 0.3 * amount;
         if (k == 0) {
           const double d0 = now_seconds();
-          uint32_t v;
-          if (!check(cagekit_cpu_deformer_deform(cpu, control, m, CAGEKIT_NORMALS_APPROXIMATE, n, cpu_p, cpu_n), "CPU deform"))
+          uint32_t v, written;
+          if (!check(cagekit_cpu_deformer_deform(cpu, control, m, CAGEKIT_NORMALS_APPROXIMATE, n, &written, cpu_p,
+                                                 cpu_n),
+                     "CPU deform"))
             goto gl_done;
           cpu_deform_seconds += now_seconds() - d0;
           for (v = 0; v < 3 * n; v += 3) {

@@ -4,8 +4,10 @@
 // handle checks, versioned-struct reading/writing, two-call buffer sizing.
 #include <algorithm>
 #include <cstring>
+#include <initializer_list>
 #include <new>
 #include <string>
+#include <type_traits>
 
 #include "capi/handles.h"
 #include "core/memory_budget.h"
@@ -120,15 +122,46 @@ void write_versioned(T* out, const T& value, const char* name) {
   out->struct_size = caller_size;
 }
 
-// Two-call idiom: writes the required count, fails with size_insufficient if a non-zero
-// capacity is too small. Returns true when the caller's buffer should be filled.
+// One array output of the two-call shape: its parameter name (for messages) and the caller's
+// pointer (nullptr: not given).
+struct OutArray {
+  const char* name;
+  const void* data;
+};
+
+// Writes the required count of a two-call output into `count_out` (the parameter <x>_count_out,
+// which must not be NULL). A function with several capacity/count pairs calls this for every
+// pair before its first two_call_check, so that one pair's size_insufficient still leaves every
+// count written.
 template <class Count>
-bool two_call_check(Count required, Count capacity, Count* count_out, bool have_buffer, const char* what) {
-  if (count_out) *count_out = required;
-  if (capacity == 0 || !have_buffer) return false;
-  if (capacity < required)
-    fail(Status::size_insufficient, std::string(what) + ": capacity " + std::to_string(capacity) +
+void write_count(const char* x, std::common_type_t<Count> required, Count* count_out) {
+  if (count_out == nullptr) fail(Status::invalid_argument, std::string(x) + "_count_out must not be NULL");
+  *count_out = required;
+}
+
+// The two-call shape of every array output (cagekit.h, "Buffers"), the one implementation of its
+// rules. `x` names the parameters <x>_capacity and <x>_count_out; `arrays` are the arrays the
+// count sizes: one, or several sharing the count, each of which may then be NULL to skip it.
+// - count_out NULL: invalid_argument; otherwise *count_out = required, also on size_insufficient;
+// - capacity 0: returns false (a query: the arrays may be NULL and are not touched);
+// - a nonzero capacity with a lone array NULL: invalid_argument;
+// - a nonzero capacity below `required`: size_insufficient naming the arrays and both numbers.
+// Returns true when the arrays (those not NULL) are to be filled. No string is built unless it
+// fails: the deformers call it every frame.
+template <class Count>
+bool two_call_check(const char* x, std::common_type_t<Count> required, std::common_type_t<Count> capacity,
+                    Count* count_out, std::initializer_list<OutArray> arrays) {
+  write_count<Count>(x, required, count_out);
+  if (capacity == 0) return false;
+  if (arrays.size() == 1 && arrays.begin()->data == nullptr)
+    fail(Status::invalid_argument, std::string(arrays.begin()->name) + " is NULL but " + x + "_capacity is " +
+                                       std::to_string(capacity));
+  if (capacity < required) {
+    std::string names;
+    for (const OutArray& a : arrays) names += (names.empty() ? "" : "/") + std::string(a.name);
+    fail(Status::size_insufficient, names + ": " + x + "_capacity " + std::to_string(capacity) +
                                         " is less than the required " + std::to_string(required));
+  }
   return true;
 }
 

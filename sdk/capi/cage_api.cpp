@@ -69,12 +69,13 @@ CAGEKIT_API cagekit_status cagekit_cage_set_creases(cagekit_cage cage, uint32_t 
   });
 }
 
-CAGEKIT_API cagekit_status cagekit_cage_get_creases(cagekit_cage cage, uint32_t capacity, uint32_t* count_out,
-                                                    uint32_t* vertex_pairs, float* sharpness) {
+CAGEKIT_API cagekit_status cagekit_cage_get_creases(cagekit_cage cage, uint32_t crease_capacity,
+                                                    uint32_t* crease_count_out, uint32_t* vertex_pairs,
+                                                    float* sharpness) {
   return guarded(context_of(cage), [&] {
     const auto& creases = checked(cage, "cage").cage.creases;
-    if (!two_call_check(static_cast<uint32_t>(creases.size()), capacity, count_out,
-                        vertex_pairs != nullptr || sharpness != nullptr, "creases"))
+    if (!two_call_check("crease", static_cast<uint32_t>(creases.size()), crease_capacity, crease_count_out,
+                        {{"vertex_pairs", vertex_pairs}, {"sharpness", sharpness}}))
       return;
     for (size_t i = 0; i < creases.size(); ++i) {
       if (vertex_pairs) {
@@ -104,12 +105,12 @@ CAGEKIT_API cagekit_status cagekit_cage_set_corners(cagekit_cage cage, uint32_t 
   });
 }
 
-CAGEKIT_API cagekit_status cagekit_cage_get_corners(cagekit_cage cage, uint32_t capacity, uint32_t* count_out,
-                                                    uint32_t* vertices, float* sharpness) {
+CAGEKIT_API cagekit_status cagekit_cage_get_corners(cagekit_cage cage, uint32_t corner_capacity,
+                                                    uint32_t* corner_count_out, uint32_t* vertices, float* sharpness) {
   return guarded(context_of(cage), [&] {
     const auto& corners = checked(cage, "cage").cage.corners;
-    if (!two_call_check(static_cast<uint32_t>(corners.size()), capacity, count_out,
-                        vertices != nullptr || sharpness != nullptr, "corners"))
+    if (!two_call_check("corner", static_cast<uint32_t>(corners.size()), corner_capacity, corner_count_out,
+                        {{"vertices", vertices}, {"sharpness", sharpness}}))
       return;
     for (size_t i = 0; i < corners.size(); ++i) {
       if (vertices) vertices[i] = corners[i].vertex;
@@ -133,11 +134,11 @@ CAGEKIT_API cagekit_status cagekit_cage_set_holes(cagekit_cage cage, uint32_t co
   });
 }
 
-CAGEKIT_API cagekit_status cagekit_cage_get_holes(cagekit_cage cage, uint32_t capacity, uint32_t* count_out,
+CAGEKIT_API cagekit_status cagekit_cage_get_holes(cagekit_cage cage, uint32_t hole_capacity, uint32_t* hole_count_out,
                                                   uint32_t* faces) {
   return guarded(context_of(cage), [&] {
     const auto& holes = checked(cage, "cage").cage.holes;
-    if (two_call_check(static_cast<uint32_t>(holes.size()), capacity, count_out, faces != nullptr, "holes"))
+    if (two_call_check("hole", static_cast<uint32_t>(holes.size()), hole_capacity, hole_count_out, {{"faces", faces}}))
       std::copy(holes.begin(), holes.end(), faces);
   });
 }

@@ -16,14 +16,16 @@ using namespace cagekit_capi;
 extern "C" {
 
 CAGEKIT_API cagekit_status cagekit_cage_fit(cagekit_cage cage, cagekit_mesh scan, const cagekit_fit_options* options,
-                                            cagekit_cage* out, cagekit_fit_report* report) {
+                                            cagekit_cage* out, cagekit_fit_report* report, uint32_t pass_capacity,
+                                            uint32_t* pass_count_out, cagekit_fit_pass* passes) {
   return guarded(context_of(cage), [&] {
     require_not_null(out, "out");
     *out = nullptr;
     cagekit_cage_t& c = checked(cage, "cage");
     const cagekit_mesh_t& s = checked(scan, "scan");
     const cagekit::FitOptions fit_options = fit_options_from_c(options);
-    const PassArray passes = read_pass_array(report);
+    check_fit_report(report);
+    check_pass_array(fit_options.max_passes, pass_capacity, pass_count_out, passes, "pass", "passes");
     if (s.mesh.num_vertices() == 0) fail(Status::invalid_argument, "scan has no vertices");
 
     // The scan's sharp edges for the crease-feature rows (the definition every method's creases
@@ -40,7 +42,8 @@ CAGEKIT_API cagekit_status cagekit_cage_fit(cagekit_cage cage, cagekit_mesh scan
     cagekit::Cage fitted =
         cagekit::fit_cage_to_mesh(c.cage, s.mesh, fit_options, &fr, c.context->monitor(), &features);
     auto handle = std::make_unique<cagekit_cage_t>(c.context, std::move(fitted));
-    write_fit_report(report, passes, fr);
+    write_fit_report(report, fr);
+    write_pass_array(fr, pass_capacity, pass_count_out, passes, "pass", "passes");
     *out = handle.release();
   });
 }

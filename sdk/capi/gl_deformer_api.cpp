@@ -183,14 +183,15 @@ CAGEKIT_API cagekit_status cagekit_gl_deformer_get_info(cagekit_gl_deformer defo
 }
 
 CAGEKIT_API cagekit_status cagekit_gl_deformer_read_back(cagekit_gl_deformer deformer, uint32_t vertex_capacity,
-                                                         double* positions, double* normals) {
+                                                         uint32_t* vertex_count_out, double* positions,
+                                                         double* normals) {
   return guarded(context_of(deformer), [&] {
     cagekit_gl_deformer_t& d = checked(deformer, "deformer");
     const uint32_t n = d.deformer->vertex_count();
-    if ((positions || normals) && vertex_capacity < n)
-      fail(Status::size_insufficient, "vertex_capacity " + std::to_string(vertex_capacity) + " is less than the " +
-                                          std::to_string(n) + " bound vertices");
-    if (!positions && !normals) return;
+    if (!two_call_check("vertex", n, vertex_capacity, vertex_count_out,
+                        {{"positions", positions}, {"normals", normals}}))
+      return;
+    if (!positions && !normals) return;  // nothing wanted: no wait for the GPU
     d.read_back.resize(6 * size_t(n));
     d.deformer->read_back(d.read_back.data());
     for (size_t i = 0; i < n; ++i)

@@ -43,19 +43,15 @@ CAGEKIT_API cagekit_status cagekit_limit_patches_get_info(cagekit_limit_patches 
   });
 }
 
-CAGEKIT_API cagekit_status cagekit_limit_patches_get(cagekit_limit_patches patches, uint32_t first, uint32_t count,
-                                                     cagekit_limit_patch* out) {
+CAGEKIT_API cagekit_status cagekit_limit_patches_get(cagekit_limit_patches patches, uint32_t patch_capacity,
+                                                     uint32_t* patch_count_out, cagekit_limit_patch* patch_array) {
   return guarded(context_of(patches), [&] {
     const cagekit::LimitPatches& p = checked(patches, "patches").patches;
-    const size_t n = p.patches.size();
-    if (first > n || count > n - first)
-      fail(Status::invalid_argument, "patches [" + std::to_string(first) + ", " + std::to_string(uint64_t(first) + count) +
-                                         ") are not inside [0, " + std::to_string(n) + ")");
-    if (count == 0) return;
-    require_not_null(out, "out");
-    for (uint32_t k = 0; k < count; ++k) {
-      const cagekit::LimitPatch& from = p.patches[first + k];
-      cagekit_limit_patch& to = out[k];
+    const auto n = static_cast<uint32_t>(p.patches.size());  // at most 2^20 (build_limit_patches)
+    if (!two_call_check("patch", n, patch_capacity, patch_count_out, {{"patch_array", patch_array}})) return;
+    for (uint32_t k = 0; k < n; ++k) {
+      const cagekit::LimitPatch& from = p.patches[k];
+      cagekit_limit_patch& to = patch_array[k];
       to.ptex_face = from.ptex_face;
       to.cage_face = from.cage_face;
       to.u0 = from.u0;

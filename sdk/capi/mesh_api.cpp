@@ -84,11 +84,11 @@ void copy_faces(const cagekit::PolygonMesh& mesh, uint32_t face_capacity, uint32
   const auto faces = static_cast<uint32_t>(mesh.num_faces());
   const uint64_t indices = mesh.num_face_vertices();
   // Both counts are reported before any capacity check fails.
-  if (face_count_out) *face_count_out = faces;
-  if (index_count_out) *index_count_out = indices;
-  const bool fill_sizes = two_call_check<uint32_t>(faces, face_capacity, nullptr, face_sizes != nullptr, "face sizes");
+  write_count("face", faces, face_count_out);
+  write_count("index", indices, index_count_out);
+  const bool fill_sizes = two_call_check("face", faces, face_capacity, face_count_out, {{"face_sizes", face_sizes}});
   const bool fill_indices =
-      two_call_check<uint64_t>(indices, index_capacity, nullptr, face_indices != nullptr, "face indices");
+      two_call_check("index", indices, index_capacity, index_count_out, {{"face_indices", face_indices}});
   if (fill_sizes)
     for (uint32_t f = 0; f < faces; ++f) face_sizes[f] = mesh.face_size(f);
   if (fill_indices) std::copy(mesh.face_vertices.begin(), mesh.face_vertices.end(), face_indices);
@@ -186,8 +186,8 @@ CAGEKIT_API cagekit_status cagekit_mesh_get_positions(cagekit_mesh mesh, cagekit
     const cagekit::PolygonMesh& m = checked(mesh, "mesh").mesh;
     if (raw_enum(type) != CAGEKIT_SCALAR_FLOAT32 && raw_enum(type) != CAGEKIT_SCALAR_FLOAT64)
       fail(Status::invalid_argument, "type is not a cagekit_scalar_type");
-    if (two_call_check(static_cast<uint32_t>(m.num_vertices()), vertex_capacity, vertex_count_out,
-                       positions != nullptr, "positions"))
+    if (two_call_check("vertex", static_cast<uint32_t>(m.num_vertices()), vertex_capacity, vertex_count_out,
+                       {{"positions", positions}}))
       copy_positions(m, type, positions);
   });
 }

@@ -30,23 +30,24 @@ void read_control(cagekit_cpu_deformer_t& d, const double* control, uint32_t con
   read_control_points(control, control_count, d.binding->binding.num_control_vertices, d.control);
 }
 
-void check_capacity(const cagekit_cpu_deformer_t& d, uint32_t capacity, const void* positions, const void* normals) {
-  const size_t n = d.binding->binding.num_vertices();
-  if ((positions || normals) && capacity < n)
-    fail(Status::size_insufficient, "vertex_capacity " + std::to_string(capacity) + " is less than the " +
-                                        std::to_string(n) + " bound vertices");
+// The deformers' outputs (two-call over the bound vertices). False for a capacity of 0: the call
+// is a query of the count, and deforms nothing.
+bool check_outputs(const cagekit_cpu_deformer_t& d, uint32_t capacity, uint32_t* count_out, const void* positions,
+                   const void* normals) {
+  return two_call_check("vertex", static_cast<uint32_t>(d.binding->binding.num_vertices()), capacity, count_out,
+                        {{"positions", positions}, {"normals", normals}});
 }
-
 
 // deform / deform_f32: straight into the caller's xyz triples (T = double or float).
 template <typename T>
 cagekit_status deform_into(cagekit_cpu_deformer deformer, const double* control, uint32_t control_count,
-                           cagekit_normal_mode normals_mode, uint32_t vertex_capacity, T* positions, T* normals) {
+                           cagekit_normal_mode normals_mode, uint32_t vertex_capacity, uint32_t* vertex_count_out,
+                           T* positions, T* normals) {
   return guarded(context_of(deformer), [&] {
     cagekit_cpu_deformer_t& d = checked(deformer, "deformer");
+    if (!check_outputs(d, vertex_capacity, vertex_count_out, positions, normals)) return;
     const cagekit::NormalMode mode = checked_normal_mode(normals_mode);
     read_control(d, control, control_count);
-    check_capacity(d, vertex_capacity, positions, normals);
     d.deformed = false;
     d.deformer.deform(d.control, positions, normals, mode);
     d.deformed = true;
@@ -57,16 +58,17 @@ cagekit_status deform_into(cagekit_cpu_deformer deformer, const double* control,
 template <typename T>
 cagekit_status update_into(cagekit_cpu_deformer deformer, const double* control, uint32_t control_count,
                            const uint32_t* moved, uint32_t moved_count, cagekit_normal_mode normals_mode,
-                           uint32_t vertex_capacity, T* positions, T* normals, uint32_t* updated_count) {
+                           uint32_t vertex_capacity, uint32_t* vertex_count_out, T* positions, T* normals,
+                           uint32_t* updated_count) {
   return guarded(context_of(deformer), [&] {
     cagekit_cpu_deformer_t& d = checked(deformer, "deformer");
+    if (!check_outputs(d, vertex_capacity, vertex_count_out, positions, normals)) return;
     const cagekit::NormalMode mode = checked_normal_mode(normals_mode);
     if (!d.deformed) fail(Status::invalid_operation, "cagekit_cpu_deformer_update before a first successful deform");
     if ((mode == cagekit::NormalMode::exact) != d.exact)
       fail(Status::invalid_operation, "normals_mode differs from the last deform's");
     if (moved_count > 0) require_not_null(moved, "moved");
     read_control(d, control, control_count);
-    check_capacity(d, vertex_capacity, positions, normals);
     const std::vector<uint32_t> moved_list(moved, moved + moved_count);
     for (uint32_t j : moved_list)
       if (j >= control_count) fail(Status::invalid_argument, "moved index " + std::to_string(j) + " is out of range");
@@ -120,41 +122,38 @@ CAGEKIT_API cagekit_status cagekit_binding_get_info(cagekit_binding binding, cag
   });
 }
 
-CAGEKIT_API cagekit_status cagekit_binding_get_vertex_sources(cagekit_binding binding, uint32_t capacity,
-                                                              uint32_t* count, uint32_t* sources) {
+CAGEKIT_API cagekit_status cagekit_binding_get_vertex_sources(cagekit_binding binding, uint32_t vertex_capacity,
+                                                              uint32_t* vertex_count_out, uint32_t* sources) {
   return guarded(context_of(binding), [&] {
     const cagekit::ScanBinding& b = checked(binding, "binding").binding;
-    require_not_null(count, "count");
     const uint32_t n = static_cast<uint32_t>(b.num_vertices());
-    *count = n;
-    if (!two_call_check<uint32_t>(n, capacity, nullptr, sources != nullptr, "sources")) return;
+    if (!two_call_check("vertex", n, vertex_capacity, vertex_count_out, {{"sources", sources}})) return;
     for (uint32_t i = 0; i < n; ++i) sources[i] = b.source_vertex.empty() ? i : b.source_vertex[i];
   });
 }
 
-CAGEKIT_API cagekit_status cagekit_binding_get_deformer_vertex_order(cagekit_binding binding, uint32_t capacity,
-                                                                     uint32_t* count, uint32_t* order) {
+CAGEKIT_API cagekit_status cagekit_binding_get_deformer_vertex_order(cagekit_binding binding, uint32_t vertex_capacity,
+                                                                     uint32_t* vertex_count_out, uint32_t* order) {
   return guarded(context_of(binding), [&] {
     const cagekit::ScanBinding& b = checked(binding, "binding").binding;
-    require_not_null(count, "count");
+    require_not_null(vertex_count_out, "vertex_count_out");  // before the order is computed
     const std::vector<uint32_t> o = cagekit::deformer_vertex_order(b);
-    *count = static_cast<uint32_t>(o.size());
-    if (!two_call_check<uint32_t>(o.size(), capacity, nullptr, order != nullptr, "order")) return;
+    if (!two_call_check("vertex", static_cast<uint32_t>(o.size()), vertex_capacity, vertex_count_out,
+                        {{"order", order}}))
+      return;
     std::copy(o.begin(), o.end(), order);
   });
 }
 
 CAGEKIT_API cagekit_status cagekit_binding_get_faces(cagekit_binding binding, uint32_t face_capacity,
-                                                     uint32_t* face_count, uint32_t* face_sizes,
-                                                     uint64_t index_capacity, uint64_t* index_count,
+                                                     uint32_t* face_count_out, uint32_t* face_sizes,
+                                                     uint64_t index_capacity, uint64_t* index_count_out,
                                                      uint32_t* face_indices) {
   return guarded(context_of(binding), [&] {
     const cagekit::ScanBinding& b = checked(binding, "binding").binding;
-    require_not_null(face_count, "face_count");
-    require_not_null(index_count, "index_count");
     cagekit::PolygonMesh faces;  // without a split: no faces (the scan's own apply)
     if (!b.source_vertex.empty()) faces.face_offsets = b.face_offsets, faces.face_vertices = b.face_vertices;
-    copy_faces(faces, face_capacity, face_count, face_sizes, index_capacity, index_count, face_indices);
+    copy_faces(faces, face_capacity, face_count_out, face_sizes, index_capacity, index_count_out, face_indices);
   });
 }
 
@@ -174,32 +173,36 @@ CAGEKIT_API void cagekit_cpu_deformer_release(cagekit_cpu_deformer deformer) { r
 
 CAGEKIT_API cagekit_status cagekit_cpu_deformer_deform(cagekit_cpu_deformer deformer, const double* control,
                                                        uint32_t control_count, cagekit_normal_mode normals_mode,
-                                                       uint32_t vertex_capacity, double* positions, double* normals) {
-  return deform_into(deformer, control, control_count, normals_mode, vertex_capacity, positions, normals);
+                                                       uint32_t vertex_capacity, uint32_t* vertex_count_out,
+                                                       double* positions, double* normals) {
+  return deform_into(deformer, control, control_count, normals_mode, vertex_capacity, vertex_count_out, positions,
+                     normals);
 }
 
 CAGEKIT_API cagekit_status cagekit_cpu_deformer_deform_f32(cagekit_cpu_deformer deformer, const double* control,
                                                            uint32_t control_count, cagekit_normal_mode normals_mode,
-                                                           uint32_t vertex_capacity, float* positions, float* normals) {
-  return deform_into(deformer, control, control_count, normals_mode, vertex_capacity, positions, normals);
+                                                           uint32_t vertex_capacity, uint32_t* vertex_count_out,
+                                                           float* positions, float* normals) {
+  return deform_into(deformer, control, control_count, normals_mode, vertex_capacity, vertex_count_out, positions,
+                     normals);
 }
 
 CAGEKIT_API cagekit_status cagekit_cpu_deformer_update(cagekit_cpu_deformer deformer, const double* control,
                                                        uint32_t control_count, const uint32_t* moved,
                                                        uint32_t moved_count, cagekit_normal_mode normals_mode,
-                                                       uint32_t vertex_capacity, double* positions, double* normals,
-                                                       uint32_t* updated_count) {
-  return update_into(deformer, control, control_count, moved, moved_count, normals_mode, vertex_capacity, positions,
-                     normals, updated_count);
+                                                       uint32_t vertex_capacity, uint32_t* vertex_count_out,
+                                                       double* positions, double* normals, uint32_t* updated_count) {
+  return update_into(deformer, control, control_count, moved, moved_count, normals_mode, vertex_capacity,
+                     vertex_count_out, positions, normals, updated_count);
 }
 
 CAGEKIT_API cagekit_status cagekit_cpu_deformer_update_f32(cagekit_cpu_deformer deformer, const double* control,
                                                            uint32_t control_count, const uint32_t* moved,
                                                            uint32_t moved_count, cagekit_normal_mode normals_mode,
-                                                           uint32_t vertex_capacity, float* positions, float* normals,
-                                                           uint32_t* updated_count) {
-  return update_into(deformer, control, control_count, moved, moved_count, normals_mode, vertex_capacity, positions,
-                     normals, updated_count);
+                                                           uint32_t vertex_capacity, uint32_t* vertex_count_out,
+                                                           float* positions, float* normals, uint32_t* updated_count) {
+  return update_into(deformer, control, control_count, moved, moved_count, normals_mode, vertex_capacity,
+                     vertex_count_out, positions, normals, updated_count);
 }
 
 }  // extern "C"

@@ -68,31 +68,30 @@ constexpr EnumRule<cagekit::LeastSquaresSolver, 2> kSolvers{
 
 CAGEKIT_OPTIONS_FROM_C(fit_options_from_c, cagekit_fit_options, CAGEKIT_FIT_OPTIONS_INIT, CAGEKIT_FIT_OPTION_TABLE, cagekit::FitOptions, f, {})
 
-PassArray read_pass_array(const cagekit_fit_report* report) {
-  PassArray a;
-  if (report == nullptr) return a;
+void check_fit_report(const cagekit_fit_report* report) {
+  if (report == nullptr) return;
   const size_t size = report->struct_size;
   if (size < sizeof(size_t) || size > (1u << 16))
     fail(Status::invalid_argument, "cagekit_fit_report.struct_size is " + std::to_string(size) +
                                        "; set it to sizeof(cagekit_fit_report)");
-  if (size >= offsetof(cagekit_fit_report, passes) + sizeof(report->passes)) {
-    a.capacity = report->pass_capacity;
-    a.entries = report->passes;
-    if (a.capacity > 0 && a.entries == nullptr)
-      fail(Status::invalid_argument, "cagekit_fit_report.passes is NULL but pass_capacity is " +
-                                         std::to_string(a.capacity));
-  }
-  return a;
 }
 
+void check_pass_array(int max_passes, uint32_t capacity, uint32_t* count_out, const cagekit_fit_pass* passes,
+                      const char* x, const char* name) {
+  two_call_check(x, static_cast<uint32_t>(max_passes) + 1, capacity, count_out, {{name, passes}});
+}
 
-void write_fit_report(cagekit_fit_report* report, const PassArray& passes, const cagekit::FitReport& fr) {
+void write_pass_array(const cagekit::FitReport& fr, uint32_t capacity, uint32_t* count_out, cagekit_fit_pass* passes,
+                      const char* x, const char* name) {
+  if (two_call_check(x, static_cast<uint32_t>(fr.passes.size()), capacity, count_out, {{name, passes}}))
+    for (size_t i = 0; i < fr.passes.size(); ++i) passes[i] = fit_pass_to_c(fr.passes[i]);
+}
+
+void write_fit_report(cagekit_fit_report* report, const cagekit::FitReport& fr) {
   if (!report) return;
   cagekit_fit_report r{};
   r.struct_size = sizeof(r);
   r.pass_count = static_cast<uint32_t>(fr.passes.size());
-  r.pass_capacity = passes.capacity;
-  r.passes = passes.entries;
   r.stopped_by_tolerance = fr.stopped_by_tolerance ? 1 : 0;
   r.rejected_last_step = fr.rejected_last_step ? 1 : 0;
   r.fairing_used = fr.fairing_used ? 1 : 0;
@@ -107,8 +106,6 @@ void write_fit_report(cagekit_fit_report* report, const PassArray& passes, const
     r.initial_two_sided = fit_two_sided_to_c(fr.passes.front());
     r.final_two_sided = fit_two_sided_to_c(fr.passes[fr.best_pass]);
   }
-  const size_t n = std::min<size_t>(passes.capacity, fr.passes.size());
-  for (size_t i = 0; i < n; ++i) passes.entries[i] = fit_pass_to_c(fr.passes[i]);
   write_versioned(report, r, "cagekit_fit_report");
 }
 

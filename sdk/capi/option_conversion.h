@@ -41,15 +41,19 @@ cagekit::QuadRemeshOptions quad_options_from_c(const cagekit_quad_remesh_options
 cagekit::ScanToCageOptions scan_to_cage_options_from_c(const cagekit_scan_to_cage_options* options,
                                                        uint64_t input_faces);
 
-// The fit report's pass array (an input inside the output struct), read before the fit so that
-// a bad struct_size fails before any work.
-struct PassArray {
-  uint32_t capacity = 0;
-  cagekit_fit_pass* entries = nullptr;
-};
-PassArray read_pass_array(const cagekit_fit_report* report);
+// Checks the fit report's struct_size (NULL: nothing) before the fit, so that a bad one fails
+// before any work.
+void check_fit_report(const cagekit_fit_report* report);
 // Writes *report (NULL: nothing) from the C++ report; `final` is the returned state.
-void write_fit_report(cagekit_fit_report* report, const PassArray& passes, const cagekit::FitReport& fr);
+void write_fit_report(cagekit_fit_report* report, const cagekit::FitReport& fr);
+// The fit's pass array (two-call; `x` names its parameters <x>_capacity and <x>_count_out,
+// `name` the array). The fit is not repeated for a second call, so before it the array is
+// checked against the most states it can measure, max_passes + 1: a short one fails before any
+// work. After it, write_pass_array writes the count measured and the entries.
+void check_pass_array(int max_passes, uint32_t capacity, uint32_t* count_out, const cagekit_fit_pass* passes,
+                      const char* x, const char* name);
+void write_pass_array(const cagekit::FitReport& fr, uint32_t capacity, uint32_t* count_out, cagekit_fit_pass* passes,
+                      const char* x, const char* name);
 cagekit_fit_pass fit_pass_to_c(const cagekit::FitPassStatistics& s);
 cagekit_fit_two_sided fit_two_sided_to_c(const cagekit::FitPassStatistics& s);
 

@@ -110,15 +110,18 @@ extern "C" {
 
 CAGEKIT_API cagekit_status cagekit_scan_to_cage(cagekit_mesh scan, const cagekit_scan_to_cage_options* options,
                                                 cagekit_cage* cage_out, cagekit_cage* limit_out,
-                                                cagekit_scan_to_cage_report* report,
-                                                cagekit_fit_report* fit_report) {
+                                                cagekit_scan_to_cage_report* report, cagekit_fit_report* fit_report,
+                                                uint32_t fit_pass_capacity, uint32_t* fit_pass_count_out,
+                                                cagekit_fit_pass* fit_passes) {
   return guarded(context_of(scan), [&] {
     require_not_null(cage_out, "cage_out");
     *cage_out = nullptr;
     if (limit_out) *limit_out = nullptr;
     cagekit_mesh_t& m = checked(scan, "scan");
     const cagekit::ScanToCageOptions o = scan_to_cage_options_from_c(options, m.mesh.num_faces());
-    const PassArray passes = read_pass_array(fit_report);
+    check_fit_report(fit_report);
+    // Every fit of the journey (remedies and refit included) has o.fit.max_passes.
+    check_pass_array(o.fit.max_passes, fit_pass_capacity, fit_pass_count_out, fit_passes, "fit_pass", "fit_passes");
     if (report) {  // a bad struct_size fails before any work
       cagekit_scan_to_cage_report probe{};
       probe.struct_size = sizeof(probe);
@@ -130,7 +133,8 @@ CAGEKIT_API cagekit_status cagekit_scan_to_cage(cagekit_mesh scan, const cagekit
     if (limit_out) limit = std::make_unique<cagekit_cage_t>(m.context, r.limit);
     r.cage = cage->cage;  // for the report's cage figures
     write_versioned(report, report_to_c(r, uint32_t(o.limit_levels)), "cagekit_scan_to_cage_report");
-    write_fit_report(fit_report, passes, r.fit);
+    write_fit_report(fit_report, r.fit);
+    write_pass_array(r.fit, fit_pass_capacity, fit_pass_count_out, fit_passes, "fit_pass", "fit_passes");
     *cage_out = cage.release();
     if (limit_out) *limit_out = limit.release();
   });

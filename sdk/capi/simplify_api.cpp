@@ -137,12 +137,15 @@ CAGEKIT_API cagekit_status cagekit_hierarchy_get_faces(cagekit_hierarchy hierarc
       for (const auto& l : f.loops) indices += l.size();
     }
     const auto face_count = static_cast<uint32_t>(faces.size());
-    if (face_count_out) *face_count_out = face_count;
-    if (loop_count_out) *loop_count_out = loops;
-    if (index_count_out) *index_count_out = indices;
-    const bool fill_faces = two_call_check<uint32_t>(face_count, face_capacity, nullptr, loops_per_face, "faces");
-    const bool fill_loops = two_call_check<uint32_t>(loops, loop_capacity, nullptr, loop_sizes, "loops");
-    const bool fill_indices = two_call_check<uint64_t>(indices, index_capacity, nullptr, loop_vertices, "indices");
+    // Every count is reported before any capacity check fails.
+    write_count("face", face_count, face_count_out);
+    write_count("loop", loops, loop_count_out);
+    write_count("index", indices, index_count_out);
+    const bool fill_faces =
+        two_call_check("face", face_count, face_capacity, face_count_out, {{"loops_per_face", loops_per_face}});
+    const bool fill_loops = two_call_check("loop", loops, loop_capacity, loop_count_out, {{"loop_sizes", loop_sizes}});
+    const bool fill_indices =
+        two_call_check("index", indices, index_capacity, index_count_out, {{"loop_vertices", loop_vertices}});
     uint32_t l = 0;
     uint64_t i = 0;
     for (uint32_t f = 0; f < face_count; ++f) {
@@ -157,12 +160,13 @@ CAGEKIT_API cagekit_status cagekit_hierarchy_get_faces(cagekit_hierarchy hierarc
   });
 }
 
-CAGEKIT_API cagekit_status cagekit_hierarchy_get_clusters(cagekit_hierarchy hierarchy, uint32_t capacity,
-                                                          uint32_t* count_out, uint32_t* cluster_of_input_face) {
+CAGEKIT_API cagekit_status cagekit_hierarchy_get_clusters(cagekit_hierarchy hierarchy, uint32_t input_face_capacity,
+                                                          uint32_t* input_face_count_out,
+                                                          uint32_t* cluster_of_input_face) {
   return guarded(context_of(hierarchy), [&] {
     const auto& clusters = checked(hierarchy, "hierarchy").level.cluster_of_input_face;
-    if (two_call_check(static_cast<uint32_t>(clusters.size()), capacity, count_out, cluster_of_input_face != nullptr,
-                       "clusters"))
+    if (two_call_check("input_face", static_cast<uint32_t>(clusters.size()), input_face_capacity,
+                       input_face_count_out, {{"cluster_of_input_face", cluster_of_input_face}}))
       std::copy(clusters.begin(), clusters.end(), cluster_of_input_face);
   });
 }

@@ -47,8 +47,9 @@ CAGEKIT_API cagekit_status cagekit_cage_get_limit_points(cagekit_cage cage, uint
                                                          double* normals) {
   return guarded(context_of(cage), [&] {
     const cagekit::Cage& c = checked(cage, "cage").cage;
-    if (!two_call_check(static_cast<uint32_t>(c.mesh.num_vertices()), vertex_capacity, vertex_count_out,
-                        positions != nullptr || normals != nullptr, "limit points"))
+    if (!two_call_check("vertex", static_cast<uint32_t>(c.mesh.num_vertices()), vertex_capacity, vertex_count_out,
+                        {{"positions", positions}, {"normals", normals}}) ||
+        (positions == nullptr && normals == nullptr))  // nothing wanted: skip the evaluation
       return;
     std::vector<cagekit::Vec3> p, n;
     cagekit::limit_positions_and_normals(c, &p, &n);
@@ -125,7 +126,7 @@ CAGEKIT_API cagekit_status cagekit_surface_evaluate(cagekit_surface surface, con
 
 CAGEKIT_API cagekit_status cagekit_surface_evaluate_basis(cagekit_surface surface,
                                                           const cagekit_surface_location* location,
-                                                          uint32_t capacity, uint32_t* count_out,
+                                                          uint32_t basis_capacity, uint32_t* basis_count_out,
                                                           uint32_t* indices, double* w, double* wu, double* wv,
                                                           double* wuu, double* wuv, double* wvv) {
   return guarded(context_of(surface), [&] {
@@ -133,8 +134,10 @@ CAGEKIT_API cagekit_status cagekit_surface_evaluate_basis(cagekit_surface surfac
     require_not_null(location, "location");
     check_location(s, *location, 0);
     const cagekit::BasisWeights b = s.basis(location->face, location->u, location->v);
-    const bool any = indices || w || wu || wv || wuu || wuv || wvv;
-    if (!two_call_check(static_cast<uint32_t>(b.indices.size()), capacity, count_out, any, "basis weights")) return;
+    if (!two_call_check("basis", static_cast<uint32_t>(b.indices.size()), basis_capacity, basis_count_out,
+                        {{"indices", indices}, {"w", w}, {"wu", wu}, {"wv", wv}, {"wuu", wuu}, {"wuv", wuv},
+                         {"wvv", wvv}}))
+      return;
     auto copy = [](const std::vector<double>& from, double* to) {
       if (to) std::copy(from.begin(), from.end(), to);
     };

@@ -46,6 +46,21 @@ static cagekit_cage new_creased_cube(cagekit_context context) {
   return cage;
 }
 
+/* cagekit_cage_fit and cagekit_scan_to_cage for the tests that do not look at the fit's states:
+ * pass capacity 0, so only their count is written. */
+static cagekit_status fit_without_passes(cagekit_cage cage, cagekit_mesh scan, const cagekit_fit_options* options,
+                                         cagekit_cage* out, cagekit_fit_report* report) {
+  uint32_t pass_count = 0;
+  return cagekit_cage_fit(cage, scan, options, out, report, 0, &pass_count, NULL);
+}
+
+static cagekit_status scan_to_cage_without_passes(cagekit_mesh scan, const cagekit_scan_to_cage_options* options,
+                                                  cagekit_cage* cage_out, cagekit_cage* limit_out,
+                                                  cagekit_scan_to_cage_report* report) {
+  uint32_t pass_count = 0;
+  return cagekit_scan_to_cage(scan, options, cage_out, limit_out, report, NULL, 0, &pass_count, NULL);
+}
+
 static void version_is_consistent(void) {
   CHECK(cagekit_version() == CAGEKIT_VERSION);
   CHECK(cagekit_abi_version() == CAGEKIT_ABI_VERSION);
@@ -450,7 +465,7 @@ static void limit_patches_match_the_surface(void) {
   cagekit_limit_patch_options options = CAGEKIT_LIMIT_PATCH_OPTIONS_INIT;
   cagekit_limit_patch_info info;
   cagekit_limit_patch* all;
-  uint32_t k, exact = 0;
+  uint32_t k, exact = 0, count = 0;
   double worst_exact = 0, worst_approx = 0;
   CHECK_OK(cagekit_cage_create(mesh, &cage));
   CHECK_OK(cagekit_surface_create(cage, NULL, &surface));
@@ -463,7 +478,8 @@ static void limit_patches_match_the_surface(void) {
   CHECK(info.max_error <= info.tolerance && fabs(info.tolerance - 1e-4 * info.bbox_diagonal) < 1e-15);
   all = (cagekit_limit_patch*)calloc(info.patch_count, sizeof(cagekit_limit_patch));
   CHECK(all != NULL);
-  CHECK_OK(cagekit_limit_patches_get(patches, 0, info.patch_count, all));
+  CHECK_OK(cagekit_limit_patches_get(patches, info.patch_count, &count, all));
+  CHECK(count == info.patch_count);
   for (k = 0; k < info.patch_count; ++k) {
     const cagekit_limit_patch* p = &all[k];
     const double s = 0.37, t = 0.81;
@@ -492,9 +508,7 @@ static void limit_patches_match_the_surface(void) {
   CHECK(worst_exact < 1e-12 * info.bbox_diagonal);
   CHECK(worst_approx <= 1.5 * info.tolerance);
   free(all);
-  CHECK_STATUS(cagekit_limit_patches_get(patches, info.patch_count, 1, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
-  CHECK_STATUS(cagekit_limit_patches_get(patches, 1, 0xffffffffu, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
-  CHECK_STATUS(cagekit_limit_patches_get(patches, 0, 1, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_limit_patches_get(NULL, 0, &count, NULL), CAGEKIT_ERROR_INVALID_HANDLE);
   CHECK_STATUS(cagekit_limit_patches_get_info(patches, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   cagekit_limit_patches_release(patches);
   patches = NULL;
@@ -533,6 +547,109 @@ static void* fail_on_thread(void* arg) {
             CAGEKIT_ERROR_PARSE &&
         strlen(cagekit_last_error_message(g_shared_context)) > 0;
   return NULL;
+}
+
+/* One array output as (object, capacity, count_out, array), for check_two_call_shape. */
+typedef cagekit_status (*two_call_fn)(void* object, uint32_t capacity, uint32_t* count_out, void* array);
+
+static cagekit_status mesh_positions(void* mesh, uint32_t capacity, uint32_t* count_out, void* array) {
+  return cagekit_mesh_get_positions((cagekit_mesh)mesh, CAGEKIT_SCALAR_FLOAT64, capacity, count_out, array);
+}
+static cagekit_status cage_holes(void* cage, uint32_t capacity, uint32_t* count_out, void* array) {
+  return cagekit_cage_get_holes((cagekit_cage)cage, capacity, count_out, (uint32_t*)array);
+}
+static cagekit_status limit_patches(void* patches, uint32_t capacity, uint32_t* count_out, void* array) {
+  return cagekit_limit_patches_get((cagekit_limit_patches)patches, capacity, count_out, (cagekit_limit_patch*)array);
+}
+
+/* The rules of the header's "Buffers" convention on one output of `element` bytes per entry and
+ * at least 2 entries; returns the array filled by an exact capacity (free it), with one more entry
+ * after it that must stay untouched. `x` names the <x>_capacity / <x>_count_out parameters. */
+static unsigned char* check_two_call_shape(cagekit_context context, two_call_fn fn, void* object, size_t element,
+                                           const char* x, const char* array_name, uint32_t* count) {
+  uint32_t expected = 0;
+  size_t i, bytes;
+  unsigned char* array;
+  char text[64];
+  /* count_out NULL: INVALID_ARGUMENT naming it */
+  CHECK_STATUS(fn(object, 0, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  snprintf(text, sizeof(text), "%s_count_out", x);
+  CHECK(strstr(cagekit_last_error_message(context), text) != NULL);
+  /* capacity 0: only the count, the array may be NULL and is not touched */
+  CHECK_OK(fn(object, 0, &expected, NULL));
+  CHECK(expected >= 2);
+  bytes = element * (expected + 1);
+  array = (unsigned char*)malloc(bytes);
+  CHECK(array != NULL);
+  memset(array, 0xa5, bytes);
+  *count = 0;
+  CHECK_OK(fn(object, 0, count, array));
+  CHECK(*count == expected);
+  for (i = 0; i < bytes; ++i) CHECK(array[i] == 0xa5);
+  /* a nonzero capacity below the count: SIZE_INSUFFICIENT, the count written, the message naming
+     the array and both numbers */
+  *count = 0;
+  CHECK_STATUS(fn(object, expected - 1, count, array), CAGEKIT_ERROR_SIZE_INSUFFICIENT);
+  CHECK(*count == expected);
+  CHECK(strstr(cagekit_last_error_message(context), array_name) != NULL);
+  snprintf(text, sizeof(text), "%s_capacity %u is less than the required %u", x, (unsigned)(expected - 1),
+           (unsigned)expected);
+  CHECK(strstr(cagekit_last_error_message(context), text) != NULL);
+  /* a nonzero capacity with a NULL array: INVALID_ARGUMENT naming it */
+  CHECK_STATUS(fn(object, expected, count, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context), array_name) != NULL);
+  /* the exact capacity: filled, nothing written after it */
+  memset(array, 0xa5, bytes);
+  *count = 0;
+  CHECK_OK(fn(object, expected, count, array));
+  CHECK(*count == expected);
+  for (i = element * expected; i < bytes; ++i) CHECK(array[i] == 0xa5);
+  return array;
+}
+
+/* One shape for every array output, checked on three functions that had three shapes before
+ * (count optional; range paging; the standard one). */
+static void array_outputs_have_one_two_call_shape(void) {
+  cagekit_context context = new_context();
+  cagekit_mesh mesh = new_cube(context);
+  cagekit_cage cage = NULL;
+  cagekit_limit_patches patches = NULL;
+  cagekit_limit_patch_info info;
+  static const uint32_t holes[2] = {4, 1};
+  const double* positions;
+  const uint32_t* hole_faces;
+  const cagekit_limit_patch* patch;
+  uint32_t count = 0, k;
+  unsigned char* array;
+
+  array = check_two_call_shape(context, mesh_positions, mesh, 3 * sizeof(double), "vertex", "positions", &count);
+  positions = (const double*)array;
+  CHECK(count == 8 && memcmp(positions, kCubeD, sizeof(kCubeD)) == 0);
+  free(array);
+
+  CHECK_OK(cagekit_cage_create(mesh, &cage));
+  CHECK_OK(cagekit_cage_set_holes(cage, 2, holes));
+  array = check_two_call_shape(context, cage_holes, cage, sizeof(uint32_t), "hole", "faces", &count);
+  hole_faces = (const uint32_t*)array;
+  CHECK(count == 2 && hole_faces[0] == 1 && hole_faces[1] == 4);
+  free(array);
+
+  CHECK_OK(cagekit_cage_set_holes(cage, 0, NULL));
+  CHECK_OK(cagekit_limit_patches_create(cage, NULL, &patches));
+  memset(&info, 0, sizeof(info));
+  info.struct_size = sizeof(info);
+  CHECK_OK(cagekit_limit_patches_get_info(patches, &info));
+  array = check_two_call_shape(context, limit_patches, patches, sizeof(cagekit_limit_patch), "patch", "patch_array",
+                               &count);
+  patch = (const cagekit_limit_patch*)array;
+  CHECK(count == info.patch_count);
+  for (k = 1; k < count; ++k) CHECK(patch[k].ptex_face >= patch[k - 1].ptex_face && patch[k].reserved == 0);
+  free(array);
+
+  cagekit_limit_patches_release(patches);
+  cagekit_cage_release(cage);
+  cagekit_mesh_release(mesh);
+  cagekit_context_release(context);
 }
 
 static void last_error_is_per_thread(void) {
@@ -754,7 +871,7 @@ static void out_of_range_enum_values_are_rejected(void) {
   cagekit_cage read = NULL;
   cagekit_hierarchy hierarchy = NULL;
   double positions[24];
-  uint32_t level = 0;
+  uint32_t level = 0, count = 0;
   int i;
   static const char kObj[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
   static const uint32_t tri[3] = {0, 1, 2};
@@ -778,7 +895,7 @@ static void out_of_range_enum_values_are_rejected(void) {
     CHECK_STATUS(cagekit_mesh_create(context, &mdesc, &made), CAGEKIT_ERROR_INVALID_ARGUMENT);
     CHECK(made == NULL);
     CHECK_STATUS(cagekit_cage_set_boundary_rule(cage, (cagekit_boundary_rule)bad[i]), CAGEKIT_ERROR_INVALID_ARGUMENT);
-    CHECK_STATUS(cagekit_mesh_get_positions(mesh, (cagekit_scalar_type)bad[i], 8, NULL, positions),
+    CHECK_STATUS(cagekit_mesh_get_positions(mesh, (cagekit_scalar_type)bad[i], 8, &count, positions),
                  CAGEKIT_ERROR_INVALID_ARGUMENT);
     CHECK_STATUS(cagekit_cage_read_memory(context, kObj, sizeof(kObj) - 1, (cagekit_file_format)bad[i], &read),
                  CAGEKIT_ERROR_INVALID_ARGUMENT);
@@ -856,7 +973,7 @@ static bound_sphere bind_fitted_sphere(const cagekit_bind_options* options) {
   b.cube = b.fitted = NULL;
   b.binding = NULL;
   CHECK_OK(cagekit_cage_create(b.cube_mesh, &b.cube));
-  CHECK_OK(cagekit_cage_fit(b.cube, b.sphere, NULL, &b.fitted, NULL));
+  CHECK_OK(fit_without_passes(b.cube, b.sphere, NULL, &b.fitted, NULL));
   CHECK_OK(cagekit_multires_bind(b.fitted, b.sphere, options, &b.binding));
   return b;
 }
@@ -907,7 +1024,7 @@ static void cpu_deformer_float32_outputs_match_double(void) {
   cagekit_binding_info info;
   double control[24], positions[3 * 300], normals[3 * 300];
   float positions32[3 * 300], normals32[3 * 300];
-  uint32_t i, updated64 = 0, updated32 = 0, moved[2] = {2, 5}, mismatches = 0;
+  uint32_t i, updated64 = 0, updated32 = 0, moved[2] = {2, 5}, mismatches = 0, written = 0;
   int pass;
   options.exact_normals = 1;
   b = bind_fitted_sphere(&options);
@@ -919,7 +1036,7 @@ static void cpu_deformer_float32_outputs_match_double(void) {
   {
     cagekit_mesh fitted_mesh = NULL;
     CHECK_OK(cagekit_cage_get_mesh(fitted, &fitted_mesh));
-    CHECK_OK(cagekit_mesh_get_positions(fitted_mesh, CAGEKIT_SCALAR_FLOAT64, 8, NULL, control));
+    CHECK_OK(cagekit_mesh_get_positions(fitted_mesh, CAGEKIT_SCALAR_FLOAT64, 8, &written, control));
     cagekit_mesh_release(fitted_mesh);
   }
   CHECK_OK(cagekit_cpu_deformer_create(binding, 2, &d64));
@@ -927,45 +1044,74 @@ static void cpu_deformer_float32_outputs_match_double(void) {
   for (pass = 0; pass < 2; ++pass) {
     const cagekit_normal_mode mode = pass == 0 ? CAGEKIT_NORMALS_APPROXIMATE : CAGEKIT_NORMALS_EXACT;
     control[3 * 4 + 1] += 0.07;
-    CHECK_OK(cagekit_cpu_deformer_deform(d64, control, 8, mode, 300, positions, normals));
-    CHECK_OK(cagekit_cpu_deformer_deform_f32(d32, control, 8, mode, 300, positions32, normals32));
+    CHECK_OK(cagekit_cpu_deformer_deform(d64, control, 8, mode, 300, &written, positions, normals));
+    CHECK_OK(cagekit_cpu_deformer_deform_f32(d32, control, 8, mode, 300, &written, positions32, normals32));
     for (i = 0; i < 3 * info.vertex_count; ++i)
       mismatches += positions32[i] != (float)positions[i] || normals32[i] != (float)normals[i];
     /* Incremental: the support of the moved points, the rest left as it was. */
     control[3 * 2 + 0] -= 0.05;
     control[3 * 5 + 2] += 0.04;
-    CHECK_OK(cagekit_cpu_deformer_update(d64, control, 8, moved, 2, mode, 300, positions, normals, &updated64));
-    CHECK_OK(cagekit_cpu_deformer_update_f32(d32, control, 8, moved, 2, mode, 300, positions32, normals32, &updated32));
+    CHECK_OK(cagekit_cpu_deformer_update(d64, control, 8, moved, 2, mode, 300, &written, positions, normals,
+                                         &updated64));
+    CHECK_OK(cagekit_cpu_deformer_update_f32(d32, control, 8, moved, 2, mode, 300, &written, positions32, normals32,
+                                             &updated32));
     CHECK(updated32 == updated64 && updated32 > 0);
     for (i = 0; i < 3 * info.vertex_count; ++i)
       mismatches += positions32[i] != (float)positions[i] || normals32[i] != (float)normals[i];
   }
   CHECK(mismatches == 0);
-  /* Positions only, normals only. */
-  CHECK_OK(cagekit_cpu_deformer_deform_f32(d32, control, 8, CAGEKIT_NORMALS_APPROXIMATE, 300, positions32, NULL));
-  CHECK_OK(cagekit_cpu_deformer_deform_f32(d32, control, 8, CAGEKIT_NORMALS_APPROXIMATE, 300, NULL, normals32));
-  /* Bad input. */
-  CHECK_STATUS(cagekit_cpu_deformer_deform_f32(d32, control, 7, CAGEKIT_NORMALS_APPROXIMATE, 300, positions32, NULL),
+  /* The two-call shape over the bound vertices: the count always, capacity 0 a query that deforms
+     nothing (the arrays keep the last deform's values), a short capacity SIZE_INSUFFICIENT. */
+  CHECK(written == info.vertex_count);
+  written = 0;
+  control[0] += 0.5;
+  CHECK_OK(cagekit_cpu_deformer_deform_f32(d32, control, 8, CAGEKIT_NORMALS_APPROXIMATE, 0, &written, positions32,
+                                           normals32));
+  CHECK(written == info.vertex_count);
+  for (i = 0; i < 3 * info.vertex_count; ++i) mismatches += positions32[i] != (float)positions[i];
+  CHECK(mismatches == 0);
+  control[0] -= 0.5;
+  CHECK_STATUS(cagekit_cpu_deformer_deform_f32(d32, control, 8, CAGEKIT_NORMALS_APPROXIMATE, 300, NULL, positions32,
+                                               NULL),
                CAGEKIT_ERROR_INVALID_ARGUMENT);
-  CHECK_STATUS(cagekit_cpu_deformer_deform_f32(d32, NULL, 8, CAGEKIT_NORMALS_APPROXIMATE, 300, positions32, NULL),
-               CAGEKIT_ERROR_INVALID_ARGUMENT);
-  CHECK_STATUS(cagekit_cpu_deformer_deform_f32(d32, control, 8, CAGEKIT_NORMALS_APPROXIMATE, 10, positions32, NULL),
+  CHECK(strstr(cagekit_last_error_message(b.context), "vertex_count_out") != NULL);
+  written = 0;
+  CHECK_STATUS(cagekit_cpu_deformer_update(d64, control, 8, moved, 2, CAGEKIT_NORMALS_EXACT, 10, &written, positions,
+                                           normals, NULL),
                CAGEKIT_ERROR_SIZE_INSUFFICIENT);
-  CHECK_STATUS(cagekit_cpu_deformer_deform_f32(d32, control, 8, (cagekit_normal_mode)9, 300, positions32, NULL),
+  CHECK(written == info.vertex_count);
+  /* Positions only, normals only. */
+  CHECK_OK(cagekit_cpu_deformer_deform_f32(d32, control, 8, CAGEKIT_NORMALS_APPROXIMATE, 300, &written,
+                                           positions32, NULL));
+  CHECK_OK(cagekit_cpu_deformer_deform_f32(d32, control, 8, CAGEKIT_NORMALS_APPROXIMATE, 300, &written,
+                                           NULL, normals32));
+  /* Bad input. */
+  CHECK_STATUS(cagekit_cpu_deformer_deform_f32(d32, control, 7, CAGEKIT_NORMALS_APPROXIMATE, 300, &written,
+                                               positions32, NULL),
+               CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_cpu_deformer_deform_f32(d32, NULL, 8, CAGEKIT_NORMALS_APPROXIMATE, 300, &written,
+                                               positions32, NULL),
+               CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_cpu_deformer_deform_f32(d32, control, 8, CAGEKIT_NORMALS_APPROXIMATE, 10, &written,
+                                               positions32, NULL),
+               CAGEKIT_ERROR_SIZE_INSUFFICIENT);
+  CHECK_STATUS(cagekit_cpu_deformer_deform_f32(d32, control, 8, (cagekit_normal_mode)9, 300, &written,
+                                               positions32, NULL),
                CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK_STATUS(cagekit_cpu_deformer_deform_f32((cagekit_cpu_deformer)binding, control, 8, CAGEKIT_NORMALS_APPROXIMATE,
-                                               300, positions32, NULL),
+                                               300, &written, positions32, NULL),
                CAGEKIT_ERROR_INVALID_HANDLE);
   CHECK_OK(cagekit_cpu_deformer_create(binding, 1, &fresh));
-  CHECK_STATUS(cagekit_cpu_deformer_update_f32(fresh, control, 8, moved, 2, CAGEKIT_NORMALS_APPROXIMATE, 300,
+  CHECK_STATUS(cagekit_cpu_deformer_update_f32(fresh, control, 8, moved, 2, CAGEKIT_NORMALS_APPROXIMATE, 300, &written,
                                                positions32, normals32, NULL),
                CAGEKIT_ERROR_INVALID_OPERATION); /* before a first deform */
-  CHECK_OK(cagekit_cpu_deformer_deform_f32(fresh, control, 8, CAGEKIT_NORMALS_APPROXIMATE, 300, positions32, normals32));
+  CHECK_OK(cagekit_cpu_deformer_deform_f32(fresh, control, 8, CAGEKIT_NORMALS_APPROXIMATE, 300, &written,
+                                           positions32, normals32));
   moved[0] = 8;
-  CHECK_STATUS(cagekit_cpu_deformer_update_f32(fresh, control, 8, moved, 1, CAGEKIT_NORMALS_APPROXIMATE, 300,
+  CHECK_STATUS(cagekit_cpu_deformer_update_f32(fresh, control, 8, moved, 1, CAGEKIT_NORMALS_APPROXIMATE, 300, &written,
                                                positions32, normals32, NULL),
                CAGEKIT_ERROR_INVALID_ARGUMENT);
-  CHECK_STATUS(cagekit_cpu_deformer_update_f32(fresh, control, 8, NULL, 1, CAGEKIT_NORMALS_APPROXIMATE, 300,
+  CHECK_STATUS(cagekit_cpu_deformer_update_f32(fresh, control, 8, NULL, 1, CAGEKIT_NORMALS_APPROXIMATE, 300, &written,
                                                positions32, normals32, NULL),
                CAGEKIT_ERROR_INVALID_ARGUMENT);
   cagekit_cpu_deformer_release(fresh);
@@ -983,10 +1129,10 @@ static void multires_binding_reproduces_and_deforms_the_scan(void) {
   cagekit_bind_options options = CAGEKIT_BIND_OPTIONS_INIT;
   cagekit_binding_info info;
   double control[24], scan[3 * 300], positions[3 * 300], normals[3 * 300], positions2[3 * 300], normals2[3 * 300];
-  uint32_t count = 0, i, updated = 0, moved[2] = {1, 6};
+  uint32_t count = 0, i, updated = 0, moved[2] = {1, 6}, written = 0;
   double worst = 0, diff = 0;
   CHECK_OK(cagekit_cage_create(cube_mesh, &cube));
-  CHECK_OK(cagekit_cage_fit(cube, sphere, NULL, &fitted, NULL));
+  CHECK_OK(fit_without_passes(cube, sphere, NULL, &fitted, NULL));
   options.mode = CAGEKIT_DISPLACEMENT_LOCAL_FRAME;
   options.exact_normals = 1;
   CHECK_OK(cagekit_multires_bind(fitted, sphere, &options, &binding));
@@ -998,13 +1144,13 @@ static void multires_binding_reproduces_and_deforms_the_scan(void) {
   {
     cagekit_mesh fitted_mesh = NULL;
     CHECK_OK(cagekit_cage_get_mesh(fitted, &fitted_mesh));
-    CHECK_OK(cagekit_mesh_get_positions(fitted_mesh, CAGEKIT_SCALAR_FLOAT64, 8, NULL, control));
+    CHECK_OK(cagekit_mesh_get_positions(fitted_mesh, CAGEKIT_SCALAR_FLOAT64, 8, &written, control));
     cagekit_mesh_release(fitted_mesh);
   }
   CHECK_OK(cagekit_cpu_deformer_create(binding, 0, &full));
   CHECK_OK(cagekit_cpu_deformer_create(binding, 1, &incremental));
   /* Undeformed: the scan comes back (local-frame mode is exact). */
-  CHECK_OK(cagekit_cpu_deformer_deform(full, control, 8, CAGEKIT_NORMALS_EXACT, 300, positions, normals));
+  CHECK_OK(cagekit_cpu_deformer_deform(full, control, 8, CAGEKIT_NORMALS_EXACT, 300, &written, positions, normals));
   for (i = 0; i < 3 * count; ++i) worst = fabs(positions[i] - scan[i]) > worst ? fabs(positions[i] - scan[i]) : worst;
   CHECK(worst < 1e-9);
   for (i = 0; i < count; ++i) {
@@ -1012,36 +1158,37 @@ static void multires_binding_reproduces_and_deforms_the_scan(void) {
     CHECK(fabs(n[0] * n[0] + n[1] * n[1] + n[2] * n[2] - 1.0) < 1e-9);
   }
   /* Incremental equals full. */
-  CHECK_OK(cagekit_cpu_deformer_deform(incremental, control, 8, CAGEKIT_NORMALS_EXACT, 300, positions2, normals2));
+  CHECK_OK(cagekit_cpu_deformer_deform(incremental, control, 8, CAGEKIT_NORMALS_EXACT, 300, &written,
+                                       positions2, normals2));
   control[3 * 1 + 0] += 0.1;
   control[3 * 6 + 2] -= 0.05;
-  CHECK_OK(cagekit_cpu_deformer_update(incremental, control, 8, moved, 2, CAGEKIT_NORMALS_EXACT, 300, positions2,
-                                       normals2, &updated));
+  CHECK_OK(cagekit_cpu_deformer_update(incremental, control, 8, moved, 2, CAGEKIT_NORMALS_EXACT, 300, &written,
+                                       positions2, normals2, &updated));
   CHECK(updated > 0 && updated <= count);
-  CHECK_OK(cagekit_cpu_deformer_deform(full, control, 8, CAGEKIT_NORMALS_EXACT, 300, positions, normals));
+  CHECK_OK(cagekit_cpu_deformer_deform(full, control, 8, CAGEKIT_NORMALS_EXACT, 300, &written, positions, normals));
   for (i = 0; i < 3 * count; ++i) {
     diff = fabs(positions[i] - positions2[i]) > diff ? fabs(positions[i] - positions2[i]) : diff;
     diff = fabs(normals[i] - normals2[i]) > diff ? fabs(normals[i] - normals2[i]) : diff;
   }
   CHECK(diff < 1e-12);
   /* Bad input. */
-  CHECK_STATUS(cagekit_cpu_deformer_deform(full, control, 7, CAGEKIT_NORMALS_EXACT, 300, positions, normals),
+  CHECK_STATUS(cagekit_cpu_deformer_deform(full, control, 7, CAGEKIT_NORMALS_EXACT, 300, &written, positions, normals),
                CAGEKIT_ERROR_INVALID_ARGUMENT);
-  CHECK_STATUS(cagekit_cpu_deformer_deform(full, control, 8, CAGEKIT_NORMALS_EXACT, 10, positions, normals),
+  CHECK_STATUS(cagekit_cpu_deformer_deform(full, control, 8, CAGEKIT_NORMALS_EXACT, 10, &written, positions, normals),
                CAGEKIT_ERROR_SIZE_INSUFFICIENT);
-  CHECK_STATUS(cagekit_cpu_deformer_deform(full, NULL, 8, CAGEKIT_NORMALS_EXACT, 300, positions, normals),
+  CHECK_STATUS(cagekit_cpu_deformer_deform(full, NULL, 8, CAGEKIT_NORMALS_EXACT, 300, &written, positions, normals),
                CAGEKIT_ERROR_INVALID_ARGUMENT);
-  CHECK_STATUS(cagekit_cpu_deformer_deform(full, control, 8, (cagekit_normal_mode)7, 300, positions, normals),
+  CHECK_STATUS(cagekit_cpu_deformer_deform(full, control, 8, (cagekit_normal_mode)7, 300, &written, positions, normals),
                CAGEKIT_ERROR_INVALID_ARGUMENT);
   moved[0] = 99;
-  CHECK_STATUS(cagekit_cpu_deformer_update(incremental, control, 8, moved, 1, CAGEKIT_NORMALS_EXACT, 300, positions2,
-                                           normals2, NULL),
+  CHECK_STATUS(cagekit_cpu_deformer_update(incremental, control, 8, moved, 1, CAGEKIT_NORMALS_EXACT, 300, &written,
+                                           positions2, normals2, NULL),
                CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK_STATUS(cagekit_cpu_deformer_update(incremental, control, 8, moved, 0, CAGEKIT_NORMALS_APPROXIMATE, 300,
-                                           positions2, normals2, NULL),
+                                           &written, positions2, normals2, NULL),
                CAGEKIT_ERROR_INVALID_OPERATION); /* mode differs from the last deform's */
   control[0] = NAN;
-  CHECK_STATUS(cagekit_cpu_deformer_deform(full, control, 8, CAGEKIT_NORMALS_EXACT, 300, positions, normals),
+  CHECK_STATUS(cagekit_cpu_deformer_deform(full, control, 8, CAGEKIT_NORMALS_EXACT, 300, &written, positions, normals),
                CAGEKIT_ERROR_INVALID_ARGUMENT);
   {
     cagekit_cpu_deformer none = NULL;
@@ -1057,7 +1204,8 @@ static void multires_binding_reproduces_and_deforms_the_scan(void) {
   /* The deformers keep the binding alive after the host released it. */
   cagekit_binding_release(binding);
   control[0] = 0.0;
-  CHECK_OK(cagekit_cpu_deformer_deform(incremental, control, 8, CAGEKIT_NORMALS_EXACT, 300, positions2, NULL));
+  CHECK_OK(cagekit_cpu_deformer_deform(incremental, control, 8, CAGEKIT_NORMALS_EXACT, 300, &written,
+                                       positions2, NULL));
   cagekit_cpu_deformer_release(full);
   cagekit_cpu_deformer_release(incremental);
   cagekit_cage_release(fitted);
@@ -1112,9 +1260,9 @@ static void saved_binding_round_trips_and_bad_bytes_fail(void) {
   cagekit_binding_info a, b;
   double control[24], p0[3 * 300], p1[3 * 300];
   unsigned char bad[64];
-  uint32_t i;
+  uint32_t i, written = 0;
   CHECK_OK(cagekit_cage_create(cube_mesh, &cube));
-  CHECK_OK(cagekit_cage_fit(cube, sphere, NULL, &fitted, NULL));
+  CHECK_OK(fit_without_passes(cube, sphere, NULL, &fitted, NULL));
   CHECK_OK(cagekit_multires_bind(fitted, sphere, NULL, &binding));
   CHECK_OK(cagekit_binding_write_memory(binding, &blob));
   CHECK(cagekit_blob_size(blob) > 100);
@@ -1127,12 +1275,12 @@ static void saved_binding_round_trips_and_bad_bytes_fail(void) {
   /* The saved cage is the fitted one; both bindings deform alike, and re-saving gives the same bytes. */
   CHECK_OK(cagekit_binding_get_cage(loaded, &saved_cage));
   CHECK_OK(cagekit_cage_get_mesh(saved_cage, &cage_mesh));
-  CHECK_OK(cagekit_mesh_get_positions(cage_mesh, CAGEKIT_SCALAR_FLOAT64, 8, NULL, control));
+  CHECK_OK(cagekit_mesh_get_positions(cage_mesh, CAGEKIT_SCALAR_FLOAT64, 8, &written, control));
   control[0] += 0.05;
   CHECK_OK(cagekit_cpu_deformer_create(binding, 1, &d0));
   CHECK_OK(cagekit_cpu_deformer_create(loaded, 1, &d1));
-  CHECK_OK(cagekit_cpu_deformer_deform(d0, control, 8, CAGEKIT_NORMALS_APPROXIMATE, 300, p0, NULL));
-  CHECK_OK(cagekit_cpu_deformer_deform(d1, control, 8, CAGEKIT_NORMALS_APPROXIMATE, 300, p1, NULL));
+  CHECK_OK(cagekit_cpu_deformer_deform(d0, control, 8, CAGEKIT_NORMALS_APPROXIMATE, 300, &written, p0, NULL));
+  CHECK_OK(cagekit_cpu_deformer_deform(d1, control, 8, CAGEKIT_NORMALS_APPROXIMATE, 300, &written, p1, NULL));
   for (i = 0; i < 3 * a.vertex_count; ++i) CHECK(p0[i] == p1[i]);
   CHECK_OK(cagekit_binding_write_memory(loaded, &again));
   CHECK(cagekit_blob_size(again) == cagekit_blob_size(blob) &&
@@ -1199,13 +1347,12 @@ static void fit_reduces_the_error_every_pass(void) {
   options.tolerance = 0.0;
   options.threads = 2;
 
-  /* first call: no pass array, only the count */
+  /* first call: pass_capacity 0, only the count of states */
   memset(&report, 0, sizeof(report));
   report.struct_size = sizeof(report);
-  CHECK_OK(cagekit_cage_fit(cube, sphere, &options, &fitted, &report));
+  CHECK_OK(cagekit_cage_fit(cube, sphere, &options, &fitted, &report, 0, &count, NULL));
   CHECK(fitted != NULL);
-  CHECK(report.pass_count >= 2 && report.pass_count <= 5);
-  CHECK(report.passes == NULL && report.pass_capacity == 0);
+  CHECK(report.pass_count >= 2 && report.pass_count <= 5 && count == report.pass_count);
   CHECK(report.final.l2 < report.initial.l2);
   CHECK(report.final.max_rel < report.initial.max_rel);
   CHECK(report.final.rms_rel < 0.5 * report.initial.rms_rel);
@@ -1213,26 +1360,25 @@ static void fit_reduces_the_error_every_pass(void) {
   CHECK(report.seconds > 0 && report.fairing_used == 0 && report.stopped_by_tolerance == 0);
   count = report.pass_count;
 
-  /* second call: the array, with one spare entry that stays untouched */
+  /* second call: more than the max_passes + 1 entries that always suffice; the entry after the
+     states measured stays untouched */
   memset(passes, 0, sizeof(passes));
   passes[count].l2 = -7;
-  report.pass_capacity = count + 1;
-  report.passes = passes;
-  CHECK_OK(cagekit_cage_fit(cube, sphere, &options, &again, &report));
-  CHECK(report.pass_count == count && report.passes == passes && report.pass_capacity == count + 1);
+  i = count;
+  CHECK_OK(cagekit_cage_fit(cube, sphere, &options, &again, &report, 8, &count, passes));
+  CHECK(report.pass_count == count && count == i);
   CHECK(report.best_pass < count && passes[0].l2 == report.initial.l2 &&
         passes[report.best_pass].l2 == report.final.l2);
   for (i = 1; i < count; ++i) CHECK(passes[i].l2 <= passes[i - 1].l2);
   for (i = 0; i < count; ++i) CHECK(passes[i].mean_rel <= passes[i].max_rel && passes[i].mean_projection_steps >= 0);
   CHECK(passes[count].l2 == -7);
 
-  /* a capacity below the count is filled up to the capacity, not an error */
+  /* exactly max_passes + 1 entries */
   memset(passes, 0, sizeof(passes));
-  report.pass_capacity = 1;
   cagekit_cage_release(again);
   again = NULL;
-  CHECK_OK(cagekit_cage_fit(cube, sphere, &options, &again, &report));
-  CHECK(report.pass_count == count && passes[0].l2 == report.initial.l2 && passes[1].l2 == 0);
+  CHECK_OK(cagekit_cage_fit(cube, sphere, &options, &again, &report, options.max_passes + 1, &count, passes));
+  CHECK(report.pass_count == count && passes[0].l2 == report.initial.l2 && passes[count - 1].l2 > 0);
 
   /* same connectivity, the input cage unchanged, the output moved */
   info.struct_size = sizeof(info);
@@ -1258,18 +1404,16 @@ static void fit_reduces_the_error_every_pass(void) {
   options.max_passes = 2;
   cagekit_cage_release(again);
   again = NULL;
-  CHECK_OK(cagekit_cage_fit(cube, sphere, &options, &again, NULL));
-  report.pass_capacity = 0;
-  report.passes = NULL;
+  CHECK_OK(cagekit_cage_fit(cube, sphere, &options, &again, NULL, 0, &count, NULL));
   cagekit_cage_release(again);
   again = NULL;
-  CHECK_OK(cagekit_cage_fit(cube, sphere, &options, &again, &report));
+  CHECK_OK(fit_without_passes(cube, sphere, &options, &again, &report));
   CHECK(report.final.l2 < report.initial.l2);
 
   /* NULL options = defaults */
   cagekit_cage_release(again);
   again = NULL;
-  CHECK_OK(cagekit_cage_fit(cube, sphere, NULL, &again, &report));
+  CHECK_OK(fit_without_passes(cube, sphere, NULL, &again, &report));
   CHECK(report.pass_count >= 2 && report.pass_count <= 6 && report.final.l2 < report.initial.l2);
 
   cagekit_cage_release(again);
@@ -1292,7 +1436,7 @@ static void fit_keeps_tags_and_pinned_crease_vertices(void) {
   memset(&report, 0, sizeof(report));
   report.struct_size = sizeof(report);
   options.max_passes = 2;
-  CHECK_OK(cagekit_cage_fit(cube, sphere, &options, &fitted, &report));
+  CHECK_OK(fit_without_passes(cube, sphere, &options, &fitted, &report));
   info.struct_size = sizeof(info);
   CHECK_OK(cagekit_cage_get_info(fitted, &info));
   CHECK(info.creases == 12 && info.quads == 6);
@@ -1301,7 +1445,7 @@ static void fit_keeps_tags_and_pinned_crease_vertices(void) {
   fitted = NULL;
   /* every vertex of the creased cube is on a sharp crease: nothing may move */
   options.keep_crease_vertices = 1;
-  CHECK_OK(cagekit_cage_fit(cube, sphere, &options, &fitted, &report));
+  CHECK_OK(fit_without_passes(cube, sphere, &options, &fitted, &report));
   CHECK_OK(cagekit_cage_get_mesh(fitted, &m));
   CHECK_OK(cagekit_mesh_get_positions(m, CAGEKIT_SCALAR_FLOAT64, 8, &count, positions));
   for (i = 0; i < 24; ++i) CHECK(positions[i] == kCubeD[i]);
@@ -1339,7 +1483,7 @@ static int count_fit_progress(void* user, const char* stage, double fraction) {
     cagekit_fit_options o_ = CAGEKIT_FIT_OPTIONS_INIT;                                                 \
     cagekit_cage out_ = (cagekit_cage)1;                                                               \
     assignment;                                                                                        \
-    CHECK_STATUS(cagekit_cage_fit(cube, sphere, &o_, &out_, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);    \
+    CHECK_STATUS(fit_without_passes(cube, sphere, &o_, &out_, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);  \
     CHECK(out_ == NULL);                                                                               \
     CHECK(strstr(cagekit_last_error_message(context), field) != NULL);                                 \
   } while (0)
@@ -1350,6 +1494,7 @@ static void fit_rejects_bad_arguments_and_can_be_cancelled(void) {
   cagekit_cage cube = new_creased_cube(context), out = (cagekit_cage)1;
   cagekit_fit_report report;
   cagekit_fit_options small = CAGEKIT_FIT_OPTIONS_INIT;
+  uint32_t pass_count = 0;
 
   EXPECT_BAD_FIT_OPTION(o_.tolerance = NAN, "tolerance");
   EXPECT_BAD_FIT_OPTION(o_.tolerance = -1e-3, "tolerance");
@@ -1377,33 +1522,34 @@ static void fit_rejects_bad_arguments_and_can_be_cancelled(void) {
   small.struct_size = offsetof(cagekit_fit_options, keep_crease_vertices);
   small.max_passes = 1;
   small.projection_epsilon = -1; /* beyond struct_size: not read */
-  CHECK_OK(cagekit_cage_fit(cube, sphere, &small, &out, NULL));
+  CHECK_OK(fit_without_passes(cube, sphere, &small, &out, NULL));
   cagekit_cage_release(out);
   /* one that ends before crease_feature_reach (1.0's reverse_sample_factor struct) */
   small = (cagekit_fit_options)CAGEKIT_FIT_OPTIONS_INIT;
   small.struct_size = offsetof(cagekit_fit_options, crease_feature_reach);
   small.crease_feature_reach = -1; /* beyond struct_size: not read */
-  CHECK_OK(cagekit_cage_fit(cube, sphere, &small, &out, NULL));
+  CHECK_OK(fit_without_passes(cube, sphere, &small, &out, NULL));
   cagekit_cage_release(out);
 
-  /* bad report structs */
+  /* bad report structs and pass arrays */
   memset(&report, 0, sizeof(report));
   out = (cagekit_cage)1;
-  CHECK_STATUS(cagekit_cage_fit(cube, sphere, NULL, &out, &report), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(fit_without_passes(cube, sphere, NULL, &out, &report), CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK(out == NULL && strstr(cagekit_last_error_message(context), "struct_size") != NULL);
-  report.struct_size = sizeof(report);
-  report.pass_capacity = 3;
-  CHECK_STATUS(cagekit_cage_fit(cube, sphere, NULL, &out, &report), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_cage_fit(cube, sphere, NULL, &out, NULL, 6, &pass_count, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK(strstr(cagekit_last_error_message(context), "passes") != NULL);
+  CHECK_STATUS(cagekit_cage_fit(cube, sphere, NULL, &out, NULL, 0, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(out == NULL && strstr(cagekit_last_error_message(context), "pass_count_out") != NULL);
 
   /* NULL and wrong handles */
-  CHECK_STATUS(cagekit_cage_fit(NULL, sphere, NULL, &out, NULL), CAGEKIT_ERROR_INVALID_HANDLE);
+  CHECK_STATUS(fit_without_passes(NULL, sphere, NULL, &out, NULL), CAGEKIT_ERROR_INVALID_HANDLE);
   CHECK(out == NULL);
-  CHECK_STATUS(cagekit_cage_fit(cube, NULL, NULL, &out, NULL), CAGEKIT_ERROR_INVALID_HANDLE);
+  CHECK_STATUS(fit_without_passes(cube, NULL, NULL, &out, NULL), CAGEKIT_ERROR_INVALID_HANDLE);
   CHECK(strstr(cagekit_last_error_message(context), "scan") != NULL);
-  CHECK_STATUS(cagekit_cage_fit((cagekit_cage)(void*)cube_mesh, sphere, NULL, &out, NULL), CAGEKIT_ERROR_INVALID_HANDLE);
-  CHECK_STATUS(cagekit_cage_fit(cube, (cagekit_mesh)(void*)cube, NULL, &out, NULL), CAGEKIT_ERROR_INVALID_HANDLE);
-  CHECK_STATUS(cagekit_cage_fit(cube, sphere, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(fit_without_passes((cagekit_cage)(void*)cube_mesh, sphere, NULL, &out, NULL),
+               CAGEKIT_ERROR_INVALID_HANDLE);
+  CHECK_STATUS(fit_without_passes(cube, (cagekit_mesh)(void*)cube, NULL, &out, NULL), CAGEKIT_ERROR_INVALID_HANDLE);
+  CHECK_STATUS(fit_without_passes(cube, sphere, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
 
   /* a scan with a non-finite position */
   {
@@ -1419,7 +1565,7 @@ static void fit_rejects_bad_arguments_and_can_be_cancelled(void) {
     desc.face_count = 1;
     desc.face_indices = tri;
     CHECK_OK(cagekit_mesh_create(context, &desc, &bad));
-    CHECK_STATUS(cagekit_cage_fit(cube, bad, NULL, &out, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    CHECK_STATUS(fit_without_passes(cube, bad, NULL, &out, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
     CHECK(out == NULL);
     cagekit_mesh_release(bad);
   }
@@ -1428,7 +1574,7 @@ static void fit_rejects_bad_arguments_and_can_be_cancelled(void) {
   g_fit_progress_calls = 0;
   g_fit_last_fraction = 0;
   CHECK_OK(cagekit_context_set_progress(context, count_fit_progress, NULL));
-  CHECK_OK(cagekit_cage_fit(cube, sphere, NULL, &out, NULL));
+  CHECK_OK(fit_without_passes(cube, sphere, NULL, &out, NULL));
   CHECK(g_fit_progress_calls >= 2 && g_fit_last_fraction == 1.0);
   cagekit_cage_release(out);
 
@@ -1436,15 +1582,15 @@ static void fit_rejects_bad_arguments_and_can_be_cancelled(void) {
   g_fit_stage_seen = 0;
   out = (cagekit_cage)1;
   CHECK_OK(cagekit_context_set_progress(context, cancel_in_fit, NULL));
-  CHECK_STATUS(cagekit_cage_fit(cube, sphere, NULL, &out, NULL), CAGEKIT_ERROR_CANCELLED);
+  CHECK_STATUS(fit_without_passes(cube, sphere, NULL, &out, NULL), CAGEKIT_ERROR_CANCELLED);
   CHECK(out == NULL && g_fit_stage_seen);
   CHECK_OK(cagekit_context_set_progress(context, NULL, NULL));
   cagekit_context_cancel(context);
   out = (cagekit_cage)1;
-  CHECK_STATUS(cagekit_cage_fit(cube, sphere, NULL, &out, NULL), CAGEKIT_ERROR_CANCELLED);
+  CHECK_STATUS(fit_without_passes(cube, sphere, NULL, &out, NULL), CAGEKIT_ERROR_CANCELLED);
   CHECK(out == NULL);
   cagekit_context_reset_cancel(context);
-  CHECK_OK(cagekit_cage_fit(cube, sphere, NULL, &out, NULL));
+  CHECK_OK(fit_without_passes(cube, sphere, NULL, &out, NULL));
   cagekit_cage_release(out);
 
   cagekit_cage_release(cube);
@@ -1453,6 +1599,66 @@ static void fit_rejects_bad_arguments_and_can_be_cancelled(void) {
   cagekit_context_release(context);
 }
 
+
+static int g_progress_reports;
+static int count_progress(void* user, const char* stage, double fraction) {
+  (void)user;
+  (void)stage;
+  (void)fraction;
+  ++g_progress_reports;
+  return 1;
+}
+
+/* The fit cannot be repeated for a second call, so its pass array is checked before any work: a
+ * nonzero capacity below max_passes + 1 is SIZE_INSUFFICIENT with max_passes + 1 written, and no
+ * progress is reported (nothing ran); max_passes + 1 entries always suffice. The same for
+ * cagekit_scan_to_cage's fit_passes. */
+static void fit_with_a_short_pass_array_fails_before_any_work(void) {
+  cagekit_context context = new_context();
+  cagekit_mesh sphere = new_sphere(context), cube_mesh = new_cube(context);
+  cagekit_cage cube = NULL, out = (cagekit_cage)1, limit = (cagekit_cage)1;
+  cagekit_fit_options options = CAGEKIT_FIT_OPTIONS_INIT;
+  cagekit_scan_to_cage_options journey = CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT;
+  cagekit_fit_report report;
+  cagekit_fit_pass passes[5];
+  uint32_t count = 0;
+  CHECK_OK(cagekit_cage_create(cube_mesh, &cube));
+  CHECK_OK(cagekit_context_set_progress(context, count_progress, NULL));
+  options.max_passes = 4;
+  memset(&report, 0, sizeof(report));
+  report.struct_size = sizeof(report);
+  report.pass_count = 77;
+  g_progress_reports = 0;
+  CHECK_STATUS(cagekit_cage_fit(cube, sphere, &options, &out, &report, 4, &count, passes),
+               CAGEKIT_ERROR_SIZE_INSUFFICIENT);
+  CHECK(out == NULL && count == 5 && g_progress_reports == 0 && report.pass_count == 77);
+  CHECK(strstr(cagekit_last_error_message(context), "passes: pass_capacity 4 is less than the required 5") != NULL);
+  /* max_passes + 1 entries suffice whatever the fit does */
+  CHECK_OK(cagekit_cage_fit(cube, sphere, &options, &out, &report, 5, &count, passes));
+  CHECK(g_progress_reports > 0 && count == report.pass_count && count >= 2 && count <= 5);
+  CHECK(passes[0].l2 == report.initial.l2 && passes[report.best_pass].l2 == report.final.l2);
+  cagekit_cage_release(out);
+
+  /* the journey's fit: options.fit's max_passes (2) + 1 */
+  options.max_passes = 2;
+  journey.fit = &options;
+  journey.target = 30;
+  g_progress_reports = 0;
+  out = (cagekit_cage)1;
+  CHECK_STATUS(cagekit_scan_to_cage(sphere, &journey, &out, &limit, NULL, NULL, 2, &count, passes),
+               CAGEKIT_ERROR_SIZE_INSUFFICIENT);
+  CHECK(out == NULL && limit == NULL && count == 3 && g_progress_reports == 0);
+  CHECK(strstr(cagekit_last_error_message(context), "fit_passes: fit_pass_capacity 2") != NULL);
+  CHECK_STATUS(cagekit_scan_to_cage(sphere, &journey, &out, NULL, NULL, NULL, 3, NULL, passes),
+               CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context), "fit_pass_count_out") != NULL);
+
+  CHECK_OK(cagekit_context_set_progress(context, NULL, NULL));
+  cagekit_cage_release(cube);
+  cagekit_mesh_release(cube_mesh);
+  cagekit_mesh_release(sphere);
+  cagekit_context_release(context);
+}
 
 /* Open cylinder of radius 1 about z, height 4, n_around x n_along quads split into triangles. */
 static cagekit_mesh new_triangle_cylinder(cagekit_context context, int n_around, int n_along) {
@@ -1772,7 +1978,7 @@ static void sharp_edges_are_kept_by_every_method(void) {
   scan.cage = &cage_options;
   scan.sharp_edges = ring;
   scan.sharp_edge_count = kAround;
-  CHECK_OK(cagekit_scan_to_cage(mesh, &scan, &cage, &limit, &report, NULL));
+  CHECK_OK(scan_to_cage_without_passes(mesh, &scan, &cage, &limit, &report));
   CHECK(report.sharp_edges == kAround && report.sharp_edges_dropped == 0);
   CHECK(creases_at_height(cage, 2.0, &at_mid) >= 3);
   cagekit_cage_release(cage);
@@ -1796,7 +2002,7 @@ static void sharp_edges_are_kept_by_every_method(void) {
                "cagekit_simplify_options.sharp_edges must not be NULL with sharp_edge_count 1") != NULL);
   cage_options.sharp_edges = ring;
   cage_options.sharp_edge_count = kAround;
-  CHECK_STATUS(cagekit_scan_to_cage(mesh, &scan, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(scan_to_cage_without_passes(mesh, &scan, &cage, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK(cage == NULL && hierarchy == NULL);
   cagekit_mesh_release(mesh);
   cagekit_context_release(context);
@@ -1814,6 +2020,8 @@ static void scan_to_cage_conditions_fits_and_judges(void) {
   cagekit_fit_report fit;
   cagekit_fit_pass passes[6];
   cagekit_mesh_info info;
+  uint32_t pass_count = 0, count = 0;
+  uint64_t index_count = 0;
   static double soup_positions[9 * SPHERE_TRIANGLES];
   static uint32_t soup_triangles[3 * SPHERE_TRIANGLES];
   static const double flat[] = {0, 0, 0, 1, 0, 0, 2, 0, 0, 3, 0, 0};
@@ -1826,10 +2034,9 @@ static void scan_to_cage_conditions_fits_and_judges(void) {
   report.struct_size = sizeof(report);
   memset(&fit, 0, sizeof(fit));
   fit.struct_size = sizeof(fit);
-  fit.pass_capacity = 6;
-  fit.passes = passes;
   options.target = 30;
-  CHECK_OK(cagekit_scan_to_cage(sphere, &options, &cage, &limit, &report, &fit));
+  /* the default fit's max_passes (5) + 1 entries */
+  CHECK_OK(cagekit_scan_to_cage(sphere, &options, &cage, &limit, &report, &fit, 6, &pass_count, passes));
   CHECK(cage != NULL && limit != NULL);
   CHECK(report.conditioned_faces == SPHERE_TRIANGLES && report.welded_vertices == 0 && report.flipped_faces == 0);
   CHECK(report.used_method == CAGEKIT_SCAN_SIMPLIFY && report.fallback == 0 && report.fallback_reason[0] == 0);
@@ -1837,6 +2044,7 @@ static void scan_to_cage_conditions_fits_and_judges(void) {
   CHECK(report.cage_faces >= 30 && report.cage_faces <= 120 && report.holes_added == 0);
   CHECK(report.fit_pass_count >= 2 && report.fit_final.max_rel < report.fit_initial.max_rel);
   CHECK(fit.pass_count == report.fit_pass_count && fit.best_pass == report.fit_best_pass);
+  CHECK(pass_count == fit.pass_count && passes[fit.best_pass].max_rel == report.fit_final.max_rel);
   CHECK(fit.final.max_rel == report.fit_final.max_rel);
   CHECK(report.fit_final_two_sided.surface_to_scan_max_rel >= 0 && report.fit_final_two_sided.two_sided_rms_rel > 0);
   printf("scan_to_cage sphere: %llu cage faces, scan->limit %.4g, limit->scan %.4g\n", (unsigned long long)report.cage_faces,
@@ -1859,20 +2067,20 @@ static void scan_to_cage_conditions_fits_and_judges(void) {
   cage = limit = NULL;
   /* Switched off, and a caller built against the struct without the member: no refit. */
   options.two_sided_refit_factor = 0;
-  CHECK_OK(cagekit_scan_to_cage(sphere, &options, &cage, NULL, &report, NULL));
+  CHECK_OK(scan_to_cage_without_passes(sphere, &options, &cage, NULL, &report));
   CHECK(report.two_sided_refit == 0 && report.one_sided_fit_max_rel == 0);
   cagekit_cage_release(cage);
   cage = NULL;
   options.two_sided_refit_factor = 3;
   options.struct_size = offsetof(cagekit_scan_to_cage_options, two_sided_refit_factor);
-  CHECK_OK(cagekit_scan_to_cage(sphere, &options, &cage, NULL, &report, NULL));
+  CHECK_OK(scan_to_cage_without_passes(sphere, &options, &cage, NULL, &report));
   cagekit_cage_release(cage);
   cage = NULL;
   options.struct_size = sizeof(options);
 
   /* The sphere as a soup: every triangle with its own corners, one of them flipped. */
-  CHECK_OK(cagekit_mesh_get_positions(sphere, CAGEKIT_SCALAR_FLOAT64, SPHERE_VERTICES, NULL, positions));
-  CHECK_OK(cagekit_mesh_get_faces(sphere, 0, NULL, NULL, 3 * SPHERE_TRIANGLES, NULL, triangles));
+  CHECK_OK(cagekit_mesh_get_positions(sphere, CAGEKIT_SCALAR_FLOAT64, SPHERE_VERTICES, &count, positions));
+  CHECK_OK(cagekit_mesh_get_faces(sphere, 0, &count, NULL, 3 * SPHERE_TRIANGLES, &index_count, triangles));
   for (i = 0; i < SPHERE_TRIANGLES; ++i)
     for (k = 0; k < 3; ++k) {
       const uint32_t corner = i == 7 ? 2 - k : k; /* triangle 7 reversed */
@@ -1884,7 +2092,7 @@ static void scan_to_cage_conditions_fits_and_judges(void) {
   desc.face_count = SPHERE_TRIANGLES;
   desc.face_indices = soup_triangles;
   CHECK_OK(cagekit_mesh_create(context, &desc, &soup));
-  CHECK_OK(cagekit_scan_to_cage(soup, &options, &cage, NULL, &report, NULL));
+  CHECK_OK(scan_to_cage_without_passes(soup, &options, &cage, NULL, &report));
   CHECK(report.welded_vertices == 3 * SPHERE_TRIANGLES - SPHERE_VERTICES && report.flipped_faces == 1);
   CHECK(report.conditioned_vertices == SPHERE_VERTICES && report.components == 1);
   CHECK(report.limit_to_scan_max_rel < 0.05);
@@ -1903,10 +2111,10 @@ static void scan_to_cage_conditions_fits_and_judges(void) {
     desc.face_indices = triangles;
     CHECK_OK(cagekit_mesh_create(context, &desc, &flipped));
     options.repair = 0;
-    CHECK_STATUS(cagekit_scan_to_cage(flipped, &options, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_MESH);
+    CHECK_STATUS(scan_to_cage_without_passes(flipped, &options, &cage, NULL, NULL), CAGEKIT_ERROR_INVALID_MESH);
     CHECK(cage == NULL);
     options.repair = 1;
-    CHECK_OK(cagekit_scan_to_cage(flipped, &options, &cage, NULL, &report, NULL));
+    CHECK_OK(scan_to_cage_without_passes(flipped, &options, &cage, NULL, &report));
     CHECK(report.flipped_faces == 1 && report.welded_vertices == 0);
     cagekit_cage_release(cage);
     cage = NULL;
@@ -1915,7 +2123,7 @@ static void scan_to_cage_conditions_fits_and_judges(void) {
 
   /* A 6-quad cube asked for 60 faces is its own cage (its 12 sharp edges creased). */
   options.target = 60;
-  CHECK_OK(cagekit_scan_to_cage(cube, &options, &cage, NULL, &report, NULL));
+  CHECK_OK(scan_to_cage_without_passes(cube, &options, &cage, NULL, &report));
   CHECK(report.input_is_cage == 1 && report.cage_faces == 6 && report.creases == 12);
   cagekit_cage_release(cage);
   cage = NULL;
@@ -1925,7 +2133,7 @@ static void scan_to_cage_conditions_fits_and_judges(void) {
   options.max_limit_to_scan_rel = 1e-12;
   options.limit_to_scan_factor = 1e-12;
   options.small_input_faces = 0;
-  CHECK_STATUS(cagekit_scan_to_cage(sphere, &options, &cage, &limit, NULL, NULL), CAGEKIT_ERROR_QUALITY);
+  CHECK_STATUS(scan_to_cage_without_passes(sphere, &options, &cage, &limit, NULL), CAGEKIT_ERROR_QUALITY);
   CHECK(cage == NULL && limit == NULL);
   CHECK(strstr(cagekit_last_error_message(context), "strays") != NULL);
   CHECK(strcmp(cagekit_status_string(CAGEKIT_ERROR_QUALITY), "result misses its quality bounds") == 0);
@@ -1937,44 +2145,44 @@ static void scan_to_cage_conditions_fits_and_judges(void) {
   desc.face_count = 2;
   desc.face_indices = flat_triangles;
   CHECK_OK(cagekit_mesh_create(context, &desc, &degenerate));
-  CHECK_STATUS(cagekit_scan_to_cage(degenerate, &options, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_MESH);
+  CHECK_STATUS(scan_to_cage_without_passes(degenerate, &options, &cage, NULL, NULL), CAGEKIT_ERROR_INVALID_MESH);
   CHECK(strstr(cagekit_last_error_message(context), "nothing left") != NULL);
-  CHECK_STATUS(cagekit_scan_to_cage(sphere, &options, NULL, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(scan_to_cage_without_passes(sphere, &options, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   options.target = 0;
-  CHECK_STATUS(cagekit_scan_to_cage(sphere, &options, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(scan_to_cage_without_passes(sphere, &options, &cage, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   options.target = 60;
   options.limit_levels = 0;
-  CHECK_STATUS(cagekit_scan_to_cage(sphere, &options, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(scan_to_cage_without_passes(sphere, &options, &cage, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   options.limit_levels = 3;
   options.weld_tolerance_rel = -1;
-  CHECK_STATUS(cagekit_scan_to_cage(sphere, &options, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(scan_to_cage_without_passes(sphere, &options, &cage, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   options.weld_tolerance_rel = 0;
   options.finer_simplify_attempts = 9;
-  CHECK_STATUS(cagekit_scan_to_cage(sphere, &options, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(scan_to_cage_without_passes(sphere, &options, &cage, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   options.finer_simplify_attempts = 2;
   options.two_sided_refit_factor = -1;
-  CHECK_STATUS(cagekit_scan_to_cage(sphere, &options, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(scan_to_cage_without_passes(sphere, &options, &cage, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK(strstr(cagekit_last_error_message(context), "two_sided_refit_factor") != NULL);
   options.two_sided_refit_factor = NAN;
-  CHECK_STATUS(cagekit_scan_to_cage(sphere, &options, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(scan_to_cage_without_passes(sphere, &options, &cage, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   options.two_sided_refit_factor = 3;
   {
     cagekit_fit_options bad_fit = CAGEKIT_FIT_OPTIONS_INIT;
     bad_fit.reverse_sample_factor = 101;
     options.fit = &bad_fit;
-    CHECK_STATUS(cagekit_scan_to_cage(sphere, &options, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    CHECK_STATUS(scan_to_cage_without_passes(sphere, &options, &cage, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
     CHECK(strstr(cagekit_last_error_message(context), "reverse_sample_factor") != NULL);
     options.fit = NULL;
   }
   memcpy(&options.method, &(int32_t){7}, sizeof(int32_t));
-  CHECK_STATUS(cagekit_scan_to_cage(sphere, &options, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(scan_to_cage_without_passes(sphere, &options, &cage, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK(cage == NULL);
-  CHECK_STATUS(cagekit_scan_to_cage(NULL, NULL, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_HANDLE);
+  CHECK_STATUS(scan_to_cage_without_passes(NULL, NULL, &cage, NULL, NULL), CAGEKIT_ERROR_INVALID_HANDLE);
   /* Cancelled by the progress callback: CANCELLED, nothing returned; the context's memory budget
    * applies too (OUT_OF_MEMORY before the work). */
   options = (cagekit_scan_to_cage_options)CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT;
   CHECK_OK(cagekit_context_set_progress(context, cancel_after_first, NULL));
-  CHECK_STATUS(cagekit_scan_to_cage(sphere, &options, &cage, &limit, NULL, NULL), CAGEKIT_ERROR_CANCELLED);
+  CHECK_STATUS(scan_to_cage_without_passes(sphere, &options, &cage, &limit, NULL), CAGEKIT_ERROR_CANCELLED);
   CHECK(cage == NULL && limit == NULL);
   CHECK_OK(cagekit_context_set_progress(context, NULL, NULL));
   {
@@ -1988,7 +2196,7 @@ static void scan_to_cage_conditions_fits_and_judges(void) {
     desc.face_count = SPHERE_TRIANGLES;
     desc.face_indices = triangles;
     CHECK_OK(cagekit_mesh_create(tight, &desc, &copy));
-    CHECK_STATUS(cagekit_scan_to_cage(copy, &options, &cage, NULL, NULL, NULL), CAGEKIT_ERROR_OUT_OF_MEMORY);
+    CHECK_STATUS(scan_to_cage_without_passes(copy, &options, &cage, NULL, NULL), CAGEKIT_ERROR_OUT_OF_MEMORY);
     CHECK(cage == NULL);
     cagekit_mesh_release(copy);
     cagekit_context_release(tight);
@@ -2030,21 +2238,21 @@ static void booleans_are_0_or_1(void) {
   CHECK_STATUS(cagekit_hierarchy_build_cage(hierarchy, &cage_options, &out, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK(strstr(cagekit_last_error_message(context), "cagekit_cage_options.tag_boundary_edges") != NULL);
   fit.keep_crease_vertices = 2;
-  CHECK_STATUS(cagekit_cage_fit(cage, mesh, &fit, &out, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(fit_without_passes(cage, mesh, &fit, &out, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK(strstr(cagekit_last_error_message(context), "cagekit_fit_options.keep_crease_vertices") != NULL);
   fit.keep_crease_vertices = CAGEKIT_FALSE;
   fit.select_best_two_sided = 0xffffffffu;
-  CHECK_STATUS(cagekit_cage_fit(cage, mesh, &fit, &out, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(fit_without_passes(cage, mesh, &fit, &out, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK(strstr(cagekit_last_error_message(context), "cagekit_fit_options.select_best_two_sided") != NULL);
   bind.exact_normals = 2;
   CHECK_STATUS(cagekit_multires_bind(cage, mesh, &bind, &binding), CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK(strstr(cagekit_last_error_message(context), "cagekit_bind_options.exact_normals") != NULL);
   scan.repair = 2;
-  CHECK_STATUS(cagekit_scan_to_cage(mesh, &scan, &out, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(scan_to_cage_without_passes(mesh, &scan, &out, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK(strstr(cagekit_last_error_message(context), "cagekit_scan_to_cage_options.repair") != NULL);
   scan.repair = CAGEKIT_TRUE;
   scan.fallback_to_simplify = 7;
-  CHECK_STATUS(cagekit_scan_to_cage(mesh, &scan, &out, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(scan_to_cage_without_passes(mesh, &scan, &out, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK(strstr(cagekit_last_error_message(context), "cagekit_scan_to_cage_options.fallback_to_simplify") != NULL);
   CHECK(out == NULL && binding == NULL);
   cagekit_hierarchy_release(hierarchy);
@@ -2089,13 +2297,13 @@ static void option_errors_name_struct_field_rule_and_value(void) {
   CHECK(strstr(cagekit_last_error_message(context),
                "cagekit_repair_options.steps must be a combination of CAGEKIT_REPAIR_* flags (0x7f), not 0x100") != NULL);
   fit.projection = (cagekit_projection_mode)9;
-  CHECK_STATUS(cagekit_cage_fit(cage, mesh, &fit, &out, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(fit_without_passes(cage, mesh, &fit, &out, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK(strstr(cagekit_last_error_message(context),
                "cagekit_fit_options.projection must be a cagekit_projection_mode (CAGEKIT_PROJECTION_EXACT, "
                "CAGEKIT_PROJECTION_PIECEWISE_LINEAR), not 9") != NULL);
   fit.projection = CAGEKIT_PROJECTION_EXACT;
   fit.tangential_weight = 1.5;
-  CHECK_STATUS(cagekit_cage_fit(cage, mesh, &fit, &out, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(fit_without_passes(cage, mesh, &fit, &out, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK(strstr(cagekit_last_error_message(context),
                "cagekit_fit_options.tangential_weight must be finite and in [0, 1], not 1.5") != NULL);
   bind.threads = 5000;
@@ -2106,7 +2314,7 @@ static void option_errors_name_struct_field_rule_and_value(void) {
   CHECK(strstr(cagekit_last_error_message(context),
                "cagekit_limit_patch_options.tolerance must be finite and > 0, not 0") != NULL);
   scan.target = 0.5;
-  CHECK_STATUS(cagekit_scan_to_cage(mesh, &scan, &out, NULL, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(scan_to_cage_without_passes(mesh, &scan, &out, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK(strstr(cagekit_last_error_message(context),
                "cagekit_scan_to_cage_options.target must be finite and in [1, 1e+12], not 0.5") != NULL);
   CHECK(out == NULL && repaired == NULL && blob == NULL && binding == NULL && patches == NULL);
@@ -2132,6 +2340,7 @@ int main(void) {
       {"subdivision_counts_and_tags", subdivision_counts_and_tags},
       {"surface_basis_is_a_partition_of_unity", surface_basis_is_a_partition_of_unity},
       {"limit_patches_match_the_surface", limit_patches_match_the_surface},
+      {"array_outputs_have_one_two_call_shape", array_outputs_have_one_two_call_shape},
       {"last_error_is_per_thread", last_error_is_per_thread},
       {"objects_outlive_their_context_reference", objects_outlive_their_context_reference},
       {"simplification_hierarchy_browses_levels_and_builds_a_cage",
@@ -2148,6 +2357,7 @@ int main(void) {
       {"fit_reduces_the_error_every_pass", fit_reduces_the_error_every_pass},
       {"fit_keeps_tags_and_pinned_crease_vertices", fit_keeps_tags_and_pinned_crease_vertices},
       {"fit_rejects_bad_arguments_and_can_be_cancelled", fit_rejects_bad_arguments_and_can_be_cancelled},
+      {"fit_with_a_short_pass_array_fails_before_any_work", fit_with_a_short_pass_array_fails_before_any_work},
       {"anisotropic_remesh_follows_a_cylinder", anisotropic_remesh_follows_a_cylinder},
       {"quad_remesh_of_a_cylinder", quad_remesh_of_a_cylinder},
       {"sharp_edges_are_kept_by_every_method", sharp_edges_are_kept_by_every_method},

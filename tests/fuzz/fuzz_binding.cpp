@@ -55,8 +55,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   cagekit_cpu_deformer deformer = nullptr;
   FUZZ_CHECK(cagekit_cpu_deformer_create(binding, 1, &deformer) == CAGEKIT_SUCCESS);
   std::vector<double> positions(3 * size_t(info.vertex_count)), normals(positions.size());
+  uint32_t written = 0;
   const cagekit_status d = cagekit_cpu_deformer_deform(deformer, control.data(), count, CAGEKIT_NORMALS_APPROXIMATE,
-                                                       info.vertex_count, positions.data(), normals.data());
+                                                       info.vertex_count, &written, positions.data(), normals.data());
   FUZZ_CHECK(d != CAGEKIT_ERROR_INTERNAL);
   // Round trip: what the library writes it reads back, and writes again byte for byte.
   cagekit_blob first = nullptr, second = nullptr;

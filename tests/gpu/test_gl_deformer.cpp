@@ -163,12 +163,15 @@ TEST(GlDeformer, gpu_equals_cpu_in_both_apis_and_displacement_modes) {
       double worst_p = 0, worst_n = 0;
       for (const std::vector<double>* c : {&s.cage_positions, &control}) {
         std::vector<double> cp(3 * size_t(n)), cn(3 * size_t(n)), gp(3 * size_t(n)), gn(3 * size_t(n));
-        ASSERT_EQ(cagekit_cpu_deformer_deform(cpu, c->data(), m, CAGEKIT_NORMALS_APPROXIMATE, n, cp.data(), cn.data()),
+        uint32_t written = 0;  // the vertex count output of both calls
+        ASSERT_EQ(cagekit_cpu_deformer_deform(cpu, c->data(), m, CAGEKIT_NORMALS_APPROXIMATE, n, &written, cp.data(),
+                                              cn.data()),
                   CAGEKIT_SUCCESS);
         ASSERT_EQ(cagekit_gl_deformer_deform(gpu, c->data(), m, CAGEKIT_NORMALS_APPROXIMATE), CAGEKIT_SUCCESS)
             << cagekit_last_error_message(s.context);
-        ASSERT_EQ(cagekit_gl_deformer_read_back(gpu, n, gp.data(), gn.data()), CAGEKIT_SUCCESS)
+        ASSERT_EQ(cagekit_gl_deformer_read_back(gpu, n, &written, gp.data(), gn.data()), CAGEKIT_SUCCESS)
             << cagekit_last_error_message(s.context);
+        EXPECT_EQ(written, n);
         accumulate_gap(n, cp, cn, gp, gn, info.bbox_diagonal, worst_p, worst_n);
       }
       std::printf("%s (%s, %s), %s mode: %u vertices, GPU vs CPU: positions %.3g of the diagonal, normals %.3g deg; "
@@ -220,11 +223,13 @@ TEST(GlDeformer, reference_mode_equals_cpu) {
         for (uint32_t j : edited)
           for (int k = 0; k < 3; ++k) control[3 * j + k] *= 1.0 + 0.1 * frame;
         std::vector<double> cp(3 * size_t(n)), cn(3 * size_t(n)), gp(3 * size_t(n)), gn(3 * size_t(n));
-        ASSERT_EQ(cagekit_cpu_deformer_deform(cpu, control.data(), m, CAGEKIT_NORMALS_APPROXIMATE, n, cp.data(), cn.data()),
+        uint32_t written = 0;  // the vertex count output of both calls
+        ASSERT_EQ(cagekit_cpu_deformer_deform(cpu, control.data(), m, CAGEKIT_NORMALS_APPROXIMATE, n, &written,
+                                              cp.data(), cn.data()),
                   CAGEKIT_SUCCESS);
         ASSERT_EQ(cagekit_gl_deformer_deform_reference(gpu, control.data(), m), CAGEKIT_SUCCESS)
             << cagekit_last_error_message(s.context);
-        ASSERT_EQ(cagekit_gl_deformer_read_back(gpu, n, gp.data(), gn.data()), CAGEKIT_SUCCESS);
+        ASSERT_EQ(cagekit_gl_deformer_read_back(gpu, n, &written, gp.data(), gn.data()), CAGEKIT_SUCCESS);
         accumulate_gap(n, cp, cn, gp, gn, info.bbox_diagonal, worst_p, worst_n);
       }
       std::printf("%s reference mode |Q| = %u (%u floats per vertex): GPU vs CPU positions %.3g of the diagonal, "
@@ -309,11 +314,13 @@ TEST(GlDeformer, reference_affine_variant_equals_cpu) {
       double moved_frame[12];
       for (int l = 0; l < 4; ++l) apply(&frame[3 * l], &moved_frame[3 * l], t);
       std::vector<double> cp(3 * size_t(n)), cn(3 * size_t(n)), gp(3 * size_t(n)), gn(3 * size_t(n));
-      ASSERT_EQ(cagekit_cpu_deformer_deform(cpu, control.data(), m, CAGEKIT_NORMALS_APPROXIMATE, n, cp.data(), cn.data()),
+      uint32_t written = 0;  // the vertex count output of both calls
+      ASSERT_EQ(cagekit_cpu_deformer_deform(cpu, control.data(), m, CAGEKIT_NORMALS_APPROXIMATE, n, &written, cp.data(),
+                                            cn.data()),
                 CAGEKIT_SUCCESS);
       ASSERT_EQ(cagekit_gl_deformer_deform_reference_affine(gpu, moved_frame), CAGEKIT_SUCCESS)
           << cagekit_last_error_message(s.context);
-      ASSERT_EQ(cagekit_gl_deformer_read_back(gpu, n, gp.data(), gn.data()), CAGEKIT_SUCCESS);
+      ASSERT_EQ(cagekit_gl_deformer_read_back(gpu, n, &written, gp.data(), gn.data()), CAGEKIT_SUCCESS);
       for (uint32_t j : edited)
         for (int k = 0; k < 3; ++k) moved = std::max(moved, std::abs(control[3 * j + k] - s.cage_positions[3 * j + k]));
       accumulate_gap(n, cp, cn, gp, gn, info.bbox_diagonal, worst_p, worst_n);
@@ -464,7 +471,8 @@ TEST(GlDeformer, host_gl_state_is_unchanged) {
               CAGEKIT_SUCCESS);
     EXPECT_TRUE(query_state() == before) << api.name << ": deform changed the host's state";
     std::vector<double> p(3 * 4098);
-    ASSERT_EQ(cagekit_gl_deformer_read_back(gpu, 4098, p.data(), nullptr), CAGEKIT_SUCCESS);
+    uint32_t written = 0;
+    ASSERT_EQ(cagekit_gl_deformer_read_back(gpu, 4098, &written, p.data(), nullptr), CAGEKIT_SUCCESS);
     EXPECT_TRUE(query_state() == before) << api.name << ": read_back changed the host's state";
     cagekit_binding normal_binding = s.bind(CAGEKIT_DISPLACEMENT_NORMAL);
     cagekit_gl_deformer reference = nullptr;
@@ -583,8 +591,16 @@ TEST(GlDeformer, missing_features_are_an_error_not_a_crash) {
     control[5] = NAN;
     EXPECT_EQ(cagekit_gl_deformer_deform(gpu, control.data(), m, CAGEKIT_NORMALS_APPROXIMATE),
               CAGEKIT_ERROR_INVALID_ARGUMENT);
+    // read_back's two-call shape (cagekit.h, Buffers): the count is required, capacity 0 is a
+    // query, a short capacity fails with the count written.
     std::vector<double> small(3);
-    EXPECT_EQ(cagekit_gl_deformer_read_back(gpu, 1, small.data(), nullptr), CAGEKIT_ERROR_SIZE_INSUFFICIENT);
+    uint32_t count = 0;
+    EXPECT_EQ(cagekit_gl_deformer_read_back(gpu, 1, nullptr, small.data(), nullptr), CAGEKIT_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(cagekit_gl_deformer_read_back(gpu, 0, &count, nullptr, nullptr), CAGEKIT_SUCCESS);
+    EXPECT_EQ(count, buffers.vertex_count);
+    count = 0;
+    EXPECT_EQ(cagekit_gl_deformer_read_back(gpu, 1, &count, small.data(), nullptr), CAGEKIT_ERROR_SIZE_INSUFFICIENT);
+    EXPECT_EQ(count, buffers.vertex_count);
     EXPECT_EQ(cagekit_gl_deformer_get_info(gpu, nullptr), CAGEKIT_ERROR_INVALID_ARGUMENT);
     cagekit_gl_deformer_release(gpu);
     EXPECT_EQ(cagekit_gl_deformer_deform(nullptr, control.data(), m, CAGEKIT_NORMALS_APPROXIMATE),

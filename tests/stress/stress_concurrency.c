@@ -400,9 +400,10 @@ static uint64_t fit_fp(int tid) {
   cagekit_fit_options options = CAGEKIT_FIT_OPTIONS_INIT;
   cagekit_cage fitted = NULL;
   uint64_t fp = 0;
+  uint32_t pass_count = 0;
   options.max_passes = 2;
   options.threads = 1;
-  CHECK_OK_T(tid, cagekit_cage_fit(g_shared_cage, g_shared_mesh, &options, &fitted, NULL));
+  CHECK_OK_T(tid, cagekit_cage_fit(g_shared_cage, g_shared_mesh, &options, &fitted, NULL, 0, &pass_count, NULL));
   if (fitted) fp = cage_fingerprint(fitted);
   cagekit_cage_release(fitted);
   return fp;
@@ -423,7 +424,7 @@ static uint64_t bind_info_fp(int tid, cagekit_binding binding) {
 static uint64_t deform_fp(int tid) {
   cagekit_cpu_deformer deformer = NULL;
   cagekit_mesh cage_mesh = NULL;
-  uint32_t m = 0, n = 0, k, moved[2] = {0, 3};
+  uint32_t m = 0, n = 0, k, moved[2] = {0, 3}, written = 0;
   double* control;
   double *positions, *normals;
   uint64_t fp = FNV_SEED;
@@ -443,12 +444,12 @@ static uint64_t deform_fp(int tid) {
     CHECK_OK_T(tid, cagekit_mesh_get_positions(cage_mesh, CAGEKIT_SCALAR_FLOAT64, m, &m, control));
     for (k = 0; k < m; k += 3) control[3 * k + 2] += 0.05;
     CHECK_OK_T(tid, cagekit_cpu_deformer_create(g_shared_binding, 1, &deformer));
-    CHECK_OK_T(tid, cagekit_cpu_deformer_deform(deformer, control, m, CAGEKIT_NORMALS_APPROXIMATE, n, positions,
-                                                normals));
+    CHECK_OK_T(tid, cagekit_cpu_deformer_deform(deformer, control, m, CAGEKIT_NORMALS_APPROXIMATE, n, &written,
+                                                positions, normals));
     control[0] -= 0.03;
     control[3 * 3 + 1] += 0.02;
     CHECK_OK_T(tid, cagekit_cpu_deformer_update(deformer, control, m, moved, 2, CAGEKIT_NORMALS_APPROXIMATE, n,
-                                                positions, normals, NULL));
+                                                &written, positions, normals, NULL));
     fp = fnv(fnv(fp, positions, 3 * (size_t)n * sizeof(double)), normals, 3 * (size_t)n * sizeof(double));
   }
   cagekit_cpu_deformer_release(deformer);

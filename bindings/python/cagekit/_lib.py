@@ -239,8 +239,8 @@ class FitTwoSided(Structure):
 
 
 class FitReport(_Versioned):
-    _fields_ = [("struct_size", c_size_t), ("pass_count", c_uint32), ("pass_capacity", c_uint32),
-                ("passes", POINTER(FitPass)), ("stopped_by_tolerance", c_bool32), ("rejected_last_step", c_bool32),
+    _fields_ = [("struct_size", c_size_t), ("pass_count", c_uint32),
+                ("stopped_by_tolerance", c_bool32), ("rejected_last_step", c_bool32),
                 ("fairing_used", c_bool32), ("unsupported_control_vertices", c_uint64), ("bbox_diagonal", c_double),
                 ("seconds", c_double), ("initial", FitPass), ("final", FitPass), ("best_pass", c_uint32),
                 ("weakly_supported_control_vertices", c_uint64), ("initial_two_sided", FitTwoSided),
@@ -390,7 +390,7 @@ PROTOTYPES = {
     "cagekit_hierarchy_build_cage": (_S, [_h, _ptr(CageOptions), _pp, _ptr(CageReport)]),
     "cagekit_mesh_measure_error": (_S, [_h, _h, _ptr(ApproximationError)]),
     # fitting
-    "cagekit_cage_fit": (_S, [_h, _h, _ptr(FitOptions), _pp, _ptr(FitReport)]),
+    "cagekit_cage_fit": (_S, [_h, _h, _ptr(FitOptions), _pp, _ptr(FitReport), c_uint32, _u32p, _ptr(FitPass)]),
     # multiresolution
     "cagekit_multires_bind": (_S, [_h, _h, _ptr(BindOptions), _pp]),
     "cagekit_binding_retain": (None, [_h]),
@@ -407,10 +407,10 @@ PROTOTYPES = {
     "cagekit_cpu_deformer_create": (_S, [_h, c_uint32, _pp]),
     "cagekit_cpu_deformer_retain": (None, [_h]),
     "cagekit_cpu_deformer_release": (None, [_h]),
-    "cagekit_cpu_deformer_deform": (_S, [_h, _p, c_uint32, c_enum, c_uint32, _p, _p]),
-    "cagekit_cpu_deformer_update": (_S, [_h, _p, c_uint32, _p, c_uint32, c_enum, c_uint32, _p, _p, _u32p]),
-    "cagekit_cpu_deformer_deform_f32": (_S, [_h, _p, c_uint32, c_enum, c_uint32, _p, _p]),
-    "cagekit_cpu_deformer_update_f32": (_S, [_h, _p, c_uint32, _p, c_uint32, c_enum, c_uint32, _p, _p, _u32p]),
+    "cagekit_cpu_deformer_deform": (_S, [_h, _p, c_uint32, c_enum, c_uint32, _u32p, _p, _p]),
+    "cagekit_cpu_deformer_update": (_S, [_h, _p, c_uint32, _p, c_uint32, c_enum, c_uint32, _u32p, _p, _p, _u32p]),
+    "cagekit_cpu_deformer_deform_f32": (_S, [_h, _p, c_uint32, c_enum, c_uint32, _u32p, _p, _p]),
+    "cagekit_cpu_deformer_update_f32": (_S, [_h, _p, c_uint32, _p, c_uint32, c_enum, c_uint32, _u32p, _p, _p, _u32p]),
     # GL deformer
     "cagekit_gl_deformer_create": (_S, [_h, _h, GL_GET_PROC_ADDRESS_FN, c_void_p, _ptr(GlDeformerOptions), _pp]),
     "cagekit_gl_deformer_retain": (None, [_h]),
@@ -422,7 +422,7 @@ PROTOTYPES = {
     "cagekit_gl_deformer_deform_reference": (_S, [_h, _p, c_uint32]),
     "cagekit_gl_deformer_set_reference_affine": (_S, [_h, _p, c_uint32, _p, _p, c_uint32]),
     "cagekit_gl_deformer_deform_reference_affine": (_S, [_h, _p]),
-    "cagekit_gl_deformer_read_back": (_S, [_h, c_uint32, _p, _p]),
+    "cagekit_gl_deformer_read_back": (_S, [_h, c_uint32, _u32p, _p, _p]),
 }
 
 

@@ -47,17 +47,21 @@ def fit(cage, scan, max_passes=_D["max_passes"], tolerance=_D["tolerance"], fair
         threads=int(threads), max_projection_steps=int(max_projection_steps),
         projection_epsilon=float(projection_epsilon), projection_seed_resolution=int(projection_seed_resolution),
         crease_feature_reach=float(crease_feature_reach))
-    capacity = min(int(max_passes), 100000) + 1
+    # max_passes + 1 entries always suffice (the fit is not repeated for a second call); a value
+    # out of range fails in the library, with its message, before the array is looked at.
+    capacity = max(0, min(int(max_passes), 100000)) + 1
     passes = (_lib.FitPass * capacity)()
-    report = _lib.FitReport.new(pass_capacity=capacity, passes=ctypes.cast(passes, ctypes.POINTER(_lib.FitPass)))
+    pass_count = ctypes.c_uint32()
+    report = _lib.FitReport.new()
     out = ctypes.c_void_p()
     cage._context._call(_lib.lib.cagekit_cage_fit, cage._handle, scan._handle, ctypes.byref(options),
-                        ctypes.byref(out), ctypes.byref(report), outs=[(out, cage._release())])
+                        ctypes.byref(out), ctypes.byref(report), capacity, ctypes.byref(pass_count), passes,
+                        outs=[(out, cage._release())])
     # Made through the input's class: this module does not import cage.py, which imports it for
     # Cage.fit, so the two have one import direction.
     fitted = type(cage)._wrap(out.value, cage._context)
-    record = from_struct(report, "FitReport", skip=("struct_size", "passes", "pass_capacity"))
-    record.passes = [from_struct(passes[i], "FitPass") for i in range(min(report.pass_count, capacity))]
+    record = from_struct(report, "FitReport", skip=("struct_size",))
+    record.passes = [from_struct(passes[i], "FitPass") for i in range(pass_count.value)]
     for name in ("stopped_by_tolerance", "rejected_last_step", "fairing_used"):
         setattr(record, name, bool(getattr(record, name)))
     return fitted, record

@@ -27,6 +27,7 @@ import ctypes
 from ctypes import POINTER, Structure, c_double, c_size_t, c_uint32, c_void_p
 
 from . import _lib
+from ._errors import InvalidArgumentError
 from ._handle import Handle
 from ._numpy import np
 from ._records import from_struct
@@ -57,7 +58,7 @@ PROTOTYPES = {
     "cagekit_limit_patches_retain": (None, [c_void_p]),
     "cagekit_limit_patches_release": (None, [c_void_p]),
     "cagekit_limit_patches_get_info": (_lib.c_status, [c_void_p, POINTER(LimitPatchInfo)]),
-    "cagekit_limit_patches_get": (_lib.c_status, [c_void_p, c_uint32, c_uint32, c_void_p]),
+    "cagekit_limit_patches_get": (_lib.c_status, [c_void_p, c_uint32, POINTER(c_uint32), c_void_p]),
 }
 lib = _lib.Functions(PROTOTYPES)  # ImportError naming the function when the loaded library lacks one
 
@@ -122,18 +123,24 @@ class LimitPatches(Handle):
 
     def records(self, first=0, count=None):
         """Patches [first, first + count) as a numpy record array laid out as cagekit_limit_patch
-        (fields ptex_face, cage_face, u0, v0, u1, v1, exact, reserved, error, control_points (48,))."""
+        (fields ptex_face, cage_face, u0, v0, u1, v1, exact, reserved, error, control_points (48,)).
+        A range not inside [0, patch_count) raises InvalidArgumentError."""
         total = self.info.patch_count
-        if count is None:
-            count = max(total - int(first), 0)
-        out = np.zeros(int(count), dtype=_patch_dtype())
-        self._context._call(lib.cagekit_limit_patches_get, self._handle, int(first), int(count),
-                            _lib.address(out))
-        return out
+        first = int(first)
+        count = max(total - first, 0) if count is None else int(count)
+        if first < 0 or count < 0 or first + count > total:
+            raise InvalidArgumentError("patches [%d, %d) are not inside [0, %d)" % (first, first + count, total))
+        return self._all()[first:first + count].copy()
 
     def _all(self):
+        """Every patch, read once (cagekit_limit_patches_get, two-call) and kept."""
         if self._records is None:
-            self._records = self.records()
+            count = ctypes.c_uint32()
+            self._context._call(lib.cagekit_limit_patches_get, self._handle, 0, ctypes.byref(count), None)
+            out = np.zeros(count.value, dtype=_patch_dtype())
+            self._context._call(lib.cagekit_limit_patches_get, self._handle, count.value, ctypes.byref(count),
+                                _lib.address(out))
+            self._records = out
         return self._records
 
     @property

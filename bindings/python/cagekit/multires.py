@@ -150,6 +150,7 @@ class CpuDeformer(Handle):
         self.vertex_count = info.vertex_count
         self.control_count = info.control_count
         self._arrays = {}  # dtype -> (positions, normals), made on first use
+        self._count_out = ctypes.c_uint32()  # the calls' vertex count output, made once (per frame)
 
     def _buffers(self, dtype):
         dtype = np.dtype(dtype)
@@ -180,7 +181,8 @@ class CpuDeformer(Handle):
         ctrl = _arrays.control(control, self.control_count)
         fn = _lib.lib.cagekit_cpu_deformer_deform_f32 if dtype == np.float32 else _lib.lib.cagekit_cpu_deformer_deform
         self._context._call(fn, self._handle, _lib.address(ctrl), self.control_count, int(_enum(NormalMode, normal_mode)),
-                            self.vertex_count, _lib.address(positions), _lib.address(normal_array) if normals else None)
+                            self.vertex_count, ctypes.byref(self._count_out), _lib.address(positions),
+                            _lib.address(normal_array) if normals else None)
         self._had_normals = bool(normals)
         self._dtype = dtype
         return self._outputs(dtype, normals, copy)
@@ -200,8 +202,9 @@ class CpuDeformer(Handle):
         updated = ctypes.c_uint32()
         fn = _lib.lib.cagekit_cpu_deformer_update_f32 if dtype == np.float32 else _lib.lib.cagekit_cpu_deformer_update
         self._context._call(fn, self._handle, _lib.address(ctrl), self.control_count, _lib.address(moved), moved.size,
-                            int(_enum(NormalMode, normal_mode)), self.vertex_count, _lib.address(positions),
-                            _lib.address(normal_array) if normals else None, ctypes.byref(updated))
+                            int(_enum(NormalMode, normal_mode)), self.vertex_count, ctypes.byref(self._count_out),
+                            _lib.address(positions), _lib.address(normal_array) if normals else None,
+                            ctypes.byref(updated))
         self.updated_count = updated.value
         self._had_normals = bool(normals)
         return self._outputs(dtype, normals, copy)

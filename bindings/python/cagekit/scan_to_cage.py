@@ -95,7 +95,8 @@ STRUCTS = {"cagekit_scan_to_cage_options": ScanToCageOptions, "cagekit_scan_to_c
 PROTOTYPES = {
     "cagekit_scan_to_cage": (_lib.c_status, [c_void_p, POINTER(ScanToCageOptions), POINTER(c_void_p),
                                              POINTER(c_void_p), POINTER(ScanToCageReport),
-                                             POINTER(_lib.FitReport)]),
+                                             POINTER(_lib.FitReport), c_uint32, POINTER(c_uint32),
+                                             POINTER(_lib.FitPass)]),
 }
 lib = _lib.Functions(PROTOTYPES)  # ImportError naming the function when the loaded library lacks one
 
@@ -160,8 +161,9 @@ def scan_to_cage(scan, method=ScanMethod(_D["method"]), faces=_D["target"], repa
         options.fit = ctypes.cast(ctypes.pointer(fit_options), c_void_p)
     report = ScanToCageReport.new()
     cage_out, limit_out = ctypes.c_void_p(), ctypes.c_void_p()
+    fit_pass_count = ctypes.c_uint32()  # the fit's states: not returned (the report has the fit's figures)
     scan._context._call(lib.cagekit_scan_to_cage, scan._handle, ctypes.byref(options), ctypes.byref(cage_out),
-                        ctypes.byref(limit_out), ctypes.byref(report), None,
+                        ctypes.byref(limit_out), ctypes.byref(report), None, 0, ctypes.byref(fit_pass_count), None,
                         outs=[(cage_out, Cage._release()), (limit_out, Cage._release())])
     del keep_alive, anisotropic_keep_alive, sharp_keep_alive
     cage = Cage._wrap(cage_out.value, scan._context)
