@@ -55,6 +55,12 @@
  * - Long operations report progress through the context's progress callback (on the calling
  *   thread) and can be cancelled: by returning 0 from the callback, or by
  *   cagekit_context_cancel() from any thread. They then return CAGEKIT_ERROR_CANCELLED.
+ *
+ * - Each function's comment says what it does, then "Ownership:" (what it returns or keeps, and
+ *   for how long; only where a handle, pointer or buffer crosses the call), "Errors:" (the status
+ *   codes it returns and when; "none" for calls that cannot fail) and "Threading:" (what it reads
+ *   or modifies, and from which threads it may be called). Besides the codes listed, any call
+ *   that returns a status may return CAGEKIT_ERROR_INTERNAL.
  */
 #ifndef CAGEKIT_CAGEKIT_H
 #define CAGEKIT_CAGEKIT_H
@@ -96,11 +102,18 @@ extern "C" {
  * laid out for another version. ABI 2 (0.2): the 1.0 contract in the making (ABI 1 was 0.1). */
 #define CAGEKIT_ABI_VERSION 2
 
-/* Version of the loaded library (CAGEKIT_MAKE_VERSION packing). Thread-safe, never fails. */
+/* Version of the loaded library (CAGEKIT_MAKE_VERSION packing).
+ * Errors: none.
+ * Threading: any thread (thread-safe). */
 CAGEKIT_API uint32_t cagekit_version(void);
-/* "MAJOR.MINOR.PATCH" of the loaded library; a static string. Thread-safe, never fails. */
+/* "MAJOR.MINOR.PATCH" of the loaded library.
+ * Ownership: a static string of the library (never freed).
+ * Errors: none.
+ * Threading: any thread (thread-safe). */
 CAGEKIT_API const char* cagekit_version_string(void);
-/* ABI major version of the loaded library. Thread-safe, never fails. */
+/* ABI major version of the loaded library.
+ * Errors: none.
+ * Threading: any thread (thread-safe). */
 CAGEKIT_API uint32_t cagekit_abi_version(void);
 
 /* ------------------------------------------------------------------------------------------ */
@@ -147,7 +160,11 @@ typedef enum cagekit_status {
 #define CAGEKIT_SUCCEEDED(status) ((status) >= 0)
 #define CAGEKIT_FAILED(status) ((status) < 0)
 
-/* A static English name of a status ("invalid argument"). Thread-safe, never fails. */
+/* An English name of a status ("invalid argument"), or "unknown status" for a negative value that
+ * is no status code.
+ * Ownership: a static string of the library (never freed).
+ * Errors: none.
+ * Threading: any thread (thread-safe). */
 CAGEKIT_API const char* cagekit_status_string(cagekit_status status);
 
 /* ------------------------------------------------------------------------------------------ */
@@ -203,40 +220,61 @@ typedef struct cagekit_context_desc {
   { sizeof(cagekit_context_desc), CAGEKIT_ABI_VERSION, NULL, NULL, CAGEKIT_LOG_WARNING, NULL, NULL, 0 }
 
 /* Creates a context, the owner of settings and callbacks for the objects made with it.
- * desc may be NULL (no callbacks). Fails with CAGEKIT_ERROR_VERSION_MISMATCH when
- * desc->abi_version differs from the library's. *out receives one reference.
- * Thread-safe. Errors: INVALID_ARGUMENT (out NULL, bad struct_size), VERSION_MISMATCH,
- * OUT_OF_MEMORY. The message of a failed create is available from
- * cagekit_last_error_message(NULL). */
+ * desc may be NULL (no callbacks).
+ * Ownership: *out receives one reference (release it with cagekit_context_release). desc is read
+ *   during the call only; the context keeps its callbacks and user_data pointers.
+ * Errors: INVALID_ARGUMENT (out NULL, bad struct_size, log_level out of range), VERSION_MISMATCH
+ *   (desc->abi_version differs from the library's), OUT_OF_MEMORY. The message of a failed
+ *   create is available from cagekit_last_error_message(NULL).
+ * Threading: any thread (thread-safe). */
 CAGEKIT_API cagekit_status cagekit_context_create(const cagekit_context_desc* desc, cagekit_context* out);
+/* Adds a reference (retain) or drops one (release). The context is destroyed when its last
+ * reference is gone, which includes those held by the objects made with it. NULL is ignored.
+ * Errors: none.
+ * Threading: any thread (the reference count is atomic). */
 CAGEKIT_API void cagekit_context_retain(cagekit_context context);
 CAGEKIT_API void cagekit_context_release(cagekit_context context);
 
-/* Replaces the progress callback (NULL removes it). Modifies the context: must not run while
- * another thread is inside a call using this context. */
+/* Replaces the progress callback (NULL removes it).
+ * Ownership: the context keeps `progress` and `user_data` until they are replaced or the context
+ *   is destroyed.
+ * Errors: INVALID_HANDLE.
+ * Threading: modifies the context: must not run while another thread is inside a call using this
+ *   context. */
 CAGEKIT_API cagekit_status cagekit_context_set_progress(cagekit_context context, cagekit_progress_fn progress,
                                                         void* user_data);
 
 /* Requests cancellation of every long operation running with this context and of those that
- * start later, until cagekit_context_reset_cancel(). Safe to call from any thread, e.g. a UI
- * thread, at any time. */
+ * start later, until cagekit_context_reset_cancel(). NULL is ignored.
+ * Errors: none.
+ * Threading: any thread, e.g. a UI thread, at any time. */
 CAGEKIT_API void cagekit_context_cancel(cagekit_context context);
-/* Clears a cancellation request. Safe to call from any thread. */
+/* Clears a cancellation request. NULL is ignored.
+ * Errors: none.
+ * Threading: any thread. */
 CAGEKIT_API void cagekit_context_reset_cancel(cagekit_context context);
 
 /* The message of the most recent failed call made on the calling thread with objects of this
  * context (context NULL: of a failed cagekit_context_create on this thread), or "" if none.
- * The string stays valid until the next failing call on this thread with this context, or until
- * the context is destroyed. Thread-safe (messages are kept per thread). */
+ * Ownership: the string is owned by the library and stays valid until the next failing call on
+ *   this thread with this context, or until the context is destroyed.
+ * Errors: none.
+ * Threading: any thread (thread-safe: messages are kept per thread). */
 CAGEKIT_API const char* cagekit_last_error_message(cagekit_context context);
 
 /* ------------------------------------------------------------------------------------------ */
 /* Blob: a library-owned byte buffer (file contents encoded in memory)                        */
 /* ------------------------------------------------------------------------------------------ */
 
-/* The bytes of a blob; valid until the blob is released. Reads. */
+/* The bytes of a blob (data) and their number (size); NULL and 0 for a NULL blob.
+ * Ownership: the bytes are owned by the blob and valid until its last release.
+ * Errors: none.
+ * Threading: reads `blob`; thread-safe. */
 CAGEKIT_API const void* cagekit_blob_data(cagekit_blob blob);
 CAGEKIT_API size_t cagekit_blob_size(cagekit_blob blob);
+/* Adds a reference (retain) or drops one (release; the last one frees the bytes). NULL is ignored.
+ * Errors: none.
+ * Threading: any thread (the reference count is atomic). */
 CAGEKIT_API void cagekit_blob_retain(cagekit_blob blob);
 CAGEKIT_API void cagekit_blob_release(cagekit_blob blob);
 
@@ -268,26 +306,46 @@ typedef struct cagekit_mesh_desc {
 /* Creates a mesh by copying caller buffers. The content is NOT validated here (so that
  * cagekit_mesh_validate can report and cagekit_mesh_repair can fix it); operations that need a
  * valid mesh check it and fail with CAGEKIT_ERROR_INVALID_MESH. Structural errors of the
- * description itself fail: NULL buffers with nonzero counts, face sizes of 0, totals beyond
- * 2^31 indices (LIMIT_EXCEEDED). Thread-safe. */
+ * description itself fail (below).
+ * Ownership: *out receives one reference (release it with cagekit_mesh_release); desc and the
+ *   arrays it points to are read during the call only.
+ * Errors: INVALID_HANDLE (context), INVALID_ARGUMENT (out or desc NULL, bad struct_size, NULL
+ *   buffers with nonzero counts, face sizes of 0, position_type out of range, a position_stride
+ *   smaller than one xyz triple), LIMIT_EXCEEDED (2^31 or more vertices, faces or face indices),
+ *   OUT_OF_MEMORY.
+ * Threading: any thread (thread-safe). */
 CAGEKIT_API cagekit_status cagekit_mesh_create(cagekit_context context, const cagekit_mesh_desc* desc,
                                                cagekit_mesh* out);
+/* Adds a reference (retain) or drops one (release; the last one destroys the mesh). NULL is
+ * ignored.
+ * Errors: none.
+ * Threading: any thread (the reference count is atomic). */
 CAGEKIT_API void cagekit_mesh_retain(cagekit_mesh mesh);
 CAGEKIT_API void cagekit_mesh_release(cagekit_mesh mesh);
 
-/* Element counts. Any output pointer may be NULL. Reads. */
+/* Element counts. Any output pointer may be NULL.
+ * Errors: INVALID_HANDLE.
+ * Threading: reads `mesh`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_mesh_get_counts(cagekit_mesh mesh, uint32_t* vertex_count, uint32_t* face_count,
                                                    uint64_t* face_index_count);
 
 /* Copies the positions as `type` xyz triples (3 * vertex_count scalars) into `positions`.
- * Two-call (Buffers) over vertices. Reads. */
+ * Two-call (Buffers) over vertices.
+ * Ownership: `positions` is the caller's, written during the call only.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (type out of range, vertex_count_out NULL, positions
+ *   NULL with a nonzero capacity), SIZE_INSUFFICIENT.
+ * Threading: reads `mesh`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_mesh_get_positions(cagekit_mesh mesh, cagekit_scalar_type type,
                                                       uint32_t vertex_capacity, uint32_t* vertex_count_out,
                                                       void* positions);
 
 /* Copies the faces: face_sizes (face_count entries) and face_indices (sum of sizes entries).
  * Two-call (Buffers) on each array, over faces and over indices; both counts are written before
- * either capacity is checked. Reads. */
+ * either capacity is checked.
+ * Ownership: the arrays are the caller's, written during the call only.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (a count pointer NULL, an array NULL with a nonzero
+ *   capacity), SIZE_INSUFFICIENT.
+ * Threading: reads `mesh`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_mesh_get_faces(cagekit_mesh mesh, uint32_t face_capacity, uint32_t* face_count_out,
                                                   uint32_t* face_sizes, uint64_t index_capacity,
                                                   uint64_t* index_count_out, uint32_t* face_indices);
@@ -316,9 +374,11 @@ typedef struct cagekit_validation_report {
 } cagekit_validation_report;
 
 /* Checks the mesh for every cagekit_mesh_issue. Returns CAGEKIT_SUCCESS when it is valid and
- * CAGEKIT_ERROR_INVALID_MESH when not; in both cases *report (may be NULL) is filled, and on
- * INVALID_MESH the last error message lists each kind of problem with its count and first
- * example ("face 12 refers to vertex 9000 but the mesh has 6475 vertices"). Reads. */
+ * CAGEKIT_ERROR_INVALID_MESH when not; in both cases *report (may be NULL) is filled.
+ * Errors: INVALID_HANDLE, INVALID_MESH (the mesh is not valid: the last error message lists each
+ *   kind of problem with its count and first example, "face 12 refers to vertex 9000 but the mesh
+ *   has 6475 vertices"), INVALID_ARGUMENT (report's bad struct_size), OUT_OF_MEMORY.
+ * Threading: reads `mesh`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_mesh_validate(cagekit_mesh mesh, cagekit_validation_report* report);
 
 enum {
@@ -354,8 +414,12 @@ typedef struct cagekit_repair_report {
 } cagekit_repair_report;
 
 /* Makes a repaired copy of `mesh` (the input is unchanged). With every step enabled the
- * result always passes cagekit_mesh_validate. report may be NULL. Long operation (progress,
- * cancel). Reads `mesh`. */
+ * result always passes cagekit_mesh_validate. options may be NULL (defaults); report may be NULL.
+ * Long operation (progress, cancel).
+ * Ownership: *out receives one reference (release it with cagekit_mesh_release).
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (out NULL, bad struct_size of options or report, an
+ *   option out of range, naming it), CANCELLED, OUT_OF_MEMORY.
+ * Threading: reads `mesh`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_mesh_repair(cagekit_mesh mesh, const cagekit_repair_options* options,
                                                cagekit_mesh* out, cagekit_repair_report* report);
 
@@ -373,7 +437,9 @@ typedef struct cagekit_mesh_info {
   uint64_t invalid_faces;       /* faces with bad indices or < 3 distinct vertices (ignored above) */
 } cagekit_mesh_info;
 
-/* Fills *info. Reads. */
+/* Fills *info with the mesh's statistics.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (info NULL or bad struct_size), OUT_OF_MEMORY.
+ * Threading: reads `mesh`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_mesh_get_info(cagekit_mesh mesh, cagekit_mesh_info* info);
 
 /* ------------------------------------------------------------------------------------------ */
@@ -385,7 +451,7 @@ typedef enum cagekit_file_format {
   CAGEKIT_FORMAT_OBJ = 1,   /* cages: OpenSubdiv-style `t crease` / `t corner` / `t hole` lines */
   CAGEKIT_FORMAT_PLY = 2,   /* polygons only; no tags */
   CAGEKIT_FORMAT_OFF = 3,   /* polygons only; no tags */
-  CAGEKIT_FORMAT_DRACO = 4, /* compressed; keeps polygons and cage tags (see io/README) */
+  CAGEKIT_FORMAT_DRACO = 4, /* compressed; keeps polygons and cage tags */
   CAGEKIT_FORMAT_STL = 5,   /* read only (binary or ascii); bit-identical corners welded; writing
                              * is CAGEKIT_ERROR_UNSUPPORTED_FORMAT */
   CAGEKIT_FORMAT_MAX_ENUM = 0x7fffffff
@@ -408,12 +474,16 @@ typedef struct cagekit_write_report {
   double max_position_error;        /* largest position change the encoding caused (measured) */
 } cagekit_write_report;
 
-/* Reads a mesh (tags in the file are ignored) or a cage from a file or a memory buffer.
- * Errors: IO (cannot open/read), PARSE (the message names the file and the line or byte offset
- * of the first problem), UNSUPPORTED_FORMAT, LIMIT_EXCEEDED (hostile element counts),
- * INVALID_MESH (cages only: crease, corner or hole tags that do not fit the mesh),
- * OUT_OF_MEMORY (also: the context's memory budget would be exceeded). Long
- * operation (progress, cancel). Thread-safe. `data` is only read during the call. */
+/* Reads a mesh (tags in the file are ignored) or a cage from a file or a memory buffer. Long
+ * operation (progress, cancel).
+ * Ownership: *out receives one reference (release it with cagekit_mesh_release or
+ *   cagekit_cage_release); `path` and `data` are only read during the call.
+ * Errors: INVALID_HANDLE (context), INVALID_ARGUMENT (out or path NULL, data NULL with a nonzero
+ *   size, format out of range), IO (cannot open/read), PARSE (the message names the file and the
+ *   line or byte offset of the first problem), UNSUPPORTED_FORMAT, LIMIT_EXCEEDED (hostile element
+ *   counts), INVALID_MESH (cages only: crease, corner or hole tags that do not fit the mesh),
+ *   CANCELLED, OUT_OF_MEMORY (also: the context's memory budget would be exceeded).
+ * Threading: any thread (thread-safe). */
 CAGEKIT_API cagekit_status cagekit_mesh_read_file(cagekit_context context, const char* path,
                                                   cagekit_file_format format, cagekit_mesh* out);
 CAGEKIT_API cagekit_status cagekit_mesh_read_memory(cagekit_context context, const void* data, size_t size,
@@ -424,9 +494,18 @@ CAGEKIT_API cagekit_status cagekit_cage_read_memory(cagekit_context context, con
                                                     cagekit_file_format format, cagekit_cage* out);
 
 /* Writes to a file atomically (a temporary file renamed over `path` on success: a failed write
- * never leaves a partial file), or encodes into a new blob. options/report may be NULL.
+ * never leaves a partial file), or encodes into a new blob. options/report may be NULL, except
+ * that writing to memory needs options->format to name a format (AUTO reads the file extension).
  * Writing a cage with tags to PLY or OFF drops the tags and logs a warning; STL cannot be
- * written (UNSUPPORTED_FORMAT). Reads the object. */
+ * written.
+ * Ownership: `path` is read during the call only; the memory calls' *out receives a new blob
+ *   (one reference: release it with cagekit_blob_release).
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (path or out NULL, bad struct_size of options or
+ *   report, an option out of range, format AUTO when writing to memory), UNSUPPORTED_FORMAT
+ *   (STL, or a file extension that names no format), INVALID_MESH (nothing the format can hold:
+ *   no vertices or faces, a non-finite position, a face with fewer than 3 vertices or a bad index;
+ *   Draco: a mesh it cannot store), IO (files), CANCELLED, OUT_OF_MEMORY.
+ * Threading: reads the object; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_mesh_write_file(cagekit_mesh mesh, const char* path,
                                                    const cagekit_write_options* options,
                                                    cagekit_write_report* report);
@@ -456,48 +535,85 @@ typedef enum cagekit_boundary_rule {
 } cagekit_boundary_rule;
 
 /* Creates a cage whose control mesh is a copy of `mesh`, with no tags and the default boundary
- * rule. The mesh must be valid (cagekit_mesh_validate); otherwise INVALID_MESH with the first
- * problem in the message. Thread-safe; reads `mesh`. */
+ * rule. The mesh must be valid (cagekit_mesh_validate).
+ * Ownership: *out receives one reference (release it with cagekit_cage_release).
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (out NULL), INVALID_MESH (the mesh is not valid: the
+ *   first problem is in the message), OUT_OF_MEMORY.
+ * Threading: reads `mesh`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_cage_create(cagekit_mesh mesh, cagekit_cage* out);
+/* Adds a reference (retain) or drops one (release; the last one destroys the cage). NULL is
+ * ignored.
+ * Errors: none.
+ * Threading: any thread (the reference count is atomic). */
 CAGEKIT_API void cagekit_cage_retain(cagekit_cage cage);
 CAGEKIT_API void cagekit_cage_release(cagekit_cage cage);
 
-/* A new mesh handle holding a copy of the cage's control mesh. Reads. */
+/* A new mesh handle holding a copy of the cage's control mesh.
+ * Ownership: *out receives one reference (release it with cagekit_mesh_release).
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (out NULL), OUT_OF_MEMORY.
+ * Threading: reads `cage`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_cage_get_mesh(cagekit_cage cage, cagekit_mesh* out);
 
 /* Replaces the crease tags: `count` edges given as vertex pairs (2 * count indices, each pair
  * an edge of the control mesh, either orientation) with a sharpness each (`sharpness` may be
- * NULL: all CAGEKIT_SHARP). A sharpness of 0 removes the tag. Fails with INVALID_ARGUMENT naming
- * the first pair that is not an edge or a sharpness that is negative or not finite; the tags are
- * then unchanged. Modifies. */
+ * NULL: all CAGEKIT_SHARP). A sharpness of 0 removes the tag.
+ * Ownership: the arrays are read during the call only.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (vertex_pairs NULL with a nonzero count; naming the
+ *   first pair that is not an edge or a sharpness that is negative or not finite; the tags are
+ *   then unchanged), OUT_OF_MEMORY.
+ * Threading: modifies `cage`: one thread at a time, with no other call on the cage meanwhile. */
 CAGEKIT_API cagekit_status cagekit_cage_set_creases(cagekit_cage cage, uint32_t count, const uint32_t* vertex_pairs,
                                                     const float* sharpness);
 /* Reads the crease tags. Two-call (Buffers) over creases, shared by vertex_pairs (2 per crease)
- * and sharpness. Reads. */
+ * and sharpness.
+ * Ownership: the arrays are the caller's, written during the call only.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (crease_count_out NULL), SIZE_INSUFFICIENT.
+ * Threading: reads `cage`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_cage_get_creases(cagekit_cage cage, uint32_t crease_capacity,
                                                     uint32_t* crease_count_out, uint32_t* vertex_pairs,
                                                     float* sharpness);
 
-/* Replaces the corner tags (vertex indices with sharpness; sharpness NULL = CAGEKIT_SHARP).
- * Modifies. */
+/* Replaces the corner tags (vertex indices with sharpness; sharpness NULL = CAGEKIT_SHARP). A
+ * sharpness of 0 removes the tag.
+ * Ownership: the arrays are read during the call only.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (vertices NULL with a nonzero count; naming the first
+ *   vertex index out of range or sharpness that is negative or not finite; the tags are then
+ *   unchanged), OUT_OF_MEMORY.
+ * Threading: modifies `cage`: one thread at a time, with no other call on the cage meanwhile. */
 CAGEKIT_API cagekit_status cagekit_cage_set_corners(cagekit_cage cage, uint32_t count, const uint32_t* vertices,
                                                     const float* sharpness);
 /* Reads the corner tags. Two-call (Buffers) over corners, shared by vertices and sharpness.
- * Reads. */
+ * Ownership: the arrays are the caller's, written during the call only.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (corner_count_out NULL), SIZE_INSUFFICIENT.
+ * Threading: reads `cage`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_cage_get_corners(cagekit_cage cage, uint32_t corner_capacity,
                                                     uint32_t* corner_count_out, uint32_t* vertices, float* sharpness);
 
-/* Replaces the set of hole faces (faces that are not part of the limit surface). Modifies. */
+/* Replaces the set of hole faces (faces that are not part of the limit surface). The set is kept
+ * sorted, without repeats.
+ * Ownership: `faces` is read during the call only.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (faces NULL with a nonzero count; naming the first face
+ *   index out of range; the holes are then unchanged), OUT_OF_MEMORY.
+ * Threading: modifies `cage`: one thread at a time, with no other call on the cage meanwhile. */
 CAGEKIT_API cagekit_status cagekit_cage_set_holes(cagekit_cage cage, uint32_t count, const uint32_t* faces);
-/* Reads the hole faces. Two-call (Buffers) over holes. Reads. */
+/* Reads the hole faces. Two-call (Buffers) over holes.
+ * Ownership: `faces` is the caller's, written during the call only.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (hole_count_out NULL, faces NULL with a nonzero
+ *   capacity), SIZE_INSUFFICIENT.
+ * Threading: reads `cage`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_cage_get_holes(cagekit_cage cage, uint32_t hole_capacity, uint32_t* hole_count_out,
                                                   uint32_t* faces);
 
-/* Sets / gets the boundary interpolation rule. set: modifies; get: reads. */
+/* Sets / gets the boundary interpolation rule.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (set: rule out of range; get: rule NULL).
+ * Threading: set modifies `cage` (one thread at a time, with no other call on the cage
+ *   meanwhile); get reads it (thread-safe). */
 CAGEKIT_API cagekit_status cagekit_cage_set_boundary_rule(cagekit_cage cage, cagekit_boundary_rule rule);
 CAGEKIT_API cagekit_status cagekit_cage_get_boundary_rule(cagekit_cage cage, cagekit_boundary_rule* rule);
 
-/* Statistics of the control mesh plus tag counts. Reads. */
+/* Statistics of the control mesh plus tag counts, into *info.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (info NULL or bad struct_size), OUT_OF_MEMORY.
+ * Threading: reads `cage`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_cage_get_info(cagekit_cage cage, cagekit_mesh_info* info);
 
 /* ------------------------------------------------------------------------------------------ */
@@ -516,13 +632,22 @@ typedef struct cagekit_subdivide_options {
 
 /* Uniformly refines the cage `levels` times. The result is a new cage of quads whose tags are
  * the refined tags (an infinitely sharp edge's two halves stay infinitely sharp; semi-sharp
- * values decrease by 1 per level). Fails with LIMIT_EXCEEDED before allocating when the result
- * would exceed 2^31 indices. Long operation (progress, cancel). Reads `cage`. */
+ * values decrease by 1 per level). options may be NULL (defaults). Long operation (progress,
+ * cancel).
+ * Ownership: *out receives one reference (release it with cagekit_cage_release).
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (out NULL, bad struct_size, an option out of range,
+ *   naming it), LIMIT_EXCEEDED (before allocating, when the result would exceed 2^31 indices),
+ *   INVALID_MESH (a cage that cannot be subdivided), CANCELLED, OUT_OF_MEMORY.
+ * Threading: reads `cage`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_cage_subdivide(cagekit_cage cage, const cagekit_subdivide_options* options,
                                                   cagekit_cage* out);
 
 /* Limit-surface positions and unit normals of the cage's control vertices (xyz per vertex).
- * Two-call (Buffers) over vertices, shared by positions and normals. Reads. */
+ * Two-call (Buffers) over vertices, shared by positions and normals.
+ * Ownership: the arrays are the caller's, written during the call only.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (vertex_count_out NULL), SIZE_INSUFFICIENT,
+ *   INVALID_MESH (a cage that cannot be subdivided), OUT_OF_MEMORY.
+ * Threading: reads `cage`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_cage_get_limit_points(cagekit_cage cage, uint32_t vertex_capacity,
                                                          uint32_t* vertex_count_out, double* positions,
                                                          double* normals);
@@ -554,31 +679,54 @@ typedef struct cagekit_surface_point {
 } cagekit_surface_point;
 
 /* Builds an evaluator for the limit surface of `cage` (a snapshot: later changes to the cage do
- * not affect it). Long operation (progress, cancel). Reads `cage`. The surface is immutable:
- * all its functions are read-only and may run concurrently from many threads. */
+ * not affect it). options may be NULL (defaults). Long operation (progress, cancel).
+ * Ownership: *out receives one reference (release it with cagekit_surface_release).
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (out NULL, bad struct_size, an option out of range,
+ *   naming it), INVALID_MESH (a cage whose limit surface cannot be built), CANCELLED,
+ *   OUT_OF_MEMORY.
+ * Threading: reads `cage`; thread-safe. The surface is immutable: all its functions are
+ *   read-only and may run concurrently from many threads. */
 CAGEKIT_API cagekit_status cagekit_surface_create(cagekit_cage cage, const cagekit_surface_options* options,
                                                   cagekit_surface* out);
+/* Adds a reference (retain) or drops one (release; the last one destroys the surface). NULL is
+ * ignored.
+ * Errors: none.
+ * Threading: any thread (the reference count is atomic). */
 CAGEKIT_API void cagekit_surface_retain(cagekit_surface surface);
 CAGEKIT_API void cagekit_surface_release(cagekit_surface surface);
 
-/* Number of ptex faces and of control vertices. Either pointer may be NULL. Reads. */
+/* Number of ptex faces and of control vertices. Either pointer may be NULL.
+ * Errors: INVALID_HANDLE.
+ * Threading: reads `surface`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_surface_get_counts(cagekit_surface surface, uint32_t* ptex_face_count,
                                                       uint32_t* control_vertex_count);
-/* The ptex face of corner `corner` of cage face `cage_face` (corner must be 0 for quads). Reads. */
+/* The ptex face of corner `corner` of cage face `cage_face` (corner must be 0 for quads).
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (ptex_face NULL, cage_face out of range, a corner the
+ *   face has no ptex face for).
+ * Threading: reads `surface`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_surface_get_ptex_face(cagekit_surface surface, uint32_t cage_face,
                                                          uint32_t corner, uint32_t* ptex_face);
 
 /* Evaluates `count` locations into `points` (count entries). control_positions: NULL to use the
- * cage's positions, or 3 * control_vertex_count doubles (moved control vertices). Fails with
- * INVALID_ARGUMENT naming the first location with a bad face index or (u, v) outside [0,1]^2 or
- * NaN. Reads. */
+ * cage's positions, or 3 * control_vertex_count doubles (moved control vertices).
+ * Ownership: control_positions and locations are read during the call only; `points` is the
+ *   caller's, written during the call only.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (locations or points NULL with a nonzero count; naming
+ *   the first location with a bad face index or (u, v) outside [0,1]^2 or NaN, or on a hole face,
+ *   which has no limit surface), OUT_OF_MEMORY.
+ * Threading: reads `surface`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_surface_evaluate(cagekit_surface surface, const double* control_positions,
                                                     uint32_t count, const cagekit_surface_location* locations,
                                                     cagekit_surface_point* points);
 
 /* The basis functions phi_j (thesis (2.24)) that are non-zero at `location`, and their
  * derivatives: position = sum_k w[k] * control[indices[k]], du = sum_k wu[k] * control[...], etc.
- * Two-call (Buffers) over the control vertices involved, shared by the seven arrays. Reads. */
+ * Two-call (Buffers) over the control vertices involved, shared by the seven arrays.
+ * Ownership: `location` is read during the call only; the arrays are the caller's, written during
+ *   the call only.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (location NULL or bad as in cagekit_surface_evaluate,
+ *   basis_count_out NULL), SIZE_INSUFFICIENT, OUT_OF_MEMORY.
+ * Threading: reads `surface`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_surface_evaluate_basis(cagekit_surface surface,
                                                           const cagekit_surface_location* location,
                                                           uint32_t basis_capacity, uint32_t* basis_count_out,
@@ -611,15 +759,26 @@ typedef struct cagekit_simplify_options {
 #define CAGEKIT_SIMPLIFY_OPTIONS_INIT { sizeof(cagekit_simplify_options), 0.01, NULL, 0 }
 
 /* Simplifies `mesh` to its coarsest level, recording every operation. The mesh must be valid
- * apart from unreferenced vertices (else INVALID_MESH naming the problem; cagekit_mesh_repair
- * fixes most). The hierarchy starts at its coarsest level. Long operation (progress, cancel).
- * Reads `mesh`; the hierarchy keeps its own copy. */
+ * apart from unreferenced vertices (cagekit_mesh_repair fixes most problems). The hierarchy
+ * starts at its coarsest level. options may be NULL (defaults). Long operation (progress, cancel).
+ * Ownership: *out receives one reference (release it with cagekit_hierarchy_release); the
+ *   hierarchy keeps its own copy of the mesh; the options' sharp_edges are read during the call.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (out NULL, bad struct_size, an option out of range or
+ *   a sharp-edge pair that is not an edge, naming it), INVALID_MESH (naming the problem),
+ *   CANCELLED, OUT_OF_MEMORY.
+ * Threading: reads `mesh`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_hierarchy_create(cagekit_mesh mesh, const cagekit_simplify_options* options,
                                                     cagekit_hierarchy* out);
+/* Adds a reference (retain) or drops one (release; the last one destroys the hierarchy). NULL is
+ * ignored.
+ * Errors: none.
+ * Threading: any thread (the reference count is atomic). */
 CAGEKIT_API void cagekit_hierarchy_retain(cagekit_hierarchy hierarchy);
 CAGEKIT_API void cagekit_hierarchy_release(cagekit_hierarchy hierarchy);
 
-/* Number of levels (level 0 = the input). Reads. */
+/* Number of levels (level 0 = the input).
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (count NULL).
+ * Threading: reads `hierarchy`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_hierarchy_get_level_count(cagekit_hierarchy hierarchy, uint32_t* count);
 
 typedef struct cagekit_level_info {
@@ -629,7 +788,10 @@ typedef struct cagekit_level_info {
   double error;                 /* normalised priority of the operation that made the level (0 for level 0) */
 } cagekit_level_info;
 
-/* Counts of any level, without moving there. Reads. */
+/* Counts of any level, without moving there.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (info NULL or bad struct_size, level not below the
+ *   level count).
+ * Threading: reads `hierarchy`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_hierarchy_get_level_info(cagekit_hierarchy hierarchy, uint32_t level,
                                                             cagekit_level_info* info);
 
@@ -640,14 +802,22 @@ typedef enum cagekit_level_query {
   CAGEKIT_LEVEL_QUERY_MAX_ENUM = 0x7fffffff
 } cagekit_level_query;
 
-/* Finds a level (the coarsest level when none has so few faces/vertices). Reads. */
+/* Finds a level (the coarsest level when none has so few faces/vertices).
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (level NULL, value negative or NaN, query out of
+ *   range).
+ * Threading: reads `hierarchy`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_hierarchy_find_level(cagekit_hierarchy hierarchy, cagekit_level_query query,
                                                         double value, uint32_t* level);
 
 /* Moves to `level`, applying or undoing recorded operations (constant time per level stepped,
- * plus one pass to refresh the current level's faces). Modifies. */
+ * plus one pass to refresh the current level's faces).
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (level not below the level count), OUT_OF_MEMORY.
+ * Threading: modifies `hierarchy`: one thread at a time, with no other call on the hierarchy
+ *   meanwhile. */
 CAGEKIT_API cagekit_status cagekit_hierarchy_set_level(cagekit_hierarchy hierarchy, uint32_t level);
-/* The current level. Reads. */
+/* The current level.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (level NULL).
+ * Threading: reads `hierarchy`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_hierarchy_get_current_level(cagekit_hierarchy hierarchy, uint32_t* level);
 
 typedef struct cagekit_polygonal_level_info {
@@ -660,14 +830,20 @@ typedef struct cagekit_polygonal_level_info {
   double l21_error;             /* sum of the faces' (3.4) terms, normalised */
 } cagekit_polygonal_level_info;
 
-/* Summary of the current level. Reads. */
+/* Summary of the current level, into *info.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (info NULL or bad struct_size), OUT_OF_MEMORY.
+ * Threading: reads `hierarchy`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_hierarchy_get_current_info(cagekit_hierarchy hierarchy,
                                                               cagekit_polygonal_level_info* info);
 
 /* The current level's faces: for face f, loops_per_face[f] loops (the first is the outer loop,
  * counter-clockwise seen from outside; the others are holes); for each loop in order,
  * loop_sizes[l] INPUT vertex indices in loop_vertices. Two-call (Buffers) on each array, over
- * faces, loops and indices; every count is written before any capacity is checked. Reads. */
+ * faces, loops and indices; every count is written before any capacity is checked.
+ * Ownership: the arrays are the caller's, written during the call only.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (a count pointer NULL, an array NULL with a nonzero
+ *   capacity), SIZE_INSUFFICIENT.
+ * Threading: reads `hierarchy`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_hierarchy_get_faces(cagekit_hierarchy hierarchy, uint32_t face_capacity,
                                                        uint32_t* face_count_out, uint32_t* loops_per_face,
                                                        uint32_t loop_capacity, uint32_t* loop_count_out,
@@ -675,14 +851,21 @@ CAGEKIT_API cagekit_status cagekit_hierarchy_get_faces(cagekit_hierarchy hierarc
                                                        uint64_t* index_count_out, uint32_t* loop_vertices);
 
 /* The cluster map of the current level: for each input face, the index of the level face that
- * contains it. Two-call (Buffers) over input faces. Reads. */
+ * contains it. Two-call (Buffers) over input faces.
+ * Ownership: cluster_of_input_face is the caller's, written during the call only.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (input_face_count_out NULL, cluster_of_input_face NULL
+ *   with a nonzero capacity), SIZE_INSUFFICIENT.
+ * Threading: reads `hierarchy`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_hierarchy_get_clusters(cagekit_hierarchy hierarchy, uint32_t input_face_capacity,
                                                           uint32_t* input_face_count_out,
                                                           uint32_t* cluster_of_input_face);
 
 /* The current level as a polygon mesh over the input vertices it uses (renumbered densely):
  * faces without holes as they are, faces with holes split into their constrained Delaunay
- * triangles (a polygon mesh cannot hold holes). Reads. */
+ * triangles (a polygon mesh cannot hold holes).
+ * Ownership: *out receives one reference (release it with cagekit_mesh_release).
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (out NULL), OUT_OF_MEMORY.
+ * Threading: reads `hierarchy`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_hierarchy_get_polygon_mesh(cagekit_hierarchy hierarchy, cagekit_mesh* out);
 
 /* As cagekit_hierarchy_get_polygon_mesh, with the contours refined: chapter 3 removes every
@@ -693,7 +876,11 @@ CAGEKIT_API cagekit_status cagekit_hierarchy_get_polygon_mesh(cagekit_hierarchy 
  * not project injectively gets its edges' tolerance doubled until they do. Same faces and clusters,
  * more vertices (all input vertices); at the coarsest levels a much smaller distance to the input
  * (VSA's meshing step does the same). chord_tolerance: finite, > 0 (e.g. 5 mean input edge lengths,
- * VSA's default). Reads. */
+ * VSA's default).
+ * Ownership: *out receives one reference (release it with cagekit_mesh_release).
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (out NULL, chord_tolerance not finite or not > 0),
+ *   OUT_OF_MEMORY.
+ * Threading: reads `hierarchy`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_hierarchy_get_refined_polygon_mesh(cagekit_hierarchy hierarchy,
                                                                       double chord_tolerance, cagekit_mesh* out);
 
@@ -753,7 +940,12 @@ typedef struct cagekit_cage_report {
 
 /* Partitions every face of the current level into convex quad-dominant cells (only diagonals
  * of its constrained Delaunay triangulation, no new vertices; thesis §3.4) and returns the
- * control cage with crease tags. report may be NULL. Reads. */
+ * control cage with crease tags. options may be NULL (defaults); report may be NULL.
+ * Ownership: *out receives one reference (release it with cagekit_cage_release); the options'
+ *   sharp_edges are read during the call only.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (out NULL, bad struct_size of options or report, an
+ *   option out of range or a sharp-edge pair that is not an edge, naming it), OUT_OF_MEMORY.
+ * Threading: reads `hierarchy`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_hierarchy_build_cage(cagekit_hierarchy hierarchy, const cagekit_cage_options* options,
                                                         cagekit_cage* out, cagekit_cage_report* report);
 
@@ -765,7 +957,11 @@ typedef struct cagekit_approximation_error {
 } cagekit_approximation_error;
 
 /* Distances between `input` and `approximation` (e.g. a simplified level or a cage's control
- * mesh), relative to the input's bounding-box diagonal. Long operation. Reads both. */
+ * mesh), relative to the input's bounding-box diagonal, into *error. Long operation (progress,
+ * cancel).
+ * Errors: INVALID_HANDLE (input or approximation), INVALID_ARGUMENT (error NULL or bad
+ *   struct_size), CANCELLED, OUT_OF_MEMORY.
+ * Threading: reads both meshes; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_mesh_measure_error(cagekit_mesh input, cagekit_mesh approximation,
                                                       cagekit_approximation_error* error);
 
@@ -897,18 +1093,21 @@ typedef struct cagekit_quad_remesh_report {
  * feature lines (anisotropic) or sharp region boundaries (quad) are tagged as infinitely sharp
  * creases. The mesh must be an oriented 2-manifold (boundary allowed) with finite positions;
  * faces with more than 3 vertices are fan-triangulated first. `options` NULL: the defaults;
- * `report` may be NULL. *out receives one reference.
- * Errors: INVALID_HANDLE; INVALID_ARGUMENT (out NULL, an option out of its range, naming it; quad:
- * with pinned regions or seeds, more regions than triangles or fewer than the mesh's connected
- * components — without them the count is adjusted and reported); INVALID_MESH (naming the
- * problem: faces with < 3 or repeated vertices, bad indices, non-manifold or inconsistently
- * oriented edges, non-finite positions, an empty or zero-extent mesh; anisotropic: no two lines
- * intersect (too large a tolerance for the mesh's size); quad: a pinned region with a handle —
- * other regions that are closed, have a handle or fold are split); CANCELLED; OUT_OF_MEMORY;
- * INTERNAL (the result failed its validity check after the retries, naming the region).
- * Long operations (progress stages anisotropic "curvature field", "curvature lines", "meshing";
- * quad "vsa segmentation", "remesh constraints", "quad region selection", "post-processing";
- * cancel). Reads `mesh`; thread-safe. */
+ * `report` may be NULL. Long operations (progress stages anisotropic "curvature field",
+ * "curvature lines", "meshing"; quad "vsa segmentation", "remesh constraints", "quad region
+ * selection", "post-processing"; cancel).
+ * Ownership: *out receives one reference (release it with cagekit_cage_release); the options'
+ *   arrays are read during the call only.
+ * Errors: INVALID_HANDLE; INVALID_ARGUMENT (out NULL, a bad struct_size, an option out of its
+ *   range, naming it; quad: with pinned regions or seeds, more regions than triangles or fewer
+ *   than the mesh's connected components — without them the count is adjusted and reported);
+ *   INVALID_MESH (naming the problem: faces with < 3 or repeated vertices, bad indices,
+ *   non-manifold or inconsistently oriented edges, non-finite positions, an empty or zero-extent
+ *   mesh; anisotropic: no two lines intersect (too large a tolerance for the mesh's size); quad: a
+ *   pinned region with a handle — other regions that are closed, have a handle or fold are
+ *   split); CANCELLED; OUT_OF_MEMORY; INTERNAL (the result failed its validity check after the
+ *   retries, naming the region).
+ * Threading: reads `mesh`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_mesh_remesh_anisotropic(cagekit_mesh mesh, const cagekit_anisotropic_options* options,
                                                            cagekit_cage* out, cagekit_anisotropic_report* report);
 CAGEKIT_API cagekit_status cagekit_mesh_remesh_quad(cagekit_mesh mesh, const cagekit_quad_remesh_options* options,
@@ -1051,9 +1250,8 @@ typedef struct cagekit_fit_report {
  * *out receives a NEW cage with the fitted control-vertex positions and the same connectivity,
  * tags (creases, corners, holes) and boundary rule as `cage`; `cage` itself is not changed.
  * Every scan vertex is a sample (faces are used to find the scan boundary and for the surface ->
- * scan distances), so the scan
- * need not be a valid mesh, but its face indices must be in range and its positions finite.
- * options may be NULL (defaults); report may be NULL.
+ * scan distances), so the scan need not be a valid mesh, but its face indices must be in range
+ * and its positions finite. options may be NULL (defaults); report may be NULL.
  *
  * `passes` receives the figures of every state measured (entry 0 the initial cage, then one per
  * control-vertex step kept; entry report->best_pass is the state returned). Two-call (Buffers)
@@ -1063,16 +1261,19 @@ typedef struct cagekit_fit_report {
  * success *pass_count_out is the number of states measured (report->pass_count); with
  * pass_capacity 0 the fit runs and only that count is written.
  *
- * Errors: INVALID_HANDLE (cage or scan), INVALID_ARGUMENT (out or pass_count_out NULL, passes
- * NULL with a nonzero pass_capacity, a bad struct_size, an option out of range or NaN, naming the
- * field; a scan with no vertices, a face index out of range or a non-finite position),
- * SIZE_INSUFFICIENT (pass_capacity, before any work), INVALID_MESH (a cage whose limit surface
- * cannot be built), CANCELLED (stage "fit"; progress is reported at least once per pass),
- * OUT_OF_MEMORY. On error *out is NULL and *report and `passes` are unspecified.
- *
  * Long operation (progress, cancel), using up to options->threads worker threads internally;
- * callbacks still run on the calling thread. Reads `cage` and `scan`: both may be used by
- * other threads' read-only calls meanwhile, not modified. */
+ * callbacks still run on the calling thread.
+ *
+ * Ownership: *out receives one reference to the new cage (release it with cagekit_cage_release);
+ *   `passes` is the caller's, written during the call only.
+ * Errors: INVALID_HANDLE (cage or scan), INVALID_ARGUMENT (out or pass_count_out NULL, passes
+ *   NULL with a nonzero pass_capacity, a bad struct_size, an option out of range or NaN, naming
+ *   the field; a scan with no vertices, a face index out of range or a non-finite position),
+ *   SIZE_INSUFFICIENT (pass_capacity, before any work), INVALID_MESH (a cage whose limit surface
+ *   cannot be built), CANCELLED (stage "fit"; progress is reported at least once per pass),
+ *   OUT_OF_MEMORY. On error *out is NULL and *report and `passes` are unspecified.
+ * Threading: reads `cage` and `scan`: both may be used by other threads' read-only calls
+ *   meanwhile, not modified; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_cage_fit(cagekit_cage cage, cagekit_mesh scan, const cagekit_fit_options* options,
                                             cagekit_cage* out, cagekit_fit_report* report, uint32_t pass_capacity,
                                             uint32_t* pass_count_out, cagekit_fit_pass* passes);
@@ -1236,18 +1437,21 @@ typedef struct cagekit_scan_to_cage_report {
  * with SIZE_INSUFFICIENT before any work). Hosts keep the individual steps (cagekit_mesh_repair,
  * cagekit_hierarchy_*, cagekit_mesh_remesh_*, cagekit_cage_fit) for finer control.
  *
- * Errors: INVALID_HANDLE, INVALID_ARGUMENT (NULL cage_out or fit_pass_count_out, fit_passes NULL with
- * a nonzero fit_pass_capacity, bad struct_size, an option out of range, naming it),
- * SIZE_INSUFFICIENT (fit_pass_capacity, before any work), INVALID_MESH (out-of-range indices or
- * non-finite positions, naming the first; an invalid scan with repair 0; no faces, or nothing left
- * after conditioning), QUALITY (no good result: the message names the method and the figure, e.g.
- * "the limit surface strays 7.2 % of the diagonal from the scan"), CANCELLED, OUT_OF_MEMORY (also
- * the context's memory budget). On error the outputs are NULL and *report, *fit_report and
- * `fit_passes` are unspecified.
- *
  * Long operation (progress: the stages of each phase, "conditioning", the method's, "fit",
- * "error"; cancel), using the threads its options give. Reads `scan`; thread-safe for distinct
- * outputs. */
+ * "error"; cancel), using the threads its options give.
+ *
+ * Ownership: *cage_out and *limit_out each receive one reference (release them with
+ *   cagekit_cage_release); the options and the structs and arrays they point to are read during
+ *   the call only; `fit_passes` is the caller's, written during the call only.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (NULL cage_out or fit_pass_count_out, fit_passes NULL
+ *   with a nonzero fit_pass_capacity, bad struct_size, an option out of range, naming it; nested
+ *   option structs with sharp_edges of their own), SIZE_INSUFFICIENT (fit_pass_capacity, before
+ *   any work), INVALID_MESH (out-of-range indices or non-finite positions, naming the first; an
+ *   invalid scan with repair 0; no faces, or nothing left after conditioning), QUALITY (no good
+ *   result: the message names the method and the figure, e.g. "the limit surface strays 7.2 % of
+ *   the diagonal from the scan"), CANCELLED, OUT_OF_MEMORY (also the context's memory budget). On
+ *   error the outputs are NULL and *report, *fit_report and `fit_passes` are unspecified.
+ * Threading: reads `scan`; thread-safe for distinct outputs. */
 CAGEKIT_API cagekit_status cagekit_scan_to_cage(cagekit_mesh scan, const cagekit_scan_to_cage_options* options,
                                                 cagekit_cage* cage_out, cagekit_cage* limit_out,
                                                 cagekit_scan_to_cage_report* report, cagekit_fit_report* fit_report,
@@ -1312,34 +1516,50 @@ typedef struct cagekit_binding_info {
 
 /* Binds every vertex of `scan` to the limit surface of `cage` (exact closest points, §7.4).
  * Usually the cage was fitted to the scan first (cagekit_cage_fit), so that displacements are
- * small. *out receives one reference. options may be NULL.
+ * small. options may be NULL. Long operation (progress, cancel).
+ * Ownership: *out receives one reference (release it with cagekit_binding_release); the binding
+ *   keeps its own copy of the cage (cagekit_binding_get_cage).
  * Errors: INVALID_HANDLE, INVALID_ARGUMENT (out NULL, bad struct_size or option, a scan without
- * vertices or with a non-finite position), INVALID_MESH (no limit surface), CANCELLED (stage
- * "bind"), OUT_OF_MEMORY. Long operation (progress, cancel). Reads `cage` and `scan`. */
+ *   vertices, with a face index out of range or with a non-finite position), INVALID_MESH (no
+ *   limit surface), CANCELLED (stage "bind"), OUT_OF_MEMORY.
+ * Threading: reads `cage` and `scan`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_multires_bind(cagekit_cage cage, cagekit_mesh scan,
                                                  const cagekit_bind_options* options, cagekit_binding* out);
+/* Adds a reference (retain) or drops one (release; the binding is destroyed when no reference is
+ * left, including those its deformers hold). NULL is ignored.
+ * Errors: none.
+ * Threading: any thread (the reference count is atomic). */
 CAGEKIT_API void cagekit_binding_retain(cagekit_binding binding);
 CAGEKIT_API void cagekit_binding_release(cagekit_binding binding);
-/* Thread-safe. Errors: INVALID_HANDLE, INVALID_ARGUMENT (info NULL or bad struct_size). */
+/* Fills *info with the binding's counts and figures.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (info NULL or bad struct_size).
+ * Threading: reads `binding`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_binding_get_info(cagekit_binding binding, cagekit_binding_info* info);
 
 /* Saved bindings (`.ckb`): binding is the slow part (one exact closest-point search per scan
  * vertex); a saved binding keeps the cage it was made from, the options and per vertex the foot
  * point, displacement and normal coefficients, and reading it rebuilds the limit surface, the
  * basis rows and the deformer's compact table from them: the result equals the binding that was
- * saved, bit for bit. Format: little-endian sections, versioned; about
- * 118 bytes per scan vertex (normal mode), 134 (local frame or exact normals).
- * Writing: to a file atomically (a failed write never leaves a partial file) or into a new
- * blob. Reads the binding; thread-safe. Errors: INVALID_HANDLE, INVALID_ARGUMENT (path or out
- * NULL), IO. */
+ * saved, bit for bit. Format: little-endian sections, versioned; about 118 bytes per scan vertex
+ * (normal mode), 134 (local frame or exact normals).
+ * Writing: to a file atomically (a failed write never leaves a partial file) or into a new blob.
+ * Ownership: `path` is read during the call only; write_memory's *out receives a new blob (one
+ *   reference: release it with cagekit_blob_release).
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (path or out NULL), IO (files), OUT_OF_MEMORY.
+ * Threading: reads the binding; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_binding_write_file(cagekit_binding binding, const char* path);
 CAGEKIT_API cagekit_status cagekit_binding_write_memory(cagekit_binding binding, cagekit_blob* out);
-/* Reading: `threads` (0 = all cores) for the rebuild. *out receives one reference. The bytes are
- * treated as hostile. Errors: IO, PARSE (the message names the source and the byte offset or the
- * field: truncation, bad magic, non-finite numbers, a foot point off the limit surface, a cage
- * the OBJ reader refuses), UNSUPPORTED_FORMAT (another format version), LIMIT_EXCEEDED (hostile
- * counts), INVALID_MESH (the saved cage has no limit surface), OUT_OF_MEMORY, CANCELLED (stage
- * "bind"). Long operation (progress, cancel). Thread-safe. `data` is only read during the call. */
+/* Reading: `threads` (0 = all cores) for the rebuild. The bytes are treated as hostile. Long
+ * operation (progress, cancel).
+ * Ownership: *out receives one reference (release it with cagekit_binding_release); `path` and
+ *   `data` are only read during the call.
+ * Errors: INVALID_HANDLE (context), INVALID_ARGUMENT (out or path NULL, data NULL with a nonzero
+ *   size, threads above 1024), IO, PARSE (the message names the source and the byte offset or the
+ *   field: truncation, bad magic, non-finite numbers, a foot point off the limit surface, a cage
+ *   the OBJ reader refuses), UNSUPPORTED_FORMAT (another format version), LIMIT_EXCEEDED (hostile
+ *   counts), INVALID_MESH (the saved cage has no limit surface), OUT_OF_MEMORY, CANCELLED (stage
+ *   "bind").
+ * Threading: any thread (thread-safe). */
 CAGEKIT_API cagekit_status cagekit_binding_read_file(cagekit_context context, const char* path, uint32_t threads,
                                                      cagekit_binding* out);
 CAGEKIT_API cagekit_status cagekit_binding_read_memory(cagekit_context context, const void* data, size_t size,
@@ -1349,9 +1569,11 @@ CAGEKIT_API cagekit_status cagekit_binding_read_memory(cagekit_context context, 
  * over the bound vertices (same faces, same order; draw these, and give a mesh made of them to
  * cagekit_gl_deformer_create). Without a split, sources[i] = i and *face_count_out = 0 (the
  * scan's own faces apply). Two-call (Buffers): sources over bound vertices; the faces as
- * cagekit_mesh_get_faces's. Thread-safe.
+ * cagekit_mesh_get_faces's.
+ * Ownership: the arrays are the caller's, written during the call only.
  * Errors: INVALID_HANDLE, INVALID_ARGUMENT (a count pointer NULL, an array NULL with a nonzero
- * capacity), SIZE_INSUFFICIENT. */
+ *   capacity), SIZE_INSUFFICIENT.
+ * Threading: reads `binding`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_binding_get_vertex_sources(cagekit_binding binding, uint32_t vertex_capacity,
                                                               uint32_t* vertex_count_out, uint32_t* sources);
 CAGEKIT_API cagekit_status cagekit_binding_get_faces(cagekit_binding binding, uint32_t face_capacity,
@@ -1363,17 +1585,22 @@ CAGEKIT_API cagekit_status cagekit_binding_get_faces(cagekit_binding binding, ui
  * order[k] is the scan vertex that becomes vertex k, each scan vertex once (the count is the
  * scan's vertex count). The deformer writes positions and normals into the caller's arrays in
  * the scan's vertex order; where that order does not follow the cells, the stores are scattered
- * and cost most of a full frame. A host that may renumber its scan (e.g. on import) applies this order
- * once (new index of order[k] = k, faces remapped) and binds again: the writes become sequential
- * streaming stores, which makes full frames faster.
+ * and cost most of a full frame. A host that may renumber its scan (e.g. on import) applies this
+ * order once (new index of order[k] = k, faces remapped) and binds again: the writes become
+ * sequential streaming stores, which makes full frames faster.
  * Optional; the deformer gives the same positions either way. Two-call (Buffers) over scan
- * vertices. Thread-safe. Errors: INVALID_HANDLE, INVALID_ARGUMENT (vertex_count_out NULL, order
- * NULL with a nonzero capacity), SIZE_INSUFFICIENT. */
+ * vertices.
+ * Ownership: `order` is the caller's, written during the call only.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (vertex_count_out NULL, order NULL with a nonzero
+ *   capacity), SIZE_INSUFFICIENT, OUT_OF_MEMORY.
+ * Threading: reads `binding`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_binding_get_deformer_vertex_order(cagekit_binding binding, uint32_t vertex_capacity,
                                                                      uint32_t* vertex_count_out, uint32_t* order);
-/* The cage the binding was made on (a new cage handle, one reference: a copy the caller may
- * edit and pass its positions to a deformer). Thread-safe.
- * Errors: INVALID_HANDLE, INVALID_ARGUMENT (out NULL), OUT_OF_MEMORY. */
+/* The cage the binding was made on, as a new cage handle: a copy the caller may edit and pass
+ * its positions to a deformer.
+ * Ownership: *out receives one reference (release it with cagekit_cage_release).
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (out NULL), OUT_OF_MEMORY.
+ * Threading: reads `binding`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_binding_get_cage(cagekit_binding binding, cagekit_cage* out);
 
 typedef enum cagekit_normal_mode {
@@ -1382,10 +1609,17 @@ typedef enum cagekit_normal_mode {
   CAGEKIT_NORMALS_MAX_ENUM = 0x7fffffff
 } cagekit_normal_mode;
 
-/* A CPU deformer of `binding` (which it keeps alive). threads: 0 = all cores.
- * Errors: INVALID_HANDLE, INVALID_ARGUMENT (out NULL), OUT_OF_MEMORY. */
+/* A CPU deformer of `binding`. threads: 0 = all cores.
+ * Ownership: *out receives one reference (release it with cagekit_cpu_deformer_release); the
+ *   deformer keeps `binding` alive.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (out NULL, threads above 1024), OUT_OF_MEMORY.
+ * Threading: reads `binding`; thread-safe (deformers may share a binding). */
 CAGEKIT_API cagekit_status cagekit_cpu_deformer_create(cagekit_binding binding, uint32_t threads,
                                                        cagekit_cpu_deformer* out);
+/* Adds a reference (retain) or drops one (release; the last one destroys the deformer and drops
+ * its reference to the binding). NULL is ignored.
+ * Errors: none.
+ * Threading: any thread (the reference count is atomic). */
 CAGEKIT_API void cagekit_cpu_deformer_retain(cagekit_cpu_deformer deformer);
 CAGEKIT_API void cagekit_cpu_deformer_release(cagekit_cpu_deformer deformer);
 
@@ -1395,9 +1629,12 @@ CAGEKIT_API void cagekit_cpu_deformer_release(cagekit_cpu_deformer deformer);
  * normals (either may be NULL; both NULL with a nonzero capacity deforms without output).
  * vertex_capacity 0 makes the call a query: only *vertex_count_out is written, nothing is
  * deformed and the other arguments are not read. Hosts that know the count pass it every frame.
+ * Ownership: `control` is read during the call only; positions and normals are the caller's,
+ *   written during the call only.
  * Errors: INVALID_HANDLE, INVALID_ARGUMENT (vertex_count_out NULL, control NULL, control_count
- * not the binding's, a non-finite control point), INVALID_OPERATION (exact normals from a binding
- * made without their data), SIZE_INSUFFICIENT. Not thread-safe on the same deformer. */
+ *   not the binding's, a non-finite control point, normals_mode out of range), INVALID_OPERATION
+ *   (exact normals from a binding made without their data), SIZE_INSUFFICIENT, OUT_OF_MEMORY.
+ * Threading: modifies `deformer`: one thread at a time (not thread-safe on the same deformer). */
 CAGEKIT_API cagekit_status cagekit_cpu_deformer_deform(cagekit_cpu_deformer deformer, const double* control,
                                                        uint32_t control_count, cagekit_normal_mode normals_mode,
                                                        uint32_t vertex_capacity, uint32_t* vertex_count_out,
@@ -1409,9 +1646,13 @@ CAGEKIT_API cagekit_status cagekit_cpu_deformer_deform(cagekit_cpu_deformer defo
  * vertices in their support are recomputed and written — the rest of `positions` / `normals` is
  * left as the caller had it from the earlier calls. *updated_count (may be NULL) receives the
  * number of vertices recomputed. The outputs as cagekit_cpu_deformer_deform's (vertex_capacity 0:
- * a query that updates nothing). Errors as cagekit_cpu_deformer_deform, plus INVALID_ARGUMENT for
- * a moved index out of range, and INVALID_OPERATION for a call before the first deform or with
- * another normals_mode than the last deform's. */
+ * a query that updates nothing).
+ * Ownership: `control` and `moved` are read during the call only; positions and normals are the
+ *   caller's, written during the call only.
+ * Errors: as cagekit_cpu_deformer_deform, plus INVALID_ARGUMENT for moved NULL with a nonzero
+ *   moved_count or a moved index out of range, and INVALID_OPERATION for a call before the first
+ *   deform or with another normals_mode than the last deform's.
+ * Threading: modifies `deformer`: one thread at a time (not thread-safe on the same deformer). */
 CAGEKIT_API cagekit_status cagekit_cpu_deformer_update(cagekit_cpu_deformer deformer, const double* control,
                                                        uint32_t control_count, const uint32_t* moved,
                                                        uint32_t moved_count, cagekit_normal_mode normals_mode,
@@ -1422,12 +1663,14 @@ CAGEKIT_API cagekit_status cagekit_cpu_deformer_update(cagekit_cpu_deformer defo
  * vertex; two-call over the bound vertices as there), for hosts that draw float32 vertex arrays
  * (half the bytes written per frame; the full recompute is faster). `control` stays double.
  * Every value written is the double call's value rounded to float (the deformer's compact path
- * evaluates in float32 anyway; positions are formed in double, then rounded). The arrays are
- * the caller's: only written during the call, never kept. A deformer may mix the double and
- * float32 calls: an update_f32 after a deform (or the reverse) recomputes the moved points'
- * support only, into whichever arrays that call is given. Errors, ownership and thread-safety as
- * cagekit_cpu_deformer_deform / cagekit_cpu_deformer_update (INVALID_HANDLE, INVALID_ARGUMENT,
- * SIZE_INSUFFICIENT; not thread-safe on the same deformer). */
+ * evaluates in float32 anyway; positions are formed in double, then rounded). A deformer may mix
+ * the double and float32 calls: an update_f32 after a deform (or the reverse) recomputes the
+ * moved points' support only, into whichever arrays that call is given.
+ * Ownership: as cagekit_cpu_deformer_deform / cagekit_cpu_deformer_update: the arrays are the
+ *   caller's, only read or written during the call, never kept.
+ * Errors: as cagekit_cpu_deformer_deform / cagekit_cpu_deformer_update (INVALID_HANDLE,
+ *   INVALID_ARGUMENT, INVALID_OPERATION, SIZE_INSUFFICIENT, OUT_OF_MEMORY).
+ * Threading: modifies `deformer`: one thread at a time (not thread-safe on the same deformer). */
 CAGEKIT_API cagekit_status cagekit_cpu_deformer_deform_f32(cagekit_cpu_deformer deformer, const double* control,
                                                            uint32_t control_count, cagekit_normal_mode normals_mode,
                                                            uint32_t vertex_capacity, uint32_t* vertex_count_out,
@@ -1496,19 +1739,33 @@ typedef struct cagekit_limit_patch {
                                 control_points[3 * (4 * j + i) + 0..2], with weight B_i(s) B_j(t) */
 } cagekit_limit_patch;
 
-/* Builds the patches of `cage`'s limit surface. Long operation (progress stage "limit patches",
- * cancel). Fails with INVALID_ARGUMENT for bad options, INVALID_MESH for a cage that cannot be
- * subdivided, LIMIT_EXCEEDED when more than 2^20 patches would be needed (raise the tolerance or
- * lower max_depth), OUT_OF_MEMORY against the context's memory budget. The result is immutable
- * and may be read from several threads at once. Release with cagekit_limit_patches_release. */
+/* Builds the patches of `cage`'s limit surface. options may be NULL (defaults). Long operation
+ * (progress stage "limit patches", cancel).
+ * Ownership: *out receives one reference (release it with cagekit_limit_patches_release).
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (out NULL, bad struct_size or options), INVALID_MESH
+ *   (a cage that cannot be subdivided), LIMIT_EXCEEDED (more than 2^20 patches would be needed:
+ *   raise the tolerance or lower max_depth), CANCELLED, OUT_OF_MEMORY (also against the context's
+ *   memory budget).
+ * Threading: reads `cage`; thread-safe. The result is immutable and may be read from several
+ *   threads at once. */
 CAGEKIT_API cagekit_status cagekit_limit_patches_create(cagekit_cage cage, const cagekit_limit_patch_options* options,
                                                         cagekit_limit_patches* out);
+/* Adds a reference (retain) or drops one (release; the last one destroys the patches). NULL is
+ * ignored.
+ * Errors: none.
+ * Threading: any thread (the reference count is atomic). */
 CAGEKIT_API void cagekit_limit_patches_retain(cagekit_limit_patches patches);
 CAGEKIT_API void cagekit_limit_patches_release(cagekit_limit_patches patches);
-/* Counts and errors. Reads. */
+/* Counts and errors of the patches, into *info.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (info NULL or bad struct_size).
+ * Threading: reads `patches`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_limit_patches_get_info(cagekit_limit_patches patches, cagekit_limit_patch_info* info);
 /* Copies every patch into `patch_array`, ordered by ptex face, then by quadtree order. Two-call
- * (Buffers) over patches (the count is cagekit_limit_patch_info.patch_count). Reads. */
+ * (Buffers) over patches (the count is cagekit_limit_patch_info.patch_count).
+ * Ownership: `patch_array` is the caller's, written during the call only.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (patch_count_out NULL, patch_array NULL with a nonzero
+ *   capacity), SIZE_INSUFFICIENT.
+ * Threading: reads `patches`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_limit_patches_get(cagekit_limit_patches patches, uint32_t patch_capacity,
                                                      uint32_t* patch_count_out, cagekit_limit_patch* patch_array);
 

@@ -95,41 +95,58 @@ typedef struct cagekit_gl_deformer_info {
 
 /* Creates a GPU deformer of `binding` in the host's current GL context. `scan` (may be NULL:
  * no index buffer) supplies the triangles to draw; it must have the binding's vertex count (it
- * is normally the mesh the binding was made from); it is read during the call only. The
- * deformer keeps `binding` alive. options may be NULL. *out receives one reference.
+ * is normally the mesh the binding was made from). options may be NULL. On error no GL object
+ * is left behind.
+ * Ownership: *out receives one reference (release it with cagekit_gl_deformer_release); the
+ *   deformer keeps `binding` alive; `scan` is read during the call only; get_proc_address is
+ *   called during the call only (it and user_data are not kept).
  * Errors: INVALID_HANDLE (binding, or a non-NULL scan), INVALID_ARGUMENT (out or
- * get_proc_address NULL, bad struct_size or option, a scan whose vertex count differs),
- * INVALID_OPERATION (no GL context current), UNSUPPORTED_FEATURE (a context older than GL 4.3
- * / GLES 3.1, an entry point the callback does not provide, fewer than 4 compute shader storage
- * blocks, or the shader does not compile: the message names what is missing), LIMIT_EXCEEDED (a buffer above
- * GL_MAX_SHADER_STORAGE_BLOCK_SIZE, too many vertices for the work-group limits),
- * OUT_OF_MEMORY (host memory or GL_OUT_OF_MEMORY). On error no GL object is left behind.
- * GL thread only (see above). */
+ *   get_proc_address NULL, bad struct_size or option, a scan whose vertex count differs or with a
+ *   face index out of range), INVALID_OPERATION (no GL context current), UNSUPPORTED_FEATURE (a
+ *   context older than GL 4.3 / GLES 3.1, an entry point the callback does not provide, fewer
+ *   than 4 compute shader storage blocks, or the shader does not compile: the message names what
+ *   is missing), LIMIT_EXCEEDED (a buffer above GL_MAX_SHADER_STORAGE_BLOCK_SIZE, too many
+ *   vertices for the work-group limits), OUT_OF_MEMORY (host memory or GL_OUT_OF_MEMORY).
+ * Threading: GL thread only (see above); reads `binding` and `scan`. */
 CAGEKIT_API cagekit_status cagekit_gl_deformer_create(cagekit_binding binding, cagekit_mesh scan,
                                                       cagekit_gl_get_proc_address_fn get_proc_address,
                                                       void* user_data, const cagekit_gl_deformer_options* options,
                                                       cagekit_gl_deformer* out);
+/* Adds a reference. NULL is ignored.
+ * Errors: none.
+ * Threading: GL thread only (see above). */
 CAGEKIT_API void cagekit_gl_deformer_retain(cagekit_gl_deformer deformer);
-/* The last release deletes the GL objects: the host's context must be current on the calling
- * thread (releasing after the context is destroyed leaks nothing on the CPU side but is
- * undefined on the GL side, as for any GL object). */
+/* Drops a reference. The last release deletes the GL objects and drops the deformer's reference
+ * to its binding. NULL is ignored.
+ * Errors: none.
+ * Threading: GL thread only: the host's context must be current on the calling thread at the last
+ *   release (releasing after the context is destroyed leaks nothing on the CPU side but is
+ *   undefined on the GL side, as for any GL object). */
 CAGEKIT_API void cagekit_gl_deformer_release(cagekit_gl_deformer deformer);
 
 /* Recomputes every vertex: `control` holds control_count xyz triples (the cage's vertices,
  * moved; converted to float). Only CAGEKIT_NORMALS_APPROXIMATE is done on the GPU. The result
  * is in the buffers of cagekit_gl_deformer_get_buffers, ready for vertex fetch (a memory
  * barrier is issued); GL commands are queued, not waited for.
+ * Ownership: `control` is read during the call only.
  * Errors: INVALID_HANDLE, INVALID_ARGUMENT (control NULL, control_count not the binding's, a
- * non-finite control point, a normals_mode out of range), UNSUPPORTED_FEATURE (normals_mode
- * CAGEKIT_NORMALS_EXACT). GL thread only; modifies the deformer. */
+ *   non-finite control point, a normals_mode out of range), UNSUPPORTED_FEATURE (normals_mode
+ *   CAGEKIT_NORMALS_EXACT), OUT_OF_MEMORY.
+ * Threading: GL thread only; modifies the deformer. */
 CAGEKIT_API cagekit_status cagekit_gl_deformer_deform(cagekit_gl_deformer deformer, const double* control,
                                                       uint32_t control_count, cagekit_normal_mode normals_mode);
 
 /* The GL names and layout of the output and index buffers (fixed for the deformer's life).
- * Errors: INVALID_HANDLE, INVALID_ARGUMENT (buffers NULL or bad struct_size). Makes no GL call. */
+ * Ownership: the GL buffers belong to the deformer (see above).
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (buffers NULL or bad struct_size).
+ * Threading: GL thread only (see above); reads the deformer. Makes no GL call. */
 CAGEKIT_API cagekit_status cagekit_gl_deformer_get_buffers(cagekit_gl_deformer deformer,
                                                            cagekit_gl_deformer_buffers* buffers);
-/* Errors: INVALID_HANDLE, INVALID_ARGUMENT (info NULL or bad struct_size). Makes no GL call. */
+/* Fills *info: the GL context's renderer and version, counts, cache figures and GL memory.
+ * Ownership: info->renderer and info->version are owned by the deformer, valid until its last
+ *   release.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (info NULL or bad struct_size).
+ * Threading: GL thread only (see above); reads the deformer. Makes no GL call. */
 CAGEKIT_API cagekit_status cagekit_gl_deformer_get_info(cagekit_gl_deformer deformer, cagekit_gl_deformer_info* info);
 
 /* Copies the last deform's result to the CPU (waits for the GPU; for tests and tools, not for
@@ -137,8 +154,10 @@ CAGEKIT_API cagekit_status cagekit_gl_deformer_get_info(cagekit_gl_deformer defo
  * Buffers) over the vertices, shared by positions and normals (either may be NULL); with
  * vertex_capacity 0 only *vertex_count_out is written and no GL call is made. Before a first
  * deform the contents are undefined.
+ * Ownership: positions and normals are the caller's, written during the call only.
  * Errors: INVALID_HANDLE, INVALID_ARGUMENT (vertex_count_out NULL), SIZE_INSUFFICIENT, INTERNAL
- * (the buffer could not be mapped). GL thread only. */
+ *   (the buffer could not be mapped), OUT_OF_MEMORY.
+ * Threading: GL thread only; modifies the deformer (its read-back copy): one thread at a time. */
 CAGEKIT_API cagekit_status cagekit_gl_deformer_read_back(cagekit_gl_deformer deformer, uint32_t vertex_capacity,
                                                          uint32_t* vertex_count_out, double* positions,
                                                          double* normals);
@@ -165,11 +184,13 @@ CAGEKIT_API cagekit_status cagekit_gl_deformer_read_back(cagekit_gl_deformer def
  * of Q from `control` (3|Q| floats uploaded as uniforms per frame); the others must still equal
  * those given to set_reference_set. Normal displacement mode only (a binding made with
  * CAGEKIT_DISPLACEMENT_NORMAL); approximate normals.
+ * Ownership: the arrays are read during the call only.
  * Errors: INVALID_HANDLE, INVALID_ARGUMENT (NULL arrays, counts, an index out of range or
- * repeated, a non-finite point), INVALID_OPERATION (a local-frame binding, deform_reference
- * before a set), UNSUPPORTED_FEATURE (the program does not build), OUT_OF_MEMORY. GL thread only; they change
- * no GL state of the host (also restored: vertex array, GL_ARRAY_BUFFER, transform feedback
- * object and buffer binding, GL_RASTERIZER_DISCARD). */
+ *   repeated, a non-finite point), INVALID_OPERATION (a local-frame binding, deform_reference
+ *   before a set), UNSUPPORTED_FEATURE (the program does not build), OUT_OF_MEMORY.
+ * Threading: GL thread only; modifies the deformer. They change no GL state of the host (also
+ *   restored: vertex array, GL_ARRAY_BUFFER, transform feedback object and buffer binding,
+ *   GL_RASTERIZER_DISCARD). */
 CAGEKIT_API cagekit_status cagekit_gl_deformer_set_reference_set(cagekit_gl_deformer deformer, const uint32_t* edited,
                                                                  uint32_t edited_count, const double* control,
                                                                  uint32_t control_count);
@@ -182,10 +203,12 @@ CAGEKIT_API cagekit_status cagekit_gl_deformer_deform_reference(cagekit_gl_defor
  * xyz triples, all control points). Each point of Q is written c_j = sum_l xi_jl q_l (8.13), so
  * the per-vertex data is 28 floats whatever |Q| (7 coefficients, 9 fixed, 3 x 4 combined
  * weights). deform_reference_affine then uploads only the 4 moved frame points (`frame`, 12
- * numbers). Normal displacement mode only. Errors: INVALID_HANDLE, INVALID_ARGUMENT (NULL
- * arrays, counts, an index out of range or repeated, a non-finite or coplanar frame),
- * INVALID_OPERATION (a local-frame binding, deform_reference_affine before a set_reference_affine),
- * UNSUPPORTED_FEATURE, OUT_OF_MEMORY. GL thread only; the host's GL state is left unchanged. */
+ * numbers). Normal displacement mode only.
+ * Ownership: the arrays are read during the call only.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (NULL arrays, counts, an index out of range or
+ *   repeated, a non-finite or coplanar frame), INVALID_OPERATION (a local-frame binding,
+ *   deform_reference_affine before a set_reference_affine), UNSUPPORTED_FEATURE, OUT_OF_MEMORY.
+ * Threading: GL thread only; modifies the deformer. The host's GL state is left unchanged. */
 CAGEKIT_API cagekit_status cagekit_gl_deformer_set_reference_affine(cagekit_gl_deformer deformer,
                                                                     const uint32_t* edited, uint32_t edited_count,
                                                                     const double* frame, const double* control,
