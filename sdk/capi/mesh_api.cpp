@@ -4,6 +4,7 @@
 #include "capi/api_guard.h"
 #include "capi/mesh_conversion.h"
 #include "capi/option_conversion.h"
+#include "capi/report_conversion.h"
 #include "core/mesh_repair.h"
 #include "core/mesh_statistics.h"
 #include "core/mesh_validation.h"
@@ -97,29 +98,7 @@ void copy_faces(const cagekit::PolygonMesh& mesh, uint32_t face_capacity, uint32
 void fill_info(const cagekit::PolygonMesh& mesh, const cagekit::Cage* tags, cagekit_mesh_info* info) {
   require_not_null(info, "info");
   const cagekit::MeshStatistics s = tags ? cagekit::compute_mesh_statistics(*tags) : cagekit::compute_mesh_statistics(mesh);
-  cagekit_mesh_info out{};
-  out.struct_size = sizeof(out);
-  out.vertices = s.vertices;
-  out.faces = s.faces;
-  out.edges = s.edges;
-  out.triangles = s.triangles;
-  out.quads = s.quads;
-  out.other_polygons = s.other_polygons;
-  out.boundary_edges = s.boundary_edges;
-  out.boundary_loops = s.boundary_loops;
-  out.components = s.components;
-  out.unreferenced_vertices = s.unreferenced_vertices;
-  out.genus = s.genus;
-  out.manifold = s.manifold ? 1 : 0;
-  for (int k = 0; k < 3; ++k) {
-    out.bbox_min[k] = s.bbox.empty ? 0.0 : s.bbox.min[k];
-    out.bbox_max[k] = s.bbox.empty ? 0.0 : s.bbox.max[k];
-  }
-  out.bbox_diagonal = s.bbox_diagonal;
-  out.creases = s.creases;
-  out.corners = s.corners;
-  out.holes = s.holes;
-  out.invalid_faces = s.invalid_faces;
+  const cagekit_mesh_info out = mesh_info_to_c(s);
   write_versioned(info, out, "cagekit_mesh_info");
 }
 
@@ -226,17 +205,7 @@ CAGEKIT_API cagekit_status cagekit_mesh_repair(cagekit_mesh mesh, const cagekit_
     cagekit::RepairReport rr;
     cagekit::PolygonMesh repaired = cagekit::repair_mesh(m.mesh, ro, &rr, m.context->monitor());
     if (report) {
-      cagekit_repair_report r{};
-      r.struct_size = sizeof(r);
-      r.welded_vertices = rr.welded_vertices;
-      r.dropped_invalid_faces = rr.dropped_invalid_faces;
-      r.dropped_degenerate_faces = rr.dropped_degenerate_faces;
-      r.dropped_duplicate_faces = rr.dropped_duplicate_faces;
-      r.split_vertices = rr.split_vertices;
-      r.flipped_faces = rr.flipped_faces;
-      r.removed_unreferenced_vertices = rr.removed_unreferenced_vertices;
-      r.removed_non_finite_vertices = rr.removed_non_finite_vertices;
-      r.non_orientable_components = rr.non_orientable_components;
+      const cagekit_repair_report r = repair_report_to_c(rr);
       write_versioned(report, r, "cagekit_repair_report");
     }
     *out = make_mesh_handle(m.context, std::move(repaired));

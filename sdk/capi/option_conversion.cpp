@@ -12,30 +12,10 @@
 
 #include "capi/api_guard.h"
 #include "capi/option_rules.h"
+#include "capi/report_conversion.h"
 
 namespace cagekit_capi {
 
-
-cagekit_fit_pass fit_pass_to_c(const cagekit::FitPassStatistics& s) {
-  cagekit_fit_pass p{};
-  p.l2 = s.l2;
-  p.rms_rel = s.rms_relative;
-  p.max_rel = s.max_relative;
-  p.mean_rel = s.mean_relative;
-  p.max_rel_interior = s.max_relative_interior;
-  p.seconds = s.seconds;
-  p.unconverged_projections = s.unconverged_projections;
-  p.mean_projection_steps = s.mean_projection_steps;
-  return p;
-}
-
-cagekit_fit_two_sided fit_two_sided_to_c(const cagekit::FitPassStatistics& s) {
-  cagekit_fit_two_sided t{};
-  t.surface_to_scan_max_rel = s.reverse_max_relative;
-  t.surface_to_scan_rms_rel = s.reverse_rms_relative;
-  t.two_sided_rms_rel = s.two_sided_rms_relative;
-  return t;
-}
 
 // cagekit_fit_options: field, default (CAGEKIT_FIT_OPTIONS_INIT), rule, C++ destination in `f`.
 #define CAGEKIT_FIT_OPTION_TABLE(X, A)                                                                   \
@@ -88,25 +68,7 @@ void write_pass_array(const cagekit::FitReport& fr, uint32_t capacity, uint32_t*
 }
 
 void write_fit_report(cagekit_fit_report* report, const cagekit::FitReport& fr) {
-  if (!report) return;
-  cagekit_fit_report r{};
-  r.struct_size = sizeof(r);
-  r.pass_count = static_cast<uint32_t>(fr.passes.size());
-  r.stopped_by_tolerance = fr.stopped_by_tolerance ? 1 : 0;
-  r.rejected_last_step = fr.rejected_last_step ? 1 : 0;
-  r.fairing_used = fr.fairing_used ? 1 : 0;
-  r.unsupported_control_vertices = fr.unsupported_control_vertices;
-  r.bbox_diagonal = fr.bbox_diagonal;
-  r.seconds = fr.seconds;
-  r.best_pass = static_cast<uint32_t>(fr.best_pass);
-  r.weakly_supported_control_vertices = fr.weakly_supported_control_vertices;
-  if (!fr.passes.empty()) {
-    r.initial = fit_pass_to_c(fr.passes.front());
-    r.final = fit_pass_to_c(fr.passes[fr.best_pass]);
-    r.initial_two_sided = fit_two_sided_to_c(fr.passes.front());
-    r.final_two_sided = fit_two_sided_to_c(fr.passes[fr.best_pass]);
-  }
-  write_versioned(report, r, "cagekit_fit_report");
+  if (report) write_versioned(report, fit_report_to_c(fr), "cagekit_fit_report");
 }
 
 // cagekit_cage_options: field, default (CAGEKIT_CAGE_OPTIONS_INIT), rule, C++ destination in `bo`.

@@ -54,7 +54,5 @@ void check_pass_array(int max_passes, uint32_t capacity, uint32_t* count_out, co
                       const char* x, const char* name);
 void write_pass_array(const cagekit::FitReport& fr, uint32_t capacity, uint32_t* count_out, cagekit_fit_pass* passes,
                       const char* x, const char* name);
-cagekit_fit_pass fit_pass_to_c(const cagekit::FitPassStatistics& s);
-cagekit_fit_two_sided fit_two_sided_to_c(const cagekit::FitPassStatistics& s);
 
 }  // namespace cagekit_capi

@@ -5,6 +5,7 @@
 
 #include "capi/api_guard.h"
 #include "capi/option_conversion.h"
+#include "capi/report_conversion.h"
 #include "capi/mesh_conversion.h"
 #include "layout/common/approximation_error.h"
 #include "layout/simplify/cage_builder.h"
@@ -208,17 +209,7 @@ CAGEKIT_API cagekit_status cagekit_hierarchy_build_cage(cagekit_hierarchy hierar
     cagekit::CageBuildReport br;
     cagekit::Cage cage = cagekit::build_quad_dominant_cage(h.hierarchy.input(), h.level, bo, &br);
     if (report) {
-      cagekit_cage_report r{};
-      r.struct_size = sizeof(r);
-      r.quads = br.quads;
-      r.triangles = br.triangles;
-      r.pentagons = br.pentagons;
-      r.other_polygons = br.other;
-      r.creases = br.creases;
-      r.non_optimal_faces = br.non_optimal_faces;
-      r.non_manifold_edges = br.non_manifold_edges;
-      r.diagonals_flipped = br.diagonals_flipped;
-      r.cells_merged = br.cells_merged;
+      const cagekit_cage_report r = cage_report_to_c(br);
       write_versioned(report, r, "cagekit_cage_report");
     }
     *out = std::make_unique<cagekit_cage_t>(h.context, std::move(cage)).release();
