@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstring>
 #include <initializer_list>
+#include <memory>
 #include <new>
 #include <string>
 #include <type_traits>
@@ -71,6 +72,29 @@ template <class H>
 H& checked(H* handle, const char* what) {
   if (!is_live(handle)) fail(Status::invalid_handle, std::string(what) + " is not a valid handle");
   return *handle;
+}
+
+// A new object's handle, for create_from: a unique_ptr gives up its object, a raw handle passes.
+template <class T>
+T* release_new(std::unique_ptr<T> object) {
+  return object.release();
+}
+template <class T>
+T* release_new(T* handle) {
+  return handle;
+}
+
+// The shape of every call that makes a new object out of `source` (named `source_name` in
+// errors): `out` must not be NULL and is set to NULL first; `make(source's object)` returns the
+// new object (a unique_ptr, or a handle made by a make_*_handle helper), which `out` receives
+// only when everything else succeeded, so a failing call leaves nothing to release.
+template <class Out, class Source, class Make>
+cagekit_status create_from(Source* source, const char* source_name, Out** out, Make&& make) noexcept {
+  return guarded(context_of(source), [&] {
+    require_not_null(out, "out");
+    *out = nullptr;
+    *out = release_new(make(checked(source, source_name)));
+  });
 }
 
 template <class H>

@@ -45,11 +45,8 @@ CAGEKIT_API cagekit_status cagekit_binding_write_file(cagekit_binding binding, c
 }
 
 CAGEKIT_API cagekit_status cagekit_binding_write_memory(cagekit_binding binding, cagekit_blob* out) {
-  return guarded(context_of(binding), [&] {
-    require_not_null(out, "out");
-    *out = nullptr;
-    const cagekit_binding_t& b = checked(binding, "binding");
-    *out = std::make_unique<cagekit_blob_t>(cagekit::write_binding(b.binding, b.cage, b.options)).release();
+  return create_from(binding, "binding", out, [&](const cagekit_binding_t& b) {
+    return std::make_unique<cagekit_blob_t>(cagekit::write_binding(b.binding, b.cage, b.options));
   });
 }
 
@@ -70,11 +67,8 @@ CAGEKIT_API cagekit_status cagekit_binding_read_memory(cagekit_context context, 
 }
 
 CAGEKIT_API cagekit_status cagekit_binding_get_cage(cagekit_binding binding, cagekit_cage* out) {
-  return guarded(context_of(binding), [&] {
-    require_not_null(out, "out");
-    *out = nullptr;
-    const cagekit_binding_t& b = checked(binding, "binding");
-    *out = std::make_unique<cagekit_cage_t>(b.context, b.cage).release();
+  return create_from(binding, "binding", out, [&](const cagekit_binding_t& b) {
+    return std::make_unique<cagekit_cage_t>(b.context, b.cage);
   });
 }
 

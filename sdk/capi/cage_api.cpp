@@ -25,15 +25,12 @@ float checked_sharpness(const float* sharpness, uint32_t i, const char* what) {
 extern "C" {
 
 CAGEKIT_API cagekit_status cagekit_cage_create(cagekit_mesh mesh, cagekit_cage* out) {
-  return guarded(context_of(mesh), [&] {
-    require_not_null(out, "out");
-    *out = nullptr;
-    cagekit_mesh_t& m = checked(mesh, "mesh");
+  return create_from(mesh, "mesh", out, [&](cagekit_mesh_t& m) {
     const cagekit::ValidationReport report = cagekit::validate_mesh(m.mesh, 1);
     if (!report.ok()) fail(Status::invalid_mesh, "cannot make a cage of an invalid mesh: " + report.summary());
     cagekit::Cage cage;
     cage.mesh = m.mesh;
-    *out = std::make_unique<cagekit_cage_t>(m.context, std::move(cage)).release();
+    return std::make_unique<cagekit_cage_t>(m.context, std::move(cage));
   });
 }
 
@@ -41,11 +38,8 @@ CAGEKIT_API void cagekit_cage_retain(cagekit_cage cage) { retain_handle(cage); }
 CAGEKIT_API void cagekit_cage_release(cagekit_cage cage) { release_handle(cage); }
 
 CAGEKIT_API cagekit_status cagekit_cage_get_mesh(cagekit_cage cage, cagekit_mesh* out) {
-  return guarded(context_of(cage), [&] {
-    require_not_null(out, "out");
-    *out = nullptr;
-    cagekit_cage_t& c = checked(cage, "cage");
-    *out = make_mesh_handle(c.context, c.cage.mesh);
+  return create_from(cage, "cage", out, [&](cagekit_cage_t& c) {
+    return make_mesh_handle(c.context, c.cage.mesh);
   });
 }
 

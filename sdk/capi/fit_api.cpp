@@ -18,10 +18,7 @@ extern "C" {
 CAGEKIT_API cagekit_status cagekit_cage_fit(cagekit_cage cage, cagekit_mesh scan, const cagekit_fit_options* options,
                                             cagekit_cage* out, cagekit_fit_report* report, uint32_t pass_capacity,
                                             uint32_t* pass_count_out, cagekit_fit_pass* passes) {
-  return guarded(context_of(cage), [&] {
-    require_not_null(out, "out");
-    *out = nullptr;
-    cagekit_cage_t& c = checked(cage, "cage");
+  return create_from(cage, "cage", out, [&](cagekit_cage_t& c) {
     const cagekit_mesh_t& s = checked(scan, "scan");
     const cagekit::FitOptions fit_options = fit_options_from_c(options);
     check_fit_report(report);
@@ -44,7 +41,7 @@ CAGEKIT_API cagekit_status cagekit_cage_fit(cagekit_cage cage, cagekit_mesh scan
     auto handle = std::make_unique<cagekit_cage_t>(c.context, std::move(fitted));
     write_fit_report(report, fr);
     write_pass_array(fr, pass_capacity, pass_count_out, passes, "pass", "passes");
-    *out = handle.release();
+    return handle;
   });
 }
 

@@ -61,10 +61,7 @@ CAGEKIT_API cagekit_status cagekit_gl_deformer_create(cagekit_binding binding, c
                                                       cagekit_gl_get_proc_address_fn get_proc_address,
                                                       void* user_data, const cagekit_gl_deformer_options* options,
                                                       cagekit_gl_deformer* out) {
-  return guarded(context_of(binding), [&] {
-    require_not_null(out, "out");
-    *out = nullptr;
-    cagekit_binding_t& b = checked(binding, "binding");
+  return create_from(binding, "binding", out, [&](cagekit_binding_t& b) {
     if (get_proc_address == nullptr) fail(Status::invalid_argument, "get_proc_address must not be NULL");
     const cagekit::GlDeformerOptions go = gl_deformer_options_from_c(options);
     std::vector<uint32_t> triangles;
@@ -78,7 +75,7 @@ CAGEKIT_API cagekit_status cagekit_gl_deformer_create(cagekit_binding binding, c
     }
     auto deformer = std::make_unique<cagekit::GlDeformer>(
         b.binding, triangles, reinterpret_cast<cagekit::GlGetProcAddress>(get_proc_address), user_data, go);
-    *out = std::make_unique<cagekit_gl_deformer_t>(b.context, &b, std::move(deformer)).release();
+    return std::make_unique<cagekit_gl_deformer_t>(b.context, &b, std::move(deformer));
   });
 }
 

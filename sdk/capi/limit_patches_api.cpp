@@ -3,6 +3,7 @@
 
 #include "capi/api_guard.h"
 #include "capi/option_conversion.h"
+#include "capi/report_conversion.h"
 #include "subdiv/limit_patches.h"
 
 using namespace cagekit_capi;
@@ -11,13 +12,10 @@ extern "C" {
 
 CAGEKIT_API cagekit_status cagekit_limit_patches_create(cagekit_cage cage, const cagekit_limit_patch_options* options,
                                                         cagekit_limit_patches* out) {
-  return guarded(context_of(cage), [&] {
-    require_not_null(out, "out");
-    *out = nullptr;
-    cagekit_cage_t& c = checked(cage, "cage");
+  return create_from(cage, "cage", out, [&](cagekit_cage_t& c) {
     const cagekit::LimitPatchOptions lo = limit_patch_options_from_c(options);
     cagekit::LimitPatches patches = cagekit::build_limit_patches(c.cage, lo, c.context->monitor());
-    *out = std::make_unique<cagekit_limit_patches_t>(c.context, std::move(patches)).release();
+    return std::make_unique<cagekit_limit_patches_t>(c.context, std::move(patches));
   });
 }
 
@@ -49,24 +47,7 @@ CAGEKIT_API cagekit_status cagekit_limit_patches_get(cagekit_limit_patches patch
     const cagekit::LimitPatches& p = checked(patches, "patches").patches;
     const auto n = static_cast<uint32_t>(p.patches.size());  // at most 2^20 (build_limit_patches)
     if (!two_call_check("patch", n, patch_capacity, patch_count_out, {{"patch_array", patch_array}})) return;
-    for (uint32_t k = 0; k < n; ++k) {
-      const cagekit::LimitPatch& from = p.patches[k];
-      cagekit_limit_patch& to = patch_array[k];
-      to.ptex_face = from.ptex_face;
-      to.cage_face = from.cage_face;
-      to.u0 = from.u0;
-      to.v0 = from.v0;
-      to.u1 = from.u1;
-      to.v1 = from.v1;
-      to.exact = from.exact ? 1u : 0u;
-      to.reserved = 0;
-      to.error = from.error;
-      for (int i = 0; i < 16; ++i) {
-        to.control_points[3 * i] = from.points[i].x;
-        to.control_points[3 * i + 1] = from.points[i].y;
-        to.control_points[3 * i + 2] = from.points[i].z;
-      }
-    }
+    for (uint32_t k = 0; k < n; ++k) patch_array[k] = limit_patch_to_c(p.patches[k]);
   });
 }
 

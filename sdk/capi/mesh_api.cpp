@@ -197,10 +197,7 @@ CAGEKIT_API cagekit_status cagekit_mesh_validate(cagekit_mesh mesh, cagekit_vali
 
 CAGEKIT_API cagekit_status cagekit_mesh_repair(cagekit_mesh mesh, const cagekit_repair_options* options,
                                                cagekit_mesh* out, cagekit_repair_report* report) {
-  return guarded(context_of(mesh), [&] {
-    require_not_null(out, "out");
-    *out = nullptr;
-    cagekit_mesh_t& m = checked(mesh, "mesh");
+  return create_from(mesh, "mesh", out, [&](cagekit_mesh_t& m) {
     const cagekit::RepairOptions ro = repair_options_from_c(options);
     cagekit::RepairReport rr;
     cagekit::PolygonMesh repaired = cagekit::repair_mesh(m.mesh, ro, &rr, m.context->monitor());
@@ -208,7 +205,7 @@ CAGEKIT_API cagekit_status cagekit_mesh_repair(cagekit_mesh mesh, const cagekit_
       const cagekit_repair_report r = repair_report_to_c(rr);
       write_versioned(report, r, "cagekit_repair_report");
     }
-    *out = make_mesh_handle(m.context, std::move(repaired));
+    return make_mesh_handle(m.context, std::move(repaired));
   });
 }
 

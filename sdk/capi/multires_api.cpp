@@ -85,15 +85,12 @@ extern "C" {
 
 CAGEKIT_API cagekit_status cagekit_multires_bind(cagekit_cage cage, cagekit_mesh scan,
                                                  const cagekit_bind_options* options, cagekit_binding* out) {
-  return guarded(context_of(cage), [&] {
-    require_not_null(out, "out");
-    *out = nullptr;
-    cagekit_cage_t& c = checked(cage, "cage");
+  return create_from(cage, "cage", out, [&](cagekit_cage_t& c) {
     cagekit_mesh_t& m = checked(scan, "scan");
     const cagekit::BindOptions bo = bind_options_from_c(options);
     require_scan_face_indices_in_range(m.mesh);
     cagekit::ScanBinding binding = cagekit::bind_scan_to_cage(c.cage, m.mesh, bo, c.context->monitor());
-    *out = std::make_unique<cagekit_binding_t>(c.context, std::move(binding), c.cage, bo).release();
+    return std::make_unique<cagekit_binding_t>(c.context, std::move(binding), c.cage, bo);
   });
 }
 
@@ -159,12 +156,9 @@ CAGEKIT_API cagekit_status cagekit_binding_get_faces(cagekit_binding binding, ui
 
 CAGEKIT_API cagekit_status cagekit_cpu_deformer_create(cagekit_binding binding, uint32_t threads,
                                                        cagekit_cpu_deformer* out) {
-  return guarded(context_of(binding), [&] {
-    require_not_null(out, "out");
-    *out = nullptr;
-    cagekit_binding_t& b = checked(binding, "binding");
+  return create_from(binding, "binding", out, [&](cagekit_binding_t& b) {
     apply(kThreads, threads, "threads", threads);
-    *out = std::make_unique<cagekit_cpu_deformer_t>(b.context, &b, int(threads)).release();
+    return std::make_unique<cagekit_cpu_deformer_t>(b.context, &b, int(threads));
   });
 }
 

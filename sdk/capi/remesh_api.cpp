@@ -28,10 +28,7 @@ extern "C" {
 
 CAGEKIT_API cagekit_status cagekit_mesh_remesh_anisotropic(cagekit_mesh mesh, const cagekit_anisotropic_options* options,
                                                            cagekit_cage* out, cagekit_anisotropic_report* report) {
-  return guarded(context_of(mesh), [&] {
-    require_not_null(out, "out");
-    *out = nullptr;
-    cagekit_mesh_t& m = checked(mesh, "mesh");
+  return create_from(mesh, "mesh", out, [&](cagekit_mesh_t& m) {
     const cagekit::AnisotropicRemeshOptions ao = anisotropic_options_from_c(options);
     cagekit::AnisotropicRemeshResult r = cagekit::remesh_anisotropic(m.mesh, ao, m.context->monitor());
     if (r.cage.mesh.num_faces() == 0)
@@ -39,22 +36,19 @@ CAGEKIT_API cagekit_status cagekit_mesh_remesh_anisotropic(cagekit_mesh mesh, co
     const cagekit_anisotropic_report rep = anisotropic_report_to_c(r);
     std::unique_ptr<cagekit_cage_t> cage = new_cage_handle(m, std::move(r.cage));
     write_versioned(report, rep, "cagekit_anisotropic_report");
-    *out = cage.release();
+    return cage;
   });
 }
 
 CAGEKIT_API cagekit_status cagekit_mesh_remesh_quad(cagekit_mesh mesh, const cagekit_quad_remesh_options* options,
                                                     cagekit_cage* out, cagekit_quad_remesh_report* report) {
-  return guarded(context_of(mesh), [&] {
-    require_not_null(out, "out");
-    *out = nullptr;
-    cagekit_mesh_t& m = checked(mesh, "mesh");
+  return create_from(mesh, "mesh", out, [&](cagekit_mesh_t& m) {
     const cagekit::QuadRemeshOptions qo = quad_options_from_c(options, m.mesh.num_faces());
     cagekit::QuadRemeshResult r = cagekit::remesh_quad_dominant(m.mesh, qo, m.context->monitor());
     const cagekit_quad_remesh_report rep = quad_report_to_c(r);
     std::unique_ptr<cagekit_cage_t> cage = new_cage_handle(m, std::move(r.cage));
     write_versioned(report, rep, "cagekit_quad_remesh_report");
-    *out = cage.release();
+    return cage;
   });
 }
 

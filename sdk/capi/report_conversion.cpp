@@ -72,6 +72,30 @@ CAGEKIT_RECORD_TO_C(fit_pass_to_c, cagekit_fit_pass, cagekit::FitPassStatistics,
   X(A, two_sided_rms_rel, r.two_sided_rms_relative)
 CAGEKIT_RECORD_TO_C(fit_two_sided_to_c, cagekit_fit_two_sided, cagekit::FitPassStatistics, CAGEKIT_FIT_TWO_SIDED_TABLE)
 
+// The patch's fields but its control points, which limit_patch_to_c copies as 48 doubles.
+#define CAGEKIT_LIMIT_PATCH_TABLE(X, A)                                                               \
+  X(A, ptex_face, r.ptex_face)                                                                        \
+  X(A, cage_face, r.cage_face)                                                                        \
+  X(A, u0, r.u0)                                                                                      \
+  X(A, v0, r.v0)                                                                                      \
+  X(A, u1, r.u1)                                                                                      \
+  X(A, v1, r.v1)                                                                                      \
+  X(A, exact, bool32(r.exact))                                                                        \
+  X(A, error, r.error)
+namespace {
+CAGEKIT_RECORD_TO_C(limit_patch_fields, cagekit_limit_patch, cagekit::LimitPatch, CAGEKIT_LIMIT_PATCH_TABLE)
+}  // namespace
+
+cagekit_limit_patch limit_patch_to_c(const cagekit::LimitPatch& r) {
+  cagekit_limit_patch c = limit_patch_fields(r);
+  for (int i = 0; i < 16; ++i) {
+    c.control_points[3 * i] = r.points[i].x;
+    c.control_points[3 * i + 1] = r.points[i].y;
+    c.control_points[3 * i + 2] = r.points[i].z;
+  }
+  return c;
+}
+
 #define CAGEKIT_FIT_REPORT_TABLE(X, A)                                                                \
   X(A, pass_count, u32(r.passes.size()))                                                              \
   X(A, stopped_by_tolerance, bool32(r.stopped_by_tolerance))                                          \

@@ -12,11 +12,13 @@
 #include "layout/quad/quad_remesher.h"
 #include "layout/simplify/cage_builder.h"
 #include "pipeline/scan_to_cage.h"
+#include "subdiv/limit_patches.h"
 
 namespace cagekit_capi {
 
 cagekit_fit_pass fit_pass_to_c(const cagekit::FitPassStatistics& r);
 cagekit_fit_two_sided fit_two_sided_to_c(const cagekit::FitPassStatistics& r);
+cagekit_limit_patch limit_patch_to_c(const cagekit::LimitPatch& r);
 cagekit_fit_report fit_report_to_c(const cagekit::FitReport& r);
 cagekit_repair_report repair_report_to_c(const cagekit::RepairReport& r);
 cagekit_mesh_info mesh_info_to_c(const cagekit::MeshStatistics& r);

@@ -28,13 +28,10 @@ extern "C" {
 
 CAGEKIT_API cagekit_status cagekit_hierarchy_create(cagekit_mesh mesh, const cagekit_simplify_options* options,
                                                     cagekit_hierarchy* out) {
-  return guarded(context_of(mesh), [&] {
-    require_not_null(out, "out");
-    *out = nullptr;
-    cagekit_mesh_t& m = checked(mesh, "mesh");
+  return create_from(mesh, "mesh", out, [&](cagekit_mesh_t& m) {
     const cagekit::SimplifyOptions so = simplify_options_from_c(options);
     cagekit::SimplificationHierarchy hierarchy(m.mesh, so, m.context->monitor());
-    *out = std::make_unique<cagekit_hierarchy_t>(m.context, std::move(hierarchy), so.locked_edges).release();
+    return std::make_unique<cagekit_hierarchy_t>(m.context, std::move(hierarchy), so.locked_edges);
   });
 }
 
@@ -173,36 +170,27 @@ CAGEKIT_API cagekit_status cagekit_hierarchy_get_clusters(cagekit_hierarchy hier
 }
 
 CAGEKIT_API cagekit_status cagekit_hierarchy_get_polygon_mesh(cagekit_hierarchy hierarchy, cagekit_mesh* out) {
-  return guarded(context_of(hierarchy), [&] {
-    require_not_null(out, "out");
-    *out = nullptr;
-    const cagekit_hierarchy_t& h = checked(hierarchy, "hierarchy");
-    *out = make_mesh_handle(h.context, cagekit::polygonal_level_mesh(h.hierarchy.input(), h.level));
+  return create_from(hierarchy, "hierarchy", out, [&](const cagekit_hierarchy_t& h) {
+    return make_mesh_handle(h.context, cagekit::polygonal_level_mesh(h.hierarchy.input(), h.level));
   });
 }
 
 CAGEKIT_API cagekit_status cagekit_hierarchy_get_refined_polygon_mesh(cagekit_hierarchy hierarchy,
                                                                       double chord_tolerance, cagekit_mesh* out) {
-  return guarded(context_of(hierarchy), [&] {
-    require_not_null(out, "out");
-    *out = nullptr;
-    const cagekit_hierarchy_t& h = checked(hierarchy, "hierarchy");
+  return create_from(hierarchy, "hierarchy", out, [&](const cagekit_hierarchy_t& h) {
     if (!(chord_tolerance > 0) || !std::isfinite(chord_tolerance))
       fail(Status::invalid_argument, "chord_tolerance must be finite and > 0");
     const cagekit::PolygonMesh& input = h.hierarchy.input();
     const double diagonal = input.bounding_box().diagonal();
     const cagekit::PolygonalLevel refined =
         cagekit::refine_level_contours(input, h.level, chord_tolerance * (diagonal > 0 ? diagonal : 1.0));
-    *out = make_mesh_handle(h.context, cagekit::polygonal_level_mesh(input, refined));
+    return make_mesh_handle(h.context, cagekit::polygonal_level_mesh(input, refined));
   });
 }
 
 CAGEKIT_API cagekit_status cagekit_hierarchy_build_cage(cagekit_hierarchy hierarchy, const cagekit_cage_options* options,
                                                         cagekit_cage* out, cagekit_cage_report* report) {
-  return guarded(context_of(hierarchy), [&] {
-    require_not_null(out, "out");
-    *out = nullptr;
-    const cagekit_hierarchy_t& h = checked(hierarchy, "hierarchy");
+  return create_from(hierarchy, "hierarchy", out, [&](const cagekit_hierarchy_t& h) {
     cagekit::CageBuildOptions bo = cage_options_from_c(options);
     std::vector<uint64_t>& host = bo.features.host_edges;  // the hierarchy's and the options' own
     host.insert(host.end(), h.sharp_edges.begin(), h.sharp_edges.end());
@@ -212,7 +200,7 @@ CAGEKIT_API cagekit_status cagekit_hierarchy_build_cage(cagekit_hierarchy hierar
       const cagekit_cage_report r = cage_report_to_c(br);
       write_versioned(report, r, "cagekit_cage_report");
     }
-    *out = std::make_unique<cagekit_cage_t>(h.context, std::move(cage)).release();
+    return std::make_unique<cagekit_cage_t>(h.context, std::move(cage));
   });
 }
 

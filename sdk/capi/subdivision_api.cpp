@@ -32,13 +32,10 @@ extern "C" {
 
 CAGEKIT_API cagekit_status cagekit_cage_subdivide(cagekit_cage cage, const cagekit_subdivide_options* options,
                                                   cagekit_cage* out) {
-  return guarded(context_of(cage), [&] {
-    require_not_null(out, "out");
-    *out = nullptr;
-    cagekit_cage_t& c = checked(cage, "cage");
+  return create_from(cage, "cage", out, [&](cagekit_cage_t& c) {
     const cagekit::RefineOptions ro = subdivide_options_from_c(options);
     cagekit::Cage refined = cagekit::refine_uniform(c.cage, ro, c.context->monitor());
-    *out = std::make_unique<cagekit_cage_t>(c.context, std::move(refined)).release();
+    return std::make_unique<cagekit_cage_t>(c.context, std::move(refined));
   });
 }
 
@@ -62,15 +59,12 @@ CAGEKIT_API cagekit_status cagekit_cage_get_limit_points(cagekit_cage cage, uint
 
 CAGEKIT_API cagekit_status cagekit_surface_create(cagekit_cage cage, const cagekit_surface_options* options,
                                                   cagekit_surface* out) {
-  return guarded(context_of(cage), [&] {
-    require_not_null(out, "out");
-    *out = nullptr;
-    cagekit_cage_t& c = checked(cage, "cage");
+  return create_from(cage, "cage", out, [&](cagekit_cage_t& c) {
     const cagekit::SurfaceOptions so = surface_options_from_c(options);
     c.context->monitor().report("surface", 0.0);
     cagekit::SubdivisionSurface surface(c.cage, so);
     c.context->monitor().report("surface", 1.0);
-    *out = std::make_unique<cagekit_surface_t>(c.context, std::move(surface)).release();
+    return std::make_unique<cagekit_surface_t>(c.context, std::move(surface));
   });
 }
 

@@ -108,13 +108,7 @@ namespace {
 
 // A hit on the piecewise-linear limit mesh as a foot point (no search steps taken).
 FootPoint foot_point_of(const PiecewiseLinearLimitMesh::Hit& hit) {
-  FootPoint out;
-  out.ptex_face = hit.ptex_face;
-  out.u = hit.u;
-  out.v = hit.v;
-  out.distance = hit.distance;
-  out.position = hit.position;
-  return out;
+  return FootPoint{hit.ptex_face, hit.u, hit.v, hit.distance, hit.position};
 }
 
 }  // namespace

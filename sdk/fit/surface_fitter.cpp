@@ -103,13 +103,9 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
     for (const VertexCorner& c : initial.corners)
       if (c.sharpness >= kSharpnessInfinite && c.vertex < n) fixed[c.vertex] = true;
   }
-  LeastSquaresOptions lsq;
-  lsq.fairing = options.fairing;
-  lsq.weak_support_fraction = options.weak_support_fraction;
-  lsq.weak_fairing = options.weak_fairing;
-  lsq.tangential_weight = options.tangential_weight;
-  lsq.solver = options.solver;
-  lsq.threads = threads;
+  // In LeastSquaresOptions' member order (each argument bears its member's name).
+  const LeastSquaresOptions lsq{options.fairing,           options.weak_support_fraction, options.weak_fairing,
+                                options.tangential_weight, options.solver,                threads};
 
   FitReport report;
   report.bbox_diagonal = box.diagonal();

@@ -59,13 +59,7 @@ RemeshQuality measure_remesh_quality(const PolygonMesh& m, const std::vector<Vec
   const PolygonMeshFigures computed = given ? PolygonMeshFigures() : polygon_mesh_figures(m);
   const PolygonMeshFigures& figures = given ? *given : computed;
   RemeshQuality r;
-  r.faces = figures.faces;
-  r.vertices = figures.vertices;
-  r.quads = figures.quads;
-  r.interior_vertices = figures.interior_vertices;
-  r.valence4_vertices = figures.valence4_vertices;
-  r.max_face_valence = figures.max_face_valence;
-  r.max_vertex_valence = figures.max_vertex_valence;
+  static_cast<PolygonMeshCounts&>(r) = figures;
   r.min_scaled_jacobian = m.num_faces() ? 1.0 : 0.0;
   std::vector<uint32_t> loop;
   for (size_t f = 0; f < m.num_faces(); ++f) {

@@ -15,27 +15,28 @@
 
 CAGEKIT_NAMESPACE_BEGIN
 
-struct PolygonMeshFigures {
+// The counts every figure set below starts from.
+struct PolygonMeshCounts {
   uint64_t faces = 0, vertices = 0, quads = 0;
   uint64_t interior_vertices = 0, valence4_vertices = 0;  // interior: not on a boundary edge
-  uint32_t max_face_valence = 0, max_vertex_valence = 0;
-  // The mesh's distinct undirected edges (a < b) and how many face sides use each.
-  std::vector<std::array<uint32_t, 2>> edges;
-  std::vector<uint32_t> edge_uses;
+  uint32_t max_face_valence = 0, max_vertex_valence = 0;  // vertex valence: incident edges
   double quads_pct() const { return faces ? 100.0 * double(quads) / double(faces) : 0.0; }
   double valence4_pct() const {
     return interior_vertices ? 100.0 * double(valence4_vertices) / double(interior_vertices) : 0.0;
   }
 };
 
+struct PolygonMeshFigures : PolygonMeshCounts {
+  // The mesh's distinct undirected edges (a < b) and how many face sides use each.
+  std::vector<std::array<uint32_t, 2>> edges;
+  std::vector<uint32_t> edge_uses;
+};
+
 // Faces need valid indices (< num_vertices). Vertices on no face count neither as interior nor
 // as boundary vertices.
 PolygonMeshFigures polygon_mesh_figures(const PolygonMesh& mesh);
 
-struct RemeshQuality {
-  uint64_t faces = 0, vertices = 0, quads = 0;
-  uint64_t interior_vertices = 0, valence4_vertices = 0;  // interior: not on a boundary edge
-  uint32_t max_face_valence = 0, max_vertex_valence = 0;  // vertex valence: incident edges
+struct RemeshQuality : PolygonMeshCounts {
   // min sin(corner angle) over corners (T-joints, within 10° of π, excluded); < 0: a concave corner.
   double min_scaled_jacobian = 0.0;
 };

@@ -201,15 +201,7 @@ class CandidateHeap {
   static Candidate candidate(const Entry& e) {
     return Candidate{e.key, e.a, e.b, e.va, e.vb, static_cast<uint8_t>(e.kind)};
   }
-  static void set(Entry& e, const Candidate& c, uint32_t step) {
-    e.key = c.key;
-    e.a = c.a;
-    e.b = c.b;
-    e.va = c.va;
-    e.vb = c.vb;
-    e.kind = c.kind;
-    e.step = step;
-  }
+  static void set(Entry& e, const Candidate& c, uint32_t step) { e = Entry{c.key, c.a, c.b, c.va, c.vb, step, c.kind}; }
   static bool entry_after(const Entry& x, const Entry& y) {
     if (x.key != y.key) return x.key > y.key;
     if (x.kind != y.kind) return x.kind > y.kind;
