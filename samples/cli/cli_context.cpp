@@ -5,6 +5,8 @@
 #include <cctype>
 #include <cstdio>
 
+#include <unistd.h>
+
 namespace cli {
 
 Args::Args(int argc, char** argv, int first) {
@@ -69,14 +71,23 @@ std::vector<std::string> Args::positional(size_t min_count, size_t max_count, co
 namespace {
 
 struct ProgressState {
-  bool active = false;
+  bool active = false;  // a \r progress line is open on the terminal
   std::string stage;
   int last_percent = -1;
 };
 ProgressState g_progress;
 
-int print_progress(void*, const char* stage, double fraction) {
+// On a terminal one line is redrawn with \r as the percentage moves; into a file or a pipe (a log,
+// a batch job) each stage is one line, written when it starts.
+int print_progress(void* terminal, const char* stage, double fraction) {
   const int percent = static_cast<int>(fraction * 100.0 + 0.5);
+  if (terminal == nullptr) {
+    if (g_progress.stage != stage) {
+      std::fprintf(stderr, "cagekit: stage: %s\n", stage);
+      g_progress.stage = stage;
+    }
+    return 1;
+  }
   if (g_progress.stage != stage || percent != g_progress.last_percent) {
     std::fprintf(stderr, "\r%-12s %3d%%", stage, percent);
     std::fflush(stderr);
@@ -99,6 +110,8 @@ Session::Session(bool quiet) {
   cagekit_context_desc desc = CAGEKIT_CONTEXT_DESC_INIT;
   desc.log = quiet ? nullptr : print_log;
   desc.progress = quiet ? nullptr : print_progress;
+  static int terminal_marker;
+  desc.progress_user_data = isatty(fileno(stderr)) ? &terminal_marker : nullptr;
   if (cagekit_context_create(&desc, &context_) != CAGEKIT_SUCCESS)
     throw Failure(kExitBadInput, std::string("cannot start CageKit: ") + cagekit_last_error_message(nullptr));
 }
@@ -155,6 +168,16 @@ void load_input(const Session& session, const std::string& path, LoadedInput* in
   }
   input->problem = cagekit_last_error_message(session.context());
   session.check(cagekit_mesh_read_file(session.context(), path.c_str(), CAGEKIT_FORMAT_AUTO, input->mesh.out()), path);
+}
+
+std::vector<double> cage_positions(const Session& session, cagekit_cage cage, const std::string& what) {
+  Mesh mesh;
+  session.check(cagekit_cage_get_mesh(cage, mesh.out()), what);
+  uint32_t count = 0;
+  session.check(cagekit_mesh_get_positions(mesh.get(), CAGEKIT_SCALAR_FLOAT64, 0, &count, nullptr), what);
+  std::vector<double> xyz(3 * size_t(count));
+  session.check(cagekit_mesh_get_positions(mesh.get(), CAGEKIT_SCALAR_FLOAT64, count, &count, xyz.data()), what);
+  return xyz;
 }
 
 }  // namespace cli

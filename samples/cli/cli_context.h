@@ -4,6 +4,7 @@
 // stderr progress bar, RAII holders for handles and the error convention (one line, exit 2).
 #include <cagekit/cagekit.h>
 
+#include <chrono>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -70,6 +71,15 @@ class Handle {
 
 using Mesh = Handle<cagekit_mesh, cagekit_mesh_release>;
 using Cage = Handle<cagekit_cage, cagekit_cage_release>;
+using Binding = Handle<cagekit_binding, cagekit_binding_release>;
+using Deformer = Handle<cagekit_cpu_deformer, cagekit_cpu_deformer_release>;
+
+inline double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The cage's control points, xyz interleaved (errors: Failure naming `what`).
+std::vector<double> cage_positions(const Session& session, cagekit_cage cage, const std::string& what);
 
 // The format of an output path (.obj .ply .off .drc); Failure(kExitUsage) for others and for .stl
 // (read only).

@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // cagekit deform SCAN (CAGE | BINDING.ckb) EDITED_CAGE OUT [--local-frame] [--json]
-// cagekit bench-deform SCAN CAGE [--frames N] [--moved K] [--threads N] [--json]
 // Multiresolution editing (thesis ch. 8) through the C API: bind the scan to the cage's limit
 // surface, then move the cage's control points and rebuild the scan with its details.
 #include <algorithm>
@@ -11,29 +10,8 @@
 #include <vector>
 
 #include "cli_context.h"
-#include "gpu_bench.h"
 
 namespace cli {
-namespace {
-
-using Binding = Handle<cagekit_binding, cagekit_binding_release>;
-using Deformer = Handle<cagekit_cpu_deformer, cagekit_cpu_deformer_release>;
-
-std::vector<double> cage_positions(const Session& session, cagekit_cage cage, const std::string& what) {
-  Mesh mesh;
-  session.check(cagekit_cage_get_mesh(cage, mesh.out()), what);
-  uint32_t count = 0;
-  session.check(cagekit_mesh_get_positions(mesh.get(), CAGEKIT_SCALAR_FLOAT64, 0, &count, nullptr), what);
-  std::vector<double> xyz(3 * size_t(count));
-  session.check(cagekit_mesh_get_positions(mesh.get(), CAGEKIT_SCALAR_FLOAT64, count, &count, xyz.data()), what);
-  return xyz;
-}
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-}  // namespace
 
 int command_deform(Args& args) {
   const char* usage =
@@ -137,160 +115,6 @@ int command_deform(Args& args) {
       std::printf("  normal mode dropped sideways offsets of up to %.3g of the diagonal at %llu vertices "
                   "(--local-frame keeps them)\n",
                   info.max_sideways_residual, (unsigned long long)info.vertices_with_sideways_residual);
-  }
-  return kExitOk;
-}
-
-int command_bench_deform(Args& args) {
-  const char* usage =
-      "cagekit bench-deform SCAN CAGE [--frames N] [--moved K] [--threads N] [--vertex-order scan|deformer] [--json] "
-      "[--quiet]";
-  const bool quiet = args.flag("--quiet");
-  const bool json = args.flag("--json");
-  const std::string vertex_order = args.option("--vertex-order", "scan");
-  if (vertex_order != "scan" && vertex_order != "deformer")
-    throw Failure(kExitBadInput, "--vertex-order must be scan or deformer, not '" + vertex_order + "'");
-  int frames = 100, moved_count = 10, threads = 0;
-  try {
-    frames = args.integer("--frames", 100, 1, 1000000);
-    moved_count = args.integer("--moved", 10, 1, 1000000);
-    threads = args.integer("--threads", 0, 0, 1024);
-  } catch (const Failure& f) {
-    throw Failure(f.code == kExitUsage ? kExitBadInput : f.code, f.what());
-  }
-  const auto files = args.positional(2, 2, usage);
-  Session session(quiet);
-  Mesh scan;
-  session.check(cagekit_mesh_read_file(session.context(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, scan.out()), files[0]);
-  Cage cage;
-  session.check(cagekit_cage_read_file(session.context(), files[1].c_str(), CAGEKIT_FORMAT_AUTO, cage.out()), files[1]);
-  std::vector<double> control = cage_positions(session, cage.get(), files[1]);
-  const uint32_t m = uint32_t(control.size() / 3);
-  Binding binding;
-  session.check(cagekit_multires_bind(cage.get(), scan.get(), nullptr, binding.out()), files[0] + " bound to " + files[1]);
-  if (vertex_order == "deformer") {
-    // What a host that may renumber its scan does once: the scan renumbered in the deformer's
-    // write order (cagekit_binding_get_deformer_vertex_order), bound again.
-    uint32_t count = 0, vertices = 0, face_count = 0;
-    uint64_t index_count = 0;
-    session.check(cagekit_binding_get_deformer_vertex_order(binding.get(), 0, &count, nullptr), "vertex order");
-    std::vector<uint32_t> order(count);
-    session.check(cagekit_binding_get_deformer_vertex_order(binding.get(), count, &count, order.data()), "vertex order");
-    session.check(cagekit_mesh_get_positions(scan.get(), CAGEKIT_SCALAR_FLOAT64, 0, &vertices, nullptr), files[0]);
-    std::vector<double> positions(3 * size_t(vertices)), renumbered(positions.size());
-    session.check(cagekit_mesh_get_positions(scan.get(), CAGEKIT_SCALAR_FLOAT64, vertices, &vertices, positions.data()),
-                  files[0]);
-    session.check(cagekit_mesh_get_faces(scan.get(), 0, &face_count, nullptr, 0, &index_count, nullptr), files[0]);
-    std::vector<uint32_t> sizes(face_count), indices(index_count), new_id(vertices);
-    session.check(cagekit_mesh_get_faces(scan.get(), face_count, &face_count, sizes.data(), index_count, &index_count,
-                                         indices.data()),
-                  files[0]);
-    if (count != vertices) throw Failure(kExitBadInput, "vertex order: " + std::to_string(count) + " entries");
-    for (uint32_t k = 0; k < count; ++k) {
-      new_id[order[k]] = k;
-      for (int a = 0; a < 3; ++a) renumbered[3 * size_t(k) + size_t(a)] = positions[3 * size_t(order[k]) + size_t(a)];
-    }
-    for (uint32_t& v : indices) v = new_id[v];
-    cagekit_mesh_desc desc = CAGEKIT_MESH_DESC_INIT;
-    desc.vertex_count = vertices;
-    desc.positions = renumbered.data();
-    desc.face_count = face_count;
-    desc.face_sizes = sizes.data();
-    desc.face_indices = indices.data();
-    session.check(cagekit_mesh_create(session.context(), &desc, scan.out()), "renumbered scan");
-    session.check(cagekit_multires_bind(cage.get(), scan.get(), nullptr, binding.out()),
-                  "renumbered scan bound to " + files[1]);
-  }
-  cagekit_binding_info info;
-  info.struct_size = sizeof(info);
-  session.check(cagekit_binding_get_info(binding.get(), &info), "binding");
-  Deformer deformer;
-  session.check(cagekit_cpu_deformer_create(binding.get(), uint32_t(threads), deformer.out()), "deformer");
-  uint32_t faces = 0;
-  uint64_t indices = 0;
-  session.check(cagekit_mesh_get_faces(scan.get(), 0, &faces, nullptr, 0, &indices, nullptr), files[0]);
-  std::vector<double> positions(3 * size_t(info.vertex_count)), normals(positions.size());
-  const uint32_t n = info.vertex_count;
-  uint32_t written = 0;  // the deform calls' vertex count output (n)
-  const double step = 1e-4 * info.bbox_diagonal;
-  // Full recompute: every control point moves every frame.
-  session.check(cagekit_cpu_deformer_deform(deformer.get(), control.data(), m, CAGEKIT_NORMALS_APPROXIMATE, n,
-                                            &written, positions.data(), normals.data()), "deform");
-  auto t0 = std::chrono::steady_clock::now();
-  for (int f = 0; f < frames; ++f) {
-    for (double& c : control) c += (f % 2 ? -step : step);
-    session.check(cagekit_cpu_deformer_deform(deformer.get(), control.data(), m, CAGEKIT_NORMALS_APPROXIMATE, n,
-                                              &written, positions.data(), normals.data()), "deform");
-  }
-  const double full_fps = frames / seconds_since(t0);
-  // The same into float32 arrays (cagekit_cpu_deformer_deform_f32: what GL / Blender hosts draw).
-  std::vector<float> positions_f32(positions.size()), normals_f32(normals.size());
-  session.check(cagekit_cpu_deformer_deform_f32(deformer.get(), control.data(), m, CAGEKIT_NORMALS_APPROXIMATE, n,
-                                                &written, positions_f32.data(), normals_f32.data()), "deform_f32");
-  t0 = std::chrono::steady_clock::now();
-  for (int f = 0; f < frames; ++f) {
-    for (double& c : control) c += (f % 2 ? -step : step);
-    session.check(cagekit_cpu_deformer_deform_f32(deformer.get(), control.data(), m, CAGEKIT_NORMALS_APPROXIMATE, n,
-                                                  &written, positions_f32.data(), normals_f32.data()), "deform_f32");
-  }
-  const double full_fps_f32 = frames / seconds_since(t0);
-  // Back to the double arrays (the incremental run below updates them).
-  session.check(cagekit_cpu_deformer_deform(deformer.get(), control.data(), m, CAGEKIT_NORMALS_APPROXIMATE, n,
-                                            &written, positions.data(), normals.data()), "deform");
-  // Incremental: K control points move per frame.
-  std::vector<uint32_t> moved;
-  for (int k = 0; k < moved_count && k < int(m); ++k) moved.push_back(uint32_t((uint64_t(k) * 2654435761u) % m));
-  std::sort(moved.begin(), moved.end());
-  moved.erase(std::unique(moved.begin(), moved.end()), moved.end());
-  uint64_t updated_total = 0;
-  t0 = std::chrono::steady_clock::now();
-  for (int f = 0; f < frames; ++f) {
-    for (uint32_t j : moved) control[3 * size_t(j)] += (f % 2 ? -step : step);
-    uint32_t updated = 0;
-    session.check(cagekit_cpu_deformer_update(deformer.get(), control.data(), m, moved.data(), uint32_t(moved.size()),
-                                              CAGEKIT_NORMALS_APPROXIMATE, n, &written, positions.data(),
-                                              normals.data(), &updated),
-                  "update");
-    updated_total += updated;
-  }
-  const double incremental_fps = frames / seconds_since(t0);
-  session.finish_progress();
-  // GPU: full recompute in a headless EGL context (llvmpipe where there is no GPU).
-  const GpuBench gpu = bench_gpu_deformer(session.context(), binding.get(), scan.get(), control, frames, step);
-  if (!gpu.ran && !quiet) std::fprintf(stderr, "cagekit: bench-deform: gpu_fps is null: %s\n", gpu.why.c_str());
-  auto json_string = [](const std::string& text) {
-    std::string out = "\"";
-    for (char c : text)
-      if (c == '"' || c == '\\') out += std::string("\\") + c;
-      else if (static_cast<unsigned char>(c) >= 0x20) out += c;
-    return out + "\"";
-  };
-  std::string gpu_fps = "null", gpu_renderer = "null", gpu_version = "null";
-  if (gpu.ran) {
-    char buf[32];
-    std::snprintf(buf, sizeof(buf), "%.2f", gpu.fps);
-    gpu_fps = buf;
-    gpu_renderer = json_string(gpu.renderer);
-    gpu_version = json_string(gpu.version);
-  }
-  // Bytes read + written per vertex in one full CPU frame (the library's own count for the table
-  // the deformer streams; sdk/multires/patch_deformer_table.h).
-  const double bytes_per_vertex = info.deform_bytes_per_vertex;
-  if (json) {
-    std::printf("{\"vertices\": %u, \"triangles\": %llu, \"control_points\": %u, \"moved\": %zu, \"frames\": %d, "
-                "\"cpu_fps\": %.2f, \"cpu_fps_f32\": %.2f, \"cpu_incremental_fps\": %.2f, \"incremental_vertices_per_frame\": %.1f, "
-                "\"gpu_fps\": %s, \"gpu_renderer\": %s, \"gpu_gl_version\": %s, \"bytes_per_vertex\": %.1f, "
-                "\"basis_entries_per_vertex\": %.2f, \"vertex_order\": \"%s\"}\n",
-                n, (unsigned long long)(indices - 2ull * faces), m, moved.size(), frames, full_fps, full_fps_f32, incremental_fps,
-                double(updated_total) / frames, gpu_fps.c_str(), gpu_renderer.c_str(), gpu_version.c_str(), bytes_per_vertex,
-                double(info.basis_entries) / n, vertex_order.c_str());
-  } else if (!quiet) {
-    std::printf("%u vertices, %u control points: full recompute %.1f frames/s (float32 outputs %.1f), %zu moved "
-                "points %.1f frames/s (%.0f vertices recomputed per frame), %.0f bytes per vertex\n",
-                n, m, full_fps, full_fps_f32, moved.size(), incremental_fps, double(updated_total) / frames, bytes_per_vertex);
-    if (gpu.ran)
-      std::printf("GPU deformer (full recompute, %s, %s): %.1f frames/s\n", gpu.renderer.c_str(), gpu.version.c_str(),
-                  gpu.fps);
   }
   return kExitOk;
 }

@@ -18,14 +18,6 @@
 
 namespace cli {
 
-namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-}  // namespace
-
 int command_demo(Args& args) {
   const bool quiet = args.flag("--quiet");
   const auto rest = args.positional(0, 1, "cagekit demo [OUTDIR] [--quiet]");

@@ -13,10 +13,6 @@ namespace cli {
 
 namespace {
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 // Option values of fit/pipeline are input: out of range is exit code 2, not a usage error.
 template <class F>
 auto bad_value_is_bad_input(F&& parse) {

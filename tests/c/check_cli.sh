@@ -21,6 +21,11 @@ if "$cli" demo "$tmp/demo" --quiet >"$tmp/demo.out" 2>&1 &&
 if [ "$(json "$tmp/demo/summary.json" "d['cage']['quads'] == 6 and d['cage']['creases'] == 12 and d['cage']['triangles'] == 0 and d['cage']['level3_limit_hausdorff_rel'] < 1e-3 and d['scan']['valid']")" = True ]
 then pass "demo: the scan of a block simplifies to a 6-quad cage with 12 creases whose limit is within 0.1% of the scan"; else cat "$tmp/demo/summary.json"; fail "demo pipeline"; fi
 
+# 1b. progress into a file (not a terminal): one plain line per stage, no carriage returns
+if "$cli" demo "$tmp/demo-log" >/dev/null 2>"$tmp/demo.err" && grep -q '^cagekit: stage: simplify$' "$tmp/demo.err" &&
+   ! grep -q "$(printf '\r')" "$tmp/demo.err"
+then pass "progress written to a file is one line per stage, without carriage returns"; else cat -A "$tmp/demo.err" | head -20; fail "progress into a file"; fi
+
 # 2. info --json on the demo scan
 "$cli" info "$tmp/demo/scan.obj" --json >"$tmp/info.json" 2>/dev/null
 if [ "$(json "$tmp/info.json" "all(k in d for k in 'vertices faces quads triangles boundary_loops genus manifold bbox_diagonal creases corners'.split()) and d['genus'] == 0 and d['boundary_loops'] == 0 and d['manifold'] and d['triangles'] == d['faces']")" = True ]
