@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cstdio>
 
+#include <nlohmann/json.hpp>
 #include <unistd.h>
 
 namespace cli {
@@ -178,6 +179,10 @@ std::vector<double> cage_positions(const Session& session, cagekit_cage cage, co
   std::vector<double> xyz(3 * size_t(count));
   session.check(cagekit_mesh_get_positions(mesh.get(), CAGEKIT_SCALAR_FLOAT64, count, &count, xyz.data()), what);
   return xyz;
+}
+
+std::string json_string(const std::string& text) {
+  return nlohmann::json(text).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 }  // namespace cli

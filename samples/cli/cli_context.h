@@ -78,6 +78,10 @@ inline double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+// `text` as a JSON string literal, quotes included (nlohmann::json's escaping: control characters as
+// \uXXXX, invalid UTF-8 bytes replaced by U+FFFD), for the commands' --json output.
+std::string json_string(const std::string& text);
+
 // The cage's control points, xyz interleaved (errors: Failure naming `what`).
 std::vector<double> cage_positions(const Session& session, cagekit_cage cage, const std::string& what);
 

@@ -131,13 +131,6 @@ int command_bench_deform(Args& args) {
   // GPU: full recompute in a headless EGL context (llvmpipe where there is no GPU).
   const GpuBench gpu = bench_gpu_deformer(session.context(), binding.get(), scan.get(), control, frames, step);
   if (!gpu.ran && !quiet) std::fprintf(stderr, "cagekit: bench-deform: gpu_fps is null: %s\n", gpu.why.c_str());
-  auto json_string = [](const std::string& text) {
-    std::string out = "\"";
-    for (char c : text)
-      if (c == '"' || c == '\\') out += std::string("\\") + c;
-      else if (static_cast<unsigned char>(c) >= 0x20) out += c;
-    return out + "\"";
-  };
   std::string gpu_fps = "null", gpu_renderer = "null", gpu_version = "null";
   if (gpu.ran) {
     char buf[32];

@@ -7,21 +7,6 @@
 
 namespace cli {
 
-namespace {
-
-std::string json_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\', out += c;
-    else if (c == '\n') out += "\\n";
-    else if (static_cast<unsigned char>(c) < 0x20) out += ' ';
-    else out += c;
-  }
-  return out;
-}
-
-}  // namespace
-
 int command_info(Args& args) {
   const bool json = args.flag("--json");
   const bool quiet = args.flag("--quiet");
@@ -45,17 +30,17 @@ int command_info(Args& args) {
 
   if (json) {
     std::printf(
-        "{\"file\": \"%s\", \"vertices\": %llu, \"faces\": %llu, \"edges\": %llu, \"quads\": %llu, "
+        "{\"file\": %s, \"vertices\": %llu, \"faces\": %llu, \"edges\": %llu, \"quads\": %llu, "
         "\"triangles\": %llu, \"other_polygons\": %llu, \"boundary_edges\": %llu, \"boundary_loops\": %llu, "
         "\"components\": %llu, \"unreferenced_vertices\": %llu, \"genus\": %lld, \"manifold\": %s, "
-        "\"valid\": %s, \"problem\": \"%s\", \"bbox_min\": [%.9g, %.9g, %.9g], \"bbox_max\": [%.9g, %.9g, %.9g], "
+        "\"valid\": %s, \"problem\": %s, \"bbox_min\": [%.9g, %.9g, %.9g], \"bbox_max\": [%.9g, %.9g, %.9g], "
         "\"bbox_diagonal\": %.9g, \"creases\": %llu, \"corners\": %llu, \"holes\": %llu}\n",
-        json_escape(files[0]).c_str(), (unsigned long long)info.vertices, (unsigned long long)info.faces,
+        json_string(files[0]).c_str(), (unsigned long long)info.vertices, (unsigned long long)info.faces,
         (unsigned long long)info.edges, (unsigned long long)info.quads, (unsigned long long)info.triangles,
         (unsigned long long)info.other_polygons, (unsigned long long)info.boundary_edges,
         (unsigned long long)info.boundary_loops, (unsigned long long)info.components,
         (unsigned long long)info.unreferenced_vertices, (long long)info.genus, info.manifold ? "true" : "false",
-        valid ? "true" : "false", json_escape(input.problem).c_str(), info.bbox_min[0], info.bbox_min[1],
+        valid ? "true" : "false", json_string(input.problem).c_str(), info.bbox_min[0], info.bbox_min[1],
         info.bbox_min[2], info.bbox_max[0], info.bbox_max[1], info.bbox_max[2], info.bbox_diagonal,
         (unsigned long long)info.creases, (unsigned long long)info.corners, (unsigned long long)info.holes);
     return kExitOk;

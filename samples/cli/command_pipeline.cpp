@@ -25,23 +25,6 @@ const char* method_name(cagekit_scan_method m) {
   }
 }
 
-std::string json_string(const std::string& s) {
-  std::string out = "\"";
-  for (const char c : s) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char buffer[8];
-      std::snprintf(buffer, sizeof(buffer), "\\u%04x", c);
-      out += buffer;
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
-}
-
 std::string conditioning_json(const cagekit_scan_to_cage_report& r) {
   return "{\"input_vertices\": " + u64(r.input_vertices) + ", \"input_faces\": " + u64(r.input_faces) +
          ", \"vertices\": " + u64(r.conditioned_vertices) + ", \"faces\": " + u64(r.conditioned_faces) +

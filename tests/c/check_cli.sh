@@ -31,6 +31,13 @@ then pass "progress written to a file is one line per stage, without carriage re
 if [ "$(json "$tmp/info.json" "all(k in d for k in 'vertices faces quads triangles boundary_loops genus manifold bbox_diagonal creases corners'.split()) and d['genus'] == 0 and d['boundary_loops'] == 0 and d['manifold'] and d['triangles'] == d['faces']")" = True ]
 then pass "info --json keys and values"; else cat "$tmp/info.json"; fail "info --json"; fi
 
+# 2b. a path with control characters, quotes and a backslash stays a valid JSON string
+odd="$tmp/$(printf 'odd\t"name\\\001\nx').obj"
+cp "$tmp/demo/scan.obj" "$odd"
+if "$cli" info "$odd" --json >"$tmp/odd.json" 2>/dev/null &&
+   /usr/bin/env python3 -c "import json,sys; d=json.load(open(sys.argv[1])); sys.exit(d['file'] != sys.argv[2])" "$tmp/odd.json" "$odd"
+then pass "info --json escapes a path with control characters"; else cat -A "$tmp/odd.json"; fail "info --json escaping"; fi
+
 # 3. a crease-tagged quad cube survives OBJ -> DRC -> OBJ with its 6 quads and tags
 cat >"$tmp/cube.obj" <<'OBJ'
 v 0 0 0
