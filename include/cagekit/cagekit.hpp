@@ -224,6 +224,8 @@ inline int progress_trampoline(void* user_data, const char* stage, double fracti
 }
 
 // Throws for a failed status: the callback's exception when one cancelled the call, else Error.
+// A call that succeeded although a callback threw (it had no cancellation point left) returns
+// normally: its outputs are valid and owned by the caller, so the exception is dropped.
 inline void check(cagekit_status status, const ContextRef& context, const char* function) {
   std::exception_ptr pending = std::move(pending_exception());
   pending_exception() = nullptr;
@@ -430,6 +432,7 @@ class Context : public detail::Handle<Context, cagekit_context, cagekit_context_
 
   // Replaces the progress callback (empty: none). Modifies the context (no call may run with it).
   void set_progress(std::function<bool(const char* stage, double fraction)> progress) {
+    require_handle("cagekit_context_set_progress");
     const bool installed = static_cast<bool>(progress);
     std::function<bool(const char*, double)> previous = std::move(context_->progress);
     context_->progress = std::move(progress);
@@ -444,6 +447,7 @@ class Context : public detail::Handle<Context, cagekit_context, cagekit_context_
   }
   // Installs a C progress callback (which must not throw) in place of any C++ one.
   void set_progress(cagekit_progress_fn progress, void* user_data) {
+    require_handle("cagekit_context_set_progress");
     check(cagekit_context_set_progress(handle_, progress, user_data), "cagekit_context_set_progress");
     context_->progress = nullptr;
   }
@@ -471,6 +475,9 @@ class Context : public detail::Handle<Context, cagekit_context, cagekit_context_
   Binding read_binding(const void* data, size_t size, uint32_t threads = 0) const;
 
  private:
+  void require_handle(const char* function) const {
+    if (!context_) throw Error(CAGEKIT_ERROR_INVALID_HANDLE, function, "the cagekit::Context is empty");
+  }
   static Context create_with(const cagekit_context_desc& desc, detail::ContextRef state) {
     cagekit_context handle = nullptr;
     // A failed create reports on the thread's context-less slot: check with no context.
@@ -819,6 +826,11 @@ class Surface : public detail::Handle<Surface, cagekit_surface, cagekit_surface_
     const char* fn = "cagekit_surface_evaluate";
     if (points.size() != locations.size())
       throw Error(CAGEKIT_ERROR_INVALID_ARGUMENT, fn, "points and locations differ in length");
+    // The C call takes the control points without a count: check it here.
+    if (!control.empty() && control.size() != 3 * static_cast<size_t>(control_vertex_count()))
+      throw Error(CAGEKIT_ERROR_INVALID_ARGUMENT, fn,
+                  "control holds " + std::to_string(control.size()) + " values, not xyz for each of the " +
+                      std::to_string(control_vertex_count()) + " control vertices");
     check(cagekit_surface_evaluate(handle_, control.empty() ? nullptr : control.data(),
                                    detail::count32(locations.size(), "locations", fn), locations.data(), points.data()),
           fn);

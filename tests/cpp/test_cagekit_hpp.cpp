@@ -332,6 +332,14 @@ void errors_are_exceptions_with_status_and_message() {
   subdivide.levels = CAGEKIT_MAX_SUBDIVISION_LEVELS + 1;
   message = EXPECT_ERROR(CAGEKIT_ERROR_INVALID_ARGUMENT, cage.subdivide(subdivide));
   CHECK(message.find("levels") != std::string::npos);
+  // Control points of the wrong count (the C call has no count to check them by).
+  cagekit::Surface surface = cage.create_surface();
+  EXPECT_ERROR(CAGEKIT_ERROR_INVALID_ARGUMENT, surface.evaluate({cagekit_surface_location{0, 0.5, 0.5}}, {0.0, 0.0, 0.0}));
+  // Empty wrappers: INVALID_HANDLE with a message, never a crash.
+  cagekit::Context empty;
+  CHECK(!EXPECT_ERROR(CAGEKIT_ERROR_INVALID_HANDLE, empty.create_mesh(kCube, kCubeQuads, 4)).empty());
+  EXPECT_ERROR(CAGEKIT_ERROR_INVALID_HANDLE, empty.set_progress(nullptr));
+  CHECK(!EXPECT_ERROR(CAGEKIT_ERROR_INVALID_HANDLE, cagekit::Mesh().counts()).empty());
   // A context for another ABI: the message comes from the context-less slot.
   cagekit_context_desc desc = cagekit::defaults<cagekit_context_desc>();
   desc.abi_version = CAGEKIT_ABI_VERSION + 1;
