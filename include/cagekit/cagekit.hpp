@@ -22,6 +22,22 @@
 //   defaults (reports and infos: zeroed with struct_size set). Functions that fill a report set
 //   its struct_size themselves.
 //
+// Example (a scan bound to its fitted cage, deformed on the CPU):
+//   cagekit::Context context = cagekit::Context::create();
+//   cagekit::Mesh scan = context.create_mesh(positions, triangles);      // xyz triples, 3 per face
+//   cagekit::Hierarchy hierarchy = scan.create_hierarchy();
+//   hierarchy.set_level(hierarchy.find_level(CAGEKIT_LEVEL_BY_FACES, 60));
+//   cagekit::Cage fitted = hierarchy.build_cage().fit(scan).cage;
+//   cagekit::CpuDeformer deformer = fitted.bind(scan).create_cpu_deformer();
+//   std::vector<double> control = fitted.mesh().positions();            // move these
+//   cagekit::Deformed<double> frame = deformer.deform(control);          // frame.positions, .normals
+//   // or, every frame, into the host's own arrays:
+//   deformer.deform(control, CAGEKIT_NORMALS_APPROXIMATE, host_positions, host_normals);
+//
+// Threading: a wrapper follows the rules of its C object (cagekit.h: calls documented as reads may
+// run concurrently, those that modify need exclusive access). share() and the destructor only
+// touch the atomic reference counts.
+//
 // Contexts, callbacks and lifetimes. A Context made here owns its log and progress callbacks as
 // std::function (Context::Options). Every wrapper made from a context keeps those callbacks
 // alive (a shared state, with the context's raw handle for error messages), because the C
