@@ -3,6 +3,7 @@
 #     bin/cagekit                                        the CLI (RUNPATH $ORIGIN/../<libdir>)
 #     <libdir>/libcagekit.so.<version>, .so.2, .so        the C ABI (SONAME libcagekit.so.2)
 #     include/cagekit/cagekit.h, cagekit_gl.h            the public C99 headers (GL binding opt-in)
+#     include/cagekit/cagekit.hpp, cagekit_gl.hpp        the header-only C++17 layer over them
 #     <libdir>/cmake/CageKit/CageKit{Config,ConfigVersion,Targets,Targets-<config>}.cmake
 #                                                        find_package(CageKit) -> CageKit::cagekit
 #     <libdir>/pkgconfig/cagekit.pc                      pkg-config cagekit

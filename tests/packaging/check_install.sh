@@ -11,11 +11,11 @@
 #    (find_package(CageKit) -> CageKit::cagekit) and runs, and builds with
 #    `cc $(pkg-config --cflags --libs cagekit)` and runs, on a scan made by the installed CLI;
 #  - the installed tree still works after being moved (pkg-config and the CLI are relocatable).
-# usage: check_install.sh CMAKE CC BUILD_DIR SOURCE_DIR BUILD_TYPE LIBDIR INCLUDEDIR BINDIR VERSION SOVERSION
+# usage: check_install.sh CMAKE CC BUILD_DIR SOURCE_DIR BUILD_TYPE LIBDIR INCLUDEDIR BINDIR VERSION SOVERSION [CXX]
 set -u
-if [ $# -ne 10 ]; then echo "usage: $0 CMAKE CC BUILD_DIR SOURCE_DIR BUILD_TYPE LIBDIR INCLUDEDIR BINDIR VERSION SOVERSION" >&2; exit 2; fi
+if [ $# -ne 10 ] && [ $# -ne 11 ]; then echo "usage: $0 CMAKE CC BUILD_DIR SOURCE_DIR BUILD_TYPE LIBDIR INCLUDEDIR BINDIR VERSION SOVERSION [CXX]" >&2; exit 2; fi
 cmake="$1"; cc="$2"; build="$3"; source="$4"; build_type="$5"
-libdir="$6"; includedir="$7"; bindir="$8"; version="$9"; soversion="${10}"
+libdir="$6"; includedir="$7"; bindir="$8"; version="$9"; soversion="${10}"; cxx="${11:-}"
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 prefix="$tmp/prefix"
 failures=0; passed=0
@@ -91,6 +91,13 @@ then pass "installed <cagekit/cagekit.h> compiles alone as C99 (-pedantic -Werro
 printf '#include <cagekit/cagekit_gl.h>\nint main(void) { cagekit_gl_deformer_options o = CAGEKIT_GL_DEFORMER_OPTIONS_INIT; return (int)o.optimize_vertex_cache - 1; }\n' >"$tmp/gl_header_only.c"
 if "$cc" -std=c99 -Wall -Wextra -pedantic -Werror -fsyntax-only -I"$prefix/$includedir" "$tmp/gl_header_only.c" >"$tmp/gl_header.log" 2>&1
 then pass "installed <cagekit/cagekit_gl.h> compiles as C99 (-pedantic -Werror)"; else cat "$tmp/gl_header.log"; fail "GL header as C99"; fi
+# ... and the header-only C++ layer over them, strict C++17 (when a C++ compiler is given)
+if [ -n "$cxx" ]; then
+  printf '#include <cagekit/cagekit_gl.hpp>\nint main() { return cagekit::abi_version() == CAGEKIT_ABI_VERSION ? 0 : 1; }\n' >"$tmp/hpp_only.cpp"
+  if "$cxx" -std=c++17 -Wall -Wextra -pedantic -Werror -fsyntax-only -I"$prefix/$includedir" "$tmp/hpp_only.cpp" >"$tmp/hpp.log" 2>&1
+  then pass "installed <cagekit/cagekit.hpp> and <cagekit/cagekit_gl.hpp> compile as C++17 (-pedantic -Werror)"
+  else cat "$tmp/hpp.log"; fail "C++ headers as C++17"; fi
+fi
 
 # 6. the installed CLI runs from the prefix without LD_LIBRARY_PATH and makes the input scan
 # resolves_to_prefix PROGRAM PREFIX: the dynamic loader picks PREFIX's libcagekit for PROGRAM.
