@@ -28,7 +28,7 @@ else cat "$tmp/cpack.log"; ls -l "$tmp/out"; fail "cpack -G DEB"; echo "$passed 
 # 2. its files
 {
   echo "./usr/$bindir/cagekit"
-  (cd "$source/include" && find cagekit -type f -name '*.h') | sed "s|^|./usr/$includedir/|"
+  (cd "$source/include" && find cagekit -type f \( -name '*.h' -o -name '*.hpp' \)) | sed "s|^|./usr/$includedir/|"
   echo "./usr/$libdir/libcagekit.so -> libcagekit.so.$soversion"
   echo "./usr/$libdir/libcagekit.so.$soversion -> libcagekit.so.$version"
   echo "./usr/$libdir/libcagekit.so.$version"

@@ -33,7 +33,7 @@ else cat "$tmp/install.log"; fail "cmake --install"; echo "$passed passed, $fail
 config=$(echo "${build_type:-noconfig}" | tr '[:upper:]' '[:lower:]')
 {
   echo "$bindir/cagekit"
-  (cd "$source/include" && find cagekit -type f -name '*.h') | sed "s|^|$includedir/|"
+  (cd "$source/include" && find cagekit -type f \( -name '*.h' -o -name '*.hpp' \)) | sed "s|^|$includedir/|"
   echo "$libdir/libcagekit.so"
   echo "$libdir/libcagekit.so.$soversion"
   echo "$libdir/libcagekit.so.$version"
