@@ -7,7 +7,8 @@
 #    SONAME, NEEDED, RUNPATH; every NEEDED resolves), and the exported CMake target carries no
 #    private dependency (CGAL, OpenSubdiv, Draco, ..., the SDK's static libraries);
 #  - the installed header compiles alone as strict C99;
-#  - samples/c_host builds as its own CMake project against the prefix only
+#  - samples/c_host builds as its own CMake project against the prefix only (and samples/cpp_host,
+#    the C++ layer's host, when a C++ compiler is given)
 #    (find_package(CageKit) -> CageKit::cagekit) and runs, and builds with
 #    `cc $(pkg-config --cflags --libs cagekit)` and runs, on a scan made by the installed CLI;
 #  - the installed tree still works after being moved (pkg-config and the CLI are relocatable).
@@ -120,6 +121,20 @@ host="$tmp/c_host-cmake/cagekit_c_host"
 if [ -x "$host" ] && "$host" "$tmp/demo/scan.obj" "$tmp/cmake.obj" 1 >"$tmp/cmake.out" 2>&1 &&
    grep -q 'level 1' "$tmp/cmake.out" && [ -s "$tmp/cmake.obj" ] && resolves_to_prefix "$host" "$prefix"
 then pass "standalone c_host runs with the installed libcagekit"; else cat "$tmp/cmake.out"; fail "standalone c_host run"; fi
+
+# 7b. samples/cpp_host (the C++ layer) as its own CMake project against the install prefix only
+if [ -n "$cxx" ]; then
+  cpp_host="$tmp/cpp_host-cmake/cagekit_cpp_host"
+  mkdir -p "$tmp/cpp_host-out"
+  if "$cmake" -S "$source/samples/cpp_host" -B "$tmp/cpp_host-cmake" -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_BUILD_TYPE=Release \
+       -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF >"$tmp/cpp_host-configure.log" 2>&1 &&
+     "$cmake" --build "$tmp/cpp_host-cmake" >"$tmp/cpp_host-build.log" 2>&1 &&
+     "$cpp_host" "$tmp/demo/scan.obj" "$tmp/cpp_host-out" 6 >"$tmp/cpp_host.out" 2>&1 &&
+     grep -q 'rest pose within' "$tmp/cpp_host.out" && [ -s "$tmp/cpp_host-out/deformed.obj" ] &&
+     resolves_to_prefix "$cpp_host" "$prefix"
+  then pass "samples/cpp_host builds standalone against the prefix and runs the scan -> deform journey"
+  else cat "$tmp/cpp_host-configure.log" "$tmp/cpp_host-build.log" "$tmp/cpp_host.out"; fail "standalone cpp_host"; fi
+fi
 
 # 8. samples/c_host with pkg-config
 export PKG_CONFIG_PATH="$prefix/$libdir/pkgconfig"
