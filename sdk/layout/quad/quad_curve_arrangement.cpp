@@ -445,9 +445,10 @@ std::vector<uint32_t> Arrangement::candidates_for_chain(const View& view) const 
 template <typename Visited>
 Face Arrangement::trace(const View& view, const HalfEdge& start, Visited& visited) {
   Face face;
-  std::vector<uint64_t> ids;
-  std::vector<Vec2> polygon;
-  face.cycle.reserve(8), ids.reserve(8), polygon.reserve(8);
+  std::vector<uint64_t>& ids = trace_ids_;
+  std::vector<Vec2>& polygon = trace_polygon_;
+  ids.clear(), polygon.clear();
+  face.cycle.reserve(8);
   HalfEdge h = start;
   const size_t limit = 4 * (net_.points.size() + 64 * (list_.size() + 8) * (list_.size() + 8));
   for (size_t step = 0;; ++step) {
@@ -468,17 +469,21 @@ Face Arrangement::trace(const View& view, const HalfEdge& start, Visited& visite
     h = next;
     if (h == start) break;
   }
-  face.energy = rate(std::move(ids), polygon);
+  face.energy = rate(ids, polygon);
   face.alive = true;
   return face;
 }
 
-double Arrangement::rate(std::vector<uint64_t> ids, const std::vector<Vec2>& polygon) {
-  std::rotate(ids.begin(), std::min_element(ids.begin(), ids.end()), ids.end());
-  auto it = energy_cache_.find(ids);
+double Arrangement::rate(const std::vector<uint64_t>& ids, const std::vector<Vec2>& polygon) {
+  // The cycle from its smallest vertex id, so that every start of the same face finds it.
+  std::vector<uint64_t>& key = cycle_key_;
+  const auto smallest = std::min_element(ids.begin(), ids.end());
+  key.assign(smallest, ids.end());
+  key.insert(key.end(), ids.begin(), smallest);
+  auto it = energy_cache_.find(key);
   if (it != energy_cache_.end()) return it->second;
-  const double e = rate_element(polygon, weights_).energy;
-  energy_cache_.emplace(std::move(ids), e);
+  const double e = element_energy(polygon, weights_);
+  energy_cache_.emplace(key, e);
   return e;
 }
 

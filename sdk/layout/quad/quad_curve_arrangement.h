@@ -108,7 +108,7 @@ class Arrangement {
   std::vector<uint32_t> candidates_for_chain(const View& view) const;
   template <typename Visited>
   Face trace(const View& view, const HalfEdge& start, Visited& visited);
-  double rate(std::vector<uint64_t> ids, const std::vector<Vec2>& polygon);
+  double rate(const std::vector<uint64_t>& ids, const std::vector<Vec2>& polygon);
   void add_face(Face f);
   void compact_faces();
 
@@ -140,6 +140,9 @@ class Arrangement {
   std::vector<CurveBoxes> boxes_;
   const CurveBoxes& boxes(uint32_t c);
   std::unordered_map<std::vector<uint64_t>, double, CycleHash> energy_cache_;
+  // trace()'s buffers, kept between calls (an Arrangement is used by one thread at a time).
+  std::vector<uint64_t> trace_ids_, cycle_key_;
+  std::vector<Vec2> trace_polygon_;
   // (removed, added) curve ids, each pair sorted and padded with kNoCurve.
   using MoveKey = std::array<uint32_t, 4>;
   struct MoveKeyHash {

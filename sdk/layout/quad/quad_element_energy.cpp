@@ -55,7 +55,8 @@ namespace {
 double rate_convex(const std::vector<Vec2>& polygon, const std::vector<double>& angles, const ElementWeights& w,
                    uint32_t& t_joints) {
   size_t n = polygon.size();
-  std::vector<Vec2> reduced = polygon;
+  std::vector<Vec2> without_t_joints;
+  const std::vector<Vec2>* reduced_polygon = &polygon;  // the polygon, or it without its T-joints
   double extra = 0.0;
   if (n > 4) {
     std::vector<size_t> straight;
@@ -67,14 +68,15 @@ double rate_convex(const std::vector<Vec2>& polygon, const std::vector<double>& 
     if (k > 0) {
       std::vector<char> drop(n, 0);
       for (size_t i = 0; i < k; ++i) drop[straight[i]] = 1;
-      reduced.clear();
       for (size_t i = 0; i < n; ++i)
-        if (!drop[i]) reduced.push_back(polygon[i]);
+        if (!drop[i]) without_t_joints.push_back(polygon[i]);
+      reduced_polygon = &without_t_joints;
       extra = double(k) * w.t_joint;
       t_joints += static_cast<uint32_t>(k);
-      n = reduced.size();
+      n = without_t_joints.size();
     }
   }
+  const std::vector<Vec2>& reduced = *reduced_polygon;
   if (n == 4) return extra + quad_energy_terms({reduced[0], reduced[1], reduced[2], reduced[3]}).total;
   if (n == 3) return extra + w.triangle * (w.polygon_offset + angle_deviation_energy(reduced, kPi / 3));
   const double beta = (double(n) - 2.0) * kPi / double(n);
@@ -98,14 +100,20 @@ bool diagonal_inside(const std::vector<Vec2>& polygon, size_t i, size_t j) {
 // Greedy split: each diagonal from the most concave vertex is scored by rating its two parts
 // without further splitting; only the best one is split recursively (O(n²) per level instead of
 // the exponential search over all split trees).
-ElementRating rate_recursive(const std::vector<Vec2>& polygon, const ElementWeights& w, int depth, bool split) {
+// `pieces`: also list the output faces (ElementRating::pieces); the energy is the same either way.
+ElementRating rate_recursive(const std::vector<Vec2>& polygon, const ElementWeights& w, int depth, bool split,
+                             bool pieces) {
   ElementRating rating;
   const size_t n = polygon.size();
+  auto whole_polygon_is_the_piece = [&] {
+    if (!pieces) return;
+    rating.pieces.emplace_back(n);
+    std::iota(rating.pieces.back().begin(), rating.pieces.back().end(), 0u);
+  };
   if (n < 3 || !(signed_area(polygon) > 0.0)) {
     rating.energy = w.invalid;
     rating.invalid = true;
-    rating.pieces.emplace_back(n);
-    std::iota(rating.pieces.back().begin(), rating.pieces.back().end(), 0u);
+    whole_polygon_is_the_piece();
     return rating;
   }
   const std::vector<double> angles = interior_angles(polygon);
@@ -113,35 +121,35 @@ ElementRating rate_recursive(const std::vector<Vec2>& polygon, const ElementWeig
   for (size_t i = 0; i < n; ++i)
     if (angles[i] > kPi + w.t_joint_tolerance && (concave == n || angles[i] > angles[concave])) concave = i;
   if (split && concave != n && n > 3 && n <= kMaxSplitValence && depth < 16) {
+    // The two parts of the diagonal (concave, j): the vertices from one end to the other.
+    auto part_of = [&](size_t from, size_t to, std::vector<uint32_t>& indices, std::vector<Vec2>& sub_polygon) {
+      indices.clear(), sub_polygon.clear();
+      for (size_t k = from;; k = (k + 1) % n) {
+        indices.push_back(static_cast<uint32_t>(k));
+        sub_polygon.push_back(polygon[k]);
+        if (k == to) break;
+      }
+    };
     double best_score = std::numeric_limits<double>::infinity();
-    std::vector<uint32_t> best_part[2];
+    size_t best_j = n;
+    std::vector<uint32_t> indices;
+    std::vector<Vec2> sub_polygon;
     for (size_t step = 2; step + 1 < n; ++step) {
       const size_t j = (concave + step) % n;
       if (!diagonal_inside(polygon, concave, j)) continue;
-      std::vector<uint32_t> part[2];
-      for (size_t k = concave;; k = (k + 1) % n) {
-        part[0].push_back(static_cast<uint32_t>(k));
-        if (k == j) break;
-      }
-      for (size_t k = j;; k = (k + 1) % n) {
-        part[1].push_back(static_cast<uint32_t>(k));
-        if (k == concave) break;
-      }
       double score = 0.0;
-      for (const auto& indices : part) {
-        std::vector<Vec2> sub_polygon;
-        for (uint32_t k : indices) sub_polygon.push_back(polygon[k]);
-        score += signed_area(sub_polygon) > 0.0 ? rate_recursive(sub_polygon, w, depth + 1, false).energy
+      for (const auto& [from, to] : {std::pair<size_t, size_t>{concave, j}, {j, concave}}) {
+        part_of(from, to, indices, sub_polygon);
+        score += signed_area(sub_polygon) > 0.0 ? rate_recursive(sub_polygon, w, depth + 1, false, false).energy
                                                 : std::numeric_limits<double>::infinity();
       }
-      if (score < best_score) best_score = score, best_part[0] = part[0], best_part[1] = part[1];
+      if (score < best_score) best_score = score, best_j = j;
     }
     if (std::isfinite(best_score)) {
       ElementRating combined;
-      for (const auto& indices : best_part) {
-        std::vector<Vec2> sub_polygon;
-        for (uint32_t k : indices) sub_polygon.push_back(polygon[k]);
-        const ElementRating r = rate_recursive(sub_polygon, w, depth + 1, true);
+      for (const auto& [from, to] : {std::pair<size_t, size_t>{concave, best_j}, {best_j, concave}}) {
+        part_of(from, to, indices, sub_polygon);
+        const ElementRating r = rate_recursive(sub_polygon, w, depth + 1, true, pieces);
         combined.energy += r.energy;
         combined.t_joints += r.t_joints;
         combined.invalid = combined.invalid || r.invalid;
@@ -155,15 +163,18 @@ ElementRating rate_recursive(const std::vector<Vec2>& polygon, const ElementWeig
     }
   }
   rating.energy = rate_convex(polygon, angles, w, rating.t_joints);
-  rating.pieces.emplace_back(n);
-  std::iota(rating.pieces.back().begin(), rating.pieces.back().end(), 0u);
+  whole_polygon_is_the_piece();
   return rating;
 }
 
 }  // namespace
 
 ElementRating rate_element(const std::vector<Vec2>& polygon, const ElementWeights& weights) {
-  return rate_recursive(polygon, weights, 0, true);
+  return rate_recursive(polygon, weights, 0, true, true);
+}
+
+double element_energy(const std::vector<Vec2>& polygon, const ElementWeights& weights) {
+  return rate_recursive(polygon, weights, 0, true, false).energy;
 }
 
 CAGEKIT_NAMESPACE_END

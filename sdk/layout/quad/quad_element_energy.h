@@ -60,5 +60,7 @@ struct ElementRating {
   bool invalid = false;
 };
 ElementRating rate_element(const std::vector<Vec2>& polygon, const ElementWeights& weights);
+// rate_element(polygon, weights).energy without listing the pieces (the selection's inner loop).
+double element_energy(const std::vector<Vec2>& polygon, const ElementWeights& weights);
 
 CAGEKIT_NAMESPACE_END
