@@ -218,7 +218,7 @@ double Arrangement::evaluate(const std::vector<uint32_t>& removed, const std::ve
   for (uint32_t c : list_)
     if (!view.selected_override.count(c))
       for (uint32_t t : touched)
-        if (!crossings(std::min(c, t), std::max(c, t)).empty()) {
+        if (crosses(c, t)) {
           changed.push_back(c);
           break;
         }
@@ -230,6 +230,12 @@ double Arrangement::evaluate(const std::vector<uint32_t>& removed, const std::ve
   auto mark = [](std::vector<uint64_t>& side, uint64_t id) { side.push_back(id); };
   auto contains = [](const Chain& chain, uint64_t id) {
     return std::any_of(chain.begin(), chain.end(), [&](const ChainVertex& v) { return v.id == id; });
+  };
+  std::vector<uint64_t> old_ids, new_ids;
+  auto sorted_ids = [](const Chain& chain, std::vector<uint64_t>& ids) {
+    ids.clear();
+    for (const ChainVertex& v : chain) ids.push_back(v.id);
+    std::sort(ids.begin(), ids.end());
   };
   for (uint32_t c : changed) {
     const Chain& old_chain = chains_[c];
@@ -244,14 +250,18 @@ double Arrangement::evaluate(const std::vector<uint32_t>& removed, const std::ve
       for (const ChainVertex& v : new_chain) mark(dirty, v.id);
       continue;
     }
+    // Membership in the other state's chain by binary search (chains run to hundreds of crossings).
+    sorted_ids(old_chain, old_ids), sorted_ids(new_chain, new_ids);
+    auto in_new = [&](uint64_t id) { return std::binary_search(new_ids.begin(), new_ids.end(), id); };
+    auto in_old = [&](uint64_t id) { return std::binary_search(old_ids.begin(), old_ids.end(), id); };
     for (size_t i = 0; i < old_chain.size(); ++i)
-      if (!contains(new_chain, old_chain[i].id)) {
+      if (!in_new(old_chain[i].id)) {
         mark(dirty_old, old_chain[i].id);
         if (i > 0) mark(dirty, old_chain[i - 1].id);
         if (i + 1 < old_chain.size()) mark(dirty, old_chain[i + 1].id);
       }
     for (size_t i = 0; i < new_chain.size(); ++i)
-      if (!contains(old_chain, new_chain[i].id)) {
+      if (!in_old(new_chain[i].id)) {
         mark(dirty, new_chain[i].id);
         if (i > 0) mark(dirty_old, new_chain[i - 1].id);
         if (i + 1 < new_chain.size()) mark(dirty_old, new_chain[i + 1].id);
@@ -402,6 +412,16 @@ const std::vector<Crossing>& Arrangement::crossings(uint32_t a, uint32_t b) {
     if (unique.empty() || std::fabs(x.ta - unique.back().ta) > 1e-9 || std::fabs(x.tb - unique.back().tb) > 1e-9)
       unique.push_back(x);
   return crossing_cache_.emplace(key, std::move(unique)).first->second;
+}
+
+bool Arrangement::crosses(uint32_t a, uint32_t b) {
+  const uint32_t lo = std::min(a, b), hi = std::max(a, b);
+  const size_t n = net_.curves.size();
+  if (n > kDenseCrossCurves) return !crossings(lo, hi).empty();
+  if (crosses_.empty()) crosses_.assign(n * n, 0);
+  uint8_t& known = crosses_[lo * n + hi];
+  if (known == 0) known = crossings(lo, hi).empty() ? 1 : 2;
+  return known == 2;
 }
 
 template <typename Selection>

@@ -102,6 +102,10 @@ class Arrangement {
   struct View;  // the arrangement with a trial move's overrides (quad_curve_arrangement.cpp)
 
   const std::vector<Crossing>& crossings(uint32_t a, uint32_t b);
+  // Whether curves a and b cross: !crossings(min, max).empty(), remembered per pair in a dense table
+  // when the network has at most kDenseCrossCurves curves (the question evaluate() asks of every
+  // selected curve for every trial move).
+  bool crosses(uint32_t a, uint32_t b);
   template <typename Selection>
   Chain build_chain(uint32_t c, const Selection& selection);
   std::vector<uint32_t> candidates_for_chain(const std::vector<char>& selected) const;
@@ -121,6 +125,8 @@ class Arrangement {
   std::vector<Face> faces_;
   std::unordered_map<HalfEdge, uint32_t, HalfEdgeHash> face_of_;
   std::unordered_map<uint64_t, std::vector<Crossing>> crossing_cache_;
+  static constexpr size_t kDenseCrossCurves = 2048;
+  std::vector<uint8_t> crosses_;  // curves x curves: 0 not known yet, 1 no crossing, 2 crossing
   // Bounding boxes of every curve's polyline and of its runs of kRun pieces (built on first use).
   static constexpr size_t kRun = 4;
   struct Box {
