@@ -21,6 +21,7 @@
 #include "core/status.h"
 #include "layout/common/polygon_corners.h"
 #include "layout/common/quad_dominant_partition.h"
+#include "layout/quad/lscm_parameterization.h"
 #include "layout/quad/quad_region_selection.h"
 #include "layout/quad/remesh_constraints.h"
 #include "layout/common/sharp_input_features.h"
@@ -840,9 +841,28 @@ size_t mend_glue_conflicts(GluedLayout& g, const PolygonMesh& tri, const RemeshC
   return mended;
 }
 
+// Flipped triangles in the LSCM map of two regions' faces together, as make_disk_regions would
+// parameterise them after a merge (SIZE_MAX: not a disk, possibly with holes, at all).
+size_t merged_map_flips(const PolygonMesh& tri, const std::vector<uint32_t>& face_region, uint32_t a, uint32_t b) {
+  std::vector<uint32_t> faces;
+  for (uint32_t f = 0; f < face_region.size(); ++f)
+    if (face_region[f] == a || face_region[f] == b) faces.push_back(f);
+  try {
+    return parameterize_region_lscm(tri, faces).flipped_triangles;
+  } catch (const Error& e) {
+    if (e.status() != Status::invalid_mesh) throw;
+    return SIZE_MAX;
+  }
+}
+
 // Merges each listed region into the neighbouring region with which it shares the longest
 // boundary (never into a pinned one; a region with no such neighbour stays), then renumbers the
-// regions densely in their order. Returns the number merged.
+// regions densely in their order. Returns the number merged. When the merged region's LSCM map
+// would fold (or the two are not a disk together), make_disk_regions would split it again,
+// along the same Voronoi cells, giving the sliver back (femur.off: a 3-triangle sliver split off
+// a 5-triangle region with 2 flipped triangles, merged back, split off again, until the retries
+// ran out): then the neighbour whose merged map has the fewest flipped triangles is taken, the
+// longest shared boundary breaking ties.
 size_t merge_into_neighbours(const PolygonMesh& tri, std::vector<uint32_t>& face_region, size_t& region_count,
                              size_t pinned, const std::vector<uint32_t>& regions) {
   if (regions.empty()) return 0;
@@ -865,12 +885,24 @@ size_t merge_into_neighbours(const PolygonMesh& tri, std::vector<uint32_t>& face
     if (listed[a] && b >= pinned) shared[directed_edge_key(a, b)] += length;
     if (listed[b] && a >= pinned) shared[directed_edge_key(b, a)] += length;
   }
+  // Per listed region its neighbours, longest shared boundary first (ties: smaller id).
+  std::vector<std::vector<std::pair<double, uint32_t>>> neighbours(region_count);
+  for (const auto& [key, length] : shared)
+    if (length > 0.0) neighbours[edge_key_first(key)].push_back({length, uint32_t(edge_key_second(key))});
   std::vector<uint32_t> target(region_count);
-  for (uint32_t r = 0; r < region_count; ++r) target[r] = r;
-  std::vector<double> best(region_count, 0.0);
-  for (const auto& [key, length] : shared) {
-    const uint32_t a = edge_key_first(key), b = edge_key_second(key);
-    if (length > best[a] || (length == best[a] && b < target[a] && target[a] != a)) best[a] = length, target[a] = b;
+  for (uint32_t r = 0; r < region_count; ++r) {
+    target[r] = r;
+    std::vector<std::pair<double, uint32_t>>& list = neighbours[r];
+    if (list.empty()) continue;
+    std::sort(list.begin(), list.end(), [](const std::pair<double, uint32_t>& x, const std::pair<double, uint32_t>& y) {
+      return x.first > y.first || (x.first == y.first && x.second < y.second);
+    });
+    size_t fewest = merged_map_flips(tri, face_region, r, list[0].second);
+    target[r] = list[0].second;
+    for (size_t k = 1; k < list.size() && fewest > 0; ++k) {
+      const size_t flips = merged_map_flips(tri, face_region, r, list[k].second);
+      if (flips < fewest) fewest = flips, target[r] = list[k].second;
+    }
   }
   // A listed region merged into another listed region that is itself merged: follow the chain
   // (cycles stop at their smallest member).
@@ -1147,6 +1179,7 @@ struct LayoutRetries {
   } folded_layout;
   SelectionMemo memo;  // the regions a retry did not change are not selected again
   size_t previous_failures = SIZE_MAX;  // failing regions of the previous attempt
+  bool previous_glued = false;          // whether the previous attempt got as far as gluing
   std::vector<uint8_t> kept_in_conflict;  // per region: kept whole when a glue conflict split its partner
   std::vector<uint32_t> repeat_partners;  // kept-whole partners in conflict again: merged into a neighbour
 };
@@ -1311,6 +1344,32 @@ bool find_layout_faults(const RegionLayout& layout, const std::vector<uint32_t>&
                                       "topology)"});
           ++listed;
         }
+      // Else the regions whose own faces do not have the Euler characteristic of a disk with
+      // their holes (2 - loops): a layout that closes a tunnel inside one region (femur.off: an
+      // annulus around a small tunnel laid out as a closed surface of 4 faces).
+      if (listed == 0) {
+        std::vector<std::unordered_set<uint32_t>> vertices(region_count);
+        std::vector<std::unordered_set<uint64_t>> edges(region_count);
+        std::vector<int64_t> faces(region_count, 0);
+        for (uint32_t f = 0; f < glued.num_faces(); ++f) {
+          const uint32_t rg = glued_region[f], n = glued.face_size(f);
+          ++faces[rg];
+          for (uint32_t k = 0; k < n; ++k) {
+            vertices[rg].insert(glued.face_vertex(f, k));
+            edges[rg].insert(edge_key(glued.face_vertex(f, k), glued.face_vertex(f, (k + 1) % n)));
+          }
+        }
+        for (uint32_t rg = 0; rg < region_count; ++rg) {
+          if (faces[rg] == 0 || rg >= layout.constraints.boundaries.region_loops.size()) continue;
+          const int64_t euler = int64_t(vertices[rg].size()) - int64_t(edges[rg].size()) + faces[rg];
+          const int64_t disk = 2 - int64_t(layout.constraints.boundaries.region_loops[rg].size());
+          if (euler == disk) continue;
+          failures.push_back({rg, "region " + std::to_string(rg) + "'s faces have Euler characteristic " +
+                                      std::to_string(euler) + ", not " + std::to_string(disk) +
+                                      " (it does not keep the input's topology)"});
+          ++listed;
+        }
+      }
       if (listed == 0)
         failures.push_back({0, "the glued mesh has " + std::to_string(glued_topology.components) +
                                    " components and Euler characteristic " + std::to_string(glued_topology.euler) +
@@ -1336,7 +1395,7 @@ struct RegionChanges {
 // After a failed layout, unless the retries are over: the sliver regions (no area in their
 // loop) and repeated conflict partners merged into a neighbour, or, if none was merged, every
 // failing region split in two (at its glue conflict when it has one).
-RegionChanges merge_or_split_regions(const PolygonMesh& tri, const QuadRemeshOptions& o, int attempt,
+RegionChanges merge_or_split_regions(const PolygonMesh& tri, const QuadRemeshOptions& o, int attempt, bool glued,
                                      const std::vector<RegionFailure>& failures,
                                      const std::vector<GlueConflict>& conflict_split, RegionLayout& layout,
                                      LayoutRetries& retries, std::vector<uint32_t>& face_region) {
@@ -1345,10 +1404,14 @@ RegionChanges merge_or_split_regions(const PolygonMesh& tri, const QuadRemeshOpt
   // A retry that did not lower the number of failing regions ends the retries (cheese.off:
   // every split region's parts fail again, 4 layouts of 300 regions cost 30 s).
   // A retry that merges a repeated conflict partner is made even when the count did not drop.
+  // An attempt that got as far as gluing after one whose selection failed made progress whatever
+  // its count: the selection failures stopped the previous attempt before the glued layout's
+  // faults could be counted (femur.off: a sliver merged, then a folded face and a closed tunnel).
   const bool retry = attempt + 1 < kLayoutAttempts &&
-                     (failures.size() < retries.previous_failures ||
+                     (failures.size() < retries.previous_failures || (glued && !retries.previous_glued) ||
                       (!retries.repeat_partners.empty() && failures.size() <= retries.previous_failures));
   retries.previous_failures = failures.size();
+  retries.previous_glued = glued;
   if (retry) {
     std::vector<uint32_t> slivers;
     for (const RegionFailure& failure : failures)
@@ -1585,14 +1648,15 @@ RegionLayout lay_out_regions(const PolygonMesh& tri, const VsaSegmentation& segm
     t = std::chrono::steady_clock::now();
     std::vector<RegionFailure> failures = select_region_curves(settings, o, monitor, retries.memo, layout, r);
     r.selection_seconds += seconds_since(t);
+    const bool selected = failures.empty();  // every region selected: the layout is glued
 
     t = std::chrono::steady_clock::now();
-    GluedLayout glued = glue_regions(tri, settings.normals, o, failures.empty(), monitor, layout, r);
+    GluedLayout glued = glue_regions(tri, settings.normals, o, selected, monitor, layout, r);
     layout.glued = std::move(glued.mesh);
     layout.reference_normal = std::move(glued.reference_normal);
     std::vector<GlueConflict> conflict_split;  // per region to split (by region): the conflict it is split at
     bool only_folds = false;  // this layout's only fault: faces folded against the input
-    if (failures.empty())
+    if (selected)
       only_folds = find_layout_faults(layout, glued.region, r.face_region, settings.input_topology,
                                       o.pinned_regions.size(), retries, failures, conflict_split);
     r.postprocess_seconds += seconds_since(t);
@@ -1601,7 +1665,7 @@ RegionLayout lay_out_regions(const PolygonMesh& tri, const VsaSegmentation& segm
     if (only_folds && !retries.folded_layout.kept)
       retries.folded_layout = {true, r.face_region, layout, r.mended_faces};
     const RegionChanges changes =
-        merge_or_split_regions(tri, o, attempt, failures, conflict_split, layout, retries, r.face_region);
+        merge_or_split_regions(tri, o, attempt, selected, failures, conflict_split, layout, retries, r.face_region);
     if (changes.none() && retries.folded_layout.kept) {
       take_folded_layout(monitor, retries.folded_layout, layout, r);
       break;
