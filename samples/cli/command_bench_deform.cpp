@@ -1,37 +1,46 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// cagekit bench-deform SCAN CAGE [--frames N] [--moved K] [--threads N] [--json]
 // Frames per second of the multiresolution deformer (thesis ch. 8): the CPU deformer over the
 // whole cage and over K moved control points, and the GPU deformer where EGL gives a context.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
+
+#include <CLI/CLI.hpp>
 
 #include "cli_context.h"
 #include "gpu_bench.h"
 
 namespace cli {
 
-int command_bench_deform(Args& args) {
-  const char* usage =
-      "cagekit bench-deform SCAN CAGE [--frames N] [--moved K] [--threads N] [--vertex-order scan|deformer] [--json] "
-      "[--quiet]";
-  const bool quiet = args.flag("--quiet");
-  const bool json = args.flag("--json");
-  const std::string vertex_order = args.option("--vertex-order", "scan");
+namespace {
+
+const FlagOption kJson{"--json", "print the frame rates as one JSON object"};
+const TextOption kVertexOrder{"--vertex-order", "scan", "scan|deformer",
+                              "deformer: the scan renumbered first in the deformer's write order, as a host that "
+                              "may renumber does"};
+const IntegerOption kFrames{"--frames", 100, 1, 1000000, "N", "frames timed per measurement"};
+const IntegerOption kMoved{"--moved", 10, 1, 1000000, "K", "control points moved per frame in the incremental run"};
+const IntegerOption kThreads{"--threads", 0, 0, 1024, "N", "deformer threads (0: all cores)"};
+
+int command_bench_deform(const Options& args) {
+  const bool quiet = args.quiet();
+  const bool json = args.flag(kJson);
+  const std::string vertex_order = args.text(kVertexOrder);
   if (vertex_order != "scan" && vertex_order != "deformer")
     throw Failure(kExitBadInput, "--vertex-order must be scan or deformer, not '" + vertex_order + "'");
   int frames = 100, moved_count = 10, threads = 0;
   try {
-    frames = args.integer("--frames", 100, 1, 1000000);
-    moved_count = args.integer("--moved", 10, 1, 1000000);
-    threads = args.integer("--threads", 0, 0, 1024);
+    frames = args.integer(kFrames);
+    moved_count = args.integer(kMoved);
+    threads = args.integer(kThreads);
   } catch (const Failure& f) {
     throw Failure(f.code == kExitUsage ? kExitBadInput : f.code, f.what());
   }
-  const auto files = args.positional(2, 2, usage);
+  const std::vector<std::string> files = {args.positional("SCAN"), args.positional("CAGE")};
   Session session(quiet);
   Mesh scan;
   session.check(cagekit_mesh_read_file(session.context(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, scan.out()), files[0]);
@@ -159,6 +168,23 @@ int command_bench_deform(Args& args) {
                   gpu.fps);
   }
   return kExitOk;
+}
+
+}  // namespace
+
+Command add_bench_deform(CLI::App& cagekit) {
+  CLI::App* app = cagekit.add_subcommand(
+      "bench-deform", "frames per second of the CPU deformer (full and K moved points) and the GPU one (EGL)");
+  auto options = std::make_shared<Options>(app);
+  options->add_positional("SCAN", "mesh file");
+  options->add_positional("CAGE", "cage file");
+  options->add(kFrames);
+  options->add(kMoved);
+  options->add(kThreads);
+  options->add(kVertexOrder);
+  options->add(kJson);
+  options->add_quiet();
+  return {app, [options] { return command_bench_deform(*options); }};
 }
 
 }  // namespace cli

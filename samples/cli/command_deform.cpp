@@ -1,26 +1,33 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// cagekit deform SCAN (CAGE | BINDING.ckb) EDITED_CAGE OUT [--local-frame] [--json]
 // Multiresolution editing (thesis ch. 8) through the C API: bind the scan to the cage's limit
 // surface, then move the cage's control points and rebuild the scan with its details.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
+
+#include <CLI/CLI.hpp>
 
 #include "cli_context.h"
 
 namespace cli {
 
-int command_deform(Args& args) {
-  const char* usage =
-      "cagekit deform SCAN (CAGE | BINDING.ckb) EDITED_CAGE OUT [--local-frame] [--sharp-angle DEG] [--json] [--quiet]";
-  const bool quiet = args.flag("--quiet");
-  const bool json = args.flag("--json");
-  const bool local_frame = args.flag("--local-frame");
+namespace {
+
+const FlagOption kJson{"--json", "print the deformation's figures as one JSON object"};
+const FlagOption kLocalFrame{"--local-frame", "keep the details' sideways offsets (local-frame displacements; "
+                                              "default: along the normal)"};
+
+int command_deform(const Options& args) {
+  const bool quiet = args.quiet();
+  const bool json = args.flag(kJson);
+  const bool local_frame = args.flag(kLocalFrame);
   const double sharp_angle = parse_sharp_angle(args);
-  const auto files = args.positional(4, 4, usage);
+  const std::vector<std::string> files = {args.positional("SCAN"), args.positional("CAGE"),
+                                          args.positional("EDITED_CAGE"), args.positional("OUT")};
   const cagekit_file_format out_format = format_from_extension(files[3]);
 
   Session session(quiet);
@@ -117,6 +124,23 @@ int command_deform(Args& args) {
                   info.max_sideways_residual, (unsigned long long)info.vertices_with_sideways_residual);
   }
   return kExitOk;
+}
+
+}  // namespace
+
+Command add_deform(CLI::App& cagekit) {
+  CLI::App* app = cagekit.add_subcommand(
+      "deform", "rebuild the scan over the edited cage (details kept), bound anew or by a saved binding");
+  auto options = std::make_shared<Options>(app);
+  options->add_positional("SCAN", "mesh file");
+  options->add_positional("CAGE", "cage file, or a binding saved by `cagekit bind` (BINDING.ckb)");
+  options->add_positional("EDITED_CAGE", "the cage with moved vertices (same vertices and faces)");
+  options->add_positional("OUT", "deformed scan file (.obj .ply .off .drc)");
+  options->add(kLocalFrame);
+  add_sharp_angle(*options);
+  options->add(kJson);
+  options->add_quiet();
+  return {app, [options] { return command_deform(*options); }};
 }
 
 }  // namespace cli

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// cagekit demo [OUTDIR]: runs what the SDK can do today on a generated noisy scan of a CAD-like
+// cagekit demo: runs what the SDK can do today on a generated noisy scan of a CAD-like
 // part and writes every result to OUTDIR (default ./cagekit-demo): exchange formats, the pipeline
 // of `cagekit pipeline` (simplification -> creased cage -> fit, pipeline.h), subdivision.
 // Multiresolution editing (thesis ch. 8) extends this when it lands.
@@ -10,7 +10,10 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <memory>
 #include <string>
+
+#include <CLI/CLI.hpp>
 
 #include "cli_context.h"
 #include "demo_part.h"
@@ -18,12 +21,12 @@
 
 namespace cli {
 
-int command_demo(Args& args) {
-  const bool quiet = args.flag("--quiet");
-  const auto rest = args.positional(0, 1, "cagekit demo [OUTDIR] [--quiet]");
-  const std::string dir = rest.empty() ? "cagekit-demo" : rest[0];
+namespace {
+
+int command_demo(const Options& args) {
+  const std::string dir = args.given("OUTDIR") ? args.positional("OUTDIR") : "cagekit-demo";
   make_directories(dir);
-  Session session(quiet);
+  Session session(args.quiet());
   const auto start = std::chrono::steady_clock::now();
 
   // 1. The input: a noisy scan of a 4 x 2.5 x 1.5 block, ~60 cells per unit.
@@ -162,6 +165,17 @@ int command_demo(Args& args) {
               (unsigned long long)level1_info.quads, subdivide_seconds);
   std::printf("  summary.json           these numbers (pipeline.json: the pipeline's report)\n");
   return kExitOk;
+}
+
+}  // namespace
+
+Command add_demo(CLI::App& cagekit) {
+  CLI::App* app = cagekit.add_subcommand(
+      "demo", "run the pipeline on a generated noisy scan of a CAD-like part and write every result");
+  auto options = std::make_shared<Options>(app);
+  options->add_positional("OUTDIR", "output folder (default: ./cagekit-demo)", false);
+  options->add_quiet();
+  return {app, [options] { return command_demo(*options); }};
 }
 
 }  // namespace cli

@@ -1,17 +1,23 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// cagekit info IN [--json]
 #include <cstdio>
+#include <memory>
 #include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
 
 #include "cli_context.h"
 
 namespace cli {
 
-int command_info(Args& args) {
-  const bool json = args.flag("--json");
-  const bool quiet = args.flag("--quiet");
-  const auto files = args.positional(1, 1, "cagekit info IN [--json] [--quiet]");
-  Session session(quiet);
+namespace {
+
+const FlagOption kJson{"--json", "print the statistics as one JSON object"};
+
+int command_info(const Options& args) {
+  const bool json = args.flag(kJson);
+  const std::vector<std::string> files = {args.positional("IN")};
+  Session session(args.quiet());
   LoadedInput input;
   load_input(session, files[0], &input);
 
@@ -60,6 +66,17 @@ int command_info(Args& args) {
               (unsigned long long)info.corners, (unsigned long long)info.holes);
   if (!valid) std::printf("  not a valid cage: %s\n", input.problem.c_str());
   return kExitOk;
+}
+
+}  // namespace
+
+Command add_info(CLI::App& cagekit) {
+  CLI::App* app = cagekit.add_subcommand("info", "statistics of a mesh or cage file (vertices, faces, genus, creases, ...)");
+  auto options = std::make_shared<Options>(app);
+  options->add_positional("IN", "mesh or cage file (.obj .ply .off .drc .stl)");
+  options->add(kJson);
+  options->add_quiet();
+  return {app, [options] { return command_info(*options); }};
 }
 
 }  // namespace cli

@@ -4,8 +4,11 @@
 // (fitted, with crease tags), OUTDIR/limit.obj (its limit, L levels) and OUTDIR/report.json.
 #include <algorithm>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
+
+#include <CLI/CLI.hpp>
 
 #include "cli_context.h"
 #include "pipeline.h"
@@ -40,41 +43,52 @@ std::string conditioning_json(const cagekit_scan_to_cage_report& r) {
 
 double percent(uint64_t part, uint64_t whole) { return whole ? 100.0 * double(part) / double(whole) : 0.0; }
 
-}  // namespace
+const FlagOption kJson{"--json", "print report.json on stdout"};
+const FlagOption kNoRepair{"--no-repair", "no conditioning: an invalid scan is an error"};
+const FlagOption kNoFallback{"--no-fallback", "quad, anisotropic: no fallback to simplify when the result is not good"};
+const TextOption kMethod{"--method", "simplify", "simplify|anisotropic|quad",
+                         "step 1: structure-preserving simplification to a creased cage (thesis ch. 3), or "
+                         "remeshing as by `cagekit remesh` (ch. 5, ch. 6)"};
+const RealOption kFitTolerance{"--fit-tolerance", 1e-4, 0.0, 1.0, "T",
+                               "anisotropic, quad: the fit's tolerance (as --tolerance of `cagekit fit`)"};
+const IntegerOption kFaces{"--faces", -1, 1, 2000000000, "N",
+                           "simplify: the level with N polygons (this or --vertices); quad, anisotropic: the "
+                           "fallback's target"};
+const IntegerOption kVertices{"--vertices", -1, 1, 2000000000, "N",
+                              "simplify: the level with N vertices (this or --faces)"};
+const IntegerOption kLimitLevels{"--limit-levels", 3, 1, 5, "L", "limit.obj: the fitted cage refined L levels onto its limit"};
+const TextOption kComponents{"--components", "all", "all|largest", "conditioning: keep all components or the largest"};
+const RealOption kWeldTolerance{"--weld-tolerance", 1e-7, 0.0, 0.1, "REL",
+                                "conditioning: weld vertices closer than REL x the bbox diagonal"};
+const RealOption kTwoSidedRefit{"--two-sided-refit", 3.0, 0.0, 100.0, "FACTOR",
+                                "last phase: the good cage fitted again by two-sided least squares (limit points "
+                                "farther than FACTOR x the scan's RMS pulled to the scan), kept when it is better "
+                                "(0: not tried)"};
 
-int command_pipeline(Args& args) {
-  const char* usage =
-      "cagekit pipeline SCAN OUTDIR ([--method simplify] (--faces N | --vertices N) [--creases sharp-input|cluster-angle] "
-      "[--feature-angle DEG] [--crease-angle DEG] [--input-crease-angle DEG] "
-      "| --method anisotropic [--tolerance REL] [--feature-angle DEG] [--max-face-valence N] [--fit-tolerance T] "
-      "| --method quad [--edge-length REL] [--regions N] [--weights TRI,PENT,TJOINT] [--refinement-passes N] [--feature-angle DEG] "
-      "[--fit-tolerance T] [--faces N]) "
-      "[--no-repair] [--components all|largest] [--weld-tolerance REL] [--no-fallback] "
-      "[--passes N] [--tolerance T] [--projection exact|linear] [--fairing F] [--crease-feature-reach REL] [--keep-creases] [--threads N] "
-      "[--limit-levels L] [--two-sided-refit FACTOR] [--json] [--quiet]";
-  const bool quiet = args.flag("--quiet");
-  const bool json = args.flag("--json");
-  const bool no_repair = args.flag("--no-repair");
-  const bool no_fallback = args.flag("--no-fallback");
+int command_pipeline(const Options& args) {
+  const bool quiet = args.quiet();
+  const bool json = args.flag(kJson);
+  const bool no_repair = args.flag(kNoRepair);
+  const bool no_fallback = args.flag(kNoFallback);
   std::string method, components;
   int faces = -1, vertices = -1, limit_levels = 3;
   double fit_tolerance = -1.0, weld = 1e-7, two_sided_refit = 3.0;
   cagekit_cage_options cage = CAGEKIT_CAGE_OPTIONS_INIT;
   RemeshSettings remesh;
+  const bool remeshing = args.text(kMethod) == "anisotropic" || args.text(kMethod) == "quad";
   try {
-    method = args.option("--method", "simplify");
-    const bool remeshing = method == "anisotropic" || method == "quad";
+    method = args.text(kMethod);
     if (remeshing) {  // anisotropic: --tolerance is the remeshing tolerance; the fit's is --fit-tolerance
       remesh = parse_remesh_options(args, method);
-      fit_tolerance = args.real("--fit-tolerance", 1e-4, 0.0, 1.0);
+      fit_tolerance = args.real(kFitTolerance);
     }
-    faces = args.integer("--faces", -1, 1, 2000000000);
-    vertices = args.integer("--vertices", -1, 1, 2000000000);
+    faces = args.integer(kFaces);
+    vertices = args.integer(kVertices);
     if (!remeshing) cage = parse_cage_options(args);  // the remeshers read --feature-angle themselves
-    limit_levels = args.integer("--limit-levels", 3, 1, 5);
-    components = args.option("--components", "all");
-    weld = args.real("--weld-tolerance", 1e-7, 0.0, 0.1);
-    two_sided_refit = args.real("--two-sided-refit", 3.0, 0.0, 100.0);
+    limit_levels = args.integer(kLimitLevels);
+    components = args.text(kComponents);
+    weld = args.real(kWeldTolerance);
+    two_sided_refit = args.real(kTwoSidedRefit);
   } catch (const Failure& f) {  // option values are input of this command: exit code 2
     throw Failure(f.code == kExitUsage ? kExitBadInput : f.code, f.what());
   }
@@ -84,10 +98,21 @@ int command_pipeline(Args& args) {
     throw Failure(kExitBadInput, "--components must be 'all' or 'largest', not '" + components + "'");
   cagekit_fit_options fit = parse_fit_options(args);
   if (fit_tolerance >= 0.0) fit.tolerance = fit_tolerance;
-  const auto files = args.positional(2, 2, usage);
+  // The options of the other methods, given, are usage errors.
+  if (remeshing) {
+    fit.threads = 0;  // --threads is the remesher's
+    refuse_other_remesh_options(args, remesh);
+    args.refuse({"--creases", "--crease-angle", "--input-crease-angle"}, "with --method " + method);
+  } else {
+    args.refuse({"--max-face-valence", "--curvature-radius", "--edge-length", "--regions", "--region-tolerance",
+                 "--weights", "--refinement-passes", kFitTolerance.name},
+                "with --method simplify");
+  }
+  const std::vector<std::string> files = {args.positional("SCAN"), args.positional("OUTDIR")};
   // simplify needs exactly one target; the remeshers take an optional --faces (the fallback's).
   if (method == "simplify" ? ((faces < 0) == (vertices < 0)) : vertices > 0)
-    throw Failure(kExitUsage, std::string("usage: ") + usage);
+    throw Failure(kExitUsage, method == "simplify" ? "pipeline --method simplify needs one of --faces N or --vertices N"
+                                                   : "--vertices does not apply with --method " + method);
 
   cagekit_scan_to_cage_options options = CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT;
   options.method = method == "quad" ? CAGEKIT_SCAN_QUAD
@@ -208,6 +233,40 @@ int command_pipeline(Args& args) {
     std::printf("  wrote     cage.obj limit.obj report.json (%.2f s)\n", r.seconds);
   }
   return kExitOk;
+}
+
+}  // namespace
+
+Command add_pipeline(CLI::App& cagekit) {
+  CLI::App* app = cagekit.add_subcommand(
+      "pipeline", "conditioning -> simplify or remesh -> creased cage -> fit; writes OUTDIR/cage.obj, limit.obj, "
+                  "report.json (a result that is not good: exit 2)");
+  auto options = std::make_shared<Options>(app);
+  options->add_positional("SCAN", "mesh file");
+  options->add_positional("OUTDIR", "output folder (created with its parents)");
+  options->add(kMethod);
+  options->add(kFaces);
+  options->add(kVertices);
+  add_cage_options(*options);
+  add_fit_options(*options);  // before the remeshers': --tolerance shows the fit's default
+  add_remesh_options(*options);
+  options->add(kFitTolerance);
+  options->add(kLimitLevels);
+  options->add(kNoRepair);
+  options->add(kComponents);
+  options->add(kWeldTolerance);
+  options->add(kNoFallback);
+  options->add(kTwoSidedRefit);
+  options->add(kJson);
+  options->add_quiet();
+  // Shared by the methods with method-dependent meanings.
+  app->get_option("--feature-angle")
+      ->description("input edges sharper than DEG: sharp for simplify's sharp-input creases (0..180), feature lines "
+                    "of the remeshers (-1: none)");
+  app->get_option("--tolerance")
+      ->description("simplify: the fit's tolerance (as in `cagekit fit`) [0, 1]; anisotropic: the remeshing tolerance "
+                    "[1e-07, 1], default 0.002; quad: checked, no effect (the fit's is --fit-tolerance)");
+  return {app, [options] { return command_pipeline(*options); }};
 }
 
 }  // namespace cli

@@ -117,32 +117,73 @@ void make_directories(const std::string& path) {
   }
 }
 
-cagekit_cage_options parse_cage_options(Args& args) {
+namespace {
+
+const TextOption kCreases{"--creases", "sharp-input", "sharp-input|cluster-angle",
+                          "where the cage gets creases: where the scan is sharp (input edges above --feature-angle, "
+                          "noise filtered), or by the clusters' normals (thesis rule, --crease-angle)"};
+const RealOption kFeatureAngle{"--feature-angle", 40.0, 0.0, 180.0, "DEG",
+                               "sharp-input: input edges sharper than DEG are sharp"};
+const RealOption kCreaseAngle{"--crease-angle", 30.0, -1.0, 180.0, "DEG",
+                              "cluster-angle: clusters whose normals differ by more than DEG meet at a crease"};
+const RealOption kInputCreaseAngle{"--input-crease-angle", -1.0, -1.0, 180.0, "DEG",
+                                   "cluster-angle: also require the input to be sharper than DEG there (-1: off)"};
+
+const IntegerOption kPasses{"--passes", 5, 0, 100000, "N", "fit passes (control-vertex steps) at most"};
+const RealOption kFitTolerance{"--tolerance", 1e-4, 0.0, 1.0, "T",
+                               "stop when a pass lowers the L2 error by less than T x L2 (0: run all --passes)"};
+const RealOption kFairing{"--fairing", 0.0, 0.0, 1e6, "F", "weight of an umbrella-Laplacian fairing term (0: none, as in the thesis)"};
+const IntegerOption kThreads{"--threads", 0, 0, 1024, "N", "worker threads (0: all cores)"};
+const FlagOption kKeepCreases{"--keep-creases", "vertices on sharp creases and corners keep their positions"};
+const RealOption kCreaseFeatureReach{"--crease-feature-reach", 0.02, 0.0, 1.0, "REL",
+                                     "the limit's crease curves are pulled onto the scan's sharp edges within "
+                                     "REL x the bbox diagonal (0: crease curves free)"};
+const TextOption kProjection{"--projection", "exact", "exact|linear",
+                             "closest points on the exact limit surface or on its piecewise-linear refinement"};
+
+}  // namespace
+
+void add_cage_options(Options& options) {
+  options.add(kCreases);
+  options.add(kFeatureAngle);
+  options.add(kCreaseAngle);
+  options.add(kInputCreaseAngle);
+}
+
+cagekit_cage_options parse_cage_options(const Options& args) {
   cagekit_cage_options o = CAGEKIT_CAGE_OPTIONS_INIT;
-  const std::string rule = bad_value_is_bad_input([&] { return args.option("--creases", "sharp-input"); });
+  const std::string rule = bad_value_is_bad_input([&] { return args.text(kCreases); });
   if (rule == "sharp-input")
     o.crease_rule = CAGEKIT_CREASES_SHARP_INPUT;
   else if (rule == "cluster-angle")
     o.crease_rule = CAGEKIT_CREASES_CLUSTER_ANGLE;
   else
     throw Failure(kExitBadInput, "--creases must be 'sharp-input' or 'cluster-angle', not '" + rule + "'");
-  o.feature_angle_degrees = bad_value_is_bad_input([&] { return args.real("--feature-angle", 40.0, 0.0, 180.0); });
-  o.crease_angle_degrees = bad_value_is_bad_input([&] { return args.real("--crease-angle", 30.0, -1.0, 180.0); });
-  o.input_crease_angle_degrees =
-      bad_value_is_bad_input([&] { return args.real("--input-crease-angle", -1.0, -1.0, 180.0); });
+  o.feature_angle_degrees = bad_value_is_bad_input([&] { return args.real(kFeatureAngle); });
+  o.crease_angle_degrees = bad_value_is_bad_input([&] { return args.real(kCreaseAngle); });
+  o.input_crease_angle_degrees = bad_value_is_bad_input([&] { return args.real(kInputCreaseAngle); });
   return o;
 }
 
-cagekit_fit_options parse_fit_options(Args& args) {
+void add_fit_options(Options& options) {
+  options.add(kPasses);
+  options.add(kFitTolerance);
+  options.add(kProjection);
+  options.add(kFairing);
+  options.add(kCreaseFeatureReach);
+  options.add(kKeepCreases);
+  options.add(kThreads);
+}
+
+cagekit_fit_options parse_fit_options(const Options& args) {
   cagekit_fit_options o = CAGEKIT_FIT_OPTIONS_INIT;
-  o.max_passes = static_cast<uint32_t>(bad_value_is_bad_input([&] { return args.integer("--passes", 5, 0, 100000); }));
-  o.tolerance = bad_value_is_bad_input([&] { return args.real("--tolerance", 1e-4, 0.0, 1.0); });
-  o.fairing = bad_value_is_bad_input([&] { return args.real("--fairing", 0.0, 0.0, 1e6); });
-  o.threads = static_cast<uint32_t>(bad_value_is_bad_input([&] { return args.integer("--threads", 0, 0, 1024); }));
-  o.keep_crease_vertices = args.flag("--keep-creases") ? 1 : 0;
-  o.crease_feature_reach =
-      bad_value_is_bad_input([&] { return args.real("--crease-feature-reach", 0.02, 0.0, 1.0); });
-  const std::string projection = bad_value_is_bad_input([&] { return args.option("--projection", "exact"); });
+  o.max_passes = static_cast<uint32_t>(bad_value_is_bad_input([&] { return args.integer(kPasses); }));
+  o.tolerance = bad_value_is_bad_input([&] { return args.real(kFitTolerance); });
+  o.fairing = bad_value_is_bad_input([&] { return args.real(kFairing); });
+  o.threads = static_cast<uint32_t>(bad_value_is_bad_input([&] { return args.integer(kThreads); }));
+  o.keep_crease_vertices = args.flag(kKeepCreases) ? 1 : 0;
+  o.crease_feature_reach = bad_value_is_bad_input([&] { return args.real(kCreaseFeatureReach); });
+  const std::string projection = bad_value_is_bad_input([&] { return args.text(kProjection); });
   if (projection == "exact")
     o.projection = CAGEKIT_PROJECTION_EXACT;
   else if (projection == "linear")

@@ -12,16 +12,20 @@
 
 namespace cli {
 
-// --passes N --tolerance T --projection exact|linear --fairing F --keep-creases --threads N
-// --crease-feature-reach REL (cagekit_fit_options.crease_feature_reach; 0: crease curves free).
+// The fit's options (fit, pipeline): --passes N --tolerance T --projection exact|linear --fairing F
+// --keep-creases --threads N --crease-feature-reach REL (cagekit_fit_options.crease_feature_reach;
+// 0: crease curves free).
+void add_fit_options(Options& options);
 // Values out of range are bad input (Failure with kExitBadInput naming the option).
-cagekit_fit_options parse_fit_options(Args& args);
+cagekit_fit_options parse_fit_options(const Options& options);
 
-// Simplify's crease options: --creases sharp-input|cluster-angle (default sharp-input: creases
-// only where the scan is sharp), --feature-angle DEG (sharp-input, default 40), --crease-angle DEG
-// and --input-crease-angle DEG (cluster-angle, defaults 30 and -1). Values out of range are bad
-// input (Failure with kExitBadInput naming the option).
-cagekit_cage_options parse_cage_options(Args& args);
+// Simplify's crease options (simplify, pipeline --method simplify): --creases
+// sharp-input|cluster-angle (default sharp-input: creases only where the scan is sharp),
+// --feature-angle DEG (sharp-input, default 40), --crease-angle DEG and --input-crease-angle DEG
+// (cluster-angle, defaults 30 and -1).
+void add_cage_options(Options& options);
+// Values out of range are bad input (Failure with kExitBadInput naming the option).
+cagekit_cage_options parse_cage_options(const Options& options);
 
 // Runs cagekit_cage_fit with a pass array of max_passes + 1 entries (all of them).
 struct FitResult {
