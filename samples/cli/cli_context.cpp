@@ -3,6 +3,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <cstdio>
 
 #include <CLI/CLI.hpp>
@@ -230,6 +233,50 @@ std::vector<double> cage_positions(const Session& session, cagekit_cage cage, co
 
 std::string json_string(const std::string& text) {
   return nlohmann::json(text).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+namespace {
+
+void write_json(std::string& out, const nlohmann::ordered_json& value, const char* separator) {
+  if (value.is_object()) {
+    out += '{';
+    bool first = true;
+    for (const auto& member : value.items()) {
+      if (!first) out += separator;
+      first = false;
+      out += json_string(member.key());
+      out += ": ";
+      write_json(out, member.value(), ", ");
+    }
+    out += '}';
+  } else if (value.is_array()) {
+    out += '[';
+    for (size_t i = 0; i < value.size(); ++i) {
+      if (i) out += ", ";
+      write_json(out, value[i], ", ");
+    }
+    out += ']';
+  } else {
+    out += value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  }
+}
+
+}  // namespace
+
+std::string json_text(const nlohmann::ordered_json& value, const char* top_separator) {
+  std::string out;
+  write_json(out, value, top_separator);
+  return out;
+}
+
+nlohmann::ordered_json json_rounded(double x, const char* format) {
+  if (!std::isfinite(x)) return nullptr;
+  char buffer[64];
+  std::snprintf(buffer, sizeof(buffer), format, x);
+  // Written as printf wrote it: "40" stays an integer (not 40.0), "0.5" a number with a fraction.
+  if (std::strspn(buffer, "-0123456789") == std::strlen(buffer) && std::strlen(buffer) < 19)
+    return std::strtoll(buffer, nullptr, 10);
+  return std::strtod(buffer, nullptr);
 }
 
 }  // namespace cli

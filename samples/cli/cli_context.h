@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 namespace CLI {
 class App;
 }  // namespace CLI
@@ -22,7 +24,8 @@ constexpr int kExitOk = 0;
 constexpr int kExitBadInput = 2;
 constexpr int kExitUsage = 64;
 
-// Thrown by commands; main() prints "cagekit: <message>" and exits with `code`.
+// Thrown by commands; main() prints "cagekit: <message>" (for kExitUsage with a hint to --help)
+// and exits with `code`.
 struct Failure : std::runtime_error {
   Failure(int c, const std::string& message) : std::runtime_error(message), code(c) {}
   int code;
@@ -136,6 +139,14 @@ inline double seconds_since(std::chrono::steady_clock::time_point start) {
 // \uXXXX, invalid UTF-8 bytes replaced by U+FFFD), for the commands' --json output.
 std::string json_string(const std::string& text);
 
+// The JSON reports are nlohmann::ordered_json objects (members in insertion order), written by
+// json_text in the layout the CLI has always printed: one line, ", " and ": " separators (scripts
+// grep for '"key": '); `top_separator` separates the top-level members (",\n " in report.json).
+std::string json_text(const nlohmann::ordered_json& value, const char* top_separator = ", ");
+// x rounded as the reports have always printed it with `format` ("%.9g", "%.3f", ...): an integer
+// when that text is one ("40"), else the number the text reads as; null when x is not finite.
+nlohmann::ordered_json json_rounded(double x, const char* format);
+
 // The cage's control points, xyz interleaved (errors: Failure naming `what`).
 std::vector<double> cage_positions(const Session& session, cagekit_cage cage, const std::string& what);
 
@@ -184,11 +195,11 @@ RemeshSettings parse_remesh_options(const Options& options, const std::string& m
 // Failure(kExitUsage) when an option of the other method was given (--tolerance excepted: it is
 // also the fit's, in the pipeline).
 void refuse_other_remesh_options(const Options& options, const RemeshSettings& settings);
-// The method and its main settings as JSON fields (no braces): "method": "anisotropic",
-// "tolerance": ... or "method": "quad", "edge_length": ..., "weights": [tri, pent, tjoint].
-std::string remesh_method_json(const RemeshSettings& settings);
-// The report's JSON fields (no braces): faces, vertices, quads_pct, ..., mean_alignment_deg.
-std::string remesh_json_fields(const RemeshFigures& figures, const cagekit_approximation_error& error);
+// The method and its main settings: {"method": "anisotropic", "tolerance": ...} or {"method": "quad",
+// "edge_length": ..., "weights": [tri, pent, tjoint], "refinement_passes": ...}.
+nlohmann::ordered_json remesh_method_json(const RemeshSettings& settings);
+// The report's figures: {"faces", "vertices", "quads_pct", ..., "lines", "holes"}.
+nlohmann::ordered_json remesh_json_fields(const RemeshFigures& figures, const cagekit_approximation_error& error);
 // --sharp-angle DEG of bind and deform: one bound vertex per smooth sector.
 void add_sharp_angle(Options& options);
 // Its value, -1 when absent; not a number of degrees in [0, 180]: Failure(kExitBadInput).

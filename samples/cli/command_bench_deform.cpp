@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "cli_context.h"
 #include "gpu_bench.h"
@@ -140,25 +141,27 @@ int command_bench_deform(const Options& args) {
   // GPU: full recompute in a headless EGL context (llvmpipe where there is no GPU).
   const GpuBench gpu = bench_gpu_deformer(session.context(), binding.get(), scan.get(), control, frames, step);
   if (!gpu.ran && !quiet) std::fprintf(stderr, "cagekit: bench-deform: gpu_fps is null: %s\n", gpu.why.c_str());
-  std::string gpu_fps = "null", gpu_renderer = "null", gpu_version = "null";
-  if (gpu.ran) {
-    char buf[32];
-    std::snprintf(buf, sizeof(buf), "%.2f", gpu.fps);
-    gpu_fps = buf;
-    gpu_renderer = json_string(gpu.renderer);
-    gpu_version = json_string(gpu.version);
-  }
   // Bytes read + written per vertex in one full CPU frame (the library's own count for the table
   // the deformer streams; sdk/multires/patch_deformer_table.h).
   const double bytes_per_vertex = info.deform_bytes_per_vertex;
   if (json) {
-    std::printf("{\"vertices\": %u, \"triangles\": %llu, \"control_points\": %u, \"moved\": %zu, \"frames\": %d, "
-                "\"cpu_fps\": %.2f, \"cpu_fps_f32\": %.2f, \"cpu_incremental_fps\": %.2f, \"incremental_vertices_per_frame\": %.1f, "
-                "\"gpu_fps\": %s, \"gpu_renderer\": %s, \"gpu_gl_version\": %s, \"bytes_per_vertex\": %.1f, "
-                "\"basis_entries_per_vertex\": %.2f, \"vertex_order\": \"%s\"}\n",
-                n, (unsigned long long)(indices - 2ull * faces), m, moved.size(), frames, full_fps, full_fps_f32, incremental_fps,
-                double(updated_total) / frames, gpu_fps.c_str(), gpu_renderer.c_str(), gpu_version.c_str(), bytes_per_vertex,
-                double(info.basis_entries) / n, vertex_order.c_str());
+    nlohmann::ordered_json j;
+    j["vertices"] = n;
+    j["triangles"] = uint64_t(indices - 2ull * faces);
+    j["control_points"] = m;
+    j["moved"] = moved.size();
+    j["frames"] = frames;
+    j["cpu_fps"] = json_rounded(full_fps, "%.2f");
+    j["cpu_fps_f32"] = json_rounded(full_fps_f32, "%.2f");
+    j["cpu_incremental_fps"] = json_rounded(incremental_fps, "%.2f");
+    j["incremental_vertices_per_frame"] = json_rounded(double(updated_total) / frames, "%.1f");
+    j["gpu_fps"] = gpu.ran ? json_rounded(gpu.fps, "%.2f") : nullptr;
+    j["gpu_renderer"] = gpu.ran ? nlohmann::ordered_json(gpu.renderer) : nullptr;
+    j["gpu_gl_version"] = gpu.ran ? nlohmann::ordered_json(gpu.version) : nullptr;
+    j["bytes_per_vertex"] = json_rounded(bytes_per_vertex, "%.1f");
+    j["basis_entries_per_vertex"] = json_rounded(double(info.basis_entries) / n, "%.2f");
+    j["vertex_order"] = vertex_order;
+    std::printf("%s\n", json_text(j).c_str());
   } else if (!quiet) {
     std::printf("%u vertices, %u control points: full recompute %.1f frames/s (float32 outputs %.1f), %zu moved "
                 "points %.1f frames/s (%.0f vertices recomputed per frame), %.0f bytes per vertex\n",

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "cli_context.h"
 
@@ -82,11 +83,16 @@ int command_bind(const Options& args) {
     std::fclose(f);
   }
   if (json) {
-    std::printf("{\"vertices\": %u, \"scan_vertices\": %u, \"control_points\": %u, \"mode\": \"%s\", \"exact_normals\": %s, "
-                "\"max_sideways_residual_rel\": %.6g, \"bytes\": %lld, \"bind_seconds\": %.4f}\n",
-                info.vertex_count, info.scan_vertex_count, info.control_count, local_frame ? "local_frame" : "normal",
-                exact ? "true" : "false",
-                info.max_sideways_residual, bytes, bind_seconds);
+    nlohmann::ordered_json j;
+    j["vertices"] = info.vertex_count;
+    j["scan_vertices"] = info.scan_vertex_count;
+    j["control_points"] = info.control_count;
+    j["mode"] = local_frame ? "local_frame" : "normal";
+    j["exact_normals"] = exact;
+    j["max_sideways_residual_rel"] = json_rounded(info.max_sideways_residual, "%.6g");
+    j["bytes"] = int64_t(bytes);
+    j["bind_seconds"] = json_rounded(bind_seconds, "%.4f");
+    std::printf("%s\n", json_text(j).c_str());
   } else if (!quiet) {
     std::printf("%s bound to %s (%u vertices, %.2f s) -> %s (%lld bytes)\n", files[0].c_str(), files[1].c_str(),
                 info.vertex_count, bind_seconds, files[2].c_str(), bytes);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "cli_context.h"
 
@@ -109,11 +110,17 @@ int command_deform(const Options& args) {
   for (size_t k = 0; k + 2 < before.size(); k += 3)
     moved = std::max(moved, std::hypot(after[k] - before[k], after[k + 1] - before[k + 1], after[k + 2] - before[k + 2]));
   if (json) {
-    std::printf("{\"vertices\": %u, \"scan_vertices\": %u, \"control_points\": %u, \"basis_entries\": %llu, \"max_control_move_rel\": %.6g, "
-                "\"max_sideways_residual_rel\": %.6g, \"mode\": \"%s\", \"bind_seconds\": %.4f, \"deform_seconds\": %.5f}\n",
-                info.vertex_count, info.scan_vertex_count, info.control_count, (unsigned long long)info.basis_entries,
-                info.bbox_diagonal > 0 ? moved / info.bbox_diagonal : 0.0, info.max_sideways_residual,
-                saved ? "saved" : local_frame ? "local_frame" : "normal", bind_seconds, deform_seconds);
+    nlohmann::ordered_json j;
+    j["vertices"] = info.vertex_count;
+    j["scan_vertices"] = info.scan_vertex_count;
+    j["control_points"] = info.control_count;
+    j["basis_entries"] = uint64_t(info.basis_entries);
+    j["max_control_move_rel"] = json_rounded(info.bbox_diagonal > 0 ? moved / info.bbox_diagonal : 0.0, "%.6g");
+    j["max_sideways_residual_rel"] = json_rounded(info.max_sideways_residual, "%.6g");
+    j["mode"] = saved ? "saved" : local_frame ? "local_frame" : "normal";
+    j["bind_seconds"] = json_rounded(bind_seconds, "%.4f");
+    j["deform_seconds"] = json_rounded(deform_seconds, "%.5f");
+    std::printf("%s\n", json_text(j).c_str());
   } else if (!quiet) {
     std::printf("%s bound to %s (%u vertices, %.1f basis entries each, %.2f s); deformed by %s -> %s (%.3f s)\n",
                 files[0].c_str(), files[1].c_str(), info.vertex_count, double(info.basis_entries) / info.vertex_count,

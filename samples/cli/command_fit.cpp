@@ -37,7 +37,7 @@ int command_fit(const Options& args) {
 
   const cagekit_fit_report& r = fit.report;
   if (json) {
-    std::printf("%s\n", fit_json(fit, options).c_str());
+    std::printf("%s\n", json_text(fit_json(fit, options)).c_str());
   } else if (!quiet) {
     std::printf("%s fitted to %s -> %s: %u passes%s, %.2f s\n", files[1].c_str(), files[0].c_str(), files[2].c_str(),
                 r.pass_count - 1,

@@ -17,8 +17,6 @@ namespace cli {
 
 namespace {
 
-std::string u64(uint64_t x) { return std::to_string((unsigned long long)x); }
-
 const char* method_name(cagekit_scan_method m) {
   switch (m) {
     case CAGEKIT_SCAN_SIMPLIFY: return "simplify";
@@ -28,17 +26,23 @@ const char* method_name(cagekit_scan_method m) {
   }
 }
 
-std::string conditioning_json(const cagekit_scan_to_cage_report& r) {
-  return "{\"input_vertices\": " + u64(r.input_vertices) + ", \"input_faces\": " + u64(r.input_faces) +
-         ", \"vertices\": " + u64(r.conditioned_vertices) + ", \"faces\": " + u64(r.conditioned_faces) +
-         ", \"welded_vertices\": " + u64(r.welded_vertices) +
-         ", \"dropped_degenerate_faces\": " + u64(r.dropped_degenerate_faces) +
-         ", \"dropped_duplicate_faces\": " + u64(r.dropped_duplicate_faces) +
-         ", \"split_vertices\": " + u64(r.split_vertices) + ", \"flipped_faces\": " + u64(r.flipped_faces) +
-         ", \"non_orientable_components\": " + u64(r.non_orientable_components) +
-         ", \"removed_unreferenced_vertices\": " + u64(r.removed_unreferenced_vertices) +
-         ", \"components\": " + u64(r.components) + ", \"dropped_components\": " + u64(r.dropped_components) +
-         ", \"dropped_component_faces\": " + u64(r.dropped_component_faces) + "}";
+nlohmann::ordered_json conditioning_json(const cagekit_scan_to_cage_report& r) {
+  nlohmann::ordered_json j;
+  j["input_vertices"] = uint64_t(r.input_vertices);
+  j["input_faces"] = uint64_t(r.input_faces);
+  j["vertices"] = uint64_t(r.conditioned_vertices);
+  j["faces"] = uint64_t(r.conditioned_faces);
+  j["welded_vertices"] = uint64_t(r.welded_vertices);
+  j["dropped_degenerate_faces"] = uint64_t(r.dropped_degenerate_faces);
+  j["dropped_duplicate_faces"] = uint64_t(r.dropped_duplicate_faces);
+  j["split_vertices"] = uint64_t(r.split_vertices);
+  j["flipped_faces"] = uint64_t(r.flipped_faces);
+  j["non_orientable_components"] = uint64_t(r.non_orientable_components);
+  j["removed_unreferenced_vertices"] = uint64_t(r.removed_unreferenced_vertices);
+  j["components"] = uint64_t(r.components);
+  j["dropped_components"] = uint64_t(r.dropped_components);
+  j["dropped_component_faces"] = uint64_t(r.dropped_component_faces);
+  return j;
 }
 
 double percent(uint64_t part, uint64_t whole) { return whole ? 100.0 * double(part) / double(whole) : 0.0; }
@@ -159,17 +163,28 @@ int command_pipeline(const Options& args) {
   cagekit_approximation_error method_error = {sizeof(cagekit_approximation_error), r.method_scan_to_cage_max_rel,
                                               std::max(r.method_scan_to_cage_max_rel, r.method_cage_to_scan_max_rel),
                                               r.method_mean_rel};
-  std::string method_json;
+  nlohmann::ordered_json j;
+  j["method"] = method;
+  j["used_method"] = used;
+  j["fallback"] = bool(r.fallback);
+  j["fallback_reason"] = std::string(r.fallback_reason);
+  j["input_is_cage"] = bool(r.input_is_cage);
   if (r.used_method == CAGEKIT_SCAN_SIMPLIFY) {
-    method_json = "\"simplify\": {\"method\": \"simplify\", \"level\": " + std::to_string(r.level) +
-                  ", \"levels\": " + std::to_string(r.level_count) + ", \"target\": " +
-                  json_number(r.simplify_target_used) + ", \"polygons\": " + u64(r.level_faces) +
-                  ", \"faces_with_holes\": " + u64(r.level_faces_with_holes) + ", \"cage_faces\": " +
-                  u64(r.cage_faces) + ", \"quads\": " + u64(r.cage_quads) + ", \"triangles\": " +
-                  u64(r.cage_triangles) + ", \"creases\": " + u64(r.creases) + ", \"error\": {\"hausdorff_rel\": " +
-                  json_number(method_error.hausdorff_rel) + ", \"hausdorff_sym_rel\": " +
-                  json_number(method_error.hausdorff_sym_rel) + ", \"mean_rel\": " +
-                  json_number(method_error.mean_rel) + "}, \"seconds\": " + json_number(r.method_seconds) + "}";
+    nlohmann::ordered_json& s = j["simplify"];
+    s["method"] = "simplify";
+    s["level"] = r.level;
+    s["levels"] = r.level_count;
+    s["target"] = json_number(r.simplify_target_used);
+    s["polygons"] = uint64_t(r.level_faces);
+    s["faces_with_holes"] = uint64_t(r.level_faces_with_holes);
+    s["cage_faces"] = uint64_t(r.cage_faces);
+    s["quads"] = uint64_t(r.cage_quads);
+    s["triangles"] = uint64_t(r.cage_triangles);
+    s["creases"] = uint64_t(r.creases);
+    s["error"] = {{"hausdorff_rel", json_number(method_error.hausdorff_rel)},
+                  {"hausdorff_sym_rel", json_number(method_error.hausdorff_sym_rel)},
+                  {"mean_rel", json_number(method_error.mean_rel)}};
+    s["seconds"] = json_number(r.method_seconds);
   } else {
     RemeshFigures rr;
     rr.quality.faces = r.cage_faces;
@@ -185,32 +200,37 @@ int command_pipeline(const Options& args) {
     rr.holes = r.remesh_holes;
     rr.mean_alignment_deg = r.mean_alignment_deg;
     remesh.quad = r.used_method == CAGEKIT_SCAN_QUAD;
-    method_json = "\"remesh\": {" + remesh_method_json(remesh) + ", " + remesh_json_fields(rr, method_error) +
-                  ", \"seconds\": " + json_number(r.method_seconds) + "}";
+    nlohmann::ordered_json& m = j["remesh"];
+    m = remesh_method_json(remesh);
+    m.update(remesh_json_fields(rr, method_error));
+    m["seconds"] = json_number(r.method_seconds);
   }
-  const std::string report =
-      "{\"method\": \"" + method + "\", \"used_method\": \"" + used + "\", \"fallback\": " +
-      (r.fallback ? "true" : "false") + ", \"fallback_reason\": " + json_string(r.fallback_reason) +
-      ", \"input_is_cage\": " + (r.input_is_cage ? "true" : "false") + ",\n " + method_json +
-      ",\n \"conditioning\": " + conditioning_json(r) + ",\n \"fit\": " + fit_json(fit_result, fit) +
-      ",\n \"limit\": {\"levels\": " + std::to_string(r.limit_levels) + ", \"faces\": " + u64(r.limit_faces) +
-      ", \"error\": {\"hausdorff_rel\": " + json_number(r.scan_to_limit_max_rel) + ", \"hausdorff_sym_rel\": " +
-      json_number(std::max(r.scan_to_limit_max_rel, r.limit_to_scan_max_rel)) + ", \"mean_rel\": " +
-      json_number(r.limit_mean_rel) + "}}" +
-      ",\n \"quality\": {\"good\": true, \"scan_to_limit_max_rel\": " + json_number(r.scan_to_limit_max_rel) +
-      ", \"limit_to_scan_max_rel\": " + json_number(r.limit_to_scan_max_rel) +
-      ", \"limit_self_intersections\": " + u64(r.self_intersections) +
-      ", \"self_intersection_triangles\": " + u64(r.self_intersection_triangles) +
-      ", \"scan_self_intersections\": " +
-      (r.scan_self_intersections_counted ? u64(r.scan_self_intersections) : std::string("null")) +
-      ", \"unfitted_self_intersections\": " + u64(r.unfitted_self_intersections) +
-      ", \"fit_fairing_used\": " + json_number(r.fit_fairing_used) +
-      ", \"two_sided_refit\": " + (r.two_sided_refit ? "true" : "false") +
-      (r.two_sided_refit ? ", \"one_sided_fit_max_rel\": " + json_number(r.one_sided_fit_max_rel) : std::string()) +
-      (r.input_is_cage ? ", \"own_cage_crease_angle_deg\": " + json_number(r.own_cage_crease_angle_deg) : std::string()) +
-      ", \"holes_added\": " + u64(r.holes_added) + ", \"input_boundary_loops\": " + u64(r.input_boundary_loops) +
-      ", \"cage_boundary_loops\": " + u64(r.cage_boundary_loops) + "},\n \"seconds\": " + json_number(r.seconds) +
-      "}\n";
+  j["conditioning"] = conditioning_json(r);
+  j["fit"] = fit_json(fit_result, fit);
+  nlohmann::ordered_json& limit_section = j["limit"];
+  limit_section["levels"] = r.limit_levels;
+  limit_section["faces"] = uint64_t(r.limit_faces);
+  limit_section["error"] = {{"hausdorff_rel", json_number(r.scan_to_limit_max_rel)},
+                            {"hausdorff_sym_rel", json_number(std::max(r.scan_to_limit_max_rel, r.limit_to_scan_max_rel))},
+                            {"mean_rel", json_number(r.limit_mean_rel)}};
+  nlohmann::ordered_json& q = j["quality"];
+  q["good"] = true;
+  q["scan_to_limit_max_rel"] = json_number(r.scan_to_limit_max_rel);
+  q["limit_to_scan_max_rel"] = json_number(r.limit_to_scan_max_rel);
+  q["limit_self_intersections"] = uint64_t(r.self_intersections);
+  q["self_intersection_triangles"] = uint64_t(r.self_intersection_triangles);
+  q["scan_self_intersections"] =
+      r.scan_self_intersections_counted ? nlohmann::ordered_json(uint64_t(r.scan_self_intersections)) : nullptr;
+  q["unfitted_self_intersections"] = uint64_t(r.unfitted_self_intersections);
+  q["fit_fairing_used"] = json_number(r.fit_fairing_used);
+  q["two_sided_refit"] = bool(r.two_sided_refit);
+  if (r.two_sided_refit) q["one_sided_fit_max_rel"] = json_number(r.one_sided_fit_max_rel);
+  if (r.input_is_cage) q["own_cage_crease_angle_deg"] = json_number(r.own_cage_crease_angle_deg);
+  q["holes_added"] = uint64_t(r.holes_added);
+  q["input_boundary_loops"] = uint64_t(r.input_boundary_loops);
+  q["cage_boundary_loops"] = uint64_t(r.cage_boundary_loops);
+  j["seconds"] = json_number(r.seconds);
+  const std::string report = json_text(j, ",\n ") + "\n";  // one top-level member per line
   write_text_file(files[1] + "/report.json", report);
 
   if (json) {

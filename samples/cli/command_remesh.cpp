@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "cli_context.h"
 
@@ -110,33 +111,40 @@ void refuse_other_remesh_options(const Options& args, const RemeshSettings& sett
                 "with --method anisotropic");
 }
 
-std::string remesh_method_json(const RemeshSettings& settings) {
-  char buffer[256];
+nlohmann::ordered_json remesh_method_json(const RemeshSettings& settings) {
+  const auto g = [](double x) { return json_rounded(x, "%.9g"); };
   const cagekit_quad_remesh_options& q = settings.quad_options;
-  if (settings.quad)
-    std::snprintf(buffer, sizeof(buffer), "\"method\": \"quad\", \"edge_length\": %.9g, \"weights\": [%.9g, %.9g, %.9g], "
-                  "\"refinement_passes\": %u",
-                  q.edge_length, q.triangle_weight, q.pentagon_weight, q.t_joint_weight, q.refinement_passes);
-  else
-    std::snprintf(buffer, sizeof(buffer), "\"method\": \"anisotropic\", \"tolerance\": %.9g",
-                  settings.anisotropic.tolerance);
-  return buffer;
+  nlohmann::ordered_json j;
+  if (settings.quad) {
+    j["method"] = "quad";
+    j["edge_length"] = g(q.edge_length);
+    j["weights"] = {g(q.triangle_weight), g(q.pentagon_weight), g(q.t_joint_weight)};
+    j["refinement_passes"] = q.refinement_passes;
+  } else {
+    j["method"] = "anisotropic";
+    j["tolerance"] = g(settings.anisotropic.tolerance);
+  }
+  return j;
 }
 
-std::string remesh_json_fields(const RemeshFigures& f, const cagekit_approximation_error& e) {
+nlohmann::ordered_json remesh_json_fields(const RemeshFigures& f, const cagekit_approximation_error& e) {
   const cagekit_remesh_quality& q = f.quality;
-  char buffer[1024];
-  std::snprintf(buffer, sizeof(buffer),
-                "\"faces\": %llu, \"vertices\": %llu, \"quads_pct\": %.3f, \"valence4_vertices_pct\": %.3f, "
-                "\"max_face_valence\": %u, \"max_vertex_valence\": %u, \"creases\": %llu, \"hausdorff_rel\": %.9g, "
-                "\"hausdorff_sym_rel\": %.9g, \"min_scaled_jacobian\": %.6f, \"regions\": %llu, "
-                "\"mean_alignment_deg\": %.4f, \"lines\": %llu, \"holes\": %llu",
-                (unsigned long long)q.faces, (unsigned long long)q.vertices, percent(q.quads, q.faces),
-                percent(q.valence4_vertices, q.interior_vertices), q.max_face_valence, q.max_vertex_valence,
-                (unsigned long long)q.creases, e.hausdorff_rel, e.hausdorff_sym_rel, q.min_scaled_jacobian,
-                (unsigned long long)f.regions, f.mean_alignment_deg, (unsigned long long)f.lines,
-                (unsigned long long)f.holes);
-  return buffer;
+  nlohmann::ordered_json j;
+  j["faces"] = uint64_t(q.faces);
+  j["vertices"] = uint64_t(q.vertices);
+  j["quads_pct"] = json_rounded(percent(q.quads, q.faces), "%.3f");
+  j["valence4_vertices_pct"] = json_rounded(percent(q.valence4_vertices, q.interior_vertices), "%.3f");
+  j["max_face_valence"] = q.max_face_valence;
+  j["max_vertex_valence"] = q.max_vertex_valence;
+  j["creases"] = uint64_t(q.creases);
+  j["hausdorff_rel"] = json_rounded(e.hausdorff_rel, "%.9g");
+  j["hausdorff_sym_rel"] = json_rounded(e.hausdorff_sym_rel, "%.9g");
+  j["min_scaled_jacobian"] = json_rounded(q.min_scaled_jacobian, "%.6f");
+  j["regions"] = uint64_t(f.regions);
+  j["mean_alignment_deg"] = json_rounded(f.mean_alignment_deg, "%.4f");
+  j["lines"] = uint64_t(f.lines);
+  j["holes"] = uint64_t(f.holes);
+  return j;
 }
 
 namespace {
@@ -194,8 +202,11 @@ int command_remesh(const Options& args) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   if (json) {
-    std::printf("{%s, %s, \"remesh_seconds\": %.3f, \"seconds\": %.3f}\n", remesh_method_json(settings).c_str(),
-                remesh_json_fields(figures, error).c_str(), quality.seconds, seconds);
+    nlohmann::ordered_json j = remesh_method_json(settings);
+    j.update(remesh_json_fields(figures, error));
+    j["remesh_seconds"] = json_rounded(quality.seconds, "%.3f");
+    j["seconds"] = json_rounded(seconds, "%.3f");
+    std::printf("%s\n", json_text(j).c_str());
   } else if (!quiet) {
     char described[128];
     if (settings.quad)

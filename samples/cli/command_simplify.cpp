@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "cli_context.h"
 #include "pipeline.h"
@@ -145,20 +146,27 @@ int command_simplify(const Options& args) {
   const unsigned long long triangles = want_cage ? cage_report.triangles : out_info.triangles;
   const unsigned long long pentagons = want_cage ? cage_report.pentagons : 0ull;
   if (json) {
-    std::printf(
-        "{\"level\": %u, \"polygons\": %llu, \"faces\": %llu, \"vertices\": %llu, \"quads\": %llu, "
-        "\"triangles\": %llu, \"pentagons\": %llu, \"other_polygons\": %llu, \"faces_with_holes\": %llu, "
-        "\"invalid_faces\": %llu, \"non_manifold_edges\": %llu, \"creases\": %llu, \"l2_error\": %.9g, \"l21_error\": %.9g, "
-        "\"hausdorff_rel\": %.9g, \"hausdorff_sym_rel\": %.9g, \"mean_rel\": %.9g, "
-        "\"simplify_seconds\": %.3f, \"seconds\": %.3f}\n",
-        level, (unsigned long long)info.faces, (unsigned long long)out_info.faces,
-        (unsigned long long)out_info.vertices, quads, triangles, pentagons,
-        (unsigned long long)(want_cage ? cage_report.other_polygons : out_info.other_polygons),
-        (unsigned long long)info.faces_with_holes,
-        (unsigned long long)(info.invalid_faces + (want_cage ? cage_report.other_polygons : 0)),
-        (unsigned long long)(want_cage ? cage_report.non_manifold_edges : 0),
-        (unsigned long long)(want_cage ? cage_report.creases : 0), info.l2_error, info.l21_error, error.hausdorff_rel,
-        error.hausdorff_sym_rel, error.mean_rel, simplify_seconds, seconds);
+    nlohmann::ordered_json j;
+    j["level"] = level;
+    j["polygons"] = uint64_t(info.faces);
+    j["faces"] = uint64_t(out_info.faces);
+    j["vertices"] = uint64_t(out_info.vertices);
+    j["quads"] = quads;
+    j["triangles"] = triangles;
+    j["pentagons"] = pentagons;
+    j["other_polygons"] = uint64_t(want_cage ? cage_report.other_polygons : out_info.other_polygons);
+    j["faces_with_holes"] = uint64_t(info.faces_with_holes);
+    j["invalid_faces"] = uint64_t(info.invalid_faces + (want_cage ? cage_report.other_polygons : 0));
+    j["non_manifold_edges"] = uint64_t(want_cage ? cage_report.non_manifold_edges : 0);
+    j["creases"] = uint64_t(want_cage ? cage_report.creases : 0);
+    j["l2_error"] = json_rounded(info.l2_error, "%.9g");
+    j["l21_error"] = json_rounded(info.l21_error, "%.9g");
+    j["hausdorff_rel"] = json_rounded(error.hausdorff_rel, "%.9g");
+    j["hausdorff_sym_rel"] = json_rounded(error.hausdorff_sym_rel, "%.9g");
+    j["mean_rel"] = json_rounded(error.mean_rel, "%.9g");
+    j["simplify_seconds"] = json_rounded(simplify_seconds, "%.3f");
+    j["seconds"] = json_rounded(seconds, "%.3f");
+    std::printf("%s\n", json_text(j).c_str());
   } else if (!quiet) {
     std::printf("%s -> %s: level %u, %llu polygons (%llu with holes) -> %llu faces (%llu quads, %llu triangles, "
                 "%llu pentagons), %llu creases, Hausdorff %.3g of the diagonal, %.2f s\n",

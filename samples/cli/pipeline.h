@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "cli_context.h"
 
 namespace cli {
@@ -36,7 +38,7 @@ void run_fit(const Session& session, cagekit_cage cage, cagekit_mesh scan, const
              const std::string& what, Cage* fitted, FitResult* result);
 
 // {"passes": steps, final figures, "seconds": whole fit, "stopped_by_tolerance", ..., "per_pass": [...]}.
-std::string fit_json(const FitResult& fit, const cagekit_fit_options& options);
+nlohmann::ordered_json fit_json(const FitResult& fit, const cagekit_fit_options& options);
 
 struct PipelineSettings {
   cagekit_level_query query = CAGEKIT_LEVEL_BY_FACES;  // BY_FACES or BY_VERTICES
@@ -66,7 +68,7 @@ struct PipelineResult {
   cagekit_mesh_info limit_info{};
   cagekit_approximation_error limit_error{};  // scan vs the refined limit mesh
   double seconds = 0;
-  std::string json;   // what report.json holds
+  std::string json;   // what report.json holds (json_text)
 };
 
 // Runs the pipeline on `scan` (a valid mesh) and writes the outputs named in `settings` into
@@ -74,8 +76,8 @@ struct PipelineResult {
 void run_pipeline(const Session& session, cagekit_mesh scan, const std::string& scan_name,
                   const PipelineSettings& settings, const std::string& dir, PipelineResult* result);
 
-// A JSON number ("null" for NaN/Inf).
-std::string json_number(double x);
+// x as a JSON number rounded to 9 significant digits (null for NaN/Inf).
+nlohmann::ordered_json json_number(double x);
 // Writes `text` to path.tmp and renames it over `path` (Failure(kExitBadInput) on error).
 void write_text_file(const std::string& path, const std::string& text);
 
