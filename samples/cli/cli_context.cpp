@@ -57,7 +57,7 @@ void Options::add(const RealOption& option) {
   if (option.fallback >= option.min && option.fallback <= option.max) o->default_str(number_text(option.fallback));
 }
 
-void Options::add_quiet() { add(FlagOption{"--quiet", "no progress or summary on stderr"}); }
+void Options::add_quiet() { add(FlagOption{"--quiet", "no progress, warnings or summary lines"}); }
 
 void Options::add_positional(const char* name, const char* help, bool required) {
   CLI::Option* o = app_->add_option(name, texts_[name], help)->type_name("");

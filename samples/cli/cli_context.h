@@ -75,7 +75,7 @@ class Options {
   void add(const TextOption& option);
   void add(const IntegerOption& option);
   void add(const RealOption& option);
-  void add_quiet();  // --quiet: no progress or summary on stderr
+  void add_quiet();  // --quiet: no progress, warnings or summary lines
   void add_positional(const char* name, const char* help, bool required = true);
 
   // Reading (after parsing).

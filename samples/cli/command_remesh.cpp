@@ -85,7 +85,8 @@ RemeshSettings parse_remesh_options(const Options& args, const std::string& meth
       o.edge_length = args.real(kEdgeLength);
       o.regions = static_cast<uint32_t>(args.integer(kRegions));
       o.region_tolerance = args.real(kRegionTolerance);
-      if (args.given(kWeights.name)) parse_weights(args.text(kWeights), o);
+      const std::string weights = args.given(kWeights.name) ? args.text(kWeights) : std::string();
+      if (!weights.empty()) parse_weights(weights, o);  // else the library's (kWeights' shown default)
       o.refinement_passes = static_cast<uint32_t>(args.integer(kRefinementPasses));
       o.crease_angle_degrees = args.real(kFeatureAngle);
       o.threads = static_cast<uint32_t>(args.integer(kThreads));
