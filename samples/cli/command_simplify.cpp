@@ -64,7 +64,7 @@ const FlagOption kCage{"--cage", "write the quad-dominant cage with creases inst
 const IntegerOption kFaces{"--faces", -1, 1, 2000000000, "N", "the level with N polygons (this or --vertices)"};
 const IntegerOption kVertices{"--vertices", -1, 1, 2000000000, "N", "the level with N vertices (this or --faces)"};
 const TextOption kClusters{"--clusters", "", "FILE.ply", "also write the input coloured by cluster"};
-const RealOption kEpsilon{"--epsilon", 0.01, 0.0, 1e6, "E", "tie-break epsilon of the simplification"};
+const RealOption kEpsilon{"--epsilon", 0.01, 0.0, 1e6, "E", "weight of the valence/angle tie-break (thesis (3.8))"};
 // Polygonal output only: border vertices put back where the border strays more than REL x the
 // input's bbox diagonal from a level edge (cagekit_hierarchy_get_refined_polygon_mesh).
 const RealOption kContourTolerance{"--contour-tolerance", 0.0, 0.0, 1.0, "REL",

@@ -16,7 +16,8 @@ namespace {
 
 const char* kExitCodes =
     "Exit codes: 0 ok; 2 bad input (one line on stderr names the file and the problem; for fit, pipeline,\n"
-    "remesh and bench-deform also option values out of range); 64 usage.\n";
+    "remesh, bench-deform, bind, deform --sharp-angle and simplify's crease options also option values out\n"
+    "of range or unknown); 64 usage (one line and a hint to --help).\n";
 
 void print_help(FILE* out, const std::string& help) {
   std::fputs(help.c_str(), out);
