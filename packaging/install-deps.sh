@@ -12,7 +12,7 @@ PACKAGES=(
   libgtest-dev python3 python3-numpy binutils blender freecad
   clang libclang-rt-14-dev
   abigail-tools
-  nlohmann-json3-dev
+  nlohmann-json3-dev libcli11-dev
 )
 
 missing=()

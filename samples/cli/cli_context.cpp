@@ -3,36 +3,86 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <cstdio>
 
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <unistd.h>
 
 namespace cli {
 
-Args::Args(int argc, char** argv, int first) {
-  for (int i = first; i < argc; ++i) args_.emplace_back(argv[i]);
+namespace {
+
+std::string number_text(double x) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%g", x);
+  return buffer;
 }
 
-bool Args::flag(const std::string& name) {
-  auto it = std::find(args_.begin(), args_.end(), name);
-  if (it == args_.end()) return false;
-  args_.erase(it);
-  return true;
+// The option's text in CLI11; the value is checked by the reader.
+CLI::Option* add_text_option(CLI::App* app, std::map<std::string, std::string>& texts, const char* name,
+                             const char* value_name, const std::string& help) {
+  return app->add_option(name, texts[name], help)->type_name(value_name);
 }
 
-std::string Args::option(const std::string& name, const std::string& fallback) {
-  auto it = std::find(args_.begin(), args_.end(), name);
-  if (it == args_.end()) return fallback;
-  if (it + 1 == args_.end()) throw Failure(kExitUsage, name + " needs a value");
-  std::string value = *(it + 1);
-  args_.erase(it, it + 2);
-  return value;
+}  // namespace
+
+void Options::add(const FlagOption& option) {
+  if (app_->get_option_no_throw(option.name)) return;
+  app_->add_flag(option.name, option.help);
 }
 
-int Args::integer(const std::string& name, int fallback, int min, int max) {
-  const std::string text = option(name, "");
-  if (text.empty()) return fallback;
+void Options::add(const TextOption& option) {
+  if (app_->get_option_no_throw(option.name)) return;
+  CLI::Option* o = add_text_option(app_, texts_, option.name, option.value_name, option.help);
+  if (*option.fallback) o->default_str(option.fallback);
+}
+
+void Options::add(const IntegerOption& option) {
+  if (app_->get_option_no_throw(option.name)) return;
+  CLI::Option* o = add_text_option(app_, texts_, option.name, option.value_name,
+                                   std::string(option.help) + " (" + std::to_string(option.min) + ".." +
+                                       std::to_string(option.max) + ")");
+  if (option.fallback >= option.min && option.fallback <= option.max) o->default_str(std::to_string(option.fallback));
+}
+
+void Options::add(const RealOption& option) {
+  if (app_->get_option_no_throw(option.name)) return;
+  CLI::Option* o = add_text_option(app_, texts_, option.name, option.value_name,
+                                   std::string(option.help) + " [" + number_text(option.min) + ", " +
+                                       number_text(option.max) + "]");
+  if (option.fallback >= option.min && option.fallback <= option.max) o->default_str(number_text(option.fallback));
+}
+
+void Options::add_quiet() { add(FlagOption{"--quiet", "no progress, warnings or summary lines"}); }
+
+void Options::add_positional(const char* name, const char* help, bool required) {
+  CLI::Option* o = app_->add_option(name, texts_[name], help)->type_name("");
+  if (required) o->required();
+}
+
+bool Options::given(const char* name) const {
+  const CLI::Option* o = app_->get_option_no_throw(name);
+  return o != nullptr && o->count() > 0;
+}
+
+std::string Options::text(const TextOption& option) const {
+  return given(option.name) ? texts_.at(option.name) : std::string(option.fallback);
+}
+
+std::string Options::positional(const char* name) const {
+  const auto it = texts_.find(name);
+  return it == texts_.end() ? std::string() : it->second;
+}
+
+int Options::integer(const IntegerOption& option) const {
+  const std::string text = given(option.name) ? texts_.at(option.name) : std::string();
+  if (text.empty()) return option.fallback;
+  const std::string name = option.name;
+  const int min = option.min, max = option.max;
   size_t used = 0;
   long value = min - 1L;
   try {
@@ -46,9 +96,11 @@ int Args::integer(const std::string& name, int fallback, int min, int max) {
   return static_cast<int>(value);
 }
 
-double Args::real(const std::string& name, double fallback, double min, double max) {
-  const std::string text = option(name, "");
-  if (text.empty()) return fallback;
+double Options::real(const RealOption& option) const {
+  const std::string text = given(option.name) ? texts_.at(option.name) : std::string();
+  if (text.empty()) return option.fallback;
+  const std::string name = option.name;
+  const double min = option.min, max = option.max;
   size_t used = 0;
   double value = min - 1.0;
   try {
@@ -62,11 +114,9 @@ double Args::real(const std::string& name, double fallback, double min, double m
   return value;
 }
 
-std::vector<std::string> Args::positional(size_t min_count, size_t max_count, const char* usage) {
-  for (const std::string& a : args_)
-    if (a.size() > 1 && a[0] == '-' && a[1] == '-') throw Failure(kExitUsage, "unknown option " + a + "\nusage: " + usage);
-  if (args_.size() < min_count || args_.size() > max_count) throw Failure(kExitUsage, std::string("usage: ") + usage);
-  return args_;
+void Options::refuse(std::initializer_list<const char*> names, const std::string& why) const {
+  for (const char* name : names)
+    if (given(name)) throw Failure(kExitUsage, std::string(name) + " does not apply " + why);
 }
 
 namespace {
@@ -183,6 +233,50 @@ std::vector<double> cage_positions(const Session& session, cagekit_cage cage, co
 
 std::string json_string(const std::string& text) {
   return nlohmann::json(text).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+namespace {
+
+void write_json(std::string& out, const nlohmann::ordered_json& value, const char* separator) {
+  if (value.is_object()) {
+    out += '{';
+    bool first = true;
+    for (const auto& member : value.items()) {
+      if (!first) out += separator;
+      first = false;
+      out += json_string(member.key());
+      out += ": ";
+      write_json(out, member.value(), ", ");
+    }
+    out += '}';
+  } else if (value.is_array()) {
+    out += '[';
+    for (size_t i = 0; i < value.size(); ++i) {
+      if (i) out += ", ";
+      write_json(out, value[i], ", ");
+    }
+    out += ']';
+  } else {
+    out += value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  }
+}
+
+}  // namespace
+
+std::string json_text(const nlohmann::ordered_json& value, const char* top_separator) {
+  std::string out;
+  write_json(out, value, top_separator);
+  return out;
+}
+
+nlohmann::ordered_json json_rounded(double x, const char* format) {
+  if (!std::isfinite(x)) return nullptr;
+  char buffer[64];
+  std::snprintf(buffer, sizeof(buffer), format, x);
+  // Written as printf wrote it: "40" stays an integer (not 40.0), "0.5" a number with a fraction.
+  if (std::strspn(buffer, "-0123456789") == std::strlen(buffer) && std::strlen(buffer) < 19)
+    return std::strtoll(buffer, nullptr, 10);
+  return std::strtod(buffer, nullptr);
 }
 
 }  // namespace cli

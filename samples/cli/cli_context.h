@@ -1,13 +1,22 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
-// Shared plumbing of the CLI commands: argument parsing helpers, the CageKit context with a
+// Shared plumbing of the CLI commands: their options in CLI11, the CageKit context with a
 // stderr progress bar, RAII holders for handles and the error convention (one line, exit 2).
 #include <cagekit/cagekit.h>
 
 #include <chrono>
+#include <functional>
+#include <initializer_list>
+#include <map>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+namespace CLI {
+class App;
+}  // namespace CLI
 
 namespace cli {
 
@@ -15,28 +24,76 @@ constexpr int kExitOk = 0;
 constexpr int kExitBadInput = 2;
 constexpr int kExitUsage = 64;
 
-// Thrown by commands; main() prints "cagekit: <message>" and exits with `code`.
+// Thrown by commands; main() prints "cagekit: <message>" (for kExitUsage with a hint to --help)
+// and exits with `code`.
 struct Failure : std::runtime_error {
   Failure(int c, const std::string& message) : std::runtime_error(message), code(c) {}
   int code;
 };
 
-class Args {
+// The options of a subcommand, each declared once (name, default, range, help) and used both to
+// declare it in CLI11 (which parses the command line and writes --help) and to read it back.
+struct FlagOption {
+  const char* name;
+  const char* help;
+};
+struct TextOption {
+  const char* name;
+  const char* fallback;  // when absent
+  const char* value_name;
+  const char* help;
+};
+struct IntegerOption {
+  const char* name;
+  int fallback;  // when absent; outside [min, max]: "not given" (not shown as a default)
+  int min, max;
+  const char* value_name;
+  const char* help;
+};
+struct RealOption {
+  const char* name;
+  double fallback;  // when absent; outside [min, max]: "not given" (not shown as a default)
+  double min, max;
+  const char* value_name;
+  const char* help;
+};
+
+// One subcommand's options and positionals in CLI11. CLI11 keeps every value as text; integer()
+// and real() check it here, so that a value out of range is a Failure(kExitUsage) that the
+// commands whose option values are input (fit, pipeline, remesh, bench-deform) report as bad
+// input (kExitBadInput) instead.
+class Options {
  public:
-  Args(int argc, char** argv, int first);
-  // Removes and returns --name (a flag without value).
-  bool flag(const std::string& name);
-  // Removes --name VALUE; returns fallback when absent.
-  std::string option(const std::string& name, const std::string& fallback);
-  // Removes --name N; N must be an integer in [min, max]; fallback when absent.
-  int integer(const std::string& name, int fallback, int min, int max);
-  // Removes --name X; X must be a finite number in [min, max]; fallback when absent.
-  double real(const std::string& name, double fallback, double min, double max);
-  // Remaining positional arguments; fails on leftover --options.
-  std::vector<std::string> positional(size_t min_count, size_t max_count, const char* usage);
+  explicit Options(CLI::App* app) : app_(app) {}
+  Options(const Options&) = delete;
+  Options& operator=(const Options&) = delete;
+  CLI::App* app() const { return app_; }
+
+  // Declaring (before parsing). A name already declared in this subcommand is shared: its first
+  // declaration (help, default) stays, and each reader applies its own range.
+  void add(const FlagOption& option);
+  void add(const TextOption& option);
+  void add(const IntegerOption& option);
+  void add(const RealOption& option);
+  void add_quiet();  // --quiet: no progress, warnings or summary lines
+  void add_positional(const char* name, const char* help, bool required = true);
+
+  // Reading (after parsing).
+  bool given(const char* name) const;  // on the command line
+  bool flag(const FlagOption& option) const { return given(option.name); }
+  bool quiet() const { return given("--quiet"); }
+  std::string text(const TextOption& option) const;
+  // Failure(kExitUsage) naming the option unless the value is an integer in [min, max].
+  int integer(const IntegerOption& option) const;
+  // Failure(kExitUsage) naming the option unless the value is a finite number in [min, max].
+  double real(const RealOption& option) const;
+  std::string positional(const char* name) const;  // "" when an optional one is absent
+  // Failure(kExitUsage) when one of `names` was given: "NAME does not apply <why>".
+  void refuse(std::initializer_list<const char*> names, const std::string& why) const;
 
  private:
-  std::vector<std::string> args_;
+  CLI::App* app_;
+  std::map<std::string, std::string> texts_;  // node-based: CLI11 keeps references into it
 };
 
 class Session {
@@ -82,6 +139,14 @@ inline double seconds_since(std::chrono::steady_clock::time_point start) {
 // \uXXXX, invalid UTF-8 bytes replaced by U+FFFD), for the commands' --json output.
 std::string json_string(const std::string& text);
 
+// The JSON reports are nlohmann::ordered_json objects (members in insertion order), written by
+// json_text in the layout the CLI has always printed: one line, ", " and ": " separators (scripts
+// grep for '"key": '); `top_separator` separates the top-level members (",\n " in report.json).
+std::string json_text(const nlohmann::ordered_json& value, const char* top_separator = ", ");
+// x rounded as the reports have always printed it with `format` ("%.9g", "%.3f", ...): an integer
+// when that text is one ("40"), else the number the text reads as; null when x is not finite.
+nlohmann::ordered_json json_rounded(double x, const char* format);
+
 // The cage's control points, xyz interleaved (errors: Failure naming `what`).
 std::vector<double> cage_positions(const Session& session, cagekit_cage cage, const std::string& what);
 
@@ -89,11 +154,24 @@ std::vector<double> cage_positions(const Session& session, cagekit_cage cage, co
 // (read only).
 cagekit_file_format format_from_extension(const std::string& path);
 
-int command_info(Args& args);
-int command_convert(Args& args);
-int command_subdivide(Args& args);
-int command_simplify(Args& args);
-int command_remesh(Args& args);
+// A subcommand of `cagekit`: add_* declares it and its options in the app; run() does the work
+// once the command line is parsed and returns the exit code (errors throw Failure).
+struct Command {
+  CLI::App* app;
+  std::function<int()> run;
+};
+Command add_info(CLI::App& cagekit);
+Command add_convert(CLI::App& cagekit);
+Command add_subdivide(CLI::App& cagekit);
+Command add_simplify(CLI::App& cagekit);
+Command add_remesh(CLI::App& cagekit);
+Command add_fit(CLI::App& cagekit);
+Command add_pipeline(CLI::App& cagekit);
+Command add_bind(CLI::App& cagekit);
+Command add_deform(CLI::App& cagekit);
+Command add_bench_deform(CLI::App& cagekit);
+Command add_demo(CLI::App& cagekit);
+
 // The remesher a command runs and its options.
 struct RemeshSettings {
   bool quad = false;  // cagekit_mesh_remesh_quad; else cagekit_mesh_remesh_anisotropic
@@ -107,23 +185,25 @@ struct RemeshFigures {
   uint64_t regions = 0, lines = 0, holes = 0;
   double mean_alignment_deg = 0.0;
 };
-// --method/--tolerance/--feature-angle/... (anisotropic) and --edge-length/--regions/--weights/...
-// (quad) of remesh and `pipeline --method anisotropic|quad` (values out of range: Failure with
-// kExitBadInput).
-RemeshSettings parse_remesh_options(Args& args, const std::string& method);
-// The method and its main settings as JSON fields (no braces): "method": "anisotropic",
-// "tolerance": ... or "method": "quad", "edge_length": ..., "weights": [tri, pent, tjoint].
-std::string remesh_method_json(const RemeshSettings& settings);
-// The report's JSON fields (no braces): faces, vertices, quads_pct, ..., mean_alignment_deg.
-std::string remesh_json_fields(const RemeshFigures& figures, const cagekit_approximation_error& error);
-int command_demo(Args& args);
-int command_fit(Args& args);
-int command_pipeline(Args& args);
-int command_bind(Args& args);
-// --sharp-angle DEG of bind/deform: one bound vertex per smooth sector (-1 when absent).
-double parse_sharp_angle(Args& args);
-int command_deform(Args& args);
-int command_bench_deform(Args& args);
+// The options of remesh and `pipeline --method anisotropic|quad`: --tolerance, --max-face-valence,
+// --curvature-radius (anisotropic), --edge-length, --regions, --region-tolerance, --weights,
+// --refinement-passes (quad), --feature-angle and --threads (both).
+void add_remesh_options(Options& options);
+// The settings of `method` ("anisotropic" or "quad"); an unknown method and values out of range
+// are Failure(kExitBadInput).
+RemeshSettings parse_remesh_options(const Options& options, const std::string& method);
+// Failure(kExitUsage) when an option of the other method was given (--tolerance excepted: it is
+// also the fit's, in the pipeline).
+void refuse_other_remesh_options(const Options& options, const RemeshSettings& settings);
+// The method and its main settings: {"method": "anisotropic", "tolerance": ...} or {"method": "quad",
+// "edge_length": ..., "weights": [tri, pent, tjoint], "refinement_passes": ...}.
+nlohmann::ordered_json remesh_method_json(const RemeshSettings& settings);
+// The report's figures: {"faces", "vertices", "quads_pct", ..., "lines", "holes"}.
+nlohmann::ordered_json remesh_json_fields(const RemeshFigures& figures, const cagekit_approximation_error& error);
+// --sharp-angle DEG of bind and deform: one bound vertex per smooth sector.
+void add_sharp_angle(Options& options);
+// Its value, -1 when absent; not a number of degrees in [0, 180]: Failure(kExitBadInput).
+double parse_sharp_angle(const Options& options);
 
 }  // namespace cli
 

@@ -1,37 +1,47 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// cagekit bench-deform SCAN CAGE [--frames N] [--moved K] [--threads N] [--json]
 // Frames per second of the multiresolution deformer (thesis ch. 8): the CPU deformer over the
 // whole cage and over K moved control points, and the GPU deformer where EGL gives a context.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "cli_context.h"
 #include "gpu_bench.h"
 
 namespace cli {
 
-int command_bench_deform(Args& args) {
-  const char* usage =
-      "cagekit bench-deform SCAN CAGE [--frames N] [--moved K] [--threads N] [--vertex-order scan|deformer] [--json] "
-      "[--quiet]";
-  const bool quiet = args.flag("--quiet");
-  const bool json = args.flag("--json");
-  const std::string vertex_order = args.option("--vertex-order", "scan");
+namespace {
+
+const FlagOption kJson{"--json", "print the frame rates as one JSON object"};
+const TextOption kVertexOrder{"--vertex-order", "scan", "scan|deformer",
+                              "deformer: the scan renumbered first in the deformer's write order, as a host that "
+                              "may renumber does"};
+const IntegerOption kFrames{"--frames", 100, 1, 1000000, "N", "frames timed per measurement"};
+const IntegerOption kMoved{"--moved", 10, 1, 1000000, "K", "control points moved per frame in the incremental run"};
+const IntegerOption kThreads{"--threads", 0, 0, 1024, "N", "deformer threads (0: all cores)"};
+
+int command_bench_deform(const Options& args) {
+  const bool quiet = args.quiet();
+  const bool json = args.flag(kJson);
+  const std::string vertex_order = args.text(kVertexOrder);
   if (vertex_order != "scan" && vertex_order != "deformer")
     throw Failure(kExitBadInput, "--vertex-order must be scan or deformer, not '" + vertex_order + "'");
   int frames = 100, moved_count = 10, threads = 0;
   try {
-    frames = args.integer("--frames", 100, 1, 1000000);
-    moved_count = args.integer("--moved", 10, 1, 1000000);
-    threads = args.integer("--threads", 0, 0, 1024);
+    frames = args.integer(kFrames);
+    moved_count = args.integer(kMoved);
+    threads = args.integer(kThreads);
   } catch (const Failure& f) {
     throw Failure(f.code == kExitUsage ? kExitBadInput : f.code, f.what());
   }
-  const auto files = args.positional(2, 2, usage);
+  const std::vector<std::string> files = {args.positional("SCAN"), args.positional("CAGE")};
   Session session(quiet);
   Mesh scan;
   session.check(cagekit_mesh_read_file(session.context(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, scan.out()), files[0]);
@@ -131,25 +141,27 @@ int command_bench_deform(Args& args) {
   // GPU: full recompute in a headless EGL context (llvmpipe where there is no GPU).
   const GpuBench gpu = bench_gpu_deformer(session.context(), binding.get(), scan.get(), control, frames, step);
   if (!gpu.ran && !quiet) std::fprintf(stderr, "cagekit: bench-deform: gpu_fps is null: %s\n", gpu.why.c_str());
-  std::string gpu_fps = "null", gpu_renderer = "null", gpu_version = "null";
-  if (gpu.ran) {
-    char buf[32];
-    std::snprintf(buf, sizeof(buf), "%.2f", gpu.fps);
-    gpu_fps = buf;
-    gpu_renderer = json_string(gpu.renderer);
-    gpu_version = json_string(gpu.version);
-  }
   // Bytes read + written per vertex in one full CPU frame (the library's own count for the table
   // the deformer streams; sdk/multires/patch_deformer_table.h).
   const double bytes_per_vertex = info.deform_bytes_per_vertex;
   if (json) {
-    std::printf("{\"vertices\": %u, \"triangles\": %llu, \"control_points\": %u, \"moved\": %zu, \"frames\": %d, "
-                "\"cpu_fps\": %.2f, \"cpu_fps_f32\": %.2f, \"cpu_incremental_fps\": %.2f, \"incremental_vertices_per_frame\": %.1f, "
-                "\"gpu_fps\": %s, \"gpu_renderer\": %s, \"gpu_gl_version\": %s, \"bytes_per_vertex\": %.1f, "
-                "\"basis_entries_per_vertex\": %.2f, \"vertex_order\": \"%s\"}\n",
-                n, (unsigned long long)(indices - 2ull * faces), m, moved.size(), frames, full_fps, full_fps_f32, incremental_fps,
-                double(updated_total) / frames, gpu_fps.c_str(), gpu_renderer.c_str(), gpu_version.c_str(), bytes_per_vertex,
-                double(info.basis_entries) / n, vertex_order.c_str());
+    nlohmann::ordered_json j;
+    j["vertices"] = n;
+    j["triangles"] = uint64_t(indices - 2ull * faces);
+    j["control_points"] = m;
+    j["moved"] = moved.size();
+    j["frames"] = frames;
+    j["cpu_fps"] = json_rounded(full_fps, "%.2f");
+    j["cpu_fps_f32"] = json_rounded(full_fps_f32, "%.2f");
+    j["cpu_incremental_fps"] = json_rounded(incremental_fps, "%.2f");
+    j["incremental_vertices_per_frame"] = json_rounded(double(updated_total) / frames, "%.1f");
+    j["gpu_fps"] = gpu.ran ? json_rounded(gpu.fps, "%.2f") : nullptr;
+    j["gpu_renderer"] = gpu.ran ? nlohmann::ordered_json(gpu.renderer) : nullptr;
+    j["gpu_gl_version"] = gpu.ran ? nlohmann::ordered_json(gpu.version) : nullptr;
+    j["bytes_per_vertex"] = json_rounded(bytes_per_vertex, "%.1f");
+    j["basis_entries_per_vertex"] = json_rounded(double(info.basis_entries) / n, "%.2f");
+    j["vertex_order"] = vertex_order;
+    std::printf("%s\n", json_text(j).c_str());
   } else if (!quiet) {
     std::printf("%u vertices, %u control points: full recompute %.1f frames/s (float32 outputs %.1f), %zu moved "
                 "points %.1f frames/s (%.0f vertices recomputed per frame), %.0f bytes per vertex\n",
@@ -159,6 +171,23 @@ int command_bench_deform(Args& args) {
                   gpu.fps);
   }
   return kExitOk;
+}
+
+}  // namespace
+
+Command add_bench_deform(CLI::App& cagekit) {
+  CLI::App* app = cagekit.add_subcommand(
+      "bench-deform", "frames per second of the CPU deformer (full and K moved points) and the GPU one (EGL)");
+  auto options = std::make_shared<Options>(app);
+  options->add_positional("SCAN", "mesh file");
+  options->add_positional("CAGE", "cage file");
+  options->add(kFrames);
+  options->add(kMoved);
+  options->add(kThreads);
+  options->add(kVertexOrder);
+  options->add(kJson);
+  options->add_quiet();
+  return {app, [options] { return command_bench_deform(*options); }};
 }
 
 }  // namespace cli

@@ -1,18 +1,27 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// cagekit convert IN OUT [--bits N] [--speed S] [--ascii]
 #include <cstdio>
+#include <memory>
 #include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
 
 #include "cli_context.h"
 
 namespace cli {
 
-int command_convert(Args& args) {
-  const bool quiet = args.flag("--quiet");
-  const bool ascii = args.flag("--ascii");
-  const int bits = args.integer("--bits", 14, 1, 30);
-  const int speed = args.integer("--speed", 5, 0, 10);
-  const auto files = args.positional(2, 2, "cagekit convert IN OUT [--bits N] [--speed S] [--ascii] [--quiet]");
+namespace {
+
+const FlagOption kAscii{"--ascii", "write .ply as ascii (default: binary)"};
+const IntegerOption kBits{"--bits", 14, 1, 30, "N", "Draco position quantization bits (.drc)"};
+const IntegerOption kSpeed{"--speed", 5, 0, 10, "S", "Draco encoder speed (0: smallest, 10: fastest; .drc)"};
+
+int command_convert(const Options& args) {
+  const bool quiet = args.quiet();
+  const bool ascii = args.flag(kAscii);
+  const int bits = args.integer(kBits);
+  const int speed = args.integer(kSpeed);
+  const std::vector<std::string> files = {args.positional("IN"), args.positional("OUT")};
   Session session(quiet);
   cagekit_write_options options = CAGEKIT_WRITE_OPTIONS_INIT;
   options.format = format_from_extension(files[1]);
@@ -40,6 +49,21 @@ int command_convert(Args& args) {
                  files[1].c_str(), (unsigned long long)report.bytes, report.max_position_error, relative);
   }
   return kExitOk;
+}
+
+}  // namespace
+
+Command add_convert(CLI::App& cagekit) {
+  CLI::App* app = cagekit.add_subcommand(
+      "convert", "convert between .obj .ply .off .drc, also from .stl; cage tags kept in .obj and .drc");
+  auto options = std::make_shared<Options>(app);
+  options->add_positional("IN", "mesh or cage file (.obj .ply .off .drc .stl)");
+  options->add_positional("OUT", "output file (.obj .ply .off .drc)");
+  options->add(kBits);
+  options->add(kSpeed);
+  options->add(kAscii);
+  options->add_quiet();
+  return {app, [options] { return command_convert(*options); }};
 }
 
 }  // namespace cli

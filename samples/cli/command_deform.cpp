@@ -1,26 +1,34 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// cagekit deform SCAN (CAGE | BINDING.ckb) EDITED_CAGE OUT [--local-frame] [--json]
 // Multiresolution editing (thesis ch. 8) through the C API: bind the scan to the cage's limit
 // surface, then move the cage's control points and rebuild the scan with its details.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "cli_context.h"
 
 namespace cli {
 
-int command_deform(Args& args) {
-  const char* usage =
-      "cagekit deform SCAN (CAGE | BINDING.ckb) EDITED_CAGE OUT [--local-frame] [--sharp-angle DEG] [--json] [--quiet]";
-  const bool quiet = args.flag("--quiet");
-  const bool json = args.flag("--json");
-  const bool local_frame = args.flag("--local-frame");
+namespace {
+
+const FlagOption kJson{"--json", "print the deformation's figures as one JSON object"};
+const FlagOption kLocalFrame{"--local-frame", "keep the details' sideways offsets (local-frame displacements; "
+                                              "default: along the normal)"};
+
+int command_deform(const Options& args) {
+  const bool quiet = args.quiet();
+  const bool json = args.flag(kJson);
+  const bool local_frame = args.flag(kLocalFrame);
   const double sharp_angle = parse_sharp_angle(args);
-  const auto files = args.positional(4, 4, usage);
+  const std::vector<std::string> files = {args.positional("SCAN"), args.positional("CAGE"),
+                                          args.positional("EDITED_CAGE"), args.positional("OUT")};
   const cagekit_file_format out_format = format_from_extension(files[3]);
 
   Session session(quiet);
@@ -102,11 +110,17 @@ int command_deform(Args& args) {
   for (size_t k = 0; k + 2 < before.size(); k += 3)
     moved = std::max(moved, std::hypot(after[k] - before[k], after[k + 1] - before[k + 1], after[k + 2] - before[k + 2]));
   if (json) {
-    std::printf("{\"vertices\": %u, \"scan_vertices\": %u, \"control_points\": %u, \"basis_entries\": %llu, \"max_control_move_rel\": %.6g, "
-                "\"max_sideways_residual_rel\": %.6g, \"mode\": \"%s\", \"bind_seconds\": %.4f, \"deform_seconds\": %.5f}\n",
-                info.vertex_count, info.scan_vertex_count, info.control_count, (unsigned long long)info.basis_entries,
-                info.bbox_diagonal > 0 ? moved / info.bbox_diagonal : 0.0, info.max_sideways_residual,
-                saved ? "saved" : local_frame ? "local_frame" : "normal", bind_seconds, deform_seconds);
+    nlohmann::ordered_json j;
+    j["vertices"] = info.vertex_count;
+    j["scan_vertices"] = info.scan_vertex_count;
+    j["control_points"] = info.control_count;
+    j["basis_entries"] = uint64_t(info.basis_entries);
+    j["max_control_move_rel"] = json_rounded(info.bbox_diagonal > 0 ? moved / info.bbox_diagonal : 0.0, "%.6g");
+    j["max_sideways_residual_rel"] = json_rounded(info.max_sideways_residual, "%.6g");
+    j["mode"] = saved ? "saved" : local_frame ? "local_frame" : "normal";
+    j["bind_seconds"] = json_rounded(bind_seconds, "%.4f");
+    j["deform_seconds"] = json_rounded(deform_seconds, "%.5f");
+    std::printf("%s\n", json_text(j).c_str());
   } else if (!quiet) {
     std::printf("%s bound to %s (%u vertices, %.1f basis entries each, %.2f s); deformed by %s -> %s (%.3f s)\n",
                 files[0].c_str(), files[1].c_str(), info.vertex_count, double(info.basis_entries) / info.vertex_count,
@@ -117,6 +131,23 @@ int command_deform(Args& args) {
                   info.max_sideways_residual, (unsigned long long)info.vertices_with_sideways_residual);
   }
   return kExitOk;
+}
+
+}  // namespace
+
+Command add_deform(CLI::App& cagekit) {
+  CLI::App* app = cagekit.add_subcommand(
+      "deform", "rebuild the scan over the edited cage (details kept), bound anew or by a saved binding");
+  auto options = std::make_shared<Options>(app);
+  options->add_positional("SCAN", "mesh file");
+  options->add_positional("CAGE", "cage file, or a binding saved by `cagekit bind` (BINDING.ckb)");
+  options->add_positional("EDITED_CAGE", "the cage with moved vertices (same vertices and faces)");
+  options->add_positional("OUT", "deformed scan file (.obj .ply .off .drc)");
+  options->add(kLocalFrame);
+  add_sharp_angle(*options);
+  options->add(kJson);
+  options->add_quiet();
+  return {app, [options] { return command_deform(*options); }};
 }
 
 }  // namespace cli

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// cagekit demo [OUTDIR]: runs what the SDK can do today on a generated noisy scan of a CAD-like
+// cagekit demo: runs what the SDK can do today on a generated noisy scan of a CAD-like
 // part and writes every result to OUTDIR (default ./cagekit-demo): exchange formats, the pipeline
 // of `cagekit pipeline` (simplification -> creased cage -> fit, pipeline.h), subdivision.
 // Multiresolution editing (thesis ch. 8) extends this when it lands.
@@ -10,7 +10,11 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <memory>
 #include <string>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "cli_context.h"
 #include "demo_part.h"
@@ -18,12 +22,12 @@
 
 namespace cli {
 
-int command_demo(Args& args) {
-  const bool quiet = args.flag("--quiet");
-  const auto rest = args.positional(0, 1, "cagekit demo [OUTDIR] [--quiet]");
-  const std::string dir = rest.empty() ? "cagekit-demo" : rest[0];
+namespace {
+
+int command_demo(const Options& args) {
+  const std::string dir = args.given("OUTDIR") ? args.positional("OUTDIR") : "cagekit-demo";
   make_directories(dir);
-  Session session(quiet);
+  Session session(args.quiet());
   const auto start = std::chrono::steady_clock::now();
 
   // 1. The input: a noisy scan of a 4 x 2.5 x 1.5 block, ~60 cells per unit.
@@ -103,35 +107,38 @@ int command_demo(Args& args) {
   session.check(cagekit_cage_get_info(cage_level3.get(), &level3_info), "cage_level3");
   session.check(cagekit_cage_get_info(scan_level1.get(), &level1_info), "scan level 1");
 
-  const std::string summary_path = dir + "/summary.json";
-  FILE* summary = std::fopen(summary_path.c_str(), "w");
-  if (!summary) throw Failure(kExitBadInput, summary_path + ": cannot write: " + std::strerror(errno));
-  std::fprintf(summary,
-               "{\n  \"scan\": {\"vertices\": %llu, \"triangles\": %llu, \"genus\": %lld, \"manifold\": %s, "
-               "\"valid\": %s, \"bbox_diagonal\": %.9g},\n"
-               "  \"exchange\": {\"obj_bytes\": %llu, \"drc_bytes\": %llu, \"drc_ratio\": %.2f, "
-               "\"drc_max_error_rel\": %.3g},\n"
-               "  \"simplification\": {\"levels\": %u, \"level\": %u, \"seconds\": %.3f},\n"
-               "  \"cage\": {\"quads\": %llu, \"triangles\": %llu, \"pentagons\": %llu, \"creases\": %llu, "
-               "\"level3_quads\": %llu, \"level3_creases\": %llu, \"level3_limit_hausdorff_rel\": %.3g},\n"
-               "  \"scan_as_cage_level1\": {\"quads\": %llu, \"seconds\": %.3f},\n"
-               "  \"fit\": %s,\n"
-               "  \"fitted_limit\": {\"levels\": %u, \"quads\": %llu, \"hausdorff_sym_rel\": %.3g},\n"
-               "  \"seconds\": %.3f,\n"
-               "  \"not_yet\": [\"multiresolution editing (ch. 8)\"]\n}\n",
-               (unsigned long long)scan_info.vertices, (unsigned long long)scan_info.triangles,
-               (long long)scan_info.genus, scan_info.manifold ? "true" : "false", validation.valid ? "true" : "false",
-               scan_info.bbox_diagonal, (unsigned long long)obj_report.bytes, (unsigned long long)drc_report.bytes,
-               drc_report.bytes ? double(obj_report.bytes) / double(drc_report.bytes) : 0.0,
-               drc_report.max_position_error / scan_info.bbox_diagonal, level_count, level, simplify_seconds,
-               (unsigned long long)cage_report.quads, (unsigned long long)cage_report.triangles,
-               (unsigned long long)cage_report.pentagons, (unsigned long long)cage_report.creases,
-               (unsigned long long)level3_info.quads, (unsigned long long)level3_info.creases,
-               limit_error.hausdorff_sym_rel, (unsigned long long)level1_info.quads, subdivide_seconds,
-               fit_json(pipeline.fit, settings.fit).c_str(), settings.limit_levels,
-               (unsigned long long)pipeline.limit_info.quads, pipeline.limit_error.hausdorff_sym_rel,
-               seconds_since(start));
-  std::fclose(summary);
+  const auto g9 = [](double x) { return json_rounded(x, "%.9g"); };
+  const auto g3 = [](double x) { return json_rounded(x, "%.3g"); };
+  const auto f3 = [](double x) { return json_rounded(x, "%.3f"); };
+  nlohmann::ordered_json summary;
+  summary["scan"] = {{"vertices", uint64_t(scan_info.vertices)},
+                     {"triangles", uint64_t(scan_info.triangles)},
+                     {"genus", int64_t(scan_info.genus)},
+                     {"manifold", bool(scan_info.manifold)},
+                     {"valid", bool(validation.valid)},
+                     {"bbox_diagonal", g9(scan_info.bbox_diagonal)}};
+  summary["exchange"] = {
+      {"obj_bytes", uint64_t(obj_report.bytes)},
+      {"drc_bytes", uint64_t(drc_report.bytes)},
+      {"drc_ratio",
+       json_rounded(drc_report.bytes ? double(obj_report.bytes) / double(drc_report.bytes) : 0.0, "%.2f")},
+      {"drc_max_error_rel", g3(drc_report.max_position_error / scan_info.bbox_diagonal)}};
+  summary["simplification"] = {{"levels", level_count}, {"level", level}, {"seconds", f3(simplify_seconds)}};
+  summary["cage"] = {{"quads", uint64_t(cage_report.quads)},
+                     {"triangles", uint64_t(cage_report.triangles)},
+                     {"pentagons", uint64_t(cage_report.pentagons)},
+                     {"creases", uint64_t(cage_report.creases)},
+                     {"level3_quads", uint64_t(level3_info.quads)},
+                     {"level3_creases", uint64_t(level3_info.creases)},
+                     {"level3_limit_hausdorff_rel", g3(limit_error.hausdorff_sym_rel)}};
+  summary["scan_as_cage_level1"] = {{"quads", uint64_t(level1_info.quads)}, {"seconds", f3(subdivide_seconds)}};
+  summary["fit"] = fit_json(pipeline.fit, settings.fit);
+  summary["fitted_limit"] = {{"levels", settings.limit_levels},
+                             {"quads", uint64_t(pipeline.limit_info.quads)},
+                             {"hausdorff_sym_rel", g3(pipeline.limit_error.hausdorff_sym_rel)}};
+  summary["seconds"] = f3(seconds_since(start));
+  summary["not_yet"] = nlohmann::ordered_json::array({"multiresolution editing (ch. 8)"});
+  write_text_file(dir + "/summary.json", json_text(summary, ",\n ") + "\n");
 
   std::printf("CageKit demo -> %s/\n", dir.c_str());
   std::printf("  scan.obj/.ply/.drc     noisy scan of a block: %llu vertices, %llu triangles, genus %lld, %s\n",
@@ -162,6 +169,17 @@ int command_demo(Args& args) {
               (unsigned long long)level1_info.quads, subdivide_seconds);
   std::printf("  summary.json           these numbers (pipeline.json: the pipeline's report)\n");
   return kExitOk;
+}
+
+}  // namespace
+
+Command add_demo(CLI::App& cagekit) {
+  CLI::App* app = cagekit.add_subcommand(
+      "demo", "run the pipeline on a generated noisy scan of a CAD-like part and write every result");
+  auto options = std::make_shared<Options>(app);
+  options->add_positional("OUTDIR", "output folder (default: ./cagekit-demo)", false);
+  options->add_quiet();
+  return {app, [options] { return command_demo(*options); }};
 }
 
 }  // namespace cli

@@ -1,26 +1,25 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// cagekit fit SCAN CAGE OUT [--passes N] [--tolerance T] [--projection exact|linear] [--fairing F]
-//             [--keep-creases] [--threads N] [--json] [--quiet]
-// cagekit pipeline SCAN OUTDIR [--method simplify] (--faces N | --vertices N) [--passes N] ...
-// cagekit pipeline SCAN OUTDIR --method anisotropic [--tolerance REL] [--fit-tolerance T] [--passes N] ...
-// cagekit pipeline SCAN OUTDIR --method quad [--edge-length REL] [--regions N] [--weights TRI,PENT,TJOINT] [--refinement-passes N]
-//                  [--fit-tolerance T] [--passes N] ...
 #include <cstdio>
+#include <memory>
 #include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
 
 #include "cli_context.h"
 #include "pipeline.h"
 
 namespace cli {
 
-int command_fit(Args& args) {
-  const char* usage =
-      "cagekit fit SCAN CAGE OUT [--passes N] [--tolerance T] [--projection exact|linear] [--fairing F] "
-      "[--crease-feature-reach REL] [--keep-creases] [--threads N] [--json] [--quiet]";
-  const bool quiet = args.flag("--quiet");
-  const bool json = args.flag("--json");
+namespace {
+
+const FlagOption kJson{"--json", "print the fit's figures (per pass too) as one JSON object"};
+
+int command_fit(const Options& args) {
+  const bool quiet = args.quiet();
+  const bool json = args.flag(kJson);
   const cagekit_fit_options options = parse_fit_options(args);
-  const auto files = args.positional(3, 3, usage);
+  const std::vector<std::string> files = {args.positional("SCAN"), args.positional("CAGE"), args.positional("OUT")};
   const cagekit_file_format out_format = format_from_extension(files[2]);
 
   Session session(quiet);
@@ -38,7 +37,7 @@ int command_fit(Args& args) {
 
   const cagekit_fit_report& r = fit.report;
   if (json) {
-    std::printf("%s\n", fit_json(fit, options).c_str());
+    std::printf("%s\n", json_text(fit_json(fit, options)).c_str());
   } else if (!quiet) {
     std::printf("%s fitted to %s -> %s: %u passes%s, %.2f s\n", files[1].c_str(), files[0].c_str(), files[2].c_str(),
                 r.pass_count - 1,
@@ -50,6 +49,21 @@ int command_fit(Args& args) {
                   fit.passes[i].mean_rel, (unsigned long long)fit.passes[i].unconverged_projections);
   }
   return kExitOk;
+}
+
+}  // namespace
+
+Command add_fit(CLI::App& cagekit) {
+  CLI::App* app = cagekit.add_subcommand(
+      "fit", "fit the cage's limit surface to the scan's vertices (thesis ch. 7)");
+  auto options = std::make_shared<Options>(app);
+  options->add_positional("SCAN", "mesh file");
+  options->add_positional("CAGE", "cage file");
+  options->add_positional("OUT", "fitted cage file (.obj .ply .off .drc)");
+  add_fit_options(*options);
+  options->add(kJson);
+  options->add_quiet();
+  return {app, [options] { return command_fit(*options); }};
 }
 
 }  // namespace cli

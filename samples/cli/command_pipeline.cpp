@@ -4,8 +4,11 @@
 // (fitted, with crease tags), OUTDIR/limit.obj (its limit, L levels) and OUTDIR/report.json.
 #include <algorithm>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
+
+#include <CLI/CLI.hpp>
 
 #include "cli_context.h"
 #include "pipeline.h"
@@ -13,8 +16,6 @@
 namespace cli {
 
 namespace {
-
-std::string u64(uint64_t x) { return std::to_string((unsigned long long)x); }
 
 const char* method_name(cagekit_scan_method m) {
   switch (m) {
@@ -25,56 +26,73 @@ const char* method_name(cagekit_scan_method m) {
   }
 }
 
-std::string conditioning_json(const cagekit_scan_to_cage_report& r) {
-  return "{\"input_vertices\": " + u64(r.input_vertices) + ", \"input_faces\": " + u64(r.input_faces) +
-         ", \"vertices\": " + u64(r.conditioned_vertices) + ", \"faces\": " + u64(r.conditioned_faces) +
-         ", \"welded_vertices\": " + u64(r.welded_vertices) +
-         ", \"dropped_degenerate_faces\": " + u64(r.dropped_degenerate_faces) +
-         ", \"dropped_duplicate_faces\": " + u64(r.dropped_duplicate_faces) +
-         ", \"split_vertices\": " + u64(r.split_vertices) + ", \"flipped_faces\": " + u64(r.flipped_faces) +
-         ", \"non_orientable_components\": " + u64(r.non_orientable_components) +
-         ", \"removed_unreferenced_vertices\": " + u64(r.removed_unreferenced_vertices) +
-         ", \"components\": " + u64(r.components) + ", \"dropped_components\": " + u64(r.dropped_components) +
-         ", \"dropped_component_faces\": " + u64(r.dropped_component_faces) + "}";
+nlohmann::ordered_json conditioning_json(const cagekit_scan_to_cage_report& r) {
+  nlohmann::ordered_json j;
+  j["input_vertices"] = uint64_t(r.input_vertices);
+  j["input_faces"] = uint64_t(r.input_faces);
+  j["vertices"] = uint64_t(r.conditioned_vertices);
+  j["faces"] = uint64_t(r.conditioned_faces);
+  j["welded_vertices"] = uint64_t(r.welded_vertices);
+  j["dropped_degenerate_faces"] = uint64_t(r.dropped_degenerate_faces);
+  j["dropped_duplicate_faces"] = uint64_t(r.dropped_duplicate_faces);
+  j["split_vertices"] = uint64_t(r.split_vertices);
+  j["flipped_faces"] = uint64_t(r.flipped_faces);
+  j["non_orientable_components"] = uint64_t(r.non_orientable_components);
+  j["removed_unreferenced_vertices"] = uint64_t(r.removed_unreferenced_vertices);
+  j["components"] = uint64_t(r.components);
+  j["dropped_components"] = uint64_t(r.dropped_components);
+  j["dropped_component_faces"] = uint64_t(r.dropped_component_faces);
+  return j;
 }
 
 double percent(uint64_t part, uint64_t whole) { return whole ? 100.0 * double(part) / double(whole) : 0.0; }
 
-}  // namespace
+const FlagOption kJson{"--json", "print report.json on stdout"};
+const FlagOption kNoRepair{"--no-repair", "no conditioning: an invalid scan is an error"};
+const FlagOption kNoFallback{"--no-fallback", "quad, anisotropic: no fallback to simplify when the result is not good"};
+const TextOption kMethod{"--method", "simplify", "simplify|anisotropic|quad",
+                         "step 1: structure-preserving simplification to a creased cage (thesis ch. 3), or "
+                         "remeshing as by `cagekit remesh` (ch. 5, ch. 6)"};
+const RealOption kFitTolerance{"--fit-tolerance", 1e-4, 0.0, 1.0, "T",
+                               "anisotropic, quad: the fit's tolerance (as --tolerance of `cagekit fit`)"};
+const IntegerOption kFaces{"--faces", -1, 1, 2000000000, "N",
+                           "simplify: the level with N polygons (this or --vertices); quad, anisotropic: the "
+                           "fallback's target"};
+const IntegerOption kVertices{"--vertices", -1, 1, 2000000000, "N",
+                              "simplify: the level with N vertices (this or --faces)"};
+const IntegerOption kLimitLevels{"--limit-levels", 3, 1, 5, "L", "limit.obj: the fitted cage refined L levels onto its limit"};
+const TextOption kComponents{"--components", "all", "all|largest", "conditioning: keep all components or the largest"};
+const RealOption kWeldTolerance{"--weld-tolerance", 1e-7, 0.0, 0.1, "REL",
+                                "conditioning: weld vertices closer than REL x the bbox diagonal"};
+const RealOption kTwoSidedRefit{"--two-sided-refit", 3.0, 0.0, 100.0, "FACTOR",
+                                "last phase: the good cage fitted again by two-sided least squares (limit points "
+                                "farther than FACTOR x the scan's RMS pulled to the scan), kept when it is better "
+                                "(0: not tried)"};
 
-int command_pipeline(Args& args) {
-  const char* usage =
-      "cagekit pipeline SCAN OUTDIR ([--method simplify] (--faces N | --vertices N) [--creases sharp-input|cluster-angle] "
-      "[--feature-angle DEG] [--crease-angle DEG] [--input-crease-angle DEG] "
-      "| --method anisotropic [--tolerance REL] [--feature-angle DEG] [--max-face-valence N] [--fit-tolerance T] "
-      "| --method quad [--edge-length REL] [--regions N] [--weights TRI,PENT,TJOINT] [--refinement-passes N] [--feature-angle DEG] "
-      "[--fit-tolerance T] [--faces N]) "
-      "[--no-repair] [--components all|largest] [--weld-tolerance REL] [--no-fallback] "
-      "[--passes N] [--tolerance T] [--projection exact|linear] [--fairing F] [--crease-feature-reach REL] [--keep-creases] [--threads N] "
-      "[--limit-levels L] [--two-sided-refit FACTOR] [--json] [--quiet]";
-  const bool quiet = args.flag("--quiet");
-  const bool json = args.flag("--json");
-  const bool no_repair = args.flag("--no-repair");
-  const bool no_fallback = args.flag("--no-fallback");
+int command_pipeline(const Options& args) {
+  const bool quiet = args.quiet();
+  const bool json = args.flag(kJson);
+  const bool no_repair = args.flag(kNoRepair);
+  const bool no_fallback = args.flag(kNoFallback);
   std::string method, components;
   int faces = -1, vertices = -1, limit_levels = 3;
   double fit_tolerance = -1.0, weld = 1e-7, two_sided_refit = 3.0;
   cagekit_cage_options cage = CAGEKIT_CAGE_OPTIONS_INIT;
   RemeshSettings remesh;
+  const bool remeshing = args.text(kMethod) == "anisotropic" || args.text(kMethod) == "quad";
   try {
-    method = args.option("--method", "simplify");
-    const bool remeshing = method == "anisotropic" || method == "quad";
+    method = args.text(kMethod);
     if (remeshing) {  // anisotropic: --tolerance is the remeshing tolerance; the fit's is --fit-tolerance
       remesh = parse_remesh_options(args, method);
-      fit_tolerance = args.real("--fit-tolerance", 1e-4, 0.0, 1.0);
+      fit_tolerance = args.real(kFitTolerance);
     }
-    faces = args.integer("--faces", -1, 1, 2000000000);
-    vertices = args.integer("--vertices", -1, 1, 2000000000);
+    faces = args.integer(kFaces);
+    vertices = args.integer(kVertices);
     if (!remeshing) cage = parse_cage_options(args);  // the remeshers read --feature-angle themselves
-    limit_levels = args.integer("--limit-levels", 3, 1, 5);
-    components = args.option("--components", "all");
-    weld = args.real("--weld-tolerance", 1e-7, 0.0, 0.1);
-    two_sided_refit = args.real("--two-sided-refit", 3.0, 0.0, 100.0);
+    limit_levels = args.integer(kLimitLevels);
+    components = args.text(kComponents);
+    weld = args.real(kWeldTolerance);
+    two_sided_refit = args.real(kTwoSidedRefit);
   } catch (const Failure& f) {  // option values are input of this command: exit code 2
     throw Failure(f.code == kExitUsage ? kExitBadInput : f.code, f.what());
   }
@@ -84,10 +102,21 @@ int command_pipeline(Args& args) {
     throw Failure(kExitBadInput, "--components must be 'all' or 'largest', not '" + components + "'");
   cagekit_fit_options fit = parse_fit_options(args);
   if (fit_tolerance >= 0.0) fit.tolerance = fit_tolerance;
-  const auto files = args.positional(2, 2, usage);
+  // The options of the other methods, given, are usage errors.
+  if (remeshing) {
+    fit.threads = 0;  // --threads is the remesher's
+    refuse_other_remesh_options(args, remesh);
+    args.refuse({"--creases", "--crease-angle", "--input-crease-angle"}, "with --method " + method);
+  } else {
+    args.refuse({"--max-face-valence", "--curvature-radius", "--edge-length", "--regions", "--region-tolerance",
+                 "--weights", "--refinement-passes", kFitTolerance.name},
+                "with --method simplify");
+  }
+  const std::vector<std::string> files = {args.positional("SCAN"), args.positional("OUTDIR")};
   // simplify needs exactly one target; the remeshers take an optional --faces (the fallback's).
   if (method == "simplify" ? ((faces < 0) == (vertices < 0)) : vertices > 0)
-    throw Failure(kExitUsage, std::string("usage: ") + usage);
+    throw Failure(kExitUsage, method == "simplify" ? "pipeline --method simplify needs one of --faces N or --vertices N"
+                                                   : "--vertices does not apply with --method " + method);
 
   cagekit_scan_to_cage_options options = CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT;
   options.method = method == "quad" ? CAGEKIT_SCAN_QUAD
@@ -134,17 +163,28 @@ int command_pipeline(Args& args) {
   cagekit_approximation_error method_error = {sizeof(cagekit_approximation_error), r.method_scan_to_cage_max_rel,
                                               std::max(r.method_scan_to_cage_max_rel, r.method_cage_to_scan_max_rel),
                                               r.method_mean_rel};
-  std::string method_json;
+  nlohmann::ordered_json j;
+  j["method"] = method;
+  j["used_method"] = used;
+  j["fallback"] = bool(r.fallback);
+  j["fallback_reason"] = std::string(r.fallback_reason);
+  j["input_is_cage"] = bool(r.input_is_cage);
   if (r.used_method == CAGEKIT_SCAN_SIMPLIFY) {
-    method_json = "\"simplify\": {\"method\": \"simplify\", \"level\": " + std::to_string(r.level) +
-                  ", \"levels\": " + std::to_string(r.level_count) + ", \"target\": " +
-                  json_number(r.simplify_target_used) + ", \"polygons\": " + u64(r.level_faces) +
-                  ", \"faces_with_holes\": " + u64(r.level_faces_with_holes) + ", \"cage_faces\": " +
-                  u64(r.cage_faces) + ", \"quads\": " + u64(r.cage_quads) + ", \"triangles\": " +
-                  u64(r.cage_triangles) + ", \"creases\": " + u64(r.creases) + ", \"error\": {\"hausdorff_rel\": " +
-                  json_number(method_error.hausdorff_rel) + ", \"hausdorff_sym_rel\": " +
-                  json_number(method_error.hausdorff_sym_rel) + ", \"mean_rel\": " +
-                  json_number(method_error.mean_rel) + "}, \"seconds\": " + json_number(r.method_seconds) + "}";
+    nlohmann::ordered_json& s = j["simplify"];
+    s["method"] = "simplify";
+    s["level"] = r.level;
+    s["levels"] = r.level_count;
+    s["target"] = json_number(r.simplify_target_used);
+    s["polygons"] = uint64_t(r.level_faces);
+    s["faces_with_holes"] = uint64_t(r.level_faces_with_holes);
+    s["cage_faces"] = uint64_t(r.cage_faces);
+    s["quads"] = uint64_t(r.cage_quads);
+    s["triangles"] = uint64_t(r.cage_triangles);
+    s["creases"] = uint64_t(r.creases);
+    s["error"] = {{"hausdorff_rel", json_number(method_error.hausdorff_rel)},
+                  {"hausdorff_sym_rel", json_number(method_error.hausdorff_sym_rel)},
+                  {"mean_rel", json_number(method_error.mean_rel)}};
+    s["seconds"] = json_number(r.method_seconds);
   } else {
     RemeshFigures rr;
     rr.quality.faces = r.cage_faces;
@@ -160,32 +200,37 @@ int command_pipeline(Args& args) {
     rr.holes = r.remesh_holes;
     rr.mean_alignment_deg = r.mean_alignment_deg;
     remesh.quad = r.used_method == CAGEKIT_SCAN_QUAD;
-    method_json = "\"remesh\": {" + remesh_method_json(remesh) + ", " + remesh_json_fields(rr, method_error) +
-                  ", \"seconds\": " + json_number(r.method_seconds) + "}";
+    nlohmann::ordered_json& m = j["remesh"];
+    m = remesh_method_json(remesh);
+    m.update(remesh_json_fields(rr, method_error));
+    m["seconds"] = json_number(r.method_seconds);
   }
-  const std::string report =
-      "{\"method\": \"" + method + "\", \"used_method\": \"" + used + "\", \"fallback\": " +
-      (r.fallback ? "true" : "false") + ", \"fallback_reason\": " + json_string(r.fallback_reason) +
-      ", \"input_is_cage\": " + (r.input_is_cage ? "true" : "false") + ",\n " + method_json +
-      ",\n \"conditioning\": " + conditioning_json(r) + ",\n \"fit\": " + fit_json(fit_result, fit) +
-      ",\n \"limit\": {\"levels\": " + std::to_string(r.limit_levels) + ", \"faces\": " + u64(r.limit_faces) +
-      ", \"error\": {\"hausdorff_rel\": " + json_number(r.scan_to_limit_max_rel) + ", \"hausdorff_sym_rel\": " +
-      json_number(std::max(r.scan_to_limit_max_rel, r.limit_to_scan_max_rel)) + ", \"mean_rel\": " +
-      json_number(r.limit_mean_rel) + "}}" +
-      ",\n \"quality\": {\"good\": true, \"scan_to_limit_max_rel\": " + json_number(r.scan_to_limit_max_rel) +
-      ", \"limit_to_scan_max_rel\": " + json_number(r.limit_to_scan_max_rel) +
-      ", \"limit_self_intersections\": " + u64(r.self_intersections) +
-      ", \"self_intersection_triangles\": " + u64(r.self_intersection_triangles) +
-      ", \"scan_self_intersections\": " +
-      (r.scan_self_intersections_counted ? u64(r.scan_self_intersections) : std::string("null")) +
-      ", \"unfitted_self_intersections\": " + u64(r.unfitted_self_intersections) +
-      ", \"fit_fairing_used\": " + json_number(r.fit_fairing_used) +
-      ", \"two_sided_refit\": " + (r.two_sided_refit ? "true" : "false") +
-      (r.two_sided_refit ? ", \"one_sided_fit_max_rel\": " + json_number(r.one_sided_fit_max_rel) : std::string()) +
-      (r.input_is_cage ? ", \"own_cage_crease_angle_deg\": " + json_number(r.own_cage_crease_angle_deg) : std::string()) +
-      ", \"holes_added\": " + u64(r.holes_added) + ", \"input_boundary_loops\": " + u64(r.input_boundary_loops) +
-      ", \"cage_boundary_loops\": " + u64(r.cage_boundary_loops) + "},\n \"seconds\": " + json_number(r.seconds) +
-      "}\n";
+  j["conditioning"] = conditioning_json(r);
+  j["fit"] = fit_json(fit_result, fit);
+  nlohmann::ordered_json& limit_section = j["limit"];
+  limit_section["levels"] = r.limit_levels;
+  limit_section["faces"] = uint64_t(r.limit_faces);
+  limit_section["error"] = {{"hausdorff_rel", json_number(r.scan_to_limit_max_rel)},
+                            {"hausdorff_sym_rel", json_number(std::max(r.scan_to_limit_max_rel, r.limit_to_scan_max_rel))},
+                            {"mean_rel", json_number(r.limit_mean_rel)}};
+  nlohmann::ordered_json& q = j["quality"];
+  q["good"] = true;
+  q["scan_to_limit_max_rel"] = json_number(r.scan_to_limit_max_rel);
+  q["limit_to_scan_max_rel"] = json_number(r.limit_to_scan_max_rel);
+  q["limit_self_intersections"] = uint64_t(r.self_intersections);
+  q["self_intersection_triangles"] = uint64_t(r.self_intersection_triangles);
+  q["scan_self_intersections"] =
+      r.scan_self_intersections_counted ? nlohmann::ordered_json(uint64_t(r.scan_self_intersections)) : nullptr;
+  q["unfitted_self_intersections"] = uint64_t(r.unfitted_self_intersections);
+  q["fit_fairing_used"] = json_number(r.fit_fairing_used);
+  q["two_sided_refit"] = bool(r.two_sided_refit);
+  if (r.two_sided_refit) q["one_sided_fit_max_rel"] = json_number(r.one_sided_fit_max_rel);
+  if (r.input_is_cage) q["own_cage_crease_angle_deg"] = json_number(r.own_cage_crease_angle_deg);
+  q["holes_added"] = uint64_t(r.holes_added);
+  q["input_boundary_loops"] = uint64_t(r.input_boundary_loops);
+  q["cage_boundary_loops"] = uint64_t(r.cage_boundary_loops);
+  j["seconds"] = json_number(r.seconds);
+  const std::string report = json_text(j, ",\n ") + "\n";  // one top-level member per line
   write_text_file(files[1] + "/report.json", report);
 
   if (json) {
@@ -208,6 +253,40 @@ int command_pipeline(Args& args) {
     std::printf("  wrote     cage.obj limit.obj report.json (%.2f s)\n", r.seconds);
   }
   return kExitOk;
+}
+
+}  // namespace
+
+Command add_pipeline(CLI::App& cagekit) {
+  CLI::App* app = cagekit.add_subcommand(
+      "pipeline", "conditioning -> simplify or remesh -> creased cage -> fit; writes OUTDIR/cage.obj, limit.obj, "
+                  "report.json (a result that is not good: exit 2)");
+  auto options = std::make_shared<Options>(app);
+  options->add_positional("SCAN", "mesh file");
+  options->add_positional("OUTDIR", "output folder (created with its parents)");
+  options->add(kMethod);
+  options->add(kFaces);
+  options->add(kVertices);
+  add_cage_options(*options);
+  add_fit_options(*options);  // before the remeshers': --tolerance shows the fit's default
+  add_remesh_options(*options);
+  options->add(kFitTolerance);
+  options->add(kLimitLevels);
+  options->add(kNoRepair);
+  options->add(kComponents);
+  options->add(kWeldTolerance);
+  options->add(kNoFallback);
+  options->add(kTwoSidedRefit);
+  options->add(kJson);
+  options->add_quiet();
+  // Shared by the methods with method-dependent meanings.
+  app->get_option("--feature-angle")
+      ->description("input edges sharper than DEG: sharp for simplify's sharp-input creases (0..180), feature lines "
+                    "of the remeshers (-1: none)");
+  app->get_option("--tolerance")
+      ->description("simplify: the fit's tolerance (as in `cagekit fit`) [0, 1]; anisotropic: the remeshing tolerance "
+                    "[1e-07, 1], default 0.002; quad: checked, no effect (the fit's is --fit-tolerance)");
+  return {app, [options] { return command_pipeline(*options); }};
 }
 
 }  // namespace cli

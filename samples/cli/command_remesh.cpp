@@ -1,13 +1,14 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// cagekit remesh IN OUT --method anisotropic [--tolerance REL] [--feature-angle DEG]
-//                [--max-face-valence N] [--curvature-radius REL] [--threads N] [--json] [--quiet]
-// cagekit remesh IN OUT --method quad [--edge-length REL] [--regions N] [--region-tolerance T]
-//                [--weights TRI,PENT,TJOINT] [--refinement-passes N] [--feature-angle DEG] [--threads N] [--json] [--quiet]
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "cli_context.h"
 
@@ -37,9 +38,43 @@ void parse_weights(const std::string& text, cagekit_quad_remesh_options& o) {
   o.t_joint_weight = w[2];
 }
 
+// anisotropic
+const RealOption kTolerance{"--tolerance", 0.002, 1e-7, 1.0, "REL",
+                            "anisotropic: approximation tolerance relative to the bbox diagonal (sets the line spacing)"};
+const IntegerOption kMaxFaceValence{"--max-face-valence", 5, 3, 1000, "N", "anisotropic: faces with more corners are split"};
+const RealOption kCurvatureRadius{"--curvature-radius", 0.01, 0.0, 1.0, "REL",
+                                  "anisotropic: curvature averaging radius relative to the bbox diagonal"};
+// quad
+const RealOption kEdgeLength{"--edge-length", 0.05, 1e-4, 1.0, "REL",
+                             "quad: region-boundary samples REL of the bbox diagonal apart"};
+const IntegerOption kRegions{"--regions", 30, 0, 1000000, "N",
+                             "quad: region count (0: the first count whose L2,1 error / area <= --region-tolerance)"};
+const RealOption kRegionTolerance{"--region-tolerance", 0.01, 0.0, 4.0, "T", "quad: the error bound of --regions 0"};
+const TextOption kWeights{"--weights", "40,40,100", "TRI,PENT,TJOINT",
+                          "quad: element energy weights of triangles, pentagons and T-joints (Table 6.1)"};
+const IntegerOption kRefinementPasses{"--refinement-passes", 1, 0, 16, "N",
+                                      "quad: sample-count refinement passes (0: none, 3-10x faster)"};
+// both
+const RealOption kFeatureAngle{"--feature-angle", 40.0, -1.0, 180.0, "DEG",
+                               "input edges sharper than DEG are feature lines, kept as creases (-1: none)"};
+const IntegerOption kThreads{"--threads", 0, 0, 1024, "N", "worker threads (0: all cores)"};
+
 }  // namespace
 
-RemeshSettings parse_remesh_options(Args& args, const std::string& method) {
+void add_remesh_options(Options& options) {
+  options.add(kTolerance);
+  options.add(kMaxFaceValence);
+  options.add(kCurvatureRadius);
+  options.add(kEdgeLength);
+  options.add(kRegions);
+  options.add(kRegionTolerance);
+  options.add(kWeights);
+  options.add(kRefinementPasses);
+  options.add(kFeatureAngle);
+  options.add(kThreads);
+}
+
+RemeshSettings parse_remesh_options(const Options& args, const std::string& method) {
   RemeshSettings settings;
   if (method != "anisotropic" && method != "quad")
     throw Failure(kExitBadInput, "--method must be 'anisotropic' or 'quad', not '" + method + "'");
@@ -47,21 +82,21 @@ RemeshSettings parse_remesh_options(Args& args, const std::string& method) {
     if (method == "quad") {
       cagekit_quad_remesh_options& o = settings.quad_options;
       settings.quad = true;
-      o.edge_length = args.real("--edge-length", 0.05, 1e-4, 1.0);
-      o.regions = static_cast<uint32_t>(args.integer("--regions", 30, 0, 1000000));
-      o.region_tolerance = args.real("--region-tolerance", 0.01, 0.0, 4.0);
-      const std::string weights = args.option("--weights", "");
-      if (!weights.empty()) parse_weights(weights, o);
-      o.refinement_passes = static_cast<uint32_t>(args.integer("--refinement-passes", 1, 0, 16));
-      o.crease_angle_degrees = args.real("--feature-angle", 40.0, -1.0, 180.0);
-      o.threads = static_cast<uint32_t>(args.integer("--threads", 0, 0, 1024));
+      o.edge_length = args.real(kEdgeLength);
+      o.regions = static_cast<uint32_t>(args.integer(kRegions));
+      o.region_tolerance = args.real(kRegionTolerance);
+      const std::string weights = args.given(kWeights.name) ? args.text(kWeights) : std::string();
+      if (!weights.empty()) parse_weights(weights, o);  // else the library's (kWeights' shown default)
+      o.refinement_passes = static_cast<uint32_t>(args.integer(kRefinementPasses));
+      o.crease_angle_degrees = args.real(kFeatureAngle);
+      o.threads = static_cast<uint32_t>(args.integer(kThreads));
     } else {
       cagekit_anisotropic_options& o = settings.anisotropic;
-      o.tolerance = args.real("--tolerance", 0.002, 1e-7, 1.0);
-      o.max_face_valence = static_cast<uint32_t>(args.integer("--max-face-valence", 5, 3, 1000));
-      o.curvature_radius = args.real("--curvature-radius", 0.01, 0.0, 1.0);
-      o.feature_angle_degrees = args.real("--feature-angle", 40.0, -1.0, 180.0);
-      o.threads = static_cast<uint32_t>(args.integer("--threads", 0, 0, 1024));
+      o.tolerance = args.real(kTolerance);
+      o.max_face_valence = static_cast<uint32_t>(args.integer(kMaxFaceValence));
+      o.curvature_radius = args.real(kCurvatureRadius);
+      o.feature_angle_degrees = args.real(kFeatureAngle);
+      o.threads = static_cast<uint32_t>(args.integer(kThreads));
     }
   } catch (const Failure& f) {  // option values are input: exit code 2
     throw Failure(f.code == kExitUsage ? kExitBadInput : f.code, f.what());
@@ -69,46 +104,66 @@ RemeshSettings parse_remesh_options(Args& args, const std::string& method) {
   return settings;
 }
 
-std::string remesh_method_json(const RemeshSettings& settings) {
-  char buffer[256];
-  const cagekit_quad_remesh_options& q = settings.quad_options;
+void refuse_other_remesh_options(const Options& args, const RemeshSettings& settings) {
   if (settings.quad)
-    std::snprintf(buffer, sizeof(buffer), "\"method\": \"quad\", \"edge_length\": %.9g, \"weights\": [%.9g, %.9g, %.9g], "
-                  "\"refinement_passes\": %u",
-                  q.edge_length, q.triangle_weight, q.pentagon_weight, q.t_joint_weight, q.refinement_passes);
+    args.refuse({kMaxFaceValence.name, kCurvatureRadius.name}, "with --method quad");
   else
-    std::snprintf(buffer, sizeof(buffer), "\"method\": \"anisotropic\", \"tolerance\": %.9g",
-                  settings.anisotropic.tolerance);
-  return buffer;
+    args.refuse({kEdgeLength.name, kRegions.name, kRegionTolerance.name, kWeights.name, kRefinementPasses.name},
+                "with --method anisotropic");
 }
 
-std::string remesh_json_fields(const RemeshFigures& f, const cagekit_approximation_error& e) {
+nlohmann::ordered_json remesh_method_json(const RemeshSettings& settings) {
+  const auto g = [](double x) { return json_rounded(x, "%.9g"); };
+  const cagekit_quad_remesh_options& q = settings.quad_options;
+  nlohmann::ordered_json j;
+  if (settings.quad) {
+    j["method"] = "quad";
+    j["edge_length"] = g(q.edge_length);
+    j["weights"] = {g(q.triangle_weight), g(q.pentagon_weight), g(q.t_joint_weight)};
+    j["refinement_passes"] = q.refinement_passes;
+  } else {
+    j["method"] = "anisotropic";
+    j["tolerance"] = g(settings.anisotropic.tolerance);
+  }
+  return j;
+}
+
+nlohmann::ordered_json remesh_json_fields(const RemeshFigures& f, const cagekit_approximation_error& e) {
   const cagekit_remesh_quality& q = f.quality;
-  char buffer[1024];
-  std::snprintf(buffer, sizeof(buffer),
-                "\"faces\": %llu, \"vertices\": %llu, \"quads_pct\": %.3f, \"valence4_vertices_pct\": %.3f, "
-                "\"max_face_valence\": %u, \"max_vertex_valence\": %u, \"creases\": %llu, \"hausdorff_rel\": %.9g, "
-                "\"hausdorff_sym_rel\": %.9g, \"min_scaled_jacobian\": %.6f, \"regions\": %llu, "
-                "\"mean_alignment_deg\": %.4f, \"lines\": %llu, \"holes\": %llu",
-                (unsigned long long)q.faces, (unsigned long long)q.vertices, percent(q.quads, q.faces),
-                percent(q.valence4_vertices, q.interior_vertices), q.max_face_valence, q.max_vertex_valence,
-                (unsigned long long)q.creases, e.hausdorff_rel, e.hausdorff_sym_rel, q.min_scaled_jacobian,
-                (unsigned long long)f.regions, f.mean_alignment_deg, (unsigned long long)f.lines,
-                (unsigned long long)f.holes);
-  return buffer;
+  nlohmann::ordered_json j;
+  j["faces"] = uint64_t(q.faces);
+  j["vertices"] = uint64_t(q.vertices);
+  j["quads_pct"] = json_rounded(percent(q.quads, q.faces), "%.3f");
+  j["valence4_vertices_pct"] = json_rounded(percent(q.valence4_vertices, q.interior_vertices), "%.3f");
+  j["max_face_valence"] = q.max_face_valence;
+  j["max_vertex_valence"] = q.max_vertex_valence;
+  j["creases"] = uint64_t(q.creases);
+  j["hausdorff_rel"] = json_rounded(e.hausdorff_rel, "%.9g");
+  j["hausdorff_sym_rel"] = json_rounded(e.hausdorff_sym_rel, "%.9g");
+  j["min_scaled_jacobian"] = json_rounded(q.min_scaled_jacobian, "%.6f");
+  j["regions"] = uint64_t(f.regions);
+  j["mean_alignment_deg"] = json_rounded(f.mean_alignment_deg, "%.4f");
+  j["lines"] = uint64_t(f.lines);
+  j["holes"] = uint64_t(f.holes);
+  return j;
 }
 
-int command_remesh(Args& args) {
-  const char* usage =
-      "cagekit remesh IN OUT (--method anisotropic [--tolerance REL] [--max-face-valence N] [--curvature-radius REL] "
-      "| --method quad [--edge-length REL] [--regions N] [--region-tolerance T] [--weights TRI,PENT,TJOINT] [--refinement-passes N]) "
-      "[--feature-angle DEG] [--threads N] [--json] [--quiet]";
-  const bool quiet = args.flag("--quiet");
-  const bool json = args.flag("--json");
-  const std::string method = args.option("--method", "");
-  if (method.empty()) throw Failure(kExitUsage, std::string("usage: ") + usage + " (--method is required)");
+namespace {
+
+const FlagOption kJson{"--json", "print the report as one JSON object"};
+const TextOption kMethod{"--method", "", "anisotropic|quad",
+                         "anisotropic: curvature-line remeshing (thesis ch. 5); quad: two-step quad-dominant "
+                         "remeshing (thesis ch. 6) (required)"};
+
+int command_remesh(const Options& args) {
+  const bool quiet = args.quiet();
+  const bool json = args.flag(kJson);
+  const std::string method = args.text(kMethod);
+  if (method.empty()) throw Failure(kExitUsage, "--method is required");
   const RemeshSettings settings = parse_remesh_options(args, method);
-  const auto files = args.positional(2, 2, usage);
+  if (settings.quad) args.refuse({kTolerance.name}, "with --method quad");
+  refuse_other_remesh_options(args, settings);
+  const std::vector<std::string> files = {args.positional("IN"), args.positional("OUT")};
   const cagekit_file_format out_format = format_from_extension(files[1]);
   const auto start = std::chrono::steady_clock::now();
 
@@ -148,8 +203,11 @@ int command_remesh(Args& args) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   if (json) {
-    std::printf("{%s, %s, \"remesh_seconds\": %.3f, \"seconds\": %.3f}\n", remesh_method_json(settings).c_str(),
-                remesh_json_fields(figures, error).c_str(), quality.seconds, seconds);
+    nlohmann::ordered_json j = remesh_method_json(settings);
+    j.update(remesh_json_fields(figures, error));
+    j["remesh_seconds"] = json_rounded(quality.seconds, "%.3f");
+    j["seconds"] = json_rounded(seconds, "%.3f");
+    std::printf("%s\n", json_text(j).c_str());
   } else if (!quiet) {
     char described[128];
     if (settings.quad)
@@ -166,6 +224,21 @@ int command_remesh(Args& args) {
     std::printf("Hausdorff %.3g of the diagonal, %.2f s\n", error.hausdorff_sym_rel, seconds);
   }
   return kExitOk;
+}
+
+}  // namespace
+
+Command add_remesh(CLI::App& cagekit) {
+  CLI::App* app = cagekit.add_subcommand(
+      "remesh", "remeshing to a quad-dominant cage with creases (anisotropic: thesis ch. 5, quad: ch. 6)");
+  auto options = std::make_shared<Options>(app);
+  options->add_positional("IN", "mesh file");
+  options->add_positional("OUT", "output cage file (.obj .ply .off .drc)");
+  options->add(kMethod);
+  add_remesh_options(*options);
+  options->add(kJson);
+  options->add_quiet();
+  return {app, [options] { return command_remesh(*options); }};
 }
 
 }  // namespace cli

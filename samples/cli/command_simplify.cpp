@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// cagekit simplify IN OUT (--faces N | --vertices N) [--cage] [--clusters FILE.ply] [--json]
-//                 [--crease-angle DEG] [--input-crease-angle DEG] [--epsilon E] [--contour-tolerance REL]
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "cli_context.h"
 #include "pipeline.h"
@@ -57,25 +59,30 @@ void write_clusters_ply(const Session& session, cagekit_mesh input, const std::v
   }
 }
 
-}  // namespace
+const FlagOption kJson{"--json", "print the report as one JSON object"};
+const FlagOption kCage{"--cage", "write the quad-dominant cage with creases instead of the polygons"};
+const IntegerOption kFaces{"--faces", -1, 1, 2000000000, "N", "the level with N polygons (this or --vertices)"};
+const IntegerOption kVertices{"--vertices", -1, 1, 2000000000, "N", "the level with N vertices (this or --faces)"};
+const TextOption kClusters{"--clusters", "", "FILE.ply", "also write the input coloured by cluster"};
+const RealOption kEpsilon{"--epsilon", 0.01, 0.0, 1e6, "E", "weight of the valence/angle tie-break (thesis (3.8))"};
+// Polygonal output only: border vertices put back where the border strays more than REL x the
+// input's bbox diagonal from a level edge (cagekit_hierarchy_get_refined_polygon_mesh).
+const RealOption kContourTolerance{"--contour-tolerance", 0.0, 0.0, 1.0, "REL",
+                                   "polygonal output: border vertices put back where the border strays more than "
+                                   "REL x the bbox diagonal from a level edge (0: off; not with --cage)"};
 
-int command_simplify(Args& args) {
-  const char* usage =
-      "cagekit simplify IN OUT (--faces N | --vertices N) [--cage] [--clusters FILE.ply] [--json] "
-      "[--creases sharp-input|cluster-angle] [--feature-angle DEG] [--crease-angle DEG] [--input-crease-angle DEG] [--epsilon E] [--contour-tolerance REL] [--quiet]";
-  const bool quiet = args.flag("--quiet");
-  const bool json = args.flag("--json");
-  const bool want_cage = args.flag("--cage");
-  const int faces_target = args.integer("--faces", -1, 1, 2000000000);
-  const int vertices_target = args.integer("--vertices", -1, 1, 2000000000);
-  const std::string clusters_path = args.option("--clusters", "");
+int command_simplify(const Options& args) {
+  const bool quiet = args.quiet();
+  const bool json = args.flag(kJson);
+  const bool want_cage = args.flag(kCage);
+  const int faces_target = args.integer(kFaces);
+  const int vertices_target = args.integer(kVertices);
+  const std::string clusters_path = args.text(kClusters);
   const cagekit_cage_options cage_options = parse_cage_options(args);
-  const double epsilon = args.real("--epsilon", 0.01, 0.0, 1e6);
-  // Polygonal output only: border vertices put back where the border strays more than REL x the
-  // input's bbox diagonal from a level edge (cagekit_hierarchy_get_refined_polygon_mesh).
-  const double contour_tolerance = args.real("--contour-tolerance", 0.0, 0.0, 1.0);
-  const auto files = args.positional(2, 2, usage);
-  if ((faces_target < 0) == (vertices_target < 0)) throw Failure(kExitUsage, std::string("usage: ") + usage);
+  const double epsilon = args.real(kEpsilon);
+  const double contour_tolerance = args.real(kContourTolerance);
+  const std::vector<std::string> files = {args.positional("IN"), args.positional("OUT")};
+  if ((faces_target < 0) == (vertices_target < 0)) throw Failure(kExitUsage, "simplify needs one of --faces N or --vertices N");
   if (contour_tolerance > 0 && want_cage)
     throw Failure(kExitUsage, "--contour-tolerance refines the polygonal level; it does not apply with --cage");
   const cagekit_file_format out_format = format_from_extension(files[1]);
@@ -139,20 +146,27 @@ int command_simplify(Args& args) {
   const unsigned long long triangles = want_cage ? cage_report.triangles : out_info.triangles;
   const unsigned long long pentagons = want_cage ? cage_report.pentagons : 0ull;
   if (json) {
-    std::printf(
-        "{\"level\": %u, \"polygons\": %llu, \"faces\": %llu, \"vertices\": %llu, \"quads\": %llu, "
-        "\"triangles\": %llu, \"pentagons\": %llu, \"other_polygons\": %llu, \"faces_with_holes\": %llu, "
-        "\"invalid_faces\": %llu, \"non_manifold_edges\": %llu, \"creases\": %llu, \"l2_error\": %.9g, \"l21_error\": %.9g, "
-        "\"hausdorff_rel\": %.9g, \"hausdorff_sym_rel\": %.9g, \"mean_rel\": %.9g, "
-        "\"simplify_seconds\": %.3f, \"seconds\": %.3f}\n",
-        level, (unsigned long long)info.faces, (unsigned long long)out_info.faces,
-        (unsigned long long)out_info.vertices, quads, triangles, pentagons,
-        (unsigned long long)(want_cage ? cage_report.other_polygons : out_info.other_polygons),
-        (unsigned long long)info.faces_with_holes,
-        (unsigned long long)(info.invalid_faces + (want_cage ? cage_report.other_polygons : 0)),
-        (unsigned long long)(want_cage ? cage_report.non_manifold_edges : 0),
-        (unsigned long long)(want_cage ? cage_report.creases : 0), info.l2_error, info.l21_error, error.hausdorff_rel,
-        error.hausdorff_sym_rel, error.mean_rel, simplify_seconds, seconds);
+    nlohmann::ordered_json j;
+    j["level"] = level;
+    j["polygons"] = uint64_t(info.faces);
+    j["faces"] = uint64_t(out_info.faces);
+    j["vertices"] = uint64_t(out_info.vertices);
+    j["quads"] = quads;
+    j["triangles"] = triangles;
+    j["pentagons"] = pentagons;
+    j["other_polygons"] = uint64_t(want_cage ? cage_report.other_polygons : out_info.other_polygons);
+    j["faces_with_holes"] = uint64_t(info.faces_with_holes);
+    j["invalid_faces"] = uint64_t(info.invalid_faces + (want_cage ? cage_report.other_polygons : 0));
+    j["non_manifold_edges"] = uint64_t(want_cage ? cage_report.non_manifold_edges : 0);
+    j["creases"] = uint64_t(want_cage ? cage_report.creases : 0);
+    j["l2_error"] = json_rounded(info.l2_error, "%.9g");
+    j["l21_error"] = json_rounded(info.l21_error, "%.9g");
+    j["hausdorff_rel"] = json_rounded(error.hausdorff_rel, "%.9g");
+    j["hausdorff_sym_rel"] = json_rounded(error.hausdorff_sym_rel, "%.9g");
+    j["mean_rel"] = json_rounded(error.mean_rel, "%.9g");
+    j["simplify_seconds"] = json_rounded(simplify_seconds, "%.3f");
+    j["seconds"] = json_rounded(seconds, "%.3f");
+    std::printf("%s\n", json_text(j).c_str());
   } else if (!quiet) {
     std::printf("%s -> %s: level %u, %llu polygons (%llu with holes) -> %llu faces (%llu quads, %llu triangles, "
                 "%llu pentagons), %llu creases, Hausdorff %.3g of the diagonal, %.2f s\n",
@@ -161,6 +175,26 @@ int command_simplify(Args& args) {
                 pentagons, (unsigned long long)(want_cage ? cage_report.creases : 0), error.hausdorff_rel, seconds);
   }
   return kExitOk;
+}
+
+}  // namespace
+
+Command add_simplify(CLI::App& cagekit) {
+  CLI::App* app = cagekit.add_subcommand(
+      "simplify", "structure-preserving simplification (thesis ch. 3) to polygons or a quad-dominant cage");
+  auto options = std::make_shared<Options>(app);
+  options->add_positional("IN", "mesh file");
+  options->add_positional("OUT", "output file (.obj .ply .off .drc)");
+  options->add(kFaces);
+  options->add(kVertices);
+  options->add(kCage);
+  options->add(kClusters);
+  add_cage_options(*options);
+  options->add(kEpsilon);
+  options->add(kContourTolerance);
+  options->add(kJson);
+  options->add_quiet();
+  return {app, [options] { return command_simplify(*options); }};
 }
 
 }  // namespace cli

@@ -1,17 +1,25 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// cagekit subdivide IN OUT --levels N [--limit]
 #include <cstdio>
+#include <memory>
 #include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
 
 #include "cli_context.h"
 
 namespace cli {
 
-int command_subdivide(Args& args) {
-  const bool quiet = args.flag("--quiet");
-  const bool limit = args.flag("--limit");
-  const int levels = args.integer("--levels", -1, 0, CAGEKIT_MAX_SUBDIVISION_LEVELS);
-  const auto files = args.positional(2, 2, "cagekit subdivide IN OUT --levels N [--limit] [--quiet]");
+namespace {
+
+const FlagOption kLimit{"--limit", "put the refined vertices on the limit surface"};
+const IntegerOption kLevels{"--levels", -1, 0, CAGEKIT_MAX_SUBDIVISION_LEVELS, "N", "refinement levels (required)"};
+
+int command_subdivide(const Options& args) {
+  const bool quiet = args.quiet();
+  const bool limit = args.flag(kLimit);
+  const int levels = args.integer(kLevels);
+  const std::vector<std::string> files = {args.positional("IN"), args.positional("OUT")};
   if (levels < 0) throw Failure(kExitUsage, "subdivide needs --levels N");
 
   Session session(quiet);
@@ -38,6 +46,19 @@ int command_subdivide(Args& args) {
                  faces);
   }
   return kExitOk;
+}
+
+}  // namespace
+
+Command add_subdivide(CLI::App& cagekit) {
+  CLI::App* app = cagekit.add_subcommand("subdivide", "uniform Catmull-Clark refinement with creases");
+  auto options = std::make_shared<Options>(app);
+  options->add_positional("IN", "cage file");
+  options->add_positional("OUT", "output file (.obj .ply .off .drc)");
+  options->add(kLevels);
+  options->add(kLimit);
+  options->add_quiet();
+  return {app, [options] { return command_subdivide(*options); }};
 }
 
 }  // namespace cli

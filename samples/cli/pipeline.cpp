@@ -26,28 +26,30 @@ auto bad_value_is_bad_input(F&& parse) {
 
 }  // namespace
 
-std::string json_number(double x) {
-  if (!std::isfinite(x)) return "null";
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), "%.9g", x);
-  return buffer;
-}
+nlohmann::ordered_json json_number(double x) { return json_rounded(x, "%.9g"); }
 
 namespace {
 
-std::string number(double x) { return json_number(x); }
+nlohmann::ordered_json number(double x) { return json_number(x); }
 
-std::string pass_fields(const cagekit_fit_pass& p, double seconds) {
-  return "\"l2\": " + number(p.l2) + ", \"rms_rel\": " + number(p.rms_rel) + ", \"max_rel\": " + number(p.max_rel) +
-         ", \"mean_rel\": " + number(p.mean_rel) + ", \"max_rel_interior\": " + number(p.max_rel_interior) +
-         ", \"seconds\": " + number(seconds) +
-         ", \"unconverged_projections\": " + std::to_string((unsigned long long)p.unconverged_projections) +
-         ", \"mean_projection_steps\": " + number(p.mean_projection_steps);
+// The figures of one fit state, added to `j`.
+void add_pass_fields(nlohmann::ordered_json& j, const cagekit_fit_pass& p, double seconds) {
+  j["l2"] = number(p.l2);
+  j["rms_rel"] = number(p.rms_rel);
+  j["max_rel"] = number(p.max_rel);
+  j["mean_rel"] = number(p.mean_rel);
+  j["max_rel_interior"] = number(p.max_rel_interior);
+  j["seconds"] = number(seconds);
+  j["unconverged_projections"] = uint64_t(p.unconverged_projections);
+  j["mean_projection_steps"] = number(p.mean_projection_steps);
 }
 
-std::string error_json(const cagekit_approximation_error& e) {
-  return "{\"hausdorff_rel\": " + number(e.hausdorff_rel) + ", \"hausdorff_sym_rel\": " + number(e.hausdorff_sym_rel) +
-         ", \"mean_rel\": " + number(e.mean_rel) + "}";
+nlohmann::ordered_json error_json(const cagekit_approximation_error& e) {
+  nlohmann::ordered_json j;
+  j["hausdorff_rel"] = number(e.hausdorff_rel);
+  j["hausdorff_sym_rel"] = number(e.hausdorff_sym_rel);
+  j["mean_rel"] = number(e.mean_rel);
+  return j;
 }
 
 }  // namespace
@@ -94,11 +96,13 @@ void fit_and_limit(const Session& session, cagekit_mesh scan, const std::string&
   session.check(cagekit_mesh_measure_error(scan, limit_mesh.get(), &result->limit_error), scan_name);
 }
 
-std::string limit_json(const PipelineSettings& settings, const PipelineResult& result) {
-  return "{\"levels\": " + std::to_string(settings.limit_levels) + ", \"vertices\": " +
-         std::to_string((unsigned long long)result.limit_info.vertices) + ", \"faces\": " +
-         std::to_string((unsigned long long)result.limit_info.faces) + ", \"error\": " +
-         error_json(result.limit_error) + "}";
+nlohmann::ordered_json limit_json(const PipelineSettings& settings, const PipelineResult& result) {
+  nlohmann::ordered_json j;
+  j["levels"] = settings.limit_levels;
+  j["vertices"] = uint64_t(result.limit_info.vertices);
+  j["faces"] = uint64_t(result.limit_info.faces);
+  j["error"] = error_json(result.limit_error);
+  return j;
 }
 
 }  // namespace
@@ -117,32 +121,73 @@ void make_directories(const std::string& path) {
   }
 }
 
-cagekit_cage_options parse_cage_options(Args& args) {
+namespace {
+
+const TextOption kCreases{"--creases", "sharp-input", "sharp-input|cluster-angle",
+                          "where the cage gets creases: where the scan is sharp (input edges above --feature-angle, "
+                          "noise filtered), or by the clusters' normals (thesis rule, --crease-angle)"};
+const RealOption kFeatureAngle{"--feature-angle", 40.0, 0.0, 180.0, "DEG",
+                               "sharp-input: input edges sharper than DEG are sharp"};
+const RealOption kCreaseAngle{"--crease-angle", 30.0, -1.0, 180.0, "DEG",
+                              "cluster-angle: clusters whose normals differ by more than DEG meet at a crease"};
+const RealOption kInputCreaseAngle{"--input-crease-angle", -1.0, -1.0, 180.0, "DEG",
+                                   "cluster-angle: also require the input to be sharper than DEG there (-1: off)"};
+
+const IntegerOption kPasses{"--passes", 5, 0, 100000, "N", "fit passes (control-vertex steps) at most"};
+const RealOption kFitTolerance{"--tolerance", 1e-4, 0.0, 1.0, "T",
+                               "stop when a pass lowers the L2 error by less than T x L2 (0: run all --passes)"};
+const RealOption kFairing{"--fairing", 0.0, 0.0, 1e6, "F", "weight of an umbrella-Laplacian fairing term (0: none, as in the thesis)"};
+const IntegerOption kThreads{"--threads", 0, 0, 1024, "N", "worker threads (0: all cores)"};
+const FlagOption kKeepCreases{"--keep-creases", "vertices on sharp creases and corners keep their positions"};
+const RealOption kCreaseFeatureReach{"--crease-feature-reach", 0.02, 0.0, 1.0, "REL",
+                                     "the limit's crease curves are pulled onto the scan's sharp edges within "
+                                     "REL x the bbox diagonal (0: crease curves free)"};
+const TextOption kProjection{"--projection", "exact", "exact|linear",
+                             "closest points on the exact limit surface or on its piecewise-linear refinement"};
+
+}  // namespace
+
+void add_cage_options(Options& options) {
+  options.add(kCreases);
+  options.add(kFeatureAngle);
+  options.add(kCreaseAngle);
+  options.add(kInputCreaseAngle);
+}
+
+cagekit_cage_options parse_cage_options(const Options& args) {
   cagekit_cage_options o = CAGEKIT_CAGE_OPTIONS_INIT;
-  const std::string rule = bad_value_is_bad_input([&] { return args.option("--creases", "sharp-input"); });
+  const std::string rule = bad_value_is_bad_input([&] { return args.text(kCreases); });
   if (rule == "sharp-input")
     o.crease_rule = CAGEKIT_CREASES_SHARP_INPUT;
   else if (rule == "cluster-angle")
     o.crease_rule = CAGEKIT_CREASES_CLUSTER_ANGLE;
   else
     throw Failure(kExitBadInput, "--creases must be 'sharp-input' or 'cluster-angle', not '" + rule + "'");
-  o.feature_angle_degrees = bad_value_is_bad_input([&] { return args.real("--feature-angle", 40.0, 0.0, 180.0); });
-  o.crease_angle_degrees = bad_value_is_bad_input([&] { return args.real("--crease-angle", 30.0, -1.0, 180.0); });
-  o.input_crease_angle_degrees =
-      bad_value_is_bad_input([&] { return args.real("--input-crease-angle", -1.0, -1.0, 180.0); });
+  o.feature_angle_degrees = bad_value_is_bad_input([&] { return args.real(kFeatureAngle); });
+  o.crease_angle_degrees = bad_value_is_bad_input([&] { return args.real(kCreaseAngle); });
+  o.input_crease_angle_degrees = bad_value_is_bad_input([&] { return args.real(kInputCreaseAngle); });
   return o;
 }
 
-cagekit_fit_options parse_fit_options(Args& args) {
+void add_fit_options(Options& options) {
+  options.add(kPasses);
+  options.add(kFitTolerance);
+  options.add(kProjection);
+  options.add(kFairing);
+  options.add(kCreaseFeatureReach);
+  options.add(kKeepCreases);
+  options.add(kThreads);
+}
+
+cagekit_fit_options parse_fit_options(const Options& args) {
   cagekit_fit_options o = CAGEKIT_FIT_OPTIONS_INIT;
-  o.max_passes = static_cast<uint32_t>(bad_value_is_bad_input([&] { return args.integer("--passes", 5, 0, 100000); }));
-  o.tolerance = bad_value_is_bad_input([&] { return args.real("--tolerance", 1e-4, 0.0, 1.0); });
-  o.fairing = bad_value_is_bad_input([&] { return args.real("--fairing", 0.0, 0.0, 1e6); });
-  o.threads = static_cast<uint32_t>(bad_value_is_bad_input([&] { return args.integer("--threads", 0, 0, 1024); }));
-  o.keep_crease_vertices = args.flag("--keep-creases") ? 1 : 0;
-  o.crease_feature_reach =
-      bad_value_is_bad_input([&] { return args.real("--crease-feature-reach", 0.02, 0.0, 1.0); });
-  const std::string projection = bad_value_is_bad_input([&] { return args.option("--projection", "exact"); });
+  o.max_passes = static_cast<uint32_t>(bad_value_is_bad_input([&] { return args.integer(kPasses); }));
+  o.tolerance = bad_value_is_bad_input([&] { return args.real(kFitTolerance); });
+  o.fairing = bad_value_is_bad_input([&] { return args.real(kFairing); });
+  o.threads = static_cast<uint32_t>(bad_value_is_bad_input([&] { return args.integer(kThreads); }));
+  o.keep_crease_vertices = args.flag(kKeepCreases) ? 1 : 0;
+  o.crease_feature_reach = bad_value_is_bad_input([&] { return args.real(kCreaseFeatureReach); });
+  const std::string projection = bad_value_is_bad_input([&] { return args.text(kProjection); });
   if (projection == "exact")
     o.projection = CAGEKIT_PROJECTION_EXACT;
   else if (projection == "linear")
@@ -164,31 +209,34 @@ void run_fit(const Session& session, cagekit_cage cage, cagekit_mesh scan, const
   result->passes.resize(pass_count);
 }
 
-std::string fit_json(const FitResult& fit, const cagekit_fit_options& options) {
+nlohmann::ordered_json fit_json(const FitResult& fit, const cagekit_fit_options& options) {
   const cagekit_fit_report& r = fit.report;
-  std::string json = "{\"passes\": " + std::to_string(r.pass_count > 0 ? r.pass_count - 1 : 0) + ", " +
-                     pass_fields(r.final, r.seconds) +
-                     ", \"stopped_by_tolerance\": " + (r.stopped_by_tolerance ? "true" : "false") +
-                     ", \"rejected_last_step\": " + (r.rejected_last_step ? "true" : "false") +
-                     ", \"unsupported_control_vertices\": " +
-                     std::to_string((unsigned long long)r.unsupported_control_vertices) +
-                     ", \"weakly_supported_control_vertices\": " +
-                     std::to_string((unsigned long long)r.weakly_supported_control_vertices) +
-                     ", \"best_pass\": " + std::to_string(r.best_pass) +
-                     ", \"surface_to_scan_max_rel\": " + number(r.final_two_sided.surface_to_scan_max_rel) +
-                     ", \"surface_to_scan_rms_rel\": " + number(r.final_two_sided.surface_to_scan_rms_rel) +
-                     ", \"two_sided_rms_rel\": " + number(r.final_two_sided.two_sided_rms_rel) +
-                     ", \"initial_surface_to_scan_max_rel\": " +
-                     number(r.initial_two_sided.surface_to_scan_max_rel) +
-                     ", \"bbox_diagonal\": " + number(r.bbox_diagonal) + ", \"max_passes\": " +
-                     std::to_string(options.max_passes) + ", \"tolerance\": " + number(options.tolerance) +
-                     ", \"fairing\": " + number(options.fairing) +
-                     ", \"crease_feature_reach\": " + number(options.crease_feature_reach) + ", \"projection\": \"" +
-                     (options.projection == CAGEKIT_PROJECTION_EXACT ? "exact" : "linear") + "\", \"per_pass\": [";
-  for (size_t i = 0; i < fit.passes.size(); ++i)
-    json += (i ? ", {" : "{") + std::string("\"pass\": ") + std::to_string(i) + ", " +
-            pass_fields(fit.passes[i], fit.passes[i].seconds) + "}";
-  return json + "]}";
+  nlohmann::ordered_json j;
+  j["passes"] = r.pass_count > 0 ? r.pass_count - 1 : 0;
+  add_pass_fields(j, r.final, r.seconds);
+  j["stopped_by_tolerance"] = bool(r.stopped_by_tolerance);
+  j["rejected_last_step"] = bool(r.rejected_last_step);
+  j["unsupported_control_vertices"] = uint64_t(r.unsupported_control_vertices);
+  j["weakly_supported_control_vertices"] = uint64_t(r.weakly_supported_control_vertices);
+  j["best_pass"] = r.best_pass;
+  j["surface_to_scan_max_rel"] = number(r.final_two_sided.surface_to_scan_max_rel);
+  j["surface_to_scan_rms_rel"] = number(r.final_two_sided.surface_to_scan_rms_rel);
+  j["two_sided_rms_rel"] = number(r.final_two_sided.two_sided_rms_rel);
+  j["initial_surface_to_scan_max_rel"] = number(r.initial_two_sided.surface_to_scan_max_rel);
+  j["bbox_diagonal"] = number(r.bbox_diagonal);
+  j["max_passes"] = options.max_passes;
+  j["tolerance"] = number(options.tolerance);
+  j["fairing"] = number(options.fairing);
+  j["crease_feature_reach"] = number(options.crease_feature_reach);
+  j["projection"] = options.projection == CAGEKIT_PROJECTION_EXACT ? "exact" : "linear";
+  j["per_pass"] = nlohmann::ordered_json::array();
+  for (size_t i = 0; i < fit.passes.size(); ++i) {
+    nlohmann::ordered_json pass;
+    pass["pass"] = i;
+    add_pass_fields(pass, fit.passes[i], fit.passes[i].seconds);
+    j["per_pass"].push_back(pass);
+  }
+  return j;
 }
 
 void run_pipeline(const Session& session, cagekit_mesh scan, const std::string& scan_name,
@@ -222,21 +270,27 @@ void run_pipeline(const Session& session, cagekit_mesh scan, const std::string& 
   result->seconds = seconds_since(start);
 
   const cagekit_cage_report& c = result->cage_report;
-  char simplify[1024];
-  std::snprintf(simplify, sizeof(simplify),
-                "{\"method\": \"simplify\", \"level\": %u, \"levels\": %u, \"polygons\": %llu, \"faces_with_holes\": %llu, "
-                "\"cage_faces\": %llu, \"quads\": %llu, \"triangles\": %llu, \"pentagons\": %llu, "
-                "\"other_polygons\": %llu, \"creases\": %llu, \"non_manifold_edges\": %llu, ",
-                result->level, result->level_count, (unsigned long long)result->level_info.faces,
-                (unsigned long long)result->level_info.faces_with_holes,
-                (unsigned long long)(c.quads + c.triangles + c.pentagons + c.other_polygons),
-                (unsigned long long)c.quads, (unsigned long long)c.triangles, (unsigned long long)c.pentagons,
-                (unsigned long long)c.other_polygons, (unsigned long long)c.creases,
-                (unsigned long long)c.non_manifold_edges);
-  result->json = std::string("{\"simplify\": ") + simplify + "\"error\": " + error_json(result->level_error) +
-                 ", \"seconds\": " + number(result->simplify_seconds) + "},\n \"fit\": " +
-                 fit_json(result->fit, settings.fit) + ",\n \"limit\": " + limit_json(settings, *result) +
-                 ",\n \"seconds\": " + number(result->seconds) + "}\n";
+  nlohmann::ordered_json simplify;
+  simplify["method"] = "simplify";
+  simplify["level"] = result->level;
+  simplify["levels"] = result->level_count;
+  simplify["polygons"] = uint64_t(result->level_info.faces);
+  simplify["faces_with_holes"] = uint64_t(result->level_info.faces_with_holes);
+  simplify["cage_faces"] = uint64_t(c.quads + c.triangles + c.pentagons + c.other_polygons);
+  simplify["quads"] = uint64_t(c.quads);
+  simplify["triangles"] = uint64_t(c.triangles);
+  simplify["pentagons"] = uint64_t(c.pentagons);
+  simplify["other_polygons"] = uint64_t(c.other_polygons);
+  simplify["creases"] = uint64_t(c.creases);
+  simplify["non_manifold_edges"] = uint64_t(c.non_manifold_edges);
+  simplify["error"] = error_json(result->level_error);
+  simplify["seconds"] = number(result->simplify_seconds);
+  nlohmann::ordered_json report;
+  report["simplify"] = simplify;
+  report["fit"] = fit_json(result->fit, settings.fit);
+  report["limit"] = limit_json(settings, *result);
+  report["seconds"] = number(result->seconds);
+  result->json = json_text(report, ",\n ") + "\n";
   if (!settings.report_file.empty()) write_text_file(dir + "/" + settings.report_file, result->json);
 }
 

@@ -8,20 +8,26 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "cli_context.h"
 
 namespace cli {
 
-// --passes N --tolerance T --projection exact|linear --fairing F --keep-creases --threads N
-// --crease-feature-reach REL (cagekit_fit_options.crease_feature_reach; 0: crease curves free).
+// The fit's options (fit, pipeline): --passes N --tolerance T --projection exact|linear --fairing F
+// --keep-creases --threads N --crease-feature-reach REL (cagekit_fit_options.crease_feature_reach;
+// 0: crease curves free).
+void add_fit_options(Options& options);
 // Values out of range are bad input (Failure with kExitBadInput naming the option).
-cagekit_fit_options parse_fit_options(Args& args);
+cagekit_fit_options parse_fit_options(const Options& options);
 
-// Simplify's crease options: --creases sharp-input|cluster-angle (default sharp-input: creases
-// only where the scan is sharp), --feature-angle DEG (sharp-input, default 40), --crease-angle DEG
-// and --input-crease-angle DEG (cluster-angle, defaults 30 and -1). Values out of range are bad
-// input (Failure with kExitBadInput naming the option).
-cagekit_cage_options parse_cage_options(Args& args);
+// Simplify's crease options (simplify, pipeline --method simplify): --creases
+// sharp-input|cluster-angle (default sharp-input: creases only where the scan is sharp),
+// --feature-angle DEG (sharp-input, default 40), --crease-angle DEG and --input-crease-angle DEG
+// (cluster-angle, defaults 30 and -1).
+void add_cage_options(Options& options);
+// Values out of range are bad input (Failure with kExitBadInput naming the option).
+cagekit_cage_options parse_cage_options(const Options& options);
 
 // Runs cagekit_cage_fit with a pass array of max_passes + 1 entries (all of them).
 struct FitResult {
@@ -32,7 +38,7 @@ void run_fit(const Session& session, cagekit_cage cage, cagekit_mesh scan, const
              const std::string& what, Cage* fitted, FitResult* result);
 
 // {"passes": steps, final figures, "seconds": whole fit, "stopped_by_tolerance", ..., "per_pass": [...]}.
-std::string fit_json(const FitResult& fit, const cagekit_fit_options& options);
+nlohmann::ordered_json fit_json(const FitResult& fit, const cagekit_fit_options& options);
 
 struct PipelineSettings {
   cagekit_level_query query = CAGEKIT_LEVEL_BY_FACES;  // BY_FACES or BY_VERTICES
@@ -62,7 +68,7 @@ struct PipelineResult {
   cagekit_mesh_info limit_info{};
   cagekit_approximation_error limit_error{};  // scan vs the refined limit mesh
   double seconds = 0;
-  std::string json;   // what report.json holds
+  std::string json;   // what report.json holds (json_text)
 };
 
 // Runs the pipeline on `scan` (a valid mesh) and writes the outputs named in `settings` into
@@ -70,8 +76,8 @@ struct PipelineResult {
 void run_pipeline(const Session& session, cagekit_mesh scan, const std::string& scan_name,
                   const PipelineSettings& settings, const std::string& dir, PipelineResult* result);
 
-// A JSON number ("null" for NaN/Inf).
-std::string json_number(double x);
+// x as a JSON number rounded to 9 significant digits (null for NaN/Inf).
+nlohmann::ordered_json json_number(double x);
 // Writes `text` to path.tmp and renames it over `path` (Failure(kExitBadInput) on error).
 void write_text_file(const std::string& path, const std::string& text);
 
