@@ -44,9 +44,9 @@ int command_bench_deform(const Options& args) {
   const std::vector<std::string> files = {args.positional("SCAN"), args.positional("CAGE")};
   Session session(quiet);
   Mesh scan;
-  session.check(cagekit_mesh_read_file(session.context(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, scan.out()), files[0]);
+  session.check(cagekit_mesh_read_file(session.context().get(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, scan.out()), files[0]);
   Cage cage;
-  session.check(cagekit_cage_read_file(session.context(), files[1].c_str(), CAGEKIT_FORMAT_AUTO, cage.out()), files[1]);
+  session.check(cagekit_cage_read_file(session.context().get(), files[1].c_str(), CAGEKIT_FORMAT_AUTO, cage.out()), files[1]);
   std::vector<double> control = cage_positions(session, cage.get(), files[1]);
   const uint32_t m = uint32_t(control.size() / 3);
   Binding binding;
@@ -80,7 +80,7 @@ int command_bench_deform(const Options& args) {
     desc.face_count = face_count;
     desc.face_sizes = sizes.data();
     desc.face_indices = indices.data();
-    session.check(cagekit_mesh_create(session.context(), &desc, scan.out()), "renumbered scan");
+    session.check(cagekit_mesh_create(session.context().get(), &desc, scan.out()), "renumbered scan");
     session.check(cagekit_multires_bind(cage.get(), scan.get(), nullptr, binding.out()),
                   "renumbered scan bound to " + files[1]);
   }
@@ -139,7 +139,7 @@ int command_bench_deform(const Options& args) {
   const double incremental_fps = frames / seconds_since(t0);
   session.finish_progress();
   // GPU: full recompute in a headless EGL context (llvmpipe where there is no GPU).
-  const GpuBench gpu = bench_gpu_deformer(session.context(), binding.get(), scan.get(), control, frames, step);
+  const GpuBench gpu = bench_gpu_deformer(session.context().get(), binding.get(), scan.get(), control, frames, step);
   if (!gpu.ran && !quiet) std::fprintf(stderr, "cagekit: bench-deform: gpu_fps is null: %s\n", gpu.why.c_str());
   // Bytes read + written per vertex in one full CPU frame (the library's own count for the table
   // the deformer streams; sdk/multires/patch_deformer_table.h).

@@ -59,9 +59,9 @@ int command_bind(const Options& args) {
 
   Session session(quiet);
   Mesh scan;
-  session.check(cagekit_mesh_read_file(session.context(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, scan.out()), files[0]);
+  session.check(cagekit_mesh_read_file(session.context().get(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, scan.out()), files[0]);
   Cage cage;
-  session.check(cagekit_cage_read_file(session.context(), files[1].c_str(), CAGEKIT_FORMAT_AUTO, cage.out()), files[1]);
+  session.check(cagekit_cage_read_file(session.context().get(), files[1].c_str(), CAGEKIT_FORMAT_AUTO, cage.out()), files[1]);
   const auto t0 = std::chrono::steady_clock::now();
   cagekit_bind_options options = CAGEKIT_BIND_OPTIONS_INIT;
   options.mode = local_frame ? CAGEKIT_DISPLACEMENT_LOCAL_FRAME : CAGEKIT_DISPLACEMENT_NORMAL;

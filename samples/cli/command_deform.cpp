@@ -33,18 +33,18 @@ int command_deform(const Options& args) {
 
   Session session(quiet);
   Mesh scan;
-  session.check(cagekit_mesh_read_file(session.context(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, scan.out()), files[0]);
+  session.check(cagekit_mesh_read_file(session.context().get(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, scan.out()), files[0]);
   // CAGE is a cage file, or a binding saved by `cagekit bind` (.ckb: the cage is in it).
   const bool saved = files[1].size() > 4 && files[1].compare(files[1].size() - 4, 4, ".ckb") == 0;
   Binding binding;
   Cage cage, edited;
   if (saved) {
-    session.check(cagekit_binding_read_file(session.context(), files[1].c_str(), 0, binding.out()), files[1]);
+    session.check(cagekit_binding_read_file(session.context().get(), files[1].c_str(), 0, binding.out()), files[1]);
     session.check(cagekit_binding_get_cage(binding.get(), cage.out()), files[1]);
   } else {
-    session.check(cagekit_cage_read_file(session.context(), files[1].c_str(), CAGEKIT_FORMAT_AUTO, cage.out()), files[1]);
+    session.check(cagekit_cage_read_file(session.context().get(), files[1].c_str(), CAGEKIT_FORMAT_AUTO, cage.out()), files[1]);
   }
-  session.check(cagekit_cage_read_file(session.context(), files[2].c_str(), CAGEKIT_FORMAT_AUTO, edited.out()), files[2]);
+  session.check(cagekit_cage_read_file(session.context().get(), files[2].c_str(), CAGEKIT_FORMAT_AUTO, edited.out()), files[2]);
   const std::vector<double> before = cage_positions(session, cage.get(), files[1]);
   const std::vector<double> after = cage_positions(session, edited.get(), files[2]);
   if (before.size() != after.size())
@@ -100,7 +100,7 @@ int command_deform(const Options& args) {
   desc.face_sizes = sizes.data();
   desc.face_indices = corner.data();
   Mesh out;
-  session.check(cagekit_mesh_create(session.context(), &desc, out.out()), "deformed scan");
+  session.check(cagekit_mesh_create(session.context().get(), &desc, out.out()), "deformed scan");
   cagekit_write_options write = CAGEKIT_WRITE_OPTIONS_INIT;
   write.format = out_format;
   session.check(cagekit_mesh_write_file(out.get(), files[3].c_str(), &write, nullptr), files[3]);

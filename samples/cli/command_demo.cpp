@@ -41,7 +41,7 @@ int command_demo(const Options& args) {
   desc.uniform_face_size = 3;
   desc.face_indices = part.triangles.data();
   Mesh scan;
-  session.check(cagekit_mesh_create(session.context(), &desc, scan.out()), "demo scan");
+  session.check(cagekit_mesh_create(session.context().get(), &desc, scan.out()), "demo scan");
   cagekit_validation_report validation = {};
   validation.struct_size = sizeof(validation);
   session.check(cagekit_mesh_validate(scan.get(), &validation), "demo scan");

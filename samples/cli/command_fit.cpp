@@ -24,9 +24,9 @@ int command_fit(const Options& args) {
 
   Session session(quiet);
   Mesh scan;
-  session.check(cagekit_mesh_read_file(session.context(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, scan.out()), files[0]);
+  session.check(cagekit_mesh_read_file(session.context().get(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, scan.out()), files[0]);
   Cage cage;
-  session.check(cagekit_cage_read_file(session.context(), files[1].c_str(), CAGEKIT_FORMAT_AUTO, cage.out()), files[1]);
+  session.check(cagekit_cage_read_file(session.context().get(), files[1].c_str(), CAGEKIT_FORMAT_AUTO, cage.out()), files[1]);
   Cage fitted;
   FitResult fit;
   run_fit(session, cage.get(), scan.get(), options, files[1] + " fitted to " + files[0], &fitted, &fit);

@@ -137,7 +137,7 @@ int command_pipeline(const Options& args) {
 
   Session session(quiet);
   Mesh scan;
-  session.check(cagekit_mesh_read_file(session.context(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, scan.out()), files[0]);
+  session.check(cagekit_mesh_read_file(session.context().get(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, scan.out()), files[0]);
   make_directories(files[1]);
   cagekit_scan_to_cage_report r = {};
   r.struct_size = sizeof(r);

@@ -169,7 +169,7 @@ int command_remesh(const Options& args) {
 
   Session session(quiet);
   Mesh input;
-  session.check(cagekit_mesh_read_file(session.context(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, input.out()), files[0]);
+  session.check(cagekit_mesh_read_file(session.context().get(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, input.out()), files[0]);
   RemeshFigures figures;
   Cage output;
   if (settings.quad) {

@@ -90,7 +90,7 @@ int command_simplify(const Options& args) {
 
   Session session(quiet);
   Mesh input;
-  session.check(cagekit_mesh_read_file(session.context(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, input.out()), files[0]);
+  session.check(cagekit_mesh_read_file(session.context().get(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, input.out()), files[0]);
   cagekit_simplify_options options = CAGEKIT_SIMPLIFY_OPTIONS_INIT;
   options.tie_break_epsilon = epsilon;
   Hierarchy hierarchy;
