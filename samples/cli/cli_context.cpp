@@ -233,14 +233,8 @@ void load_input(const Session& session, const std::string& path, LoadedInput* in
   input->mesh = session.run(path, [&] { return session.context().read_mesh(path); });
 }
 
-std::vector<double> cage_positions(const Session& session, cagekit_cage cage, const std::string& what) {
-  Mesh mesh;
-  session.check(cagekit_cage_get_mesh(cage, mesh.out()), what);
-  uint32_t count = 0;
-  session.check(cagekit_mesh_get_positions(mesh.get(), CAGEKIT_SCALAR_FLOAT64, 0, &count, nullptr), what);
-  std::vector<double> xyz(3 * size_t(count));
-  session.check(cagekit_mesh_get_positions(mesh.get(), CAGEKIT_SCALAR_FLOAT64, count, &count, xyz.data()), what);
-  return xyz;
+std::vector<double> cage_positions(const Session& session, const cagekit::Cage& cage, const std::string& what) {
+  return session.run(what, [&] { return cage.mesh().positions(); });
 }
 
 std::string json_string(const std::string& text) {

@@ -164,7 +164,7 @@ std::string json_text(const nlohmann::ordered_json& value, const char* top_separ
 nlohmann::ordered_json json_rounded(double x, const char* format);
 
 // The cage's control points, xyz interleaved (errors: Failure naming `what`).
-std::vector<double> cage_positions(const Session& session, cagekit_cage cage, const std::string& what);
+std::vector<double> cage_positions(const Session& session, const cagekit::Cage& cage, const std::string& what);
 
 // The format of an output path (.obj .ply .off .drc); Failure(kExitUsage) for others and for .stl
 // (read only).
