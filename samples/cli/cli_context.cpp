@@ -185,18 +185,10 @@ void Session::finish_progress() const {
   }
 }
 
-void Session::check(cagekit_status status, const std::string& what) const {
-  if (CAGEKIT_SUCCEEDED(status)) return;
-  std::string message = cagekit_last_error_message(context_.get());
-  if (message.empty()) message = cagekit_status_string(status);
-  fail_with(message, what);
-}
-
-void Session::fail(const cagekit::Error& error, const std::string& what) const { fail_with(error.message(), what); }
-
-void Session::fail_with(std::string message, const std::string& what) const {
+void Session::fail(const cagekit::Error& error, const std::string& what) const {
   finish_progress();
   // Reader messages already start with the file name; others get the context added.
+  std::string message = error.message();
   if (message.rfind(what, 0) != 0) message = what + ": " + message;
   // One line: multi-line diagnostics (validation summaries) are joined.
   while (!message.empty() && message.back() == '\n') message.pop_back();

@@ -115,8 +115,6 @@ class Session {
       fail(error, what);
     }
   }
-  // Throws Failure(kExitBadInput, "<what>: <last error message>") when status is an error.
-  void check(cagekit_status status, const std::string& what) const;
   // Throws Failure(kExitBadInput, "<what>: <message>") for a failed SDK call: one line, `what`
   // added unless the message starts with it (reader messages name their file).
   [[noreturn]] void fail(const cagekit::Error& error, const std::string& what) const;
@@ -124,28 +122,8 @@ class Session {
   void finish_progress() const;
 
  private:
-  [[noreturn]] void fail_with(std::string message, const std::string& what) const;
   cagekit::Context context_;
 };
-
-template <class H, void (*Release)(H)>
-class Handle {
- public:
-  Handle() = default;
-  ~Handle() { Release(h_); }
-  Handle(const Handle&) = delete;
-  Handle& operator=(const Handle&) = delete;
-  H* out() { Release(h_); h_ = nullptr; return &h_; }
-  H get() const { return h_; }
-
- private:
-  H h_ = nullptr;
-};
-
-using Mesh = Handle<cagekit_mesh, cagekit_mesh_release>;
-using Cage = Handle<cagekit_cage, cagekit_cage_release>;
-using Binding = Handle<cagekit_binding, cagekit_binding_release>;
-using Deformer = Handle<cagekit_cpu_deformer, cagekit_cpu_deformer_release>;
 
 inline double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -120,7 +120,7 @@ int command_bench_deform(const Options& args) {
   const double incremental_fps = frames / seconds_since(t0);
   session.finish_progress();
   // GPU: full recompute in a headless EGL context (llvmpipe where there is no GPU).
-  const GpuBench gpu = bench_gpu_deformer(context.get(), binding.get(), scan.get(), control, frames, step);
+  const GpuBench gpu = bench_gpu_deformer(context, binding, scan, control, frames, step);
   if (!gpu.ran && !quiet) std::fprintf(stderr, "cagekit: bench-deform: gpu_fps is null: %s\n", gpu.why.c_str());
   // Bytes read + written per vertex in one full CPU frame (the library's own count for the table
   // the deformer streams; sdk/multires/patch_deformer_table.h).
