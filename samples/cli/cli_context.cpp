@@ -130,14 +130,14 @@ ProgressState g_progress;
 
 // On a terminal one line is redrawn with \r as the percentage moves; into a file or a pipe (a log,
 // a batch job) each stage is one line, written when it starts.
-int print_progress(void* terminal, const char* stage, double fraction) {
+bool print_progress(bool terminal, const char* stage, double fraction) {
   const int percent = static_cast<int>(fraction * 100.0 + 0.5);
-  if (terminal == nullptr) {
+  if (!terminal) {
     if (g_progress.stage != stage) {
       std::fprintf(stderr, "cagekit: stage: %s\n", stage);
       g_progress.stage = stage;
     }
-    return 1;
+    return true;
   }
   if (g_progress.stage != stage || percent != g_progress.last_percent) {
     std::fprintf(stderr, "\r%-12s %3d%%", stage, percent);
@@ -146,31 +146,37 @@ int print_progress(void* terminal, const char* stage, double fraction) {
     g_progress.stage = stage;
     g_progress.last_percent = percent;
   }
-  return 1;
+  return true;
 }
 
-void print_log(void*, cagekit_log_level level, const char* message) {
+void print_log(cagekit_log_level level, const char* message) {
   if (level >= CAGEKIT_LOG_ERROR) return;  // errors are printed once, by main()
   if (g_progress.active) std::fputc('\n', stderr), g_progress.active = false;
   std::fprintf(stderr, "cagekit: warning: %s\n", message);
 }
 
+cagekit::Context create_context(bool quiet) {
+  cagekit::ContextOptions options;
+  if (!quiet) {
+    const bool terminal = isatty(fileno(stderr)) != 0;
+    options.log = print_log;
+    // Never throws: nothing to cross the C ABI (cagekit.hpp would carry it across anyway).
+    options.progress = [terminal](const char* stage, double fraction) {
+      return print_progress(terminal, stage, fraction);
+    };
+  }
+  try {
+    return cagekit::Context::create(std::move(options));
+  } catch (const cagekit::Error& error) {
+    throw Failure(kExitBadInput, std::string("cannot start CageKit: ") + error.message());
+  }
+}
+
 }  // namespace
 
-Session::Session(bool quiet) {
-  cagekit_context_desc desc = CAGEKIT_CONTEXT_DESC_INIT;
-  desc.log = quiet ? nullptr : print_log;
-  desc.progress = quiet ? nullptr : print_progress;
-  static int terminal_marker;
-  desc.progress_user_data = isatty(fileno(stderr)) ? &terminal_marker : nullptr;
-  if (cagekit_context_create(&desc, &context_) != CAGEKIT_SUCCESS)
-    throw Failure(kExitBadInput, std::string("cannot start CageKit: ") + cagekit_last_error_message(nullptr));
-}
+Session::Session(bool quiet) : context_(create_context(quiet)) {}
 
-Session::~Session() {
-  finish_progress();
-  cagekit_context_release(context_);
-}
+Session::~Session() { finish_progress(); }
 
 void Session::finish_progress() const {
   if (g_progress.active) {
@@ -179,12 +185,10 @@ void Session::finish_progress() const {
   }
 }
 
-void Session::check(cagekit_status status, const std::string& what) const {
-  if (CAGEKIT_SUCCEEDED(status)) return;
+void Session::fail(const cagekit::Error& error, const std::string& what) const {
   finish_progress();
-  std::string message = cagekit_last_error_message(context_);
-  if (message.empty()) message = cagekit_status_string(status);
   // Reader messages already start with the file name; others get the context added.
+  std::string message = error.message();
   if (message.rfind(what, 0) != 0) message = what + ": " + message;
   // One line: multi-line diagnostics (validation summaries) are joined.
   while (!message.empty() && message.back() == '\n') message.pop_back();
@@ -211,24 +215,18 @@ cagekit_file_format format_from_extension(const std::string& path) {
 namespace cli {
 
 void load_input(const Session& session, const std::string& path, LoadedInput* input) {
-  const cagekit_status status = cagekit_cage_read_file(session.context(), path.c_str(), CAGEKIT_FORMAT_AUTO,
-                                                       input->cage.out());
-  if (status != CAGEKIT_ERROR_INVALID_MESH) {
-    session.check(status, path);
+  try {
+    input->cage = session.context().read_cage(path);
     return;
+  } catch (const cagekit::Error& error) {
+    if (error.status() != CAGEKIT_ERROR_INVALID_MESH) session.fail(error, path);
+    input->problem = error.message();
   }
-  input->problem = cagekit_last_error_message(session.context());
-  session.check(cagekit_mesh_read_file(session.context(), path.c_str(), CAGEKIT_FORMAT_AUTO, input->mesh.out()), path);
+  input->mesh = session.run(path, [&] { return session.context().read_mesh(path); });
 }
 
-std::vector<double> cage_positions(const Session& session, cagekit_cage cage, const std::string& what) {
-  Mesh mesh;
-  session.check(cagekit_cage_get_mesh(cage, mesh.out()), what);
-  uint32_t count = 0;
-  session.check(cagekit_mesh_get_positions(mesh.get(), CAGEKIT_SCALAR_FLOAT64, 0, &count, nullptr), what);
-  std::vector<double> xyz(3 * size_t(count));
-  session.check(cagekit_mesh_get_positions(mesh.get(), CAGEKIT_SCALAR_FLOAT64, count, &count, xyz.data()), what);
-  return xyz;
+std::vector<double> cage_positions(const Session& session, const cagekit::Cage& cage, const std::string& what) {
+  return session.run(what, [&] { return cage.mesh().positions(); });
 }
 
 std::string json_string(const std::string& text) {

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Shared plumbing of the CLI commands: their options in CLI11, the CageKit context with a
-// stderr progress bar, RAII holders for handles and the error convention (one line, exit 2).
-#include <cagekit/cagekit.h>
+// stderr progress bar (a cagekit::Context from <cagekit/cagekit.hpp>) and the error convention
+// (one line, exit 2).
+#include <cagekit/cagekit.hpp>
 
 #include <chrono>
 #include <functional>
@@ -96,40 +97,33 @@ class Options {
   std::map<std::string, std::string> texts_;  // node-based: CLI11 keeps references into it
 };
 
+// The CageKit context of a command: warnings and progress on stderr unless quiet.
 class Session {
  public:
   explicit Session(bool quiet);
   ~Session();
   Session(const Session&) = delete;
   Session& operator=(const Session&) = delete;
-  cagekit_context context() const { return context_; }
-  // Throws Failure(kExitBadInput, "<what>: <last error message>") when status is an error.
-  void check(cagekit_status status, const std::string& what) const;
+  const cagekit::Context& context() const { return context_; }
+  // Returns call()'s result; a cagekit::Error it throws becomes Failure(kExitBadInput,
+  // "<what>: <SDK message>") (see fail()).
+  template <class Call>
+  auto run(const std::string& what, Call&& call) const -> decltype(call()) {
+    try {
+      return call();
+    } catch (const cagekit::Error& error) {
+      fail(error, what);
+    }
+  }
+  // Throws Failure(kExitBadInput, "<what>: <message>") for a failed SDK call: one line, `what`
+  // added unless the message starts with it (reader messages name their file).
+  [[noreturn]] void fail(const cagekit::Error& error, const std::string& what) const;
   // Ends the progress line on stderr (if one was started).
   void finish_progress() const;
 
  private:
-  cagekit_context context_ = nullptr;
+  cagekit::Context context_;
 };
-
-template <class H, void (*Release)(H)>
-class Handle {
- public:
-  Handle() = default;
-  ~Handle() { Release(h_); }
-  Handle(const Handle&) = delete;
-  Handle& operator=(const Handle&) = delete;
-  H* out() { Release(h_); h_ = nullptr; return &h_; }
-  H get() const { return h_; }
-
- private:
-  H h_ = nullptr;
-};
-
-using Mesh = Handle<cagekit_mesh, cagekit_mesh_release>;
-using Cage = Handle<cagekit_cage, cagekit_cage_release>;
-using Binding = Handle<cagekit_binding, cagekit_binding_release>;
-using Deformer = Handle<cagekit_cpu_deformer, cagekit_cpu_deformer_release>;
 
 inline double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -148,7 +142,7 @@ std::string json_text(const nlohmann::ordered_json& value, const char* top_separ
 nlohmann::ordered_json json_rounded(double x, const char* format);
 
 // The cage's control points, xyz interleaved (errors: Failure naming `what`).
-std::vector<double> cage_positions(const Session& session, cagekit_cage cage, const std::string& what);
+std::vector<double> cage_positions(const Session& session, const cagekit::Cage& cage, const std::string& what);
 
 // The format of an output path (.obj .ply .off .drc); Failure(kExitUsage) for others and for .stl
 // (read only).
@@ -212,8 +206,8 @@ namespace cli {
 // A file read as a cage when it is a valid control mesh, else as a plain mesh (so that info
 // and convert also work on scans with defects); parse/I/O errors throw Failure.
 struct LoadedInput {
-  Cage cage;             // set when the file is a valid cage
-  Mesh mesh;             // set otherwise
+  cagekit::Cage cage;    // set when the file is a valid cage
+  cagekit::Mesh mesh;    // set otherwise
   std::string problem;   // why it is not a valid cage
 };
 void load_input(const Session& session, const std::string& path, LoadedInput* input);

@@ -43,83 +43,68 @@ int command_bench_deform(const Options& args) {
   }
   const std::vector<std::string> files = {args.positional("SCAN"), args.positional("CAGE")};
   Session session(quiet);
-  Mesh scan;
-  session.check(cagekit_mesh_read_file(session.context(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, scan.out()), files[0]);
-  Cage cage;
-  session.check(cagekit_cage_read_file(session.context(), files[1].c_str(), CAGEKIT_FORMAT_AUTO, cage.out()), files[1]);
-  std::vector<double> control = cage_positions(session, cage.get(), files[1]);
+  const cagekit::Context& context = session.context();
+  cagekit::Mesh scan = session.run(files[0], [&] { return context.read_mesh(files[0]); });
+  const cagekit::Cage cage = session.run(files[1], [&] { return context.read_cage(files[1]); });
+  std::vector<double> control = cage_positions(session, cage, files[1]);
   const uint32_t m = uint32_t(control.size() / 3);
-  Binding binding;
-  session.check(cagekit_multires_bind(cage.get(), scan.get(), nullptr, binding.out()), files[0] + " bound to " + files[1]);
+  const auto bind = [&cage](const cagekit::Mesh& mesh) { return cage.bind(mesh); };  // default options
+  cagekit::Binding binding = session.run(files[0] + " bound to " + files[1], [&] { return bind(scan); });
   if (vertex_order == "deformer") {
     // What a host that may renumber its scan does once: the scan renumbered in the deformer's
-    // write order (cagekit_binding_get_deformer_vertex_order), bound again.
-    uint32_t count = 0, vertices = 0, face_count = 0;
-    uint64_t index_count = 0;
-    session.check(cagekit_binding_get_deformer_vertex_order(binding.get(), 0, &count, nullptr), "vertex order");
-    std::vector<uint32_t> order(count);
-    session.check(cagekit_binding_get_deformer_vertex_order(binding.get(), count, &count, order.data()), "vertex order");
-    session.check(cagekit_mesh_get_positions(scan.get(), CAGEKIT_SCALAR_FLOAT64, 0, &vertices, nullptr), files[0]);
-    std::vector<double> positions(3 * size_t(vertices)), renumbered(positions.size());
-    session.check(cagekit_mesh_get_positions(scan.get(), CAGEKIT_SCALAR_FLOAT64, vertices, &vertices, positions.data()),
-                  files[0]);
-    session.check(cagekit_mesh_get_faces(scan.get(), 0, &face_count, nullptr, 0, &index_count, nullptr), files[0]);
-    std::vector<uint32_t> sizes(face_count), indices(index_count), new_id(vertices);
-    session.check(cagekit_mesh_get_faces(scan.get(), face_count, &face_count, sizes.data(), index_count, &index_count,
-                                         indices.data()),
-                  files[0]);
+    // write order (cagekit::Binding::deformer_vertex_order), bound again.
+    const std::vector<uint32_t> order = session.run("vertex order", [&] { return binding.deformer_vertex_order(); });
+    const uint32_t count = uint32_t(order.size());
+    const std::vector<double> positions = session.run(files[0], [&] { return scan.positions(); });
+    cagekit::Faces faces = session.run(files[0], [&] { return scan.faces(); });
+    const uint32_t vertices = uint32_t(positions.size() / 3);
+    std::vector<double> renumbered(positions.size());
+    std::vector<uint32_t> new_id(vertices);
     if (count != vertices) throw Failure(kExitBadInput, "vertex order: " + std::to_string(count) + " entries");
     for (uint32_t k = 0; k < count; ++k) {
       new_id[order[k]] = k;
       for (int a = 0; a < 3; ++a) renumbered[3 * size_t(k) + size_t(a)] = positions[3 * size_t(order[k]) + size_t(a)];
     }
-    for (uint32_t& v : indices) v = new_id[v];
-    cagekit_mesh_desc desc = CAGEKIT_MESH_DESC_INIT;
-    desc.vertex_count = vertices;
-    desc.positions = renumbered.data();
-    desc.face_count = face_count;
-    desc.face_sizes = sizes.data();
-    desc.face_indices = indices.data();
-    session.check(cagekit_mesh_create(session.context(), &desc, scan.out()), "renumbered scan");
-    session.check(cagekit_multires_bind(cage.get(), scan.get(), nullptr, binding.out()),
-                  "renumbered scan bound to " + files[1]);
+    for (uint32_t& v : faces.face_indices) v = new_id[v];
+    scan = session.run("renumbered scan",
+                       [&] { return context.create_mesh(renumbered, faces.face_sizes, faces.face_indices); });
+    binding = session.run("renumbered scan bound to " + files[1], [&] { return bind(scan); });
   }
-  cagekit_binding_info info;
-  info.struct_size = sizeof(info);
-  session.check(cagekit_binding_get_info(binding.get(), &info), "binding");
-  Deformer deformer;
-  session.check(cagekit_cpu_deformer_create(binding.get(), uint32_t(threads), deformer.out()), "deformer");
-  uint32_t faces = 0;
-  uint64_t indices = 0;
-  session.check(cagekit_mesh_get_faces(scan.get(), 0, &faces, nullptr, 0, &indices, nullptr), files[0]);
+  const cagekit_binding_info info = session.run("binding", [&] { return binding.info(); });
+  cagekit::CpuDeformer deformer =
+      session.run("deformer", [&] { return binding.create_cpu_deformer(uint32_t(threads)); });
+  const cagekit::MeshCounts counts = session.run(files[0], [&] { return scan.counts(); });
+  const uint32_t faces = counts.faces;
+  const uint64_t indices = counts.face_indices;
   std::vector<double> positions(3 * size_t(info.vertex_count)), normals(positions.size());
   const uint32_t n = info.vertex_count;
-  uint32_t written = 0;  // the deform calls' vertex count output (n)
   const double step = 1e-4 * info.bbox_diagonal;
+  const auto deform = [&] {
+    session.run("deform", [&] { deformer.deform(control, CAGEKIT_NORMALS_APPROXIMATE, positions, normals); });
+  };
   // Full recompute: every control point moves every frame.
-  session.check(cagekit_cpu_deformer_deform(deformer.get(), control.data(), m, CAGEKIT_NORMALS_APPROXIMATE, n,
-                                            &written, positions.data(), normals.data()), "deform");
+  deform();
   auto t0 = std::chrono::steady_clock::now();
   for (int f = 0; f < frames; ++f) {
     for (double& c : control) c += (f % 2 ? -step : step);
-    session.check(cagekit_cpu_deformer_deform(deformer.get(), control.data(), m, CAGEKIT_NORMALS_APPROXIMATE, n,
-                                              &written, positions.data(), normals.data()), "deform");
+    deform();
   }
   const double full_fps = frames / seconds_since(t0);
-  // The same into float32 arrays (cagekit_cpu_deformer_deform_f32: what GL / Blender hosts draw).
+  // The same into float32 arrays (CpuDeformer::deform_f32: what GL / Blender hosts draw).
   std::vector<float> positions_f32(positions.size()), normals_f32(normals.size());
-  session.check(cagekit_cpu_deformer_deform_f32(deformer.get(), control.data(), m, CAGEKIT_NORMALS_APPROXIMATE, n,
-                                                &written, positions_f32.data(), normals_f32.data()), "deform_f32");
+  const auto deform_f32 = [&] {
+    session.run("deform_f32",
+                [&] { deformer.deform_f32(control, CAGEKIT_NORMALS_APPROXIMATE, positions_f32, normals_f32); });
+  };
+  deform_f32();
   t0 = std::chrono::steady_clock::now();
   for (int f = 0; f < frames; ++f) {
     for (double& c : control) c += (f % 2 ? -step : step);
-    session.check(cagekit_cpu_deformer_deform_f32(deformer.get(), control.data(), m, CAGEKIT_NORMALS_APPROXIMATE, n,
-                                                  &written, positions_f32.data(), normals_f32.data()), "deform_f32");
+    deform_f32();
   }
   const double full_fps_f32 = frames / seconds_since(t0);
   // Back to the double arrays (the incremental run below updates them).
-  session.check(cagekit_cpu_deformer_deform(deformer.get(), control.data(), m, CAGEKIT_NORMALS_APPROXIMATE, n,
-                                            &written, positions.data(), normals.data()), "deform");
+  deform();
   // Incremental: K control points move per frame.
   std::vector<uint32_t> moved;
   for (int k = 0; k < moved_count && k < int(m); ++k) moved.push_back(uint32_t((uint64_t(k) * 2654435761u) % m));
@@ -129,17 +114,13 @@ int command_bench_deform(const Options& args) {
   t0 = std::chrono::steady_clock::now();
   for (int f = 0; f < frames; ++f) {
     for (uint32_t j : moved) control[3 * size_t(j)] += (f % 2 ? -step : step);
-    uint32_t updated = 0;
-    session.check(cagekit_cpu_deformer_update(deformer.get(), control.data(), m, moved.data(), uint32_t(moved.size()),
-                                              CAGEKIT_NORMALS_APPROXIMATE, n, &written, positions.data(),
-                                              normals.data(), &updated),
-                  "update");
-    updated_total += updated;
+    updated_total += session.run(
+        "update", [&] { return deformer.update(control, moved, CAGEKIT_NORMALS_APPROXIMATE, positions, normals); });
   }
   const double incremental_fps = frames / seconds_since(t0);
   session.finish_progress();
   // GPU: full recompute in a headless EGL context (llvmpipe where there is no GPU).
-  const GpuBench gpu = bench_gpu_deformer(session.context(), binding.get(), scan.get(), control, frames, step);
+  const GpuBench gpu = bench_gpu_deformer(context, binding, scan, control, frames, step);
   if (!gpu.ran && !quiet) std::fprintf(stderr, "cagekit: bench-deform: gpu_fps is null: %s\n", gpu.why.c_str());
   // Bytes read + written per vertex in one full CPU frame (the library's own count for the table
   // the deformer streams; sdk/multires/patch_deformer_table.h).

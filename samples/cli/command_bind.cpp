@@ -58,24 +58,20 @@ int command_bind(const Options& args) {
     throw Failure(kExitBadInput, "--threads must be an integer in [0, 1024], got '" + threads_text + "'");
 
   Session session(quiet);
-  Mesh scan;
-  session.check(cagekit_mesh_read_file(session.context(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, scan.out()), files[0]);
-  Cage cage;
-  session.check(cagekit_cage_read_file(session.context(), files[1].c_str(), CAGEKIT_FORMAT_AUTO, cage.out()), files[1]);
+  const cagekit::Mesh scan = session.run(files[0], [&] { return session.context().read_mesh(files[0]); });
+  const cagekit::Cage cage = session.run(files[1], [&] { return session.context().read_cage(files[1]); });
   const auto t0 = std::chrono::steady_clock::now();
-  cagekit_bind_options options = CAGEKIT_BIND_OPTIONS_INIT;
+  cagekit_bind_options options = cagekit::defaults<cagekit_bind_options>();
   options.mode = local_frame ? CAGEKIT_DISPLACEMENT_LOCAL_FRAME : CAGEKIT_DISPLACEMENT_NORMAL;
   options.exact_normals = exact ? 1 : 0;
   options.threads = uint32_t(threads);
   options.sharp_angle_degrees = sharp_angle;
-  Handle<cagekit_binding, cagekit_binding_release> binding;
-  session.check(cagekit_multires_bind(cage.get(), scan.get(), &options, binding.out()), files[0] + " bound to " + files[1]);
+  const cagekit::Binding binding =
+      session.run(files[0] + " bound to " + files[1], [&] { return cage.bind(scan, options); });
   const double bind_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  session.check(cagekit_binding_write_file(binding.get(), files[2].c_str()), files[2]);
+  session.run(files[2], [&] { binding.write_file(files[2]); });
   session.finish_progress();
-  cagekit_binding_info info;
-  info.struct_size = sizeof(info);
-  session.check(cagekit_binding_get_info(binding.get(), &info), "binding");
+  const cagekit_binding_info info = session.run("binding", [&] { return binding.info(); });
   long long bytes = -1;
   if (FILE* f = std::fopen(files[2].c_str(), "rb")) {
     std::fseek(f, 0, SEEK_END);

@@ -23,7 +23,7 @@ int command_convert(const Options& args) {
   const int speed = args.integer(kSpeed);
   const std::vector<std::string> files = {args.positional("IN"), args.positional("OUT")};
   Session session(quiet);
-  cagekit_write_options options = CAGEKIT_WRITE_OPTIONS_INIT;
+  cagekit_write_options options = cagekit::defaults<cagekit_write_options>();
   options.format = format_from_extension(files[1]);
   options.ply_binary = ascii ? 0 : 1;
   options.draco_position_bits = bits;
@@ -31,16 +31,14 @@ int command_convert(const Options& args) {
 
   LoadedInput input;
   load_input(session, files[0], &input);
-  cagekit_write_report report = {};
-  report.struct_size = sizeof(report);
-  cagekit_mesh_info info = {};
-  info.struct_size = sizeof(info);
-  if (input.cage.get()) {
-    session.check(cagekit_cage_write_file(input.cage.get(), files[1].c_str(), &options, &report), files[1]);
-    session.check(cagekit_cage_get_info(input.cage.get(), &info), files[0]);
+  cagekit_write_report report;
+  cagekit_mesh_info info;
+  if (input.cage) {
+    report = session.run(files[1], [&] { return input.cage.write_file(files[1], options); });
+    info = session.run(files[0], [&] { return input.cage.info(); });
   } else {
-    session.check(cagekit_mesh_write_file(input.mesh.get(), files[1].c_str(), &options, &report), files[1]);
-    session.check(cagekit_mesh_get_info(input.mesh.get(), &info), files[0]);
+    report = session.run(files[1], [&] { return input.mesh.write_file(files[1], options); });
+    info = session.run(files[0], [&] { return input.mesh.info(); });
   }
   session.finish_progress();
   if (!quiet) {

@@ -32,78 +32,53 @@ int command_deform(const Options& args) {
   const cagekit_file_format out_format = format_from_extension(files[3]);
 
   Session session(quiet);
-  Mesh scan;
-  session.check(cagekit_mesh_read_file(session.context(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, scan.out()), files[0]);
+  const cagekit::Context& context = session.context();
+  const cagekit::Mesh scan = session.run(files[0], [&] { return context.read_mesh(files[0]); });
   // CAGE is a cage file, or a binding saved by `cagekit bind` (.ckb: the cage is in it).
   const bool saved = files[1].size() > 4 && files[1].compare(files[1].size() - 4, 4, ".ckb") == 0;
-  Binding binding;
-  Cage cage, edited;
+  cagekit::Binding binding;
+  cagekit::Cage cage;
   if (saved) {
-    session.check(cagekit_binding_read_file(session.context(), files[1].c_str(), 0, binding.out()), files[1]);
-    session.check(cagekit_binding_get_cage(binding.get(), cage.out()), files[1]);
+    session.run(files[1], [&] {
+      binding = context.read_binding(files[1], 0);
+      cage = binding.cage();
+    });
   } else {
-    session.check(cagekit_cage_read_file(session.context(), files[1].c_str(), CAGEKIT_FORMAT_AUTO, cage.out()), files[1]);
+    cage = session.run(files[1], [&] { return context.read_cage(files[1]); });
   }
-  session.check(cagekit_cage_read_file(session.context(), files[2].c_str(), CAGEKIT_FORMAT_AUTO, edited.out()), files[2]);
-  const std::vector<double> before = cage_positions(session, cage.get(), files[1]);
-  const std::vector<double> after = cage_positions(session, edited.get(), files[2]);
+  const cagekit::Cage edited = session.run(files[2], [&] { return context.read_cage(files[2]); });
+  const std::vector<double> before = cage_positions(session, cage, files[1]);
+  const std::vector<double> after = cage_positions(session, edited, files[2]);
   if (before.size() != after.size())
     throw Failure(kExitBadInput, files[2] + ": has " + std::to_string(after.size() / 3) + " vertices but " + files[1] +
                                      " has " + std::to_string(before.size() / 3) + " (the edited cage must be the same cage)");
 
   const auto t0 = std::chrono::steady_clock::now();
-  cagekit_bind_options options = CAGEKIT_BIND_OPTIONS_INIT;
+  cagekit_bind_options options = cagekit::defaults<cagekit_bind_options>();
   options.mode = local_frame ? CAGEKIT_DISPLACEMENT_LOCAL_FRAME : CAGEKIT_DISPLACEMENT_NORMAL;
   options.sharp_angle_degrees = sharp_angle;
-  if (!saved)
-    session.check(cagekit_multires_bind(cage.get(), scan.get(), &options, binding.out()), files[0] + " bound to " + files[1]);
+  if (!saved) binding = session.run(files[0] + " bound to " + files[1], [&] { return cage.bind(scan, options); });
   const double bind_seconds = seconds_since(t0);
-  cagekit_binding_info info;
-  info.struct_size = sizeof(info);
-  session.check(cagekit_binding_get_info(binding.get(), &info), "binding");
-  uint32_t scan_vertices = 0;
-  session.check(cagekit_mesh_get_positions(scan.get(), CAGEKIT_SCALAR_FLOAT64, 0, &scan_vertices, nullptr), files[0]);
+  const cagekit_binding_info info = session.run("binding", [&] { return binding.info(); });
+  const uint32_t scan_vertices = session.run(files[0], [&] { return scan.counts().vertices; });
   if (scan_vertices != info.scan_vertex_count)
     throw Failure(kExitBadInput, files[1] + ": binds " + std::to_string(info.vertex_count) + " vertices but " + files[0] +
                                      " has " + std::to_string(scan_vertices) + " (not the scan it was made from)");
-  Deformer deformer;
-  session.check(cagekit_cpu_deformer_create(binding.get(), 0, deformer.out()), "deformer");
+  cagekit::CpuDeformer deformer = session.run("deformer", [&] { return binding.create_cpu_deformer(0); });
   std::vector<double> positions(3 * size_t(info.vertex_count));
   const auto t1 = std::chrono::steady_clock::now();
-  uint32_t deformed = 0;
-  session.check(cagekit_cpu_deformer_deform(deformer.get(), after.data(), uint32_t(after.size() / 3),
-                                            CAGEKIT_NORMALS_APPROXIMATE, info.vertex_count, &deformed,
-                                            positions.data(), nullptr),
-                "deform");
+  session.run("deform", [&] { deformer.deform(after, CAGEKIT_NORMALS_APPROXIMATE, positions, nullptr); });
   const double deform_seconds = seconds_since(t1);
 
   // The scan's connectivity with the deformed positions (with a sector split: the faces over
   // the bound vertices, one copy per smooth sector at sharp features).
-  uint32_t faces = 0;
-  uint64_t indices = 0;
-  std::vector<uint32_t> sizes, corner;
-  if (info.has_sector_split) {
-    session.check(cagekit_binding_get_faces(binding.get(), 0, &faces, nullptr, 0, &indices, nullptr), "binding");
-    sizes.resize(faces), corner.resize(indices);
-    session.check(cagekit_binding_get_faces(binding.get(), faces, &faces, sizes.data(), indices, &indices, corner.data()),
-                  "binding");
-  } else {
-    session.check(cagekit_mesh_get_faces(scan.get(), 0, &faces, nullptr, 0, &indices, nullptr), files[0]);
-    sizes.resize(faces), corner.resize(indices);
-    session.check(cagekit_mesh_get_faces(scan.get(), faces, &faces, sizes.data(), indices, &indices, corner.data()),
-                  files[0]);
-  }
-  cagekit_mesh_desc desc = CAGEKIT_MESH_DESC_INIT;
-  desc.vertex_count = info.vertex_count;
-  desc.positions = positions.data();
-  desc.face_count = faces;
-  desc.face_sizes = sizes.data();
-  desc.face_indices = corner.data();
-  Mesh out;
-  session.check(cagekit_mesh_create(session.context(), &desc, out.out()), "deformed scan");
-  cagekit_write_options write = CAGEKIT_WRITE_OPTIONS_INIT;
+  const cagekit::Faces faces = info.has_sector_split ? session.run("binding", [&] { return binding.faces(); })
+                                                     : session.run(files[0], [&] { return scan.faces(); });
+  const cagekit::Mesh out = session.run(
+      "deformed scan", [&] { return context.create_mesh(positions, faces.face_sizes, faces.face_indices); });
+  cagekit_write_options write = cagekit::defaults<cagekit_write_options>();
   write.format = out_format;
-  session.check(cagekit_mesh_write_file(out.get(), files[3].c_str(), &write, nullptr), files[3]);
+  session.run(files[3], [&] { out.write_file(files[3], write); });
   session.finish_progress();
 
   double moved = 0;

@@ -34,25 +34,19 @@ int command_demo(const Options& args) {
   const double size[3] = {4.0, 2.5, 1.5};
   const double diagonal = std::sqrt(size[0] * size[0] + size[1] * size[1] + size[2] * size[2]);
   const DemoPart part = make_demo_part(size, 24, 2e-4 * diagonal, 20061113u);
-  cagekit_mesh_desc desc = CAGEKIT_MESH_DESC_INIT;
-  desc.vertex_count = static_cast<uint32_t>(part.positions.size() / 3);
-  desc.positions = part.positions.data();
-  desc.face_count = static_cast<uint32_t>(part.triangles.size() / 3);
-  desc.uniform_face_size = 3;
-  desc.face_indices = part.triangles.data();
-  Mesh scan;
-  session.check(cagekit_mesh_create(session.context(), &desc, scan.out()), "demo scan");
-  cagekit_validation_report validation = {};
-  validation.struct_size = sizeof(validation);
-  session.check(cagekit_mesh_validate(scan.get(), &validation), "demo scan");
+  const cagekit::Context& context = session.context();
+  const cagekit::Mesh scan = session.run("demo scan", [&] { return context.create_mesh(part.positions, part.triangles); });
+  const cagekit_validation_report validation = session.run("demo scan", [&] {
+    const cagekit_validation_report report = scan.validate();
+    if (!report.valid) scan.require_valid();  // an invalid scan is an error (its problems named)
+    return report;
+  });
 
   // 2. Exchange: OBJ, binary PLY, Draco at 14 bits.
-  cagekit_write_options write = CAGEKIT_WRITE_OPTIONS_INIT;
-  cagekit_write_report obj_report = {sizeof(cagekit_write_report), 0, 0.0};
-  cagekit_write_report drc_report = obj_report;
-  session.check(cagekit_mesh_write_file(scan.get(), (dir + "/scan.obj").c_str(), &write, &obj_report), "scan.obj");
-  session.check(cagekit_mesh_write_file(scan.get(), (dir + "/scan.ply").c_str(), &write, nullptr), "scan.ply");
-  session.check(cagekit_mesh_write_file(scan.get(), (dir + "/scan.drc").c_str(), &write, &drc_report), "scan.drc");
+  const cagekit_write_options write = cagekit::defaults<cagekit_write_options>();
+  const cagekit_write_report obj_report = session.run("scan.obj", [&] { return scan.write_file(dir + "/scan.obj", write); });
+  session.run("scan.ply", [&] { scan.write_file(dir + "/scan.ply", write); });
+  const cagekit_write_report drc_report = session.run("scan.drc", [&] { return scan.write_file(dir + "/scan.drc", write); });
 
   // 3. The pipeline (pipeline.h): structure-preserving simplification (thesis ch. 3) to the level
   //    of 6 polygons (the block's sides), partitioned into a quad-dominant cage whose edges on
@@ -66,46 +60,37 @@ int command_demo(const Options& args) {
   settings.limit_file = "cage_fitted_limit.obj";
   settings.report_file = "pipeline.json";
   PipelineResult pipeline;
-  run_pipeline(session, scan.get(), "demo scan", settings, dir, &pipeline);
+  run_pipeline(session, scan, "demo scan", settings, dir, &pipeline);
   const uint32_t level = pipeline.level, level_count = pipeline.level_count;
   const cagekit_cage_report& cage_report = pipeline.cage_report;
   const double simplify_seconds = pipeline.simplify_seconds;
   const cagekit_fit_report& fit = pipeline.fit.report;
-  cagekit_cage cage_handle = pipeline.initial_cage.get();
-  session.check(cagekit_cage_write_file(cage_handle, (dir + "/cage.obj").c_str(), &write, nullptr), "cage.obj");
-  session.check(cagekit_cage_write_file(cage_handle, (dir + "/cage.drc").c_str(), &write, nullptr), "cage.drc");
-  session.check(cagekit_mesh_write_file(pipeline.polygons.get(), (dir + "/polygons.obj").c_str(), &write, nullptr),
-                "polygons.obj");
+  const cagekit::Cage& cage = pipeline.initial_cage;
+  session.run("cage.obj", [&] { cage.write_file(dir + "/cage.obj", write); });
+  session.run("cage.drc", [&] { cage.write_file(dir + "/cage.drc", write); });
+  session.run("polygons.obj", [&] { pipeline.polygons.write_file(dir + "/polygons.obj", write); });
 
   // 4. Subdivision: the creased cage at level 3 (its limit surface is the block), compared with
   //    the scan; and the scan itself used as a cage, level 1 pushed to its limit surface.
-  cagekit_subdivide_options subdivide = CAGEKIT_SUBDIVIDE_OPTIONS_INIT;
+  cagekit_subdivide_options subdivide = cagekit::defaults<cagekit_subdivide_options>();
   subdivide.levels = 3;
   subdivide.limit_positions = 1;
-  Cage cage_level3;
-  session.check(cagekit_cage_subdivide(cage_handle, &subdivide, cage_level3.out()), "cage");
-  session.check(cagekit_cage_write_file(cage_level3.get(), (dir + "/cage_level3.obj").c_str(), &write, nullptr),
-                "cage_level3.obj");
-  Mesh level3_mesh;
-  session.check(cagekit_cage_get_mesh(cage_level3.get(), level3_mesh.out()), "cage level 3");
-  cagekit_approximation_error limit_error = {};
-  limit_error.struct_size = sizeof(limit_error);
-  session.check(cagekit_mesh_measure_error(scan.get(), level3_mesh.get(), &limit_error), "cage level 3");
-  Cage scan_cage, scan_level1;
-  session.check(cagekit_cage_create(scan.get(), scan_cage.out()), "demo scan");
+  const cagekit::Cage cage_level3 = session.run("cage", [&] { return cage.subdivide(subdivide); });
+  session.run("cage_level3.obj", [&] { cage_level3.write_file(dir + "/cage_level3.obj", write); });
+  const cagekit::Mesh level3_mesh = session.run("cage level 3", [&] { return cage_level3.mesh(); });
+  const cagekit_approximation_error limit_error =
+      session.run("cage level 3", [&] { return scan.measure_error(level3_mesh); });
+  const cagekit::Cage scan_cage = session.run("demo scan", [&] { return scan.create_cage(); });
   subdivide.levels = 1;
   const auto subdivide_start = std::chrono::steady_clock::now();
-  session.check(cagekit_cage_subdivide(scan_cage.get(), &subdivide, scan_level1.out()), "demo scan");
+  const cagekit::Cage scan_level1 = session.run("demo scan", [&] { return scan_cage.subdivide(subdivide); });
   const double subdivide_seconds = seconds_since(subdivide_start);
-  session.check(cagekit_cage_write_file(scan_level1.get(), (dir + "/scan_level1_limit.obj").c_str(), &write, nullptr),
-                "scan_level1_limit.obj");
+  session.run("scan_level1_limit.obj", [&] { scan_level1.write_file(dir + "/scan_level1_limit.obj", write); });
   session.finish_progress();
 
-  cagekit_mesh_info scan_info = {}, level3_info = {}, level1_info = {};
-  scan_info.struct_size = level3_info.struct_size = level1_info.struct_size = sizeof(cagekit_mesh_info);
-  session.check(cagekit_mesh_get_info(scan.get(), &scan_info), "demo scan");
-  session.check(cagekit_cage_get_info(cage_level3.get(), &level3_info), "cage_level3");
-  session.check(cagekit_cage_get_info(scan_level1.get(), &level1_info), "scan level 1");
+  const cagekit_mesh_info scan_info = session.run("demo scan", [&] { return scan.info(); });
+  const cagekit_mesh_info level3_info = session.run("cage_level3", [&] { return cage_level3.info(); });
+  const cagekit_mesh_info level1_info = session.run("scan level 1", [&] { return scan_level1.info(); });
 
   const auto g9 = [](double x) { return json_rounded(x, "%.9g"); };
   const auto g3 = [](double x) { return json_rounded(x, "%.3g"); };

@@ -23,16 +23,13 @@ int command_fit(const Options& args) {
   const cagekit_file_format out_format = format_from_extension(files[2]);
 
   Session session(quiet);
-  Mesh scan;
-  session.check(cagekit_mesh_read_file(session.context(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, scan.out()), files[0]);
-  Cage cage;
-  session.check(cagekit_cage_read_file(session.context(), files[1].c_str(), CAGEKIT_FORMAT_AUTO, cage.out()), files[1]);
-  Cage fitted;
+  const cagekit::Mesh scan = session.run(files[0], [&] { return session.context().read_mesh(files[0]); });
+  const cagekit::Cage cage = session.run(files[1], [&] { return session.context().read_cage(files[1]); });
   FitResult fit;
-  run_fit(session, cage.get(), scan.get(), options, files[1] + " fitted to " + files[0], &fitted, &fit);
-  cagekit_write_options write = CAGEKIT_WRITE_OPTIONS_INIT;
+  const cagekit::Cage fitted = run_fit(session, cage, scan, options, files[1] + " fitted to " + files[0], &fit);
+  cagekit_write_options write = cagekit::defaults<cagekit_write_options>();
   write.format = out_format;
-  session.check(cagekit_cage_write_file(fitted.get(), files[2].c_str(), &write, nullptr), files[2]);
+  session.run(files[2], [&] { fitted.write_file(files[2], write); });
   session.finish_progress();
 
   const cagekit_fit_report& r = fit.report;

@@ -22,17 +22,9 @@ int command_info(const Options& args) {
   LoadedInput input;
   load_input(session, files[0], &input);
 
-  cagekit_mesh_info info = {};
-  info.struct_size = sizeof(info);
-  cagekit_validation_report report = {};
-  report.struct_size = sizeof(report);
-  bool valid = true;
-  if (input.cage.get()) {
-    session.check(cagekit_cage_get_info(input.cage.get(), &info), files[0]);
-  } else {
-    session.check(cagekit_mesh_get_info(input.mesh.get(), &info), files[0]);
-    valid = false;
-  }
+  const bool valid = static_cast<bool>(input.cage);
+  const cagekit_mesh_info info =
+      session.run(files[0], [&] { return valid ? input.cage.info() : input.mesh.info(); });
   session.finish_progress();
 
   if (json) {

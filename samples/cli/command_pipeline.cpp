@@ -136,25 +136,17 @@ int command_pipeline(const Options& args) {
   options.fallback_to_simplify = no_fallback ? 0 : 1;
 
   Session session(quiet);
-  Mesh scan;
-  session.check(cagekit_mesh_read_file(session.context(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, scan.out()), files[0]);
+  const cagekit::Mesh scan = session.run(files[0], [&] { return session.context().read_mesh(files[0]); });
   make_directories(files[1]);
-  cagekit_scan_to_cage_report r = {};
-  r.struct_size = sizeof(r);
+  cagekit::Cage::ScanToCage journey = session.run(files[0], [&] { return cagekit::scan_to_cage(scan, options); });
+  const cagekit_scan_to_cage_report& r = journey.report;
   FitResult fit_result;
-  fit_result.passes.assign(size_t(fit.max_passes) + 1, cagekit_fit_pass{});
-  fit_result.report.struct_size = sizeof(cagekit_fit_report);
-  uint32_t pass_count = 0;
-  Cage fitted, limit;
-  session.check(cagekit_scan_to_cage(scan.get(), &options, fitted.out(), limit.out(), &r, &fit_result.report,
-                                     static_cast<uint32_t>(fit_result.passes.size()), &pass_count,
-                                     fit_result.passes.data()),
-                files[0]);
-  fit_result.passes.resize(pass_count);
-  cagekit_write_options write = CAGEKIT_WRITE_OPTIONS_INIT;
+  fit_result.report = journey.fit_report;
+  fit_result.passes = std::move(journey.fit_passes);
+  const cagekit_write_options write = cagekit::defaults<cagekit_write_options>();
   const std::string cage_path = files[1] + "/cage.obj", limit_path = files[1] + "/limit.obj";
-  session.check(cagekit_cage_write_file(fitted.get(), cage_path.c_str(), &write, nullptr), cage_path);
-  session.check(cagekit_cage_write_file(limit.get(), limit_path.c_str(), &write, nullptr), limit_path);
+  session.run(cage_path, [&] { journey.cage.write_file(cage_path, write); });
+  session.run(limit_path, [&] { journey.limit.write_file(limit_path, write); });
   session.finish_progress();
 
   // report.json: the method's section under its name ("simplify" or "remesh"), then fit, limit,

@@ -168,22 +168,18 @@ int command_remesh(const Options& args) {
   const auto start = std::chrono::steady_clock::now();
 
   Session session(quiet);
-  Mesh input;
-  session.check(cagekit_mesh_read_file(session.context(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, input.out()), files[0]);
+  const cagekit::Mesh input = session.run(files[0], [&] { return session.context().read_mesh(files[0]); });
   RemeshFigures figures;
-  Cage output;
+  cagekit::Cage output;
   if (settings.quad) {
-    cagekit_quad_remesh_report report = {};
-    report.struct_size = sizeof(report);
-    session.check(cagekit_mesh_remesh_quad(input.get(), &settings.quad_options, output.out(), &report), files[0]);
+    cagekit_quad_remesh_report report = cagekit::defaults<cagekit_quad_remesh_report>();
+    output = session.run(files[0], [&] { return input.remesh_quad(settings.quad_options, &report); });
     figures.quality = report.quality;
     figures.regions = report.regions;
     figures.lines = report.arcs;
   } else {
-    cagekit_anisotropic_report report = {};
-    report.struct_size = sizeof(report);
-    session.check(cagekit_mesh_remesh_anisotropic(input.get(), &settings.anisotropic, output.out(), &report),
-                  files[0]);
+    cagekit_anisotropic_report report = cagekit::defaults<cagekit_anisotropic_report>();
+    output = session.run(files[0], [&] { return input.remesh_anisotropic(settings.anisotropic, &report); });
     figures.quality = report.quality;
     figures.regions = report.regions;
     figures.lines = report.lines;
@@ -191,14 +187,11 @@ int command_remesh(const Options& args) {
     figures.mean_alignment_deg = report.mean_alignment_deg;
   }
   const cagekit_remesh_quality& quality = figures.quality;
-  cagekit_write_options write = CAGEKIT_WRITE_OPTIONS_INIT;
+  cagekit_write_options write = cagekit::defaults<cagekit_write_options>();
   write.format = out_format;
-  session.check(cagekit_cage_write_file(output.get(), files[1].c_str(), &write, nullptr), files[1]);
-  Mesh output_mesh;
-  session.check(cagekit_cage_get_mesh(output.get(), output_mesh.out()), files[1]);
-  cagekit_approximation_error error = {};
-  error.struct_size = sizeof(error);
-  session.check(cagekit_mesh_measure_error(input.get(), output_mesh.get(), &error), files[0]);
+  session.run(files[1], [&] { output.write_file(files[1], write); });
+  const cagekit::Mesh output_mesh = session.run(files[1], [&] { return output.mesh(); });
+  const cagekit_approximation_error error = session.run(files[0], [&] { return input.measure_error(output_mesh); });
   session.finish_progress();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 

@@ -16,18 +16,15 @@ namespace cli {
 
 namespace {
 
-using Hierarchy = Handle<cagekit_hierarchy, cagekit_hierarchy_release>;
-
 // The input coloured by cluster, as an ascii PLY with per-face colours (written atomically).
-void write_clusters_ply(const Session& session, cagekit_mesh input, const std::vector<uint32_t>& clusters,
+void write_clusters_ply(const Session& session, const cagekit::Mesh& input, const std::vector<uint32_t>& clusters,
                         const std::string& path) {
-  uint32_t vertices = 0, faces = 0;
-  uint64_t indices = 0;
-  session.check(cagekit_mesh_get_counts(input, &vertices, &faces, &indices), path);
-  std::vector<double> positions(3 * size_t(vertices));
-  std::vector<uint32_t> sizes(faces), face_indices(indices);
-  session.check(cagekit_mesh_get_positions(input, CAGEKIT_SCALAR_FLOAT64, vertices, &vertices, positions.data()), path);
-  session.check(cagekit_mesh_get_faces(input, faces, &faces, sizes.data(), indices, &indices, face_indices.data()), path);
+  const std::vector<double> positions = session.run(path, [&] { return input.positions(); });
+  const cagekit::Faces faces_of_input = session.run(path, [&] { return input.faces(); });
+  const std::vector<uint32_t>& sizes = faces_of_input.face_sizes;
+  const std::vector<uint32_t>& face_indices = faces_of_input.face_indices;
+  const uint32_t vertices = static_cast<uint32_t>(positions.size() / 3);
+  const uint32_t faces = static_cast<uint32_t>(sizes.size());
   const std::string temporary = path + ".tmp";
   FILE* out = std::fopen(temporary.c_str(), "w");
   if (!out) throw Failure(kExitBadInput, path + ": cannot write");
@@ -89,56 +86,41 @@ int command_simplify(const Options& args) {
   const auto start = std::chrono::steady_clock::now();
 
   Session session(quiet);
-  Mesh input;
-  session.check(cagekit_mesh_read_file(session.context(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, input.out()), files[0]);
-  cagekit_simplify_options options = CAGEKIT_SIMPLIFY_OPTIONS_INIT;
+  const cagekit::Mesh input = session.run(files[0], [&] { return session.context().read_mesh(files[0]); });
+  cagekit_simplify_options options = cagekit::defaults<cagekit_simplify_options>();
   options.tie_break_epsilon = epsilon;
-  Hierarchy hierarchy;
-  session.check(cagekit_hierarchy_create(input.get(), &options, hierarchy.out()), files[0]);
-  uint32_t level = 0;
-  if (faces_target > 0)
-    session.check(cagekit_hierarchy_find_level(hierarchy.get(), CAGEKIT_LEVEL_BY_FACES, faces_target, &level), files[0]);
-  else
-    session.check(cagekit_hierarchy_find_level(hierarchy.get(), CAGEKIT_LEVEL_BY_VERTICES, vertices_target, &level),
-                  files[0]);
-  session.check(cagekit_hierarchy_set_level(hierarchy.get(), level), files[0]);
+  cagekit::Hierarchy hierarchy = session.run(files[0], [&] { return input.create_hierarchy(options); });
+  const uint32_t level = session.run(files[0], [&] {
+    const uint32_t found = faces_target > 0 ? hierarchy.find_level(CAGEKIT_LEVEL_BY_FACES, faces_target)
+                                            : hierarchy.find_level(CAGEKIT_LEVEL_BY_VERTICES, vertices_target);
+    hierarchy.set_level(found);
+    return found;
+  });
   const double simplify_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  cagekit_polygonal_level_info info = {};
-  info.struct_size = sizeof(info);
-  session.check(cagekit_hierarchy_get_current_info(hierarchy.get(), &info), files[0]);
+  const cagekit_polygonal_level_info info = session.run(files[0], [&] { return hierarchy.current_info(); });
 
-  cagekit_cage_report cage_report = {};
-  cage_report.struct_size = sizeof(cage_report);
-  Mesh output_mesh;
-  cagekit_write_options write = CAGEKIT_WRITE_OPTIONS_INIT;
+  cagekit_cage_report cage_report = cagekit::defaults<cagekit_cage_report>();
+  cagekit::Mesh output_mesh;
+  cagekit_write_options write = cagekit::defaults<cagekit_write_options>();
   write.format = out_format;
   if (want_cage) {
-    Cage cage;
-    session.check(cagekit_hierarchy_build_cage(hierarchy.get(), &cage_options, cage.out(), &cage_report), files[0]);
-    session.check(cagekit_cage_write_file(cage.get(), files[1].c_str(), &write, nullptr), files[1]);
-    session.check(cagekit_cage_get_mesh(cage.get(), output_mesh.out()), files[1]);
+    const cagekit::Cage cage =
+        session.run(files[0], [&] { return hierarchy.build_cage(cage_options, &cage_report); });
+    session.run(files[1], [&] { cage.write_file(files[1], write); });
+    output_mesh = session.run(files[1], [&] { return cage.mesh(); });
   } else {
-    if (contour_tolerance > 0)
-      session.check(cagekit_hierarchy_get_refined_polygon_mesh(hierarchy.get(), contour_tolerance, output_mesh.out()),
-                    files[0]);
-    else
-      session.check(cagekit_hierarchy_get_polygon_mesh(hierarchy.get(), output_mesh.out()), files[0]);
-    session.check(cagekit_mesh_write_file(output_mesh.get(), files[1].c_str(), &write, nullptr), files[1]);
+    output_mesh = session.run(files[0], [&] {
+      return contour_tolerance > 0 ? hierarchy.refined_polygon_mesh(contour_tolerance) : hierarchy.polygon_mesh();
+    });
+    session.run(files[1], [&] { output_mesh.write_file(files[1], write); });
   }
   if (!clusters_path.empty()) {
-    uint32_t count = 0;
-    session.check(cagekit_hierarchy_get_clusters(hierarchy.get(), 0, &count, nullptr), files[0]);
-    std::vector<uint32_t> clusters(count);
-    session.check(cagekit_hierarchy_get_clusters(hierarchy.get(), count, &count, clusters.data()), files[0]);
-    write_clusters_ply(session, input.get(), clusters, clusters_path);
+    const std::vector<uint32_t> clusters = session.run(files[0], [&] { return hierarchy.clusters(); });
+    write_clusters_ply(session, input, clusters, clusters_path);
   }
-  cagekit_approximation_error error = {};
-  error.struct_size = sizeof(error);
-  session.check(cagekit_mesh_measure_error(input.get(), output_mesh.get(), &error), files[0]);
-  cagekit_mesh_info out_info = {};
-  out_info.struct_size = sizeof(out_info);
-  session.check(cagekit_mesh_get_info(output_mesh.get(), &out_info), files[1]);
+  const cagekit_approximation_error error = session.run(files[0], [&] { return input.measure_error(output_mesh); });
+  const cagekit_mesh_info out_info = session.run(files[1], [&] { return output_mesh.info(); });
   session.finish_progress();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 

@@ -24,23 +24,22 @@ int command_subdivide(const Options& args) {
 
   Session session(quiet);
   const cagekit_file_format out_format = format_from_extension(files[1]);
-  Cage cage;
-  session.check(cagekit_cage_read_file(session.context(), files[0].c_str(), CAGEKIT_FORMAT_AUTO, cage.out()), files[0]);
-  cagekit_subdivide_options options = CAGEKIT_SUBDIVIDE_OPTIONS_INIT;
+  const cagekit::Cage cage = session.run(files[0], [&] { return session.context().read_cage(files[0]); });
+  cagekit_subdivide_options options = cagekit::defaults<cagekit_subdivide_options>();
   options.levels = static_cast<uint32_t>(levels);
   options.limit_positions = limit ? 1 : 0;
-  Cage refined;
-  session.check(cagekit_cage_subdivide(cage.get(), &options, refined.out()), files[0]);
-  cagekit_write_options write = CAGEKIT_WRITE_OPTIONS_INIT;
+  const cagekit::Cage refined = session.run(files[0], [&] { return cage.subdivide(options); });
+  cagekit_write_options write = cagekit::defaults<cagekit_write_options>();
   write.format = out_format;
-  session.check(cagekit_cage_write_file(refined.get(), files[1].c_str(), &write, nullptr), files[1]);
+  session.run(files[1], [&] { refined.write_file(files[1], write); });
   session.finish_progress();
   if (!quiet) {
     uint32_t vertices = 0, faces = 0;
-    cagekit_mesh m = nullptr;
-    if (cagekit_cage_get_mesh(refined.get(), &m) == CAGEKIT_SUCCESS) {
-      cagekit_mesh_get_counts(m, &vertices, &faces, nullptr);
-      cagekit_mesh_release(m);
+    try {  // only for the summary line: a failure here leaves it at 0
+      const cagekit::MeshCounts counts = refined.mesh().counts();
+      vertices = counts.vertices;
+      faces = counts.faces;
+    } catch (const cagekit::Error&) {
     }
     std::fprintf(stderr, "cagekit: wrote %s (level %d: %u vertices, %u faces)\n", files[1].c_str(), levels, vertices,
                  faces);

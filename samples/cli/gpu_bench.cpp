@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #ifdef CAGEKIT_CLI_HAS_EGL
+#include <cagekit/cagekit_gl.hpp>
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 #endif
@@ -13,7 +14,8 @@ namespace cli {
 
 #ifndef CAGEKIT_CLI_HAS_EGL
 
-GpuBench bench_gpu_deformer(cagekit_context, cagekit_binding, cagekit_mesh, std::vector<double>, int, double) {
+GpuBench bench_gpu_deformer(const cagekit::Context&, const cagekit::Binding&, const cagekit::Mesh&, std::vector<double>,
+                            int, double) {
   GpuBench result;
   result.why = "this cagekit was built without EGL (libegl-dev), so it cannot make a GL context";
   return result;
@@ -33,8 +35,8 @@ std::string egl_error(const char* what) {
 
 }  // namespace
 
-GpuBench bench_gpu_deformer(cagekit_context context, cagekit_binding binding, cagekit_mesh scan,
-                            std::vector<double> control, int frames, double step) {
+GpuBench bench_gpu_deformer(const cagekit::Context& context, const cagekit::Binding& binding,
+                            const cagekit::Mesh& scan, std::vector<double> control, int frames, double step) {
   GpuBench result;
   EGLDisplay display = eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
   if (display == EGL_NO_DISPLAY || !eglInitialize(display, nullptr, nullptr)) {
@@ -57,31 +59,30 @@ GpuBench bench_gpu_deformer(cagekit_context context, cagekit_binding binding, ca
   }
   using Finish = void (*)();
   const Finish finish = reinterpret_cast<Finish>(eglGetProcAddress("glFinish"));
-  cagekit_gl_deformer deformer = nullptr;
-  const uint32_t m = uint32_t(control.size() / 3);
-  cagekit_status status = cagekit_gl_deformer_create(binding, scan, get_proc_address, nullptr, nullptr, &deformer);
-  if (status == CAGEKIT_SUCCESS && finish != nullptr) {
-    cagekit_gl_deformer_info info{};
-    info.struct_size = sizeof(info);
-    cagekit_gl_deformer_get_info(deformer, &info);
-    result.renderer = info.renderer ? info.renderer : "";
-    result.version = info.version ? info.version : "";
-    status = cagekit_gl_deformer_deform(deformer, control.data(), m, CAGEKIT_NORMALS_APPROXIMATE);  // warm-up
-    finish();
-    const auto t0 = std::chrono::steady_clock::now();
-    for (int f = 0; f < frames && status == CAGEKIT_SUCCESS; ++f) {
-      for (double& c : control) c += (f % 2 ? -step : step);
-      status = cagekit_gl_deformer_deform(deformer, control.data(), m, CAGEKIT_NORMALS_APPROXIMATE);
+  if (finish == nullptr) {
+    result.why = "no glFinish";
+  } else {
+    try {
+      // Made and released while the GL context is current (this block).
+      cagekit::GlDeformer deformer = cagekit::GlDeformer::create(binding, &scan, get_proc_address, nullptr);
+      const cagekit_gl_deformer_info info = deformer.info();
+      result.renderer = info.renderer ? info.renderer : "";
+      result.version = info.version ? info.version : "";
+      deformer.deform(control, CAGEKIT_NORMALS_APPROXIMATE);  // warm-up
       finish();
+      const auto t0 = std::chrono::steady_clock::now();
+      for (int f = 0; f < frames; ++f) {
+        for (double& c : control) c += (f % 2 ? -step : step);
+        deformer.deform(control, CAGEKIT_NORMALS_APPROXIMATE);
+        finish();
+      }
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      result.ran = true, result.fps = frames / seconds;
+    } catch (const cagekit::Error& error) {
+      result.why = std::string("GL deformer: ") + cagekit::status_string(error.status()) + ": " +
+                   context.last_error_message();
     }
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (status == CAGEKIT_SUCCESS) result.ran = true, result.fps = frames / seconds;
   }
-  if (!result.ran)
-    result.why = finish == nullptr ? "no glFinish"
-                                   : std::string("GL deformer: ") + cagekit_status_string(status) + ": " +
-                                         cagekit_last_error_message(context);
-  cagekit_gl_deformer_release(deformer);  // while the context is current
   eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
   eglDestroyContext(display, gl);
   eglTerminate(display);

@@ -1,13 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The GPU part of `cagekit bench-deform`: a headless EGL context (Mesa surfaceless: llvmpipe
-// without a GPU), a cagekit_gl_deformer of the binding, `frames` full deformations (each waited
+// without a GPU), a cagekit::GlDeformer of the binding, `frames` full deformations (each waited
 // for with glFinish). Never throws; when no context can be made, `why` says so.
 #include <string>
 #include <vector>
 
-#include <cagekit/cagekit.h>
-#include <cagekit/cagekit_gl.h>
+#include <cagekit/cagekit.hpp>
 
 namespace cli {
 
@@ -18,7 +17,7 @@ struct GpuBench {
   std::string why;  // when !ran
 };
 
-GpuBench bench_gpu_deformer(cagekit_context context, cagekit_binding binding, cagekit_mesh scan,
-                            std::vector<double> control, int frames, double step);
+GpuBench bench_gpu_deformer(const cagekit::Context& context, const cagekit::Binding& binding,
+                            const cagekit::Mesh& scan, std::vector<double> control, int frames, double step);
 
 }  // namespace cli

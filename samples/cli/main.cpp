@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
       cli::add_deform(app), cli::add_bench_deform(app), cli::add_demo(app)};
   CLI::App* version = app.add_subcommand("version", "print the library version");
   commands.push_back({version, [] {
-                        std::printf("cagekit %s (ABI %u)\n", cagekit_version_string(), cagekit_abi_version());
+                        std::printf("cagekit %s (ABI %u)\n", cagekit::version_string(), cagekit::abi_version());
                         return cli::kExitOk;
                       }});
 

@@ -69,31 +69,28 @@ namespace {
 
 // Steps 2 and 3 of the pipeline, shared by both methods: fit of the initial cage's limit surface
 // to the scan, then the fitted cage refined to (nearly) its limit surface and compared with it.
-void fit_and_limit(const Session& session, cagekit_mesh scan, const std::string& scan_name,
+void fit_and_limit(const Session& session, const cagekit::Mesh& scan, const std::string& scan_name,
                    const PipelineSettings& settings, const std::string& dir, PipelineResult* result) {
-  cagekit_write_options write = CAGEKIT_WRITE_OPTIONS_INIT;
+  const cagekit_write_options write = cagekit::defaults<cagekit_write_options>();
   // 2. Fit of the cage's limit surface to the scan.
-  run_fit(session, result->initial_cage.get(), scan, settings.fit, scan_name, &result->fitted_cage, &result->fit);
+  result->fitted_cage = run_fit(session, result->initial_cage, scan, settings.fit, scan_name, &result->fit);
   if (!settings.cage_file.empty()) {
     const std::string path = dir + "/" + settings.cage_file;
-    session.check(cagekit_cage_write_file(result->fitted_cage.get(), path.c_str(), &write, nullptr), path);
+    session.run(path, [&] { result->fitted_cage.write_file(path, write); });
   }
 
   // 3. The fitted cage refined to (nearly) its limit surface, compared with the scan.
-  cagekit_subdivide_options subdivide = CAGEKIT_SUBDIVIDE_OPTIONS_INIT;
+  cagekit_subdivide_options subdivide = cagekit::defaults<cagekit_subdivide_options>();
   subdivide.levels = settings.limit_levels;
   subdivide.limit_positions = 1;
-  session.check(cagekit_cage_subdivide(result->fitted_cage.get(), &subdivide, result->limit.out()), "fitted cage");
+  result->limit = session.run("fitted cage", [&] { return result->fitted_cage.subdivide(subdivide); });
   if (!settings.limit_file.empty()) {
     const std::string path = dir + "/" + settings.limit_file;
-    session.check(cagekit_cage_write_file(result->limit.get(), path.c_str(), &write, nullptr), path);
+    session.run(path, [&] { result->limit.write_file(path, write); });
   }
-  result->limit_info.struct_size = sizeof(result->limit_info);
-  session.check(cagekit_cage_get_info(result->limit.get(), &result->limit_info), "fitted limit");
-  Mesh limit_mesh;
-  session.check(cagekit_cage_get_mesh(result->limit.get(), limit_mesh.out()), "fitted limit");
-  result->limit_error.struct_size = sizeof(result->limit_error);
-  session.check(cagekit_mesh_measure_error(scan, limit_mesh.get(), &result->limit_error), scan_name);
+  result->limit_info = session.run("fitted limit", [&] { return result->limit.info(); });
+  const cagekit::Mesh limit_mesh = session.run("fitted limit", [&] { return result->limit.mesh(); });
+  result->limit_error = session.run(scan_name, [&] { return scan.measure_error(limit_mesh); });
 }
 
 nlohmann::ordered_json limit_json(const PipelineSettings& settings, const PipelineResult& result) {
@@ -197,16 +194,12 @@ cagekit_fit_options parse_fit_options(const Options& args) {
   return o;
 }
 
-void run_fit(const Session& session, cagekit_cage cage, cagekit_mesh scan, const cagekit_fit_options& options,
-             const std::string& what, Cage* fitted, FitResult* result) {
-  result->passes.assign(size_t(options.max_passes) + 1, cagekit_fit_pass{});
-  result->report = cagekit_fit_report{};
-  result->report.struct_size = sizeof(cagekit_fit_report);
-  uint32_t pass_count = 0;
-  session.check(cagekit_cage_fit(cage, scan, &options, fitted->out(), &result->report,
-                                 static_cast<uint32_t>(result->passes.size()), &pass_count, result->passes.data()),
-                what);
-  result->passes.resize(pass_count);
+cagekit::Cage run_fit(const Session& session, const cagekit::Cage& cage, const cagekit::Mesh& scan,
+                      const cagekit_fit_options& options, const std::string& what, FitResult* result) {
+  cagekit::Cage::Fit fit = session.run(what, [&] { return cage.fit(scan, options); });
+  result->report = fit.report;
+  result->passes = std::move(fit.passes);
+  return std::move(fit.cage);
 }
 
 nlohmann::ordered_json fit_json(const FitResult& fit, const cagekit_fit_options& options) {
@@ -239,32 +232,27 @@ nlohmann::ordered_json fit_json(const FitResult& fit, const cagekit_fit_options&
   return j;
 }
 
-void run_pipeline(const Session& session, cagekit_mesh scan, const std::string& scan_name,
+void run_pipeline(const Session& session, const cagekit::Mesh& scan, const std::string& scan_name,
                   const PipelineSettings& settings, const std::string& dir, PipelineResult* result) {
-  using Hierarchy = Handle<cagekit_hierarchy, cagekit_hierarchy_release>;
   const auto start = std::chrono::steady_clock::now();
   make_directories(dir);
 
   // 1. Simplification to the requested level and the quad-dominant cage with creases.
-  Hierarchy hierarchy;
-  session.check(cagekit_hierarchy_create(scan, nullptr, hierarchy.out()), scan_name);
-  session.check(cagekit_hierarchy_get_level_count(hierarchy.get(), &result->level_count), scan_name);
-  session.check(cagekit_hierarchy_find_level(hierarchy.get(), settings.query, settings.target, &result->level),
-                scan_name);
-  session.check(cagekit_hierarchy_set_level(hierarchy.get(), result->level), scan_name);
-  result->level_info.struct_size = sizeof(result->level_info);
-  session.check(cagekit_hierarchy_get_current_info(hierarchy.get(), &result->level_info), scan_name);
-  cagekit_cage_options cage_options = CAGEKIT_CAGE_OPTIONS_INIT;
+  cagekit::Hierarchy hierarchy = session.run(scan_name, [&] { return scan.create_hierarchy(); });
+  session.run(scan_name, [&] {
+    result->level_count = hierarchy.level_count();
+    result->level = hierarchy.find_level(settings.query, settings.target);
+    hierarchy.set_level(result->level);
+    result->level_info = hierarchy.current_info();
+  });
+  cagekit_cage_options cage_options = cagekit::defaults<cagekit_cage_options>();
   cage_options.crease_angle_degrees = settings.crease_angle;
   cage_options.input_crease_angle_degrees = settings.input_crease_angle;
-  result->cage_report.struct_size = sizeof(result->cage_report);
-  session.check(cagekit_hierarchy_build_cage(hierarchy.get(), &cage_options, result->initial_cage.out(),
-                                             &result->cage_report),
-                scan_name);
+  result->initial_cage =
+      session.run(scan_name, [&] { return hierarchy.build_cage(cage_options, &result->cage_report); });
   result->simplify_seconds = seconds_since(start);
-  session.check(cagekit_hierarchy_get_polygon_mesh(hierarchy.get(), result->polygons.out()), scan_name);
-  result->level_error.struct_size = sizeof(result->level_error);
-  session.check(cagekit_mesh_measure_error(scan, result->polygons.get(), &result->level_error), scan_name);
+  result->polygons = session.run(scan_name, [&] { return hierarchy.polygon_mesh(); });
+  result->level_error = session.run(scan_name, [&] { return scan.measure_error(result->polygons); });
 
   fit_and_limit(session, scan, scan_name, settings, dir, result);
   result->seconds = seconds_since(start);

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
-// The demo's pipeline, step by step through the individual C API calls (`cagekit demo` shows
+// The demo's pipeline, step by step through the individual SDK calls (`cagekit demo` shows
 // them; `cagekit pipeline` makes the whole journey with one cagekit_scan_to_cage call):
 // structure-preserving simplification (thesis ch. 3) -> quad-dominant cage with creases ->
 // fit of the cage's limit surface to the scan (ch. 7) -> the fitted cage refined to its limit.
@@ -29,13 +29,14 @@ void add_cage_options(Options& options);
 // Values out of range are bad input (Failure with kExitBadInput naming the option).
 cagekit_cage_options parse_cage_options(const Options& options);
 
-// Runs cagekit_cage_fit with a pass array of max_passes + 1 entries (all of them).
+// Runs cagekit::Cage::fit (a pass array of max_passes + 1 entries: all of them) and returns the
+// fitted cage; errors are Failure naming `what`.
 struct FitResult {
   cagekit_fit_report report{};
   std::vector<cagekit_fit_pass> passes;  // pass_count entries, 0 = the initial cage
 };
-void run_fit(const Session& session, cagekit_cage cage, cagekit_mesh scan, const cagekit_fit_options& options,
-             const std::string& what, Cage* fitted, FitResult* result);
+cagekit::Cage run_fit(const Session& session, const cagekit::Cage& cage, const cagekit::Mesh& scan,
+                      const cagekit_fit_options& options, const std::string& what, FitResult* result);
 
 // {"passes": steps, final figures, "seconds": whole fit, "stopped_by_tolerance", ..., "per_pass": [...]}.
 nlohmann::ordered_json fit_json(const FitResult& fit, const cagekit_fit_options& options);
@@ -58,13 +59,13 @@ struct PipelineResult {
   cagekit_cage_report cage_report{};
   cagekit_approximation_error level_error{};  // scan vs the level's polygons (or the remeshed mesh)
   double simplify_seconds = 0;
-  Mesh polygons;       // the level as a polygon mesh
-  Cage initial_cage;   // quad-dominant cage with creases, before the fit
+  cagekit::Mesh polygons;       // the level as a polygon mesh
+  cagekit::Cage initial_cage;   // quad-dominant cage with creases, before the fit
   // fit
   FitResult fit;
-  Cage fitted_cage;
+  cagekit::Cage fitted_cage;
   // the fitted cage refined limit_levels times, on its limit surface
-  Cage limit;
+  cagekit::Cage limit;
   cagekit_mesh_info limit_info{};
   cagekit_approximation_error limit_error{};  // scan vs the refined limit mesh
   double seconds = 0;
@@ -73,7 +74,7 @@ struct PipelineResult {
 
 // Runs the pipeline on `scan` (a valid mesh) and writes the outputs named in `settings` into
 // `dir` (created with its parents when missing).
-void run_pipeline(const Session& session, cagekit_mesh scan, const std::string& scan_name,
+void run_pipeline(const Session& session, const cagekit::Mesh& scan, const std::string& scan_name,
                   const PipelineSettings& settings, const std::string& dir, PipelineResult* result);
 
 // x as a JSON number rounded to 9 significant digits (null for NaN/Inf).
