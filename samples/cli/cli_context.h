@@ -44,20 +44,16 @@ struct TextOption {
   const char* value_name;
   const char* help;
 };
-struct IntegerOption {
+template <class T>
+struct RangedOption {
   const char* name;
-  int fallback;  // when absent; outside [min, max]: "not given" (not shown as a default)
-  int min, max;
+  T fallback;  // when absent; outside [min, max]: "not given" (not shown as a default)
+  T min, max;
   const char* value_name;
   const char* help;
 };
-struct RealOption {
-  const char* name;
-  double fallback;  // when absent; outside [min, max]: "not given" (not shown as a default)
-  double min, max;
-  const char* value_name;
-  const char* help;
-};
+using IntegerOption = RangedOption<int>;
+using RealOption = RangedOption<double>;
 
 // One subcommand's options and positionals in CLI11. CLI11 keeps every value as text; integer()
 // and real() check it here, so that a value out of range is a Failure(kExitUsage) that the

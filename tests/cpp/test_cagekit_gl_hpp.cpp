@@ -13,19 +13,10 @@
 #include <vector>
 
 #include "egl_context.h"
+#include "cpp_check.h"
 #include "test_geometry.h"
 
 namespace {
-
-int g_failures = 0;
-
-#define CHECK(condition)                                                                   \
-  do {                                                                                     \
-    if (!(condition)) {                                                                    \
-      std::fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #condition); \
-      ++g_failures;                                                                        \
-    }                                                                                      \
-  } while (0)
 
 struct LoaderFailure {};
 

@@ -6,6 +6,7 @@
 // (run it in the CAGEKIT_SANITIZE build for LeakSanitizer's check of every release).
 #include <cagekit/cagekit.hpp>
 
+#include "cpp_check.h"
 #include "test_geometry.h"
 
 #include <algorithm>
@@ -19,16 +20,6 @@
 #include <vector>
 
 namespace {
-
-int g_failures = 0;
-
-#define CHECK(condition)                                                          \
-  do {                                                                            \
-    if (!(condition)) {                                                           \
-      std::fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #condition); \
-      ++g_failures;                                                               \
-    }                                                                             \
-  } while (0)
 
 // Runs `body`, which must throw cagekit::Error with `status`; returns the error's message.
 template <class Body>
