@@ -1087,6 +1087,10 @@ typedef struct cagekit_quad_remesh_report {
   uint64_t partitioned_regions;   /* regions whose layout still failed after the retries, laid out instead by
                                      the quad-dominant partition of their polygon of boundary samples (no
                                      inner vertices); 0 in most results */
+  uint64_t reseeded_regions;      /* 0 in most results; else no layout of the first segmentation came out
+                                     valid (after every retry and the partition above), and the cage is the
+                                     layout of a new segmentation with this many regions (10/3, then 20/3
+                                     times the first count); the figures above are that layout's */
 } cagekit_quad_remesh_report;
 
 /* Remeshes `mesh` into a new cage: a valid oriented 2-manifold polygon mesh whose edges on
@@ -1420,6 +1424,8 @@ typedef struct cagekit_scan_to_cage_report {
                                        replaced (0 when two_sided_refit is 0) */
   uint64_t sharp_edges;             /* the options' sharp edges found on the conditioned scan ... */
   uint64_t sharp_edges_dropped;     /* ... and not found (their ends welded together or dropped) */
+  uint64_t remesh_reseeded_regions; /* quad: cagekit_quad_remesh_report.reseeded_regions (0: the first
+                                       segmentation's layout was used) */
 } cagekit_scan_to_cage_report;
 
 /* The whole journey from a scan to a fitted cage, in named phases: conditioning (repair as

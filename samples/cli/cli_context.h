@@ -173,6 +173,7 @@ struct RemeshSettings {
 struct RemeshFigures {
   cagekit_remesh_quality quality{};
   uint64_t regions = 0, lines = 0, holes = 0;
+  int64_t reseeded_regions = -1;  // quad: the report's reseeded_regions (-1: anisotropic, not written)
   double mean_alignment_deg = 0.0;
 };
 // The options of remesh and `pipeline --method anisotropic|quad`: --tolerance, --max-face-valence,

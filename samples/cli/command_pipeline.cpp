@@ -188,6 +188,7 @@ int command_pipeline(const Options& args) {
     rr.quality.max_vertex_valence = r.max_vertex_valence;
     rr.quality.creases = r.creases;
     rr.regions = r.remesh_regions;
+    if (r.used_method == CAGEKIT_SCAN_QUAD) rr.reseeded_regions = int64_t(r.remesh_reseeded_regions);
     rr.lines = r.remesh_lines;
     rr.holes = r.remesh_holes;
     rr.mean_alignment_deg = r.mean_alignment_deg;

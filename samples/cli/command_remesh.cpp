@@ -142,6 +142,7 @@ nlohmann::ordered_json remesh_json_fields(const RemeshFigures& f, const cagekit_
   j["hausdorff_sym_rel"] = json_rounded(e.hausdorff_sym_rel, "%.9g");
   j["min_scaled_jacobian"] = json_rounded(q.min_scaled_jacobian, "%.6f");
   j["regions"] = uint64_t(f.regions);
+  if (f.reseeded_regions >= 0) j["reseeded_regions"] = f.reseeded_regions;
   j["mean_alignment_deg"] = json_rounded(f.mean_alignment_deg, "%.4f");
   j["lines"] = uint64_t(f.lines);
   j["holes"] = uint64_t(f.holes);
@@ -176,6 +177,7 @@ int command_remesh(const Options& args) {
     output = session.run(files[0], [&] { return input.remesh_quad(settings.quad_options, &report); });
     figures.quality = report.quality;
     figures.regions = report.regions;
+    figures.reseeded_regions = int64_t(report.reseeded_regions);
     figures.lines = report.arcs;
   } else {
     cagekit_anisotropic_report report = cagekit::defaults<cagekit_anisotropic_report>();

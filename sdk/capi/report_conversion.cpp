@@ -202,7 +202,8 @@ CAGEKIT_REPORT_TO_C(anisotropic_report_to_c, cagekit_anisotropic_report, cagekit
   X(A, merged_regions, r.merged_regions)                                                              \
   X(A, layout_retries, r.layout_retries)                                                              \
   X(A, mended_faces, r.mended_faces)                                                                  \
-  X(A, partitioned_regions, r.partitioned_regions)
+  X(A, partitioned_regions, r.partitioned_regions)                                                    \
+  X(A, reseeded_regions, r.reseeded_regions)
 CAGEKIT_REPORT_TO_C(quad_report_to_c, cagekit_quad_remesh_report, cagekit::QuadRemeshResult, CAGEKIT_QUAD_REPORT_TABLE)
 
 // The scan-to-cage report; `L` is limit_levels (the options', not the result's).
@@ -275,7 +276,8 @@ CAGEKIT_REPORT_TO_C(quad_report_to_c, cagekit_quad_remesh_report, cagekit::QuadR
   X(A, two_sided_refit, bool32(r.two_sided_refit))                                                    \
   X(A, one_sided_fit_max_rel, r.one_sided_fit_max_rel)                                                \
   X(A, sharp_edges, r.host_sharp_edges.found)                                                         \
-  X(A, sharp_edges_dropped, r.host_sharp_edges.dropped)
+  X(A, sharp_edges_dropped, r.host_sharp_edges.dropped)                                              \
+  X(A, remesh_reseeded_regions, r.remesh_reseeded_regions)
 
 cagekit_scan_to_cage_report scan_to_cage_report_to_c(const cagekit::ScanToCageResult& r, uint32_t L) {
   cagekit_scan_to_cage_report c{};

@@ -116,6 +116,7 @@ Cage initial_cage(const PolygonMesh& mesh, ScanMethod method, const ScanToCageOp
       QuadRemeshResult q = remesh_quad_dominant(mesh, o.quad, monitor);
       r.remesh = q;
       r.remesh_regions = q.regions;
+      r.remesh_reseeded_regions = q.reseeded_regions;
       r.remesh_lines = q.arcs;
       r.creases = q.creases;
       return std::move(q.cage);

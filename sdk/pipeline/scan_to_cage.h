@@ -104,6 +104,7 @@ struct ScanToCageResult {
   // quad / anisotropic
   RemeshQuality remesh;
   uint64_t remesh_regions = 0, remesh_lines = 0, remesh_holes = 0;
+  uint64_t remesh_reseeded_regions = 0;  // quad: QuadRemeshResult::reseeded_regions
   double mean_alignment_deg = 0;
   // every method
   uint64_t creases = 0;

@@ -375,6 +375,36 @@ TEST(QuadRemesher, RegionsWhoseLayoutStillFailsArePartitioned) {
   EXPECT_GT(run.result.layout_retries, 0u);
 }
 
+// couplingdown.off: a CAD part with bolt holes and thin walls. No layout of its first
+// segmentation comes out valid (faces folded against the input remain after every retry and the
+// partition), so it is re-seeded with more regions (QuadRemeshOptions::reseed_factors): the
+// result is a valid cage of the input's topology (run_and_check) made from the new segmentation,
+// reported in reseeded_regions. Without re-seeding it is the error it was.
+TEST(QuadRemesher, ALayoutThatFailsIsReseededWithMoreRegions) {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  GTEST_SKIP() << "Release only (a 7k-triangle mesh laid out up to 12 times)";
+#endif
+  const std::string path = std::string(CAGEKIT_SHARED_CORPUS) + "/cgal/couplingdown.off";
+  if (!std::ifstream(path).good()) GTEST_SKIP() << "corpus not found at " << path;
+  const PolygonMesh mesh = cagekit_test::load_mesh(path);
+  QuadRemeshOptions once;
+  once.reseed_factors.clear();
+  try {
+    remesh_quad_dominant(mesh, once);
+    ADD_FAILURE() << "couplingdown.off's first segmentation now lays out: the test no longer makes the class";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.status(), Status::internal_error) << e.what();
+  }
+  const Checked run = run_and_check(mesh, QuadRemeshOptions{}, "couplingdown.off");
+  std::printf("couplingdown.off: re-seeded with %llu regions, %llu regions used, %llu faces, %.1f%% quads\n",
+              (unsigned long long)run.result.reseeded_regions, (unsigned long long)run.result.regions,
+              (unsigned long long)run.result.faces,
+              100.0 * double(run.result.quads) / double(std::max<uint64_t>(1, run.result.faces)));
+  EXPECT_GT(run.result.reseeded_regions, run.result.requested_regions);
+  EXPECT_GE(run.result.regions, run.result.reseeded_regions);
+  EXPECT_EQ(run.result.flipped_faces, 0u);
+}
+
 // turbine.off: a thin disc with bolt holes whose walls are thinner than the sample spacing. Its
 // top and bottom regions' layouts filled the holes apart from the rest (the glued mesh had 7
 // components and genus 3 for the input's 1 and 11) and were returned. The remesher checks the

@@ -64,7 +64,8 @@ class QuadRemeshOptions(_lib._Versioned):
 class QuadRemeshReport(_lib._Versioned):
     _fields_ = [("struct_size", c_size_t), ("quality", RemeshQuality), ("regions", c_uint64), ("arcs", c_uint64),
                 ("requested_regions", c_uint64), ("split_regions", c_uint64), ("merged_regions", c_uint64),
-                ("layout_retries", c_uint64), ("mended_faces", c_uint64), ("partitioned_regions", c_uint64)]
+                ("layout_retries", c_uint64), ("mended_faces", c_uint64), ("partitioned_regions", c_uint64),
+                ("reseeded_regions", c_uint64)]
 
 
 STRUCTS = {"cagekit_remesh_quality": RemeshQuality, "cagekit_anisotropic_options": AnisotropicOptions,
@@ -159,7 +160,7 @@ def remesh_quad(mesh, edge_length=_Q["edge_length"], regions=_Q["regions"], regi
     Returns (cage, report); the report holds the quality figures (faces, vertices, quads,
     interior_vertices, valence4_vertices, max_face_valence, max_vertex_valence, creases,
     min_scaled_jacobian, seconds), regions, arcs, requested_regions, split_regions,
-    merged_regions, layout_retries, mended_faces and partitioned_regions. Options as
+    merged_regions, layout_retries, mended_faces, partitioned_regions and reseeded_regions. Options as
     cagekit_quad_remesh_options; weights = (triangle_weight, pentagon_weight, t_joint_weight);
     `seed_faces`: face ids that each start a region; `pinned_regions`: a list of face-id lists,
     each a region the segmentation keeps as it is (counted in `regions`); `sharp_edges`: the

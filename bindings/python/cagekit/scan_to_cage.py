@@ -88,7 +88,8 @@ class ScanToCageReport(_lib._Versioned):
                 _u64("scan_self_intersections", "unfitted_self_intersections") +
                 [("scan_self_intersections_counted", _lib.c_bool32), ("own_cage_crease_angle_deg", c_double),
                  ("fit_fairing_used", c_double), ("two_sided_refit", _lib.c_bool32),
-                 ("one_sided_fit_max_rel", c_double), ("sharp_edges", c_uint64), ("sharp_edges_dropped", c_uint64)])
+                 ("one_sided_fit_max_rel", c_double), ("sharp_edges", c_uint64), ("sharp_edges_dropped", c_uint64),
+                 ("remesh_reseeded_regions", c_uint64)])
 
 
 STRUCTS = {"cagekit_scan_to_cage_options": ScanToCageOptions, "cagekit_scan_to_cage_report": ScanToCageReport}

@@ -1770,6 +1770,35 @@ void log_timing(const QuadRemeshResult& r, size_t region_count, const TaskMonito
   monitor.log(LogLevel::info, timing);
 }
 
+
+// One segmentation's regions laid out (§6.4-6.8, retried) and made into the cage: the glued
+// mesh, its creases, validation and quality figures.
+void build_cage(const PolygonMesh& tri, const VsaSegmentation& segmentation, const SharpFeatures& features,
+                const QuadRemeshOptions& o, const TaskMonitor& monitor, QuadRemeshResult& r) {
+  RegionLayout layout = lay_out_regions(tri, segmentation, o, monitor, r);
+  report_layout(layout, r);
+  const auto t = std::chrono::steady_clock::now();
+  const std::vector<uint32_t> remap = move_glued_mesh_into(layout.glued, r.cage.mesh);
+  r.flipped_faces = count_flipped_faces(r.cage.mesh, layout.reference_normal);
+  const std::vector<Vec3> vertex_normals = area_weighted_vertex_normals(r.cage.mesh);
+  if (o.crease_angle_degrees >= 0.0 || !o.sharp_edges.empty()) tag_creases(layout, features, remap, r);
+  r.creases = r.cage.creases.size();
+  monitor.report("post-processing", 0.95);
+  validate_and_measure(vertex_normals, r);
+  r.postprocess_seconds += seconds_since(t);
+}
+
+// Re-seeding (QuadRemeshOptions::reseed_factors): the next region count after a segmentation
+// whose layout failed, or 0 when there is none (no factor left, or not more regions than the
+// failed segmentation had).
+size_t reseed_region_count(const QuadRemeshOptions& o, size_t reseeds, size_t first_count, size_t failed_count,
+                           size_t triangles) {
+  if (reseeds >= o.reseed_factors.size() || !(o.reseed_factors[reseeds] > 0.0)) return 0;
+  const double wanted = std::ceil(o.reseed_factors[reseeds] * double(first_count));
+  const size_t count = wanted >= double(triangles) ? triangles : size_t(wanted);
+  return count > failed_count ? count : 0;
+}
+
 }  // namespace
 
 QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemeshOptions& o, const TaskMonitor& monitor) {
@@ -1782,26 +1811,42 @@ QuadRemeshResult remesh_quad_dominant(const PolygonMesh& input, const QuadRemesh
   VsaOptions vo = vsa_options(input, o);
   r.requested_regions = uint64_t(vo.region_count);
   const SharpFeatures features = sharp_input_features(tri, o);
-  const VsaSegmentation segmentation = segment_regions(tri, features, o, vo, monitor, r);
+  VsaSegmentation segmentation = segment_regions(tri, features, o, vo, monitor, r);
   r.segmentation_seconds = seconds_since(start);
+  const size_t first_count = segmentation.num_regions();
 
-  // Disk regions, arcs and samples, curve networks and selections, gluing (§6.4-6.8), retried.
-  RegionLayout layout = lay_out_regions(tri, segmentation, o, monitor, r);
-  report_layout(layout, r);
-
-  // The cage: the glued mesh, its creases, validation and quality figures.
-  const auto t = std::chrono::steady_clock::now();
-  const std::vector<uint32_t> remap = move_glued_mesh_into(layout.glued, r.cage.mesh);
-  r.flipped_faces = count_flipped_faces(r.cage.mesh, layout.reference_normal);
-  const std::vector<Vec3> vertex_normals = area_weighted_vertex_normals(r.cage.mesh);
-  if (o.crease_angle_degrees >= 0.0 || !o.sharp_edges.empty()) tag_creases(layout, features, remap, r);
-  r.creases = r.cage.creases.size();
-  monitor.report("post-processing", 0.95);
-  validate_and_measure(vertex_normals, r);
-  r.postprocess_seconds += seconds_since(t);
+  // Disk regions, arcs and samples, curve networks and selections, gluing (§6.4-6.8), retried,
+  // and the cage; a layout that no retry makes valid is re-seeded with more regions.
+  for (size_t reseeds = 0;; ++reseeds) {
+    QuadRemeshResult attempt = r;  // the figures before the layout (times accumulate)
+    try {
+      build_cage(tri, segmentation, features, o, monitor, attempt);
+      r = std::move(attempt);
+      break;
+    } catch (const Error& e) {
+      const size_t count =
+          e.status() == Status::internal_error
+              ? reseed_region_count(o, reseeds, first_count, segmentation.num_regions(), tri.num_faces())
+              : 0;
+      if (count == 0) throw;
+      monitor.log(LogLevel::info, std::string(e.what()) + "; re-seeded with " + std::to_string(count) +
+                                      " regions (" + std::to_string(segmentation.num_regions()) + " before)");
+      r.constraint_seconds = attempt.constraint_seconds;
+      r.selection_seconds = attempt.selection_seconds;
+      r.refinement_seconds = attempt.refinement_seconds;
+      r.postprocess_seconds = attempt.postprocess_seconds;
+      const auto t = std::chrono::steady_clock::now();
+      vo.region_count = int(count);
+      vo.tolerance = -1.0;  // count mode
+      segmentation = segment_vsa(tri, vo, monitor);
+      r.l21_error = segmentation.total_area > 0.0 ? segmentation.total_error / segmentation.total_area : 0.0;
+      r.reseeded_regions = count;
+      r.segmentation_seconds += seconds_since(t);
+    }
+  }
   monitor.report("post-processing", 1.0);
   r.seconds = seconds_since(start);
-  log_timing(r, layout.region_count, monitor);
+  log_timing(r, r.regions, monitor);
   return r;
 }
 

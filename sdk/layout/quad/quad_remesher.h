@@ -77,6 +77,12 @@ struct QuadRemeshOptions {
   // region grows across one; each patch they enclose gets a region) and crease tags where the
   // region boundaries follow them (also with crease_angle_degrees < 0).
   std::vector<uint64_t> sharp_edges;
+  // Re-seeding (not in the thesis): when no layout of the segmentation's regions comes out valid
+  // (every retry and the last resort failed), the segmentation is redone with this many times
+  // the regions it had, in turn, and laid out again (capped at the triangle count; a count not
+  // above the previous one ends the re-seeding). Smaller regions are disks with injective maps
+  // more often and span thin walls less. Empty: off (the failure is the error).
+  std::vector<double> reseed_factors = {10.0 / 3.0, 20.0 / 3.0};
 };
 
 // The RemeshQuality part: faces, vertices, quads, valences, min scaled Jacobian of cage.mesh.
@@ -98,6 +104,9 @@ struct QuadRemeshResult : RemeshQuality {
   // valid planar polygon but a single loop (a loop touching itself is cut into simple cycles
   // first); the layout is then glued and checked again like any other.
   uint64_t partitioned_regions = 0;
+  // The region count of the re-seeded segmentation whose layout is the result (reseed_factors);
+  // 0 when the first segmentation's layout was (the figures above are those of the layout returned).
+  uint64_t reseeded_regions = 0;
   // The VSA region of every triangle of the fan-triangulated input (input faces in order, a face
   // of n corners giving n - 2 triangles); the host's pinned regions are ids 0 .. pinned - 1.
   std::vector<uint32_t> face_region;
