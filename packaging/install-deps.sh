@@ -8,7 +8,7 @@ set -euo pipefail
 PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libcgal-dev libeigen3-dev libopenmesh-dev libosd-dev libdraco-dev libmeshoptimizer-dev
-  libegl-dev libgles-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
+  libegl-dev libgles-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libpng-dev
   libgtest-dev python3 python3-numpy binutils blender freecad
   clang libclang-rt-14-dev
   abigail-tools

@@ -1775,6 +1775,317 @@ CAGEKIT_API cagekit_status cagekit_limit_patches_get_info(cagekit_limit_patches 
 CAGEKIT_API cagekit_status cagekit_limit_patches_get(cagekit_limit_patches patches, uint32_t patch_capacity,
                                                      uint32_t* patch_count_out, cagekit_limit_patch* patch_array);
 
+/* ------------------------------------------------------------------------------------------ */
+/* Rendering: pictures of meshes, cages (their limit surfaces) and error maps                 */
+/* ------------------------------------------------------------------------------------------ */
+
+/* A scene of items drawn into one RGBA8 image: a mesh (its polygons, shaded), a cage (drawn as
+ * its Catmull-Clark limit surface, tessellated by uniform refinement with limit positions, with
+ * optional wireframe of the control edges and crease-tagged edges in their own colour) or a
+ * deformed scan (a mesh with another default colour). Items are laid out in columns (an item
+ * with `overlay` set shares its predecessor's column), views in rows; every view is framed
+ * automatically on the bounding box of all items, so all columns share one scale. Per item a
+ * per-vertex scalar can colour the surface through a colour map, with a legend (a bar and its
+ * min / max labels); text is drawn with a 5x7 bitmap font compiled into the library.
+ *
+ * Drawing needs OpenGL 3.3 (core or compatibility) or OpenGL ES 3.0. cagekit_render_scene_draw
+ * makes its own headless context: libEGL is loaded at run time (libcagekit has no link-time
+ * dependency on EGL or GL), the display is the first EGL device that is not a software renderer
+ * (EGL_EXT_platform_device) or else Mesa's surfaceless platform (llvmpipe when there is no GPU);
+ * desktop GL 3.3 core is tried first, then GLES 3.0. The drawing goes to a framebuffer object of
+ * the library (RGBA8 + 24-bit depth, no multisampling): the same scene gives the same bytes on
+ * the same driver. cagekit_gl_render_scene_draw (cagekit_gl.h) draws in the host's current GL
+ * context instead.
+ *
+ * Builds made without the render module (CMake CAGEKIT_WITH_RENDER=OFF) keep every function
+ * below; each returns CAGEKIT_ERROR_UNSUPPORTED_FEATURE ("built without the render module"),
+ * except retain / release, which ignore their argument. */
+typedef struct cagekit_render_scene_t* cagekit_render_scene;
+
+typedef enum cagekit_render_item_kind {
+  CAGEKIT_RENDER_ITEM_MESH = 0,          /* added with cagekit_render_scene_add_mesh */
+  CAGEKIT_RENDER_ITEM_CAGE = 1,          /* added with cagekit_render_scene_add_cage */
+  CAGEKIT_RENDER_ITEM_DEFORMED_SCAN = 2, /* a mesh drawn in the deformed-scan colour */
+  CAGEKIT_RENDER_ITEM_KIND_MAX_ENUM = 0x7fffffff
+} cagekit_render_item_kind;
+
+/* Colour maps of per-vertex scalars: the value range_min maps to the first colour, range_max to
+ * the last, linearly. VIRIDIS: matplotlib's viridis (dark purple -> blue -> green -> yellow),
+ * for magnitudes such as distances. BLUE_WHITE_RED: diverging blue -> white -> red, for signed
+ * values centred on zero (give a symmetric range). */
+typedef enum cagekit_render_colormap {
+  CAGEKIT_RENDER_COLORMAP_VIRIDIS = 0,
+  CAGEKIT_RENDER_COLORMAP_BLUE_WHITE_RED = 1,
+  CAGEKIT_RENDER_COLORMAP_MAX_ENUM = 0x7fffffff
+} cagekit_render_colormap;
+
+/* Views. FRONT looks along -z (up +y), SIDE along -x (up +y), TOP along -y (up -z), ISO from
+ * the (+x, +y, +z) octant (up +y); each is framed on the scene's bounding box. CUSTOM uses the
+ * camera's eye, target and up as given. All views are perspective with the camera's fov. */
+typedef enum cagekit_render_view {
+  CAGEKIT_RENDER_VIEW_FRONT = 0,
+  CAGEKIT_RENDER_VIEW_SIDE = 1,
+  CAGEKIT_RENDER_VIEW_TOP = 2,
+  CAGEKIT_RENDER_VIEW_ISO = 3,
+  CAGEKIT_RENDER_VIEW_CUSTOM = 4,
+  CAGEKIT_RENDER_VIEW_MAX_ENUM = 0x7fffffff
+} cagekit_render_view;
+
+/* Which EGL display the headless draw uses: AUTO (the first EGL device that is not a software
+ * renderer, else Mesa's surfaceless platform), SURFACELESS (Mesa's surfaceless platform only),
+ * DEVICE (the first EGL device of any kind, software included). */
+typedef enum cagekit_render_display {
+  CAGEKIT_RENDER_DISPLAY_AUTO = 0,
+  CAGEKIT_RENDER_DISPLAY_SURFACELESS = 1,
+  CAGEKIT_RENDER_DISPLAY_DEVICE = 2,
+  CAGEKIT_RENDER_DISPLAY_MAX_ENUM = 0x7fffffff
+} cagekit_render_display;
+
+/* Colours are RGBA with components in [0, 1]; an alpha of 0 in an item colour means "the
+ * default" (surface: light grey for meshes, light blue for cages, tan for deformed scans;
+ * wireframe: near black; creases: magenta-red (0.90, 0.15, 0.55), a colour no shaded surface
+ * or colour map produces). */
+typedef struct cagekit_render_item_options {
+  size_t struct_size;             /* sizeof(cagekit_render_item_options) */
+  cagekit_bool32 surface;         /* draw the shaded surface (default 1) */
+  cagekit_bool32 wireframe;       /* mesh: its edges; cage: the control mesh's edges (default 0) */
+  cagekit_bool32 creases;         /* cage: the crease-tagged control edges and the crease curves on the
+                                     limit surface, in crease_color (default 0; ignored for meshes) */
+  cagekit_bool32 overlay;         /* 1: drawn in the previous item's column, over it (default 0) */
+  uint32_t tessellation_level;    /* cage: uniform refinement levels of the limit surface, 1..6;
+                                     0 (default) = automatic: the largest level <= 4 that keeps
+                                     <= 262144 faces, at least 1 */
+  float color[4];                 /* surface colour (alpha 0: default) */
+  float wire_color[4];            /* wireframe colour (alpha 0: default) */
+  float crease_color[4];          /* crease colour (alpha 0: default) */
+  const char* title;              /* drawn above the item's column in the first row; NULL = none.
+                                     Copied. */
+} cagekit_render_item_options;
+
+#define CAGEKIT_RENDER_ITEM_OPTIONS_INIT \
+  { sizeof(cagekit_render_item_options), 1, 0, 0, 0, 0, {0, 0, 0, 0}, {0, 0, 0, 0}, {0, 0, 0, 0}, NULL }
+
+typedef struct cagekit_render_scalar_options {
+  size_t struct_size;               /* sizeof(cagekit_render_scalar_options) */
+  cagekit_render_colormap colormap; /* default VIRIDIS */
+  cagekit_bool32 auto_range;        /* 1 (default): the range is [min, max] of the values */
+  double range_min, range_max;      /* the range when auto_range is 0 (range_min < range_max) */
+  cagekit_bool32 legend;            /* 1 (default): a colour bar with the range's min / max labels */
+  const char* label;                /* the quantity's name above the legend; NULL = none
+                                       ("distance to scan" for cagekit_render_scene_set_distance_to_scan).
+                                       Copied. */
+} cagekit_render_scalar_options;
+
+#define CAGEKIT_RENDER_SCALAR_OPTIONS_INIT \
+  { sizeof(cagekit_render_scalar_options), CAGEKIT_RENDER_COLORMAP_VIRIDIS, 1, 0.0, 0.0, 1, NULL }
+
+typedef struct cagekit_render_camera {
+  size_t struct_size;       /* sizeof(cagekit_render_camera) */
+  cagekit_render_view view; /* default ISO */
+  double eye[3];            /* CUSTOM only: camera position, the point it looks at and its up */
+  double target[3];         /*   direction (not along eye - target) */
+  double up[3];
+  double fov_degrees;       /* vertical field of view, (1, 170) (default 30) */
+} cagekit_render_camera;
+
+#define CAGEKIT_RENDER_CAMERA_INIT \
+  { sizeof(cagekit_render_camera), CAGEKIT_RENDER_VIEW_ISO, {0, 0, 1}, {0, 0, 0}, {0, 1, 0}, 30.0 }
+
+typedef struct cagekit_render_options {
+  size_t struct_size;             /* sizeof(cagekit_render_options) */
+  uint32_t width, height;         /* the whole image in pixels, 1..16384 each (default 800 x 600) */
+  float background[4];            /* RGBA (default opaque white) */
+  cagekit_bool32 labels;          /* 1 (default): titles, view names (with several views) and legends */
+  cagekit_render_display display; /* headless draw only (default AUTO) */
+  const char* egl_library;        /* headless draw only: the libEGL to load; NULL (default) = the
+                                     environment variable CAGEKIT_EGL_LIBRARY if set, else
+                                     "libEGL.so.1". A path that cannot be loaded makes the draw fail
+                                     with UNSUPPORTED_FEATURE (tests use this). Copied. */
+} cagekit_render_options;
+
+#define CAGEKIT_RENDER_OPTIONS_INIT \
+  { sizeof(cagekit_render_options), 800, 600, {1, 1, 1, 1}, 1, CAGEKIT_RENDER_DISPLAY_AUTO, NULL }
+
+typedef struct cagekit_render_item_info {
+  size_t struct_size;             /* sizeof(cagekit_render_item_info) */
+  cagekit_render_item_kind kind;
+  uint32_t column;                /* the item's column in the image */
+  uint32_t vertex_count;          /* vertices of the drawn surface (the scalars' count) */
+  uint32_t triangle_count;
+  uint32_t tessellation_level;    /* cage: the level used; 0 for meshes */
+  cagekit_bool32 has_scalars;
+  double scalar_min, scalar_max;  /* the range the colour map and the legend show (0 without scalars) */
+  double bounds_min[3], bounds_max[3]; /* bounding box of everything the item draws */
+} cagekit_render_item_info;
+
+/* Creates an empty scene (800 x 600, white background, one ISO view).
+ * Ownership: *out receives one reference (release it with cagekit_render_scene_release); the
+ *   scene keeps `context` alive.
+ * Errors: INVALID_HANDLE (context), INVALID_ARGUMENT (out NULL), UNSUPPORTED_FEATURE (built
+ *   without the render module), OUT_OF_MEMORY.
+ * Threading: any thread (thread-safe). */
+CAGEKIT_API cagekit_status cagekit_render_scene_create(cagekit_context context, cagekit_render_scene* out);
+/* Adds a reference (retain) or drops one (release; the last one frees the scene). NULL is
+ * ignored.
+ * Errors: none.
+ * Threading: any thread (the reference count is atomic). */
+CAGEKIT_API void cagekit_render_scene_retain(cagekit_render_scene scene);
+CAGEKIT_API void cagekit_render_scene_release(cagekit_render_scene scene);
+
+/* Replaces the image settings. options may be NULL (the defaults).
+ * Ownership: options and the string it points to are read during the call only.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (bad struct_size, a colour component outside [0, 1],
+ *   labels not 0/1, display out of range), LIMIT_EXCEEDED (a side of 0 or above 16384).
+ * Threading: modifies `scene` (no other call on it meanwhile). */
+CAGEKIT_API cagekit_status cagekit_render_scene_set_options(cagekit_render_scene scene,
+                                                            const cagekit_render_options* options);
+
+/* The scene's current image settings, into *options (egl_library is NULL when none was set).
+ * Ownership: options->egl_library points into the scene: valid until its next set_options or
+ *   last release.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (options NULL or bad struct_size).
+ * Threading: reads `scene`. */
+CAGEKIT_API cagekit_status cagekit_render_scene_get_options(cagekit_render_scene scene, cagekit_render_options* options);
+
+/* Replaces the views (rows of the image): view_count cameras, 1..64. The default is one ISO view.
+ * Ownership: `cameras` is read during the call only.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (cameras NULL, view_count 0, bad struct_size, a view
+ *   out of range, fov outside (1, 170), a CUSTOM camera with non-finite or degenerate eye /
+ *   target / up: the message names the view), LIMIT_EXCEEDED (more than 64 views).
+ * Threading: modifies `scene`. */
+CAGEKIT_API cagekit_status cagekit_render_scene_set_views(cagekit_render_scene scene, uint32_t view_count,
+                                                          const cagekit_render_camera* cameras);
+
+/* Adds a mesh item (polygons fan-triangulated, smooth-shaded with area-weighted vertex normals)
+ * of kind MESH or DEFORMED_SCAN; its index (0, 1, ... in the order added) goes to *item_out
+ * (may be NULL). options may be NULL (defaults).
+ * Ownership: the scene copies what it draws; `mesh` and options are read during the call only.
+ * Errors: INVALID_HANDLE (scene, mesh), INVALID_ARGUMENT (bad struct_size, a boolean not 0/1, a
+ *   colour outside [0, 1], kind CAGE or out of range), INVALID_MESH (an index out of range or a
+ *   non-finite position, named), OUT_OF_MEMORY.
+ * Threading: modifies `scene`; reads `mesh`. */
+CAGEKIT_API cagekit_status cagekit_render_scene_add_mesh(cagekit_render_scene scene, cagekit_mesh mesh,
+                                                         cagekit_render_item_kind kind,
+                                                         const cagekit_render_item_options* options,
+                                                         uint32_t* item_out);
+
+/* Adds a cage item: its limit surface, tessellated at options->tessellation_level (the refined
+ * vertices moved to their limit positions; hole faces left out), plus the control edges
+ * (wireframe) and crease edges (creases) when asked. Long operation (progress, cancel).
+ * Ownership: as cagekit_render_scene_add_mesh.
+ * Errors: INVALID_HANDLE (scene, cage), INVALID_ARGUMENT (as add_mesh; a tessellation_level
+ *   above 6), INVALID_MESH (a cage that cannot be subdivided), LIMIT_EXCEEDED (the refined
+ *   surface would exceed 2^31 indices), CANCELLED, OUT_OF_MEMORY.
+ * Threading: modifies `scene`; reads `cage`. */
+CAGEKIT_API cagekit_status cagekit_render_scene_add_cage(cagekit_render_scene scene, cagekit_cage cage,
+                                                         const cagekit_render_item_options* options,
+                                                         uint32_t* item_out);
+
+/* Colours item `item` by a per-vertex scalar: `values` holds one value per vertex of the drawn
+ * surface (cagekit_render_item_info.vertex_count: the mesh's vertices, or the tessellated limit
+ * surface's, in the order of cagekit_render_scene_get_item_geometry). Replaces earlier scalars.
+ * options may be NULL (defaults).
+ * Ownership: values and options (and its label) are read during the call only.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (item out of range, values NULL with a nonzero count,
+ *   value_count not the vertex count, a non-finite value, bad struct_size, colormap out of range,
+ *   a boolean not 0/1, range_min >= range_max without auto_range), OUT_OF_MEMORY.
+ * Threading: modifies `scene`. */
+CAGEKIT_API cagekit_status cagekit_render_scene_set_scalars(cagekit_render_scene scene, uint32_t item,
+                                                            uint32_t value_count, const double* values,
+                                                            const cagekit_render_scalar_options* options);
+
+/* Colours item `item` by its two-sided distance to `scan` (absolute, in the scan's units): each
+ * vertex v of the drawn surface gets max(distance from v to the scan's surface, the distances to
+ * the drawn surface of the scan vertices whose nearest drawn triangle has v as a corner). The
+ * largest value is thus the symmetric vertex-to-surface Hausdorff distance between the drawn
+ * surface and the scan, and a spike of either one shows where it is. Exact point-to-triangle
+ * distances. The values are then set as by cagekit_render_scene_set_scalars (read them back with
+ * cagekit_render_scene_get_scalars). Long operation (progress, cancel).
+ * Ownership: `scan` and options are read during the call only.
+ * Errors: INVALID_HANDLE (scene, scan), INVALID_ARGUMENT (item out of range, options as
+ *   set_scalars), INVALID_MESH (a scan with bad indices or no non-degenerate triangle), CANCELLED,
+ *   OUT_OF_MEMORY.
+ * Threading: modifies `scene`; reads `scan`. */
+CAGEKIT_API cagekit_status cagekit_render_scene_set_distance_to_scan(cagekit_render_scene scene, uint32_t item,
+                                                                     cagekit_mesh scan,
+                                                                     const cagekit_render_scalar_options* options);
+
+/* The item's scalars (one per drawn vertex; 0 values without scalars). Two-call (Buffers) over
+ * the values.
+ * Ownership: `values` is the caller's, written during the call only.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (item out of range, value_count_out NULL, values NULL
+ *   with a nonzero capacity), SIZE_INSUFFICIENT.
+ * Threading: reads `scene`. */
+CAGEKIT_API cagekit_status cagekit_render_scene_get_scalars(cagekit_render_scene scene, uint32_t item,
+                                                            uint32_t value_capacity, uint32_t* value_count_out,
+                                                            double* values);
+
+/* The drawn surface of an item: positions (xyz per vertex, as drawn: single precision widened to
+ * double) and triangles (three vertex indices each). Two-call (Buffers) on each array, over
+ * vertices and over triangles; both counts are written before either capacity is checked.
+ * Ownership: the arrays are the caller's, written during the call only.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (item out of range, a count pointer NULL, an array
+ *   NULL with a nonzero capacity), SIZE_INSUFFICIENT.
+ * Threading: reads `scene`. */
+CAGEKIT_API cagekit_status cagekit_render_scene_get_item_geometry(cagekit_render_scene scene, uint32_t item,
+                                                                  uint32_t vertex_capacity, uint32_t* vertex_count_out,
+                                                                  double* positions, uint32_t triangle_capacity,
+                                                                  uint32_t* triangle_count_out, uint32_t* triangles);
+
+/* The number of items, into *count.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (count NULL).
+ * Threading: reads `scene`. */
+CAGEKIT_API cagekit_status cagekit_render_scene_get_item_count(cagekit_render_scene scene, uint32_t* count);
+
+/* Facts about item `item` (kind, column, counts, level, the scalar range shown, bounds).
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (item out of range, info NULL or bad struct_size).
+ * Threading: reads `scene`. */
+CAGEKIT_API cagekit_status cagekit_render_scene_get_item_info(cagekit_render_scene scene, uint32_t item,
+                                                              cagekit_render_item_info* info);
+
+/* Draws the scene in a headless GL context of the library's own (above) and copies the image
+ * into `rgba`: width x height pixels of 4 bytes (R, G, B, A), rows top first, tightly packed.
+ * Two-call (Buffers) over pixels (capacity in pixels, 4 bytes each; the count is width * height).
+ * With pixel_capacity 0 nothing is drawn. The EGL context that was current on the calling thread
+ * (if any, made by the same libEGL) is current again when the call returns; a host whose GL
+ * context is not an EGL one (GLX, WGL) should call this on a thread without a current context,
+ * or use cagekit_gl_render_scene_draw.
+ * Ownership: `rgba` is the caller's, written during the call only.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (pixel_count_out NULL, rgba NULL with a nonzero
+ *   capacity), SIZE_INSUFFICIENT, UNSUPPORTED_FEATURE (no EGL library, display or context could be
+ *   made: the message names the library, platform, extension or version missing; a shader that
+ *   does not compile), LIMIT_EXCEEDED (an image above the context's framebuffer limits),
+ *   OUT_OF_MEMORY.
+ * Threading: reads `scene`; several threads may draw different scenes (or the same one) at once,
+ *   each in its own context. */
+CAGEKIT_API cagekit_status cagekit_render_scene_draw(cagekit_render_scene scene, uint32_t pixel_capacity,
+                                                     uint32_t* pixel_count_out, uint8_t* rgba);
+
+/* Draws as cagekit_render_scene_draw and writes the image as a PNG file (8-bit RGBA, libpng).
+ * Ownership: `path` is read during the call only.
+ * Errors: those of cagekit_render_scene_draw (SIZE_INSUFFICIENT excepted), INVALID_ARGUMENT (path
+ *   NULL), IO (the file cannot be written: the message names it).
+ * Threading: as cagekit_render_scene_draw. */
+CAGEKIT_API cagekit_status cagekit_render_scene_write_png(cagekit_render_scene scene, const char* path);
+
+/* Draws as cagekit_render_scene_draw and encodes the image as PNG bytes in a new blob.
+ * Ownership: *out receives one reference (release it with cagekit_blob_release).
+ * Errors: those of cagekit_render_scene_draw (SIZE_INSUFFICIENT excepted), INVALID_ARGUMENT (out
+ *   NULL).
+ * Threading: as cagekit_render_scene_draw. */
+CAGEKIT_API cagekit_status cagekit_render_scene_encode_png(cagekit_render_scene scene, cagekit_blob* out);
+
+/* Encodes a caller's RGBA8 image (width x height pixels, rows top first, tightly packed; e.g. one
+ * drawn by cagekit_gl_render_scene_draw) as a PNG file (`path` not NULL) or, when path is NULL,
+ * as PNG bytes in a new blob (*out).
+ * Ownership: rgba and path are read during the call only; *out (path NULL) receives one reference.
+ * Errors: INVALID_HANDLE (context), INVALID_ARGUMENT (rgba NULL, out NULL with a NULL path),
+ *   LIMIT_EXCEEDED (a side of 0 or above 16384), IO (the file cannot be written),
+ *   UNSUPPORTED_FEATURE (built without the render module), OUT_OF_MEMORY.
+ * Threading: any thread (thread-safe). */
+CAGEKIT_API cagekit_status cagekit_render_encode_png(cagekit_context context, const uint8_t* rgba, uint32_t width,
+                                                     uint32_t height, const char* path, cagekit_blob* out);
+
 #ifdef __cplusplus
 }
 #endif

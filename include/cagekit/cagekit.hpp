@@ -141,6 +141,10 @@ CAGEKIT_HPP_DEFAULTS(cagekit_fit_options, CAGEKIT_FIT_OPTIONS_INIT)
 CAGEKIT_HPP_DEFAULTS(cagekit_scan_to_cage_options, CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT)
 CAGEKIT_HPP_DEFAULTS(cagekit_bind_options, CAGEKIT_BIND_OPTIONS_INIT)
 CAGEKIT_HPP_DEFAULTS(cagekit_limit_patch_options, CAGEKIT_LIMIT_PATCH_OPTIONS_INIT)
+CAGEKIT_HPP_DEFAULTS(cagekit_render_item_options, CAGEKIT_RENDER_ITEM_OPTIONS_INIT)
+CAGEKIT_HPP_DEFAULTS(cagekit_render_scalar_options, CAGEKIT_RENDER_SCALAR_OPTIONS_INIT)
+CAGEKIT_HPP_DEFAULTS(cagekit_render_camera, CAGEKIT_RENDER_CAMERA_INIT)
+CAGEKIT_HPP_DEFAULTS(cagekit_render_options, CAGEKIT_RENDER_OPTIONS_INIT)
 #undef CAGEKIT_HPP_DEFAULTS
 
 // ------------------------------------------------------------------------------------------------
@@ -379,6 +383,7 @@ class Binding;
 class CpuDeformer;
 class LimitPatches;
 class Blob;
+class RenderScene;
 
 // Faces of a polygon mesh: face_sizes[f] vertex indices per face, one face after another.
 struct Faces {
@@ -489,6 +494,11 @@ class Context : public detail::Handle<Context, cagekit_context, cagekit_context_
   // A saved binding (.ckb); threads 0 = all cores.
   Binding read_binding(const std::string& path, uint32_t threads = 0) const;
   Binding read_binding(const void* data, size_t size, uint32_t threads = 0) const;
+  // An empty render scene (cagekit.h, "Rendering").
+  RenderScene create_render_scene() const;
+  // Encodes a caller's RGBA8 image (rows top first) as a PNG file, or as PNG bytes.
+  void write_png(const std::string& path, View<const uint8_t> rgba, uint32_t width, uint32_t height) const;
+  Blob encode_png(View<const uint8_t> rgba, uint32_t width, uint32_t height) const;
 
  private:
   void require_handle(const char* function) const {
@@ -1136,6 +1146,120 @@ class CpuDeformer
 // Definitions that need the complete types
 // ------------------------------------------------------------------------------------------------
 
+// ------------------------------------------------------------------------------------------------
+// Rendering
+// ------------------------------------------------------------------------------------------------
+
+// An RGBA8 image: width * height pixels of 4 bytes, rows top first.
+struct Image {
+  uint32_t width = 0, height = 0;
+  std::vector<uint8_t> rgba;
+};
+
+// Geometry an item draws: xyz per vertex, three vertex indices per triangle.
+struct RenderGeometry {
+  std::vector<double> positions;
+  std::vector<uint32_t> triangles;
+};
+
+class RenderScene
+    : public detail::Handle<RenderScene, cagekit_render_scene, cagekit_render_scene_retain,
+                            cagekit_render_scene_release> {
+  CAGEKIT_HPP_HANDLE(RenderScene, cagekit_render_scene, cagekit_render_scene_retain, cagekit_render_scene_release)
+
+  void set_options(const cagekit_render_options& options) {
+    check(cagekit_render_scene_set_options(handle_, &options), "cagekit_render_scene_set_options");
+  }
+  // The current options (egl_library points into the scene: valid until the next set_options).
+  cagekit_render_options options() const {
+    cagekit_render_options o = defaults<cagekit_render_options>();
+    check(cagekit_render_scene_get_options(handle_, &o), "cagekit_render_scene_get_options");
+    return o;
+  }
+  // One camera per row of the image.
+  void set_views(View<const cagekit_render_camera> cameras) {
+    const char* fn = "cagekit_render_scene_set_views";
+    check(cagekit_render_scene_set_views(handle_, detail::count32(cameras.size(), "cameras", fn), cameras.data()), fn);
+  }
+  // The same by view kind (each with the default fov).
+  void set_views(std::initializer_list<cagekit_render_view> views) {
+    std::vector<cagekit_render_camera> cameras;
+    for (cagekit_render_view v : views) {
+      cagekit_render_camera c = defaults<cagekit_render_camera>();
+      c.view = v;
+      cameras.push_back(c);
+    }
+    set_views(View<const cagekit_render_camera>(cameras.data(), cameras.size()));
+  }
+  // Adds an item; returns its index.
+  uint32_t add_mesh(const Mesh& mesh, cagekit_render_item_kind kind = CAGEKIT_RENDER_ITEM_MESH,
+                    const cagekit_render_item_options& options = defaults<cagekit_render_item_options>());
+  uint32_t add_cage(const Cage& cage,
+                    const cagekit_render_item_options& options = defaults<cagekit_render_item_options>());
+  void set_scalars(uint32_t item, View<const double> values,
+                   const cagekit_render_scalar_options& options = defaults<cagekit_render_scalar_options>()) {
+    const char* fn = "cagekit_render_scene_set_scalars";
+    check(cagekit_render_scene_set_scalars(handle_, item, detail::count32(values.size(), "values", fn), values.data(),
+                                           &options),
+          fn);
+  }
+  void set_distance_to_scan(uint32_t item, const Mesh& scan,
+                            const cagekit_render_scalar_options& options = defaults<cagekit_render_scalar_options>());
+  std::vector<double> scalars(uint32_t item) const {
+    const char* fn = "cagekit_render_scene_get_scalars";
+    uint32_t count = 0;
+    check(cagekit_render_scene_get_scalars(handle_, item, 0, &count, nullptr), fn);
+    std::vector<double> out(count);
+    if (count != 0) check(cagekit_render_scene_get_scalars(handle_, item, count, &count, out.data()), fn);
+    return out;
+  }
+  RenderGeometry geometry(uint32_t item) const {
+    const char* fn = "cagekit_render_scene_get_item_geometry";
+    uint32_t vertices = 0, triangles = 0;
+    check(cagekit_render_scene_get_item_geometry(handle_, item, 0, &vertices, nullptr, 0, &triangles, nullptr), fn);
+    RenderGeometry g;
+    g.positions.resize(3 * size_t(vertices));
+    g.triangles.resize(3 * size_t(triangles));
+    check(cagekit_render_scene_get_item_geometry(handle_, item, vertices, &vertices, detail::data_or_null(g.positions),
+                                                 triangles, &triangles, detail::data_or_null(g.triangles)),
+          fn);
+    return g;
+  }
+  uint32_t item_count() const {
+    uint32_t count = 0;
+    check(cagekit_render_scene_get_item_count(handle_, &count), "cagekit_render_scene_get_item_count");
+    return count;
+  }
+  cagekit_render_item_info item_info(uint32_t item) const {
+    cagekit_render_item_info info = defaults<cagekit_render_item_info>();
+    check(cagekit_render_scene_get_item_info(handle_, item, &info), "cagekit_render_scene_get_item_info");
+    return info;
+  }
+  // Draws headless (the library's own EGL context).
+  Image draw() const {
+    const char* fn = "cagekit_render_scene_draw";
+    uint32_t count = 0;
+    check(cagekit_render_scene_draw(handle_, 0, &count, nullptr), fn);
+    Image image = sized_image(count);
+    check(cagekit_render_scene_draw(handle_, count, &count, image.rgba.data()), fn);
+    return image;
+  }
+  void write_png(const std::string& path) const {
+    check(cagekit_render_scene_write_png(handle_, path.c_str()), "cagekit_render_scene_write_png");
+  }
+  Blob encode_png() const;
+
+ private:
+  Image sized_image(uint32_t count) const {
+    const cagekit_render_options o = options();
+    Image image;
+    image.rgba.resize(4 * size_t(count));
+    image.width = o.width;
+    image.height = o.height;
+    return image;
+  }
+};
+
 inline Mesh Context::create_mesh(const cagekit_mesh_desc& desc) const {
   cagekit_mesh out = nullptr;
   check(cagekit_mesh_create(handle_, &desc, &out), "cagekit_mesh_create");
@@ -1282,6 +1406,57 @@ inline CpuDeformer Binding::create_cpu_deformer(uint32_t threads) const {
   cagekit_cpu_deformer out = nullptr;
   check(cagekit_cpu_deformer_create(handle_, threads, &out), "cagekit_cpu_deformer_create");
   return wrap<CpuDeformer>(out);
+}
+
+
+inline RenderScene Context::create_render_scene() const {
+  cagekit_render_scene out = nullptr;
+  check(cagekit_render_scene_create(handle_, &out), "cagekit_render_scene_create");
+  return wrap<RenderScene>(out);
+}
+
+inline void Context::write_png(const std::string& path, View<const uint8_t> rgba, uint32_t width,
+                               uint32_t height) const {
+  const char* fn = "cagekit_render_encode_png";
+  if (rgba.size() != 4 * size_t(width) * size_t(height))
+    throw Error(CAGEKIT_ERROR_INVALID_ARGUMENT, fn, "rgba holds " + std::to_string(rgba.size()) + " bytes, not 4 * " +
+                                                        std::to_string(width) + " * " + std::to_string(height));
+  check(cagekit_render_encode_png(handle_, rgba.data(), width, height, path.c_str(), nullptr), fn);
+}
+
+inline Blob Context::encode_png(View<const uint8_t> rgba, uint32_t width, uint32_t height) const {
+  const char* fn = "cagekit_render_encode_png";
+  if (rgba.size() != 4 * size_t(width) * size_t(height))
+    throw Error(CAGEKIT_ERROR_INVALID_ARGUMENT, fn, "rgba holds " + std::to_string(rgba.size()) + " bytes, not 4 * " +
+                                                        std::to_string(width) + " * " + std::to_string(height));
+  cagekit_blob out = nullptr;
+  check(cagekit_render_encode_png(handle_, rgba.data(), width, height, nullptr, &out), fn);
+  return wrap<Blob>(out);
+}
+
+inline uint32_t RenderScene::add_mesh(const Mesh& mesh, cagekit_render_item_kind kind,
+                                      const cagekit_render_item_options& options) {
+  uint32_t item = 0;
+  check(cagekit_render_scene_add_mesh(handle_, mesh.get(), kind, &options, &item), "cagekit_render_scene_add_mesh");
+  return item;
+}
+
+inline uint32_t RenderScene::add_cage(const Cage& cage, const cagekit_render_item_options& options) {
+  uint32_t item = 0;
+  check(cagekit_render_scene_add_cage(handle_, cage.get(), &options, &item), "cagekit_render_scene_add_cage");
+  return item;
+}
+
+inline void RenderScene::set_distance_to_scan(uint32_t item, const Mesh& scan,
+                                              const cagekit_render_scalar_options& options) {
+  check(cagekit_render_scene_set_distance_to_scan(handle_, item, scan.get(), &options),
+        "cagekit_render_scene_set_distance_to_scan");
+}
+
+inline Blob RenderScene::encode_png() const {
+  cagekit_blob out = nullptr;
+  check(cagekit_render_scene_encode_png(handle_, &out), "cagekit_render_scene_encode_png");
+  return wrap<Blob>(out);
 }
 
 }  // namespace cagekit

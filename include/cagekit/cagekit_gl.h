@@ -163,6 +163,37 @@ CAGEKIT_API cagekit_status cagekit_gl_deformer_read_back(cagekit_gl_deformer def
                                                          double* normals);
 
 /* ------------------------------------------------------------------------------------------ */
+/* Rendering a scene in the host's GL context                                                 */
+/* ------------------------------------------------------------------------------------------ */
+
+/* Draws `scene` (cagekit.h, "Rendering") in the HOST's current OpenGL (>= 3.3, core or
+ * compatibility) or OpenGL ES (>= 3.0) context instead of a headless one, and copies the image
+ * into `rgba` as cagekit_render_scene_draw does (width x height pixels of 4 bytes, rows top
+ * first; two-call over pixels; with pixel_capacity 0 no GL call is made). The library draws into
+ * a framebuffer object of its own (RGBA8 + 24-bit depth renderbuffers), with programs, vertex
+ * arrays and buffers made and deleted within the call, and reads it back with glReadPixels.
+ * Every piece of GL state it changes is restored before it returns: current program, vertex
+ * array, GL_ARRAY_BUFFER, GL_PIXEL_PACK_BUFFER, draw and read framebuffer and renderbuffer
+ * bindings, viewport, scissor box, the enables GL_DEPTH_TEST, GL_CULL_FACE, GL_BLEND,
+ * GL_SCISSOR_TEST, GL_STENCIL_TEST, GL_POLYGON_OFFSET_FILL, GL_DITHER, GL_RASTERIZER_DISCARD,
+ * depth func and mask, colour mask, polygon offset, clear colour and depth, and the pack
+ * parameters (alignment, row length, skip pixels / rows). The call drains glGetError() first
+ * (errors the host had not read are discarded).
+ * Ownership: `rgba` is the caller's, written during the call only; get_proc_address and
+ *   user_data are used during the call only.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (get_proc_address NULL, pixel_count_out NULL, rgba
+ *   NULL with a nonzero capacity), SIZE_INSUFFICIENT, INVALID_OPERATION (no GL context current),
+ *   UNSUPPORTED_FEATURE (a context older than GL 3.3 / GLES 3.0, an entry point the callback does
+ *   not provide, or a shader that does not compile: the message names it; also in builds without
+ *   the render module), LIMIT_EXCEEDED (an image above the context's framebuffer limits),
+ *   OUT_OF_MEMORY (GL_OUT_OF_MEMORY).
+ * Threading: on the thread where the host's context is current; reads `scene`. */
+CAGEKIT_API cagekit_status cagekit_gl_render_scene_draw(cagekit_render_scene scene,
+                                                        cagekit_gl_get_proc_address_fn get_proc_address,
+                                                        void* user_data, uint32_t pixel_capacity,
+                                                        uint32_t* pixel_count_out, uint8_t* rgba);
+
+/* ------------------------------------------------------------------------------------------ */
 /* Experimental: the thesis's vertex-attribute path                                           */
 /* ------------------------------------------------------------------------------------------ */
 

@@ -137,6 +137,28 @@ class GlDeformer
 #endif  // CAGEKIT_ENABLE_EXPERIMENTAL
 };
 
+// Draws `scene` in the host's current GL context (cagekit_gl_render_scene_draw): the image is read
+// back; the host's GL state is left as it was.
+inline Image draw_in_current_context(const RenderScene& scene, cagekit_gl_get_proc_address_fn get_proc_address,
+                                     void* user_data) {
+  const char* fn = "cagekit_gl_render_scene_draw";
+  const detail::ContextRef& context = detail::Access::context_of(scene);
+  const cagekit_render_options options = scene.options();
+  Image image;
+  image.width = options.width;
+  image.height = options.height;
+  uint32_t count = 0;
+  detail::check(cagekit_gl_render_scene_draw(scene.get(), get_proc_address, user_data, 0, &count, nullptr), context, fn);
+  image.rgba.resize(4 * size_t(count));
+  detail::check(cagekit_gl_render_scene_draw(scene.get(), get_proc_address, user_data, count, &count, image.rgba.data()),
+                context, fn);
+  return image;
+}
+// The same with a C++ loader (it may throw: the draw fails and rethrows its exception).
+inline Image draw_in_current_context(const RenderScene& scene, detail::GlProcLoader get_proc_address) {
+  return draw_in_current_context(scene, detail::gl_proc_trampoline, &get_proc_address);
+}
+
 }  // namespace cagekit
 
 #endif  // CAGEKIT_CAGEKIT_GL_HPP

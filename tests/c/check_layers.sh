@@ -3,11 +3,11 @@
 # only; folders of the same layer are siblings and never include each other. Layers, lowest first
 # (siblings joined by '|'):
 #   core -> core/io | subdiv -> layout/common -> layout/simplify | layout/anisotropic | layout/quad
-#   -> fit -> pipeline -> multires -> gpu -> capi
+#   -> fit -> pipeline -> multires -> gpu | render -> capi
 # Fails on any include that goes upward, sideways, or into a folder not listed here.
 set -u
 sdk="$1"
-layers="core core/io|subdiv layout/common layout/simplify|layout/anisotropic|layout/quad fit pipeline multires gpu capi"
+layers="core core/io|subdiv layout/common layout/simplify|layout/anisotropic|layout/quad fit pipeline multires gpu|render capi"
 status=0
 rank() {
   i=0
