@@ -1820,6 +1820,7 @@ static void quad_remesh_of_a_cylinder(void) {
     CHECK_OK(cagekit_mesh_remesh_quad(mesh, &options, &cage, &report));
     CHECK(report.requested_regions == 1000000);
     CHECK(report.regions + report.merged_regions == 32 * 24 * 2 + report.split_regions);
+    CHECK(report.reseeded_regions == 0); /* the first segmentation's layout, at the triangle count */
     options.edge_length = 0.08;
     options.refinement_passes = 1;
     cagekit_cage_release(cage);

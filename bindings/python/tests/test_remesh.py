@@ -50,7 +50,7 @@ class Remesh(HandleCheck):
                 self.assertEqual((info.genus, info.boundary_edges), (0, 0))
                 self.assertEqual(report.regions, 6)  # the six sides
                 self.assertEqual((report.requested_regions, report.split_regions, report.layout_retries,
-                                  report.mended_faces), (6, 0, 0, 0))
+                                  report.mended_faces, report.reseeded_regions), (6, 0, 0, 0, 0))
                 self.assertGreater(report.quads, 0.9 * report.faces)
                 self.assertEqual(report.creases, info.creases)
                 self.assertGreater(report.creases, 0)  # the twelve 90° edges are sharp region boundaries
