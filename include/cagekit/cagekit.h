@@ -1783,8 +1783,11 @@ CAGEKIT_API cagekit_status cagekit_limit_patches_get(cagekit_limit_patches patch
  * its Catmull-Clark limit surface, tessellated by uniform refinement with limit positions, with
  * optional wireframe of the control edges and crease-tagged edges in their own colour) or a
  * deformed scan (a mesh with another default colour). Items are laid out in columns (an item
- * with `overlay` set shares its predecessor's column), views in rows; every view is framed
- * automatically on the bounding box of all items, so all columns share one scale. Per item a
+ * with `overlay` set shares its predecessor's column), views in rows; a scene whose items fill a
+ * single column lays several views out row-major in a near-square grid instead (as many grid
+ * columns as make the tiles closest to square; ties: fewer empty tiles, then fewer columns).
+ * Every view is framed automatically on the bounding box of all items, so all columns share one
+ * scale. Per item a
  * per-vertex scalar can colour the surface through a colour map, with a legend (a bar and its
  * min / max labels); text is drawn with a 5x7 bitmap font compiled into the library.
  *
@@ -1947,7 +1950,8 @@ CAGEKIT_API cagekit_status cagekit_render_scene_set_options(cagekit_render_scene
  * Threading: reads `scene`. */
 CAGEKIT_API cagekit_status cagekit_render_scene_get_options(cagekit_render_scene scene, cagekit_render_options* options);
 
-/* Replaces the views (rows of the image): view_count cameras, 1..64. The default is one ISO view.
+/* Replaces the views (rows of the image, or a grid for a single item column: see above):
+ * view_count cameras, 1..64. The default is one ISO view.
  * Ownership: `cameras` is read during the call only.
  * Errors: INVALID_HANDLE, INVALID_ARGUMENT (cameras NULL, view_count 0, bad struct_size, a view
  *   out of range, fov outside (1, 170), a CUSTOM camera with non-finite or degenerate eye /

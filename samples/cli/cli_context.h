@@ -160,6 +160,7 @@ Command add_pipeline(CLI::App& cagekit);
 Command add_bind(CLI::App& cagekit);
 Command add_deform(CLI::App& cagekit);
 Command add_bench_deform(CLI::App& cagekit);
+Command add_render(CLI::App& cagekit);
 Command add_demo(CLI::App& cagekit);
 
 // The remesher a command runs and its options.

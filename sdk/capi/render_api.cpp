@@ -235,7 +235,7 @@ CAGEKIT_API cagekit_status cagekit_render_scene_get_scalars(cagekit_render_scene
     const cagekit::RenderItem& it = s.scene.item(item);
     if (two_call_check<uint32_t>("value", uint32_t(it.scalars.size()), value_capacity, value_count_out,
                                  {{"values", values}}))
-      for (size_t i = 0; i < it.scalars.size(); ++i) values[i] = double(it.scalars[i]);
+      for (size_t i = 0; i < it.scalars.size(); ++i) values[i] = it.scalars[i];
   });
 }
 

@@ -350,15 +350,54 @@ struct Tile {
   int legend_item;            // index of the item whose legend is drawn, or -1
 };
 
+// The image is a grid of tiles, each showing one item column from one view. Normally the item
+// columns are the grid's columns and the views its rows. A scene with a single item column and
+// several views would give wide, short tiles that way; it lays its views out row-major in a
+// near-square grid instead (`wrapped`): the number of grid columns is the one whose tiles are
+// closest to square (|log(width / height)| smallest; ties: fewer empty cells, then fewer columns).
+struct Cell {
+  int view = 0;       // index into the settings' views
+  int column = 0;     // item column
+  int tile_row = 0, tile_column = 0;
+};
+
 struct Grid {
-  int columns = 1, rows = 1;
-  std::vector<int> column_of;
+  int columns = 1;                 // item columns
+  int views = 1;
+  int tile_columns = 1, tile_rows = 1;
+  bool wrapped = false;
+  std::vector<int> column_of;      // item -> item column
+  std::vector<Cell> cells;         // every drawn tile, row-major
 };
 
 Grid grid_of(const RenderScene& scene) {
   Grid g;
+  const RenderSettings& s = scene.settings();
   g.column_of = scene.item_columns(&g.columns);
-  g.rows = int(scene.settings().views.size());
+  g.views = std::max(1, int(s.views.size()));
+  if (g.columns == 1 && g.views > 1) {
+    g.wrapped = true;
+    double best_score = 0;
+    int best_empty = 0;
+    for (int c = 1; c <= g.views; ++c) {
+      const int r = (g.views + c - 1) / c;
+      const double aspect = (double(s.width) / c) / (double(s.height) / r);
+      const double score = std::fabs(std::log(aspect));
+      const int empty = c * r - g.views;
+      if (c == 1 || score < best_score - 1e-9 || (std::fabs(score - best_score) <= 1e-9 && empty < best_empty)) {
+        best_score = score;
+        best_empty = empty;
+        g.tile_columns = c;
+        g.tile_rows = r;
+      }
+    }
+    for (int v = 0; v < g.views; ++v) g.cells.push_back(Cell{v, 0, v / g.tile_columns, v % g.tile_columns});
+  } else {
+    g.tile_columns = g.columns;
+    g.tile_rows = g.views;
+    for (int v = 0; v < g.views; ++v)
+      for (int c = 0; c < g.columns; ++c) g.cells.push_back(Cell{v, c, v, c});
+  }
   return g;
 }
 
@@ -368,13 +407,14 @@ std::string format_value(double v) {
   return buf;
 }
 
-Tile tile_of(const RenderScene& scene, const Grid& g, int row, int column) {
+Tile tile_of(const RenderScene& scene, const Grid& g, const Cell& cell) {
   const RenderSettings& s = scene.settings();
+  const int column = cell.column;
   Tile t{};
-  t.x0 = int(int64_t(s.width) * column / g.columns);
-  t.x1 = int(int64_t(s.width) * (column + 1) / g.columns);
-  t.y0 = int(int64_t(s.height) * row / g.rows);
-  t.y1 = int(int64_t(s.height) * (row + 1) / g.rows);
+  t.x0 = int(int64_t(s.width) * cell.tile_column / g.tile_columns);
+  t.x1 = int(int64_t(s.width) * (cell.tile_column + 1) / g.tile_columns);
+  t.y0 = int(int64_t(s.height) * cell.tile_row / g.tile_rows);
+  t.y1 = int(int64_t(s.height) * (cell.tile_row + 1) / g.tile_rows);
   t.scale = (t.x1 - t.x0) >= 480 && (t.y1 - t.y0) >= 320 ? 2 : 1;
   t.legend_item = -1;
   bool title = false;
@@ -498,19 +538,21 @@ void draw_labels(const RenderScene& scene, std::vector<uint8_t>& rgba) {
   const uint8_t ink[4] = {uint8_t(luminance > 0.5f ? 20 : 235), uint8_t(luminance > 0.5f ? 20 : 235),
                           uint8_t(luminance > 0.5f ? 20 : 235), 255};
   static const char* view_names[] = {"front", "side", "top", "iso", "view"};
-  for (int row = 0; row < g.rows; ++row)
-    for (int column = 0; column < g.columns; ++column) {
-      const Tile t = tile_of(scene, g, row, column);
+  for (const Cell& cell : g.cells) {
+      const int column = cell.column;
+      const Tile t = tile_of(scene, g, cell);
       const int pad = 3 * t.scale;
-      if (row == 0 && t.title_band > 0) {
+      // Titles once per item column: in the first view's tile.
+      if (cell.view == 0 && t.title_band > 0) {
         std::string title;
         for (size_t i = 0; i < scene.items().size(); ++i)
           if (g.column_of[i] == column && !scene.items()[i].style.title.empty())
             title += (title.empty() ? "" : " + ") + scene.items()[i].style.title;
         draw_text(rgba.data(), s.width, s.height, t.x0 + pad, t.y0 + 2 * t.scale, title, t.scale, ink);
       }
-      if (g.rows > 1 && column == 0) {
-        const std::string name = view_names[int(s.views[size_t(row)].kind)];
+      // View names: at the start of each row, or in every tile of a wrapped grid.
+      if (g.views > 1 && (g.wrapped || column == 0)) {
+        const std::string name = view_names[int(s.views[size_t(cell.view)].kind)];
         draw_text(rgba.data(), s.width, s.height, t.x0 + pad, t.y1 - pad - kGlyphHeight * t.scale, name, t.scale,
                   ink);
       }
@@ -519,7 +561,7 @@ void draw_labels(const RenderScene& scene, std::vector<uint8_t>& rgba) {
       const int bar_x = t.legend_x + 2 * t.scale, bar_w = 10 * t.scale;
       const int text_h = kGlyphHeight * t.scale;
       const int bar_y0 = t.vy0 + 2 * pad + text_h / 2 + text_h + pad;  // below the label line
-      const int bar_y1 = t.y1 - pad - text_h / 2 - (g.rows > 1 ? text_h + pad : 0);
+      const int bar_y1 = t.y1 - pad - text_h / 2 - (g.views > 1 ? text_h + pad : 0);
       if (bar_y1 - bar_y0 < 8) continue;
       for (int y = bar_y0; y < bar_y1; ++y) {
         const double f = double(bar_y1 - 1 - y) / double(std::max(1, bar_y1 - 1 - bar_y0));
@@ -645,7 +687,8 @@ DrawResult draw_scene(const RenderScene& scene, GlGetProcAddress get_proc_addres
       gl.VertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
       gl.EnableVertexAttribArray(1);
       if (!item.scalars.empty()) {
-        objects.buffer(GL_ARRAY_BUFFER, item.scalars.data(), item.scalars.size() * sizeof(float));
+        const std::vector<float> scalars(item.scalars.begin(), item.scalars.end());
+        objects.buffer(GL_ARRAY_BUFFER, scalars.data(), scalars.size() * sizeof(float));
         gl.VertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, 0, nullptr);
         gl.EnableVertexAttribArray(2);
       }
@@ -686,14 +729,14 @@ DrawResult draw_scene(const RenderScene& scene, GlGetProcAddress get_proc_addres
   const GLint l_color = gl.GetUniformLocation(line_program, "u_color");
 
   const Grid g = grid_of(scene);
-  for (int row = 0; row < g.rows; ++row)
-    for (int column = 0; column < g.columns; ++column) {
-      const Tile t = tile_of(scene, g, row, column);
+  for (const Cell& cell : g.cells) {
+      const int column = cell.column;
+      const Tile t = tile_of(scene, g, cell);
       const int vw = t.vx1 - t.vx0, vh = t.vy1 - t.vy0;
       if (vw < 1 || vh < 1) continue;
       gl.Viewport(t.vx0, s.height - t.vy1, vw, vh);  // GL rows are bottom-up
       Mat4 view, proj;
-      camera_matrices(s.views[size_t(row)], lo, hi, double(vw) / double(vh), view, proj);
+      camera_matrices(s.views[size_t(cell.view)], lo, hi, double(vw) / double(vh), view, proj);
       float mvp[16], view_f[16];
       (proj * view).to_float(mvp);
       view.to_float(view_f);

@@ -54,8 +54,9 @@ struct RenderItem {
   // Lines, as segment end points (xyz, two per segment).
   std::vector<float> wire, crease;
   Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};  // bounding box of everything drawn
-  // Per-vertex scalar (empty: none) and the range shown.
-  std::vector<float> scalars;
+  // Per-vertex scalar (empty: none), kept as given (get_scalars returns these values, and the
+  // range shown is their min / max exactly; the draw uploads them as float), and the range shown.
+  std::vector<double> scalars;
   ScalarStyle scalar_style;
   double shown_min = 0, shown_max = 0;
   size_t vertex_count() const { return positions.size() / 3; }

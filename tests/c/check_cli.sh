@@ -21,6 +21,17 @@ if "$cli" demo "$tmp/demo" --quiet >"$tmp/demo.out" 2>&1 &&
 if [ "$(json "$tmp/demo/summary.json" "d['cage']['quads'] == 6 and d['cage']['creases'] == 12 and d['cage']['triangles'] == 0 and d['cage']['level3_limit_hausdorff_rel'] < 1e-3 and d['scan']['valid']")" = True ]
 then pass "demo: the scan of a block simplifies to a 6-quad cage with 12 creases whose limit is within 0.1% of the scan"; else cat "$tmp/demo/summary.json"; fail "demo pipeline"; fi
 
+# 1a. demo's overview.png (scan | cage over its limit | error map), or a note where it cannot draw
+png_check="$(dirname "$0")/png_check.py"
+overview=$(json "$tmp/demo/summary.json" "d['overview']")
+if [ "$overview" = None ]; then
+  if [ ! -e "$tmp/demo/overview.png" ] && grep -q "overview.png  *not written: " "$tmp/demo.out"
+  then pass "demo: no overview.png here (no headless EGL), one line says why"; else fail "demo: overview note"; fi
+elif [ "$overview" = overview.png ] &&
+     /usr/bin/env python3 "$png_check" "$tmp/demo/overview.png" --size 960x400 --min-share 0.15 --max-share 0.8 \
+       --color 230,38,140,50 --color 253,231,37,5
+then pass "demo: overview.png 960 x 400 with the cage's creases and the error map's legend"; else fail "demo: overview.png"; fi
+
 # 1b. progress into a file (not a terminal): one plain line per stage, no carriage returns
 if "$cli" demo "$tmp/demo-log" >/dev/null 2>"$tmp/demo.err" && grep -q '^cagekit: stage: simplify$' "$tmp/demo.err" &&
    ! grep -q "$(printf '\r')" "$tmp/demo.err"

@@ -46,6 +46,7 @@ expected = {
     "bind": "--local-frame --exact-normals --sharp-angle --threads --json --quiet",
     "deform": "--local-frame --sharp-angle --json --quiet",
     "bench-deform": "--frames --moved --threads --vertex-order --json --quiet",
+    "render": "--mesh --cage --deformed --error --views --size --wire --creases --level --colormap --title --quiet",
     "demo": "--quiet",
     "version": "",
 }

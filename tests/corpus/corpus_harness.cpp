@@ -35,6 +35,7 @@
 
 #include "crease_metrics.h"
 #include "job_runner.h"
+#include "thumbnails.h"
 
 #ifndef CAGEKIT_MESH_CLASSES
 #define CAGEKIT_MESH_CLASSES ""
@@ -301,15 +302,19 @@ struct Options {
   std::string baseline;
   std::string write_baseline;
   bool summary_only = false;
+  bool thumbnails = false;  // --thumbnails: OUT/index.html, OUT/thumbnails/ (thumbnails.h)
   std::string command_line;
 };
 
 const char* kUsage =
     "usage: corpus_harness --cli PATH/cagekit --out DIR [--methods simplify,quad,anisotropic] [--jobs N]\n"
     "         [--timeout S] [--memory-mb M] [--corpus DIR] [--list FILE | MESH_OR_FOLDER...]\n"
-    "         [--baseline FILE.json] [--write-baseline FILE.json] [--summary-only] [--classes FILE]\n"
+    "         [--baseline FILE.json] [--write-baseline FILE.json] [--summary-only] [--classes FILE] [--thumbnails]\n"
     "  Inputs default to CORPUS/cgal and CORPUS/stl; --list names one mesh per line, relative to --corpus.\n"
     "  --classes: 'cad|organic PATH' per line (PATH relative to --corpus), default tests/corpus/mesh_classes.txt.\n"
+    "  --thumbnails: also OUT/index.html (the table, each row linked to its picture) and OUT/thumbnails/\n"
+    "    (one 240 x 200 PNG per mesh and method: the limit surface coloured by its two-sided distance to the\n"
+    "    scan, titled with status and error; pages of 30). A picture that cannot be drawn is a placeholder.\n"
     "  Exit: 0 done (and no regression against --baseline), 1 regression against the baseline,\n"
     "        64 usage, 77 no corpus / no input to run (a skip for ctest).\n";
 
@@ -344,6 +349,7 @@ Options parse_options(int argc, char** argv) {
     else if (a == "--baseline") o.baseline = value(i);
     else if (a == "--write-baseline") o.write_baseline = value(i);
     else if (a == "--summary-only") o.summary_only = true;
+    else if (a == "--thumbnails") o.thumbnails = true;
     else if (a == "--jobs") o.jobs = int(real(i, 1, 256));
     else if (a == "--timeout") o.timeout = real(i, 1, 86400);
     else if (a == "--memory-mb") o.memory_mb = real(i, 64, 1 << 20);
@@ -1433,6 +1439,69 @@ std::string safe_name(const std::string& s) {
   return out;
 }
 
+// --thumbnails: one picture per record (through the render module, o.jobs at a time), then the
+// pages and OUT/index.html in the tables' order (per method, then mesh). A picture that cannot be
+// drawn is a placeholder with its reason; records are not changed.
+void write_thumbnails(const Options& o, const std::vector<Input>& inputs, const std::vector<size_t>& jobs_input,
+                      const std::vector<Record>& records, const std::vector<std::string>& summary) {
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<cagekit_corpus::Thumbnail> thumbs(records.size());
+  std::atomic<size_t> next{0};
+  auto worker = [&] {
+    Context ctx;
+    for (size_t j = next++; j < records.size(); j = next++) {
+      const Record& r = records[j];
+      const fs::path cage = fs::path(o.out) / "runs" / safe_name(r.mesh) / r.method / "out" / "cage.obj";
+      std::string error = "n/a";
+      if (r.scan_to_limit && r.limit_to_scan) {
+        char text[32];
+        std::snprintf(text, sizeof(text), "%.2g%%", 100.0 * std::max(*r.scan_to_limit, *r.limit_to_scan));
+        error = text;
+      }
+      const std::string title = r.method + " " + status_label(r.status) + " " + error + " " +
+                                fs::path(r.mesh).stem().string();
+      // A record without a cage shows the scan; a failed pipeline's cage.obj is not looked at.
+      const bool has_cage = r.status == Status::good || r.status == Status::bad_but_ok;
+      thumbs[j] = cagekit_corpus::render_thumbnail(ctx.handle, inputs[jobs_input[j]].path,
+                                                   has_cage ? cage.string() : std::string(), title);
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int t = 0; t < std::max(1, std::min<int>(o.jobs, int(records.size()))); ++t) threads.emplace_back(worker);
+  for (std::thread& t : threads) t.join();
+  std::vector<cagekit_corpus::SheetRow> rows;
+  size_t drawn = 0;
+  for (const std::string& method : o.methods)
+    for (size_t j = 0; j < records.size(); ++j) {
+      const Record& r = records[j];
+      if (r.method != method) continue;
+      cagekit_corpus::SheetRow row;
+      row.mesh = r.mesh;
+      row.method = r.method;
+      row.status = status_label(r.status);
+      row.error_text = r.scan_to_limit && r.limit_to_scan
+                           ? cell(std::max(*r.scan_to_limit, *r.limit_to_scan) * 100.0, "%.3g %%")
+                           : std::string("n/a");
+      row.faces_text = cell(r.faces, "%.0f");
+      row.message = r.message;
+      row.thumbnail = &thumbs[j];
+      drawn += thumbs[j].drawn;
+      rows.push_back(row);
+    }
+  Context ctx;
+  const size_t pages = cagekit_corpus::write_contact_sheet(ctx.handle, o.out, rows, summary);
+  std::printf("corpus_harness: %zu thumbnails (%zu drawn, %zu placeholders) on %zu page%s in %.1f s: %s/index.html\n",
+              rows.size(), drawn, rows.size() - drawn, pages, pages == 1 ? "" : "s",
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), o.out.c_str());
+  if (drawn < rows.size()) {
+    for (const cagekit_corpus::Thumbnail& t : thumbs)
+      if (!t.drawn) {
+        std::printf("corpus_harness: first placeholder: %s\n", t.note.c_str());
+        break;
+      }
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -1455,6 +1524,8 @@ int main(int argc, char** argv) {
     std::vector<Job> jobs;
     for (size_t i = 0; i < inputs.size(); ++i)
       for (const std::string& m : o.methods) jobs.push_back({i, m});
+    std::vector<size_t> jobs_input;  // records[j]'s input
+    for (const Job& job : jobs) jobs_input.push_back(job.input);
     std::vector<Record> records(jobs.size());
     std::atomic<size_t> next{0};
     std::atomic<size_t> done{0};
@@ -1543,6 +1614,8 @@ int main(int argc, char** argv) {
       write_whole_file(o.write_baseline, baseline_json(records, o.methods, o));
       std::printf("corpus_harness: baseline written to %s\n", o.write_baseline.c_str());
     }
+
+    if (o.thumbnails) write_thumbnails(o, inputs, jobs_input, records, printed);
 
     for (const std::string& l : printed) std::printf("%s\n", l.c_str());
     std::printf("(%s; tables in %s/results.md)\n", took, o.out.c_str());

@@ -1,8 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Tests of the render module through the C API (cagekit.h "Rendering", cagekit_gl.h), under
-// Mesa llvmpipe in CI. One case per run: `test_render CASE`; a case that needs a headless EGL
-// display exits 77 (ctest SKIP_RETURN_CODE) when none can be made. `test_render picture OUT.png`
-// writes the overview picture used to look at the output (not a test).
+// Mesa llvmpipe in CI. One case per run: `test_render CASE [--generated]`; a case that needs a
+// headless EGL display exits 77 (ctest SKIP_RETURN_CODE) when none can be made.
+// Inputs are made here, nothing is read from the source tree: the scan is the shared fandisk
+// (../shared/meshes, CAGEKIT_SHARED_MESHES) with its cage simplified to about 150 faces with
+// creases through the C API; with --generated, or when the shared mesh is absent (said on
+// stdout), a generated noisy block and its 6-quad creased cage (simplification again).
+// `test_render picture OUT.png [W H]` writes the overview picture used to look at the output.
 #include <cagekit/cagekit.h>
 #include <cagekit/cagekit_gl.h>
 
@@ -16,9 +20,12 @@
 #include <cstdlib>
 #include <cstring>
 #include <functional>
+#include <random>
 #include <map>
 #include <string>
 #include <vector>
+
+#include <sys/stat.h>
 
 #include "../gpu/egl_context.h"
 
@@ -43,18 +50,111 @@ void ok(cagekit_status s, const char* what) {
 }
 
 std::string meshes() { return CAGEKIT_SHARED_MESHES; }
-std::string data_dir() { return CAGEKIT_TEST_DATA; }
 
 cagekit_mesh read_mesh(const std::string& path) {
   cagekit_mesh m = nullptr;
   ok(cagekit_mesh_read_file(g_context, path.c_str(), CAGEKIT_FORMAT_AUTO, &m), path.c_str());
   return m;
 }
-cagekit_cage read_cage(const std::string& path) {
-  cagekit_cage c = nullptr;
-  ok(cagekit_cage_read_file(g_context, path.c_str(), CAGEKIT_FORMAT_AUTO, &c), path.c_str());
-  return c;
+
+// A noisy scan of a 2 x 1.4 x 1 block: each side a grid of about 12 cells per unit, two
+// triangles per cell, watertight, outward; the side vertices moved along the side's normal by
+// up to 0.4 % of the size (fixed seed).
+cagekit_mesh generated_block() {
+  const double size[3] = {2.0, 1.4, 1.0};
+  int n[3];
+  for (int k = 0; k < 3; ++k) n[k] = int(std::lround(size[k] * 12));
+  std::mt19937 rng(24u);
+  std::uniform_real_distribution<double> jitter(-0.004, 0.004);
+  std::map<std::array<int, 3>, uint32_t> lattice;
+  std::vector<double> positions;
+  std::vector<uint32_t> triangles;
+  auto vertex = [&](std::array<int, 3> g, int axis) {
+    const auto it = lattice.find(g);
+    if (it != lattice.end()) return it->second;
+    const uint32_t id = uint32_t(positions.size() / 3);
+    const bool on_edge = (g[0] == 0 || g[0] == n[0]) + (g[1] == 0 || g[1] == n[1]) + (g[2] == 0 || g[2] == n[2]) > 1;
+    for (int k = 0; k < 3; ++k) positions.push_back(size[k] * g[k] / n[k] + (k == axis && !on_edge ? jitter(rng) : 0.0));
+    lattice.emplace(g, id);
+    return id;
+  };
+  for (int axis = 0; axis < 3; ++axis) {
+    const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+    for (int side = 0; side < 2; ++side)
+      for (int i = 0; i < n[a]; ++i)
+        for (int j = 0; j < n[b]; ++j) {
+          uint32_t q[4];
+          const int di[4] = {0, 1, 1, 0}, dj[4] = {0, 0, 1, 1};
+          for (int c = 0; c < 4; ++c) {
+            std::array<int, 3> g{};
+            g[axis] = side ? n[axis] : 0;
+            g[a] = i + di[c];
+            g[b] = j + dj[c];
+            q[c] = vertex(g, axis);
+          }
+          if (side) triangles.insert(triangles.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
+          else triangles.insert(triangles.end(), {q[0], q[2], q[1], q[0], q[3], q[2]});
+        }
+  }
+  cagekit_mesh_desc desc = CAGEKIT_MESH_DESC_INIT;
+  desc.vertex_count = uint32_t(positions.size() / 3);
+  desc.positions = positions.data();
+  desc.face_count = uint32_t(triangles.size() / 3);
+  desc.face_indices = triangles.data();
+  cagekit_mesh mesh = nullptr;
+  ok(cagekit_mesh_create(g_context, &desc, &mesh), "cagekit_mesh_create (generated block)");
+  return mesh;
 }
+
+// The scan simplified to at most `faces` polygons and partitioned into a cage with crease tags
+// (what `cagekit simplify SCAN CAGE --faces N --cage` writes).
+cagekit_cage simplified_cage(cagekit_mesh scan, double faces, cagekit_cage_report* report) {
+  cagekit_hierarchy hierarchy = nullptr;
+  ok(cagekit_hierarchy_create(scan, nullptr, &hierarchy), "cagekit_hierarchy_create");
+  uint32_t level = 0;
+  ok(cagekit_hierarchy_find_level(hierarchy, CAGEKIT_LEVEL_BY_FACES, faces, &level), "find_level");
+  ok(cagekit_hierarchy_set_level(hierarchy, level), "set_level");
+  cagekit_cage_options options = CAGEKIT_CAGE_OPTIONS_INIT;
+  *report = cagekit_cage_report{};
+  report->struct_size = sizeof(*report);
+  cagekit_cage cage = nullptr;
+  ok(cagekit_hierarchy_build_cage(hierarchy, &options, &cage, report), "cagekit_hierarchy_build_cage");
+  cagekit_hierarchy_release(hierarchy);
+  return cage;
+}
+
+bool g_generated = false;  // --generated: the generated block even when the shared fandisk is there
+
+// The scan and its creased cage of every case (see the file's header).
+struct Input {
+  cagekit_mesh scan = nullptr;
+  cagekit_cage cage = nullptr;
+  Input() {
+    const std::string fandisk = meshes() + "/fandisk.obj";
+    struct stat st;
+    const bool shared = !g_generated && stat(fandisk.c_str(), &st) == 0;
+    if (!g_generated && !shared) std::printf("shared mesh %s absent: using the generated block\n", fandisk.c_str());
+    scan = shared ? read_mesh(fandisk) : generated_block();
+    cagekit_cage_report report;
+    cage = simplified_cage(scan, shared ? 150 : 6, &report);
+    const uint64_t faces = report.quads + report.triangles + report.pentagons + report.other_polygons;
+    std::printf("input: %s; cage of %llu faces (%llu quads), %llu creases\n", shared ? fandisk.c_str() : "generated block",
+                (unsigned long long)faces, (unsigned long long)report.quads, (unsigned long long)report.creases);
+    // A creased cage of the size asked for, or the crease and coverage checks mean nothing.
+    if (shared) {
+      CHECK(faces >= 100 && faces <= 400);
+    } else {
+      CHECK(faces == 6 && report.quads == 6);
+    }
+    CHECK(report.creases >= 12);
+  }
+  ~Input() {
+    cagekit_cage_release(cage);
+    cagekit_mesh_release(scan);
+  }
+  Input(const Input&) = delete;
+  Input& operator=(const Input&) = delete;
+};
 
 struct Image {
   uint32_t width = 0, height = 0;
@@ -122,8 +222,6 @@ double coverage(const Image& image, uint32_t x0, uint32_t y0, uint32_t x1, uint3
   return double(covered) / double((x1 - x0) * (y1 - y0));
 }
 
-std::string cage_path() { return data_dir() + "/fandisk_cage.obj"; }
-
 // --- cases ---------------------------------------------------------------------------------
 
 // The image has the requested size; the objects cover a plausible share of every tile.
@@ -131,8 +229,9 @@ void case_size_and_coverage() {
   const uint32_t w = 360, h = 400;
   cagekit_render_scene scene = new_scene(w, h, false);
   set_views(scene, {CAGEKIT_RENDER_VIEW_FRONT, CAGEKIT_RENDER_VIEW_SIDE, CAGEKIT_RENDER_VIEW_TOP, CAGEKIT_RENDER_VIEW_ISO});
-  cagekit_mesh scan = read_mesh(meshes() + "/fandisk.obj");
-  cagekit_cage cage = read_cage(cage_path());
+  const Input in;
+  cagekit_mesh scan = in.scan;
+  cagekit_cage cage = in.cage;
   cagekit_render_item_options item = CAGEKIT_RENDER_ITEM_OPTIONS_INIT;
   ok(cagekit_render_scene_add_mesh(scene, scan, CAGEKIT_RENDER_ITEM_MESH, &item, nullptr), "add_mesh");
   item.wireframe = 1;
@@ -160,13 +259,48 @@ void case_size_and_coverage() {
   CHECK(count == 17 * 9);
   ok(cagekit_render_scene_draw(scene, count, &count, small.data()), "small draw");
   cagekit_render_scene_release(scene);
-  cagekit_mesh_release(scan);
-  cagekit_cage_release(cage);
+
+  // One item, four views: a 2 x 2 grid of near-square tiles (not four wide rows), each view
+  // centred in its quadrant; three views in a wide image: one row of three.
+  struct Layout {
+    uint32_t w, h, columns, rows;
+    std::vector<cagekit_render_view> views;
+  };
+  const std::vector<Layout> layouts = {
+      {400, 400, 2, 2, {CAGEKIT_RENDER_VIEW_FRONT, CAGEKIT_RENDER_VIEW_SIDE, CAGEKIT_RENDER_VIEW_TOP, CAGEKIT_RENDER_VIEW_ISO}},
+      {600, 200, 3, 1, {CAGEKIT_RENDER_VIEW_FRONT, CAGEKIT_RENDER_VIEW_TOP, CAGEKIT_RENDER_VIEW_ISO}}};
+  for (const Layout& layout : layouts) {
+    cagekit_render_scene one = new_scene(layout.w, layout.h, false);
+    set_views(one, layout.views);
+    ok(cagekit_render_scene_add_cage(one, cage, nullptr, nullptr), "add_cage");
+    const Image grid = draw(one, layout.w, layout.h);
+    for (uint32_t v = 0; v < layout.views.size(); ++v) {
+      const uint32_t tw = layout.w / layout.columns, th = layout.h / layout.rows;
+      const uint32_t x0 = (v % layout.columns) * tw, y0 = (v / layout.columns) * th;
+      const double c = coverage(grid, x0, y0, x0 + tw, y0 + th);
+      // The covered pixels' bounding box is centred in the tile (a view of another layout is not).
+      uint32_t lo_x = x0 + tw, hi_x = x0, lo_y = y0 + th, hi_y = y0;
+      for (uint32_t y = y0; y < y0 + th; ++y)
+        for (uint32_t x = x0; x < x0 + tw; ++x)
+          if (!near(grid.at(x, y), 255, 255, 255, 0)) {
+            lo_x = std::min(lo_x, x), hi_x = std::max(hi_x, x);
+            lo_y = std::min(lo_y, y), hi_y = std::max(hi_y, y);
+          }
+      const double cx = 0.5 * (lo_x + hi_x) - (x0 + 0.5 * tw), cy = 0.5 * (lo_y + hi_y) - (y0 + 0.5 * th);
+      std::printf("%ux%u, view %u of %zu: %.1f %% covered, centre off by (%.1f, %.1f) px\n", layout.w, layout.h, v,
+                  layout.views.size(), 100 * c, cx, cy);
+      CHECK(c > 0.05 && c < 0.80);
+      CHECK(std::fabs(cx) <= 0.1 * tw && std::fabs(cy) <= 0.1 * th);
+      CHECK(lo_x > x0 && hi_x < x0 + tw - 1 && lo_y > y0 && hi_y < y0 + th - 1);  // inside, not cut by the tile
+    }
+    cagekit_render_scene_release(one);
+  }
 }
 
 // The crease colour appears exactly when creases are asked for.
 void case_creases() {
-  cagekit_cage cage = read_cage(cage_path());
+  const Input in;
+  cagekit_cage cage = in.cage;
   size_t counts[2] = {0, 0};
   for (int creases = 0; creases < 2; ++creases) {
     cagekit_render_scene scene = new_scene(320, 240, true);
@@ -181,7 +315,6 @@ void case_creases() {
   std::printf("crease-coloured pixels: %zu without creases, %zu with\n", counts[0], counts[1]);
   CHECK(counts[0] == 0);
   CHECK(counts[1] > 200);
-  cagekit_cage_release(cage);
 }
 
 double point_triangle_distance(const double* p, const double* a, const double* b, const double* c) {
@@ -233,8 +366,9 @@ double distance_to(const double* p, const std::vector<double>& pos, const std::v
 // The colour map's range (the legend) is the measured maximum two-sided distance.
 void case_legend_range() {
   cagekit_render_scene scene = new_scene(480, 360, true);
-  cagekit_mesh scan = read_mesh(meshes() + "/fandisk.obj");
-  cagekit_cage cage = read_cage(cage_path());
+  const Input in;
+  cagekit_mesh scan = in.scan;
+  cagekit_cage cage = in.cage;
   cagekit_render_item_options item = CAGEKIT_RENDER_ITEM_OPTIONS_INIT;
   item.tessellation_level = 1;
   ok(cagekit_render_scene_add_cage(scene, cage, &item, nullptr), "add_cage");
@@ -294,8 +428,6 @@ void case_legend_range() {
   CHECK(info.scalar_min == 0 && info.scalar_max == 2 * expected);
   CHECK(cagekit_render_scene_set_scalars(scene, 0, nv - 1, values.data(), nullptr) == CAGEKIT_ERROR_INVALID_ARGUMENT);
   cagekit_render_scene_release(scene);
-  cagekit_mesh_release(scan);
-  cagekit_cage_release(cage);
 }
 
 cagekit_render_scene overview_scene(uint32_t w, uint32_t h, cagekit_mesh scan, cagekit_cage cage) {
@@ -318,8 +450,9 @@ cagekit_render_scene overview_scene(uint32_t w, uint32_t h, cagekit_mesh scan, c
 
 // Identical input gives identical bytes: two draws of one scene, and two scenes built alike.
 void case_deterministic() {
-  cagekit_mesh scan = read_mesh(meshes() + "/fandisk.obj");
-  cagekit_cage cage = read_cage(cage_path());
+  const Input in;
+  cagekit_mesh scan = in.scan;
+  cagekit_cage cage = in.cage;
   cagekit_render_scene a = overview_scene(480, 320, scan, cage);
   cagekit_render_scene b = overview_scene(480, 320, scan, cage);
   const Image a1 = draw(a, 480, 320), a2 = draw(a, 480, 320), b1 = draw(b, 480, 320);
@@ -327,8 +460,6 @@ void case_deterministic() {
   CHECK(a1.rgba == b1.rgba);
   cagekit_render_scene_release(a);
   cagekit_render_scene_release(b);
-  cagekit_mesh_release(scan);
-  cagekit_cage_release(cage);
 }
 
 // No EGL display: a clean UNSUPPORTED_FEATURE naming the library (the egl_library option).
@@ -377,7 +508,8 @@ cagekit_gl_proc old_version_loader(const char* name, void*) {
 }
 
 void case_host_lacks_feature() {
-  cagekit_mesh scan = read_mesh(meshes() + "/fandisk.obj");
+  const Input in;
+  cagekit_mesh scan = in.scan;
   cagekit_render_scene scene = new_scene(64, 64, false);
   ok(cagekit_render_scene_add_mesh(scene, scan, CAGEKIT_RENDER_ITEM_MESH, nullptr, nullptr), "add_mesh");
   std::vector<uint8_t> rgba(4 * 64 * 64);
@@ -411,13 +543,13 @@ void case_host_lacks_feature() {
   CHECK(s == CAGEKIT_ERROR_UNSUPPORTED_FEATURE);
   CHECK(message.find("glGenVertexArrays") != std::string::npos);
   cagekit_render_scene_release(scene);
-  cagekit_mesh_release(scan);
 }
 
 // Drawing into the host's context leaves its GL state unchanged, and gives the headless bytes.
 void case_host_state() {
-  cagekit_mesh scan = read_mesh(meshes() + "/fandisk.obj");
-  cagekit_cage cage = read_cage(cage_path());
+  const Input in;
+  cagekit_mesh scan = in.scan;
+  cagekit_cage cage = in.cage;
   cagekit_render_scene scene = overview_scene(400, 300, scan, cage);
   const Image headless = draw(scene, 400, 300);
   EglContext context(EglContext::Api::desktop_core, 3, 3);
@@ -551,8 +683,6 @@ void case_host_state() {
     }
   CHECK(hosted.rgba == headless.rgba);
   cagekit_render_scene_release(scene);
-  cagekit_mesh_release(scan);
-  cagekit_cage_release(cage);
 }
 
 std::vector<uint8_t> read_png(const std::string& path, uint32_t& w, uint32_t& h) {
@@ -571,8 +701,9 @@ std::vector<uint8_t> read_png(const std::string& path, uint32_t& w, uint32_t& h)
 
 // A PNG written and read back (libpng) equals the RGBA buffer; the blob holds the same bytes.
 void case_png() {
-  cagekit_mesh scan = read_mesh(meshes() + "/fandisk.obj");
-  cagekit_cage cage = read_cage(cage_path());
+  const Input in;
+  cagekit_mesh scan = in.scan;
+  cagekit_cage cage = in.cage;
   cagekit_render_scene scene = overview_scene(300, 200, scan, cage);
   const Image image = draw(scene, 300, 200);
   const std::string path = std::string(CAGEKIT_TEST_OUT) + "/render_png_case.png";
@@ -597,25 +728,22 @@ void case_png() {
   CHECK(back2 == image.rgba);
   CHECK(cagekit_render_scene_write_png(scene, "/nonexistent-dir/x.png") == CAGEKIT_ERROR_IO);
   cagekit_render_scene_release(scene);
-  cagekit_mesh_release(scan);
-  cagekit_cage_release(cage);
 }
 
 void picture(const char* out, uint32_t w, uint32_t h) {
-  cagekit_mesh scan = read_mesh(meshes() + "/fandisk.obj");
-  cagekit_cage cage = read_cage(cage_path());
+  const Input in;
+  cagekit_mesh scan = in.scan;
+  cagekit_cage cage = in.cage;
   cagekit_render_scene scene = overview_scene(w, h, scan, cage);
   ok(cagekit_render_scene_write_png(scene, out), "write_png");
   cagekit_render_scene_release(scene);
-  cagekit_mesh_release(scan);
-  cagekit_cage_release(cage);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: test_render CASE | picture OUT.png [W H]\n");
+    std::fprintf(stderr, "usage: test_render CASE [--generated] | picture OUT.png [W H] [--generated]\n");
     return 2;
   }
   cagekit_context_desc desc = CAGEKIT_CONTEXT_DESC_INIT;
@@ -626,8 +754,11 @@ int main(int argc, char** argv) {
       {"no_egl", case_no_egl},                       {"host_lacks_feature", case_host_lacks_feature},
       {"host_state", case_host_state},               {"png", case_png}};
   const std::string name = argv[1];
+  for (int i = 2; i < argc; ++i)
+    if (std::strcmp(argv[i], "--generated") == 0) g_generated = true;
   if (name == "picture" && argc >= 3) {
-    picture(argv[2], argc >= 5 ? uint32_t(std::atoi(argv[3])) : 960, argc >= 5 ? uint32_t(std::atoi(argv[4])) : 640);
+    const bool size = argc >= 5 && std::strcmp(argv[3], "--generated") != 0;
+    picture(argv[2], size ? uint32_t(std::atoi(argv[3])) : 960, size ? uint32_t(std::atoi(argv[4])) : 640);
   } else {
     auto it = cases.find(name);
     if (it == cases.end()) {

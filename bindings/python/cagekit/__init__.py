@@ -11,12 +11,15 @@ editing of the scan through the cage.
     fitted, report = cagekit.fit(cage, scan)
     binding = cagekit.bind(fitted, scan)
     positions, normals = cagekit.CpuDeformer(binding).deform(binding.control_points())
+    cagekit.render([scan, fitted, (fitted, {"error": scan})], size=(960, 400), creases=True)  # a picture
 
 The shared library is found through CAGEKIT_LIBRARY, a copy next to this package, or the
 system loader (see cagekit._lib). Every C call releases the GIL; errors raise CageKitError
 subclasses carrying the SDK's message; handles are released by close(), `with` or collection.
 numpy is needed for arrays only: `import cagekit` works without it.
 """
+import sys as _sys
+
 from . import _lib
 from ._errors import (CageKitError, CancelledError, FileIOError, InternalError, InvalidArgumentError,
                       InvalidHandleError, InvalidMeshError, LimitExceededError, OutOfMemoryError, ParseError,
@@ -32,6 +35,7 @@ from .limit_patches import LimitPatches, limit_patches
 from .mesh import Mesh, MeshIssue, RepairSteps
 from .multires import Binding, CpuDeformer, DisplacementMode, NormalMode, bind
 from .remesh import remesh_anisotropic, remesh_quad
+from .render import RenderScene, render, render_png, render_scene
 from .scan_to_cage import ComponentMode, ScanMethod, scan_to_cage
 from .simplify import Hierarchy, LevelQuery, simplify
 from .surface import Surface
@@ -40,6 +44,14 @@ ABI_VERSION = _lib.ABI_VERSION
 MAX_SUBDIVISION_LEVELS = _lib.MAX_SUBDIVISION_LEVELS
 __version__ = "0.2.0"
 library_path = _lib.path
+
+
+def __getattr__(name):
+    """cagekit.Picture: the class of render()'s arrays (a numpy.ndarray subclass, made when numpy is
+    first imported)."""
+    if name == "Picture":
+        return _sys.modules[__name__ + ".render"]._picture_class()
+    raise AttributeError("module 'cagekit' has no attribute %r" % name)
 
 
 def version():
@@ -59,6 +71,7 @@ __all__ = [
     "LimitExceededError", "LimitPatches", "LogLevel", "LsqSolver", "Mesh", "MeshIssue", "NormalMode",
     "OutOfMemoryError", "ParseError", "ProjectionMode", "Record", "RepairSteps", "ScanMethod", "SizeInsufficientError", "Surface",
     "UnsupportedFormatError", "VersionMismatchError", "QualityError", "UnsupportedFeatureError",
-    "InvalidOperationError", "abi_version", "bind", "default_context", "fit",
-    "library_path", "limit_patches", "live_handles", "remesh_anisotropic", "remesh_quad", "scan_to_cage", "simplify", "version",
+    "InvalidOperationError", "RenderScene", "abi_version", "bind", "default_context", "fit",
+    "library_path", "limit_patches", "live_handles", "remesh_anisotropic", "remesh_quad", "render", "render_png", "render_scene",
+    "scan_to_cage", "simplify", "version",
 ]

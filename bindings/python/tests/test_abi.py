@@ -121,7 +121,7 @@ def _split_top_level(items):
 
 def header_initializers():
     """CAGEKIT_*_INIT macro name -> list of its entries: ("sizeof", type name), None for NULL,
-    or the number (enum constants and #defines resolved)."""
+    the number (enum constants and #defines resolved), or a tuple of numbers for an array field."""
     text = header_text().replace("\\\n", " ")  # one line per macro
     constants = header_constants(text)
     out = {}
@@ -129,6 +129,9 @@ def header_initializers():
         entries = []
         for item in _split_top_level(items):
             size = re.fullmatch(r"sizeof\s*\(\s*(\w+)\s*\)", item)
+            if item.startswith("{") and item.endswith("}"):  # an array field: a list of its elements
+                entries.append(tuple(_evaluate(e, constants) for e in _split_top_level(item[1:-1])))
+                continue
             entries.append(("sizeof", size.group(1)) if size else None if item == "NULL" else
                            _evaluate(item, constants))
         out[name] = entries
@@ -187,7 +190,7 @@ class DeclarationsMatchTheHeader(unittest.TestCase):
             actual, zero = cls.new(), cls()
             for k, field in enumerate(fields):
                 entry = entries[k] if k < len(entries) else None
-                if isinstance(entry, tuple):
+                if isinstance(entry, tuple) and entry[:1] == ("sizeof",):
                     self.assertEqual(entry[1], cname, "%s: sizeof of another struct" % macro)
                     expected = ctypes.sizeof(cls)
                 elif entry is None:  # NULL, or an entry the list leaves out: zero
