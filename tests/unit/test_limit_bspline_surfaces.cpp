@@ -31,37 +31,8 @@ using cagekit::SubdivisionSurface;
 using cagekit::Vec3;
 using cagekit_test::status_of;
 
-Cage cage_of(PolygonMesh mesh) {
-  Cage c;
-  c.mesh = std::move(mesh);
-  return c;
-}
-
-// A closed torus of nu x nv quads (every vertex of valence 4); with `split_first`, the first
-// quad is split into two triangles (two valence-5 vertices, triangles' sub-faces next to quads).
-PolygonMesh quad_torus(int nu, int nv, bool split_first = false) {
-  PolygonMesh m;
-  const double pi = std::acos(-1.0);
-  for (int j = 0; j < nv; ++j)
-    for (int i = 0; i < nu; ++i) {
-      const double a = 2 * pi * i / nu, b = 2 * pi * j / nv;
-      m.positions.push_back({(2.0 + 0.7 * std::cos(b)) * std::cos(a), (2.0 + 0.7 * std::cos(b)) * std::sin(a),
-                             0.7 * std::sin(b)});
-    }
-  for (int j = 0; j < nv; ++j)
-    for (int i = 0; i < nu; ++i) {
-      const uint32_t i1 = uint32_t((i + 1) % nu), j1 = uint32_t((j + 1) % nv);
-      const uint32_t a = uint32_t(j * nu + i), b = uint32_t(j * nu) + i1, c = j1 * uint32_t(nu) + i1,
-                     d = j1 * uint32_t(nu) + uint32_t(i);
-      if (split_first && i == 0 && j == 0) {
-        m.add_face({a, b, c});
-        m.add_face({a, c, d});
-      } else {
-        m.add_face({a, b, c, d});
-      }
-    }
-  return m;
-}
+using cagekit_test::cage_of;
+using cagekit_test::quad_torus;
 
 uint32_t ptex_count(const Cage& cage) {
   uint32_t n = 0;

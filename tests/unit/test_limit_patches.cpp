@@ -28,30 +28,8 @@ using cagekit::SubdivisionSurface;
 using cagekit::Vec3;
 using cagekit_test::status_of;
 
-Cage cage_of(PolygonMesh mesh) {
-  Cage c;
-  c.mesh = std::move(mesh);
-  return c;
-}
-
-// A closed torus of nu x nv quads: every vertex has valence 4, so the limit surface is one
-// bicubic B-spline patch per face.
-PolygonMesh quad_torus(int nu, int nv) {
-  PolygonMesh m;
-  const double pi = std::acos(-1.0);
-  for (int j = 0; j < nv; ++j)
-    for (int i = 0; i < nu; ++i) {
-      const double a = 2 * pi * i / nu, b = 2 * pi * j / nv;
-      m.positions.push_back({(2.0 + 0.7 * std::cos(b)) * std::cos(a), (2.0 + 0.7 * std::cos(b)) * std::sin(a),
-                             0.7 * std::sin(b)});
-    }
-  for (int j = 0; j < nv; ++j)
-    for (int i = 0; i < nu; ++i) {
-      const uint32_t i1 = (i + 1) % nu, j1 = (j + 1) % nv;
-      m.add_face({uint32_t(j * nu + i), uint32_t(j * nu + i1), uint32_t(j1 * nu + i1), uint32_t(j1 * nu + i)});
-    }
-  return m;
-}
+using cagekit_test::cage_of;
+using cagekit_test::quad_torus;
 
 // The unit cube with only the 4 edges of its top face (z = 1) creased: its top corners are crease
 // vertices of valence 3, where the surface uses Gregory end caps.

@@ -43,6 +43,14 @@ cagekit::PolygonMesh triangle_sphere(int levels);
 // diagonal (a, c), outward-oriented triangles.
 cagekit::PolygonMesh triangle_torus(double R, double r, int n_u, int n_v);
 
+// A closed torus of nu x nv quads about the z axis (ring radius 2, tube radius 0.7): every vertex
+// has valence 4, so the limit surface is one bicubic B-spline patch per face. With `split_first`
+// the first quad is split into two triangles (two valence-5 vertices, triangles next to quads).
+cagekit::PolygonMesh quad_torus(int nu, int nv, bool split_first = false);
+
+// `mesh` as a cage without tags.
+cagekit::Cage cage_of(cagekit::PolygonMesh mesh);
+
 // An open, gently curved 20x20 quad grid (the scan) and a 4x4 quad cage over the same square
 // with its vertices on the same height field (z = 0.05 sin(0.3 x) y).
 struct OpenGrid {
