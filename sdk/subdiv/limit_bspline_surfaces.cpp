@@ -25,6 +25,9 @@ constexpr double kFoldDegrees = 90.0;
 // Sine of the angle between the two first derivatives below which a surface point counts as
 // degenerate (no normal).
 constexpr double kDegenerateSine = 1e-2;
+// A normal jump across a smooth border above this is checked against the limit surface's own
+// normals there (a cage whose limit folds has such borders).
+constexpr double kLimitFoldRadians = 30.0 * kPi / 180.0;
 constexpr int kMaxLevelDifference = 1;
 
 // ---- B-spline basics (clamped knot vectors, degree 3) -------------------------------------
@@ -166,6 +169,70 @@ std::vector<Vec3> fit_curve(int spans, const std::vector<Vec3>& y, const Vec3* p
     for (size_t r = 0; r < y.size(); ++r) s += rhs[r] * l[p * y.size() + r];
     points[size_t(free[p])] = s;
   }
+  return points;
+}
+
+// The least-squares fit of fit_curve with both ends fixed and, at the ends given a unit tangent,
+// the end leg along it: P1 = P0 + a0 T0, P(n-2) = P(n-1) + a1 T1, with the lengths a0, a1
+// fitted too (never below `min_leg`). Used where the free fit hooks backwards at an
+// extraordinary end (its first leg points away from the limit's tangent), which folds the
+// surfaces at that corner.
+std::vector<Vec3> fit_curve_with_end_tangents(int spans, const std::vector<Vec3>& y, const Vec3& p0, const Vec3& p1,
+                                              const Vec3* t0, const Vec3* t1, double min_leg) {
+  const int n = spans + kDegree;
+  if (n < 4 || (!t0 && !t1)) return fit_curve(spans, y, &p0, &p1);
+  const std::vector<double> b = basis_matrix(clamped_uniform_knots(spans), n, uniform_params(int(y.size())));
+  std::vector<int> free;
+  for (int i = 1; i <= n - 2; ++i)
+    if (!((i == 1 && t0) || (i == n - 2 && t1))) free.push_back(i);
+  double leg[2] = {-1.0, -1.0};  // < 0: fitted; else fixed at that length
+  std::vector<Vec3> points(static_cast<size_t>(n));
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    std::vector<int> fitted_legs;
+    for (int e = 0; e < 2; ++e)
+      if ((e == 0 ? t0 : t1) && leg[e] < 0.0) fitted_legs.push_back(e);
+    const int unknowns = 3 * int(free.size()) + int(fitted_legs.size());
+    std::vector<double> ata(size_t(unknowns) * size_t(unknowns), 0.0), atb(static_cast<size_t>(unknowns), 0.0);
+    std::vector<double> coefficients(static_cast<size_t>(unknowns), 0.0);
+    for (size_t r = 0; r < y.size(); ++r) {
+      const double* w = &b[r * size_t(n)];
+      Vec3 target = y[r] - p0 * w[0] - p1 * w[n - 1];
+      if (t0) target -= (p0 + *t0 * std::max(leg[0], 0.0)) * w[1];
+      if (t1) target -= (p1 + *t1 * std::max(leg[1], 0.0)) * w[n - 2];
+      for (int c = 0; c < 3; ++c) {
+        std::fill(coefficients.begin(), coefficients.end(), 0.0);
+        for (size_t k = 0; k < free.size(); ++k) coefficients[3 * k + size_t(c)] = w[free[k]];
+        for (size_t k = 0; k < fitted_legs.size(); ++k) {
+          const Vec3& t = fitted_legs[k] == 0 ? *t0 : *t1;
+          coefficients[3 * free.size() + k] = (fitted_legs[k] == 0 ? w[1] : w[n - 2]) * (c == 0 ? t.x : c == 1 ? t.y : t.z);
+        }
+        const double rhs = c == 0 ? target.x : c == 1 ? target.y : target.z;
+        for (int i = 0; i < unknowns; ++i) {
+          const double ci = coefficients[size_t(i)];
+          if (ci == 0.0) continue;
+          atb[size_t(i)] += ci * rhs;
+          for (int j = 0; j < unknowns; ++j) ata[size_t(i) * size_t(unknowns) + size_t(j)] += ci * coefficients[size_t(j)];
+        }
+      }
+    }
+    solve_in_place(ata, unknowns, atb, 1);
+    for (size_t k = 0; k < free.size(); ++k) points[size_t(free[k])] = Vec3{atb[3 * k], atb[3 * k + 1], atb[3 * k + 2]};
+    bool again = false;
+    for (size_t k = 0; k < fitted_legs.size(); ++k) {
+      const double a = atb[3 * free.size() + k];
+      if (a < min_leg) {
+        leg[fitted_legs[k]] = min_leg;
+        again = true;
+      } else {
+        leg[fitted_legs[k]] = a;
+      }
+    }
+    if (!again) break;
+  }
+  points[0] = p0;
+  points[size_t(n - 1)] = p1;
+  if (t0) points[1] = p0 + *t0 * leg[0];
+  if (t1) points[size_t(n - 2)] = p1 + *t1 * leg[1];
   return points;
 }
 
@@ -525,6 +592,24 @@ class Builder {
     const Vec3 p0 = corner(s.key0, a0.ptex, a0.side, side_t(a0, 0.0));
     const Vec3 p1 = corner(s.key1, a1.ptex, a1.side, side_t(a1, 1.0));
     s.curve = fit_curve(s.spans, y, &p0, &p1);
+    // A hook at an extraordinary end (the first leg more than 60 deg away from the limit's
+    // direction there): refit with that leg along the limit's direction.
+    Vec3 tangent[2];
+    bool hooked[2] = {false, false};
+    for (int e = 0; e < 2; ++e) {
+      if (!s.irregular_end[e]) continue;
+      const double x0 = e == 0 ? 0.0 : 1.0, x1 = e == 0 ? 1e-4 : 1.0 - 1e-4;
+      const Attachment& a = cover(s, x0);
+      const Vec3 d = limit_on_side(a, side_t(a, x1)) - limit_on_side(a, side_t(a, x0));
+      const Vec3 leg = e == 0 ? s.curve[1] - s.curve[0] : s.curve[s.curve.size() - 2] - s.curve.back();
+      if (norm(d) > 0.0 && norm(leg) > 0.0) {
+        tangent[e] = d * (1.0 / norm(d));
+        hooked[e] = dot(leg, tangent[e]) < 0.5 * norm(leg);
+      }
+    }
+    if (hooked[0] || hooked[1])
+      s.curve = fit_curve_with_end_tangents(s.spans, y, p0, p1, hooked[0] ? &tangent[0] : nullptr,
+                                            hooked[1] ? &tangent[1] : nullptr, 0.02 * distance(p0, p1) / s.spans);
     s.cross.clear();
     if (s.kind == BorderKind::smooth) {
       for (int k = 0; k < samples; ++k) {
@@ -918,6 +1003,19 @@ class Builder {
                 norm(nb2) <= kDegenerateSine * norm(b.du) * norm(b.dv))
               continue;
             const double angle = std::atan2(norm(cross(na, nb2)), dot(na, nb2));
+            if (seg.kind == BorderKind::smooth && angle > kLimitFoldRadians) {
+              // Is the limit surface itself folded here (its own normals on the two sides
+              // opposed, or degenerate)? Then no G1 surface can follow it: counted, not a jump.
+              const SurfacePoint la = surface_.evaluate_patch_points(p, u0, v0, points_);
+              const SurfacePoint lb = surface_.evaluate_patch_points(other.ptex, u1, v1, points_);
+              const Vec3 ma = cross(la.du, la.dv), mb = cross(lb.du, lb.dv);
+              if (norm(ma) <= kDegenerateSine * norm(la.du) * norm(la.dv) ||
+                  norm(mb) <= kDegenerateSine * norm(lb.du) * norm(lb.dv) ||
+                  std::atan2(norm(cross(ma, mb)), dot(ma, mb)) > kLimitFoldRadians) {
+                ++result.limit_fold_points;
+                continue;
+              }
+            }
             out.max_normal_jump_deg = std::max(out.max_normal_jump_deg, angle * 180.0 / kPi);
           }
         }

@@ -126,6 +126,10 @@ struct LimitBSplineSurfaces {
   double max_parametric_error = 0;    // over all surfaces, model units
   double max_normal_deviation_deg = 0;
   double max_normal_jump_deg = 0;     // over smooth shared borders
+  // Border samples left out of max_normal_jump_deg because the limit surface itself folds or is
+  // degenerate there (its own normals on the two sides more than 30 deg apart, or its derivatives
+  // nearly parallel): a fault of the cage, not of the fit.
+  uint32_t limit_fold_points = 0;
   double max_crease_angle_deg = 0;    // largest normal jump over crease / non-manifold borders
   double bbox_diagonal = 0;           // of the cage's control points
   double tolerance = 0;               // absolute: options.tolerance * bbox_diagonal

@@ -313,9 +313,10 @@ TEST(LimitBSplineSurfaces, fandisk_pipeline_cage) {
   EXPECT_LE(r.surfaces.size(), r.ptex_faces);
   EXPECT_LE(gap, 1e-14);  // the same curves, knot insertion rounding
   EXPECT_EQ(r.approximated_count + r.exact_count, r.surfaces.size());
-  std::printf("  two-sided max error %.3g of the diagonal (parametric %.3g), %u over the tolerance, %u folded\n",
+  std::printf("  two-sided max error %.3g of the diagonal (parametric %.3g), %u over the tolerance, %u folded, "
+              "%u border samples where the limit itself folds\n",
               r.max_error / r.bbox_diagonal, r.max_parametric_error / r.bbox_diagonal, r.over_tolerance_count,
-              r.folded_count);
+              r.folded_count, r.limit_fold_points);
 }
 
 }  // namespace
