@@ -173,6 +173,48 @@ class LimitSurfacesOfGeneratedCages(LimitSurfaceChecks):
                 for sd in s.sides:
                     self.assertAlmostEqual(sd.max_normal_jump_deg, 90.0, delta=1e-9)
 
+    def test_n_gon_sub_faces_and_boundaries(self):
+        # a pyramid: a quad base (1 surface) and 4 triangles (3 sub-faces, so 3 surfaces, each)
+        apex = np.array([[0.5, 0.5, 0.8]])
+        faces = [0, 3, 2, 1, 0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4]
+        with cagekit.Cage.from_arrays(np.vstack([CUBE[:4][[0, 1, 3, 2]], apex]), faces,
+                                      face_sizes=[4, 3, 3, 3, 3]) as cage, \
+                cagekit.LimitSurfaces(cage) as surfaces:
+            info = surfaces.info
+            self.assertEqual((info.surface_count, info.ptex_face_count, info.over_tolerance_count), (13, 13, 0))
+            self.assertLessEqual(info.max_error, info.tolerance)
+            self.assertLess(info.max_normal_jump_deg, 1.0)
+            worst, _ = self.check_surfaces(cage, surfaces)
+            self.assertLessEqual(worst, info.tolerance)
+            self.assertEqual([s.cage_face for s in surfaces], [0] + [1] * 3 + [2] * 3 + [3] * 3 + [4] * 3)
+            base = surfaces[0]
+            sub_face = surfaces[1]
+            self.assertEqual(base.num_u - 3, 2 * (sub_face.num_u - 3), "a sub-face is half an edge long")
+            for side in base.sides:
+                # each side of the base meets two triangle sub-faces, one on each half
+                self.assertEqual(side.kind, cagekit.BorderKind.SMOOTH)
+                ranges = sorted((nb.t0, nb.t1) for nb in side.neighbours)
+                self.assertEqual(ranges, [(0.0, 0.5), (0.5, 1.0)])
+                for nb in side.neighbours:
+                    self.assertEqual(abs(nb.n1 - nb.n0), 1.0)
+                    self.assertNotEqual(surfaces[nb.surface].cage_face, 0)
+        # an open 3 x 3 grid: the outer sides are boundaries without neighbours
+        grid = np.array([[i, j, 0.1 * ((i * j) % 3)] for j in range(4) for i in range(4)], dtype=np.float64)
+        quads = np.array([[j * 4 + i, j * 4 + i + 1, (j + 1) * 4 + i + 1, (j + 1) * 4 + i]
+                          for j in range(3) for i in range(3)])
+        with cagekit.Cage.from_arrays(grid, quads) as cage, cagekit.LimitSurfaces(cage) as surfaces:
+            info = surfaces.info
+            self.assertEqual(info.surface_count, 9)
+            self.assertGreater(info.exact_count, 0)
+            worst, identical = self.check_surfaces(cage, surfaces)
+            self.assertLessEqual(worst, info.tolerance)
+            kinds = [sd.kind for s in surfaces for sd in s.sides]
+            self.assertEqual(kinds.count(cagekit.BorderKind.BOUNDARY), 12)
+            self.assertEqual(kinds.count(cagekit.BorderKind.SMOOTH), 24)
+            self.assertEqual(identical, 24)
+            self.assertTrue(all(sd.max_normal_jump_deg == 0.0 for s in surfaces for sd in s.sides
+                                if sd.kind == cagekit.BorderKind.BOUNDARY))
+
     def test_levels_and_a_coarser_tolerance(self):
         with cagekit.Cage.from_arrays(CUBE, CUBE_QUADS) as cage, \
                 cagekit.LimitSurfaces(cage, tolerance=1e-2) as coarse, \
