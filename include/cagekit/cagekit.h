@@ -1784,17 +1784,22 @@ CAGEKIT_API cagekit_status cagekit_limit_patches_get(cagekit_limit_patches patch
  * hole faces have none): what a CAD kernel takes as a NURBS face directly. Each surface has its
  * degrees (3 x 3 today), clamped ("open") knot vectors in [0, 1] with the end knots repeated
  * degree + 1 times and uniform simple interior knots, and num_u x num_v control points. The knot
- * vectors may differ between surfaces; read each surface's own.
+ * vectors differ between surfaces (the number of knots is chosen per surface and direction);
+ * read each surface's own.
  * Where the limit surface of a ptex face is piecewise bicubic on the knot grid (regular faces,
  * also at infinitely sharp creases and boundaries) the surface IS the limit surface ("exact",
- * measured below 1e-12 of the diagonal). Next to an extraordinary vertex it approximates it
- * within the tolerance where max_level allows (knots are refined until it does). Shared borders
- * are the same curve on both surfaces (identical border control points where the knots agree),
- * and across smooth (non-crease) borders the cross-boundary derivatives are constrained so that
- * the normals agree (G1); crease edges are C0 borders, boundaries stay boundaries.
- * Errors are measured as the largest distance between surface and limit surface at equal
- * parameters on a grid of at least 33 x 33 per surface; normal jumps as the angle between the two
- * surfaces' normals at points along every shared border. */
+ * measured below 1e-12 of the diagonal). Next to an extraordinary vertex it approximates it: a
+ * surface over the tolerance, folded, or with a normal jump above max_normal_jump_deg across a
+ * smooth border gets more knots (with its borders), up to max_level. Shared borders are the same
+ * curve on both surfaces (identical border control points where the two have the same knots on
+ * it), and across smooth (non-crease) borders the cross-boundary derivatives are constrained so
+ * that the normals agree (G1); crease edges are C0 borders, boundaries stay boundaries.
+ * Measured per surface on a grid of at least 33 x 33 samples: the parametric error (largest
+ * distance to the limit surface at equal parameters), the error (two-sided: where the parametric
+ * error exceeds the tolerance, each far sample is projected onto the other surface within the ptex
+ * face, both ways; never above the parametric error) and the largest angle between the surface's
+ * normal and the limit's at equal parameters (above 90 degrees: folded). Normal jumps: the angle
+ * between the two surfaces' normals at points along every shared border. */
 typedef struct cagekit_limit_surfaces_t* cagekit_limit_surfaces;
 
 typedef struct cagekit_limit_surface_options {
@@ -1806,24 +1811,33 @@ typedef struct cagekit_limit_surface_options {
                          has up to 2^l knot spans per direction; surfaces still above the
                          tolerance at max_level are kept and counted in over_tolerance_count */
   uint32_t min_level; /* smallest knot level tried, 1..max_level (default 1) */
+  double max_normal_jump_deg; /* a surface whose normal jumps by more than this many degrees across a
+                                 smooth border gets more knots, as one over the tolerance; finite
+                                 and > 0 (default 0.5) */
 } cagekit_limit_surface_options;
 
-#define CAGEKIT_LIMIT_SURFACE_OPTIONS_INIT { sizeof(cagekit_limit_surface_options), 1e-4, 5, 1 }
+#define CAGEKIT_LIMIT_SURFACE_OPTIONS_INIT { sizeof(cagekit_limit_surface_options), 1e-4, 5, 1, 0.5 }
 
 typedef struct cagekit_limit_surface_info {
-  size_t struct_size;            /* set by the caller: sizeof(cagekit_limit_surface_info) */
-  uint32_t surface_count;        /* exact_count + approximated_count */
-  uint32_t exact_count;          /* surfaces equal to the limit surface */
+  size_t struct_size;              /* set by the caller: sizeof(cagekit_limit_surface_info) */
+  uint32_t surface_count;          /* exact_count + approximated_count */
+  uint32_t exact_count;            /* surfaces equal to the limit surface */
   uint32_t approximated_count;
-  uint32_t over_tolerance_count; /* approximated surfaces above the tolerance (max_level reached) */
-  double max_error;              /* largest measured error of a surface, model units */
-  double max_error_rel;          /* max_error / bbox_diagonal */
-  double max_normal_jump_deg;    /* largest normal jump across smooth shared borders, degrees */
-  double max_crease_angle_deg;   /* largest normal jump across crease / non-manifold borders, degrees */
-  double bbox_diagonal;          /* of the cage's control points */
-  double tolerance;              /* the absolute tolerance: options.tolerance * bbox_diagonal */
-  uint32_t level;                /* the largest knot level used */
-  uint32_t ptex_face_count;      /* ptex faces of the cage, holes included */
+  uint32_t over_tolerance_count;   /* approximated surfaces above the tolerance or folded (max_level
+                                      reached) */
+  uint32_t folded_count;           /* surfaces whose normal deviates from the limit's by more than
+                                      90 degrees somewhere */
+  uint32_t level;                  /* the largest knot level used (2^level spans per quad side) */
+  uint32_t ptex_face_count;        /* ptex faces of the cage, holes included */
+  uint32_t reserved;               /* 0 */
+  double max_error;                /* largest two-sided error of a surface, model units */
+  double max_error_rel;            /* max_error / bbox_diagonal */
+  double max_parametric_error;     /* largest parametric error of a surface, model units */
+  double max_normal_deviation_deg; /* largest angle between a surface's normal and the limit's */
+  double max_normal_jump_deg;      /* largest normal jump across smooth shared borders, degrees */
+  double max_crease_angle_deg;     /* largest normal jump across crease / non-manifold borders, degrees */
+  double bbox_diagonal;            /* of the cage's control points */
+  double tolerance;                /* the absolute tolerance: options.tolerance * bbox_diagonal */
 } cagekit_limit_surface_info;
 
 /* What lies across one side of a surface. */
@@ -1866,7 +1880,9 @@ typedef struct cagekit_limit_surface {
   uint32_t num_u, num_v;  /* control points per direction */
   cagekit_bool32 exact;   /* 1: the surface is the limit surface; 0: an approximation */
   uint32_t reserved;      /* 0 */
-  double error;           /* measured largest distance to the limit surface, model units */
+  double error;           /* two-sided distance to the limit surface, model units */
+  double parametric_error; /* largest distance to the limit surface at equal parameters (>= error) */
+  double max_normal_deviation_deg; /* largest angle between its normal and the limit's (> 90: folded) */
   cagekit_limit_surface_side sides[4];
 } cagekit_limit_surface;
 

@@ -56,8 +56,11 @@ CAGEKIT_API cagekit_status cagekit_limit_surfaces_get_info(cagekit_limit_surface
     i.exact_count = s.exact_count;
     i.approximated_count = s.approximated_count;
     i.over_tolerance_count = s.over_tolerance_count;
+    i.folded_count = s.folded_count;
     i.max_error = s.max_error;
     i.max_error_rel = s.bbox_diagonal > 0 ? s.max_error / s.bbox_diagonal : 0.0;
+    i.max_parametric_error = s.max_parametric_error;
+    i.max_normal_deviation_deg = s.max_normal_deviation_deg;
     i.max_normal_jump_deg = s.max_normal_jump_deg;
     i.max_crease_angle_deg = s.max_crease_angle_deg;
     i.bbox_diagonal = s.bbox_diagonal;
@@ -84,6 +87,8 @@ CAGEKIT_API cagekit_status cagekit_limit_surfaces_get_surface(cagekit_limit_surf
     c.num_v = s.num_v;
     c.exact = s.exact ? CAGEKIT_TRUE : CAGEKIT_FALSE;
     c.error = s.error;
+    c.parametric_error = s.parametric_error;
+    c.max_normal_deviation_deg = s.max_normal_deviation_deg;
     for (int k = 0; k < 4; ++k) {
       c.sides[k].kind = border_kind_to_c(s.sides[size_t(k)].kind);
       c.sides[k].neighbour_count = static_cast<uint32_t>(s.sides[size_t(k)].neighbours.size());

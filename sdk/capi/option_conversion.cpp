@@ -234,7 +234,8 @@ CAGEKIT_OPTIONS_FROM_C(limit_patch_options_from_c, cagekit_limit_patch_options, 
 #define CAGEKIT_LIMIT_SURFACE_OPTION_TABLE(X, A)                                                      \
   X(A, tolerance, 1e-4, greater_than(0.0), lo.tolerance)                                              \
   X(A, max_level, 5, (UintIn{1, cagekit::kMaxLimitBSplineLevel}), lo.max_level)                       \
-  X(A, min_level, 1, (UintIn{1, cagekit::kMaxLimitBSplineLevel}), lo.min_level)
+  X(A, min_level, 1, (UintIn{1, cagekit::kMaxLimitBSplineLevel}), lo.min_level)                       \
+  X(A, max_normal_jump_deg, 0.5, greater_than(0.0), lo.max_normal_jump_deg)
 
 CAGEKIT_OPTIONS_FROM_C(limit_surface_options_from_c, cagekit_limit_surface_options,
                        CAGEKIT_LIMIT_SURFACE_OPTIONS_INIT, CAGEKIT_LIMIT_SURFACE_OPTION_TABLE,

@@ -761,7 +761,10 @@ static double check_bspline_surfaces(cagekit_cage cage, cagekit_limit_surfaces s
         d = distance3(x, y.position);
         if (d > worst_here) worst_here = d;
       }
-    CHECK(worst_here <= s->d.error * (1 + 1e-9) + 1e-13 * info->bbox_diagonal);
+    /* equal parameters: within the parametric error, which bounds the two-sided one */
+    CHECK(worst_here <= s->d.parametric_error * (1 + 1e-9) + 1e-13 * info->bbox_diagonal);
+    CHECK(s->d.error <= s->d.parametric_error * (1 + 1e-12) + 1e-15 * info->bbox_diagonal);
+    CHECK(s->d.max_normal_deviation_deg >= 0 && s->d.max_normal_deviation_deg <= info->max_normal_deviation_deg);
     if (worst_here > worst) worst = worst_here;
     /* neighbours: symmetric, and the two surfaces meet along the shared range */
     for (side = 0; side < 4; ++side) {
@@ -863,6 +866,8 @@ static void limit_surfaces_of_a_regular_torus_are_exact(void) {
   CHECK(fabs(info.tolerance - 1e-4 * info.bbox_diagonal) <= 1e-15 * info.bbox_diagonal);
   CHECK(info.level >= 1 && info.level <= 5);
   CHECK(info.max_normal_jump_deg < 1e-6 && info.max_crease_angle_deg == 0.0);
+  CHECK(info.max_parametric_error <= 1e-12 * info.bbox_diagonal && info.max_normal_deviation_deg < 1e-6);
+  CHECK(info.folded_count == 0 && info.reserved == 0);
   worst = check_bspline_surfaces(cage, surfaces, &info, &identical);
   CHECK(worst <= 1e-12 * info.bbox_diagonal);
   CHECK(identical == 4 * 48); /* every side of every surface */
@@ -887,14 +892,17 @@ static void limit_surfaces_of_a_cube_approximate_within_the_tolerance(void) {
   info = limit_surface_info(surfaces);
   CHECK(info.surface_count == 6 && info.ptex_face_count == 6);
   CHECK(info.exact_count == 0 && info.approximated_count == 6 && info.over_tolerance_count == 0);
-  CHECK(info.max_error > 0 && info.max_error <= info.tolerance);
-  CHECK(info.max_normal_jump_deg < 1.0 && info.max_crease_angle_deg == 0.0);
+  CHECK(info.max_error > 0 && info.max_error <= info.tolerance && info.folded_count == 0);
+  CHECK(info.max_error <= info.max_parametric_error && info.max_normal_deviation_deg < 90.0);
+  /* smooth borders: refined until the normal jump is within options.max_normal_jump_deg */
+  CHECK(info.max_normal_jump_deg <= options.max_normal_jump_deg && info.max_crease_angle_deg == 0.0);
   worst = check_bspline_surfaces(cage, surfaces, &info, &identical);
-  CHECK(worst > 0 && worst <= info.tolerance);
+  CHECK(worst > 0 && worst <= info.max_parametric_error * (1 + 1e-9));
   CHECK(identical == 4 * 6);
   for (k = 0; k < 6; ++k) {
     CHECK_OK(cagekit_limit_surfaces_get_surface(surfaces, k, &d));
-    CHECK(d.cage_face == d.ptex_face && d.exact == CAGEKIT_FALSE && d.error <= info.max_error);
+    CHECK(d.cage_face == d.ptex_face && d.exact == CAGEKIT_FALSE && d.error <= info.max_error &&
+          d.parametric_error <= info.max_parametric_error);
     for (side = 0; side < 4; ++side)
       CHECK(d.sides[side].kind == CAGEKIT_SURFACE_BORDER_SMOOTH && d.sides[side].neighbour_count == 1 &&
             d.sides[side].max_normal_jump_deg <= info.max_normal_jump_deg);
@@ -1017,6 +1025,10 @@ static void limit_surfaces_reject_bad_arguments_and_can_be_cancelled(void) {
   options.max_level = 0;
   CHECK_STATUS(cagekit_limit_surfaces_create(cage, &options, &surfaces), CAGEKIT_ERROR_INVALID_ARGUMENT);
   options.max_level = 3;
+  options.max_normal_jump_deg = 0.0;
+  CHECK_STATUS(cagekit_limit_surfaces_create(cage, &options, &surfaces), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context), "max_normal_jump_deg") != NULL);
+  options.max_normal_jump_deg = 0.5;
   options.min_level = 0;
   CHECK_STATUS(cagekit_limit_surfaces_create(cage, &options, &surfaces), CAGEKIT_ERROR_INVALID_ARGUMENT);
   options.min_level = 4;

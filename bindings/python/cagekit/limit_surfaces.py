@@ -8,7 +8,7 @@
     s.degree_u, s.degree_v     # 3, 3
     s.knots_u, s.knots_v       # (num_u + degree_u + 1,) float64: clamped, end knots repeated degree + 1 times
     s.control_points           # (num_v, num_u, 3) float64: [j, i] has weight N_i(u) N_j(v)
-    s.ptex_face, s.cage_face, s.exact, s.error
+    s.ptex_face, s.cage_face, s.exact, s.error, s.parametric_error, s.max_normal_deviation_deg
     s.sides[0..3]              # kind (BorderKind), max_normal_jump_deg, neighbours
     surfaces.evaluate(k, uv)   # points of surface k at (u, v) (Cox-de Boor)
 
@@ -18,9 +18,11 @@ Sides: 0 is v = 0 (parameter u), 1 is u = 1 (parameter v), 2 is v = 1 (parameter
 neighbour's side parameter is n0 + (t - t0) / (t1 - t0) * (n1 - n0).
 
 Exact surfaces (regular regions) ARE the limit surface; next to extraordinary vertices a surface
-approximates it within the tolerance where max_level allows; `error` is the measured largest
-distance (model units). Shared borders are the same curves, and across smooth borders the normals
-agree (G1); creases are C0 borders.
+approximates it within the tolerance where max_level allows. Measured per surface (model units):
+`parametric_error`, the largest distance to the limit surface at equal parameters, and `error`,
+the two-sided distance (far samples projected onto the other surface; <= parametric_error).
+Shared borders are the same curves, and across smooth borders the normals agree (G1); creases are
+C0 borders. Knot vectors differ between surfaces.
 
 Creation is a long operation (progress stage "limit B-spline surfaces", cancel, the context's
 memory budget). The object is immutable; each surface is read once, on first use, and cached
@@ -55,16 +57,17 @@ _DIRECTION_U, _DIRECTION_V = 0, 1  # cagekit_surface_direction
 # --- declarations (include/cagekit/cagekit.h, "limit surface as B-spline surfaces") ----------------
 class LimitSurfaceOptions(_lib._Versioned):
     _fields_ = [("struct_size", c_size_t), ("tolerance", c_double), ("max_level", c_uint32),
-                ("min_level", c_uint32)]
-    _defaults = {"tolerance": 1e-4, "max_level": 5, "min_level": 1}
+                ("min_level", c_uint32), ("max_normal_jump_deg", c_double)]
+    _defaults = {"tolerance": 1e-4, "max_level": 5, "min_level": 1, "max_normal_jump_deg": 0.5}
 
 
 class LimitSurfaceInfo(_lib._Versioned):
     _fields_ = [("struct_size", c_size_t), ("surface_count", c_uint32), ("exact_count", c_uint32),
-                ("approximated_count", c_uint32), ("over_tolerance_count", c_uint32), ("max_error", c_double),
-                ("max_error_rel", c_double), ("max_normal_jump_deg", c_double), ("max_crease_angle_deg", c_double),
-                ("bbox_diagonal", c_double), ("tolerance", c_double), ("level", c_uint32),
-                ("ptex_face_count", c_uint32)]
+                ("approximated_count", c_uint32), ("over_tolerance_count", c_uint32), ("folded_count", c_uint32),
+                ("level", c_uint32), ("ptex_face_count", c_uint32), ("reserved", c_uint32), ("max_error", c_double),
+                ("max_error_rel", c_double), ("max_parametric_error", c_double),
+                ("max_normal_deviation_deg", c_double), ("max_normal_jump_deg", c_double),
+                ("max_crease_angle_deg", c_double), ("bbox_diagonal", c_double), ("tolerance", c_double)]
 
 
 class LimitSurfaceSide(Structure):
@@ -75,6 +78,7 @@ class LimitSurface(Structure):
     _fields_ = [("ptex_face", c_uint32), ("cage_face", c_uint32), ("degree_u", c_uint32), ("degree_v", c_uint32),
                 ("knot_count_u", c_uint32), ("knot_count_v", c_uint32), ("num_u", c_uint32), ("num_v", c_uint32),
                 ("exact", _lib.c_bool32), ("reserved", c_uint32), ("error", c_double),
+                ("parametric_error", c_double), ("max_normal_deviation_deg", c_double),
                 ("sides", LimitSurfaceSide * 4)]
 
 
@@ -128,7 +132,8 @@ def bspline_basis(knots, degree, x):
 
 class BSplineSurface:
     """One surface (see the module doc): ptex_face, cage_face, degree_u, degree_v, knots_u,
-    knots_v, num_u, num_v, control_points (num_v, num_u, 3), exact, error, sides (4 Records:
+    knots_v, num_u, num_v, control_points (num_v, num_u, 3), exact, error (two-sided),
+    parametric_error (at equal parameters), max_normal_deviation_deg, sides (4 Records:
     kind, max_normal_jump_deg, neighbours (Records surface, side, t0, t1, n0, n1))."""
 
     def __init__(self, desc, knots_u, knots_v, points, neighbours):
@@ -136,6 +141,8 @@ class BSplineSurface:
         self.degree_u, self.degree_v = int(desc.degree_u), int(desc.degree_v)
         self.num_u, self.num_v = int(desc.num_u), int(desc.num_v)
         self.exact, self.error = bool(desc.exact), float(desc.error)
+        self.parametric_error = float(desc.parametric_error)
+        self.max_normal_deviation_deg = float(desc.max_normal_deviation_deg)
         self._knots_u, self._knots_v, self._points = knots_u, knots_v, points
         self.sides = tuple(Record("SurfaceSide", kind=BorderKind(desc.sides[k].kind),
                                   max_normal_jump_deg=float(desc.sides[k].max_normal_jump_deg),
@@ -174,14 +181,17 @@ class LimitSurfaces(Handle):
     _functions = lib
     _kind = "limit surfaces"
 
-    def __init__(self, cage, tolerance=_D["tolerance"], max_level=_D["max_level"], min_level=_D["min_level"]):
+    def __init__(self, cage, tolerance=_D["tolerance"], max_level=_D["max_level"], min_level=_D["min_level"],
+                 max_normal_jump_deg=_D["max_normal_jump_deg"]):
         """tolerance: the largest distance allowed between an approximated surface and the limit
         surface, as a fraction of the bounding-box diagonal of the cage's control points (> 0);
         max_level: the largest knot level tried (1..7; up to 2^level spans per quad side);
-        min_level: the smallest (1..max_level). Bad values raise InvalidArgumentError with the
-        SDK's message. Long operation (progress stage "limit B-spline surfaces", cancel)."""
+        min_level: the smallest (1..max_level); max_normal_jump_deg: a surface whose normal jumps
+        by more across a smooth border gets more knots (> 0). Bad values raise
+        InvalidArgumentError with the SDK's message. Long operation (progress stage "limit
+        B-spline surfaces", cancel)."""
         options = LimitSurfaceOptions.new(tolerance=float(tolerance), max_level=int(max_level),
-                                          min_level=int(min_level))
+                                          min_level=int(min_level), max_normal_jump_deg=float(max_normal_jump_deg))
         out = ctypes.c_void_p()
         cage._context._call(lib.cagekit_limit_surfaces_create, cage._handle, ctypes.byref(options),
                             ctypes.byref(out), outs=[(out, self._release())])
@@ -191,10 +201,11 @@ class LimitSurfaces(Handle):
 
     @property
     def info(self):
-        """Record: surface_count, exact_count, approximated_count, over_tolerance_count, max_error
-        (model units), max_error_rel (of bbox_diagonal), max_normal_jump_deg (smooth borders),
-        max_crease_angle_deg (crease / non-manifold borders), bbox_diagonal, tolerance (absolute),
-        level (the largest knot level used), ptex_face_count."""
+        """Record: surface_count, exact_count, approximated_count, over_tolerance_count (also
+        folded ones), folded_count, level (the largest knot level used), ptex_face_count, max_error
+        (two-sided, model units), max_error_rel (of bbox_diagonal), max_parametric_error,
+        max_normal_deviation_deg, max_normal_jump_deg (smooth borders), max_crease_angle_deg
+        (crease / non-manifold borders), bbox_diagonal, tolerance (absolute)."""
         if self._info is None:
             info = LimitSurfaceInfo.new()
             self._context._call(lib.cagekit_limit_surfaces_get_info, self._handle, ctypes.byref(info))
@@ -245,6 +256,8 @@ class LimitSurfaces(Handle):
         return self[index].evaluate(uv)
 
 
-def limit_surfaces(cage, tolerance=_D["tolerance"], max_level=_D["max_level"], min_level=_D["min_level"]):
-    """LimitSurfaces(cage, tolerance, max_level, min_level)."""
-    return LimitSurfaces(cage, tolerance=tolerance, max_level=max_level, min_level=min_level)
+def limit_surfaces(cage, tolerance=_D["tolerance"], max_level=_D["max_level"], min_level=_D["min_level"],
+                   max_normal_jump_deg=_D["max_normal_jump_deg"]):
+    """LimitSurfaces(cage, tolerance, max_level, min_level, max_normal_jump_deg)."""
+    return LimitSurfaces(cage, tolerance=tolerance, max_level=max_level, min_level=min_level,
+                         max_normal_jump_deg=max_normal_jump_deg)
