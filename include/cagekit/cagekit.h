@@ -1829,7 +1829,10 @@ typedef struct cagekit_limit_surface_info {
                                       90 degrees somewhere */
   uint32_t level;                  /* the largest knot level used (2^level spans per quad side) */
   uint32_t ptex_face_count;        /* ptex faces of the cage, holes included */
-  uint32_t reserved;               /* 0 */
+  uint32_t limit_fold_points;      /* border samples left out of max_normal_jump_deg because the
+                                      limit surface itself folds or is degenerate there (its own
+                                      normals on the two sides > 30 degrees apart, or its
+                                      derivatives nearly parallel): a fault of the cage */
   double max_error;                /* largest two-sided error of a surface, model units */
   double max_error_rel;            /* max_error / bbox_diagonal */
   double max_parametric_error;     /* largest parametric error of a surface, model units */

@@ -57,6 +57,7 @@ CAGEKIT_API cagekit_status cagekit_limit_surfaces_get_info(cagekit_limit_surface
     i.approximated_count = s.approximated_count;
     i.over_tolerance_count = s.over_tolerance_count;
     i.folded_count = s.folded_count;
+    i.limit_fold_points = s.limit_fold_points;
     i.max_error = s.max_error;
     i.max_error_rel = s.bbox_diagonal > 0 ? s.max_error / s.bbox_diagonal : 0.0;
     i.max_parametric_error = s.max_parametric_error;

@@ -867,7 +867,7 @@ static void limit_surfaces_of_a_regular_torus_are_exact(void) {
   CHECK(info.level >= 1 && info.level <= 5);
   CHECK(info.max_normal_jump_deg < 1e-6 && info.max_crease_angle_deg == 0.0);
   CHECK(info.max_parametric_error <= 1e-12 * info.bbox_diagonal && info.max_normal_deviation_deg < 1e-6);
-  CHECK(info.folded_count == 0 && info.reserved == 0);
+  CHECK(info.folded_count == 0 && info.limit_fold_points == 0);
   worst = check_bspline_surfaces(cage, surfaces, &info, &identical);
   CHECK(worst <= 1e-12 * info.bbox_diagonal);
   CHECK(identical == 4 * 48); /* every side of every surface */

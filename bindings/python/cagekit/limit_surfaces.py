@@ -64,7 +64,7 @@ class LimitSurfaceOptions(_lib._Versioned):
 class LimitSurfaceInfo(_lib._Versioned):
     _fields_ = [("struct_size", c_size_t), ("surface_count", c_uint32), ("exact_count", c_uint32),
                 ("approximated_count", c_uint32), ("over_tolerance_count", c_uint32), ("folded_count", c_uint32),
-                ("level", c_uint32), ("ptex_face_count", c_uint32), ("reserved", c_uint32), ("max_error", c_double),
+                ("level", c_uint32), ("ptex_face_count", c_uint32), ("limit_fold_points", c_uint32), ("max_error", c_double),
                 ("max_error_rel", c_double), ("max_parametric_error", c_double),
                 ("max_normal_deviation_deg", c_double), ("max_normal_jump_deg", c_double),
                 ("max_crease_angle_deg", c_double), ("bbox_diagonal", c_double), ("tolerance", c_double)]
@@ -202,7 +202,8 @@ class LimitSurfaces(Handle):
     @property
     def info(self):
         """Record: surface_count, exact_count, approximated_count, over_tolerance_count (also
-        folded ones), folded_count, level (the largest knot level used), ptex_face_count, max_error
+        folded ones), folded_count, level (the largest knot level used), ptex_face_count,
+        limit_fold_points (border samples where the limit itself folds: left out of the jump), max_error
         (two-sided, model units), max_error_rel (of bbox_diagonal), max_parametric_error,
         max_normal_deviation_deg, max_normal_jump_deg (smooth borders), max_crease_angle_deg
         (crease / non-manifold borders), bbox_diagonal, tolerance (absolute)."""
