@@ -1776,6 +1776,171 @@ CAGEKIT_API cagekit_status cagekit_limit_patches_get(cagekit_limit_patches patch
                                                      uint32_t* patch_count_out, cagekit_limit_patch* patch_array);
 
 /* ------------------------------------------------------------------------------------------ */
+/* Limit surface as B-spline surfaces, one per ptex face (for CAD kernels: STEP, NURBS faces)   */
+/* ------------------------------------------------------------------------------------------ */
+
+/* The limit surface of a cage (as cagekit_surface_create with default options evaluates it) as
+ * one non-rational B-spline surface per ptex face (a cage quad has one, an n-gon n; ptex faces of
+ * hole faces have none): what a CAD kernel takes as a NURBS face directly. Each surface has its
+ * degrees (3 x 3 today), clamped ("open") knot vectors in [0, 1] with the end knots repeated
+ * degree + 1 times and uniform simple interior knots, and num_u x num_v control points. The knot
+ * vectors may differ between surfaces; read each surface's own.
+ * Where the limit surface of a ptex face is piecewise bicubic on the knot grid (regular faces,
+ * also at infinitely sharp creases and boundaries) the surface IS the limit surface ("exact",
+ * measured below 1e-12 of the diagonal). Next to an extraordinary vertex it approximates it
+ * within the tolerance where max_level allows (knots are refined until it does). Shared borders
+ * are the same curve on both surfaces (identical border control points where the knots agree),
+ * and across smooth (non-crease) borders the cross-boundary derivatives are constrained so that
+ * the normals agree (G1); crease edges are C0 borders, boundaries stay boundaries.
+ * Errors are measured as the largest distance between surface and limit surface at equal
+ * parameters on a grid of at least 33 x 33 per surface; normal jumps as the angle between the two
+ * surfaces' normals at points along every shared border. */
+typedef struct cagekit_limit_surfaces_t* cagekit_limit_surfaces;
+
+typedef struct cagekit_limit_surface_options {
+  size_t struct_size; /* sizeof(cagekit_limit_surface_options) */
+  double tolerance;   /* largest distance allowed between an approximated surface and the limit
+                         surface, as a fraction of the bounding-box diagonal of the cage's control
+                         points; finite and > 0 (default 1e-4) */
+  uint32_t max_level; /* largest knot level tried, 1..7 (default 5): at level l a quad ptex face
+                         has up to 2^l knot spans per direction; surfaces still above the
+                         tolerance at max_level are kept and counted in over_tolerance_count */
+  uint32_t min_level; /* smallest knot level tried, 1..max_level (default 1) */
+} cagekit_limit_surface_options;
+
+#define CAGEKIT_LIMIT_SURFACE_OPTIONS_INIT { sizeof(cagekit_limit_surface_options), 1e-4, 5, 1 }
+
+typedef struct cagekit_limit_surface_info {
+  size_t struct_size;            /* set by the caller: sizeof(cagekit_limit_surface_info) */
+  uint32_t surface_count;        /* exact_count + approximated_count */
+  uint32_t exact_count;          /* surfaces equal to the limit surface */
+  uint32_t approximated_count;
+  uint32_t over_tolerance_count; /* approximated surfaces above the tolerance (max_level reached) */
+  double max_error;              /* largest measured error of a surface, model units */
+  double max_error_rel;          /* max_error / bbox_diagonal */
+  double max_normal_jump_deg;    /* largest normal jump across smooth shared borders, degrees */
+  double max_crease_angle_deg;   /* largest normal jump across crease / non-manifold borders, degrees */
+  double bbox_diagonal;          /* of the cage's control points */
+  double tolerance;              /* the absolute tolerance: options.tolerance * bbox_diagonal */
+  uint32_t level;                /* the largest knot level used */
+  uint32_t ptex_face_count;      /* ptex faces of the cage, holes included */
+} cagekit_limit_surface_info;
+
+/* What lies across one side of a surface. */
+typedef enum cagekit_surface_border_kind {
+  CAGEKIT_SURFACE_BORDER_BOUNDARY = 0,     /* a boundary edge (or next to a hole): no neighbour */
+  CAGEKIT_SURFACE_BORDER_SMOOTH = 1,       /* shared with one neighbour, tangent-continuous (G1) */
+  CAGEKIT_SURFACE_BORDER_CREASE = 2,       /* shared along an infinitely sharp crease (C0) */
+  CAGEKIT_SURFACE_BORDER_NON_MANIFOLD = 3, /* a cage edge in more than two faces (sharp, C0): the
+                                              border curve is shared by all of them */
+  CAGEKIT_SURFACE_BORDER_KIND_MAX_ENUM = 0x7fffffff
+} cagekit_surface_border_kind;
+
+/* A parameter direction of a surface. */
+typedef enum cagekit_surface_direction {
+  CAGEKIT_SURFACE_DIRECTION_U = 0,
+  CAGEKIT_SURFACE_DIRECTION_V = 1,
+  CAGEKIT_SURFACE_DIRECTION_MAX_ENUM = 0x7fffffff
+} cagekit_surface_direction;
+
+/* One side of a surface. Sides: 0 is v = 0 (parameter u), 1 is u = 1 (parameter v), 2 is v = 1
+ * (parameter u), 3 is u = 0 (parameter v). Not versioned: its layout is fixed for this ABI
+ * version. */
+typedef struct cagekit_limit_surface_side {
+  cagekit_surface_border_kind kind;
+  uint32_t neighbour_count;   /* 0 for boundaries; 1, or 2 where a quad side meets two n-gon
+                                 sub-faces (each on half of it); more at non-manifold edges */
+  double max_normal_jump_deg; /* measured along this side (0 for boundaries) */
+} cagekit_limit_surface_side;
+
+/* One surface, without its knots and control points (cagekit_limit_surfaces_get_knots,
+ * cagekit_limit_surfaces_get_control_points). Not versioned: its layout is fixed for this ABI
+ * version. */
+typedef struct cagekit_limit_surface {
+  uint32_t ptex_face;     /* ptex face (numbering of cagekit_surface_get_ptex_face); the surface's
+                             (u, v) in [0,1]^2 is that ptex face's location (u, v) */
+  uint32_t cage_face;     /* the cage face it belongs to */
+  uint32_t degree_u, degree_v;
+  uint32_t knot_count_u;  /* = num_u + degree_u + 1 */
+  uint32_t knot_count_v;  /* = num_v + degree_v + 1 */
+  uint32_t num_u, num_v;  /* control points per direction */
+  cagekit_bool32 exact;   /* 1: the surface is the limit surface; 0: an approximation */
+  uint32_t reserved;      /* 0 */
+  double error;           /* measured largest distance to the limit surface, model units */
+  cagekit_limit_surface_side sides[4];
+} cagekit_limit_surface;
+
+/* One neighbour along a side: the side's parameter range [t0, t1] and where it lies on the
+ * neighbour's side: neighbour parameter = n0 + (t - t0) / (t1 - t0) * (n1 - n0) (n1 < n0: the
+ * two run in opposite directions). Not versioned: its layout is fixed for this ABI version. */
+typedef struct cagekit_limit_surface_neighbour {
+  uint32_t surface; /* the neighbour's index (as for cagekit_limit_surfaces_get_surface) */
+  uint32_t side;    /* the neighbour's side, 0..3 */
+  double t0, t1;    /* the range on this side */
+  double n0, n1;    /* the same range on the neighbour's side */
+} cagekit_limit_surface_neighbour;
+
+/* Builds the B-spline surfaces of `cage`'s limit surface. options may be NULL (defaults). Long
+ * operation (progress stage "limit B-spline surfaces", cancel).
+ * Ownership: *out receives one reference (release it with cagekit_limit_surfaces_release).
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (out NULL, bad struct_size or options, min_level above
+ *   max_level), INVALID_MESH (a cage that cannot be subdivided), CANCELLED, OUT_OF_MEMORY (also
+ *   against the context's memory budget).
+ * Threading: reads `cage`; thread-safe. The result is immutable and may be read from several
+ *   threads at once. */
+CAGEKIT_API cagekit_status cagekit_limit_surfaces_create(cagekit_cage cage,
+                                                         const cagekit_limit_surface_options* options,
+                                                         cagekit_limit_surfaces* out);
+/* Adds a reference (retain) or drops one (release; the last one destroys the surfaces). NULL is
+ * ignored.
+ * Errors: none.
+ * Threading: any thread (the reference count is atomic). */
+CAGEKIT_API void cagekit_limit_surfaces_retain(cagekit_limit_surfaces surfaces);
+CAGEKIT_API void cagekit_limit_surfaces_release(cagekit_limit_surfaces surfaces);
+/* Counts, errors and normal jumps of the surfaces, into *info.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (info NULL or bad struct_size).
+ * Threading: reads `surfaces`; thread-safe. */
+CAGEKIT_API cagekit_status cagekit_limit_surfaces_get_info(cagekit_limit_surfaces surfaces,
+                                                           cagekit_limit_surface_info* info);
+/* Surface `index` (0 .. surface_count - 1, ordered by ptex face) into *surface.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (surface NULL, index out of range).
+ * Threading: reads `surfaces`; thread-safe. */
+CAGEKIT_API cagekit_status cagekit_limit_surfaces_get_surface(cagekit_limit_surfaces surfaces, uint32_t index,
+                                                              cagekit_limit_surface* surface);
+/* The knot vector of surface `index` in `direction`: knot_count_u (or _v) values, nondecreasing,
+ * from 0 to 1, the end knots repeated degree + 1 times. Two-call (Buffers) over knots.
+ * Ownership: `knots` is the caller's, written during the call only.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (index out of range, direction not a
+ *   cagekit_surface_direction, knot_count_out NULL, knots NULL with a nonzero capacity),
+ *   SIZE_INSUFFICIENT.
+ * Threading: reads `surfaces`; thread-safe. */
+CAGEKIT_API cagekit_status cagekit_limit_surfaces_get_knots(cagekit_limit_surfaces surfaces, uint32_t index,
+                                                            cagekit_surface_direction direction,
+                                                            uint32_t knot_capacity, uint32_t* knot_count_out,
+                                                            double* knots);
+/* The control points of surface `index` as xyz triples, row-major with u inner: point (i, j)
+ * (i along u, 0 .. num_u - 1; j along v) is points[3 * (j * num_u + i) + 0..2], with weight
+ * N_i(u) N_j(v) (the B-spline basis functions of the knot vectors). Two-call (Buffers) over
+ * points (num_u * num_v of them).
+ * Ownership: `points` is the caller's, written during the call only.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (index out of range, point_count_out NULL, points NULL
+ *   with a nonzero capacity), SIZE_INSUFFICIENT.
+ * Threading: reads `surfaces`; thread-safe. */
+CAGEKIT_API cagekit_status cagekit_limit_surfaces_get_control_points(cagekit_limit_surfaces surfaces, uint32_t index,
+                                                                     uint32_t point_capacity,
+                                                                     uint32_t* point_count_out, double* points);
+/* The neighbours of surface `index` across its side `side` (0..3, see cagekit_limit_surface_side),
+ * each with the part of the side it covers. Two-call (Buffers) over neighbours (the side's neighbour_count).
+ * Ownership: `neighbours` is the caller's, written during the call only.
+ * Errors: INVALID_HANDLE, INVALID_ARGUMENT (index out of range, side above 3, neighbour_count_out
+ *   NULL, neighbours NULL with a nonzero capacity), SIZE_INSUFFICIENT.
+ * Threading: reads `surfaces`; thread-safe. */
+CAGEKIT_API cagekit_status cagekit_limit_surfaces_get_neighbours(cagekit_limit_surfaces surfaces, uint32_t index,
+                                                                 uint32_t side, uint32_t neighbour_capacity,
+                                                                 uint32_t* neighbour_count_out,
+                                                                 cagekit_limit_surface_neighbour* neighbours);
+
+/* ------------------------------------------------------------------------------------------ */
 /* Rendering: pictures of meshes, cages (their limit surfaces) and error maps                 */
 /* ------------------------------------------------------------------------------------------ */
 

@@ -17,6 +17,7 @@
 #include "core/cage.h"
 #include "core/task_monitor.h"
 #include "layout/simplify/face_merge_simplifier.h"
+#include "subdiv/limit_bspline_surfaces.h"
 #include "subdiv/limit_patches.h"
 #include "subdiv/subdivision_surface.h"
 #include "multires/cpu_deformer.h"
@@ -34,6 +35,7 @@ enum class HandleType : uint32_t {
   binding = 0x424e4431,   // "BND1"
   cpu_deformer = 0x43444631, // "CDF1"
   limit_patches = 0x4c505431, // "LPT1"
+  limit_surfaces = 0x4c535231, // "LSR1"
   dead = 0xdeadbeef,
 };
 
@@ -96,6 +98,13 @@ struct cagekit_limit_patches_t : ContextBound {
   static constexpr cagekit_capi::HandleType kType = cagekit_capi::HandleType::limit_patches;
   cagekit_limit_patches_t(cagekit_context c, cagekit::LimitPatches p) : ContextBound(kType, c), patches(std::move(p)) {}
   const cagekit::LimitPatches patches;
+};
+
+struct cagekit_limit_surfaces_t : ContextBound {
+  static constexpr cagekit_capi::HandleType kType = cagekit_capi::HandleType::limit_surfaces;
+  cagekit_limit_surfaces_t(cagekit_context c, cagekit::LimitBSplineSurfaces s)
+      : ContextBound(kType, c), surfaces(std::move(s)) {}
+  const cagekit::LimitBSplineSurfaces surfaces;
 };
 
 struct cagekit_hierarchy_t : ContextBound {

@@ -229,6 +229,20 @@ CAGEKIT_OPTIONS_FROM_C(limit_patch_options_from_c, cagekit_limit_patch_options, 
                        CAGEKIT_LIMIT_PATCH_OPTION_TABLE, cagekit::LimitPatchOptions, lo,
                        if (lo.threads == 0) lo.threads = int(std::max(1u, std::thread::hardware_concurrency()));)
 
+// cagekit_limit_surface_options (CAGEKIT_LIMIT_SURFACE_OPTIONS_INIT) -> `lo`; min_level <= max_level
+// after the table.
+#define CAGEKIT_LIMIT_SURFACE_OPTION_TABLE(X, A)                                                      \
+  X(A, tolerance, 1e-4, greater_than(0.0), lo.tolerance)                                              \
+  X(A, max_level, 5, (UintIn{1, cagekit::kMaxLimitBSplineLevel}), lo.max_level)                       \
+  X(A, min_level, 1, (UintIn{1, cagekit::kMaxLimitBSplineLevel}), lo.min_level)
+
+CAGEKIT_OPTIONS_FROM_C(limit_surface_options_from_c, cagekit_limit_surface_options,
+                       CAGEKIT_LIMIT_SURFACE_OPTIONS_INIT, CAGEKIT_LIMIT_SURFACE_OPTION_TABLE,
+                       cagekit::LimitBSplineOptions, lo,
+                       if (lo.min_level > lo.max_level) fail(Status::invalid_argument,
+                           "cagekit_limit_surface_options.min_level must be at most max_level (" +
+                           std::to_string(lo.max_level) + "), not " + std::to_string(lo.min_level));)
+
 // cagekit_simplify_options (CAGEKIT_SIMPLIFY_OPTIONS_INIT) -> `so`.
 #define CAGEKIT_SIMPLIFY_OPTION_TABLE(X, A)                                                           \
   X(A, tie_break_epsilon, 0.01, at_least(0.0), so.tie_break_epsilon)                                  \

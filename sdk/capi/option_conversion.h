@@ -14,6 +14,7 @@
 #include "layout/simplify/face_merge_simplifier.h"
 #include "multires/scan_binding.h"
 #include "pipeline/scan_to_cage.h"
+#include "subdiv/limit_bspline_surfaces.h"
 #include "subdiv/limit_patches.h"
 #include "subdiv/subdivision_surface.h"
 #include "subdiv/uniform_refinement.h"
@@ -32,6 +33,7 @@ cagekit::RepairOptions repair_options_from_c(const cagekit_repair_options* optio
 cagekit::RefineOptions subdivide_options_from_c(const cagekit_subdivide_options* options);
 cagekit::SurfaceOptions surface_options_from_c(const cagekit_surface_options* options);
 cagekit::LimitPatchOptions limit_patch_options_from_c(const cagekit_limit_patch_options* options);
+cagekit::LimitBSplineOptions limit_surface_options_from_c(const cagekit_limit_surface_options* options);
 cagekit::SimplifyOptions simplify_options_from_c(const cagekit_simplify_options* options);
 cagekit::BindOptions bind_options_from_c(const cagekit_bind_options* options);
 cagekit::GlDeformerOptions gl_deformer_options_from_c(const cagekit_gl_deformer_options* options);
