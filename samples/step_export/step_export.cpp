@@ -28,6 +28,7 @@
 #include <Message_Messenger.hxx>
 #include <Message_PrinterOStream.hxx>
 #include <Precision.hxx>
+#include <STEPControl_Controller.hxx>
 #include <STEPControl_Reader.hxx>
 #include <STEPControl_Writer.hxx>
 #include <ShapeAnalysis_Surface.hxx>
@@ -238,9 +239,12 @@ WriteReport write_step(const std::vector<BSplineSurface>& surfaces, const std::s
     report.check_seconds = seconds_since(t);
 
     t = Clock::now();
-    STEPControl_Writer writer;  // registers the STEP parameters (STEPControl_Controller::Init) first
+    // The schema parameter exists once STEPControl_Controller::Init() has registered it, and is read
+    // when the writer makes its model (in its constructor).
+    STEPControl_Controller::Init();
     if (!Interface_Static::SetCVal("write.step.schema", options.schema == "AP203" ? "AP203" : "AP214CD"))
       throw Invalid("OCCT does not take the STEP schema " + options.schema);
+    STEPControl_Writer writer;
     if (writer.Transfer(result, STEPControl_AsIs) != IFSelect_RetDone) throw Invalid("STEP transfer failed");
     if (writer.Write(path.c_str()) != IFSelect_RetDone) throw Invalid("cannot write " + path);
     report.write_seconds = seconds_since(t);
