@@ -32,7 +32,7 @@ const RealOption kSewing{"--sewing-tolerance", 1e-7, 1e-12, 1e-2, "REL",
                          "sewing tolerance relative to the bounding-box diagonal"};
 const TextOption kSchema{"--schema", "AP214", "NAME", "STEP schema: AP214 or AP203"};
 const FlagOption kCheck{"--check",
-                        "read the file back and measure it against the limit surface (9 x 9 points per surface)"};
+                        "read the file back and measure it against the limit surface (5 x 5 points per surface)"};
 
 #ifdef CAGEKIT_CLI_HAS_OCCT
 
@@ -146,11 +146,12 @@ int command_export_surfaces(const Options& args) {
   j["seconds"] = json_rounded(seconds_since(start), "%.3f");
 
   if (read_back) {
-    // 9 x 9 limit-surface points per surface (cagekit_surface_evaluate at the surfaces' ptex faces).
+    // 5 x 5 limit-surface points per surface (cagekit_surface_evaluate at the surfaces' ptex faces);
+    // each is projected onto the faces near it (about 3 ms per point on a 53 MB fandisk file).
     std::vector<cagekit_surface_location> locations;
     for (const cagekit_limit_surface& d : descriptors)
-      for (int b = 0; b < 9; ++b)
-        for (int a = 0; a < 9; ++a) locations.push_back({d.ptex_face, a / 8.0, b / 8.0});
+      for (int b = 0; b < 5; ++b)
+        for (int a = 0; a < 5; ++a) locations.push_back({d.ptex_face, a / 4.0, b / 4.0});
     std::vector<std::array<double, 3>> points;
     session.run(files[0], [&] {
       const cagekit::Surface limit = cage.create_surface();
