@@ -219,8 +219,8 @@ TEST(StepExport, bad_input_is_reported_not_thrown) {
 }
 
 // The fitted cage of `cagekit pipeline fandisk.obj OUT --faces 200` (the same library call) at
-// 1e-3 and 1e-4: the figures are printed; only the face counts and the round trip are asserted
-// (the current surfaces are known to be over the tolerance and to fold there).
+// 1e-3 (the CI tolerance; 1e-4 costs as much again): the figures are printed; only the
+// face counts and the round trip are asserted (the current surfaces are known to fold there).
 TEST(StepExport, fandisk_pipeline_cage_figures) {
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
   GTEST_SKIP() << "Release only";
@@ -230,7 +230,7 @@ TEST(StepExport, fandisk_pipeline_cage_figures) {
   cagekit::ScanToCageOptions options;
   options.target = 200;
   const Cage cage = cagekit::scan_to_cage(cagekit_test::load_mesh(path), options).cage;
-  for (double tolerance : {1e-3, 1e-4}) {
+  for (double tolerance : {1e-3}) {
     LimitBSplineSurfaces r;
     const auto start = std::chrono::steady_clock::now();
     const RoundTrip t = round_trip(cage, tolerance, tolerance == 1e-3 ? "fandisk_1e-3" : "fandisk_1e-4", r, 3);
