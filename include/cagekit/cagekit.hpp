@@ -7,7 +7,7 @@
 //
 // What it adds:
 // - RAII handles (cagekit::Context, Mesh, Cage, Surface, Hierarchy, Binding, CpuDeformer,
-//   LimitPatches, Blob; GlDeformer in <cagekit/cagekit_gl.hpp>): movable, not copyable; the
+//   LimitPatches, LimitSurfaces, Blob; GlDeformer in <cagekit/cagekit_gl.hpp>): movable, not copyable; the
 //   destructor releases the reference. share() is the explicit copy: it retains the C handle
 //   and returns a second owner of the same object. get() is the raw handle for C calls,
 //   release() detaches it (the caller then owns that reference), adopt()/borrow() wrap a raw
@@ -141,6 +141,7 @@ CAGEKIT_HPP_DEFAULTS(cagekit_fit_options, CAGEKIT_FIT_OPTIONS_INIT)
 CAGEKIT_HPP_DEFAULTS(cagekit_scan_to_cage_options, CAGEKIT_SCAN_TO_CAGE_OPTIONS_INIT)
 CAGEKIT_HPP_DEFAULTS(cagekit_bind_options, CAGEKIT_BIND_OPTIONS_INIT)
 CAGEKIT_HPP_DEFAULTS(cagekit_limit_patch_options, CAGEKIT_LIMIT_PATCH_OPTIONS_INIT)
+CAGEKIT_HPP_DEFAULTS(cagekit_limit_surface_options, CAGEKIT_LIMIT_SURFACE_OPTIONS_INIT)
 CAGEKIT_HPP_DEFAULTS(cagekit_render_item_options, CAGEKIT_RENDER_ITEM_OPTIONS_INIT)
 CAGEKIT_HPP_DEFAULTS(cagekit_render_scalar_options, CAGEKIT_RENDER_SCALAR_OPTIONS_INIT)
 CAGEKIT_HPP_DEFAULTS(cagekit_render_camera, CAGEKIT_RENDER_CAMERA_INIT)
@@ -382,6 +383,7 @@ class Hierarchy;
 class Binding;
 class CpuDeformer;
 class LimitPatches;
+class LimitSurfaces;
 class Blob;
 class RenderScene;
 
@@ -759,6 +761,8 @@ class Cage : public detail::Handle<Cage, cagekit_cage, cagekit_cage_retain, cage
   Surface create_surface(const cagekit_surface_options& options = defaults<cagekit_surface_options>()) const;
   LimitPatches create_limit_patches(
       const cagekit_limit_patch_options& options = defaults<cagekit_limit_patch_options>()) const;
+  LimitSurfaces create_limit_surfaces(
+      const cagekit_limit_surface_options& options = defaults<cagekit_limit_surface_options>()) const;
 
   // Fits the limit surface to `scan` (cagekit_cage_fit); this cage is unchanged.
   Fit fit(const Mesh& scan, const cagekit_fit_options& options = defaults<cagekit_fit_options>()) const;
@@ -899,6 +903,56 @@ class LimitPatches
     if (count != 0)
       check(cagekit_limit_patches_get(handle_, count, &count, patches.data()), "cagekit_limit_patches_get");
     return patches;
+  }
+};
+
+// ------------------------------------------------------------------------------------------------
+// Limit surfaces: the limit surface as one B-spline surface per ptex face
+// ------------------------------------------------------------------------------------------------
+
+class LimitSurfaces
+    : public detail::Handle<LimitSurfaces, cagekit_limit_surfaces, cagekit_limit_surfaces_retain,
+                            cagekit_limit_surfaces_release> {
+  CAGEKIT_HPP_HANDLE(LimitSurfaces, cagekit_limit_surfaces, cagekit_limit_surfaces_retain,
+                     cagekit_limit_surfaces_release)
+
+  cagekit_limit_surface_info info() const {
+    cagekit_limit_surface_info info = defaults<cagekit_limit_surface_info>();
+    check(cagekit_limit_surfaces_get_info(handle_, &info), "cagekit_limit_surfaces_get_info");
+    return info;
+  }
+  // Surface `index` without its knots and control points (0 .. info().surface_count - 1).
+  cagekit_limit_surface surface(uint32_t index) const {
+    cagekit_limit_surface surface{};
+    check(cagekit_limit_surfaces_get_surface(handle_, index, &surface), "cagekit_limit_surfaces_get_surface");
+    return surface;
+  }
+  // The knot vector of surface `index` in `direction` (clamped, with the repeated end knots).
+  std::vector<double> knots(uint32_t index, cagekit_surface_direction direction) const {
+    const char* fn = "cagekit_limit_surfaces_get_knots";
+    uint32_t count = 0;
+    check(cagekit_limit_surfaces_get_knots(handle_, index, direction, 0, &count, nullptr), fn);
+    std::vector<double> knots(count);
+    if (count != 0) check(cagekit_limit_surfaces_get_knots(handle_, index, direction, count, &count, knots.data()), fn);
+    return knots;
+  }
+  // The control points of surface `index` as xyz triples, row-major with u inner.
+  std::vector<double> control_points(uint32_t index) const {
+    const char* fn = "cagekit_limit_surfaces_get_control_points";
+    uint32_t count = 0;
+    check(cagekit_limit_surfaces_get_control_points(handle_, index, 0, &count, nullptr), fn);
+    std::vector<double> points(3 * static_cast<size_t>(count));
+    if (count != 0) check(cagekit_limit_surfaces_get_control_points(handle_, index, count, &count, points.data()), fn);
+    return points;
+  }
+  // The neighbours of surface `index` across its side `side` (0..3).
+  std::vector<cagekit_limit_surface_neighbour> neighbours(uint32_t index, uint32_t side) const {
+    const char* fn = "cagekit_limit_surfaces_get_neighbours";
+    uint32_t count = 0;
+    check(cagekit_limit_surfaces_get_neighbours(handle_, index, side, 0, &count, nullptr), fn);
+    std::vector<cagekit_limit_surface_neighbour> out(count);
+    if (count != 0) check(cagekit_limit_surfaces_get_neighbours(handle_, index, side, count, &count, out.data()), fn);
+    return out;
   }
 };
 
@@ -1380,6 +1434,12 @@ inline LimitPatches Cage::create_limit_patches(const cagekit_limit_patch_options
   cagekit_limit_patches out = nullptr;
   check(cagekit_limit_patches_create(handle_, &options, &out), "cagekit_limit_patches_create");
   return wrap<LimitPatches>(out);
+}
+
+inline LimitSurfaces Cage::create_limit_surfaces(const cagekit_limit_surface_options& options) const {
+  cagekit_limit_surfaces out = nullptr;
+  check(cagekit_limit_surfaces_create(handle_, &options, &out), "cagekit_limit_surfaces_create");
+  return wrap<LimitSurfaces>(out);
 }
 
 inline Cage::Fit Cage::fit(const Mesh& scan, const cagekit_fit_options& options) const {

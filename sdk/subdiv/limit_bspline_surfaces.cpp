@@ -19,6 +19,13 @@ constexpr double kPi = 3.14159265358979323846;
 // Second-row control points next to an extraordinary end of a smooth border that are left to the
 // least-squares fit instead of the shared cross derivative.
 constexpr int kIrregularSkip = 2;
+// A surface whose normal is more than this far from the limit surface's normal somewhere on its
+// check grid is folded: it is refined like a surface over the tolerance.
+constexpr double kFoldDegrees = 90.0;
+// Sine of the angle between the two first derivatives below which a surface point counts as
+// degenerate (no normal).
+constexpr double kDegenerateSine = 1e-2;
+constexpr int kMaxLevelDifference = 1;
 
 // ---- B-spline basics (clamped knot vectors, degree 3) -------------------------------------
 
@@ -186,6 +193,32 @@ void split_curve(int spans, const std::vector<Vec3>& points, std::vector<Vec3>& 
   right.assign(p.end() - long(half), p.end());
 }
 
+// Inserts knot t once (Boehm) into a clamped cubic curve (knots, points).
+void insert_knot(std::vector<double>& knots, std::vector<Vec3>& p, double t) {
+  const int n = int(p.size());
+  const int k = find_span(knots, n, t);  // knots[k] <= t < knots[k + 1]
+  std::vector<Vec3> q(size_t(n + 1));
+  for (int i = 0; i <= k - kDegree; ++i) q[size_t(i)] = p[size_t(i)];
+  for (int i = k; i < n; ++i) q[size_t(i + 1)] = p[size_t(i)];
+  for (int i = k - kDegree + 1; i <= k; ++i) {
+    const double a = (t - knots[size_t(i)]) / (knots[size_t(i + kDegree)] - knots[size_t(i)]);
+    q[size_t(i)] = p[size_t(i - 1)] * (1.0 - a) + p[size_t(i)] * a;
+  }
+  knots.insert(knots.begin() + k + 1, t);
+  p.swap(q);
+}
+
+// The same curve with `to` uniform spans (a power-of-two multiple of `from`): every new knot
+// inserted once, so the refined curve is the given one (to rounding).
+std::vector<Vec3> refine_curve(const std::vector<Vec3>& points, int from, int to) {
+  std::vector<Vec3> p = points;
+  if (p.empty() || to == from) return p;
+  std::vector<double> knots = clamped_uniform_knots(from);
+  for (int i = 1; i < to; ++i)
+    if ((i * from) % to != 0) insert_knot(knots, p, double(i) / to);
+  return p;
+}
+
 // ---- topology of the ptex sides --------------------------------------------------------------
 
 // A key of a ptex corner: a cage vertex, an edge midpoint or a face centre.
@@ -206,6 +239,7 @@ struct Attachment {
 };
 
 struct Segment {
+  int level = 1;  // knot level (quad units): 2^level spans for a cage edge, 2^(level-1) for an inner segment
   int spans = 1;
   uint64_t key0 = 0, key1 = 0;  // corner keys at s = 0 and s = 1
   BorderKind kind = BorderKind::boundary;
@@ -237,11 +271,53 @@ class Builder {
     build_topology();
   }
 
+  // Knot levels are chosen per surface and direction: every segment (shared border) and every
+  // surface starts at min_level; a surface over the tolerance (or folded) goes one level up in
+  // both directions together with its four borders, and every surface keeps at least its
+  // borders' levels in the matching direction (a border curve is refined into the surface's knots
+  // by knot insertion, so it stays the same curve). Repeated until no surface below max_level is
+  // over.
   LimitBSplineSurfaces run(const LimitBSplineOptions& options, double diagonal) {
+    const uint32_t num_ptex = surface_.num_ptex_faces();
+    const double tolerance = options.tolerance * diagonal;
+    const double max_jump_deg = options.max_normal_jump_deg;
+    level_.assign(num_ptex, {options.min_level, options.min_level});
+    for (Segment& seg : segments_) seg.level = options.min_level;
     LimitBSplineSurfaces result;
-    for (int level = options.min_level; level <= options.max_level; ++level) {
-      result = build_level(level, options.tolerance * diagonal, diagonal);
-      if (result.over_tolerance_count == 0) break;
+    for (;;) {
+      result = build_all(tolerance, diagonal);
+      bool raised = false;
+      for (const LimitBSplineSurface& surf : result.surfaces) {
+        double jump = 0.0;
+        for (const SurfaceSide& side : surf.sides)
+          if (side.kind == BorderKind::smooth) jump = std::max(jump, side.max_normal_jump_deg);
+        if (surf.exact ||
+            (surf.error <= tolerance && surf.max_normal_deviation_deg <= kFoldDegrees && jump <= max_jump_deg))
+          continue;
+        std::array<int, 2>& level = level_[surf.ptex_face];
+        const int next = std::max(level[0], level[1]) + 1;
+        if (next > options.max_level) continue;
+        level = {next, next};
+        for (int side = 0; side < 4; ++side) {
+          Segment& seg = segments_[size_t(sides_[surf.ptex_face][size_t(side)].segment)];
+          seg.level = std::max(seg.level, next);
+        }
+        raised = true;
+      }
+      if (!raised) break;
+      for (uint32_t p = 0; p < num_ptex; ++p)
+        for (int side = 0; side < 4; ++side) {
+          if (sides_[p][size_t(side)].segment < 0) continue;
+          const int l = segments_[size_t(sides_[p][size_t(side)].segment)].level;
+          int& mine = level_[p][side == 0 || side == 2 ? 0 : 1];
+          mine = std::max(mine, l);
+        }
+      // Levels of one surface differ by at most kMaxLevelDifference (long thin knot cells next to
+      // fixed border rows fold).
+      for (uint32_t p = 0; p < num_ptex; ++p) {
+        const int top = std::max(level_[p][0], level_[p][1]);
+        for (int& l : level_[p]) l = std::max(l, top - kMaxLevelDifference);
+      }
     }
     return result;
   }
@@ -434,9 +510,9 @@ class Builder {
     return d * (1.0 / a.scale);
   }
 
-  void fit_segment(Segment& s, int quad_spans) {
+  void fit_segment(Segment& s) {
     const bool inner = (s.key0 >> 62) != 0;
-    s.spans = inner ? quad_spans / 2 : quad_spans;
+    s.spans = inner ? (1 << s.level) / 2 : (1 << s.level);
     const int samples = 4 * s.spans + 1;
     std::vector<Vec3> y(static_cast<size_t>(samples));
     for (int k = 0; k < samples; ++k) {
@@ -478,11 +554,14 @@ class Builder {
 
   // Control points of an attachment's side in its own parameter t (border curve, inward
   // cross derivative in the face's ptex units; empty when the border is not smooth).
-  void side_points(const Segment& s, const Attachment& a, std::vector<Vec3>& curve, std::vector<Vec3>& cross) const {
+  // `spans`: the surface's knot spans along the side (a power-of-two multiple of the segment's).
+  void side_points(const Segment& s, const Attachment& a, int spans, std::vector<Vec3>& curve,
+                   std::vector<Vec3>& cross) const {
     const bool half = a.hi() - a.lo() < 0.75;
     const int which = half && a.lo() >= 0.5 ? 1 : 0;
-    curve = half ? s.curve_half[which] : s.curve;
-    cross = s.cross.empty() ? std::vector<Vec3>() : (half ? s.cross_half[which] : s.cross);
+    const int own = half ? s.spans / 2 : s.spans;
+    curve = refine_curve(half ? s.curve_half[which] : s.curve, own, spans);
+    cross = s.cross.empty() ? std::vector<Vec3>() : refine_curve(half ? s.cross_half[which] : s.cross, own, spans);
     if (a.s1 < a.s0) {
       std::reverse(curve.begin(), curve.end());
       std::reverse(cross.begin(), cross.end());
@@ -491,33 +570,39 @@ class Builder {
     for (Vec3& d : cross) d = d * (sign * a.scale);
   }
 
-  void fit_surface(LimitBSplineSurface& out, uint32_t ptex, int spans) {
-    const int n = spans + kDegree;
-    const double h = 1.0 / spans;
+  void fit_surface(LimitBSplineSurface& out, uint32_t ptex, int spans_u, int spans_v) {
+    const int nu = spans_u + kDegree, nv = spans_v + kDegree;
+    const double hu = 1.0 / spans_u, hv = 1.0 / spans_v;
     out.ptex_face = ptex;
     out.cage_face = surface_.base_face_of_ptex(ptex);
-    out.knots_u = out.knots_v = clamped_uniform_knots(spans);
-    out.num_u = out.num_v = uint32_t(n);
-    out.points.assign(size_t(n * n), Vec3());
-    auto at = [&](int i, int j) -> Vec3& { return out.points[size_t(j * n + i)]; };
-    std::vector<char> fixed(size_t(n * n), 0);
-    std::vector<Vec3> sum(size_t(n * n));
-    std::vector<int> count(size_t(n * n), 0), guess_count(size_t(n * n), 0);
-    std::vector<Vec3> guess(size_t(n * n));
+    out.knots_u = clamped_uniform_knots(spans_u);
+    out.knots_v = clamped_uniform_knots(spans_v);
+    out.num_u = uint32_t(nu);
+    out.num_v = uint32_t(nv);
+    const size_t total = size_t(nu) * size_t(nv);
+    out.points.assign(total, Vec3());
+    auto at = [&](int i, int j) -> Vec3& { return out.points[size_t(j * nu + i)]; };
+    std::vector<char> fixed(total, 0);
+    std::vector<Vec3> sum(total);
+    std::vector<int> count(total, 0), guess_count(total, 0);
+    std::vector<Vec3> guess(total);
     bool fixed_row[2] = {false, false}, fixed_col[2] = {false, false};  // second rows/cols
     for (int side = 0; side < 4; ++side) {
       const SideRef& ref = sides_[ptex][size_t(side)];
       const Segment& s = segments_[size_t(ref.segment)];
+      const bool along_u = side == 0 || side == 2;
+      const int n = along_u ? nu : nv;
+      const double h = along_u ? hv : hu;  // first knot span across the side
       std::vector<Vec3> curve, cross;
-      side_points(s, s.attachments[size_t(ref.attachment)], curve, cross);
+      side_points(s, s.attachments[size_t(ref.attachment)], along_u ? spans_u : spans_v, curve, cross);
       for (int k = 0; k < n; ++k) {
-        const int i = side == 0 || side == 2 ? k : (side == 1 ? n - 1 : 0);
-        const int j = side == 1 || side == 3 ? k : (side == 2 ? n - 1 : 0);
+        const int i = along_u ? k : (side == 1 ? nu - 1 : 0);
+        const int j = along_u ? (side == 2 ? nv - 1 : 0) : k;
         at(i, j) = curve[size_t(k)];
-        fixed[size_t(j * n + i)] = 2;
+        fixed[size_t(j * nu + i)] = 2;
       }
       if (cross.empty()) continue;
-      if (side == 0 || side == 2) fixed_row[side / 2] = true; else fixed_col[side == 3 ? 0 : 1] = true;
+      if (along_u) fixed_row[side / 2] = true; else fixed_col[side == 3 ? 0 : 1] = true;
       const Attachment& me = s.attachments[size_t(ref.attachment)];
       auto irregular = [&](double x) {
         return (x == 0.0 && s.irregular_end[0]) || (x == 1.0 && s.irregular_end[1]);
@@ -525,94 +610,96 @@ class Builder {
       const int k_lo = irregular(me.s0) ? kIrregularSkip + 1 : 1;
       const int k_hi = irregular(me.s1) ? n - 2 - kIrregularSkip : n - 2;
       for (int k = 1; k <= n - 2; ++k) {
-        const int i = side == 0 || side == 2 ? k : (side == 1 ? n - 2 : 1);
-        const int j = side == 1 || side == 3 ? k : (side == 2 ? n - 2 : 1);
+        const int i = along_u ? k : (side == 1 ? nu - 2 : 1);
+        const int j = along_u ? (side == 2 ? nv - 2 : 1) : k;
         const Vec3 value = curve[size_t(k)] + cross[size_t(k)] * (h / 3.0);
         if (k >= k_lo && k <= k_hi) {
-          sum[size_t(j * n + i)] += value;
-          ++count[size_t(j * n + i)];
+          sum[size_t(j * nu + i)] += value;
+          ++count[size_t(j * nu + i)];
         } else {
-          guess[size_t(j * n + i)] += value;
-          ++guess_count[size_t(j * n + i)];
+          guess[size_t(j * nu + i)] += value;
+          ++guess_count[size_t(j * nu + i)];
         }
       }
     }
     // Second-row points next to extraordinary ends (no constraint): fitted below, starting from
     // the cross-derivative guess.
     std::vector<int> loose;
-    for (int idx = 0; idx < n * n; ++idx) {
-      if (fixed[size_t(idx)] == 2) continue;
-      if (count[size_t(idx)] > 0) {
-        out.points[size_t(idx)] = sum[size_t(idx)] * (1.0 / count[size_t(idx)]);
-        fixed[size_t(idx)] = 1;
-      } else if (guess_count[size_t(idx)] > 0) {
-        out.points[size_t(idx)] = guess[size_t(idx)] * (1.0 / guess_count[size_t(idx)]);
-        loose.push_back(idx);
+    for (size_t idx = 0; idx < total; ++idx) {
+      if (fixed[idx] == 2) continue;
+      if (count[idx] > 0) {
+        out.points[idx] = sum[idx] * (1.0 / count[idx]);
+        fixed[idx] = 1;
+      } else if (guess_count[idx] > 0) {
+        out.points[idx] = guess[idx] * (1.0 / guess_count[idx]);
+        loose.push_back(int(idx));
       }
     }
     // Free rows / columns.
     std::vector<int> free_i, free_j;
-    for (int k = 1; k < n - 1; ++k) {
-      if (!((k == 1 && fixed_col[0]) || (k == n - 2 && fixed_col[1]))) free_i.push_back(k);
-      if (!((k == 1 && fixed_row[0]) || (k == n - 2 && fixed_row[1]))) free_j.push_back(k);
-    }
+    for (int k = 1; k < nu - 1; ++k)
+      if (!((k == 1 && fixed_col[0]) || (k == nu - 2 && fixed_col[1]))) free_i.push_back(k);
+    for (int k = 1; k < nv - 1; ++k)
+      if (!((k == 1 && fixed_row[0]) || (k == nv - 2 && fixed_row[1]))) free_j.push_back(k);
     if (loose.size() > 64) loose.resize(64);  // at most 4 sides x 2 ends x kIrregularSkip by construction
-    const int ns = 3 * spans + 1;
-    const std::vector<double> params = uniform_params(ns);
-    const std::vector<double> b = basis_matrix(out.knots_u, n, params);
-    std::vector<Vec3> samples(size_t(ns * ns));  // [c][a]: u = params[a], v = params[c]
-    for (int c = 0; c < ns; ++c)
-      for (int a = 0; a < ns; ++a)
-        samples[size_t(c * ns + a)] = surface_.evaluate_position(ptex, params[size_t(a)], params[size_t(c)], points_);
+    const int nsu = 3 * spans_u + 1, nsv = 3 * spans_v + 1;
+    const std::vector<double> params_u = uniform_params(nsu), params_v = uniform_params(nsv);
+    const std::vector<double> bu = basis_matrix(out.knots_u, nu, params_u);
+    const std::vector<double> bv = basis_matrix(out.knots_v, nv, params_v);
+    std::vector<Vec3> samples(size_t(nsu) * size_t(nsv));  // [c][a]: u = params_u[a], v = params_v[c]
+    for (int c = 0; c < nsv; ++c)
+      for (int a = 0; a < nsu; ++a)
+        samples[size_t(c * nsu + a)] =
+            surface_.evaluate_position(ptex, params_u[size_t(a)], params_v[size_t(c)], points_);
     // Residual of the samples against the surface without the points in `skip`.
     auto residual = [&](const std::vector<char>& skip) {
-      std::vector<Vec3> t(size_t(n * ns));  // t[j][a] = sum_i P[j][i] B[a][i]
-      for (int j = 0; j < n; ++j)
-        for (int a = 0; a < ns; ++a) {
+      std::vector<Vec3> t(size_t(nv) * size_t(nsu));  // t[j][a] = sum_i P[j][i] Bu[a][i]
+      for (int j = 0; j < nv; ++j)
+        for (int a = 0; a < nsu; ++a) {
           Vec3 acc;
-          for (int i = 0; i < n; ++i) {
-            const double w = b[size_t(a * n + i)];
-            if (w != 0.0 && !skip[size_t(j * n + i)]) acc += out.points[size_t(j * n + i)] * w;
+          for (int i = 0; i < nu; ++i) {
+            const double w = bu[size_t(a * nu + i)];
+            if (w != 0.0 && !skip[size_t(j * nu + i)]) acc += out.points[size_t(j * nu + i)] * w;
           }
-          t[size_t(j * ns + a)] = acc;
+          t[size_t(j * nsu + a)] = acc;
         }
-      std::vector<Vec3> r(size_t(ns * ns));
-      for (int c = 0; c < ns; ++c)
-        for (int a = 0; a < ns; ++a) {
+      std::vector<Vec3> r(size_t(nsu) * size_t(nsv));
+      for (int c = 0; c < nsv; ++c)
+        for (int a = 0; a < nsu; ++a) {
           Vec3 acc;
-          for (int j = 0; j < n; ++j) {
-            const double w = b[size_t(c * n + j)];
-            if (w != 0.0) acc += t[size_t(j * ns + a)] * w;
+          for (int j = 0; j < nv; ++j) {
+            const double w = bv[size_t(c * nv + j)];
+            if (w != 0.0) acc += t[size_t(j * nsu + a)] * w;
           }
-          r[size_t(c * ns + a)] = samples[size_t(c * ns + a)] - acc;
+          r[size_t(c * nsu + a)] = samples[size_t(c * nsu + a)] - acc;
         }
       return r;
     };
     const bool separable = !free_i.empty() && !free_j.empty();
     std::vector<double> lu, lv;
-    std::vector<char> skip_free(size_t(n * n), 0), skip_loose(size_t(n * n), 0);
+    std::vector<char> skip_free(total, 0), skip_loose(total, 0);
     if (separable) {
-      lu = least_squares_operator(b, size_t(ns), n, free_i);
-      lv = least_squares_operator(b, size_t(ns), n, free_j);
+      lu = least_squares_operator(bu, size_t(nsu), nu, free_i);
+      lv = least_squares_operator(bv, size_t(nsv), nv, free_j);
       for (int i : free_i)
-        for (int j : free_j) skip_free[size_t(j * n + i)] = 1;
+        for (int j : free_j) skip_free[size_t(j * nu + i)] = 1;
     }
     for (int idx : loose) skip_loose[size_t(idx)] = 1;
     // The inner block (separable least squares: P_free = Lu R Lv^T).
     auto solve_inner = [&]() {
       if (!separable) return;
       const std::vector<Vec3> r = residual(skip_free);
-      std::vector<Vec3> q(free_i.size() * size_t(ns));  // q[p][c] = sum_a Lu[p][a] r[c][a]
+      std::vector<Vec3> q(free_i.size() * size_t(nsv));  // q[p][c] = sum_a Lu[p][a] r[c][a]
       for (size_t p = 0; p < free_i.size(); ++p)
-        for (int c = 0; c < ns; ++c) {
+        for (int c = 0; c < nsv; ++c) {
           Vec3 acc;
-          for (int a = 0; a < ns; ++a) acc += r[size_t(c * ns + a)] * lu[p * size_t(ns) + size_t(a)];
-          q[p * size_t(ns) + size_t(c)] = acc;
+          for (int a = 0; a < nsu; ++a) acc += r[size_t(c * nsu + a)] * lu[p * size_t(nsu) + size_t(a)];
+          q[p * size_t(nsv) + size_t(c)] = acc;
         }
       for (size_t p = 0; p < free_i.size(); ++p)
         for (size_t w = 0; w < free_j.size(); ++w) {
           Vec3 acc;
-          for (int c = 0; c < ns; ++c) acc += q[p * size_t(ns) + size_t(c)] * lv[w * size_t(ns) + size_t(c)];
+          for (int c = 0; c < nsv; ++c) acc += q[p * size_t(nsv) + size_t(c)] * lv[w * size_t(nsv) + size_t(c)];
           at(free_i[p], free_j[w]) = acc;
         }
     };
@@ -622,17 +709,17 @@ class Builder {
       const std::vector<Vec3> r = residual(skip_loose);
       const int nl = int(loose.size());
       std::vector<double> ata(size_t(nl * nl), 0.0), rhs(size_t(nl * 3), 0.0);
-      for (int c = 0; c < ns; ++c)
-        for (int a = 0; a < ns; ++a) {
+      for (int c = 0; c < nsv; ++c)
+        for (int a = 0; a < nsu; ++a) {
           double w[64];
           bool any = false;
           for (int k = 0; k < nl && k < 64; ++k) {
-            const int i = loose[size_t(k)] % n, j = loose[size_t(k)] / n;
-            w[k] = b[size_t(a * n + i)] * b[size_t(c * n + j)];
+            const int i = loose[size_t(k)] % nu, j = loose[size_t(k)] / nu;
+            w[k] = bu[size_t(a * nu + i)] * bv[size_t(c * nv + j)];
             any = any || w[k] != 0.0;
           }
           if (!any) continue;
-          const Vec3& y = r[size_t(c * ns + a)];
+          const Vec3& y = r[size_t(c * nsu + a)];
           for (int p = 0; p < nl; ++p) {
             if (w[p] == 0.0) continue;
             for (int q = 0; q < nl; ++q) ata[size_t(p * nl + q)] += w[p] * w[q];
@@ -652,40 +739,121 @@ class Builder {
     }
   }
 
-  double measure(const LimitBSplineSurface& s, int spans) const {
-    const int nc = std::max(33, 4 * spans + 1);
-    double worst = 0;
-    for (int b = 0; b < nc; ++b)
-      for (int a = 0; a < nc; ++a) {
-        const double u = a == nc - 1 ? 1.0 : double(a) / (nc - 1), v = b == nc - 1 ? 1.0 : double(b) / (nc - 1);
-        const Vec3 x = evaluate_bspline_surface(s, u, v).position;
-        worst = std::max(worst, distance(x, surface_.evaluate_position(s.ptex_face, u, v, points_)));
+  // Gauss-Newton projection of x onto a parametric surface over [0,1]^2 (evaluate(u, v) ->
+  // position, du, dv), from (u, v) with distance `best` there; returns the smallest distance met
+  // (an upper bound of the distance from x to the surface).
+  template <class Evaluate>
+  static double project(const Evaluate& evaluate, const Vec3& x, double u, double v, double best) {
+    for (int it = 0; it < 10 && best > 0.0; ++it) {
+      Vec3 position, du, dv;
+      evaluate(u, v, position, du, dv);
+      const Vec3 r = x - position;
+      const double a11 = dot(du, du), a12 = dot(du, dv), a22 = dot(dv, dv);
+      const double det = a11 * a22 - a12 * a12;
+      if (!(det > 1e-30 * a11 * a22) || !(det > 0.0)) break;
+      const double b1 = dot(du, r), b2 = dot(dv, r);
+      const double step_u = (a22 * b1 - a12 * b2) / det, step_v = (a11 * b2 - a12 * b1) / det;
+      bool improved = false;
+      double f = 1.0;
+      for (int half = 0; half < 6 && !improved; ++half, f *= 0.5) {
+        const double nu = std::clamp(u + f * step_u, 0.0, 1.0), nv = std::clamp(v + f * step_v, 0.0, 1.0);
+        Vec3 q, qu, qv;
+        evaluate(nu, nv, q, qu, qv);
+        const double d = distance(x, q);
+        if (d < best) {
+          improved = best - d > 1e-3 * best;
+          best = d;
+          u = nu;
+          v = nv;
+          if (!improved) return best;
+        }
       }
-    return worst;
+      if (!improved) break;
+    }
+    return best;
   }
 
-  LimitBSplineSurfaces build_level(int level, double tolerance, double diagonal) {
-    const int quad_spans = 1 << level;
+  // Fills the surface's error fields on a max(33, 4 spans + 1)^2 grid: the distance to the limit
+  // surface at equal parameters, the normal deviation there, and the two-sided error (equal to
+  // the parametric error where that is within `tolerance`; else each sample projected onto the
+  // other surface, both ways, within the same ptex face).
+  void measure(LimitBSplineSurface& s, int spans_u, int spans_v, double tolerance) const {
+    const int ncu = std::max(33, 4 * spans_u + 1), ncv = std::max(33, 4 * spans_v + 1);
+    double parametric = 0, deviation = 0, near = 0;
+    struct Sample {
+      double u, v, d;
+      Vec3 mine, limit;
+    };
+    std::vector<Sample> far;
+    for (int b = 0; b < ncv; ++b)
+      for (int a = 0; a < ncu; ++a) {
+        const double u = a == ncu - 1 ? 1.0 : double(a) / (ncu - 1), v = b == ncv - 1 ? 1.0 : double(b) / (ncv - 1);
+        const BSplineSurfacePoint x = evaluate_bspline_surface(s, u, v);
+        const SurfacePoint l = surface_.evaluate_patch_points(s.ptex_face, u, v, points_);
+        const double d = distance(x.position, l.position);
+        parametric = std::max(parametric, d);
+        if (d > tolerance) far.push_back({u, v, d, x.position, l.position});
+        else near = std::max(near, d);
+        const Vec3 na = cross(x.du, x.dv), nl = cross(l.du, l.dv);
+        // Where the limit's own derivatives are (nearly) parallel its normal is not a reference.
+        if (norm(na) > 1e-12 * norm(x.du) * norm(x.dv) && norm(nl) > kDegenerateSine * norm(l.du) * norm(l.dv))
+          deviation = std::max(deviation, std::atan2(norm(cross(na, nl)), dot(na, nl)) * 180.0 / kPi);
+      }
+    double two_sided = far.empty() ? parametric : near;
+    if (!far.empty()) {
+      // Samples within the tolerance at equal parameters are within it both ways.
+      auto on_limit = [&](double u, double v, Vec3& p, Vec3& du, Vec3& dv) {
+        const SurfacePoint q = surface_.evaluate_patch_points(s.ptex_face, u, v, points_);
+        p = q.position;
+        du = q.du;
+        dv = q.dv;
+      };
+      auto on_spline = [&](double u, double v, Vec3& p, Vec3& du, Vec3& dv) {
+        const BSplineSurfacePoint q = evaluate_bspline_surface(s, u, v);
+        p = q.position;
+        du = q.du;
+        dv = q.dv;
+      };
+      for (const Sample& f : far) {
+        two_sided = std::max(two_sided, project(on_limit, f.mine, f.u, f.v, f.d));
+        two_sided = std::max(two_sided, project(on_spline, f.limit, f.u, f.v, f.d));
+      }
+      two_sided = std::min(two_sided, parametric);
+    }
+    s.parametric_error = parametric;
+    s.error = two_sided;
+    s.max_normal_deviation_deg = deviation;
+  }
+
+  int spans_of(uint32_t ptex, int direction) const {
+    const int quad_spans = 1 << level_[ptex][size_t(direction)];
+    return scale_[ptex] < 1.0 ? quad_spans / 2 : quad_spans;
+  }
+
+  LimitBSplineSurfaces build_all(double tolerance, double diagonal) {
     const uint32_t num_ptex = surface_.num_ptex_faces();
     monitor_.report("limit B-spline surfaces", 0.05);
     exact_.assign(num_ptex, 0);
     std::vector<uint32_t> ptex_list;
+    uint64_t control_points = 0;
+    int max_level = 0;
     for (uint32_t p = 0; p < num_ptex; ++p) {
       if (!surface_.has_limit_surface(p)) continue;
       ptex_list.push_back(p);
-      const int spans = scale_[p] < 1.0 ? quad_spans / 2 : quad_spans;
+      const int spans = std::min(spans_of(p, 0), spans_of(p, 1));
       exact_[p] = exact_structure(p, 0.0, 0.0, 1.0, 1.0 / spans) ? 1 : 0;
+      control_points += uint64_t(spans_of(p, 0) + 3) * uint64_t(spans_of(p, 1) + 3);
+      max_level = std::max({max_level, level_[p][0], level_[p][1]});
     }
-    check_memory_estimate(estimate_product(ptex_list.size(), estimate_product(uint64_t(quad_spans + 3) * uint64_t(quad_spans + 3), sizeof(Vec3))),
-                          "limit B-spline surfaces");
+    check_memory_estimate(estimate_product(control_points, 2 * sizeof(Vec3)), "limit B-spline surfaces");
     corners_.clear();
     // Cage-edge segments first (they define the edge midpoints), then the inner ones.
     for (int pass = 0; pass < 2; ++pass)
       for (Segment& s : segments_)
-        if (((s.key0 >> 62) != 0) == (pass == 1) && !s.attachments.empty()) fit_segment(s, quad_spans);
+        if (((s.key0 >> 62) != 0) == (pass == 1) && !s.attachments.empty()) fit_segment(s);
 
     LimitBSplineSurfaces result;
-    result.level = level;
+    result.level = max_level;
     result.bbox_diagonal = diagonal;
     result.tolerance = tolerance;
     result.ptex_faces = num_ptex;
@@ -695,13 +863,15 @@ class Builder {
       const uint32_t p = ptex_list[k];
       index_of[p] = int(k);
       monitor_.report("limit B-spline surfaces", 0.1 + 0.8 * double(k) / double(ptex_list.size()));
-      const int spans = scale_[p] < 1.0 ? quad_spans / 2 : quad_spans;
       LimitBSplineSurface& s = result.surfaces[k];
-      fit_surface(s, p, spans);
-      s.error = measure(s, spans);
-      s.exact = exact_[p] && s.error <= 1e-12 * diagonal;
+      fit_surface(s, p, spans_of(p, 0), spans_of(p, 1));
+      measure(s, spans_of(p, 0), spans_of(p, 1), tolerance);
+      s.exact = exact_[p] && s.parametric_error <= 1e-12 * diagonal;
       if (s.exact) ++result.exact_count; else ++result.approximated_count;
-      if (!s.exact && s.error > tolerance) ++result.over_tolerance_count;
+      if (!s.exact && (s.error > tolerance || s.max_normal_deviation_deg > kFoldDegrees)) ++result.over_tolerance_count;
+      if (s.max_normal_deviation_deg > kFoldDegrees) ++result.folded_count;
+      result.max_parametric_error = std::max(result.max_parametric_error, s.parametric_error);
+      result.max_normal_deviation_deg = std::max(result.max_normal_deviation_deg, s.max_normal_deviation_deg);
       result.max_error = std::max(result.max_error, s.error);
     }
     // Neighbours and normal jumps.
@@ -742,7 +912,11 @@ class Builder {
             const BSplineSurfacePoint a = evaluate_bspline_surface(surf, u0, v0);
             const BSplineSurfacePoint b = evaluate_bspline_surface(them, u1, v1);
             const Vec3 na = cross(a.du, a.dv), nb2 = cross(b.du, b.dv);
-            if (norm(na) <= 1e-14 * norm(a.du) * norm(a.dv) || norm(nb2) <= 1e-14 * norm(b.du) * norm(b.dv)) continue;
+            // Not where either surface is (nearly) degenerate: its normal is not defined there
+            // (the limit surface itself can have such points when the cage folds).
+            if (norm(na) <= kDegenerateSine * norm(a.du) * norm(a.dv) ||
+                norm(nb2) <= kDegenerateSine * norm(b.du) * norm(b.dv))
+              continue;
             const double angle = std::atan2(norm(cross(na, nb2)), dot(na, nb2));
             out.max_normal_jump_deg = std::max(out.max_normal_jump_deg, angle * 180.0 / kPi);
           }
@@ -764,7 +938,8 @@ class Builder {
   std::vector<std::pair<uint32_t, uint32_t>> cage_edge_of_;  // per segment ({0,0} for inner ones)
   std::vector<std::array<SideRef, 4>> sides_;                 // per ptex face
   std::vector<double> scale_;                                 // per ptex face
-  std::vector<char> exact_;                                   // per ptex face, this level
+  std::vector<char> exact_;                                   // per ptex face, this round
+  std::vector<std::array<int, 2>> level_;                     // per ptex face: knot level in u, v (quad units)
   std::unordered_map<uint64_t, Vec3> corners_;
 };
 
@@ -792,6 +967,8 @@ LimitBSplineSurfaces build_limit_bspline_surfaces(const Cage& cage, const LimitB
                                                   const TaskMonitor& monitor) {
   if (!(options.tolerance > 0.0) || !std::isfinite(options.tolerance))
     fail(Status::invalid_argument, "limit B-spline surfaces: tolerance must be a finite number > 0");
+  if (!(options.max_normal_jump_deg > 0.0) || !std::isfinite(options.max_normal_jump_deg))
+    fail(Status::invalid_argument, "limit B-spline surfaces: max_normal_jump_deg must be a finite number > 0");
   if (options.max_level < 1 || options.max_level > kMaxLimitBSplineLevel)
     fail(Status::invalid_argument,
          "limit B-spline surfaces: max_level must be in [1, " + std::to_string(kMaxLimitBSplineLevel) + "]");

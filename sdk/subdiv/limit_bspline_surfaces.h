@@ -5,11 +5,15 @@
 // (OpenCASCADE Geom_BSplineSurface, FreeCAD Part.BSplineSurface): clamped ("open") knot
 // vectors with simple uniform interior knots, degree 3 x 3, non-rational.
 //
-// Knots. Every surface of a quad ptex face has 2^level uniform spans in u and in v, every
-// surface of an n-gon sub-face 2^(level-1) (a sub-face is half an edge long), for one global
-// level chosen by the build: the smallest level in [1, max_level] at which every approximated
-// surface is within the tolerance. So the knots of two surfaces agree along every shared border
-// (a quad side next to an n-gon is split at its middle knot for the two sub-faces).
+// Knots. Every surface of a quad ptex face has 2^level_u uniform spans in u and 2^level_v in v,
+// every surface of an n-gon sub-face half as many (a sub-face is half an edge long). Levels are
+// chosen per surface and direction: each shared border (a segment) has a level too; a surface
+// takes at least the levels of its borders in the matching direction, and the border curve is
+// refined into the surface's knots by knot insertion (the same curve). Everything starts at
+// min_level; a surface over the tolerance, folded, or with a normal jump above
+// max_normal_jump_deg across a smooth border goes one level up in both directions with
+// its four borders, until no surface below max_level is over. (A quad side next to an n-gon is
+// split at its middle knot for the two sub-faces.)
 //
 // Exact surfaces. A ptex face whose limit surface is covered by regular B-spline patches of the
 // adaptive patch table (SubdivisionSurface::patch_domain), each at least one knot span large,
@@ -31,9 +35,12 @@
 // to a (3 spans + 1)^2 grid of limit samples. Crease edges are C0 borders (no cross-derivative
 // constraint), boundary edges are boundaries; ptex faces of hole faces have no surface.
 //
-// Report. error: the largest distance to the limit surface at equal parameters over a
-// max(33, 4 spans + 1)^2 grid per surface (an upper bound of the geometric distance at those
-// samples); normal jumps: the angle between the two surfaces' normals at 4 spans + 1 points
+// Report. parametric_error: the largest distance to the limit surface at equal parameters over
+// a max(33, 4 spans + 1)^2 grid per surface; error: the two-sided distance at those samples
+// (equal to the parametric error where that is within the tolerance, else every far sample
+// projected onto the other surface by Gauss-Newton within the ptex face, both ways; an upper
+// bound at the samples); max_normal_deviation_deg: against the limit's normal at equal
+// parameters (above 90 deg: folded); normal jumps: the angle between the two surfaces' normals at 4 spans + 1 points
 // along every shared border (smooth borders: should be ~0; crease borders: the crease angle).
 //
 // Thread-safety: reentrant, the result is a plain value. Errors: Error(invalid_argument) for
@@ -60,6 +67,10 @@ struct LimitBSplineOptions {
   int max_level = 5;
   // Smallest knot level tried, [1, max_level].
   int min_level = 1;
+  // A surface whose normal jumps by more than this (degrees) across a smooth border is refined
+  // like one over the tolerance (the jump is largest in the knot spans next to extraordinary
+  // points, where G1 is not constrained, and shrinks with them). > 0.
+  double max_normal_jump_deg = 0.5;
 };
 
 enum class BorderKind : uint8_t {
@@ -96,16 +107,24 @@ struct LimitBSplineSurface {
   // Row-major: point (i, j) (i along u, j along v) at j * num_u + i.
   std::vector<Vec3> points;
   bool exact = false;  // the surface is the limit surface there (measured below 1e-12 of the diagonal)
-  double error = 0;    // measured largest distance to the limit surface (model units)
+  // Measured two-sided distance to the limit surface over the check grid (model units): the
+  // largest distance from a sample of either surface to the other (each sample projected onto the
+  // other surface within the same ptex face, so an upper bound at the samples).
+  double error = 0;
+  double parametric_error = 0;          // largest distance at equal parameters (>= error)
+  double max_normal_deviation_deg = 0;  // largest angle to the limit's normal at equal parameters
   std::array<SurfaceSide, 4> sides;
 };
 
 struct LimitBSplineSurfaces {
   std::vector<LimitBSplineSurface> surfaces;  // by ptex face (holes skipped)
-  int level = 0;                              // knot level used: 2^level spans per quad side
+  int level = 0;                              // largest knot level used (2^level spans per quad side)
   uint32_t exact_count = 0, approximated_count = 0;
-  uint32_t over_tolerance_count = 0;  // approximated surfaces above the tolerance at max_level
-  double max_error = 0;               // over all surfaces, model units
+  uint32_t over_tolerance_count = 0;  // approximated surfaces above the tolerance (or folded) at max_level
+  uint32_t folded_count = 0;          // surfaces whose normal deviates by more than 90 deg somewhere
+  double max_error = 0;               // over all surfaces (two-sided), model units
+  double max_parametric_error = 0;    // over all surfaces, model units
+  double max_normal_deviation_deg = 0;
   double max_normal_jump_deg = 0;     // over smooth shared borders
   double max_crease_angle_deg = 0;    // largest normal jump over crease / non-manifold borders
   double bbox_diagonal = 0;           // of the cage's control points

@@ -652,6 +652,405 @@ static void array_outputs_have_one_two_call_shape(void) {
   cagekit_context_release(context);
 }
 
+/* Limit B-spline surfaces (cagekit_limit_surfaces_*). */
+
+/* The values of every B-spline basis function N_i (i < count - degree - 1) of a clamped knot
+ * vector at x, by the Cox-de Boor recursion (0/0 = 0; x = 1 belongs to the last nonempty span). */
+static void cox_de_boor(const double* knots, uint32_t count, uint32_t degree, double x, double* basis) {
+  double n[160];
+  uint32_t i, p, last = 0;
+  for (i = 0; i + 1 < count; ++i)
+    if (knots[i] < knots[i + 1]) last = i;
+  for (i = 0; i + 1 < count; ++i)
+    n[i] = (knots[i] <= x && x < knots[i + 1]) || (i == last && x == knots[i + 1]) ? 1.0 : 0.0;
+  for (p = 1; p <= degree; ++p)
+    for (i = 0; i + p + 1 < count; ++i) {
+      const double a = knots[i + p] > knots[i] ? (x - knots[i]) / (knots[i + p] - knots[i]) : 0.0;
+      const double b = knots[i + p + 1] > knots[i + 1] ? (knots[i + p + 1] - x) / (knots[i + p + 1] - knots[i + 1]) : 0.0;
+      n[i] = a * n[i] + b * n[i + 1];
+    }
+  for (i = 0; i + degree + 1 < count; ++i) basis[i] = n[i];
+}
+
+/* One surface read through the C API: descriptor, knots, control points. */
+typedef struct test_bspline {
+  cagekit_limit_surface d;
+  double ku[160], kv[160];
+  double* points;
+} test_bspline;
+
+static void read_bspline(cagekit_limit_surfaces surfaces, uint32_t index, test_bspline* s) {
+  uint32_t count = 0;
+  CHECK_OK(cagekit_limit_surfaces_get_surface(surfaces, index, &s->d));
+  CHECK(s->d.knot_count_u <= 160 && s->d.knot_count_v <= 160);
+  CHECK_OK(cagekit_limit_surfaces_get_knots(surfaces, index, CAGEKIT_SURFACE_DIRECTION_U, 160, &count, s->ku));
+  CHECK(count == s->d.knot_count_u);
+  CHECK_OK(cagekit_limit_surfaces_get_knots(surfaces, index, CAGEKIT_SURFACE_DIRECTION_V, 160, &count, s->kv));
+  CHECK(count == s->d.knot_count_v);
+  s->points = (double*)calloc(3 * (size_t)s->d.num_u * s->d.num_v, sizeof(double));
+  CHECK(s->points != NULL);
+  CHECK_OK(cagekit_limit_surfaces_get_control_points(surfaces, index, s->d.num_u * s->d.num_v, &count, s->points));
+  CHECK(count == s->d.num_u * s->d.num_v);
+}
+
+static void bspline_point(const test_bspline* s, double u, double v, double* x) {
+  double bu[160], bv[160];
+  uint32_t i, j, c;
+  cox_de_boor(s->ku, s->d.knot_count_u, s->d.degree_u, u, bu);
+  cox_de_boor(s->kv, s->d.knot_count_v, s->d.degree_v, v, bv);
+  x[0] = x[1] = x[2] = 0;
+  for (j = 0; j < s->d.num_v; ++j)
+    for (i = 0; i < s->d.num_u; ++i)
+      for (c = 0; c < 3; ++c) x[c] += bu[i] * bv[j] * s->points[3 * ((size_t)j * s->d.num_u + i) + c];
+}
+
+/* (u, v) of side parameter t on side 0..3 (0: v = 0, 1: u = 1, 2: v = 1, 3: u = 0). */
+static void side_uv(uint32_t side, double t, double* u, double* v) {
+  *u = side == 1 ? 1.0 : side == 3 ? 0.0 : t;
+  *v = side == 0 ? 0.0 : side == 2 ? 1.0 : t;
+}
+
+/* Index in `points` of the k-th control point along side `side` and how many there are. */
+static uint32_t border_count(const test_bspline* s, uint32_t side) { return side % 2 == 0 ? s->d.num_u : s->d.num_v; }
+static size_t border_point(const test_bspline* s, uint32_t side, uint32_t k) {
+  const uint32_t i = side == 0 || side == 2 ? k : side == 1 ? s->d.num_u - 1 : 0;
+  const uint32_t j = side == 1 || side == 3 ? k : side == 2 ? s->d.num_v - 1 : 0;
+  return 3 * ((size_t)j * s->d.num_u + i);
+}
+
+static double distance3(const double* a, const double* b) {
+  return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+/* Checks every surface against the limit surface and its neighbours; returns the largest distance
+ * to the limit surface at an 11 x 11 grid of every surface. Sets *identical_borders to the number
+ * of shared sides whose border control points are the same numbers as the neighbour's. */
+static double check_bspline_surfaces(cagekit_cage cage, cagekit_limit_surfaces surfaces,
+                                     const cagekit_limit_surface_info* info, uint32_t* identical_borders) {
+  cagekit_surface surface = NULL;
+  test_bspline* all = (test_bspline*)calloc(info->surface_count, sizeof(test_bspline));
+  uint32_t k, side, i, j, exact = 0, count;
+  double worst = 0;
+  *identical_borders = 0;
+  CHECK(all != NULL);
+  CHECK_OK(cagekit_surface_create(cage, NULL, &surface));
+  for (k = 0; k < info->surface_count; ++k) read_bspline(surfaces, k, &all[k]);
+  for (k = 0; k < info->surface_count; ++k) {
+    const test_bspline* s = &all[k];
+    double worst_here = 0;
+    exact += s->d.exact == CAGEKIT_TRUE;
+    CHECK(k == 0 || s->d.ptex_face > all[k - 1].d.ptex_face);
+    CHECK(s->d.ptex_face < info->ptex_face_count && s->d.reserved == 0);
+    CHECK(s->d.degree_u == 3 && s->d.degree_v == 3);
+    CHECK(s->d.knot_count_u == s->d.num_u + s->d.degree_u + 1 && s->d.knot_count_v == s->d.num_v + s->d.degree_v + 1);
+    /* clamped: degree + 1 zeros and ones, simple interior knots in between */
+    for (i = 0; i <= s->d.degree_u; ++i) CHECK(s->ku[i] == 0.0 && s->ku[s->d.knot_count_u - 1 - i] == 1.0);
+    for (i = 0; i <= s->d.degree_v; ++i) CHECK(s->kv[i] == 0.0 && s->kv[s->d.knot_count_v - 1 - i] == 1.0);
+    for (i = s->d.degree_u; i + s->d.degree_u + 1 < s->d.knot_count_u; ++i) CHECK(s->ku[i] < s->ku[i + 1]);
+    for (i = s->d.degree_v; i + s->d.degree_v + 1 < s->d.knot_count_v; ++i) CHECK(s->kv[i] < s->kv[i + 1]);
+    for (j = 0; j <= 10; ++j)
+      for (i = 0; i <= 10; ++i) {
+        cagekit_surface_location l;
+        cagekit_surface_point y;
+        double x[3], d;
+        l.face = s->d.ptex_face;
+        l.u = i / 10.0;
+        l.v = j / 10.0;
+        bspline_point(s, l.u, l.v, x);
+        CHECK_OK(cagekit_surface_evaluate(surface, NULL, 1, &l, &y));
+        d = distance3(x, y.position);
+        if (d > worst_here) worst_here = d;
+      }
+    CHECK(worst_here <= s->d.error * (1 + 1e-9) + 1e-13 * info->bbox_diagonal);
+    if (worst_here > worst) worst = worst_here;
+    /* neighbours: symmetric, and the two surfaces meet along the shared range */
+    for (side = 0; side < 4; ++side) {
+      cagekit_limit_surface_neighbour nb[8];
+      const cagekit_limit_surface_side* sd = &s->d.sides[side];
+      CHECK(sd->neighbour_count <= 8);
+      CHECK_OK(cagekit_limit_surfaces_get_neighbours(surfaces, k, side, 8, &count, nb));
+      CHECK(count == sd->neighbour_count);
+      CHECK((sd->kind == CAGEKIT_SURFACE_BORDER_BOUNDARY) == (count == 0));
+      for (i = 0; i < count && i < 8; ++i) {
+        const test_bspline* o = &all[nb[i].surface];
+        cagekit_limit_surface_neighbour back[8];
+        uint32_t back_count = 0, q, found = 0;
+        CHECK(nb[i].surface < info->surface_count && nb[i].surface != k && nb[i].side < 4);
+        CHECK(o->d.sides[nb[i].side].kind == sd->kind);
+        CHECK_OK(cagekit_limit_surfaces_get_neighbours(surfaces, nb[i].surface, nb[i].side, 8, &back_count, back));
+        for (q = 0; q < back_count && q < 8; ++q)
+          found += back[q].surface == k && back[q].side == side &&
+                   fabs(fmin(back[q].t0, back[q].t1) - fmin(nb[i].n0, nb[i].n1)) < 1e-15 &&
+                   fabs(fmax(back[q].t0, back[q].t1) - fmax(nb[i].n0, nb[i].n1)) < 1e-15;
+        CHECK(found == 1);
+        for (q = 0; q <= 8; ++q) {
+          const double t = nb[i].t0 + (nb[i].t1 - nb[i].t0) * q / 8.0, n = nb[i].n0 + (nb[i].n1 - nb[i].n0) * q / 8.0;
+          double u, v, a[3], b[3];
+          side_uv(side, t, &u, &v);
+          bspline_point(s, u, v, a);
+          side_uv(nb[i].side, n, &u, &v);
+          bspline_point(o, u, v, b);
+          CHECK(distance3(a, b) <= 1e-12 * info->bbox_diagonal);
+        }
+        /* a whole side shared with a whole side of as many control points: the same points */
+        if (count == 1 && nb[i].t0 == 0.0 && nb[i].t1 == 1.0 && fabs(nb[i].n1 - nb[i].n0) == 1.0 &&
+            border_count(s, side) == border_count(o, nb[i].side)) {
+          const uint32_t m = border_count(s, side);
+          int same = 1;
+          for (q = 0; q < m; ++q) {
+            const size_t a = border_point(s, side, q), b = border_point(o, nb[i].side, nb[i].n1 > nb[i].n0 ? q : m - 1 - q);
+            same &= s->points[a] == o->points[b] && s->points[a + 1] == o->points[b + 1] &&
+                    s->points[a + 2] == o->points[b + 2];
+          }
+          CHECK(same);
+          *identical_borders += (uint32_t)same;
+        }
+      }
+    }
+  }
+  CHECK(exact == info->exact_count);
+  for (k = 0; k < info->surface_count; ++k) free(all[k].points);
+  free(all);
+  cagekit_surface_release(surface);
+  return worst;
+}
+
+/* A torus of nu x nv quads, every vertex of valence 4: its limit surface is one bicubic B-spline. */
+static cagekit_cage new_torus_cage(cagekit_context context, uint32_t nu, uint32_t nv) {
+  double positions[3 * 16 * 16];
+  uint32_t quads[4 * 16 * 16], i, j;
+  cagekit_mesh mesh;
+  cagekit_cage cage = NULL;
+  for (i = 0; i < nu; ++i)
+    for (j = 0; j < nv; ++j) {
+      const double a = 2 * 3.14159265358979323846 * i / nu, b = 2 * 3.14159265358979323846 * j / nv;
+      double* p = &positions[3 * (i * nv + j)];
+      uint32_t* q = &quads[4 * (i * nv + j)];
+      p[0] = (2.0 + 0.7 * cos(b)) * cos(a);
+      p[1] = (2.0 + 0.7 * cos(b)) * sin(a);
+      p[2] = 0.7 * sin(b) + 0.01 * i; /* not symmetric in z */
+      q[0] = i * nv + j;
+      q[1] = ((i + 1) % nu) * nv + j;
+      q[2] = ((i + 1) % nu) * nv + (j + 1) % nv;
+      q[3] = i * nv + (j + 1) % nv;
+    }
+  mesh = new_uniform_mesh(context, nu * nv, positions, nu * nv, 4, quads);
+  CHECK_OK(cagekit_cage_create(mesh, &cage));
+  cagekit_mesh_release(mesh);
+  return cage;
+}
+
+static cagekit_limit_surface_info limit_surface_info(cagekit_limit_surfaces surfaces) {
+  cagekit_limit_surface_info info;
+  memset(&info, 0, sizeof(info));
+  info.struct_size = sizeof(info);
+  CHECK_OK(cagekit_limit_surfaces_get_info(surfaces, &info));
+  return info;
+}
+
+static void limit_surfaces_of_a_regular_torus_are_exact(void) {
+  cagekit_context context = new_context();
+  cagekit_cage cage = new_torus_cage(context, 8, 6);
+  cagekit_limit_surfaces surfaces = NULL;
+  cagekit_limit_surface_info info;
+  uint32_t identical = 0;
+  double worst;
+  CHECK_OK(cagekit_limit_surfaces_create(cage, NULL, &surfaces));
+  info = limit_surface_info(surfaces);
+  CHECK(info.surface_count == 48 && info.ptex_face_count == 48);
+  CHECK(info.exact_count == 48 && info.approximated_count == 0 && info.over_tolerance_count == 0);
+  CHECK(info.max_error_rel <= 1e-12 && fabs(info.max_error_rel * info.bbox_diagonal - info.max_error) < 1e-20);
+  CHECK(fabs(info.tolerance - 1e-4 * info.bbox_diagonal) <= 1e-15 * info.bbox_diagonal);
+  CHECK(info.level >= 1 && info.level <= 5);
+  CHECK(info.max_normal_jump_deg < 1e-6 && info.max_crease_angle_deg == 0.0);
+  worst = check_bspline_surfaces(cage, surfaces, &info, &identical);
+  CHECK(worst <= 1e-12 * info.bbox_diagonal);
+  CHECK(identical == 4 * 48); /* every side of every surface */
+  cagekit_limit_surfaces_release(surfaces);
+  cagekit_cage_release(cage);
+  cagekit_context_release(context);
+}
+
+static void limit_surfaces_of_a_cube_approximate_within_the_tolerance(void) {
+  cagekit_context context = new_context();
+  cagekit_mesh mesh = new_cube(context);
+  cagekit_cage cage = NULL, creased = new_creased_cube(context);
+  cagekit_limit_surfaces surfaces = NULL;
+  cagekit_limit_surface_options options = CAGEKIT_LIMIT_SURFACE_OPTIONS_INIT;
+  cagekit_limit_surface_info info;
+  cagekit_limit_surface d;
+  uint32_t identical = 0, k, side;
+  double worst;
+  CHECK_OK(cagekit_cage_create(mesh, &cage));
+  /* smooth: every ptex face touches a valence-3 corner, so every surface is approximated */
+  CHECK_OK(cagekit_limit_surfaces_create(cage, &options, &surfaces));
+  info = limit_surface_info(surfaces);
+  CHECK(info.surface_count == 6 && info.ptex_face_count == 6);
+  CHECK(info.exact_count == 0 && info.approximated_count == 6 && info.over_tolerance_count == 0);
+  CHECK(info.max_error > 0 && info.max_error <= info.tolerance);
+  CHECK(info.max_normal_jump_deg < 1.0 && info.max_crease_angle_deg == 0.0);
+  worst = check_bspline_surfaces(cage, surfaces, &info, &identical);
+  CHECK(worst > 0 && worst <= info.tolerance);
+  CHECK(identical == 4 * 6);
+  for (k = 0; k < 6; ++k) {
+    CHECK_OK(cagekit_limit_surfaces_get_surface(surfaces, k, &d));
+    CHECK(d.cage_face == d.ptex_face && d.exact == CAGEKIT_FALSE && d.error <= info.max_error);
+    for (side = 0; side < 4; ++side)
+      CHECK(d.sides[side].kind == CAGEKIT_SURFACE_BORDER_SMOOTH && d.sides[side].neighbour_count == 1 &&
+            d.sides[side].max_normal_jump_deg <= info.max_normal_jump_deg);
+  }
+  cagekit_limit_surfaces_release(surfaces);
+  surfaces = NULL;
+  /* a coarser tolerance needs no more knots */
+  options.tolerance = 1e-2;
+  CHECK_OK(cagekit_limit_surfaces_create(cage, &options, &surfaces));
+  CHECK(limit_surface_info(surfaces).level <= info.level && limit_surface_info(surfaces).max_error_rel <= 1e-2);
+  cagekit_limit_surfaces_release(surfaces);
+  surfaces = NULL;
+  /* every edge creased: the flat faces of the cube, exact, C0 borders at 90 degrees */
+  CHECK_OK(cagekit_limit_surfaces_create(creased, NULL, &surfaces));
+  info = limit_surface_info(surfaces);
+  CHECK(info.exact_count == 6 && info.approximated_count == 0);
+  CHECK(fabs(info.max_crease_angle_deg - 90.0) < 1e-9 && info.max_normal_jump_deg == 0.0);
+  worst = check_bspline_surfaces(creased, surfaces, &info, &identical);
+  CHECK(worst <= 1e-12 * info.bbox_diagonal);
+  for (k = 0; k < 6; ++k) {
+    CHECK_OK(cagekit_limit_surfaces_get_surface(surfaces, k, &d));
+    for (side = 0; side < 4; ++side)
+      CHECK(d.sides[side].kind == CAGEKIT_SURFACE_BORDER_CREASE && fabs(d.sides[side].max_normal_jump_deg - 90.0) < 1e-9);
+  }
+  cagekit_limit_surfaces_release(surfaces);
+  cagekit_cage_release(creased);
+  cagekit_cage_release(cage);
+  cagekit_mesh_release(mesh);
+  cagekit_context_release(context);
+}
+
+/* The two-call getters as two_call_fn over surface 1 of a cube. */
+static cagekit_status surface_knots_u(void* surfaces, uint32_t capacity, uint32_t* count_out, void* array) {
+  return cagekit_limit_surfaces_get_knots((cagekit_limit_surfaces)surfaces, 1, CAGEKIT_SURFACE_DIRECTION_U, capacity,
+                                          count_out, (double*)array);
+}
+static cagekit_status surface_control_points(void* surfaces, uint32_t capacity, uint32_t* count_out, void* array) {
+  return cagekit_limit_surfaces_get_control_points((cagekit_limit_surfaces)surfaces, 1, capacity, count_out,
+                                                   (double*)array);
+}
+
+static void limit_surfaces_reject_bad_arguments_and_can_be_cancelled(void) {
+  cagekit_context_desc desc = CAGEKIT_CONTEXT_DESC_INIT;
+  cagekit_context context = new_context(), small = NULL;
+  cagekit_mesh mesh = new_cube(context);
+  cagekit_cage cage = NULL, small_cage = NULL;
+  cagekit_limit_surfaces surfaces = NULL;
+  cagekit_limit_surface_options options = CAGEKIT_LIMIT_SURFACE_OPTIONS_INIT;
+  cagekit_limit_surface_info info;
+  cagekit_limit_surface d;
+  cagekit_limit_surface_neighbour nb[4];
+  cagekit_surface_direction bad_direction;
+  int32_t minus_one = -1;
+  uint32_t count = 0;
+  double knots[64];
+  unsigned char* array;
+  CHECK_OK(cagekit_cage_create(mesh, &cage));
+  CHECK_OK(cagekit_limit_surfaces_create(cage, NULL, &surfaces));
+  info = limit_surface_info(surfaces);
+  /* two-call shape of the variable parts */
+  CHECK_OK(cagekit_limit_surfaces_get_surface(surfaces, 1, &d));
+  array = check_two_call_shape(context, surface_knots_u, surfaces, sizeof(double), "knot", "knots", &count);
+  CHECK(count == d.knot_count_u && ((const double*)array)[0] == 0.0);
+  free(array);
+  array = check_two_call_shape(context, surface_control_points, surfaces, 3 * sizeof(double), "point", "points", &count);
+  CHECK(count == d.num_u * d.num_v);
+  free(array);
+  CHECK_STATUS(cagekit_limit_surfaces_get_neighbours(surfaces, 1, 0, 0, NULL, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_OK(cagekit_limit_surfaces_get_neighbours(surfaces, 1, 0, 0, &count, NULL));
+  CHECK(count == 1);
+  CHECK_STATUS(cagekit_limit_surfaces_get_neighbours(surfaces, 1, 0, 1, &count, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  /* indices, sides and directions out of range */
+  CHECK_STATUS(cagekit_limit_surfaces_get_surface(surfaces, info.surface_count, &d), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context), "out of range") != NULL);
+  CHECK_STATUS(cagekit_limit_surfaces_get_surface(surfaces, 0, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_limit_surfaces_get_knots(surfaces, info.surface_count, CAGEKIT_SURFACE_DIRECTION_V, 64, &count,
+                                                knots),
+               CAGEKIT_ERROR_INVALID_ARGUMENT);
+  memcpy(&bad_direction, &minus_one, sizeof(bad_direction));
+  CHECK_STATUS(cagekit_limit_surfaces_get_knots(surfaces, 0, bad_direction, 64, &count, knots),
+               CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_limit_surfaces_get_knots(surfaces, 0, (cagekit_surface_direction)2, 64, &count, knots),
+               CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_limit_surfaces_get_control_points(surfaces, info.surface_count, 0, &count, NULL),
+               CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_limit_surfaces_get_neighbours(surfaces, 0, 4, 4, &count, nb), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_limit_surfaces_get_neighbours(surfaces, info.surface_count, 0, 4, &count, nb),
+               CAGEKIT_ERROR_INVALID_ARGUMENT);
+  /* handles and info */
+  CHECK_STATUS(cagekit_limit_surfaces_get_info(surfaces, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  info.struct_size = 1;
+  CHECK_STATUS(cagekit_limit_surfaces_get_info(surfaces, &info), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cagekit_limit_surfaces_get_info(NULL, &info), CAGEKIT_ERROR_INVALID_HANDLE);
+  CHECK_STATUS(cagekit_limit_surfaces_get_surface((cagekit_limit_surfaces)cage, 0, &d), CAGEKIT_ERROR_INVALID_HANDLE);
+  CHECK_STATUS(cagekit_limit_surfaces_get_knots(NULL, 0, CAGEKIT_SURFACE_DIRECTION_U, 0, &count, NULL),
+               CAGEKIT_ERROR_INVALID_HANDLE);
+  cagekit_limit_surfaces_retain(surfaces);
+  cagekit_limit_surfaces_release(surfaces);
+  cagekit_limit_surfaces_retain(NULL);
+  cagekit_limit_surfaces_release(NULL);
+  CHECK_OK(cagekit_limit_surfaces_get_surface(surfaces, 0, &d)); /* still alive: one reference left */
+  cagekit_limit_surfaces_release(surfaces);
+  surfaces = NULL;
+  /* options */
+  CHECK_STATUS(cagekit_limit_surfaces_create(NULL, &options, &surfaces), CAGEKIT_ERROR_INVALID_HANDLE);
+  CHECK_STATUS(cagekit_limit_surfaces_create(cage, &options, NULL), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  options.struct_size = 1;
+  CHECK_STATUS(cagekit_limit_surfaces_create(cage, &options, &surfaces), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context), "struct_size") != NULL);
+  options.struct_size = sizeof(options);
+  options.tolerance = 0.0;
+  CHECK_STATUS(cagekit_limit_surfaces_create(cage, &options, &surfaces), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context), "cagekit_limit_surface_options.tolerance") != NULL);
+  options.tolerance = NAN;
+  CHECK_STATUS(cagekit_limit_surfaces_create(cage, &options, &surfaces), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  options.tolerance = 1e-4;
+  options.max_level = 8;
+  CHECK_STATUS(cagekit_limit_surfaces_create(cage, &options, &surfaces), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context), "max_level") != NULL);
+  options.max_level = 0;
+  CHECK_STATUS(cagekit_limit_surfaces_create(cage, &options, &surfaces), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  options.max_level = 3;
+  options.min_level = 0;
+  CHECK_STATUS(cagekit_limit_surfaces_create(cage, &options, &surfaces), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  options.min_level = 4;
+  CHECK_STATUS(cagekit_limit_surfaces_create(cage, &options, &surfaces), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context), "min_level") != NULL);
+  CHECK(surfaces == NULL);
+  /* min_level = max_level fixes the level */
+  options.min_level = 3;
+  CHECK_OK(cagekit_limit_surfaces_create(cage, &options, &surfaces));
+  CHECK(limit_surface_info(surfaces).level == 3);
+  CHECK_OK(cagekit_limit_surfaces_get_surface(surfaces, 0, &d));
+  CHECK(d.num_u == 8 + 3 && d.num_v == 8 + 3);
+  cagekit_limit_surfaces_release(surfaces);
+  surfaces = NULL;
+  /* cancel through the progress callback */
+  g_progress_calls = 0;
+  CHECK_OK(cagekit_context_set_progress(context, cancel_after_first, NULL));
+  CHECK_STATUS(cagekit_limit_surfaces_create(cage, NULL, &surfaces), CAGEKIT_ERROR_CANCELLED);
+  CHECK(surfaces == NULL && g_progress_calls >= 1);
+  CHECK_OK(cagekit_context_set_progress(context, NULL, NULL));
+  /* the context's memory budget: 128^2 control points on each of 6 faces do not fit in 1 MiB */
+  desc.memory_budget_bytes = 1u << 20;
+  CHECK_OK(cagekit_context_create(&desc, &small));
+  small_cage = new_creased_cube(small);
+  options.min_level = options.max_level = 7;
+  CHECK_STATUS(cagekit_limit_surfaces_create(small_cage, &options, &surfaces), CAGEKIT_ERROR_OUT_OF_MEMORY);
+  CHECK(surfaces == NULL && strstr(cagekit_last_error_message(small), "memory budget") != NULL);
+  cagekit_cage_release(small_cage);
+  cagekit_context_release(small);
+  cagekit_cage_release(cage);
+  cagekit_mesh_release(mesh);
+  cagekit_context_release(context);
+}
+
 static void last_error_is_per_thread(void) {
   pthread_t thread;
   int thread_ok = 0;
@@ -2342,6 +2741,11 @@ int main(void) {
       {"surface_basis_is_a_partition_of_unity", surface_basis_is_a_partition_of_unity},
       {"limit_patches_match_the_surface", limit_patches_match_the_surface},
       {"array_outputs_have_one_two_call_shape", array_outputs_have_one_two_call_shape},
+      {"limit_surfaces_of_a_regular_torus_are_exact", limit_surfaces_of_a_regular_torus_are_exact},
+      {"limit_surfaces_of_a_cube_approximate_within_the_tolerance",
+       limit_surfaces_of_a_cube_approximate_within_the_tolerance},
+      {"limit_surfaces_reject_bad_arguments_and_can_be_cancelled",
+       limit_surfaces_reject_bad_arguments_and_can_be_cancelled},
       {"last_error_is_per_thread", last_error_is_per_thread},
       {"objects_outlive_their_context_reference", objects_outlive_their_context_reference},
       {"simplification_hierarchy_browses_levels_and_builds_a_cage",

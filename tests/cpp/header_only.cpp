@@ -32,6 +32,7 @@ void instantiate_everything() {
   use_handle<cagekit::Binding>(context);
   use_handle<cagekit::CpuDeformer>(context);
   use_handle<cagekit::LimitPatches>(context);
+  use_handle<cagekit::LimitSurfaces>(context);
   use_handle<cagekit::Blob>(context);
   use_handle<cagekit::GlDeformer>(context);
   cagekit::Context second = context.share();

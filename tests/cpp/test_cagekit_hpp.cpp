@@ -60,7 +60,7 @@ constexpr bool is_move_only() {
 static_assert(is_move_only<cagekit::Context>() && is_move_only<cagekit::Mesh>() && is_move_only<cagekit::Cage>() &&
                   is_move_only<cagekit::Surface>() && is_move_only<cagekit::Hierarchy>() &&
                   is_move_only<cagekit::Binding>() && is_move_only<cagekit::CpuDeformer>() &&
-                  is_move_only<cagekit::LimitPatches>() && is_move_only<cagekit::Blob>(),
+                  is_move_only<cagekit::LimitPatches>() && is_move_only<cagekit::LimitSurfaces>() && is_move_only<cagekit::Blob>(),
               "every handle is move-only");
 static_assert(std::is_base_of<std::runtime_error, cagekit::Error>::value, "Error is a std::runtime_error");
 
@@ -383,6 +383,17 @@ void cage_tags_surfaces_patches_and_files() {
   const cagekit_limit_patch_info patch_info = patches.info();
   const std::vector<cagekit_limit_patch> patch_list = patches.patches();
   CHECK(patch_info.patch_count == patch_list.size() && patch_list.size() >= 6);
+  // Limit B-spline surfaces: one per ptex face, the variable parts sized by the descriptor.
+  cagekit::LimitSurfaces surfaces = cage.create_limit_surfaces();
+  const cagekit_limit_surface_info surface_info = surfaces.info();
+  CHECK(surface_info.surface_count == 6 && surface_info.ptex_face_count == 6);
+  for (uint32_t k = 0; k < surface_info.surface_count; ++k) {
+    const cagekit_limit_surface s = surfaces.surface(k);
+    CHECK(surfaces.knots(k, CAGEKIT_SURFACE_DIRECTION_U).size() == s.knot_count_u);
+    CHECK(surfaces.knots(k, CAGEKIT_SURFACE_DIRECTION_V).size() == s.knot_count_v);
+    CHECK(surfaces.control_points(k).size() == 3 * size_t(s.num_u) * s.num_v);
+    for (uint32_t side = 0; side < 4; ++side) CHECK(surfaces.neighbours(k, side).size() == s.sides[side].neighbour_count);
+  }
   // Files in memory and on disk.
   cagekit_write_options obj = cagekit::defaults<cagekit_write_options>();
   obj.format = CAGEKIT_FORMAT_OBJ;

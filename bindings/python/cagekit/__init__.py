@@ -32,6 +32,7 @@ from .cage import SHARP, BoundaryRule, Cage
 from .context import Context, LogLevel, default_context
 from .fit import LsqSolver, ProjectionMode, fit
 from .limit_patches import LimitPatches, limit_patches
+from .limit_surfaces import BorderKind, BSplineSurface, LimitSurfaces, limit_surfaces
 from .mesh import Mesh, MeshIssue, RepairSteps
 from .multires import Binding, CpuDeformer, DisplacementMode, NormalMode, bind
 from .remesh import remesh_anisotropic, remesh_quad
@@ -68,10 +69,10 @@ __all__ = [
     "ABI_VERSION", "MAX_SUBDIVISION_LEVELS", "SHARP", "Binding", "BoundaryRule", "Cage", "CageKitError",
     "CancelledError", "ComponentMode", "Context", "CpuDeformer", "DisplacementMode", "FileFormat", "FileIOError", "Hierarchy",
     "InternalError", "InvalidArgumentError", "InvalidHandleError", "InvalidMeshError", "LevelQuery",
-    "LimitExceededError", "LimitPatches", "LogLevel", "LsqSolver", "Mesh", "MeshIssue", "NormalMode",
+    "BorderKind", "BSplineSurface", "LimitExceededError", "LimitPatches", "LimitSurfaces", "LogLevel", "LsqSolver", "Mesh", "MeshIssue", "NormalMode",
     "OutOfMemoryError", "ParseError", "ProjectionMode", "Record", "RepairSteps", "ScanMethod", "SizeInsufficientError", "Surface",
     "UnsupportedFormatError", "VersionMismatchError", "QualityError", "UnsupportedFeatureError",
     "InvalidOperationError", "RenderScene", "abi_version", "bind", "default_context", "fit",
-    "library_path", "limit_patches", "live_handles", "remesh_anisotropic", "remesh_quad", "render", "render_png", "render_scene",
+    "library_path", "limit_patches", "limit_surfaces", "live_handles", "remesh_anisotropic", "remesh_quad", "render", "render_png", "render_scene",
     "scan_to_cage", "simplify", "version",
 ]

@@ -206,9 +206,10 @@ class DeclarationsMatchTheHeader(unittest.TestCase):
         # The functions' keyword defaults are read from the structs' defaults(); this catches a
         # literal written into a signature again. (callable, struct, {parameter: field} where the
         # names differ); parameters named as no field of the struct are not compared.
-        # (the package's names limit_patches and scan_to_cage are the functions, not the modules)
-        limit_patches, scan_to_cage, remesh = (importlib.import_module("cagekit." + m)
-                                               for m in ("limit_patches", "scan_to_cage", "remesh"))
+        # (the package's names limit_patches, limit_surfaces and scan_to_cage are the functions, not
+        # the modules)
+        limit_patches, limit_surfaces, scan_to_cage, remesh = (
+            importlib.import_module("cagekit." + m) for m in ("limit_patches", "limit_surfaces", "scan_to_cage", "remesh"))
         cases = [
             (cagekit.Context.__init__, _lib.ContextDesc, {}), (cagekit.Mesh.repair, _lib.RepairOptions, {}),
             (cagekit.Mesh.write, _lib.WriteOptions, {}), (cagekit.Mesh.to_bytes, _lib.WriteOptions, {}),
@@ -219,6 +220,8 @@ class DeclarationsMatchTheHeader(unittest.TestCase):
             (cagekit.bind, _lib.BindOptions, {}),
             (cagekit.LimitPatches.__init__, limit_patches.LimitPatchOptions, {}),
             (cagekit.limit_patches, limit_patches.LimitPatchOptions, {}),
+            (cagekit.LimitSurfaces.__init__, limit_surfaces.LimitSurfaceOptions, {}),
+            (cagekit.limit_surfaces, limit_surfaces.LimitSurfaceOptions, {}),
             (cagekit.scan_to_cage, scan_to_cage.ScanToCageOptions, {"faces": "target"}),
             (cagekit.scan_to_cage, _lib.CageOptions, {}),
             (cagekit.remesh_anisotropic, remesh.AnisotropicOptions, {}),
