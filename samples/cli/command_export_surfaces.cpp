@@ -36,45 +36,21 @@ const FlagOption kCheck{"--check",
 
 #ifdef CAGEKIT_CLI_HAS_OCCT
 
-// The C API's surfaces as plain data: one reference, released at scope exit.
-struct LimitSurfaces {
-  cagekit_limit_surfaces handle = nullptr;
-  ~LimitSurfaces() { cagekit_limit_surfaces_release(handle); }
-};
-
-void check(cagekit_status status, const cagekit::Context& context, const char* function) {
-  if (!CAGEKIT_FAILED(status)) return;
-  const char* message = cagekit_last_error_message(context.get());
-  throw cagekit::Error(status, function,
-                       message != nullptr && message[0] != '\0' ? message : cagekit::status_string(status));
-}
-
-std::vector<cagekit_step::BSplineSurface> plain_surfaces(const cagekit::Context& context,
-                                                         cagekit_limit_surfaces surfaces, uint32_t count,
+// The C API's surfaces (cagekit_limit_surfaces_*, through cagekit::LimitSurfaces) as plain data.
+std::vector<cagekit_step::BSplineSurface> plain_surfaces(const cagekit::LimitSurfaces& surfaces, uint32_t count,
                                                          std::vector<cagekit_limit_surface>& descriptors) {
   std::vector<cagekit_step::BSplineSurface> out(count);
   descriptors.resize(count);
   for (uint32_t i = 0; i < count; ++i) {
-    cagekit_limit_surface& d = descriptors[i];
-    check(cagekit_limit_surfaces_get_surface(surfaces, i, &d), context, "cagekit_limit_surfaces_get_surface");
+    const cagekit_limit_surface d = descriptors[i] = surfaces.surface(i);
     cagekit_step::BSplineSurface& s = out[i];
     s.degree_u = int(d.degree_u);
     s.degree_v = int(d.degree_v);
     s.num_u = d.num_u;
     s.num_v = d.num_v;
-    uint32_t n = 0;
-    s.knots_u.resize(d.knot_count_u);
-    check(cagekit_limit_surfaces_get_knots(surfaces, i, CAGEKIT_SURFACE_DIRECTION_U, d.knot_count_u, &n,
-                                           s.knots_u.data()),
-          context, "cagekit_limit_surfaces_get_knots");
-    s.knots_v.resize(d.knot_count_v);
-    check(cagekit_limit_surfaces_get_knots(surfaces, i, CAGEKIT_SURFACE_DIRECTION_V, d.knot_count_v, &n,
-                                           s.knots_v.data()),
-          context, "cagekit_limit_surfaces_get_knots");
-    const uint32_t points = d.num_u * d.num_v;
-    s.points.resize(3 * size_t(points));
-    check(cagekit_limit_surfaces_get_control_points(surfaces, i, points, &n, s.points.data()), context,
-          "cagekit_limit_surfaces_get_control_points");
+    s.knots_u = surfaces.knots(i, CAGEKIT_SURFACE_DIRECTION_U);
+    s.knots_v = surfaces.knots(i, CAGEKIT_SURFACE_DIRECTION_V);
+    s.points = surfaces.control_points(i);
   }
   return out;
 }
@@ -86,7 +62,7 @@ int command_export_surfaces(const Options& args) {
     throw Failure(kExitUsage, "--per " + per + ": only 'face' (one surface per ptex face) is available");
   const std::string schema = args.text(kSchema);
   if (schema != "AP214" && schema != "AP203") throw Failure(kExitUsage, "--schema " + schema + ": AP214 or AP203");
-  cagekit_limit_surface_options options = CAGEKIT_LIMIT_SURFACE_OPTIONS_INIT;
+  cagekit_limit_surface_options options = cagekit::defaults<cagekit_limit_surface_options>();
   options.tolerance = args.real(kTolerance);
   options.max_level = uint32_t(args.integer(kMaxLevel));
   const double sewing_rel = args.real(kSewing);
@@ -95,18 +71,14 @@ int command_export_surfaces(const Options& args) {
 
   const auto start = std::chrono::steady_clock::now();
   Session session(quiet);
-  const cagekit::Context& context = session.context();
-  const cagekit::Cage cage = session.run(files[0], [&] { return context.read_cage(files[0]); });
-  LimitSurfaces surfaces;
-  cagekit_limit_surface_info info{};
-  info.struct_size = sizeof(info);
+  const cagekit::Cage cage = session.run(files[0], [&] { return session.context().read_cage(files[0]); });
+  cagekit_limit_surface_info info = cagekit::defaults<cagekit_limit_surface_info>();
   std::vector<cagekit_limit_surface> descriptors;
   std::vector<cagekit_step::BSplineSurface> data;
   session.run(files[0], [&] {
-    check(cagekit_limit_surfaces_create(cage.get(), &options, &surfaces.handle), context,
-          "cagekit_limit_surfaces_create");
-    check(cagekit_limit_surfaces_get_info(surfaces.handle, &info), context, "cagekit_limit_surfaces_get_info");
-    data = plain_surfaces(context, surfaces.handle, info.surface_count, descriptors);
+    const cagekit::LimitSurfaces surfaces = cage.create_limit_surfaces(options);
+    info = surfaces.info();
+    data = plain_surfaces(surfaces, info.surface_count, descriptors);
   });
   const double surface_seconds = seconds_since(start);
   session.finish_progress();
