@@ -3,6 +3,8 @@
 # Idempotent: packages already present are skipped. Run as root or with sudo available.
 # All go through one `apt-get install --no-install-recommends` (Blender and FreeCAD included:
 # freecad 0.20.2 took 1m40s there, 122 packages, 151 MB downloaded, 958 MB on disk).
+# libocct-data-exchange-dev (OpenCASCADE 7.6, optional: samples/step_export, `cagekit export-surfaces`)
+# pulls libocct-{foundation,modeling-data,modeling-algorithms,ocaf,visualization}-dev with it.
 set -euo pipefail
 
 PACKAGES=(
@@ -13,6 +15,7 @@ PACKAGES=(
   clang libclang-rt-14-dev
   abigail-tools
   nlohmann-json3-dev libcli11-dev
+  libocct-data-exchange-dev
 )
 
 missing=()

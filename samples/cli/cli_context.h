@@ -162,6 +162,7 @@ Command add_deform(CLI::App& cagekit);
 Command add_bench_deform(CLI::App& cagekit);
 Command add_render(CLI::App& cagekit);
 Command add_demo(CLI::App& cagekit);
+Command add_export_surfaces(CLI::App& cagekit);  // needs CAGEKIT_CLI_HAS_OCCT, else says so
 
 // The remesher a command runs and its options.
 struct RemeshSettings {
