@@ -1814,9 +1814,11 @@ typedef struct cagekit_limit_surface_options {
   double max_normal_jump_deg; /* a surface whose normal jumps by more than this many degrees across a
                                  smooth border gets more knots, as one over the tolerance; finite
                                  and > 0 (default 0.5) */
+  uint32_t threads;   /* worker threads for the surface fits, 0..1024; 0 (default) = the number of
+                         hardware threads. The surfaces do not depend on it. */
 } cagekit_limit_surface_options;
 
-#define CAGEKIT_LIMIT_SURFACE_OPTIONS_INIT { sizeof(cagekit_limit_surface_options), 1e-4, 5, 1, 0.5 }
+#define CAGEKIT_LIMIT_SURFACE_OPTIONS_INIT { sizeof(cagekit_limit_surface_options), 1e-4, 5, 1, 0.5, 0 }
 
 typedef struct cagekit_limit_surface_info {
   size_t struct_size;              /* set by the caller: sizeof(cagekit_limit_surface_info) */

@@ -31,6 +31,7 @@ const TextOption kPer{"--per", "face", "face", "one B-spline surface per ptex fa
 const RealOption kSewing{"--sewing-tolerance", 1e-7, 1e-12, 1e-2, "REL",
                          "sewing tolerance relative to the bounding-box diagonal"};
 const TextOption kSchema{"--schema", "AP214", "NAME", "STEP schema: AP214 or AP203"};
+const IntegerOption kThreads{"--threads", 0, 0, 1024, "N", "worker threads for the surface fits (0: all cores)"};
 const FlagOption kCheck{"--check",
                         "read the file back and measure it against the limit surface (5 x 5 points per surface)"};
 
@@ -65,6 +66,7 @@ int command_export_surfaces(const Options& args) {
   cagekit_limit_surface_options options = cagekit::defaults<cagekit_limit_surface_options>();
   options.tolerance = args.real(kTolerance);
   options.max_level = uint32_t(args.integer(kMaxLevel));
+  options.threads = uint32_t(args.integer(kThreads));
   const double sewing_rel = args.real(kSewing);
   const bool read_back = args.flag(kCheck);
   const std::vector<std::string> files = {args.positional("CAGE"), args.positional("OUT")};
@@ -174,6 +176,7 @@ Command add_export_surfaces(CLI::App& cagekit) {
   options->add(kPer);
   options->add(kSewing);
   options->add(kSchema);
+  options->add(kThreads);
   options->add(kCheck);
   options->add_quiet();
   return {app, [options] { return command_export_surfaces(*options); }};

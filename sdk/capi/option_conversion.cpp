@@ -235,14 +235,16 @@ CAGEKIT_OPTIONS_FROM_C(limit_patch_options_from_c, cagekit_limit_patch_options, 
   X(A, tolerance, 1e-4, greater_than(0.0), lo.tolerance)                                              \
   X(A, max_level, 5, (UintIn{1, cagekit::kMaxLimitBSplineLevel}), lo.max_level)                       \
   X(A, min_level, 1, (UintIn{1, cagekit::kMaxLimitBSplineLevel}), lo.min_level)                       \
-  X(A, max_normal_jump_deg, 0.5, greater_than(0.0), lo.max_normal_jump_deg)
+  X(A, max_normal_jump_deg, 0.5, greater_than(0.0), lo.max_normal_jump_deg)                         \
+  X(A, threads, 0, kThreads, lo.threads)
 
 CAGEKIT_OPTIONS_FROM_C(limit_surface_options_from_c, cagekit_limit_surface_options,
                        CAGEKIT_LIMIT_SURFACE_OPTIONS_INIT, CAGEKIT_LIMIT_SURFACE_OPTION_TABLE,
                        cagekit::LimitBSplineOptions, lo,
                        if (lo.min_level > lo.max_level) fail(Status::invalid_argument,
                            "cagekit_limit_surface_options.min_level must be at most max_level (" +
-                           std::to_string(lo.max_level) + "), not " + std::to_string(lo.min_level));)
+                           std::to_string(lo.max_level) + "), not " + std::to_string(lo.min_level));
+                       if (lo.threads == 0) lo.threads = int(std::max(1u, std::thread::hardware_concurrency()));)
 
 // cagekit_simplify_options (CAGEKIT_SIMPLIFY_OPTIONS_INIT) -> `so`.
 #define CAGEKIT_SIMPLIFY_OPTION_TABLE(X, A)                                                           \

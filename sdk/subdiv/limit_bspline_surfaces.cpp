@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include "core/memory_budget.h"
+#include "core/parallel_for.h"
 #include "subdiv/subdivision_surface.h"
 
 CAGEKIT_NAMESPACE_BEGIN
@@ -345,6 +346,7 @@ class Builder {
   // by knot insertion, so it stays the same curve). Repeated until no surface below max_level is
   // over.
   LimitBSplineSurfaces run(const LimitBSplineOptions& options, double diagonal) {
+    threads_ = options.threads;
     const uint32_t num_ptex = surface_.num_ptex_faces();
     const double tolerance = options.tolerance * diagonal;
     const double max_jump_deg = options.max_normal_jump_deg;
@@ -944,13 +946,25 @@ class Builder {
     result.ptex_faces = num_ptex;
     std::vector<int> index_of(num_ptex, -1);
     result.surfaces.resize(ptex_list.size());
+    // The fits are independent (they read the fitted segments only): in chunks over the worker
+    // threads, progress and cancellation between chunks on this thread.
+    const size_t workers = size_t(std::max(1, threads_));
+    const size_t chunk = 16 * workers;
+    for (size_t begin = 0; begin < ptex_list.size(); begin += chunk) {
+      monitor_.report("limit B-spline surfaces", 0.1 + 0.8 * double(begin) / double(ptex_list.size()));
+      const size_t end = std::min(ptex_list.size(), begin + chunk);
+      run_ranges(end - begin, std::min(workers, end - begin), [&](size_t b, size_t e, size_t) {
+        for (size_t k = begin + b; k < begin + e; ++k) {
+          const uint32_t p = ptex_list[k];
+          fit_surface(result.surfaces[k], p, spans_of(p, 0), spans_of(p, 1));
+          measure(result.surfaces[k], spans_of(p, 0), spans_of(p, 1), tolerance);
+        }
+      });
+    }
     for (size_t k = 0; k < ptex_list.size(); ++k) {
       const uint32_t p = ptex_list[k];
       index_of[p] = int(k);
-      monitor_.report("limit B-spline surfaces", 0.1 + 0.8 * double(k) / double(ptex_list.size()));
       LimitBSplineSurface& s = result.surfaces[k];
-      fit_surface(s, p, spans_of(p, 0), spans_of(p, 1));
-      measure(s, spans_of(p, 0), spans_of(p, 1), tolerance);
       s.exact = exact_[p] && s.parametric_error <= 1e-12 * diagonal;
       if (s.exact) ++result.exact_count; else ++result.approximated_count;
       if (!s.exact && (s.error > tolerance || s.max_normal_deviation_deg > kFoldDegrees)) ++result.over_tolerance_count;
@@ -1037,6 +1051,7 @@ class Builder {
   std::vector<std::array<SideRef, 4>> sides_;                 // per ptex face
   std::vector<double> scale_;                                 // per ptex face
   std::vector<char> exact_;                                   // per ptex face, this round
+  int threads_ = 1;
   std::vector<std::array<int, 2>> level_;                     // per ptex face: knot level in u, v (quad units)
   std::unordered_map<uint64_t, Vec3> corners_;
 };
@@ -1067,6 +1082,8 @@ LimitBSplineSurfaces build_limit_bspline_surfaces(const Cage& cage, const LimitB
     fail(Status::invalid_argument, "limit B-spline surfaces: tolerance must be a finite number > 0");
   if (!(options.max_normal_jump_deg > 0.0) || !std::isfinite(options.max_normal_jump_deg))
     fail(Status::invalid_argument, "limit B-spline surfaces: max_normal_jump_deg must be a finite number > 0");
+  if (options.threads < 1 || options.threads > 1024)
+    fail(Status::invalid_argument, "limit B-spline surfaces: threads must be in [1, 1024]");
   if (options.max_level < 1 || options.max_level > kMaxLimitBSplineLevel)
     fail(Status::invalid_argument,
          "limit B-spline surfaces: max_level must be in [1, " + std::to_string(kMaxLimitBSplineLevel) + "]");

@@ -43,7 +43,8 @@
 // parameters (above 90 deg: folded); normal jumps: the angle between the two surfaces' normals at 4 spans + 1 points
 // along every shared border (smooth borders: should be ~0; crease borders: the crease angle).
 //
-// Thread-safety: reentrant, the result is a plain value. Errors: Error(invalid_argument) for
+// Thread-safety: reentrant, the result is a plain value; the surfaces of one round are fitted
+// on options.threads threads. Errors: Error(invalid_argument) for
 // options out of range, Error(invalid_mesh) for a cage that cannot be subdivided,
 // Error(out_of_memory) against the memory budget, Error(cancelled) through the monitor
 // (checked once per surface).
@@ -71,6 +72,8 @@ struct LimitBSplineOptions {
   // like one over the tolerance (the jump is largest in the knot spans next to extraordinary
   // points, where G1 is not constrained, and shrinks with them). > 0.
   double max_normal_jump_deg = 0.5;
+  // Worker threads for the surface fits, >= 1 (the surfaces do not depend on it).
+  int threads = 1;
 };
 
 enum class BorderKind : uint8_t {

@@ -1029,6 +1029,10 @@ static void limit_surfaces_reject_bad_arguments_and_can_be_cancelled(void) {
   CHECK_STATUS(cagekit_limit_surfaces_create(cage, &options, &surfaces), CAGEKIT_ERROR_INVALID_ARGUMENT);
   CHECK(strstr(cagekit_last_error_message(context), "max_normal_jump_deg") != NULL);
   options.max_normal_jump_deg = 0.5;
+  options.threads = 1025;
+  CHECK_STATUS(cagekit_limit_surfaces_create(cage, &options, &surfaces), CAGEKIT_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(cagekit_last_error_message(context), "threads") != NULL);
+  options.threads = 0;
   options.min_level = 0;
   CHECK_STATUS(cagekit_limit_surfaces_create(cage, &options, &surfaces), CAGEKIT_ERROR_INVALID_ARGUMENT);
   options.min_level = 4;

@@ -197,6 +197,16 @@ TEST(LimitBSplineSurfaces, mixed_torus_regular_faces_exact_others_within_toleran
   }
   EXPECT_LT(smallest, largest);
   EXPECT_EQ(largest, size_t(35 * 35));  // level 5 next to the valence-5 vertices
+  // Threads do not change the surfaces (each is fitted from the shared segments alone).
+  options.threads = 3;
+  const LimitBSplineSurfaces threaded = cagekit::build_limit_bspline_surfaces(torus, options);
+  ASSERT_EQ(threaded.surfaces.size(), r.surfaces.size());
+  for (size_t i = 0; i < r.surfaces.size(); ++i) {
+    ASSERT_EQ(threaded.surfaces[i].points.size(), r.surfaces[i].points.size());
+    for (size_t k = 0; k < r.surfaces[i].points.size(); ++k)
+      ASSERT_EQ(cagekit::distance(threaded.surfaces[i].points[k], r.surfaces[i].points[k]), 0.0);
+    EXPECT_EQ(threaded.surfaces[i].error, r.surfaces[i].error);
+  }
 }
 
 TEST(LimitBSplineSurfaces, cube_within_tolerance_on_33x33_grids_with_shared_borders) {
@@ -281,6 +291,8 @@ TEST(LimitBSplineSurfaces, bad_options) {
   EXPECT_EQ(with([](LimitBSplineOptions& o) { o.max_level = cagekit::kMaxLimitBSplineLevel + 1; }),
             Status::invalid_argument);
   EXPECT_EQ(with([](LimitBSplineOptions& o) { o.min_level = 3, o.max_level = 2; }), Status::invalid_argument);
+  EXPECT_EQ(with([](LimitBSplineOptions& o) { o.threads = 0; }), Status::invalid_argument);
+  EXPECT_EQ(with([](LimitBSplineOptions& o) { o.max_normal_jump_deg = 0; }), Status::invalid_argument);
   Cage bad = cube;
   bad.mesh.positions[3].y = std::nan("");
   EXPECT_NE(status_of([&] { cagekit::build_limit_bspline_surfaces(bad, LimitBSplineOptions()); }), Status::success);
@@ -300,6 +312,7 @@ TEST(LimitBSplineSurfaces, fandisk_pipeline_cage) {
   const Cage& cage = made.cage;
   LimitBSplineOptions o;
   o.tolerance = 1e-4;
+  o.threads = 2;
   const auto start = std::chrono::steady_clock::now();
   const LimitBSplineSurfaces r = cagekit::build_limit_bspline_surfaces(cage, o);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

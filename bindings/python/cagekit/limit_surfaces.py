@@ -57,8 +57,8 @@ _DIRECTION_U, _DIRECTION_V = 0, 1  # cagekit_surface_direction
 # --- declarations (include/cagekit/cagekit.h, "limit surface as B-spline surfaces") ----------------
 class LimitSurfaceOptions(_lib._Versioned):
     _fields_ = [("struct_size", c_size_t), ("tolerance", c_double), ("max_level", c_uint32),
-                ("min_level", c_uint32), ("max_normal_jump_deg", c_double)]
-    _defaults = {"tolerance": 1e-4, "max_level": 5, "min_level": 1, "max_normal_jump_deg": 0.5}
+                ("min_level", c_uint32), ("max_normal_jump_deg", c_double), ("threads", c_uint32)]
+    _defaults = {"tolerance": 1e-4, "max_level": 5, "min_level": 1, "max_normal_jump_deg": 0.5, "threads": 0}
 
 
 class LimitSurfaceInfo(_lib._Versioned):
@@ -182,16 +182,18 @@ class LimitSurfaces(Handle):
     _kind = "limit surfaces"
 
     def __init__(self, cage, tolerance=_D["tolerance"], max_level=_D["max_level"], min_level=_D["min_level"],
-                 max_normal_jump_deg=_D["max_normal_jump_deg"]):
+                 max_normal_jump_deg=_D["max_normal_jump_deg"], threads=_D["threads"]):
         """tolerance: the largest distance allowed between an approximated surface and the limit
         surface, as a fraction of the bounding-box diagonal of the cage's control points (> 0);
         max_level: the largest knot level tried (1..7; up to 2^level spans per quad side);
         min_level: the smallest (1..max_level); max_normal_jump_deg: a surface whose normal jumps
-        by more across a smooth border gets more knots (> 0). Bad values raise
+        by more across a smooth border gets more knots (> 0); threads: worker threads for the
+        fits (0: the hardware's; the surfaces do not depend on it). Bad values raise
         InvalidArgumentError with the SDK's message. Long operation (progress stage "limit
         B-spline surfaces", cancel)."""
         options = LimitSurfaceOptions.new(tolerance=float(tolerance), max_level=int(max_level),
-                                          min_level=int(min_level), max_normal_jump_deg=float(max_normal_jump_deg))
+                                          min_level=int(min_level), max_normal_jump_deg=float(max_normal_jump_deg),
+                                          threads=int(threads))
         out = ctypes.c_void_p()
         cage._context._call(lib.cagekit_limit_surfaces_create, cage._handle, ctypes.byref(options),
                             ctypes.byref(out), outs=[(out, self._release())])
@@ -258,7 +260,7 @@ class LimitSurfaces(Handle):
 
 
 def limit_surfaces(cage, tolerance=_D["tolerance"], max_level=_D["max_level"], min_level=_D["min_level"],
-                   max_normal_jump_deg=_D["max_normal_jump_deg"]):
-    """LimitSurfaces(cage, tolerance, max_level, min_level, max_normal_jump_deg)."""
+                   max_normal_jump_deg=_D["max_normal_jump_deg"], threads=_D["threads"]):
+    """LimitSurfaces(cage, tolerance, max_level, min_level, max_normal_jump_deg, threads)."""
     return LimitSurfaces(cage, tolerance=tolerance, max_level=max_level, min_level=min_level,
-                         max_normal_jump_deg=max_normal_jump_deg)
+                         max_normal_jump_deg=max_normal_jump_deg, threads=threads)
