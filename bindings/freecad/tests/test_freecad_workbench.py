@@ -172,7 +172,7 @@ def main(out_dir):
 
     # --- limit surface ------------------------------------------------------------------------------
     t = time.time()
-    surface = tools.limit_surface(cage_obj, tolerance=TOLERANCE)
+    surface = tools.limit_surface(cage_obj, tolerance=TOLERANCE, mode="patches")
     t_surface = time.time() - t
     patches = cagekit.LimitPatches(ref_cage, tolerance=TOLERANCE)
     info = patches.info
@@ -299,7 +299,10 @@ def main(out_dir):
                  tools.scan_to_cage, fin, faces=2)
     expect_error("a tolerance of 0", ["CageKit", "tolerance"], tools.limit_surface, cage_obj, tolerance=0.0)
     expect_error("a NaN tolerance", ["CageKit", "tolerance"], tools.limit_surface, cage_obj, tolerance=float("nan"))
-    expect_error("max_depth 13", ["CageKit", "max_depth"], tools.limit_surface, cage_obj, max_depth=13)
+    expect_error("max_depth 13", ["CageKit", "max_depth"], tools.limit_surface, cage_obj, max_depth=13,
+                 mode="patches")
+    expect_error("an unknown mode", ["CageKit", "mode", "bspline", "patches"], tools.limit_surface, cage_obj,
+                 mode="faces")
     expect_error("a mesh given as cage", ["CageKit", "not a CageKit cage"], tools.limit_surface, scan)
     points = list(cage_obj.ControlPoints)
     broken = list(points)
@@ -314,7 +317,7 @@ def main(out_dir):
     doc.removeObject(nan.Name)
     doc.removeObject(fin.Name)
     check(len(doc.Objects) == before, "bad input added no objects")
-    again = tools.limit_surface(cage_obj, tolerance=TOLERANCE)
+    again = tools.limit_surface(cage_obj, tolerance=TOLERANCE, mode="patches")
     check(again is surface and again.PatchCount == info.patch_count,
           "FreeCAD and the workbench still work after the errors (the surface remade: %d patches)" % again.PatchCount)
     print("times: cage %.2f s, fit %.2f s, limit surface %.2f s, STEP write %.2f s, read %.2f s; total %.1f s"
