@@ -12,9 +12,9 @@ freecadcmd 0.20 passes no arguments to a script, so it reads the environment:
   CAGEKIT_TEST_FACES (200), CAGEKIT_TEST_PASSES (3), CAGEKIT_TEST_TOLERANCE (1e-3),
   CAGEKIT_TEST_SAMPLES (400), CAGEKIT_TEST_OUT (scratch folder; default a temporary one)
 The scan is fandisk, else a generated noisy block (the output says which). Checks: the cage's face
-count and vertices equal the Python binding's (same level, same fit), the limit surface has one
-face per SDK patch and is a closed valid solid for a closed cage, the STEP file re-imports with one
-face per patch, limit-surface points (cagekit Surface.evaluate) lie within tolerance x diagonal of
+count and vertices equal the Python binding's (same level, same fit), the limit surface in mode
+"patches" has one face per SDK patch and is a closed valid solid for a closed cage, the STEP file
+re-imports with one face per patch, limit-surface points (cagekit Surface.evaluate) lie within tolerance x diagonal of
 the re-imported faces and shell, and bad input (a corrupt mesh file, an empty mesh, a NaN vertex, a
 NaN control point, bad options, a missing folder) gives an error message, leaves nothing behind,
 and FreeCAD goes on. Exit code 1 on any failure (freecadcmd itself exits 0 after an uncaught
