@@ -4,7 +4,8 @@
     CageKit_ImportScan     read a scan with the SDK (OBJ, PLY, OFF, Draco, STL) into a mesh object
     CageKit_ScanToCage     selected mesh -> quad-dominant Catmull-Clark cage with creases
     CageKit_Fit            selected cage (and optionally its scan) -> fitted control points
-    CageKit_LimitSurface   selected cage -> its limit surface as B-spline patches (a solid when closed)
+    CageKit_LimitSurface   selected cage -> its limit surface as B-spline faces, one per ptex face (or
+                           one Bezier face per patch), sewn (a solid when closed)
     CageKit_ExportStep     selected limit surface or cage -> STEP file
 
 Each command asks for its options in a task panel (Combo view > Tasks; OK runs it) and calls
@@ -214,15 +215,23 @@ class Fit(_Command):
 
 def _limit_fields():
     return [("tolerance", "Tolerance (of the diagonal)", 1e-4, 1e-8, 1.0,
-             "Largest distance allowed between an approximated patch and the limit surface, as a "
+             "Largest distance allowed between an approximated surface and the limit surface, as a "
              "fraction of the cage's bounding-box diagonal"),
-            ("max_depth", "Max depth", 8, 0, 12, "Quadtree splits of a region that is not one polynomial")]
+            ("max_level", "Max knot level", 5, 1, 7,
+             "B-spline faces: the finest knot spacing tried next to extraordinary vertices "
+             "(up to 2^level spans per cage edge)"),
+            ("per_patch", "One Bezier face per patch", False, 0, 1,
+             "The first mode: one bicubic face per SDK patch (thousands of faces) instead of one "
+             "B-spline face per ptex face"),
+            ("max_depth", "Max depth (per patch)", 8, 0, 12,
+             "One face per patch: quadtree splits of a region that is not one polynomial")]
 
 
 class LimitSurface(_Command):
     name = "CageKit_LimitSurface"
     menu = "Limit surface"
-    tip = "Make the selected cage's limit surface as B-spline patches, sewn into a solid when closed"
+    tip = ("Make the selected cage's limit surface as B-spline faces (one per ptex face, or one Bezier "
+           "face per patch), sewn into a solid when closed")
 
     def IsActive(self):
         return any(tools.is_cage(o) for o in _selection())
@@ -234,7 +243,8 @@ class LimitSurface(_Command):
         cage = cages[0]
 
         def accept(v):
-            surface = run(tools.limit_surface, cage, tolerance=v["tolerance"], max_depth=v["max_depth"])
+            surface = run(tools.limit_surface, cage, tolerance=v["tolerance"], max_depth=v["max_depth"],
+                          mode="patches" if v["per_patch"] else "bspline", max_level=v["max_level"])
             if surface is not None:
                 cage.ViewObject.Visibility = False
                 FreeCADGui.Selection.clearSelection()

@@ -12,12 +12,20 @@ the same in `freecadcmd`:
     surface = ck.limit_surface(cage, tolerance=1e-4)       # Part::Feature "<cage>_surface"
     ck.export_step(surface, "fandisk.step")
 
+Without a document (a cagekit.Cage or a cage object; the dict also holds the faces, the SDK's
+record, the sewing tolerance and timings):
+
+    result = ck.surface_shape(cage, tolerance=1e-3, step="out.step")   # mode="bspline" | "patches"
+    result["shape"], result["closed"], result["valid"], result["seconds"]
+    ck.step_round_trip("out.step", result)                 # face count, solid, limit points' distances
+
 Objects: a cage is a Part::Feature whose Shape is the cage's edges and whose properties (group
 "CageKit") hold the control mesh and its tags (ControlPoints, FaceSizes, FaceIndices, Creases,
 CreaseSharpness, Corners, CornerSharpness, Holes, BoundaryRule) and a link to its Scan. The
-limit surface is a Part::Feature whose Shape has one B-spline face (bicubic, knots [0, 1] with
-multiplicity 4: a Bezier patch) per patch of cagekit_limit_patches_create, sewn into a shell, a
-solid when the shell is closed. Coordinates are global: a scan's Placement is applied, the
+limit surface is a Part::Feature whose Shape has, in mode "bspline" (the default), one B-spline
+face per merged surface of cagekit_limit_surfaces_create (bicubic with interior knots, one per ptex
+face), or, in mode "patches", one face per patch of cagekit_limit_patches_create (bicubic, knots
+[0, 1] with multiplicity 4: a Bezier patch); sewn into a shell, a solid when the shell is closed. Coordinates are global: a scan's Placement is applied, the
 objects made have the identity Placement.
 
 Errors: every function raises a cagekit.CageKitError (the SDK's message), WorkbenchError (input
@@ -436,13 +444,19 @@ def t_junctions(control_points, errors, slack):
     return out
 
 
-def bezier_face(control_points, splits=None):
-    """A face on the bicubic Bezier patch `control_points` (4, 4, 3) ([i, j]: weight B_i(s) B_j(t)),
-    a B-spline surface of degree 3 with knots [0, 1] of multiplicity 4; (u, v) = (s, t). Its
-    boundary is the whole square [0, 1]^2, with extra vertices at `splits` (as t_junctions)."""
+def bezier_surface(control_points):
+    """The bicubic Bezier patch `control_points` (4, 4, 3) ([i, j]: weight B_i(s) B_j(t)) as a
+    Part.BSplineSurface of degree 3 with knots [0, 1] of multiplicity 4; (u, v) = (s, t)."""
     poles = [[FreeCAD.Vector(*map(float, control_points[i, j])) for j in range(4)] for i in range(4)]
     surface = Part.BSplineSurface()
     surface.buildFromPolesMultsKnots(poles, [4, 4], [4, 4], [0.0, 1.0], [0.0, 1.0], False, False, 3, 3)
+    return surface
+
+
+def square_face(surface, splits=None):
+    """A face on `surface` (a Part surface on [0, 1]^2) whose boundary is the whole square, with
+    extra vertices at `splits`: per side (0: v = 0, u 0 -> 1; 1: u = 1, v 0 -> 1; 2: v = 1, u 1 -> 0;
+    3: u = 0, v 1 -> 0, counter-clockwise in (u, v)) the sorted fractions in (0, 1) along that walk."""
     if not splits or not any(splits):
         return surface.toShape()
     V2 = FreeCAD.Base.Vector2d
@@ -454,6 +468,12 @@ def bezier_face(control_points, splits=None):
         at = [V2(a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1])) for f in fractions]
         edges.extend(Part.Geom2d.Line2dSegment(p, q).toShape(surface) for p, q in zip(at, at[1:]))
     return Part.Face(surface, Part.Wire(edges))
+
+
+def bezier_face(control_points, splits=None):
+    """A face on the whole Bezier patch `control_points` (see bezier_surface), with extra vertices
+    at `splits` (as t_junctions / square_face)."""
+    return square_face(bezier_surface(control_points), splits)
 
 
 def sew(faces, tolerance, cut_free_edges=True):
@@ -473,10 +493,41 @@ def sew(faces, tolerance, cut_free_edges=True):
         sewing.Nonmanifold = False
         doc.recompute()
         if not sewing.isValid() or sewing.Shape.isNull():
-            raise WorkbenchError("sewing the %d patches failed" % len(faces))
+            raise WorkbenchError("sewing the %d faces failed" % len(faces))
         return sewing.Shape.copy()
     finally:
         FreeCAD.closeDocument(doc.Name)
+
+
+def shell_or_solid(faces, sew_tolerance):
+    """Sews `faces` with `sew_tolerance` (model units) and returns a dict: shape (a Part.Solid,
+    outward, when the faces sew into one closed shell; else that shell, or the sewn compound),
+    closed, shells (count), valid (Shape.isValid(), BRepCheck), check (None, or the message of
+    Shape.check(True) when invalid), seconds {"sew", "solid"} (the solid's time includes the check)."""
+    t = time.perf_counter()
+    sewn = sew(faces, sew_tolerance)
+    t_sew = time.perf_counter() - t
+    t = time.perf_counter()
+    shells = sewn.Shells
+    closed = False
+    if len(shells) == 1 and len(shells[0].Faces) == len(faces) and shells[0].isClosed():
+        shape = Part.Solid(shells[0])
+        if shape.Volume < 0:
+            shape.reverse()
+        closed = True
+    elif len(shells) == 1 and len(shells[0].Faces) == len(faces):
+        shape = shells[0]
+    else:
+        shape = sewn
+    valid = bool(shape.isValid())
+    message = None
+    if not valid:
+        try:
+            shape.check(True)
+        except Exception as e:  # BRepCheck's findings
+            message = str(e).strip() or type(e).__name__
+    return {"shape": shape, "closed": closed, "shells": len(shells), "valid": valid, "check": message,
+            "seconds": {"sew": t_sew, "solid": time.perf_counter() - t}}
 
 
 def patches_shape(control_points, errors, sew_tolerance, slack=0.0):
@@ -485,36 +536,304 @@ def patches_shape(control_points, errors, sew_tolerance, slack=0.0):
     shell becomes a solid (outward)."""
     splits = t_junctions(control_points, errors, slack)
     faces = [bezier_face(cp, sp) for cp, sp in zip(control_points, splits)]
-    sewn = sew(faces, sew_tolerance)
-    shells = sewn.Shells
-    if len(shells) == 1 and len(shells[0].Faces) == len(faces) and shells[0].isClosed():
-        solid = Part.Solid(shells[0])
-        if solid.Volume < 0:
-            solid.reverse()
-        return solid, True
-    if len(shells) == 1 and len(shells[0].Faces) == len(faces):
-        return shells[0], False
-    return sewn, False
+    result = shell_or_solid(faces, sew_tolerance)
+    return result["shape"], result["closed"]
 
 
-def limit_surface(cage_obj, tolerance=1e-4, max_depth=8, progress=None, doc=None):
-    """Makes (or updates) '<cage>_surface': the cage's limit surface as B-spline patches of
-    cagekit_limit_patches_create (tolerance: fraction of the cage's bounding-box diagonal),
-    sewn into a shell, a solid when closed. Its properties record the SDK's figures."""
+# --- merged B-spline surfaces (cagekit_limit_surfaces_*) -------------------------------------------------
+MODES = ("bspline", "patches")
+
+
+def knots_and_mults(knots):
+    """(distinct knots, multiplicities) of a full knot vector (end knots repeated degree + 1 times),
+    as Part.BSplineSurface.buildFromPolesMultsKnots wants them."""
+    distinct, mults = [], []
+    for x in (float(k) for k in knots):
+        if distinct and x == distinct[-1]:
+            mults[-1] += 1
+        else:
+            distinct.append(x)
+            mults.append(1)
+    return distinct, mults
+
+
+def part_bspline_surface(surface):
+    """A Part.BSplineSurface equal to a cagekit BSplineSurface: the same degrees and knots (as
+    distinct knots and multiplicities), poles[i][j] = control point (i, j) = cagekit's
+    control_points[j, i] (i along u); not periodic, not rational. (u, v) is the SDK surface's,
+    i.e. the ptex location (surface.ptex_face, u, v) of the limit surface."""
+    uk, um = knots_and_mults(surface.knots_u)
+    vk, vm = knots_and_mults(surface.knots_v)
+    cp = surface.control_points  # (num_v, num_u, 3): [j, i] has weight N_i(u) N_j(v)
+    V = FreeCAD.Vector
+    poles = [[V(float(cp[j, i, 0]), float(cp[j, i, 1]), float(cp[j, i, 2])) for j in range(cp.shape[0])]
+             for i in range(cp.shape[1])]
+    out = Part.BSplineSurface()
+    out.buildFromPolesMultsKnots(poles, um, vm, uk, vk, False, False, int(surface.degree_u), int(surface.degree_v))
+    return out
+
+
+def _side_uv(side, t):
+    """(n, 2) (u, v) of side `side` (0: v = 0, 1: u = 1, 2: v = 1, 3: u = 0) at its parameter t."""
+    np = numpy()
+    t = np.asarray(t, dtype=np.float64)
+    zero, one = np.zeros_like(t), np.ones_like(t)
+    u = {0: t, 1: one, 2: t, 3: zero}[side]
+    v = {0: zero, 1: t, 2: one, 3: t}[side]
+    return np.stack([u, v], axis=1)
+
+
+def side_splits(surface, eps=1e-12):
+    """Per side of a cagekit BSplineSurface, the fractions (0, 1) along the counter-clockwise walk
+    (as square_face) where a neighbour's stretch [t0, t1] begins or ends: there the face needs a
+    vertex, so that sewing pairs the side with each neighbour (a quad beside an n-gon's ptex faces)."""
+    out = []
+    for side in range(4):
+        ts = set()
+        for n in surface.sides[side].neighbours:
+            ts.update((float(n.t0), float(n.t1)))
+        inner = sorted(t for t in ts if eps < t < 1.0 - eps)
+        out.append(inner if side < 2 else sorted(1.0 - t for t in inner))
+    return out
+
+
+def border_gaps(surfaces, samples=9):
+    """(S, 4) array: the largest distance between each side of each cagekit BSplineSurface and the
+    neighbours' sides at corresponding parameters (`samples` points per neighbour stretch; 0 on a
+    side without neighbours). The SDK makes shared borders the same curves: this measures it."""
+    np = numpy()
+    n = len(surfaces)
+    s = np.linspace(0.0, 1.0, samples)
+    requests = [[] for _ in range(n)]  # per surface: (uv (m, 2), global sample rows, role 0 (own) / 1 (neighbour))
+    owner, count = [], 0
+    for a, sa in enumerate(surfaces):
+        for side in range(4):
+            for nb in sa.sides[side].neighbours:
+                rows = np.arange(count, count + samples)
+                count += samples
+                owner.extend([(a, side)] * samples)
+                requests[a].append((_side_uv(side, nb.t0 + s * (nb.t1 - nb.t0)), rows, 0))
+                requests[int(nb.surface)].append((_side_uv(int(nb.side), nb.n0 + s * (nb.n1 - nb.n0)), rows, 1))
+    gaps = np.zeros((n, 4))
+    if not count:
+        return gaps
+    points = np.zeros((2, count, 3))
+    for c, blocks in enumerate(requests):
+        if blocks:
+            values = surfaces[c].evaluate(np.concatenate([b[0] for b in blocks]))
+            at = 0
+            for uv, rows, role in blocks:
+                points[role, rows] = values[at:at + len(uv)]
+                at += len(uv)
+    owner = np.array(owner)
+    np.maximum.at(gaps, (owner[:, 0], owner[:, 1]), np.linalg.norm(points[0] - points[1], axis=1))
+    return gaps
+
+
+def _sample_uv(count, surface_count, seed):
+    """`count` (surface index, (u, v)) pairs: random, an eighth of them at corners."""
+    np = numpy()
+    if count <= 0 or surface_count <= 0:
+        return np.zeros(0, dtype=np.int64), np.zeros((0, 2))
+    rng = np.random.default_rng(seed)
+    k = rng.integers(0, surface_count, count)
+    uv = rng.random((count, 2))
+    uv[:count // 8] = np.round(uv[:count // 8])
+    return k, uv
+
+
+def bspline_faces(cage, tolerance=1e-4, max_level=5, samples=256, progress=None):
+    """The limit surface of `cage` (a cagekit.Cage or a CageKit cage object) as the SDK's merged
+    B-spline surfaces (cagekit_limit_surfaces_create: one bicubic B-spline with interior knots per
+    ptex face; tolerance: fraction of the bounding-box diagonal; max_level: 1..7), in FreeCAD.
+    Returns a dict:
+      mode "bspline"; surfaces: one Part.BSplineSurface per SDK surface (part_bspline_surface);
+      faces: one Part.Face per surface on its whole [0, 1]^2, with vertices where neighbours' stretches
+      end (side_splits); info: the SDK's record (surface_count, exact_count, approximated_count,
+      over_tolerance_count, folded_count, max_error_rel, max_normal_jump_deg, bbox_diagonal, ...);
+      counts {faces, exact, approximated, over_tolerance, ptex_faces}; max_error_rel;
+      border_gap: the largest measured distance between shared borders (model units);
+      sew_tolerance: 10 x that gap + 1e-7 of the diagonal (model units);
+      samples (face index (m,), limit-surface points (m, 3) from cagekit's Surface.evaluate at the
+      surfaces' (u, v)) for checks; seconds {"limit", "faces"}."""
+    np = numpy()
+    ck = sdk()
+    if not hasattr(ck, "LimitSurfaces"):
+        raise WorkbenchError("the cagekit package at %s has no merged B-spline surfaces (cagekit_limit_surfaces_*): "
+                             "update it and libcagekit, or use mode 'patches'" % os.path.dirname(ck.__file__))
+    owned = not isinstance(cage, ck.Cage)
+    if owned:
+        cage = cage_from_object(cage, ck.Context(progress=progress))
+    try:
+        t = time.perf_counter()
+        with ck.LimitSurfaces(cage, tolerance=float(tolerance), max_level=int(max_level)) as limit:
+            info = limit.info
+            sdk_surfaces = list(limit)
+        t_limit = time.perf_counter() - t
+        k, uv = _sample_uv(int(samples), len(sdk_surfaces), 11)
+        with cage.surface() as evaluator:
+            ptex = np.array([sdk_surfaces[int(i)].ptex_face for i in k], dtype=np.uint32)
+            points = evaluator.evaluate(ptex, uv).position if len(k) else np.zeros((0, 3))
+    finally:
+        if owned:
+            cage.close()
+    t = time.perf_counter()
+    diag = float(info.bbox_diagonal)
+    gap = float(border_gaps(sdk_surfaces).max()) if sdk_surfaces else 0.0
+    surfaces = [part_bspline_surface(s) for s in sdk_surfaces]
+    faces = [square_face(p, side_splits(s)) for p, s in zip(surfaces, sdk_surfaces)]
+    return {"mode": "bspline", "surfaces": surfaces, "faces": faces, "sdk_surfaces": sdk_surfaces, "info": info,
+            "counts": {"faces": len(faces), "exact": int(info.exact_count), "approximated": int(info.approximated_count),
+                       "over_tolerance": int(info.over_tolerance_count), "ptex_faces": int(info.ptex_face_count)},
+            "max_error_rel": float(info.max_error_rel), "bbox_diagonal": diag, "tolerance": float(tolerance),
+            "border_gap": gap, "sew_tolerance": 10.0 * gap + 1e-7 * max(diag, 1e-300),
+            "samples": (k, points), "seconds": {"limit": t_limit, "faces": time.perf_counter() - t}}
+
+
+def patch_faces(cage, tolerance=1e-4, max_depth=8, samples=256, progress=None):
+    """The limit surface of `cage` (a cagekit.Cage or a CageKit cage object) as one Bezier face per
+    patch of cagekit_limit_patches_create (the workbench's first mode), with vertices at the
+    quadtree's T-junctions. The same dict as bspline_faces (mode "patches"; sdk_surfaces: the
+    patches' (control points, errors, exact); border_gap: the largest patch error; sew_tolerance
+    as sew_tolerance_for)."""
+    np = numpy()
     ck = sdk()
     if not hasattr(ck, "LimitPatches"):
         raise WorkbenchError("the cagekit package at %s has no limit patches (cagekit_limit_patches_create): "
                              "update it and libcagekit" % os.path.dirname(ck.__file__))
-    t0 = time.time()
-    ctx = ck.Context(progress=progress)
-    with cage_from_object(cage_obj, ctx) as cage, \
-            ck.LimitPatches(cage, tolerance=float(tolerance), max_depth=int(max_depth)) as patches:
-        info = patches.info
-        control_points = patches.control_points
-        errors = patches.errors
+    owned = not isinstance(cage, ck.Cage)
+    if owned:
+        cage = cage_from_object(cage, ck.Context(progress=progress))
+    try:
+        t = time.perf_counter()
+        with ck.LimitPatches(cage, tolerance=float(tolerance), max_depth=int(max_depth)) as patches:
+            info = patches.info
+            control_points = patches.control_points
+            errors = patches.errors
+            exact = patches.exact
+            k, st = _sample_uv(int(samples), len(control_points), 11)
+            ptex, uv = patches.ptex_locations(k, st) if len(k) else (np.zeros(0, np.uint32), np.zeros((0, 2)))
+        t_limit = time.perf_counter() - t
+        with cage.surface() as evaluator:
+            points = evaluator.evaluate(ptex, uv).position if len(k) else np.zeros((0, 3))
+    finally:
+        if owned:
+            cage.close()
+    t = time.perf_counter()
     diag = float(info.bbox_diagonal)
-    sew_tolerance = sew_tolerance_for(control_points, info)
-    shape, closed = patches_shape(control_points, errors, sew_tolerance, 1e-9 * diag)
+    splits = t_junctions(control_points, errors, 1e-9 * diag)
+    surfaces = [bezier_surface(cp) for cp in control_points]
+    faces = [square_face(s, sp) for s, sp in zip(surfaces, splits)]
+    return {"mode": "patches", "surfaces": surfaces, "faces": faces, "sdk_surfaces": (control_points, errors, exact),
+            "info": info,
+            "counts": {"faces": len(faces), "exact": int(info.exact_count), "approximated": int(info.approximated_count),
+                       "over_tolerance": int(info.over_tolerance_count), "ptex_faces": None},
+            "max_error_rel": float(info.max_error_rel), "bbox_diagonal": diag, "tolerance": float(tolerance),
+            "border_gap": float(info.max_error), "sew_tolerance": sew_tolerance_for(control_points, info),
+            "samples": (k, points), "seconds": {"limit": t_limit, "faces": time.perf_counter() - t}}
+
+
+def surface_shape(cage, tolerance=1e-4, mode="bspline", max_level=5, max_depth=8, step=None, samples=256,
+                  progress=None):
+    """limit surface -> faces -> sewn shell -> solid (when closed) [-> STEP], without a document.
+    cage: a cagekit.Cage or a CageKit cage object; mode "bspline" (default: bspline_faces, one face
+    per merged SDK surface, max_level) or "patches" (patch_faces, one Bezier face per SDK patch,
+    max_depth); step: a path to write (export_step, atomic) or None. Returns the dict of
+    bspline_faces / patch_faces plus shell_or_solid's (shape, closed, shells, valid, check),
+    step / step_bytes when written, and seconds {"limit", "faces", "sew", "solid", "step",
+    "total"} (total: limit -> sewn solid [-> STEP])."""
+    if mode not in MODES:
+        raise WorkbenchError("mode must be one of %s, not %r" % (", ".join(MODES), mode))
+    if mode == "bspline":
+        result = bspline_faces(cage, tolerance, max_level, samples, progress)
+    else:
+        result = patch_faces(cage, tolerance, max_depth, samples, progress)
+    sewn = shell_or_solid(result["faces"], result["sew_tolerance"])
+    seconds = result["seconds"]
+    seconds.update(sewn.pop("seconds"))
+    result.update(sewn)
+    result["step"], result["step_bytes"], seconds["step"] = None, 0, 0.0
+    if step is not None:
+        t = time.perf_counter()
+        result["step"] = export_step(result["shape"], step)
+        seconds["step"] = time.perf_counter() - t
+        result["step_bytes"] = os.path.getsize(result["step"])
+    seconds["total"] = sum(seconds[key] for key in ("limit", "faces", "sew", "solid", "step"))
+    return result
+
+
+def step_round_trip(path, result):
+    """Reads the STEP file `path` back (Part.read) and compares it with `result` (surface_shape's):
+    returns a dict faces, solids, shells, closed (one closed shell), valid, matched (each face of
+    result["surfaces"] is the re-imported face whose surface has the nearest centre, a bijection),
+    centre_gap (largest such centre distance, model units), max_distance (largest distToShape of
+    result["samples"]' limit points to their matched re-imported face, model units), bound
+    (tolerance x diagonal + the sewing tolerance), within (max_distance <= bound), seconds
+    {"read", "distance"}."""
+    np = numpy()
+    t = time.perf_counter()
+    back = Part.read(path)
+    t_read = time.perf_counter() - t
+    faces = back.Faces
+    out = {"faces": len(faces), "solids": len(back.Solids), "shells": len(back.Shells),
+           "closed": len(back.Shells) == 1 and back.Shells[0].isClosed(), "valid": bool(back.isValid())}
+
+    def centre(surface):
+        u0, u1, v0, v1 = surface.bounds()
+        p = surface.value(0.5 * (u0 + u1), 0.5 * (v0 + v1))
+        return (p.x, p.y, p.z)
+
+    t = time.perf_counter()
+    mine = np.array([centre(s) for s in result["surfaces"]]).reshape(-1, 3)
+    theirs = np.array([centre(f.Surface) for f in faces]).reshape(-1, 3)
+    match = np.zeros(len(mine), dtype=np.int64)
+    gap = np.zeros(len(mine))
+    if len(theirs):
+        for lo in range(0, len(mine), 256):
+            d = np.linalg.norm(mine[lo:lo + 256, None, :] - theirs[None, :, :], axis=2)
+            match[lo:lo + 256] = np.argmin(d, axis=1)
+            gap[lo:lo + 256] = d[np.arange(len(d)), match[lo:lo + 256]]
+    out["matched"] = len(theirs) == len(mine) and len(set(match.tolist())) == len(mine)
+    out["centre_gap"] = float(gap.max()) if len(gap) else 0.0
+    k, points = result["samples"]
+    distances = np.array([faces[int(match[i])].distToShape(Part.Vertex(FreeCAD.Vector(*map(float, p))))[0]
+                          for i, p in zip(k, points)]) if len(theirs) and len(k) else np.zeros(0)
+    out["max_distance"] = float(distances.max()) if len(distances) else 0.0
+    out["bound"] = result["tolerance"] * result["bbox_diagonal"] + result["sew_tolerance"]
+    out["within"] = out["matched"] and bool(np.all(distances <= out["bound"]))
+    out["seconds"] = {"read": t_read, "distance": time.perf_counter() - t}
+    return out
+
+
+_SURFACE_PROPERTIES = (
+    ("Mode", "App::PropertyEnumeration", "bspline: one B-spline face per merged SDK surface (per ptex face); "
+                                         "patches: one Bezier face per SDK patch"),
+    ("Tolerance", "App::PropertyFloat", "Asked max distance to the limit surface / bbox diagonal"),
+    ("MaxLevel", "App::PropertyInteger", "bspline mode: largest knot level tried (1..7)"),
+    ("MaxDepth", "App::PropertyInteger", "patches mode: quadtree depth allowed for approximated regions"),
+    ("PatchCount", "App::PropertyInteger", "Faces: SDK surfaces (bspline) or SDK patches (patches)"),
+    ("ExactPatches", "App::PropertyInteger", "Faces that are the limit surface itself"),
+    ("ApproximatedPatches", "App::PropertyInteger", "Faces that approximate it"),
+    ("OverTolerancePatches", "App::PropertyInteger", "Approximated faces beyond the tolerance (or folded)"),
+    ("MaxErrorRel", "App::PropertyFloat", "Largest measured distance / bbox diagonal"),
+    ("MaxNormalJumpDeg", "App::PropertyFloat", "bspline mode: largest normal jump across smooth borders (deg)"),
+    ("BBoxDiagonal", "App::PropertyFloat", "Bounding-box diagonal of the control points"),
+    ("SewTolerance", "App::PropertyFloat", "Tolerance used to sew the faces (model units)"),
+    ("Closed", "App::PropertyBool", "The sewn shell is closed (the Shape is a solid)"),
+    ("Valid", "App::PropertyBool", "The Shape passes BRepCheck (Shape.isValid())"),
+    ("Seconds", "App::PropertyFloat", "Time of limit surface -> faces -> sewn shell / solid (s)"))
+
+
+def limit_surface(cage_obj, tolerance=1e-4, max_depth=8, progress=None, doc=None, mode="bspline", max_level=5):
+    """Makes (or updates) '<cage>_surface': the cage's limit surface (tolerance: fraction of the
+    cage's bounding-box diagonal) as faces sewn into a shell, a solid when closed (surface_shape).
+    mode "bspline" (default): one B-spline face per merged SDK surface (cagekit_limit_surfaces_*,
+    max_level); "patches": one Bezier face per patch of cagekit_limit_patches_create (max_depth).
+    Its properties record the mode, the options and the SDK's figures."""
+    t0 = time.time()
+    result = surface_shape(cage_obj, tolerance=tolerance, mode=mode, max_level=max_level, max_depth=max_depth,
+                           samples=0, progress=progress)
+    info = result["info"]
     doc = doc or cage_obj.Document
     obj = None
     for o in doc.Objects:
@@ -524,39 +843,42 @@ def limit_surface(cage_obj, tolerance=1e-4, max_depth=8, progress=None, doc=None
     if obj is None:
         obj = doc.addObject("Part::Feature", "LimitSurface")
         obj.Label = cage_obj.Label + "_surface"
-        _property(obj, "App::PropertyLink", "Cage", "The cage whose limit surface this is")
-        for name, kind, text in (
-                ("Tolerance", "App::PropertyFloat", "Asked max distance to the limit surface / bbox diagonal"),
-                ("MaxDepth", "App::PropertyInteger", "Quadtree depth allowed for approximated regions"),
-                ("PatchCount", "App::PropertyInteger", "Faces = patches of the SDK"),
-                ("ExactPatches", "App::PropertyInteger", "Patches that are the limit surface itself"),
-                ("ApproximatedPatches", "App::PropertyInteger", "Patches that approximate it"),
-                ("OverTolerancePatches", "App::PropertyInteger", "Approximated patches beyond the tolerance"),
-                ("MaxErrorRel", "App::PropertyFloat", "Largest measured distance / bbox diagonal"),
-                ("BBoxDiagonal", "App::PropertyFloat", "Bounding-box diagonal of the control points"),
-                ("SewTolerance", "App::PropertyFloat", "Tolerance used to sew the faces (model units)"),
-                ("Closed", "App::PropertyBool", "The sewn shell is closed (the Shape is a solid)")):
-            _property(obj, kind, name, text, read_only=name not in ("Tolerance", "MaxDepth"))
+    _property(obj, "App::PropertyLink", "Cage", "The cage whose limit surface this is")
+    for name, kind, text in _SURFACE_PROPERTIES:
+        _property(obj, kind, name, text, read_only=name not in ("Mode", "Tolerance", "MaxLevel", "MaxDepth"))
     obj.Cage = cage_obj
+    obj.Mode = list(MODES)
+    obj.Mode = mode
     obj.Tolerance = float(tolerance)
+    obj.MaxLevel = int(max_level)
     obj.MaxDepth = int(max_depth)
-    obj.PatchCount = int(info.patch_count)
-    obj.ExactPatches = int(info.exact_count)
-    obj.ApproximatedPatches = int(info.approximated_count)
-    obj.OverTolerancePatches = int(info.over_tolerance_count)
-    obj.MaxErrorRel = float(info.max_error_rel)
-    obj.BBoxDiagonal = diag
-    obj.SewTolerance = float(sew_tolerance)
-    obj.Closed = bool(closed)
-    obj.Shape = shape
+    counts = result["counts"]
+    obj.PatchCount = counts["faces"]
+    obj.ExactPatches = counts["exact"]
+    obj.ApproximatedPatches = counts["approximated"]
+    obj.OverTolerancePatches = counts["over_tolerance"]
+    obj.MaxErrorRel = result["max_error_rel"]
+    obj.MaxNormalJumpDeg = float(info.max_normal_jump_deg) if mode == "bspline" else 0.0
+    obj.BBoxDiagonal = result["bbox_diagonal"]
+    obj.SewTolerance = float(result["sew_tolerance"])
+    obj.Closed = bool(result["closed"])
+    obj.Valid = bool(result["valid"])
+    obj.Seconds = float(result["seconds"]["total"])
+    obj.Shape = result["shape"]
     doc.recompute()
+    s = result["seconds"]
     FreeCAD.Console.PrintMessage(
-        "CageKit: %r: %d patches (%d exact, %d approximated, max error %.2g of the diagonal), %s, %.1f s\n"
-        % (obj.Label, info.patch_count, info.exact_count, info.approximated_count, info.max_error_rel,
-           "closed solid" if closed else "open shell", time.time() - t0))
-    if info.over_tolerance_count:
-        FreeCAD.Console.PrintWarning("CageKit: %d patches exceed the tolerance (max depth %d reached)\n"
-                                     % (info.over_tolerance_count, max_depth))
+        "CageKit: %r (%s): %d faces (%d exact, %d approximated, max error %.2g of the diagonal), %s%s, "
+        "%.1f s (limit %.1f, faces %.1f, sewing %.1f, solid %.1f)\n"
+        % (obj.Label, mode, counts["faces"], counts["exact"], counts["approximated"], result["max_error_rel"],
+           "closed solid" if result["closed"] else "open shell", "" if result["valid"] else " (INVALID)",
+           time.time() - t0, s["limit"], s["faces"], s["sew"], s["solid"]))
+    if counts["over_tolerance"]:
+        FreeCAD.Console.PrintWarning("CageKit: %d faces exceed the tolerance or fold (max %s %d reached)\n"
+                                     % (counts["over_tolerance"], "level" if mode == "bspline" else "depth",
+                                        max_level if mode == "bspline" else max_depth))
+    if not result["valid"]:
+        FreeCAD.Console.PrintWarning("CageKit: the shape fails BRepCheck: %s\n" % result["check"])
     return obj
 
 

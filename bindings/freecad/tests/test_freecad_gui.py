@@ -7,7 +7,7 @@ freecad.gui, label freecad), run with Qt's offscreen platform:
 The addon is the installed folder (make_addon.cmake -DUSER_HOME=...), found by FreeCAD in the
 scratch user folder's Mod/. FreeCAD runs this file as a macro once its main window is up.
 Workbench CageKit -> Import scan (fandisk, or a generated block) -> select it -> Scan to cage
-(task panel: Faces 200, OK) -> Fit (OK) -> Limit surface (tolerance 1e-3, OK) -> Export STEP
+(task panel: Faces 200, OK) -> Fit (OK) -> Limit surface (tolerance 1e-3, B-spline faces, OK) -> Export STEP
 (file dialog). A file dialog cannot be
 clicked offscreen: QFileDialog's static functions answer with the test's paths; message boxes
 are recorded instead of shown (they would block). Checks the objects, the STEP file (one face
@@ -112,11 +112,12 @@ def main(out_dir):
     run("CageKit_LimitSurface")
     check(accept(tolerance=1e-3, max_depth=8), "Limit surface shows its task panel")
     surfaces = [o for o in doc.Objects if "PatchCount" in o.PropertiesList]
-    check(len(surfaces) == 1 and surfaces[0].Tolerance == 1e-3 and surfaces[0].Closed
-          and surfaces[0].Shape.ShapeType == "Solid" and FreeCADGui.Selection.getSelection() == surfaces[0:1]
-          and not boxes,
-          "Limit surface: %r, %d patches, closed solid, selected (%.1f s)"
-          % (surfaces[0].Label if surfaces else None, surfaces[0].PatchCount if surfaces else 0, time.time() - t))
+    check(len(surfaces) == 1 and surfaces[0].Tolerance == 1e-3 and surfaces[0].Closed and surfaces[0].Valid
+          and surfaces[0].Mode == "bspline" and surfaces[0].Shape.ShapeType == "Solid"
+          and FreeCADGui.Selection.getSelection() == surfaces[0:1] and not boxes,
+          "Limit surface: %r, mode %s (the panel's default), %d faces, closed valid solid, selected (%.1f s)"
+          % (surfaces[0].Label if surfaces else None, surfaces[0].Mode if surfaces else None,
+             surfaces[0].PatchCount if surfaces else 0, time.time() - t))
     # Export STEP -> file dialog (no extension typed: .step is added)
     step = os.path.join(out_dir, "fandisk")
     answers["save"] = step

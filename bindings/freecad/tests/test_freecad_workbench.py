@@ -12,9 +12,9 @@ freecadcmd 0.20 passes no arguments to a script, so it reads the environment:
   CAGEKIT_TEST_FACES (200), CAGEKIT_TEST_PASSES (3), CAGEKIT_TEST_TOLERANCE (1e-3),
   CAGEKIT_TEST_SAMPLES (400), CAGEKIT_TEST_OUT (scratch folder; default a temporary one)
 The scan is fandisk, else a generated noisy block (the output says which). Checks: the cage's face
-count and vertices equal the Python binding's (same level, same fit), the limit surface has one
-face per SDK patch and is a closed valid solid for a closed cage, the STEP file re-imports with one
-face per patch, limit-surface points (cagekit Surface.evaluate) lie within tolerance x diagonal of
+count and vertices equal the Python binding's (same level, same fit), the limit surface in mode
+"patches" has one face per SDK patch and is a closed valid solid for a closed cage, the STEP file
+re-imports with one face per patch, limit-surface points (cagekit Surface.evaluate) lie within tolerance x diagonal of
 the re-imported faces and shell, and bad input (a corrupt mesh file, an empty mesh, a NaN vertex, a
 NaN control point, bad options, a missing folder) gives an error message, leaves nothing behind,
 and FreeCAD goes on. Exit code 1 on any failure (freecadcmd itself exits 0 after an uncaught
@@ -172,7 +172,7 @@ def main(out_dir):
 
     # --- limit surface ------------------------------------------------------------------------------
     t = time.time()
-    surface = tools.limit_surface(cage_obj, tolerance=TOLERANCE)
+    surface = tools.limit_surface(cage_obj, tolerance=TOLERANCE, mode="patches")
     t_surface = time.time() - t
     patches = cagekit.LimitPatches(ref_cage, tolerance=TOLERANCE)
     info = patches.info
@@ -299,7 +299,10 @@ def main(out_dir):
                  tools.scan_to_cage, fin, faces=2)
     expect_error("a tolerance of 0", ["CageKit", "tolerance"], tools.limit_surface, cage_obj, tolerance=0.0)
     expect_error("a NaN tolerance", ["CageKit", "tolerance"], tools.limit_surface, cage_obj, tolerance=float("nan"))
-    expect_error("max_depth 13", ["CageKit", "max_depth"], tools.limit_surface, cage_obj, max_depth=13)
+    expect_error("max_depth 13", ["CageKit", "max_depth"], tools.limit_surface, cage_obj, max_depth=13,
+                 mode="patches")
+    expect_error("an unknown mode", ["CageKit", "mode", "bspline", "patches"], tools.limit_surface, cage_obj,
+                 mode="faces")
     expect_error("a mesh given as cage", ["CageKit", "not a CageKit cage"], tools.limit_surface, scan)
     points = list(cage_obj.ControlPoints)
     broken = list(points)
@@ -314,7 +317,7 @@ def main(out_dir):
     doc.removeObject(nan.Name)
     doc.removeObject(fin.Name)
     check(len(doc.Objects) == before, "bad input added no objects")
-    again = tools.limit_surface(cage_obj, tolerance=TOLERANCE)
+    again = tools.limit_surface(cage_obj, tolerance=TOLERANCE, mode="patches")
     check(again is surface and again.PatchCount == info.patch_count,
           "FreeCAD and the workbench still work after the errors (the surface remade: %d patches)" % again.PatchCount)
     print("times: cage %.2f s, fit %.2f s, limit surface %.2f s, STEP write %.2f s, read %.2f s; total %.1f s"
