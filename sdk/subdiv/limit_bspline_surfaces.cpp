@@ -313,6 +313,7 @@ struct Segment {
   BorderKind kind = BorderKind::boundary;
   std::vector<Attachment> attachments;
   bool irregular_end[2] = {false, false};  // key0 / key1 is an extraordinary point (no G1 constraint next to it)
+  bool keep_tangent[2] = {false, false};   // fit the leg at that end along the limit's direction (see check_corners)
   std::vector<Vec3> curve, cross;  // control points: border curve, natural cross derivative (group 0 inward)
   std::vector<Vec3> curve_half[2], cross_half[2];
 };
@@ -606,7 +607,7 @@ class Builder {
       const Vec3 leg = e == 0 ? s.curve[1] - s.curve[0] : s.curve[s.curve.size() - 2] - s.curve.back();
       if (norm(d) > 0.0 && norm(leg) > 0.0) {
         tangent[e] = d * (1.0 / norm(d));
-        hooked[e] = dot(leg, tangent[e]) < 0.5 * norm(leg);
+        hooked[e] = s.keep_tangent[e] || dot(leg, tangent[e]) < 0.5 * norm(leg);
       }
     }
     if (hooked[0] || hooked[1])
@@ -912,6 +913,60 @@ class Builder {
     s.max_normal_deviation_deg = deviation;
   }
 
+  // The leg of segment `s` leaving the end where attachment `a` has side parameter `t` (0 or 1),
+  // and which end that is (-1: not an end of the segment, e.g. an edge midpoint).
+  static int leg_at(const Segment& s, const Attachment& a, double t, Vec3& leg) {
+    const double x = t == 0.0 ? a.s0 : a.s1;
+    if (x != 0.0 && x != 1.0) return -1;
+    const size_t n = s.curve.size();
+    leg = x == 0.0 ? s.curve[1] - s.curve[0] : s.curve[n - 2] - s.curve[n - 1];
+    return x == 0.0 ? 0 : 1;
+  }
+
+  // Every ptex corner at an extraordinary point whose two border legs give a normal more than
+  // 45 deg from the limit's next to that corner (a fold of the surfaces there, typical of thin
+  // corners, where a leg a few tens of degrees off the limit's direction crosses the other): both
+  // legs are marked to be fitted along the limit's directions. Returns whether any was marked.
+  bool check_corners() {
+    static const int kSideU[4] = {0, 0, 2, 2}, kSideV[4] = {3, 1, 1, 3};
+    static const double kTU[4] = {0, 1, 1, 0}, kTV[4] = {0, 0, 1, 1}, kSignU[4] = {1, -1, -1, 1},
+                        kSignV[4] = {1, 1, -1, -1};
+    bool marked = false;
+    for (uint32_t p = 0; p < sides_.size(); ++p) {
+      if (!surface_.has_limit_surface(p)) continue;
+      for (int c = 0; c < 4; ++c) {
+        const SideRef& ru = sides_[p][size_t(kSideU[c])];
+        const SideRef& rv = sides_[p][size_t(kSideV[c])];
+        if (ru.segment < 0 || rv.segment < 0) continue;
+        Segment& su = segments_[size_t(ru.segment)];
+        Segment& sv = segments_[size_t(rv.segment)];
+        Vec3 leg_u, leg_v;
+        const int eu = leg_at(su, su.attachments[size_t(ru.attachment)], kTU[c], leg_u);
+        const int ev = leg_at(sv, sv.attachments[size_t(rv.attachment)], kTV[c], leg_v);
+        if (eu < 0 || ev < 0 || !(su.irregular_end[eu] || sv.irregular_end[ev])) continue;
+        if (su.keep_tangent[eu] && sv.keep_tangent[ev]) continue;
+        const Vec3 bspline = cross(leg_u * kSignU[c], leg_v * kSignV[c]);
+        const double u = kTU[c] == 0.0 ? 1e-3 : 1.0 - 1e-3, v = kTV[c] == 0.0 ? 1e-3 : 1.0 - 1e-3;
+        const SurfacePoint l = surface_.evaluate_patch_points(p, u, v, points_);
+        const Vec3 limit = cross(l.du, l.dv);
+        if (!(norm(bspline) > 0.0) || !(norm(limit) > 0.0)) continue;
+        if (dot(bspline, limit) < std::cos(kPi / 4) * norm(bspline) * norm(limit)) {
+          su.keep_tangent[eu] = sv.keep_tangent[ev] = true;
+          marked = true;
+        }
+      }
+    }
+    return marked;
+  }
+
+  void fit_segments() {
+    corners_.clear();
+    // Cage-edge segments first (they define the edge midpoints), then the inner ones.
+    for (int pass = 0; pass < 2; ++pass)
+      for (Segment& s : segments_)
+        if (((s.key0 >> 62) != 0) == (pass == 1) && !s.attachments.empty()) fit_segment(s);
+  }
+
   int spans_of(uint32_t ptex, int direction) const {
     const int quad_spans = 1 << level_[ptex][size_t(direction)];
     return scale_[ptex] < 1.0 ? quad_spans / 2 : quad_spans;
@@ -933,11 +988,8 @@ class Builder {
       max_level = std::max({max_level, level_[p][0], level_[p][1]});
     }
     check_memory_estimate(estimate_product(control_points, 2 * sizeof(Vec3)), "limit B-spline surfaces");
-    corners_.clear();
-    // Cage-edge segments first (they define the edge midpoints), then the inner ones.
-    for (int pass = 0; pass < 2; ++pass)
-      for (Segment& s : segments_)
-        if (((s.key0 >> 62) != 0) == (pass == 1) && !s.attachments.empty()) fit_segment(s);
+    fit_segments();
+    for (int repair = 0; repair < 2 && check_corners(); ++repair) fit_segments();
 
     LimitBSplineSurfaces result;
     result.level = max_level;
