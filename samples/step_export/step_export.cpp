@@ -160,13 +160,31 @@ std::string failure_text(const Standard_Failure& f) {
   return text;
 }
 
+// Runs body(report); any exception (OCCT's, allocation, validation) becomes report.error with
+// report.ok left false: nothing is thrown out of this library.
+template <class Report, class Body>
+Report reported(Body&& body) {
+  Report report;
+  try {
+    silence_occt();
+    body(report);
+  } catch (const Standard_Failure& f) {
+    report.error = "OpenCASCADE: " + failure_text(f);
+  } catch (const std::bad_alloc&) {
+    report.error = "out of memory";
+  } catch (const std::exception& e) {
+    report.error = e.what();
+  } catch (...) {
+    report.error = "unknown failure";
+  }
+  return report;
+}
+
 }  // namespace
 
 WriteReport write_step(const std::vector<BSplineSurface>& surfaces, const std::string& path,
                        const WriteOptions& options) {
-  WriteReport report;
-  try {
-    silence_occt();
+  return reported<WriteReport>([&](WriteReport& report) {
     if (surfaces.empty()) throw Invalid("no surfaces");
     if (!(options.sewing_tolerance > 0) || !std::isfinite(options.sewing_tolerance))
       throw Invalid("sewing tolerance must be a finite number > 0");
@@ -252,22 +270,11 @@ WriteReport write_step(const std::vector<BSplineSurface>& surfaces, const std::s
     if (!file) throw Invalid("cannot open the written " + path);
     report.bytes = uint64_t(file.tellg());
     report.ok = true;
-  } catch (const Standard_Failure& f) {
-    report.error = "OpenCASCADE: " + failure_text(f);
-  } catch (const std::bad_alloc&) {
-    report.error = "out of memory";
-  } catch (const std::exception& e) {
-    report.error = e.what();
-  } catch (...) {
-    report.error = "unknown failure";
-  }
-  return report;
+  });
 }
 
 ReadReport read_step(const std::string& path, const std::vector<std::array<double, 3>>& points) {
-  ReadReport report;
-  try {
-    silence_occt();
+  return reported<ReadReport>([&](ReadReport& report) {
     Clock::time_point t = Clock::now();
     STEPControl_Reader reader;
     if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) throw Invalid("cannot read STEP file " + path);
@@ -310,16 +317,7 @@ ReadReport read_step(const std::string& path, const std::vector<std::array<doubl
     }
     report.distance_seconds = seconds_since(t);
     report.ok = true;
-  } catch (const Standard_Failure& f) {
-    report.error = "OpenCASCADE: " + failure_text(f);
-  } catch (const std::bad_alloc&) {
-    report.error = "out of memory";
-  } catch (const std::exception& e) {
-    report.error = e.what();
-  } catch (...) {
-    report.error = "unknown failure";
-  }
-  return report;
+  });
 }
 
 namespace {
