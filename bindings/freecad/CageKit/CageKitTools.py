@@ -33,6 +33,7 @@ this module refuses before calling the SDK) or ImportError (the library cannot b
 run_reported() turns them into a FreeCAD console error and a message for the host; nothing here
 lets an exception reach FreeCAD's core.
 """
+import contextlib
 import os
 import tempfile
 import time
@@ -642,6 +643,24 @@ def _sample_uv(count, surface_count, seed):
     return k, uv
 
 
+@contextlib.contextmanager
+def _sdk_cage(cage, progress, feature, missing):
+    """Yields (cagekit module, cagekit.Cage) for `cage` (a cagekit.Cage, or a CageKit cage object
+    converted for the duration of the block and closed after it); WorkbenchError when the
+    installed cagekit package lacks `feature` (`missing` says what to do)."""
+    ck = sdk()
+    if not hasattr(ck, feature):
+        raise WorkbenchError("the cagekit package at %s has no %s" % (os.path.dirname(ck.__file__), missing))
+    owned = not isinstance(cage, ck.Cage)
+    if owned:
+        cage = cage_from_object(cage, ck.Context(progress=progress))
+    try:
+        yield ck, cage
+    finally:
+        if owned:
+            cage.close()
+
+
 def bspline_faces(cage, tolerance=1e-4, max_level=5, samples=256, progress=None):
     """The limit surface of `cage` (a cagekit.Cage or a CageKit cage object) as the SDK's merged
     B-spline surfaces (cagekit_limit_surfaces_create: one bicubic B-spline with interior knots per
@@ -657,14 +676,8 @@ def bspline_faces(cage, tolerance=1e-4, max_level=5, samples=256, progress=None)
       samples (face index (m,), limit-surface points (m, 3) from cagekit's Surface.evaluate at the
       surfaces' (u, v)) for checks; seconds {"limit", "faces"}."""
     np = numpy()
-    ck = sdk()
-    if not hasattr(ck, "LimitSurfaces"):
-        raise WorkbenchError("the cagekit package at %s has no merged B-spline surfaces (cagekit_limit_surfaces_*): "
-                             "update it and libcagekit, or use mode 'patches'" % os.path.dirname(ck.__file__))
-    owned = not isinstance(cage, ck.Cage)
-    if owned:
-        cage = cage_from_object(cage, ck.Context(progress=progress))
-    try:
+    with _sdk_cage(cage, progress, "LimitSurfaces", "merged B-spline surfaces (cagekit_limit_surfaces_*): "
+                   "update it and libcagekit, or use mode 'patches'") as (ck, cage):
         t = time.perf_counter()
         with ck.LimitSurfaces(cage, tolerance=float(tolerance), max_level=int(max_level)) as limit:
             info = limit.info
@@ -674,9 +687,6 @@ def bspline_faces(cage, tolerance=1e-4, max_level=5, samples=256, progress=None)
         with cage.surface() as evaluator:
             ptex = np.array([sdk_surfaces[int(i)].ptex_face for i in k], dtype=np.uint32)
             points = evaluator.evaluate(ptex, uv).position if len(k) else np.zeros((0, 3))
-    finally:
-        if owned:
-            cage.close()
     t = time.perf_counter()
     diag = float(info.bbox_diagonal)
     gap = float(border_gaps(sdk_surfaces).max()) if sdk_surfaces else 0.0
@@ -697,14 +707,8 @@ def patch_faces(cage, tolerance=1e-4, max_depth=8, samples=256, progress=None):
     patches' (control points, errors, exact); border_gap: the largest patch error; sew_tolerance
     as sew_tolerance_for)."""
     np = numpy()
-    ck = sdk()
-    if not hasattr(ck, "LimitPatches"):
-        raise WorkbenchError("the cagekit package at %s has no limit patches (cagekit_limit_patches_create): "
-                             "update it and libcagekit" % os.path.dirname(ck.__file__))
-    owned = not isinstance(cage, ck.Cage)
-    if owned:
-        cage = cage_from_object(cage, ck.Context(progress=progress))
-    try:
+    with _sdk_cage(cage, progress, "LimitPatches", "limit patches (cagekit_limit_patches_create): "
+                   "update it and libcagekit") as (ck, cage):
         t = time.perf_counter()
         with ck.LimitPatches(cage, tolerance=float(tolerance), max_depth=int(max_depth)) as patches:
             info = patches.info
@@ -716,9 +720,6 @@ def patch_faces(cage, tolerance=1e-4, max_depth=8, samples=256, progress=None):
         t_limit = time.perf_counter() - t
         with cage.surface() as evaluator:
             points = evaluator.evaluate(ptex, uv).position if len(k) else np.zeros((0, 3))
-    finally:
-        if owned:
-            cage.close()
     t = time.perf_counter()
     diag = float(info.bbox_diagonal)
     splits = t_junctions(control_points, errors, 1e-9 * diag)
