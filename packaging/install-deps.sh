@@ -1,22 +1,37 @@
 #!/usr/bin/env bash
-# Installs every Debian 12 package CageKit needs to build and to run all of its tests.
-# Idempotent: packages already present are skipped. Run as root or with sudo available.
-# All go through one `apt-get install --no-install-recommends` (Blender and FreeCAD included:
-# freecad 0.20.2 took 1m40s there, 122 packages, 151 MB downloaded, 958 MB on disk).
+# Installs the Debian 12 packages CageKit needs. Idempotent: packages already present are skipped.
+# Run as root or with sudo available.
+#   bash packaging/install-deps.sh           everything: the build and every test (README command (b))
+#   bash packaging/install-deps.sh --build   only what the library, the CLI and `cagekit demo` need
+#                                            (README command (a); configure with -DCAGEKIT_BUILD_TESTS=OFF)
+# All go through one `apt-get install --no-install-recommends` (Blender and FreeCAD, test-only, are
+# the bulk: freecad 0.20.2 took 1m40s there, 122 packages, 151 MB downloaded, 958 MB on disk).
 # libocct-data-exchange-dev (OpenCASCADE 7.6, optional: samples/step_export, `cagekit export-surfaces`)
 # pulls libocct-{foundation,modeling-data,modeling-algorithms,ocaf,visualization}-dev with it.
 set -euo pipefail
 
-PACKAGES=(
+# The library (CGAL, Eigen, OpenMesh, OpenSubdiv, Draco, meshoptimizer, EGL/GL headers, libpng for
+# pictures), the CLI (CLI11, nlohmann-json) and the demo's headless pictures (Mesa's llvmpipe).
+BUILD_PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libcgal-dev libeigen3-dev libopenmesh-dev libosd-dev libdraco-dev libmeshoptimizer-dev
   libegl-dev libgles-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libpng-dev
+  nlohmann-json3-dev libcli11-dev
+)
+# The tests: GoogleTest, the Python package and its hosts (Blender, FreeCAD), the sanitizer and
+# fuzzer toolchain, the ABI checker, OpenCASCADE (STEP export) and the packaging tools.
+TEST_PACKAGES=(
   libgtest-dev python3 python3-numpy binutils blender freecad
   clang libclang-rt-14-dev
   abigail-tools
-  nlohmann-json3-dev libcli11-dev
   libocct-data-exchange-dev
 )
+
+case "${1:-}" in
+  --build) PACKAGES=("${BUILD_PACKAGES[@]}") ;;
+  "") PACKAGES=("${BUILD_PACKAGES[@]}" "${TEST_PACKAGES[@]}") ;;
+  *) echo "install-deps: unknown option '$1' (none: everything; --build: the build and the demo only)" >&2; exit 64 ;;
+esac
 
 missing=()
 for p in "${PACKAGES[@]}"; do

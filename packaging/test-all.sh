@@ -10,7 +10,9 @@ jobs=$(nproc 2>/dev/null || echo 2)
 bash packaging/install-deps.sh
 
 echo "== Release build and tests"
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
+# Tests on and STEP export on explicitly: a build folder first configured by README command (a)
+# (tests off, no OpenCASCADE installed then) keeps those cached settings otherwise.
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DCAGEKIT_BUILD_TESTS=ON -DCAGEKIT_WITH_OCCT=ON
 cmake --build build -j "$jobs"
 ctest --test-dir build --output-on-failure -j "$jobs"
 
