@@ -10,6 +10,9 @@ add-on zip (bindings/blender/make_addon_zip.cmake), so that both carry the same 
     PACKAGE/libs/<SONAME>            each library of the NEEDED closure that is not on ALLOWLIST,
                                      under its SONAME, RUNPATH $ORIGIN
 
+    PACKAGE/licenses/<package>.copyright   the Debian copyright file of each bundled library's
+                                     package, and licenses/BUNDLED.txt: SONAME, package, version
+
 The folder is libs/, not a hidden .libs/: Blender's extension tools leave out hidden paths by
 default. The closure is resolved on the build machine with ldd (the loader's own search); the copies get
 their RUNPATH from patchelf. Libraries on ALLOWLIST (glibc, the C++ runtime, the GL dispatch
@@ -130,7 +133,7 @@ _LDD_LINE = re.compile(r"^\s*(\S+)\s+=>\s+(\S+)\s+\(0x[0-9a-f]+\)\s*$")
 
 
 def resolve_closure(library):
-    """{soname: absolute path} of every library in the NEEDED closure of `library`, as the
+    """{soname: path as ldd prints it} of every library in the NEEDED closure of `library`, as the
     loader resolves them on this machine (ldd). A NEEDED entry ldd cannot find is an error."""
     r = subprocess.run(["ldd", library], capture_output=True, text=True)
     if r.returncode != 0:
@@ -141,7 +144,7 @@ def resolve_closure(library):
             raise RuntimeError("ldd %s: %s" % (library, line.strip()))
         m = _LDD_LINE.match(line)
         if m:
-            found[m.group(1)] = os.path.realpath(m.group(2))
+            found[m.group(1)] = m.group(2)
     return found
 
 
@@ -159,6 +162,51 @@ def set_runpath(path, runpath):
         raise RuntimeError("%s: RUNPATH %s after patchelf, expected %s" % (path, got["runpath"], runpath))
 
 
+LICENSES_DIR = "licenses"
+
+
+def debian_package(paths):
+    """(package, version) owning the first of `paths` dpkg knows (tried as given and with /usr
+    added or removed: Debian 12 is merged-/usr, its packages are not all), or None."""
+    if not shutil.which("dpkg-query"):
+        return None
+    tried = []
+    for p in paths:
+        tried += [p, p[len("/usr"):] if p.startswith("/usr/") else "/usr" + p]
+    for p in tried:
+        r = subprocess.run(["dpkg-query", "-S", p], capture_output=True, text=True)
+        if r.returncode == 0 and ":" in r.stdout:
+            name = r.stdout.split(":", 1)[0].strip()
+            v = subprocess.run(["dpkg-query", "-W", "-f=${Version}", name], capture_output=True, text=True)
+            return name, v.stdout.strip()
+    return None
+
+
+def write_licenses(package_dir, origins):
+    """PACKAGE/licenses/: the copyright file of each bundled library's Debian package and
+    BUNDLED.txt (SONAME, package, version, source path). An error when one cannot be found: a
+    binary is not redistributed without its notices."""
+    out = os.path.join(package_dir, LICENSES_DIR)
+    if os.path.isdir(out):
+        shutil.rmtree(out)
+    os.makedirs(out)
+    lines = ["# Libraries bundled with libcagekit (packaging/bundle_libs.py): SONAME, Debian package, version, "
+             "source path.", "# Their copyright and licence terms: <package>.copyright here."]
+    for soname, (ldd_path, real) in sorted(origins.items()):
+        pkg = debian_package([ldd_path, real])
+        if pkg is None:
+            raise RuntimeError("no Debian package (dpkg-query -S) owns %s: its licence cannot be bundled" % real)
+        name, version = pkg
+        name = name.split(":")[0]
+        copyright_file = "/usr/share/doc/%s/copyright" % name
+        if not os.path.isfile(copyright_file):
+            raise RuntimeError("%s (for %s) not found" % (copyright_file, soname))
+        shutil.copyfile(copyright_file, os.path.join(out, name + ".copyright"))
+        lines.append("%s %s %s %s" % (soname, name, version, real))
+    with open(os.path.join(out, "BUNDLED.txt"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
 def bundle(library, package_dir, soname):
     """Copies `library` as package_dir/soname and its non-allowlisted closure into
     package_dir/libs, with $ORIGIN RUNPATHs. Returns the bundled paths relative to package_dir."""
@@ -170,17 +218,19 @@ def bundle(library, package_dir, soname):
     main = os.path.join(package_dir, soname)
     shutil.copyfile(os.path.realpath(library), main)
     os.chmod(main, 0o755)
-    bundled = [soname]
+    bundled, origins = [soname], {}
     for name, path in sorted(resolve_closure(library).items()):
         if allowed(name):
             continue
         real_soname = elf_dynamic(path)["soname"] or name
+        origins[real_soname] = (path, os.path.realpath(path))
         target = os.path.join(libs, real_soname)
         shutil.copyfile(path, target)
         os.chmod(target, 0o755)
         set_runpath(target, "$ORIGIN")
         bundled.append(LIBS_DIR + "/" + real_soname)
     set_runpath(main, "$ORIGIN/" + LIBS_DIR)
+    write_licenses(package_dir, origins)
     return bundled
 
 

@@ -13,7 +13,8 @@ reads them; no readelf or loader involved):
   - every NEEDED entry of every shared object is on the allowlist (glibc, libstdc++, libgcc_s,
     GL dispatch) or is found through its RUNPATH inside the package, as a file whose SONAME is that
     name;
-  - every bundled library is needed by something (nothing dead is shipped).
+  - every bundled library is needed by something (nothing dead is shipped);
+  - every bundled library is listed in licenses/BUNDLED.txt with its package's copyright file.
 Exit status 0 when every check passes, 1 with one line per failure otherwise.
 """
 import os
@@ -87,6 +88,23 @@ def check_package(pkg):
     for b in bundled:
         if os.path.realpath(b) not in used:
             failures.append("%s: bundled but needed by nothing" % os.path.relpath(b, pkg))
+    # The notices: licenses/BUNDLED.txt names each bundled library with a copyright file present.
+    listing = os.path.join(pkg, bundle_libs.LICENSES_DIR, "BUNDLED.txt")
+    named = {}
+    if os.path.isfile(listing):
+        with open(listing) as f:
+            for line in f:
+                if line.strip() and not line.startswith("#"):
+                    soname, package = line.split()[:2]
+                    named[soname] = package
+    for b in bundled:
+        package = named.get(os.path.basename(b))
+        if package is None:
+            failures.append("%s: not listed in %s" % (os.path.relpath(b, pkg), os.path.relpath(listing, pkg)))
+        elif not os.path.isfile(os.path.join(pkg, bundle_libs.LICENSES_DIR, package + ".copyright")):
+            failures.append("%s: no %s/%s.copyright" % (os.path.relpath(b, pkg), bundle_libs.LICENSES_DIR, package))
+        else:
+            report.append("%s: licence %s/%s.copyright" % (os.path.relpath(b, pkg), bundle_libs.LICENSES_DIR, package))
     return failures, report, len(objects)
 
 

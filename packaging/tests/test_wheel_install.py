@@ -21,6 +21,7 @@ import os
 import shutil
 import subprocess
 import sys
+import sysconfig
 
 SKIP = 77
 
@@ -37,6 +38,10 @@ def main(argv):
         print("expected one wheel in %s (made by packaging.wheel.make / target python_wheel), found %s" % (dist, wheels))
         return 1
     wheel = wheels[0]
+    tag = "-py3-none-%s.whl" % sysconfig.get_platform().replace("-", "_").replace(".", "_")
+    if not wheel.endswith(tag):
+        print("wheel %s: expected the tag %s (ctypes only: any Python 3, this platform)" % (wheel, tag[1:-4]))
+        return 1
     env = {k: v for k, v in os.environ.items() if k not in ("CAGEKIT_LIBRARY", "PYTHONPATH", "PYTHONHOME")}
     env["PYTHONDONTWRITEBYTECODE"] = "1"
     env["PIP_DISABLE_PIP_VERSION_CHECK"] = "1"
