@@ -21,7 +21,7 @@ BUILD_PACKAGES=(
 # The tests: GoogleTest, the Python package and its hosts (Blender, FreeCAD), the sanitizer and
 # fuzzer toolchain, the ABI checker, OpenCASCADE (STEP export) and the packaging tools.
 TEST_PACKAGES=(
-  libgtest-dev python3 python3-numpy binutils blender freecad
+  libgtest-dev python3 python3-numpy binutils patchelf blender freecad
   clang libclang-rt-14-dev
   abigail-tools
   libocct-data-exchange-dev

@@ -107,6 +107,9 @@ if args.zip:
     if not scripts:
         sys.exit("test_blender_addon: --zip needs BLENDER_USER_SCRIPTS set to a scratch folder")
     os.environ.pop("CAGEKIT_LIBRARY", None)
+    sys.path.insert(0, os.path.join(ROOT, "packaging", "tests"))
+    import load_proof  # noqa: E402  (/proc/self/maps: where each bundled library was loaded from)
+    mapped_before = load_proof.mapped()
     result = bpy.ops.preferences.addon_install(filepath=os.path.abspath(args.zip), overwrite=True)
     check(result == {'FINISHED'}, "addon_install of %s into %s" % (args.zip, scripts))
     mod = addon_utils.enable("cagekit_blender", default_set=True, handle_error=None)
@@ -116,6 +119,10 @@ if args.zip:
     cagekit = _sdk.sdk()
     check(os.path.realpath(cagekit.library_path).startswith(os.path.realpath(scripts)),
           "the bundled libcagekit is the one loaded (%s)" % cagekit.library_path)
+    cagekit.Cage(cagekit.Mesh.from_bytes(load_proof.CUBE_OBJ, "obj")).subdivide(1).close()  # OpenSubdiv in use
+    proof = load_proof.check(os.path.dirname(cagekit.__file__), mapped_before, host="Blender")
+    check(not proof, "every bundled library of the zip is loaded from the zip or shared with Blender "
+                     "(loaded by Blender before the add-on) %s" % proof)
 else:
     sys.path[:0] = [os.path.join(ROOT, "bindings", "blender"), os.path.join(ROOT, "bindings", "python")]
     import cagekit  # noqa: E402

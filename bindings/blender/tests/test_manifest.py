@@ -4,13 +4,16 @@ Blender's extension docs ("How to Create Extensions", manifest reference), since
 is installable on Debian 12 to load it: required keys, value formats, the tag and platform
 vocabularies used, and agreement with bl_info (Blender 3.x) and the project version.
 
-Run: python3 test_manifest.py PROJECT_VERSION (ctest blender.manifest)."""
+Run: python3 test_manifest.py PROJECT_VERSION (ctest blender.manifest). With CAGEKIT_ADDON_ZIP=<zip>
+(ctest packaging.blender_zip.manifest) the manifest inside the zip made by blender_addon_zip is
+checked too: its [build] paths list every file of the zip, the bundled native libraries included."""
 import ast
 import os
 import re
 import sys
 import tomllib
 import unittest
+import zipfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ADDON = os.path.join(HERE, "..", "cagekit_blender")
@@ -64,6 +67,35 @@ class Manifest(unittest.TestCase):
         if PROJECT_VERSION:
             self.assertEqual(self.m["version"], PROJECT_VERSION)
         self.assertEqual(self.m["maintainer"], info["author"])
+
+
+ZIP = os.environ.get("CAGEKIT_ADDON_ZIP")
+
+
+@unittest.skipUnless(ZIP, "CAGEKIT_ADDON_ZIP not set (ctest packaging.blender_zip.manifest sets it)")
+class ZipManifest(unittest.TestCase):
+    def setUp(self):
+        with zipfile.ZipFile(ZIP) as z:
+            self.names = [n for n in z.namelist() if not n.endswith("/")]
+            self.m = tomllib.loads(z.read("cagekit_blender/blender_manifest.toml").decode())
+        with open(os.path.join(ADDON, "blender_manifest.toml"), "rb") as f:
+            self.source = tomllib.load(f)
+
+    def test_build_paths_list_every_file_and_every_bundled_library(self):
+        self.assertTrue(all(n.startswith("cagekit_blender/") for n in self.names), self.names)
+        files = sorted(n[len("cagekit_blender/"):] for n in self.names)
+        build = self.m["build"]
+        self.assertNotIn("paths_exclude_pattern", build)  # replaced by the explicit list
+        self.assertEqual(sorted(build["paths"]), files)
+        self.assertTrue(any(re.fullmatch(r"cagekit/libcagekit\.so\.\d+", f) for f in files), files)
+        libs = [f for f in files if f.startswith("cagekit/libs/")]
+        self.assertGreater(len(libs), 0, "no bundled library in the zip")
+        self.assertTrue(all(re.fullmatch(r"cagekit/libs/lib[^/]+\.so(\.[0-9a-z]+)+", f) for f in libs), libs)
+        self.assertEqual(self.m["platforms"], ["linux-x64"])  # native libraries: one platform
+
+    def test_the_rest_is_the_source_manifest(self):
+        strip = lambda m: {k: v for k, v in m.items() if k != "build"}  # noqa: E731
+        self.assertEqual(strip(self.m), strip(self.source))
 
 
 if __name__ == "__main__":

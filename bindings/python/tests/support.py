@@ -6,11 +6,18 @@ import sys
 import unittest
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.dirname(HERE))  # bindings/python: the package under test
+# CAGEKIT_TEST_INSTALLED=1 (the packaging.* tests): the package under test is the installed wheel,
+# found on the interpreter's own sys.path; else bindings/python, the source tree.
+INSTALLED = os.environ.get("CAGEKIT_TEST_INSTALLED") == "1"
+if not INSTALLED:
+    sys.path.insert(0, os.path.dirname(HERE))  # bindings/python: the package under test
 
 import numpy as np  # noqa: E402  (the tests need numpy; the package imports without it)
 
 import cagekit  # noqa: E402
+
+if INSTALLED and os.path.realpath(cagekit.__file__).startswith(os.path.realpath(os.path.dirname(HERE)) + os.sep):
+    raise ImportError("CAGEKIT_TEST_INSTALLED=1 but cagekit was imported from the source tree: %s" % cagekit.__file__)
 
 CUBE = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0], [0, 0, 1], [1, 0, 1], [0, 1, 1], [1, 1, 1]],
                 dtype=np.float64)

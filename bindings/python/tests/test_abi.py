@@ -276,7 +276,8 @@ class Loading(unittest.TestCase):
         self.assertTrue(os.path.exists(cagekit.library_path) or "/" not in cagekit.library_path)
 
     def _python(self, code, **env):
-        environment = dict(os.environ, PYTHONPATH=os.path.dirname(support.HERE), **env)
+        # the folder that holds the package under test (bindings/python, or the installed wheel's)
+        environment = dict(os.environ, PYTHONPATH=os.path.dirname(os.path.dirname(cagekit.__file__)), **env)
         return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=environment)
 
     def test_a_bad_library_path_is_a_clear_import_error(self):
