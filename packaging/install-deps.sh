@@ -19,9 +19,11 @@ BUILD_PACKAGES=(
   nlohmann-json3-dev libcli11-dev
 )
 # The tests: GoogleTest, the Python package and its hosts (Blender, FreeCAD), the sanitizer and
-# fuzzer toolchain, the ABI checker, OpenCASCADE (STEP export) and the packaging tools.
+# fuzzer toolchain, the ABI checker, OpenCASCADE (STEP export) and the packaging tools (the wheel:
+# patchelf, pip, venv, setuptools, wheel).
 TEST_PACKAGES=(
-  libgtest-dev python3 python3-numpy binutils patchelf blender freecad
+  libgtest-dev python3 python3-numpy binutils blender freecad
+  patchelf python3-pip python3-venv python3-setuptools python3-wheel
   clang libclang-rt-14-dev
   abigail-tools
   libocct-data-exchange-dev

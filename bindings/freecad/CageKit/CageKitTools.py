@@ -54,8 +54,10 @@ _cagekit = None
 
 def sdk():
     """The `cagekit` package: the copy bundled in this addon folder (CageKit/cagekit, with
-    libcagekit.so.2 next to it), else the one on sys.path (bindings/python in a source tree, with
-    CAGEKIT_LIBRARY naming the library). ImportError carries the package's message."""
+    libcagekit.so.2 next to it: the freecad_addon target), else the one on sys.path: the cagekit
+    wheel pip-installed into FreeCAD's AdditionalPythonPackages folder (this repository installed
+    by the Addon Manager; bindings/freecad/README.md), or bindings/python in a source tree with
+    CAGEKIT_LIBRARY naming the library. ImportError carries the package's message."""
     global _cagekit
     if _cagekit is None:
         import cagekit

@@ -4,7 +4,7 @@
     freecadcmd bindings/freecad/tests/test_freecad_surfaces.py
 
 freecadcmd 0.20 passes no arguments to a script, so it reads the environment: CAGEKIT_LIBRARY (the
-built libcagekit), CAGEKIT_TEST_TOLERANCE (1e-3), CAGEKIT_TEST_OUT (scratch folder; default a
+built libcagekit), CAGEKIT_FREECAD_WHEEL (1: the installed workbench and wheel, see WHEEL), CAGEKIT_TEST_TOLERANCE (1e-3), CAGEKIT_TEST_OUT (scratch folder; default a
 temporary one). ctest adds the test only when freecadcmd is found (bindings/CMakeLists.txt).
 
 The cages are made here, so the test needs no shared files and stays small (seconds):
@@ -34,6 +34,9 @@ import Part
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, "..", "..", ".."))
 TOLERANCE = float(os.environ.get("CAGEKIT_TEST_TOLERANCE", "1e-3"))
+# CAGEKIT_FREECAD_WHEEL=1: the workbench installed in FREECAD_USER_HOME's Mod folder and cagekit from
+# the wheel in its AdditionalPythonPackages (ctest freecad.wheel), instead of the source tree.
+WHEEL = os.environ.get("CAGEKIT_FREECAD_WHEEL") == "1"
 
 failures = []
 
@@ -85,10 +88,29 @@ def grid_cube_cage(cagekit, np, n=3, open_top=False):
 
 def main(out_dir):
     t_start = time.time()
-    sys.path[:0] = [os.path.join(ROOT, "bindings", "freecad", "CageKit"), os.path.join(ROOT, "bindings", "python")]
-    import CageKitTools as tools
+    if WHEEL:
+        # The workbench as the Addon Manager installs it (Mod/CageKit, no package inside) and the
+        # cagekit wheel pip-installed into <user data>/AdditionalPythonPackages, which FreeCAD puts
+        # on sys.path at start-up: nothing from the source or build tree.
+        for var in ("CAGEKIT_LIBRARY", "PYTHONPATH"):
+            check(var not in os.environ, "%s is unset" % var)
+        packages = os.path.realpath(os.path.join(FreeCAD.getUserAppDataDir(), "AdditionalPythonPackages"))
+        mod = os.path.realpath(os.path.join(FreeCAD.getUserAppDataDir(), "Mod", "CageKit"))
+        check(packages in [os.path.realpath(p) for p in sys.path],
+              "FreeCAD put %s on sys.path" % packages)
+        import CageKitTools as tools
+        check(os.path.realpath(tools.__file__).startswith(mod + os.sep),
+              "CageKitTools imported from the installed workbench (%s)" % tools.__file__)
+        cagekit = tools.sdk()
+        check(os.path.realpath(cagekit.__file__).startswith(packages + os.sep),
+              "cagekit imported from the installed wheel (%s)" % cagekit.__file__)
+        check(os.path.realpath(cagekit.library_path).startswith(packages + os.sep),
+              "libcagekit loaded from the installed wheel (%s)" % cagekit.library_path)
+    else:
+        sys.path[:0] = [os.path.join(ROOT, "bindings", "freecad", "CageKit"), os.path.join(ROOT, "bindings", "python")]
+        import CageKitTools as tools
+        cagekit = tools.sdk()
     import numpy as np
-    cagekit = tools.sdk()
     print("FreeCAD %s, cagekit %s at %s" % (".".join(FreeCAD.Version()[:3]), cagekit.version(), cagekit.library_path))
 
     # --- the conversion of one knot vector ---------------------------------------------------------
