@@ -97,7 +97,8 @@ class Context(Handle):
     _release_name = "cagekit_context_release"
     _kind = "context"
 
-    def __init__(self, log: Optional[LogCallable] = None, log_level: Union[LogLevel, int] = LogLevel(_DESC["log_level"]),
+    def __init__(self, log: Optional[LogCallable] = None,
+                 log_level: Union[LogLevel, int] = LogLevel(_DESC["log_level"]),
                  progress: Optional[ProgressCallable] = None,
                  memory_budget_bytes: int = _DESC["memory_budget_bytes"]) -> None:
         self._local = threading.local()

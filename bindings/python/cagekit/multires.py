@@ -212,7 +212,8 @@ class CpuDeformer(Handle):
         moved_indices = _arrays.indices(moved, "moved")
         updated = ctypes.c_uint32()
         fn = _lib.lib.cagekit_cpu_deformer_update_f32 if dtype == np.float32 else _lib.lib.cagekit_cpu_deformer_update
-        self._context._call(fn, self._handle, _lib.address(ctrl), self.control_count, _lib.address(moved_indices), moved_indices.size,
+        self._context._call(fn, self._handle, _lib.address(ctrl), self.control_count, _lib.address(moved_indices),
+                            moved_indices.size,
                             int(_enum(NormalMode, normal_mode)), self.vertex_count, ctypes.byref(self._count_out),
                             _lib.address(positions), _lib.address(normal_array) if normals else None,
                             ctypes.byref(updated))

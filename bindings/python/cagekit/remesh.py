@@ -91,11 +91,11 @@ _WEIGHTS = (_Q["triangle_weight"], _Q["pentagon_weight"], _Q["t_joint_weight"])
 
 
 def quad_options(edge_length: float = _Q["edge_length"], regions: int = _Q["regions"],
-                region_tolerance: float = _Q["region_tolerance"],
-                crease_angle_degrees: float = _Q["crease_angle_degrees"], weights: Sequence[float] = _WEIGHTS,
-                refinement_passes: int = _Q["refinement_passes"], threads: int = _Q["threads"],
-                seed_faces: Optional[Sequence[int]] = None, pinned_regions: Optional[Sequence[Iterable[int]]] = None,
-                sharp_edges: Optional[npt.ArrayLike] = None) -> Tuple[QuadRemeshOptions, Any]:
+                 region_tolerance: float = _Q["region_tolerance"],
+                 crease_angle_degrees: float = _Q["crease_angle_degrees"], weights: Sequence[float] = _WEIGHTS,
+                 refinement_passes: int = _Q["refinement_passes"], threads: int = _Q["threads"],
+                 seed_faces: Optional[Sequence[int]] = None, pinned_regions: Optional[Sequence[Iterable[int]]] = None,
+                 sharp_edges: Optional[npt.ArrayLike] = None) -> Tuple[QuadRemeshOptions, Any]:
     """A QuadRemeshOptions (cagekit_quad_remesh_options) from remesh_quad's keyword arguments, and the
     ctypes arrays it points to (keep them alive until the call returns)."""
     if len(weights) != 3:
@@ -122,9 +122,11 @@ def quad_options(edge_length: float = _Q["edge_length"], regions: int = _Q["regi
     return options, (seeds, offsets, pinned_faces, sharp)
 
 
-def anisotropic_options(tolerance: float = _A["tolerance"], feature_angle_degrees: float = _A["feature_angle_degrees"],
-                       max_face_valence: int = _A["max_face_valence"], threads: int = _A["threads"],
-                       curvature_radius: float = _A["curvature_radius"], sharp_edges: Optional[npt.ArrayLike] = None) -> Tuple[AnisotropicOptions, Any]:
+def anisotropic_options(tolerance: float = _A["tolerance"],
+                        feature_angle_degrees: float = _A["feature_angle_degrees"],
+                        max_face_valence: int = _A["max_face_valence"], threads: int = _A["threads"],
+                        curvature_radius: float = _A["curvature_radius"],
+                        sharp_edges: Optional[npt.ArrayLike] = None) -> Tuple[AnisotropicOptions, Any]:
     """An AnisotropicOptions (cagekit_anisotropic_options) from remesh_anisotropic's keyword
     arguments, and the array it points to (keep it alive until the call returns)."""
     options = AnisotropicOptions.new(tolerance=float(tolerance), feature_angle_degrees=float(feature_angle_degrees),
@@ -139,9 +141,11 @@ def _report_record(report, name):
     return Record(name, **from_struct(report.quality).as_dict(), **record.as_dict())
 
 
-def remesh_anisotropic(mesh: Mesh, tolerance: float = _A["tolerance"], feature_angle_degrees: float = _A["feature_angle_degrees"],
+def remesh_anisotropic(mesh: Mesh, tolerance: float = _A["tolerance"],
+                       feature_angle_degrees: float = _A["feature_angle_degrees"],
                        max_face_valence: int = _A["max_face_valence"], threads: int = _A["threads"],
-                       curvature_radius: float = _A["curvature_radius"], sharp_edges: Optional[npt.ArrayLike] = None) -> Tuple[Cage, Record]:
+                       curvature_radius: float = _A["curvature_radius"],
+                       sharp_edges: Optional[npt.ArrayLike] = None) -> Tuple[Cage, Record]:
     """Remeshes `mesh` (an oriented 2-manifold Mesh; polygons are fan-triangulated first) along its
     curvature lines into a new Cage with crease tags on feature lines. Returns (cage, report); the
     report holds faces, vertices, quads, interior_vertices, valence4_vertices, max_face_valence,

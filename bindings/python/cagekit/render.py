@@ -283,7 +283,8 @@ class RenderScene(Handle):
         self.set_options(size=size, labels=labels, background=background, egl_library=egl_library)
         self.set_views(views)
 
-    def set_options(self, size: Tuple[int, int] = (_OPTIONS["width"], _OPTIONS["height"]), labels: bool = bool(_OPTIONS["labels"]),
+    def set_options(self, size: Tuple[int, int] = (_OPTIONS["width"], _OPTIONS["height"]),
+                    labels: bool = bool(_OPTIONS["labels"]),
                     background: Sequence[float] = tuple(_OPTIONS["background"]),
                     egl_library: Optional[StrPath] = None) -> None:
         """size (W, H) in pixels (1..16384 each), labels (titles, view names, legends), background
@@ -407,11 +408,11 @@ class RenderScene(Handle):
         return blob_bytes(blob)
 
 
-def render_scene(items: Items, size: Tuple[int, int] = (_OPTIONS["width"], _OPTIONS["height"]),
-          views: Views = "iso", wire: bool = False, creases: bool = False, level: int = 0,
-          error: Optional[Mesh] = None, colormap: str = "viridis", labels: bool = bool(_OPTIONS["labels"]),
-          background: Sequence[float] = tuple(_OPTIONS["background"]), egl_library: Optional[StrPath] = None,
-          context: Optional[Context] = None) -> RenderScene:
+def render_scene(items: Items, size: Tuple[int, int] = (_OPTIONS["width"], _OPTIONS["height"]), views: Views = "iso",
+                 wire: bool = False, creases: bool = False, level: int = 0, error: Optional[Mesh] = None,
+                 colormap: str = "viridis", labels: bool = bool(_OPTIONS["labels"]),
+                 background: Sequence[float] = tuple(_OPTIONS["background"]), egl_library: Optional[StrPath] = None,
+                 context: Optional[Context] = None) -> RenderScene:
     """The RenderScene render() draws, with the same arguments, for reading back what it would
     show (item_info, scalars, geometry) or drawing it more than once. Close it (or use `with`)."""
     # One item given alone: an object, a dict, or a tuple (kind, ...) / (object, {options}).
@@ -447,11 +448,11 @@ def render_scene(items: Items, size: Tuple[int, int] = (_OPTIONS["width"], _OPTI
     return s
 
 
-def render(items: Items, size: Tuple[int, int] = (_OPTIONS["width"], _OPTIONS["height"]),
-          views: Views = "iso", wire: bool = False, creases: bool = False, level: int = 0,
-          error: Optional[Mesh] = None, colormap: str = "viridis", labels: bool = bool(_OPTIONS["labels"]),
-          background: Sequence[float] = tuple(_OPTIONS["background"]), egl_library: Optional[StrPath] = None,
-          context: Optional[Context] = None) -> _package.Picture:
+def render(items: Items, size: Tuple[int, int] = (_OPTIONS["width"], _OPTIONS["height"]), views: Views = "iso",
+           wire: bool = False, creases: bool = False, level: int = 0, error: Optional[Mesh] = None,
+           colormap: str = "viridis", labels: bool = bool(_OPTIONS["labels"]),
+           background: Sequence[float] = tuple(_OPTIONS["background"]), egl_library: Optional[StrPath] = None,
+           context: Optional[Context] = None) -> _package.Picture:
     """Draws `items` side by side (see the module doc) and returns the picture: an (H, W, 4) uint8
     numpy array (rows top first) of class Picture, which Jupyter shows (_repr_png_).
 
@@ -467,10 +468,10 @@ def render(items: Items, size: Tuple[int, int] = (_OPTIONS["width"], _OPTIONS["h
 
 
 def render_png(path: StrPath, items: Items, size: Tuple[int, int] = (_OPTIONS["width"], _OPTIONS["height"]),
-          views: Views = "iso", wire: bool = False, creases: bool = False, level: int = 0,
-          error: Optional[Mesh] = None, colormap: str = "viridis", labels: bool = bool(_OPTIONS["labels"]),
-          background: Sequence[float] = tuple(_OPTIONS["background"]), egl_library: Optional[StrPath] = None,
-          context: Optional[Context] = None) -> _package.Picture:
+               views: Views = "iso", wire: bool = False, creases: bool = False, level: int = 0,
+               error: Optional[Mesh] = None, colormap: str = "viridis", labels: bool = bool(_OPTIONS["labels"]),
+               background: Sequence[float] = tuple(_OPTIONS["background"]), egl_library: Optional[StrPath] = None,
+               context: Optional[Context] = None) -> _package.Picture:
     """render() written to `path` as a PNG; returns the picture too."""
     picture = render(items, size=size, views=views, wire=wire, creases=creases, level=level, error=error,
                      colormap=colormap, labels=labels, background=background, egl_library=egl_library,
