@@ -18,7 +18,10 @@ system loader (see cagekit._lib). Every C call releases the GIL; errors raise Ca
 subclasses carrying the SDK's message; handles are released by close(), `with` or collection.
 numpy is needed for arrays only: `import cagekit` works without it.
 """
+from __future__ import annotations
+
 import sys as _sys
+from typing import TYPE_CHECKING as _TYPE_CHECKING, Any as _Any
 
 from . import _lib
 from ._errors import (CageKitError, CancelledError, FileIOError, InternalError, InvalidArgumentError,
@@ -41,13 +44,16 @@ from .scan_to_cage import ComponentMode, ScanMethod, scan_to_cage
 from .simplify import Hierarchy, LevelQuery, simplify
 from .surface import Surface
 
+if _TYPE_CHECKING:
+    from .render import Picture  # at run time made on first use: see __getattr__
+
 ABI_VERSION = _lib.ABI_VERSION
 MAX_SUBDIVISION_LEVELS = _lib.MAX_SUBDIVISION_LEVELS
 __version__ = "0.2.0"
 library_path = _lib.path
 
 
-def __getattr__(name):
+def __getattr__(name: str) -> _Any:
     """cagekit.Picture: the class of render()'s arrays (a numpy.ndarray subclass, made when numpy is
     first imported)."""
     if name == "Picture":
@@ -55,12 +61,12 @@ def __getattr__(name):
     raise AttributeError("module 'cagekit' has no attribute %r" % name)
 
 
-def version():
+def version() -> str:
     """'MAJOR.MINOR.PATCH' of the loaded libcagekit."""
     return _lib.lib.cagekit_version_string().decode()
 
 
-def abi_version():
+def abi_version() -> int:
     """ABI major version of the loaded libcagekit (== ABI_VERSION, checked at import)."""
     return _lib.lib.cagekit_abi_version()
 

@@ -6,6 +6,10 @@ failed call (the C library keeps the last error per thread and per context). Som
 derive from the matching built-in exception (InvalidArgumentError is a ValueError,
 OutOfMemoryError a MemoryError, FileIOError an OSError), so generic handlers catch them too.
 """
+from __future__ import annotations
+
+from typing import Any, Optional
+
 from . import _lib
 
 
@@ -13,16 +17,16 @@ class CageKitError(Exception):
     """A failed CageKit call. `status` is the cagekit_status (negative int), `message` the
     SDK's message (may be empty), `status_name` the status's English name."""
 
-    status = None
+    status: Optional[int] = None
 
-    def __init__(self, message="", status=None):
+    def __init__(self, message: str = "", status: Optional[int] = None) -> None:
         if status is not None:
             self.status = status
         self.message = message
         self.status_name = status_name(self.status) if self.status is not None else "error"
         super().__init__(message or self.status_name)
 
-    def __str__(self):
+    def __str__(self) -> str:
         return self.message or self.status_name
 
 
@@ -56,6 +60,7 @@ class UnsupportedFormatError(CageKitError):
 
 class InvalidMeshError(CageKitError):
     status = -8
+    report: Any  # Mesh.validate(check=True) sets it: the validation record
 
 
 class LimitExceededError(CageKitError):
@@ -95,24 +100,24 @@ ERROR_CLASSES = {cls.status: cls for cls in (
     VersionMismatchError, QualityError, UnsupportedFeatureError, InvalidOperationError)}
 
 
-def status_name(status):
+def status_name(status: int) -> str:
     name = _lib.lib.cagekit_status_string(status)
     return name.decode("utf-8", "replace") if name else "status %d" % status
 
 
-def last_message(context_ptr):
+def last_message(context_ptr: Optional[int]) -> str:
     """cagekit_last_error_message(context) of the calling thread, as str."""
     text = _lib.lib.cagekit_last_error_message(context_ptr)
     return text.decode("utf-8", "replace") if text else ""
 
 
-def error_for(status, context_ptr):
+def error_for(status: int, context_ptr: Optional[int]) -> CageKitError:
     """The exception for a failed status, with the thread's last message of that context."""
     cls = ERROR_CLASSES.get(status, CageKitError)
     return cls(last_message(context_ptr), status)
 
 
-def check(status, context_ptr):
+def check(status: int, context_ptr: Optional[int]) -> int:
     """Raises the matching CageKitError when status < 0; returns status otherwise."""
     if status < 0:
         raise error_for(status, context_ptr)

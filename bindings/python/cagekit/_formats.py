@@ -1,8 +1,11 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """File formats and the write options shared by meshes and cages."""
+from __future__ import annotations
+
 import ctypes
 import enum
 import os
+from typing import Any, Optional, Union
 
 from . import _lib
 from ._records import from_struct
@@ -17,11 +20,14 @@ class FileFormat(enum.IntEnum):
     STL = 5    # read only (binary or ascii); writing raises UNSUPPORTED_FORMAT
 
 
+# A format argument: a FileFormat, its int, a name ('obj', '.ply', 'draco', ...) or None (AUTO).
+FormatLike = Union[FileFormat, int, str, None]
+
 _NAMES = {"auto": FileFormat.AUTO, "obj": FileFormat.OBJ, "ply": FileFormat.PLY, "off": FileFormat.OFF,
           "drc": FileFormat.DRACO, "draco": FileFormat.DRACO, "stl": FileFormat.STL}
 
 
-def file_format(value):
+def file_format(value: FormatLike) -> FileFormat:
     """FileFormat from a FileFormat, an int or a name ('obj', 'ply', 'off', 'drc'/'draco', 'stl', 'auto')."""
     if value is None:
         return FileFormat.AUTO
@@ -33,7 +39,7 @@ def file_format(value):
     return FileFormat(int(value))
 
 
-def path_bytes(path):
+def path_bytes(path: Any) -> bytes:
     return os.fsencode(os.fspath(path))
 
 

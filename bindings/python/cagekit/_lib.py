@@ -22,6 +22,7 @@ threads keep running during a long fit or a deform); callbacks take the GIL back
 import ctypes
 import os
 import sys
+from typing import TYPE_CHECKING, Any, Dict
 from ctypes import (CFUNCTYPE, POINTER, Structure, c_char_p, c_double, c_float, c_int, c_int32,
                     c_int64, c_size_t, c_uint32, c_uint64, c_void_p)
 
@@ -45,7 +46,7 @@ class _Versioned(Structure):
     are zero). The functions' keyword defaults are read from defaults() instead of being written
     again, and tests/test_abi.py compares new() with the header's INIT list field by field."""
 
-    _defaults = {}
+    _defaults: Dict[str, Any] = {}
 
     @classmethod
     def new(cls, **values):
@@ -501,6 +502,9 @@ class Functions:
             fn.restype = restype
             fn.argtypes = argtypes
             setattr(self, name, fn)
+
+    if TYPE_CHECKING:  # the functions, set above, for type checkers
+        def __getattr__(self, name: str) -> Any: ...
 
 
 lib, path = _load()

@@ -1,25 +1,31 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Plain Python records made from the C report structs (no ctypes objects leak out)."""
+from __future__ import annotations
+
 import ctypes
+from typing import TYPE_CHECKING, Any, Dict
 
 
 class Record:
     """Attributes named as the C struct's fields (struct_size left out); arrays become tuples."""
 
-    def __init__(self, _name="Record", **fields):
+    def __init__(self, _name: str = "Record", **fields: Any) -> None:
         self.__dict__["_name"] = _name
         self.__dict__.update(fields)
 
-    def __setattr__(self, name, value):
+    def __setattr__(self, name: str, value: Any) -> None:
         self.__dict__[name] = value
 
-    def as_dict(self):
+    if TYPE_CHECKING:  # the fields, for type checkers (at run time they are plain attributes)
+        def __getattr__(self, name: str) -> Any: ...
+
+    def as_dict(self) -> Dict[str, Any]:
         return {k: v for k, v in self.__dict__.items() if k != "_name"}
 
-    def __eq__(self, other):
+    def __eq__(self, other: object) -> bool:
         return isinstance(other, Record) and self.as_dict() == other.as_dict()
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return "%s(%s)" % (self._name, ", ".join("%s=%r" % kv for kv in self.as_dict().items()))
 
 

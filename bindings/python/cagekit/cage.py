@@ -9,14 +9,19 @@
 Sharpness: SHARP (10.0) and above is an infinitely sharp tag (the thesis's binary crease);
 values in (0, 10) are OpenSubdiv semi-sharp creases; 0 removes a tag.
 """
+from __future__ import annotations
+
 import ctypes
 import enum
+from typing import Any, List, Literal, Optional, Tuple, Union, overload
 
 from . import _arrays, _formats, _lib
+from ._formats import FormatLike
 from ._handle import Handle
-from ._numpy import np
-from ._records import from_struct
-from .context import resolve
+from ._numpy import np, npt
+from ._records import Record, from_struct
+from ._typing import Buffer, StrPath
+from .context import Context, resolve
 from .fit import fit as _fit
 from .mesh import Mesh, read_faces, read_positions
 from .surface import Surface
@@ -46,7 +51,7 @@ class Cage(Handle):
     _release_name = "cagekit_cage_release"
     _kind = "cage"
 
-    def __init__(self, mesh):
+    def __init__(self, mesh: Mesh) -> None:
         """A cage whose control mesh is a copy of `mesh` (which must be valid: InvalidMeshError
         names the first problem otherwise), without tags."""
         out = ctypes.c_void_p()
@@ -55,8 +60,11 @@ class Cage(Handle):
         Handle.__init__(self, out.value, mesh._context)
 
     @classmethod
-    def from_arrays(cls, positions, faces, *, face_sizes=None, creases=None, crease_sharpness=None,
-                    corners=None, corner_sharpness=None, holes=None, boundary_rule=None, context=None):
+    def from_arrays(cls, positions: npt.ArrayLike, faces: Optional[npt.ArrayLike], *,
+                    face_sizes: Optional[npt.ArrayLike] = None, creases: Optional[npt.ArrayLike] = None,
+                    crease_sharpness: Optional[npt.ArrayLike] = None, corners: Optional[npt.ArrayLike] = None,
+                    corner_sharpness: Optional[npt.ArrayLike] = None, holes: Optional[npt.ArrayLike] = None,
+                    boundary_rule: Union[BoundaryRule, int, None] = None, context: Optional[Context] = None) -> Cage:
         """A cage from numpy arrays: faces as for Mesh.from_arrays, creases (C, 2) vertex pairs,
         corners vertex indices, holes face indices."""
         with Mesh.from_arrays(positions, faces, face_sizes=face_sizes, context=context) as mesh:
@@ -69,39 +77,49 @@ class Cage(Handle):
             if holes is not None:
                 cage.set_holes(holes)
             if boundary_rule is not None:
-                cage.boundary_rule = boundary_rule
+                cage.boundary_rule = boundary_rule  # type: ignore[assignment]  # the setter takes ints too
         except BaseException:
             cage.close()
             raise
         return cage
 
     @classmethod
-    def read(cls, path, format="auto", context=None):
+    def read(cls, path: StrPath, format: FormatLike = "auto", context: Optional[Context] = None) -> Cage:
         """Reads a cage; OBJ (`t crease/corner/hole` lines) and Draco keep tags."""
         ctx = resolve(context)
         return cls._make(ctx, _lib.lib.cagekit_cage_read_file, ctx._handle, _formats.path_bytes(path),
                          int(_formats.file_format(format)))
 
     @classmethod
-    def from_bytes(cls, data, format="auto", context=None):
+    def from_bytes(cls, data: Buffer, format: FormatLike = "auto", context: Optional[Context] = None) -> Cage:
         ctx = resolve(context)
         keep, address, size = _formats.input_bytes(data)
         return cls._make(ctx, _lib.lib.cagekit_cage_read_memory, ctx._handle, address, size,
                          int(_formats.file_format(format)))
 
-    def write(self, path, format="auto", *, ply_binary=bool(_WRITE["ply_binary"]),
-              draco_position_bits=_WRITE["draco_position_bits"], draco_speed=_WRITE["draco_speed"]):
+    def write(self, path: StrPath, format: FormatLike = "auto", *, ply_binary: bool = bool(_WRITE["ply_binary"]),
+              draco_position_bits: int = _WRITE["draco_position_bits"],
+              draco_speed: int = _WRITE["draco_speed"]) -> Record:
         """Writes atomically (PLY and OFF drop the tags with a logged warning)."""
         return _formats.write_file(self, "cagekit_cage_write_file", path, format, ply_binary,
                                    draco_position_bits, draco_speed)
 
-    def to_bytes(self, format, *, ply_binary=bool(_WRITE["ply_binary"]),
-                 draco_position_bits=_WRITE["draco_position_bits"], draco_speed=_WRITE["draco_speed"], report=False):
+    @overload
+    def to_bytes(self, format: FormatLike, *, ply_binary: bool = ..., draco_position_bits: int = ...,
+                 draco_speed: int = ..., report: Literal[False] = ...) -> bytes: ...
+
+    @overload
+    def to_bytes(self, format: FormatLike, *, ply_binary: bool = ..., draco_position_bits: int = ...,
+                 draco_speed: int = ..., report: Literal[True]) -> Tuple[bytes, Record]: ...
+
+    def to_bytes(self, format: FormatLike, *, ply_binary: bool = bool(_WRITE["ply_binary"]),
+                 draco_position_bits: int = _WRITE["draco_position_bits"], draco_speed: int = _WRITE["draco_speed"],
+                 report: bool = False) -> Union[bytes, Tuple[bytes, Record]]:
         return _formats.write_memory(self, "cagekit_cage_write_memory", format, ply_binary,
                                      draco_position_bits, draco_speed, report)
 
     # --- control mesh ------------------------------------------------------------------------
-    def mesh(self):
+    def mesh(self) -> Mesh:
         """A Mesh holding a copy of the control mesh."""
         return Mesh._make(self._context, _lib.lib.cagekit_cage_get_mesh, self._handle)
 
@@ -119,30 +137,31 @@ class Cage(Handle):
         return arrays
 
     @property
-    def positions(self):
+    def positions(self) -> np.ndarray:
         """(N, 3) float64 control points: a copy (the caller may change it) of the array read once,
         on the first access to positions, faces or face_arrays(), and cached, since a cage's
         positions never change; repeated accesses make no C call."""
         return self._control_mesh()[0].copy()
 
     @property
-    def faces(self):
+    def faces(self) -> List[np.ndarray]:
         """A list with one 1-D uint32 array of vertex indices per face, as Mesh.faces, from the
         cached control mesh (see positions)."""
         return _arrays.split_faces(*(a.copy() for a in self._control_mesh()[1:]))
 
-    def face_arrays(self):
+    def face_arrays(self) -> Tuple[np.ndarray, np.ndarray]:
         """(face_sizes, flat_indices) uint32 copies, from the cached control mesh (see positions)."""
-        return tuple(a.copy() for a in self._control_mesh()[1:])
+        _, sizes, flat = self._control_mesh()
+        return sizes.copy(), flat.copy()
 
-    def info(self):
+    def info(self) -> Record:
         """Control-mesh statistics plus tag counts (creases, corners, holes)."""
         info = _lib.MeshInfo.new()
         self._context._call(_lib.lib.cagekit_cage_get_info, self._handle, ctypes.byref(info))
         return from_struct(info, "MeshInfo")
 
     # --- tags --------------------------------------------------------------------------------
-    def set_creases(self, vertex_pairs, sharpness=None):
+    def set_creases(self, vertex_pairs: npt.ArrayLike, sharpness: Optional[npt.ArrayLike] = None) -> None:
         """Replaces the crease tags: (C, 2) vertex pairs (edges of the control mesh), sharpness
         per crease or one value (None: SHARP). InvalidArgumentError names a pair that is no edge."""
         pairs = _arrays.indices(vertex_pairs, "crease vertex pairs")
@@ -154,7 +173,7 @@ class Cage(Handle):
                             _lib.address(sharp))
 
     @property
-    def creases(self):
+    def creases(self) -> Tuple[np.ndarray, np.ndarray]:
         """((C, 2) uint32 vertex pairs, (C,) float32 sharpness)."""
         fn, count = _lib.lib.cagekit_cage_get_creases, ctypes.c_uint32()
         self._context._call(fn, self._handle, 0, ctypes.byref(count), None, None)
@@ -164,14 +183,14 @@ class Cage(Handle):
                             _lib.address(sharp))
         return pairs, sharp
 
-    def set_corners(self, vertices, sharpness=None):
+    def set_corners(self, vertices: npt.ArrayLike, sharpness: Optional[npt.ArrayLike] = None) -> None:
         verts = _arrays.indices(vertices, "corner vertices")
         sharp = _sharpness(sharpness, verts.size, "corner sharpness")
         self._context._call(_lib.lib.cagekit_cage_set_corners, self._handle, verts.size, _lib.address(verts),
                             _lib.address(sharp))
 
     @property
-    def corners(self):
+    def corners(self) -> Tuple[np.ndarray, np.ndarray]:
         """((K,) uint32 vertices, (K,) float32 sharpness)."""
         fn, count = _lib.lib.cagekit_cage_get_corners, ctypes.c_uint32()
         self._context._call(fn, self._handle, 0, ctypes.byref(count), None, None)
@@ -181,12 +200,12 @@ class Cage(Handle):
                             _lib.address(sharp))
         return verts, sharp
 
-    def set_holes(self, faces):
+    def set_holes(self, faces: npt.ArrayLike) -> None:
         f = _arrays.indices(faces, "hole faces")
         self._context._call(_lib.lib.cagekit_cage_set_holes, self._handle, f.size, _lib.address(f))
 
     @property
-    def holes(self):
+    def holes(self) -> np.ndarray:
         """(H,) uint32 hole faces."""
         fn, count = _lib.lib.cagekit_cage_get_holes, ctypes.c_uint32()
         self._context._call(fn, self._handle, 0, ctypes.byref(count), None)
@@ -195,23 +214,24 @@ class Cage(Handle):
         return faces
 
     @property
-    def boundary_rule(self):
+    def boundary_rule(self) -> BoundaryRule:
         rule = ctypes.c_int()
         self._context._call(_lib.lib.cagekit_cage_get_boundary_rule, self._handle, ctypes.byref(rule))
         return BoundaryRule(rule.value)
 
     @boundary_rule.setter
-    def boundary_rule(self, rule):
+    def boundary_rule(self, rule: Union[BoundaryRule, int]) -> None:
         self._context._call(_lib.lib.cagekit_cage_set_boundary_rule, self._handle, int(rule))
 
     # --- subdivision and the limit surface ----------------------------------------------------
-    def subdivide(self, levels=_SUBDIVIDE["levels"], limit_positions=bool(_SUBDIVIDE["limit_positions"])):
+    def subdivide(self, levels: int = _SUBDIVIDE["levels"],
+                  limit_positions: bool = bool(_SUBDIVIDE["limit_positions"])) -> Cage:
         """A new cage refined `levels` times (0..8), tags refined; limit_positions moves the
         vertices onto the limit surface. Long operation (progress, cancel)."""
         options = _lib.SubdivideOptions.new(levels=int(levels), limit_positions=1 if limit_positions else 0)
         return Cage._make(self._context, _lib.lib.cagekit_cage_subdivide, self._handle, ctypes.byref(options))
 
-    def limit_points(self):
+    def limit_points(self) -> Tuple[np.ndarray, np.ndarray]:
         """((N, 3) limit positions, (N, 3) unit normals) of the control vertices."""
         fn, count = _lib.lib.cagekit_cage_get_limit_points, ctypes.c_uint32()
         self._context._call(fn, self._handle, 0, ctypes.byref(count), None, None)
@@ -221,13 +241,13 @@ class Cage(Handle):
                             _lib.address(nrm))
         return pos, nrm
 
-    def surface(self, isolation_level=_SURFACE["isolation_level"],
-                sharp_isolation_level=_SURFACE["sharp_isolation_level"]):
+    def surface(self, isolation_level: int = _SURFACE["isolation_level"],
+                sharp_isolation_level: int = _SURFACE["sharp_isolation_level"]) -> Surface:
         """A limit-surface evaluator (a snapshot of this cage). Long operation."""
         options = _lib.SurfaceOptions.new(isolation_level=int(isolation_level),
                                           sharp_isolation_level=int(sharp_isolation_level))
         return Surface._make(self._context, _lib.lib.cagekit_surface_create, self._handle, ctypes.byref(options))
 
-    def fit(self, scan, **options):
+    def fit(self, scan: Mesh, **options: Any) -> Tuple[Cage, Record]:
         """cagekit.fit(self, scan, **options): (fitted Cage, FitReport)."""
         return _fit(self, scan, **options)

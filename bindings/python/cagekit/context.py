@@ -16,10 +16,13 @@ KeyboardInterrupt: with a progress callable set, Ctrl-C cancels a long call and 
 KeyboardInterrupt when it returns. Progress callables may return None (continue), a true value
 (continue) or a false value other than None (cancel).
 """
+from __future__ import annotations
+
 import ctypes
 import enum
 import threading
 import weakref
+from typing import Any, Callable, Optional, Union
 
 from . import _errors, _lib
 from ._handle import Handle
@@ -31,6 +34,10 @@ class LogLevel(enum.IntEnum):
     WARNING = 2
     ERROR = 3
 
+
+# log(level, message); progress(stage, fraction) -> None / bool (see the module doc).
+LogCallable = Callable[[LogLevel, str], Any]
+ProgressCallable = Callable[[str, float], Optional[bool]]
 
 _DESC = _lib.ContextDesc.defaults()  # CAGEKIT_CONTEXT_DESC_INIT, written once (in _lib.ContextDesc)
 
@@ -90,8 +97,10 @@ class Context(Handle):
     _release_name = "cagekit_context_release"
     _kind = "context"
 
-    def __init__(self, log=None, log_level=LogLevel(_DESC["log_level"]), progress=None,
-                 memory_budget_bytes=_DESC["memory_budget_bytes"]):
+    def __init__(self, log: Optional[LogCallable] = None,
+                 log_level: Union[LogLevel, int] = LogLevel(_DESC["log_level"]),
+                 progress: Optional[ProgressCallable] = None,
+                 memory_budget_bytes: int = _DESC["memory_budget_bytes"]) -> None:
         self._local = threading.local()
         self._log = log
         self._progress = progress
@@ -99,7 +108,7 @@ class Context(Handle):
         # The ctypes callback objects live as long as this Python object, which every object made
         # with the context references, so C never calls a freed trampoline.
         self._progress_fn = _progress_trampoline(ref)
-        self._log_fn = _log_trampoline(ref) if log is not None else _lib.LOG_FN()
+        self._log_fn = _log_trampoline(ref) if log is not None else _lib.LOG_FN()  # type: ignore[call-overload]  # NULL
         desc = _lib.ContextDesc.new(log=self._log_fn, log_level=int(log_level), progress=self._progress_fn,
                                     memory_budget_bytes=int(memory_budget_bytes))
         out = ctypes.c_void_p()
@@ -109,35 +118,35 @@ class Context(Handle):
         super().__init__(out.value, None)
 
     @property
-    def context(self):
+    def context(self) -> Context:
         return self
 
     @property
-    def progress(self):
+    def progress(self) -> Optional[ProgressCallable]:
         return self._progress
 
     @progress.setter
-    def progress(self, fn):
+    def progress(self, fn: Optional[ProgressCallable]) -> None:
         """Replaces the progress callable (None: none). Takes effect at the next callback."""
         self._progress = fn
 
     @property
-    def log(self):
+    def log(self) -> Optional[LogCallable]:
         return self._log
 
-    def cancel(self):
+    def cancel(self) -> None:
         """Cancels every running and later long operation of this context (any thread) until
         reset_cancel()."""
         _lib.lib.cagekit_context_cancel(self._handle)
 
-    def reset_cancel(self):
+    def reset_cancel(self) -> None:
         _lib.lib.cagekit_context_reset_cancel(self._handle)
 
-    def last_error_message(self):
+    def last_error_message(self) -> str:
         """The message of the last failed call of this thread with objects of this context."""
         return _errors.last_message(self._raw)
 
-    def _call(self, fn, *args, outs=()):
+    def _call(self, fn: Any, *args: Any, outs: Any = ()) -> int:
         """Calls a C function of this context's objects; raises the stored callback exception or
         the status's CageKitError. outs: (c_void_p, release function, or its name in _lib.lib)
         outputs to release when an exception is raised although the call made them."""
@@ -156,11 +165,11 @@ class Context(Handle):
         return status
 
 
-_default = None
+_default: Optional[Context] = None
 _default_lock = threading.Lock()
 
 
-def default_context():
+def default_context() -> Context:
     """The context used when none is given: no callbacks, no memory budget."""
     global _default
     with _default_lock:
@@ -169,5 +178,5 @@ def default_context():
         return _default
 
 
-def resolve(context):
+def resolve(context: Optional[Context]) -> Context:
     return default_context() if context is None else context

@@ -7,11 +7,20 @@
 Long operation (progress stage "fit", at least once per pass; cancel), using `threads` worker
 threads inside the C library; the GIL is released for the whole call.
 """
+from __future__ import annotations
+
 import ctypes
 import enum
+from typing import TYPE_CHECKING, Tuple, TypeVar, Union
 
-from . import _lib
-from ._records import enum_value as _enum, from_struct
+from . import _lib, _typing
+from ._records import Record, enum_value as _enum, from_struct
+from .mesh import Mesh
+
+if TYPE_CHECKING:
+    from . import cage as _cage_module
+else:
+    _cage_module = _typing.loaded("cagekit.cage")  # cage.py imports this module (Cage.fit)
 
 
 class ProjectionMode(enum.IntEnum):
@@ -24,15 +33,19 @@ class LsqSolver(enum.IntEnum):
     CGLS = 1    # conjugate gradients, warm-started
 
 
+_C = TypeVar("_C", bound="_cage_module.Cage")  # fit() returns a cage of its input's class
+
 _D = _lib.FitOptions.defaults()  # CAGEKIT_FIT_OPTIONS_INIT, written once (in _lib.FitOptions)
 
 
-def fit(cage, scan, max_passes=_D["max_passes"], tolerance=_D["tolerance"], fairing=_D["fairing"],
-        tangential_weight=_D["tangential_weight"], keep_crease_vertices=bool(_D["keep_crease_vertices"]),
-        projection=ProjectionMode(_D["projection"]), solver=LsqSolver(_D["solver"]), threads=_D["threads"],
-        max_projection_steps=_D["max_projection_steps"], projection_epsilon=_D["projection_epsilon"],
-        projection_seed_resolution=_D["projection_seed_resolution"],
-        crease_feature_reach=_D["crease_feature_reach"]):
+def fit(cage: _C, scan: Mesh, max_passes: int = _D["max_passes"], tolerance: float = _D["tolerance"],
+        fairing: float = _D["fairing"], tangential_weight: float = _D["tangential_weight"],
+        keep_crease_vertices: bool = bool(_D["keep_crease_vertices"]),
+        projection: Union[ProjectionMode, int, str] = ProjectionMode(_D["projection"]),
+        solver: Union[LsqSolver, int, str] = LsqSolver(_D["solver"]), threads: int = _D["threads"],
+        max_projection_steps: int = _D["max_projection_steps"], projection_epsilon: float = _D["projection_epsilon"],
+        projection_seed_resolution: int = _D["projection_seed_resolution"],
+        crease_feature_reach: float = _D["crease_feature_reach"]) -> Tuple[_C, Record]:
     """Fits `cage` (not changed) to the vertices of `scan` (a Mesh). Returns (new Cage (of the class
     of `cage`) with the same faces and tags, report). The report holds pass_count, passes (a list of records with
     l2, rms_rel, max_rel, mean_rel, max_rel_interior, seconds, unconverged_projections,

@@ -23,14 +23,18 @@ The C declarations of this part of the header are made here, in this module's ST
 PROTOTYPES and on its own function objects (`lib`, a _lib.Functions), which change nothing in
 _lib; tests/test_abi.py finds them and checks them with the rest.
 """
+from __future__ import annotations
+
 import ctypes
+from typing import Optional, Tuple
 from ctypes import POINTER, Structure, c_double, c_size_t, c_uint32, c_void_p
 
 from . import _lib
 from ._errors import InvalidArgumentError
 from ._handle import Handle
-from ._numpy import np
-from ._records import from_struct
+from ._numpy import np, npt
+from ._records import Record, from_struct
+from .cage import Cage
 
 
 # --- declarations (include/cagekit/cagekit.h, "limit patches") ----------------------------------
@@ -92,7 +96,8 @@ class LimitPatches(Handle):
     _functions = lib
     _kind = "limit patches"
 
-    def __init__(self, cage, tolerance=_D["tolerance"], max_depth=_D["max_depth"], threads=_D["threads"]):
+    def __init__(self, cage: Cage, tolerance: float = _D["tolerance"], max_depth: int = _D["max_depth"],
+                 threads: int = _D["threads"]) -> None:
         """tolerance: the largest distance allowed between an approximated patch and the limit
         surface, as a fraction of the bounding-box diagonal of the cage's control points (> 0);
         max_depth: how often a square that is not one polynomial may be split into 4 (0..12);
@@ -104,11 +109,11 @@ class LimitPatches(Handle):
         cage._context._call(lib.cagekit_limit_patches_create, cage._handle, ctypes.byref(options),
                             ctypes.byref(out), outs=[(out, self._release())])
         Handle.__init__(self, out.value, cage._context)
-        self._records = None
-        self._info = None
+        self._records: Optional[np.ndarray] = None
+        self._info: Optional[Record] = None
 
     @property
-    def info(self):
+    def info(self) -> Record:
         """Record: patch_count, exact_count, approximated_count, over_tolerance_count, max_error
         (model units), max_error_rel (of bbox_diagonal), bbox_diagonal (of the control points),
         tolerance (the absolute one: options.tolerance * bbox_diagonal)."""
@@ -118,10 +123,10 @@ class LimitPatches(Handle):
             self._info = from_struct(info, "LimitPatchInfo")
         return self._info
 
-    def __len__(self):
+    def __len__(self) -> int:
         return self.info.patch_count
 
-    def records(self, first=0, count=None):
+    def records(self, first: int = 0, count: Optional[int] = None) -> np.ndarray:
         """Patches [first, first + count) as a numpy record array laid out as cagekit_limit_patch
         (fields ptex_face, cage_face, u0, v0, u1, v1, exact, reserved, error, control_points (48,)).
         A range not inside [0, patch_count) raises InvalidArgumentError."""
@@ -132,7 +137,7 @@ class LimitPatches(Handle):
             raise InvalidArgumentError("patches [%d, %d) are not inside [0, %d)" % (first, first + count, total))
         return self._all()[first:first + count].copy()
 
-    def _all(self):
+    def _all(self) -> np.ndarray:
         """Every patch, read once (cagekit_limit_patches_get, two-call) and kept."""
         if self._records is None:
             count = ctypes.c_uint32()
@@ -144,38 +149,38 @@ class LimitPatches(Handle):
         return self._records
 
     @property
-    def control_points(self):
+    def control_points(self) -> np.ndarray:
         """(N, 4, 4, 3) float64: [k, i, j] is control point (i, j) of patch k, whose weight is
         B_i(s) B_j(t) (i along s, the ptex u direction)."""
         raw = self._all()["control_points"].reshape(-1, 4, 4, 3)  # C order: [k, j, i]
         return np.ascontiguousarray(raw.transpose(0, 2, 1, 3))
 
     @property
-    def domains(self):
+    def domains(self) -> np.ndarray:
         """(N, 4) float64: u0, v0, u1, v1 of each patch in its ptex face."""
         r = self._all()
         return np.stack([r["u0"], r["v0"], r["u1"], r["v1"]], axis=1)
 
     @property
-    def ptex_faces(self):
+    def ptex_faces(self) -> np.ndarray:
         return self._all()["ptex_face"].copy()
 
     @property
-    def cage_faces(self):
+    def cage_faces(self) -> np.ndarray:
         return self._all()["cage_face"].copy()
 
     @property
-    def exact(self):
+    def exact(self) -> np.ndarray:
         """(N,) bool: True where the patch is the limit surface itself."""
         return self._all()["exact"] != 0
 
     @property
-    def errors(self):
+    def errors(self) -> np.ndarray:
         """(N,) float64: measured largest distance of each patch to the limit surface, model units
         (rounding level for exact patches)."""
         return self._all()["error"].copy()
 
-    def ptex_locations(self, patches, st):
+    def ptex_locations(self, patches: npt.ArrayLike, st: npt.ArrayLike) -> Tuple[np.ndarray, np.ndarray]:
         """(ptex faces (n,), (n, 2) ptex (u, v)) of Bezier parameters st (n, 2) of patches (n,) or one."""
         patches = np.atleast_1d(np.asarray(patches, dtype=np.int64))
         st = np.asarray(st, dtype=np.float64).reshape(-1, 2)
@@ -187,7 +192,7 @@ class LimitPatches(Handle):
         uv = np.stack([d[:, 0] + st[:, 0] * (d[:, 2] - d[:, 0]), d[:, 1] + st[:, 1] * (d[:, 3] - d[:, 1])], axis=1)
         return self.ptex_faces[patches], uv
 
-    def evaluate(self, patches, st):
+    def evaluate(self, patches: npt.ArrayLike, st: npt.ArrayLike) -> np.ndarray:
         """(n, 3) points of the Bezier patches `patches` ((n,) or one index) at st (n, 2)."""
         patches = np.atleast_1d(np.asarray(patches, dtype=np.int64))
         st = np.asarray(st, dtype=np.float64).reshape(-1, 2)
@@ -200,6 +205,7 @@ class LimitPatches(Handle):
         return np.einsum("ni,nj,nijc->nc", bs, bt, cp)
 
 
-def limit_patches(cage, tolerance=_D["tolerance"], max_depth=_D["max_depth"], threads=_D["threads"]):
+def limit_patches(cage: Cage, tolerance: float = _D["tolerance"], max_depth: int = _D["max_depth"],
+                  threads: int = _D["threads"]) -> LimitPatches:
     """LimitPatches(cage, tolerance, max_depth, threads)."""
     return LimitPatches(cage, tolerance=tolerance, max_depth=max_depth, threads=threads)

@@ -32,15 +32,19 @@ The C declarations of this part of the header are made here, in this module's ST
 PROTOTYPES and on its own function objects (`lib`, a _lib.Functions), which change nothing in
 _lib; tests/test_abi.py finds them and checks them with the rest.
 """
+from __future__ import annotations
+
 import ctypes
 import enum
+from typing import Any, Dict, Iterator, List, Optional, Sequence, Tuple
 from ctypes import POINTER, Structure, c_double, c_size_t, c_uint32, c_void_p
 
 from . import _lib
 from ._errors import InvalidArgumentError
 from ._handle import Handle
-from ._numpy import np
+from ._numpy import np, npt
 from ._records import Record, from_struct
+from .cage import Cage
 
 
 class BorderKind(enum.IntEnum):
@@ -108,7 +112,7 @@ lib = _lib.Functions(PROTOTYPES)  # ImportError naming the function when the loa
 _D = LimitSurfaceOptions.defaults()  # CAGEKIT_LIMIT_SURFACE_OPTIONS_INIT, written once (in LimitSurfaceOptions)
 
 
-def bspline_basis(knots, degree, x):
+def bspline_basis(knots: npt.ArrayLike, degree: int, x: npt.ArrayLike) -> np.ndarray:
     """(n, num) values of the B-spline basis functions N_0..N_{num-1} of the clamped knot vector
     `knots` (num = len(knots) - degree - 1) at x (n,), by the Cox-de Boor recursion (0/0 = 0;
     x = the last knot belongs to the last nonempty span)."""
@@ -136,7 +140,8 @@ class BSplineSurface:
     parametric_error (at equal parameters), max_normal_deviation_deg, sides (4 Records:
     kind, max_normal_jump_deg, neighbours (Records surface, side, t0, t1, n0, n1))."""
 
-    def __init__(self, desc, knots_u, knots_v, points, neighbours):
+    def __init__(self, desc: Any, knots_u: np.ndarray, knots_v: np.ndarray, points: np.ndarray,
+                 neighbours: Sequence[Sequence[Any]]) -> None:
         self.ptex_face, self.cage_face = int(desc.ptex_face), int(desc.cage_face)
         self.degree_u, self.degree_v = int(desc.degree_u), int(desc.degree_v)
         self.num_u, self.num_v = int(desc.num_u), int(desc.num_v)
@@ -150,26 +155,26 @@ class BSplineSurface:
                            for k in range(4))
 
     @property
-    def knots_u(self):
+    def knots_u(self) -> np.ndarray:
         return self._knots_u.copy()
 
     @property
-    def knots_v(self):
+    def knots_v(self) -> np.ndarray:
         return self._knots_v.copy()
 
     @property
-    def control_points(self):
+    def control_points(self) -> np.ndarray:
         """(num_v, num_u, 3) float64: [j, i] is control point (i, j), of weight N_i(u) N_j(v)."""
         return self._points.copy()
 
-    def evaluate(self, uv):
+    def evaluate(self, uv: npt.ArrayLike) -> np.ndarray:
         """(n, 3) points at (u, v) pairs uv (n, 2) in [0, 1]^2."""
         uv = np.asarray(uv, dtype=np.float64).reshape(-1, 2)
         bu = bspline_basis(self._knots_u, self.degree_u, uv[:, 0])  # (n, num_u)
         bv = bspline_basis(self._knots_v, self.degree_v, uv[:, 1])  # (n, num_v)
         return np.einsum("ni,nj,jic->nc", bu, bv, self._points)
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return "BSplineSurface(ptex_face=%d, cage_face=%d, %dx%d control points, exact=%s, error=%.3g)" % (
             self.ptex_face, self.cage_face, self.num_u, self.num_v, self.exact, self.error)
 
@@ -181,8 +186,9 @@ class LimitSurfaces(Handle):
     _functions = lib
     _kind = "limit surfaces"
 
-    def __init__(self, cage, tolerance=_D["tolerance"], max_level=_D["max_level"], min_level=_D["min_level"],
-                 max_normal_jump_deg=_D["max_normal_jump_deg"], threads=_D["threads"]):
+    def __init__(self, cage: Cage, tolerance: float = _D["tolerance"], max_level: int = _D["max_level"],
+                 min_level: int = _D["min_level"], max_normal_jump_deg: float = _D["max_normal_jump_deg"],
+                 threads: int = _D["threads"]) -> None:
         """tolerance: the largest distance allowed between an approximated surface and the limit
         surface, as a fraction of the bounding-box diagonal of the cage's control points (> 0);
         max_level: the largest knot level tried (1..7; up to 2^level spans per quad side);
@@ -198,11 +204,11 @@ class LimitSurfaces(Handle):
         cage._context._call(lib.cagekit_limit_surfaces_create, cage._handle, ctypes.byref(options),
                             ctypes.byref(out), outs=[(out, self._release())])
         Handle.__init__(self, out.value, cage._context)
-        self._info = None
-        self._surfaces = {}
+        self._info: Optional[Record] = None
+        self._surfaces: Dict[int, BSplineSurface] = {}
 
     @property
-    def info(self):
+    def info(self) -> Record:
         """Record: surface_count, exact_count, approximated_count, over_tolerance_count (also
         folded ones), folded_count, level (the largest knot level used), ptex_face_count,
         limit_fold_points (border samples where the limit itself folds: left out of the jump), max_error
@@ -215,13 +221,13 @@ class LimitSurfaces(Handle):
             self._info = from_struct(info, "LimitSurfaceInfo")
         return self._info
 
-    def __len__(self):
+    def __len__(self) -> int:
         return self.info.surface_count
 
-    def __iter__(self):
+    def __iter__(self) -> Iterator[BSplineSurface]:
         return (self[k] for k in range(len(self)))
 
-    def __getitem__(self, index):
+    def __getitem__(self, index: int) -> BSplineSurface:
         """Surface `index` (0 .. len - 1, ordered by ptex face; negative indices count from the end)."""
         n = len(self)
         k = int(index)
@@ -233,7 +239,7 @@ class LimitSurfaces(Handle):
             self._surfaces[k] = self._read(k)
         return self._surfaces[k]
 
-    def _read(self, k):
+    def _read(self, k: int) -> BSplineSurface:
         call, h = self._context._call, self._handle
         desc = LimitSurface()
         call(lib.cagekit_limit_surfaces_get_surface, h, k, ctypes.byref(desc))
@@ -254,13 +260,14 @@ class LimitSurfaces(Handle):
             neighbours.append(list(array)[:m])
         return BSplineSurface(desc, knots[0], knots[1], points, neighbours)
 
-    def evaluate(self, index, uv):
+    def evaluate(self, index: int, uv: npt.ArrayLike) -> np.ndarray:
         """(n, 3) points of surface `index` at (u, v) pairs uv (n, 2) in [0, 1]^2."""
         return self[index].evaluate(uv)
 
 
-def limit_surfaces(cage, tolerance=_D["tolerance"], max_level=_D["max_level"], min_level=_D["min_level"],
-                   max_normal_jump_deg=_D["max_normal_jump_deg"], threads=_D["threads"]):
+def limit_surfaces(cage: Cage, tolerance: float = _D["tolerance"], max_level: int = _D["max_level"],
+                   min_level: int = _D["min_level"], max_normal_jump_deg: float = _D["max_normal_jump_deg"],
+                   threads: int = _D["threads"]) -> LimitSurfaces:
     """LimitSurfaces(cage, tolerance, max_level, min_level, max_normal_jump_deg, threads)."""
     return LimitSurfaces(cage, tolerance=tolerance, max_level=max_level, min_level=min_level,
                          max_normal_jump_deg=max_normal_jump_deg, threads=threads)

@@ -12,15 +12,25 @@ faces: a (F, k) integer array; a list of index lists (polygons of any size); a t
 (face_sizes, flat_indices); or flat indices with face_sizes=. The content is not validated at
 creation (so validate() can report it and repair() fix it).
 """
+from __future__ import annotations
+
 import ctypes
 import enum
+from typing import TYPE_CHECKING, Any, List, Literal, Optional, Tuple, Union, overload
 
-from . import _arrays, _formats, _lib
+from . import _arrays, _formats, _lib, _typing
 from ._errors import InvalidMeshError
+from ._formats import FormatLike
 from ._handle import Handle
-from ._numpy import np
-from ._records import from_struct
-from .context import resolve
+from ._numpy import np, npt
+from ._records import Record, from_struct
+from ._typing import Buffer, StrPath
+from .context import Context, resolve
+
+if TYPE_CHECKING:
+    from . import cage as _cage_module
+else:
+    _cage_module = _typing.loaded("cagekit.cage")  # cage.py imports this module
 
 
 # CAGEKIT_WRITE_OPTIONS_INIT and CAGEKIT_REPAIR_OPTIONS_INIT, written once (in _lib).
@@ -83,16 +93,17 @@ class Mesh(Handle):
     _release_name = "cagekit_mesh_release"
     _kind = "mesh"
 
-    def __init__(self, *args, **kwargs):
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
         raise TypeError("use Mesh.from_arrays, Mesh.read or Mesh.from_bytes")
 
     @classmethod
-    def _make(cls, context, fn, *args):
+    def _make(cls, context: Any, fn: Any, *args: Any) -> Mesh:
         return super()._make(resolve(context), fn, *args)
 
     # --- creation ----------------------------------------------------------------------------
     @classmethod
-    def from_arrays(cls, positions, faces=None, *, face_sizes=None, context=None):
+    def from_arrays(cls, positions: npt.ArrayLike, faces: Optional[npt.ArrayLike] = None, *,
+                    face_sizes: Optional[npt.ArrayLike] = None, context: Optional[Context] = None) -> Mesh:
         """A mesh copied from numpy arrays (see the module doc for the face forms)."""
         ctx = resolve(context)
         pos, kind = _arrays.positions(positions)
@@ -103,14 +114,14 @@ class Mesh(Handle):
         return cls._make(ctx, _lib.lib.cagekit_mesh_create, ctx._handle, ctypes.byref(desc))
 
     @classmethod
-    def read(cls, path, format="auto", context=None):
+    def read(cls, path: StrPath, format: FormatLike = "auto", context: Optional[Context] = None) -> Mesh:
         """Reads OBJ, PLY, OFF, Draco or STL (format 'auto': by extension). Tags are ignored."""
         ctx = resolve(context)
         return cls._make(ctx, _lib.lib.cagekit_mesh_read_file, ctx._handle, _formats.path_bytes(path),
                          int(_formats.file_format(format)))
 
     @classmethod
-    def from_bytes(cls, data, format="auto", context=None):
+    def from_bytes(cls, data: Buffer, format: FormatLike = "auto", context: Optional[Context] = None) -> Mesh:
         """Decodes a file held in memory (format 'auto': sniffed from the content)."""
         ctx = resolve(context)
         keep, address, size = _formats.input_bytes(data)
@@ -118,21 +129,31 @@ class Mesh(Handle):
                          int(_formats.file_format(format)))
 
     # --- writing -----------------------------------------------------------------------------
-    def write(self, path, format="auto", *, ply_binary=bool(_WRITE["ply_binary"]),
-              draco_position_bits=_WRITE["draco_position_bits"], draco_speed=_WRITE["draco_speed"]):
+    def write(self, path: StrPath, format: FormatLike = "auto", *, ply_binary: bool = bool(_WRITE["ply_binary"]),
+              draco_position_bits: int = _WRITE["draco_position_bits"],
+              draco_speed: int = _WRITE["draco_speed"]) -> Record:
         """Writes atomically; returns a record with `bytes` and `max_position_error`."""
         return _formats.write_file(self, "cagekit_mesh_write_file", path, format, ply_binary,
                                    draco_position_bits, draco_speed)
 
-    def to_bytes(self, format, *, ply_binary=bool(_WRITE["ply_binary"]),
-                 draco_position_bits=_WRITE["draco_position_bits"], draco_speed=_WRITE["draco_speed"], report=False):
+    @overload
+    def to_bytes(self, format: FormatLike, *, ply_binary: bool = ..., draco_position_bits: int = ...,
+                 draco_speed: int = ..., report: Literal[False] = ...) -> bytes: ...
+
+    @overload
+    def to_bytes(self, format: FormatLike, *, ply_binary: bool = ..., draco_position_bits: int = ...,
+                 draco_speed: int = ..., report: Literal[True]) -> Tuple[bytes, Record]: ...
+
+    def to_bytes(self, format: FormatLike, *, ply_binary: bool = bool(_WRITE["ply_binary"]),
+                 draco_position_bits: int = _WRITE["draco_position_bits"], draco_speed: int = _WRITE["draco_speed"],
+                 report: bool = False) -> Union[bytes, Tuple[bytes, Record]]:
         """The file's bytes in `format` ('obj', 'ply', 'off', 'drc'); with report=True also the
         write report."""
         return _formats.write_memory(self, "cagekit_mesh_write_memory", format, ply_binary,
                                      draco_position_bits, draco_speed, report)
 
     # --- read-back ---------------------------------------------------------------------------
-    def counts(self):
+    def counts(self) -> Tuple[int, int, int]:
         """(vertex count, face count, total face indices)."""
         v, f, i = ctypes.c_uint32(), ctypes.c_uint32(), ctypes.c_uint64()
         self._context._call(_lib.lib.cagekit_mesh_get_counts, self._handle, ctypes.byref(v), ctypes.byref(f),
@@ -140,28 +161,28 @@ class Mesh(Handle):
         return v.value, f.value, i.value
 
     @property
-    def vertex_count(self):
+    def vertex_count(self) -> int:
         return self.counts()[0]
 
     @property
-    def face_count(self):
+    def face_count(self) -> int:
         return self.counts()[1]
 
     @property
-    def positions(self):
+    def positions(self) -> np.ndarray:
         """(N, 3) float64 copy of the positions."""
         return read_positions(self, self._handle)
 
-    def get_positions(self, dtype=None):
+    def get_positions(self, dtype: npt.DTypeLike = None) -> np.ndarray:
         """Positions as float64 (default) or float32."""
         return read_positions(self, self._handle, dtype)
 
-    def face_arrays(self):
+    def face_arrays(self) -> Tuple[np.ndarray, np.ndarray]:
         """(face_sizes, flat_indices) uint32 arrays."""
         return read_faces(self, self._handle)
 
     @property
-    def faces(self):
+    def faces(self) -> List[np.ndarray]:
         """A list with one 1-D uint32 array of vertex indices per face, for every mesh (triangles,
         quads or mixed polygons alike; [] without faces). np.array(mesh.faces) makes the (F, k)
         array of a mesh whose faces all have k vertices; face_arrays() is the flat form without
@@ -169,7 +190,7 @@ class Mesh(Handle):
         return _arrays.split_faces(*self.face_arrays())
 
     # --- checks ------------------------------------------------------------------------------
-    def validate(self, check=True):
+    def validate(self, check: bool = True) -> Record:
         """Checks every MeshIssue. Returns a record (valid, issue_flags, issue_counts, issues: a
         dict MeshIssue -> count, message). check=True raises InvalidMeshError (with the SDK's
         message naming each problem, and the record as .report) when the mesh is invalid."""
@@ -186,7 +207,8 @@ class Mesh(Handle):
             return record
         return _validation_record(report, message)
 
-    def repair(self, steps=RepairSteps(_REPAIR["steps"]), weld_tolerance=_REPAIR["weld_tolerance"]):
+    def repair(self, steps: Union[RepairSteps, int] = RepairSteps(_REPAIR["steps"]),
+               weld_tolerance: float = _REPAIR["weld_tolerance"]) -> Tuple[Mesh, Record]:
         """A repaired copy (this mesh is unchanged) and the repair report. Long operation."""
         options = _lib.RepairOptions.new(steps=int(steps), weld_tolerance=float(weld_tolerance))
         report = _lib.RepairReport.new()
@@ -195,13 +217,13 @@ class Mesh(Handle):
                             ctypes.byref(report), outs=[(out, self._release())])
         return Mesh._wrap(out.value, self._context), from_struct(report, "RepairReport")
 
-    def info(self):
+    def info(self) -> Record:
         """Statistics: vertices, faces, edges, triangles, quads, boundary loops, genus, bbox, ..."""
         info = _lib.MeshInfo.new()
         self._context._call(_lib.lib.cagekit_mesh_get_info, self._handle, ctypes.byref(info))
         return from_struct(info, "MeshInfo")
 
-    def measure_error(self, approximation):
+    def measure_error(self, approximation: Union[Mesh, _cage_module.Cage]) -> Record:
         """Distances from this (input) mesh to `approximation` (a Mesh, or a Cage's control mesh),
         relative to this mesh's bbox diagonal: hausdorff_rel, hausdorff_sym_rel, mean_rel."""
         other = approximation.mesh() if hasattr(approximation, "mesh") else approximation

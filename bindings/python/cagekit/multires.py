@@ -13,15 +13,20 @@ it, details kept, for moved control points.
 A Binding is immutable (any thread); a CpuDeformer is used by one thread at a time, and
 separate deformers run in parallel from several Python threads (the GIL is released).
 """
+from __future__ import annotations
+
 import ctypes
 import enum
+from typing import Any, Dict, Optional, Tuple, Union
 
 from . import _arrays, _formats, _lib
 from ._handle import Handle
-from ._numpy import np
-from ._records import enum_value as _enum, from_struct
+from ._numpy import np, npt
+from ._records import Record, enum_value as _enum, from_struct
+from ._typing import Buffer, StrPath
 from .cage import Cage
-from .context import resolve
+from .context import Context, resolve
+from .mesh import Mesh
 
 
 class DisplacementMode(enum.IntEnum):
@@ -40,33 +45,33 @@ class Binding(Handle):
     _release_name = "cagekit_binding_release"
     _kind = "binding"
 
-    def __init__(self, *args, **kwargs):
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
         raise TypeError("use cagekit.bind, Binding.load or Binding.from_bytes")
 
     @classmethod
-    def load(cls, path, context=None, threads=0):
+    def load(cls, path: StrPath, context: Optional[Context] = None, threads: int = 0) -> Binding:
         """Reads a .ckb file (hostile bytes give ParseError with the offset; long operation)."""
         ctx = resolve(context)
         return cls._make(ctx, _lib.lib.cagekit_binding_read_file, ctx._handle, _formats.path_bytes(path),
                          int(threads))
 
     @classmethod
-    def from_bytes(cls, data, context=None, threads=0):
+    def from_bytes(cls, data: Buffer, context: Optional[Context] = None, threads: int = 0) -> Binding:
         ctx = resolve(context)
         keep, address, size = _formats.input_bytes(data)
         return cls._make(ctx, _lib.lib.cagekit_binding_read_memory, ctx._handle, address, size, int(threads))
 
-    def save(self, path):
+    def save(self, path: StrPath) -> None:
         """Writes a .ckb file atomically."""
         self._context._call(_lib.lib.cagekit_binding_write_file, self._handle, _formats.path_bytes(path))
 
-    def to_bytes(self):
+    def to_bytes(self) -> bytes:
         blob = ctypes.c_void_p()
         self._context._call(_lib.lib.cagekit_binding_write_memory, self._handle, ctypes.byref(blob),
                             outs=[(blob, "cagekit_blob_release")])
         return _formats.blob_bytes(blob)
 
-    def info(self):
+    def info(self) -> Record:
         """Record: vertex_count, control_count, basis_entries, max_sideways_residual,
         bbox_diagonal, has_exact_normals, scan_vertex_count, has_sector_split, ..."""
         info = _lib.BindingInfo.new()
@@ -76,16 +81,16 @@ class Binding(Handle):
         record.has_sector_split = bool(record.has_sector_split)
         return record
 
-    def cage(self):
+    def cage(self) -> Cage:
         """A copy of the cage the binding was made on."""
         return Cage._make(self._context, _lib.lib.cagekit_binding_get_cage, self._handle)
 
-    def control_points(self):
+    def control_points(self) -> np.ndarray:
         """(C, 3) float64 control points of the bound cage (the undeformed state)."""
         with self.cage() as cage:
             return cage.positions
 
-    def vertex_sources(self):
+    def vertex_sources(self) -> np.ndarray:
         """For each bound vertex, the scan vertex it copies (identity without a sector split)."""
         fn, count = _lib.lib.cagekit_binding_get_vertex_sources, ctypes.c_uint32()
         self._context._call(fn, self._handle, 0, ctypes.byref(count), None)
@@ -93,7 +98,7 @@ class Binding(Handle):
         self._context._call(fn, self._handle, count.value, ctypes.byref(count), _lib.address(out))
         return out
 
-    def deformer_vertex_order(self):
+    def deformer_vertex_order(self) -> np.ndarray:
         """Renumbering of the scan's vertices in the order the CPU deformer writes them (uint32:
         order[k] = the scan vertex that becomes vertex k). Hosts that may renumber their scan
         apply it once and bind again: the deformer's writes become nearly sequential (faster full
@@ -104,7 +109,7 @@ class Binding(Handle):
         self._context._call(fn, self._handle, count.value, ctypes.byref(count), _lib.address(out))
         return out
 
-    def face_arrays(self):
+    def face_arrays(self) -> Optional[Tuple[np.ndarray, np.ndarray]]:
         """(face_sizes, flat_indices) over the bound vertices with a sector split; None without
         one (the scan's own faces apply)."""
         fn = _lib.lib.cagekit_binding_get_faces
@@ -122,8 +127,9 @@ class Binding(Handle):
 _BIND = _lib.BindOptions.defaults()  # CAGEKIT_BIND_OPTIONS_INIT, written once (in _lib.BindOptions)
 
 
-def bind(cage, scan, mode=DisplacementMode(_BIND["mode"]), exact_normals=bool(_BIND["exact_normals"]),
-         threads=_BIND["threads"], sharp_angle_degrees=_BIND["sharp_angle_degrees"]):
+def bind(cage: Cage, scan: Mesh, mode: Union[DisplacementMode, int, str] = DisplacementMode(_BIND["mode"]),
+         exact_normals: bool = bool(_BIND["exact_normals"]), threads: int = _BIND["threads"],
+         sharp_angle_degrees: float = _BIND["sharp_angle_degrees"]) -> Binding:
     """Binds every vertex of `scan` to the limit surface of `cage` (usually fitted to it first).
     mode: 'normal' or 'local_frame'; sharp_angle_degrees >= 0 binds one copy of a vertex per
     smooth sector at sharp edges. Long operation (progress "bind", cancel)."""
@@ -140,16 +146,17 @@ class CpuDeformer(Handle):
     _release_name = "cagekit_cpu_deformer_release"
     _kind = "deformer"
 
-    def __init__(self, binding, threads=0):
+    def __init__(self, binding: Binding, threads: int = 0) -> None:
         out = ctypes.c_void_p()
         binding._context._call(_lib.lib.cagekit_cpu_deformer_create, binding._handle, int(threads),
                                ctypes.byref(out), outs=[(out, self._release())])
         Handle.__init__(self, out.value, binding._context)
         self.binding = binding
         info = binding.info()
-        self.vertex_count = info.vertex_count
-        self.control_count = info.control_count
-        self._arrays = {}  # dtype -> (positions, normals), made on first use
+        self.vertex_count: int = info.vertex_count
+        self.control_count: int = info.control_count
+        self.updated_count: int
+        self._arrays: Dict[Any, Tuple[np.ndarray, np.ndarray]] = {}  # dtype -> (positions, normals), made on first use
         self._count_out = ctypes.c_uint32()  # the calls' vertex count output, made once (per frame)
 
     def _buffers(self, dtype):
@@ -172,7 +179,9 @@ class CpuDeformer(Handle):
             n.flags.writeable = False
         return p, n
 
-    def deform(self, control, normals=True, normal_mode=NormalMode.APPROXIMATE, copy=True, dtype="float64"):
+    def deform(self, control: npt.ArrayLike, normals: bool = True,
+               normal_mode: Union[NormalMode, int, str] = NormalMode.APPROXIMATE, copy: bool = True,
+               dtype: npt.DTypeLike = "float64") -> Tuple[np.ndarray, Optional[np.ndarray]]:
         """Recomputes every vertex for `control` ((C, 3) moved control points): returns
         (positions (V, 3), unit normals (V, 3) or None when normals=False) as float64, or float32
         with dtype="float32" (the float64 values rounded; less memory traffic, faster). copy=False
@@ -187,7 +196,9 @@ class CpuDeformer(Handle):
         self._dtype = dtype
         return self._outputs(dtype, normals, copy)
 
-    def update(self, control, moved, normals=True, normal_mode=NormalMode.APPROXIMATE, copy=True):
+    def update(self, control: npt.ArrayLike, moved: npt.ArrayLike, normals: bool = True,
+               normal_mode: Union[NormalMode, int, str] = NormalMode.APPROXIMATE,
+               copy: bool = True) -> Tuple[np.ndarray, Optional[np.ndarray]]:
         """Incremental: only the control points `moved` changed since the last deform/update
         (with the same normal_mode); only their support is recomputed. Returns
         (positions, normals) as deform, in the dtype of the last deform();
@@ -198,10 +209,11 @@ class CpuDeformer(Handle):
             raise ValueError("cagekit: update(normals=True) after a deform without normals")
         dtype, (positions, normal_array) = self._buffers(self._dtype)
         ctrl = _arrays.control(control, self.control_count)
-        moved = _arrays.indices(moved, "moved")
+        moved_indices = _arrays.indices(moved, "moved")
         updated = ctypes.c_uint32()
         fn = _lib.lib.cagekit_cpu_deformer_update_f32 if dtype == np.float32 else _lib.lib.cagekit_cpu_deformer_update
-        self._context._call(fn, self._handle, _lib.address(ctrl), self.control_count, _lib.address(moved), moved.size,
+        self._context._call(fn, self._handle, _lib.address(ctrl), self.control_count, _lib.address(moved_indices),
+                            moved_indices.size,
                             int(_enum(NormalMode, normal_mode)), self.vertex_count, ctypes.byref(self._count_out),
                             _lib.address(positions), _lib.address(normal_array) if normals else None,
                             ctypes.byref(updated))

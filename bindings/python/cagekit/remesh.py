@@ -20,12 +20,17 @@ PROTOTYPES and on its own function objects (`lib`, a _lib.Functions), which chan
 _lib; tests/test_abi.py checks them with the rest. Keyword defaults come from the structs'
 defaults (CAGEKIT_*_INIT, written once).
 """
+from __future__ import annotations
+
 import ctypes
 from ctypes import POINTER, c_double, c_size_t, c_uint32, c_uint64, c_void_p
+from typing import Any, Iterable, Optional, Sequence, Tuple
 
 from . import _lib
+from ._numpy import npt
 from ._records import Record, from_struct
 from .cage import Cage
+from .mesh import Mesh
 
 
 # --- declarations (include/cagekit/cagekit.h, "remeshing") ---------------------------------------
@@ -85,10 +90,12 @@ _Q = QuadRemeshOptions.defaults()
 _WEIGHTS = (_Q["triangle_weight"], _Q["pentagon_weight"], _Q["t_joint_weight"])
 
 
-def quad_options(edge_length=_Q["edge_length"], regions=_Q["regions"], region_tolerance=_Q["region_tolerance"],
-                 crease_angle_degrees=_Q["crease_angle_degrees"], weights=_WEIGHTS,
-                 refinement_passes=_Q["refinement_passes"], threads=_Q["threads"], seed_faces=None, pinned_regions=None,
-                 sharp_edges=None):
+def quad_options(edge_length: float = _Q["edge_length"], regions: int = _Q["regions"],
+                 region_tolerance: float = _Q["region_tolerance"],
+                 crease_angle_degrees: float = _Q["crease_angle_degrees"], weights: Sequence[float] = _WEIGHTS,
+                 refinement_passes: int = _Q["refinement_passes"], threads: int = _Q["threads"],
+                 seed_faces: Optional[Sequence[int]] = None, pinned_regions: Optional[Sequence[Iterable[int]]] = None,
+                 sharp_edges: Optional[npt.ArrayLike] = None) -> Tuple[QuadRemeshOptions, Any]:
     """A QuadRemeshOptions (cagekit_quad_remesh_options) from remesh_quad's keyword arguments, and the
     ctypes arrays it points to (keep them alive until the call returns)."""
     if len(weights) != 3:
@@ -115,9 +122,11 @@ def quad_options(edge_length=_Q["edge_length"], regions=_Q["regions"], region_to
     return options, (seeds, offsets, pinned_faces, sharp)
 
 
-def anisotropic_options(tolerance=_A["tolerance"], feature_angle_degrees=_A["feature_angle_degrees"],
-                        max_face_valence=_A["max_face_valence"], threads=_A["threads"],
-                        curvature_radius=_A["curvature_radius"], sharp_edges=None):
+def anisotropic_options(tolerance: float = _A["tolerance"],
+                        feature_angle_degrees: float = _A["feature_angle_degrees"],
+                        max_face_valence: int = _A["max_face_valence"], threads: int = _A["threads"],
+                        curvature_radius: float = _A["curvature_radius"],
+                        sharp_edges: Optional[npt.ArrayLike] = None) -> Tuple[AnisotropicOptions, Any]:
     """An AnisotropicOptions (cagekit_anisotropic_options) from remesh_anisotropic's keyword
     arguments, and the array it points to (keep it alive until the call returns)."""
     options = AnisotropicOptions.new(tolerance=float(tolerance), feature_angle_degrees=float(feature_angle_degrees),
@@ -132,9 +141,11 @@ def _report_record(report, name):
     return Record(name, **from_struct(report.quality).as_dict(), **record.as_dict())
 
 
-def remesh_anisotropic(mesh, tolerance=_A["tolerance"], feature_angle_degrees=_A["feature_angle_degrees"],
-                       max_face_valence=_A["max_face_valence"], threads=_A["threads"],
-                       curvature_radius=_A["curvature_radius"], sharp_edges=None):
+def remesh_anisotropic(mesh: Mesh, tolerance: float = _A["tolerance"],
+                       feature_angle_degrees: float = _A["feature_angle_degrees"],
+                       max_face_valence: int = _A["max_face_valence"], threads: int = _A["threads"],
+                       curvature_radius: float = _A["curvature_radius"],
+                       sharp_edges: Optional[npt.ArrayLike] = None) -> Tuple[Cage, Record]:
     """Remeshes `mesh` (an oriented 2-manifold Mesh; polygons are fan-triangulated first) along its
     curvature lines into a new Cage with crease tags on feature lines. Returns (cage, report); the
     report holds faces, vertices, quads, interior_vertices, valence4_vertices, max_face_valence,
@@ -151,10 +162,12 @@ def remesh_anisotropic(mesh, tolerance=_A["tolerance"], feature_angle_degrees=_A
     return Cage._wrap(out.value, mesh._context), _report_record(report, "AnisotropicReport")
 
 
-def remesh_quad(mesh, edge_length=_Q["edge_length"], regions=_Q["regions"], region_tolerance=_Q["region_tolerance"],
-                crease_angle_degrees=_Q["crease_angle_degrees"], weights=_WEIGHTS,
-                refinement_passes=_Q["refinement_passes"], threads=_Q["threads"], seed_faces=None,
-                pinned_regions=None, sharp_edges=None):
+def remesh_quad(mesh: Mesh, edge_length: float = _Q["edge_length"], regions: int = _Q["regions"],
+                region_tolerance: float = _Q["region_tolerance"],
+                crease_angle_degrees: float = _Q["crease_angle_degrees"], weights: Sequence[float] = _WEIGHTS,
+                refinement_passes: int = _Q["refinement_passes"], threads: int = _Q["threads"],
+                seed_faces: Optional[Sequence[int]] = None, pinned_regions: Optional[Sequence[Iterable[int]]] = None,
+                sharp_edges: Optional[npt.ArrayLike] = None) -> Tuple[Cage, Record]:
     """Remeshes `mesh` (an oriented 2-manifold Mesh; polygons are fan-triangulated first) by the
     two-step quad-dominant method into a new Cage with crease tags on sharp region boundaries.
     Returns (cage, report); the report holds the quality figures (faces, vertices, quads,

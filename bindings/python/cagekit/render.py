@@ -33,17 +33,36 @@ into a host context through cagekit_gl_render_scene_draw is declared but not wra
 
 The C declarations of this part of the header are made here (STRUCTS, PROTOTYPES, `lib`).
 """
+from __future__ import annotations
+
 import ctypes
+from typing import TYPE_CHECKING, Any, Mapping, Optional, Sequence, Tuple, Type, Union
 from ctypes import POINTER, c_char_p, c_double, c_float, c_size_t, c_uint8, c_uint32, c_void_p
 
-from . import _lib
+from . import _lib, _typing
 from ._formats import blob_bytes, path_bytes
 from ._handle import Handle
-from ._numpy import np
-from ._records import from_struct
+from ._numpy import np, npt
+from ._records import Record, from_struct
+from ._typing import StrPath
 from .cage import Cage
-from .context import resolve
+from .context import Context, resolve
 from .mesh import Mesh
+
+if TYPE_CHECKING:
+    import cagekit as _package
+else:
+    _package = _typing.loaded("cagekit")  # cagekit.Picture: _picture_class(), made on first use
+
+# A view: "front", "side", "top", "iso", or a camera {"eye": (x, y, z), "target": ..., "up": ..., "fov": degrees};
+# views: one of them, a comma-separated string of names, or a sequence of them (one row each).
+View = Union[str, Mapping[str, Any]]
+Views = Union[str, Mapping[str, Any], Sequence[View]]
+# An item of render(): a Mesh or a Cage, (object, {options}), (kind, object[, {options}]), or a dict
+# {"object": obj, "kind": ..., **options}; items: one item or a sequence of them.
+Item = Union[Mesh, Cage, Tuple[Any, ...], Mapping[str, Any]]
+Items = Union[Item, Sequence[Item]]
+Color = Optional[Sequence[float]]
 
 
 # --- declarations (include/cagekit/cagekit.h, "Rendering"; cagekit_gl.h) ---------------------
@@ -117,7 +136,7 @@ _ITEM_KEYS = {"object", "kind", "title", "wire", "creases", "level", "error", "s
               "legend", "label", "overlay", "surface", "color", "wire_color", "crease_color"}
 
 
-def encode_png(rgba, context=None):
+def encode_png(rgba: npt.ArrayLike, context: Optional[Context] = None) -> bytes:
     """PNG bytes of an (H, W, 4) uint8 RGBA array (rows top first), by the SDK's libpng writer."""
     a = np.ascontiguousarray(np.asarray(rgba, dtype=np.uint8))
     if a.ndim != 3 or a.shape[2] != 4:
@@ -129,7 +148,7 @@ def encode_png(rgba, context=None):
     return blob_bytes(blob)
 
 
-def _picture_class():
+def _picture_class():  # -> Type[Picture]
     """Picture: a numpy.ndarray subclass (made when numpy is first needed)."""
     global Picture
     if Picture is not None:
@@ -139,19 +158,19 @@ def _picture_class():
         """An (H, W, 4) uint8 RGBA image, rows top first: a numpy array that Jupyter / IPython
         shows as a picture (_repr_png_). png() gives the PNG bytes, save(path) writes them."""
 
-        def _repr_png_(self):
+        def _repr_png_(self) -> Optional[bytes]:
             if self.ndim != 3 or self.shape[2] != 4 or self.dtype != np.uint8 or 0 in self.shape:
                 return None  # a slice that is no RGBA image any more: shown as an array
             return encode_png(np.asarray(self))
 
-        def png(self):
+        def png(self) -> bytes:
             """The PNG bytes of the picture (8-bit RGBA)."""
             data = self._repr_png_()
             if data is None:
                 raise ValueError("cagekit: not an (H, W, 4) uint8 picture: shape %s, %s" % (self.shape, self.dtype))
             return data
 
-        def save(self, path):
+        def save(self, path: StrPath) -> None:
             """Writes the picture as a PNG file."""
             with open(path, "wb") as f:
                 f.write(self.png())
@@ -162,7 +181,17 @@ def _picture_class():
     return Picture
 
 
-Picture = None  # the class, made on first use (numpy is imported lazily); see _picture_class
+if TYPE_CHECKING:
+    class Picture(np.ndarray):
+        """What type checkers see of the class _picture_class() makes."""
+
+        def _repr_png_(self) -> Optional[bytes]: ...
+
+        def png(self) -> bytes: ...
+
+        def save(self, path: StrPath) -> None: ...
+else:
+    Picture = None  # the class, made on first use (numpy is imported lazily); see _picture_class
 
 
 def _color(value, name):
@@ -243,8 +272,9 @@ class RenderScene(Handle):
     _functions = lib
     _kind = "render scene"
 
-    def __init__(self, size=(_OPTIONS["width"], _OPTIONS["height"]), views="iso", labels=bool(_OPTIONS["labels"]),
-                 background=tuple(_OPTIONS["background"]), egl_library=None, context=None):
+    def __init__(self, size: Tuple[int, int] = (_OPTIONS["width"], _OPTIONS["height"]), views: Views = "iso",
+                 labels: bool = bool(_OPTIONS["labels"]), background: Sequence[float] = tuple(_OPTIONS["background"]),
+                 egl_library: Optional[StrPath] = None, context: Optional[Context] = None) -> None:
         ctx = resolve(context)
         out = ctypes.c_void_p()
         ctx._call(lib.cagekit_render_scene_create, ctx._handle, ctypes.byref(out),
@@ -253,8 +283,10 @@ class RenderScene(Handle):
         self.set_options(size=size, labels=labels, background=background, egl_library=egl_library)
         self.set_views(views)
 
-    def set_options(self, size=(_OPTIONS["width"], _OPTIONS["height"]), labels=bool(_OPTIONS["labels"]),
-                    background=tuple(_OPTIONS["background"]), egl_library=None):
+    def set_options(self, size: Tuple[int, int] = (_OPTIONS["width"], _OPTIONS["height"]),
+                    labels: bool = bool(_OPTIONS["labels"]),
+                    background: Sequence[float] = tuple(_OPTIONS["background"]),
+                    egl_library: Optional[StrPath] = None) -> None:
         """size (W, H) in pixels (1..16384 each), labels (titles, view names, legends), background
         (r, g, b[, a]) in [0, 1], egl_library (the libEGL to load; None: $CAGEKIT_EGL_LIBRARY or
         libEGL.so.1)."""
@@ -266,18 +298,19 @@ class RenderScene(Handle):
         self._size = (width, height)
 
     @property
-    def size(self):
+    def size(self) -> Tuple[int, int]:
         """(width, height) of the image."""
         return self._size
 
-    def set_views(self, views):
+    def set_views(self, views: Views) -> None:
         """One camera per row (see the module doc)."""
         cameras = _cameras(views)
         array = (RenderCamera * len(cameras))(*cameras)
         self._context._call(lib.cagekit_render_scene_set_views, self._handle, len(cameras), array)
 
-    def add(self, kind, obj, title=None, wire=False, creases=False, level=0, overlay=False, surface=True,
-            color=None, wire_color=None, crease_color=None):
+    def add(self, kind: str, obj: Union[Mesh, Cage], title: Optional[str] = None, wire: bool = False,
+            creases: bool = False, level: int = 0, overlay: bool = False, surface: bool = True, color: Color = None,
+            wire_color: Color = None, crease_color: Color = None) -> int:
         """Adds a "mesh", "cage" or "deformed" item; returns its index."""
         title_bytes = None if title is None else str(title).encode("utf-8")
         options = RenderItemOptions.new(surface=1 if surface else 0, wireframe=1 if wire else 0,
@@ -303,20 +336,24 @@ class RenderScene(Handle):
                                        range_min=lo, range_max=hi, legend=1 if legend else 0,
                                        label=None if label is None else str(label).encode("utf-8"))
 
-    def set_scalars(self, item, values, colormap="viridis", range=None, legend=True, label=None):
+    def set_scalars(self, item: int, values: npt.ArrayLike, colormap: str = "viridis",
+                    range: Optional[Tuple[float, float]] = None, legend: bool = True,
+                    label: Optional[str] = None) -> None:
         """Colours item `item` by one value per drawn vertex."""
         v = np.ascontiguousarray(np.asarray(values, dtype=np.float64).reshape(-1))
         options = self._scalar_options(colormap, range, legend, label)
         self._context._call(lib.cagekit_render_scene_set_scalars, self._handle, int(item), v.size, _lib.address(v),
                             ctypes.byref(options))
 
-    def set_distance_to_scan(self, item, scan, colormap="viridis", range=None, legend=True, label=None):
+    def set_distance_to_scan(self, item: int, scan: Mesh, colormap: str = "viridis",
+                             range: Optional[Tuple[float, float]] = None, legend: bool = True,
+                             label: Optional[str] = None) -> None:
         """Colours item `item` by its two-sided distance to the Mesh `scan` (absolute units)."""
         options = self._scalar_options(colormap, range, legend, label)
         self._context._call(lib.cagekit_render_scene_set_distance_to_scan, self._handle, int(item), scan._handle,
                             ctypes.byref(options))
 
-    def scalars(self, item):
+    def scalars(self, item: int) -> np.ndarray:
         """(vertex_count,) float64: the item's scalars (empty without)."""
         count = c_uint32()
         self._context._call(lib.cagekit_render_scene_get_scalars, self._handle, int(item), 0, ctypes.byref(count), None)
@@ -326,7 +363,7 @@ class RenderScene(Handle):
                                 ctypes.byref(count), _lib.address(out))
         return out
 
-    def geometry(self, item):
+    def geometry(self, item: int) -> Tuple[np.ndarray, np.ndarray]:
         """((V, 3) float64 positions, (T, 3) uint32 triangles) of the surface the item draws."""
         nv, nt = c_uint32(), c_uint32()
         self._context._call(lib.cagekit_render_scene_get_item_geometry, self._handle, int(item), 0, ctypes.byref(nv),
@@ -338,19 +375,19 @@ class RenderScene(Handle):
                             _lib.address(triangles))
         return positions, triangles
 
-    def __len__(self):
+    def __len__(self) -> int:
         count = c_uint32()
         self._context._call(lib.cagekit_render_scene_get_item_count, self._handle, ctypes.byref(count))
         return count.value
 
-    def item_info(self, item):
+    def item_info(self, item: int) -> Record:
         """Record: kind, column, vertex_count, triangle_count, tessellation_level, has_scalars,
         scalar_min, scalar_max (the range the colour map shows), bounds_min, bounds_max."""
         info = RenderItemInfo.new()
         self._context._call(lib.cagekit_render_scene_get_item_info, self._handle, int(item), ctypes.byref(info))
         return from_struct(info, "RenderItemInfo")
 
-    def draw(self):
+    def draw(self) -> _package.Picture:
         """The picture: an (H, W, 4) uint8 Picture (a numpy array Jupyter shows)."""
         width, height = self._size
         image = np.zeros((height, width, 4), dtype=np.uint8)
@@ -359,11 +396,11 @@ class RenderScene(Handle):
                             _lib.address(image))
         return image.view(_picture_class())
 
-    def write_png(self, path):
+    def write_png(self, path: StrPath) -> None:
         """Draws and writes a PNG file."""
         self._context._call(lib.cagekit_render_scene_write_png, self._handle, path_bytes(path))
 
-    def encode_png(self):
+    def encode_png(self) -> bytes:
         """Draws and returns the PNG bytes."""
         blob = ctypes.c_void_p()
         self._context._call(lib.cagekit_render_scene_encode_png, self._handle, ctypes.byref(blob),
@@ -371,9 +408,11 @@ class RenderScene(Handle):
         return blob_bytes(blob)
 
 
-def render_scene(items, size=(_OPTIONS["width"], _OPTIONS["height"]), views="iso", wire=False, creases=False, level=0,
-          error=None, colormap="viridis", labels=bool(_OPTIONS["labels"]), background=tuple(_OPTIONS["background"]),
-          egl_library=None, context=None):
+def render_scene(items: Items, size: Tuple[int, int] = (_OPTIONS["width"], _OPTIONS["height"]), views: Views = "iso",
+                 wire: bool = False, creases: bool = False, level: int = 0, error: Optional[Mesh] = None,
+                 colormap: str = "viridis", labels: bool = bool(_OPTIONS["labels"]),
+                 background: Sequence[float] = tuple(_OPTIONS["background"]), egl_library: Optional[StrPath] = None,
+                 context: Optional[Context] = None) -> RenderScene:
     """The RenderScene render() draws, with the same arguments, for reading back what it would
     show (item_info, scalars, geometry) or drawing it more than once. Close it (or use `with`)."""
     # One item given alone: an object, a dict, or a tuple (kind, ...) / (object, {options}).
@@ -409,9 +448,11 @@ def render_scene(items, size=(_OPTIONS["width"], _OPTIONS["height"]), views="iso
     return s
 
 
-def render(items, size=(_OPTIONS["width"], _OPTIONS["height"]), views="iso", wire=False, creases=False, level=0,
-           error=None, colormap="viridis", labels=bool(_OPTIONS["labels"]), background=tuple(_OPTIONS["background"]),
-           egl_library=None, context=None):
+def render(items: Items, size: Tuple[int, int] = (_OPTIONS["width"], _OPTIONS["height"]), views: Views = "iso",
+           wire: bool = False, creases: bool = False, level: int = 0, error: Optional[Mesh] = None,
+           colormap: str = "viridis", labels: bool = bool(_OPTIONS["labels"]),
+           background: Sequence[float] = tuple(_OPTIONS["background"]), egl_library: Optional[StrPath] = None,
+           context: Optional[Context] = None) -> _package.Picture:
     """Draws `items` side by side (see the module doc) and returns the picture: an (H, W, 4) uint8
     numpy array (rows top first) of class Picture, which Jupyter shows (_repr_png_).
 
@@ -426,9 +467,11 @@ def render(items, size=(_OPTIONS["width"], _OPTIONS["height"]), views="iso", wir
         return s.draw()
 
 
-def render_png(path, items, size=(_OPTIONS["width"], _OPTIONS["height"]), views="iso", wire=False, creases=False,
-               level=0, error=None, colormap="viridis", labels=bool(_OPTIONS["labels"]),
-               background=tuple(_OPTIONS["background"]), egl_library=None, context=None):
+def render_png(path: StrPath, items: Items, size: Tuple[int, int] = (_OPTIONS["width"], _OPTIONS["height"]),
+               views: Views = "iso", wire: bool = False, creases: bool = False, level: int = 0,
+               error: Optional[Mesh] = None, colormap: str = "viridis", labels: bool = bool(_OPTIONS["labels"]),
+               background: Sequence[float] = tuple(_OPTIONS["background"]), egl_library: Optional[StrPath] = None,
+               context: Optional[Context] = None) -> _package.Picture:
     """render() written to `path` as a PNG; returns the picture too."""
     picture = render(items, size=size, views=views, wire=wire, creases=creases, level=level, error=error,
                      colormap=colormap, labels=labels, background=background, egl_library=egl_library,

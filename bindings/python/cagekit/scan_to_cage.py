@@ -16,13 +16,18 @@ The C declarations of this part of the header are made here, in this module's ST
 PROTOTYPES and on its own function objects (`lib`, a _lib.Functions), which change nothing in
 _lib; tests/test_abi.py finds them and checks them with the rest.
 """
+from __future__ import annotations
+
 import ctypes
 import enum
 from ctypes import POINTER, c_char, c_double, c_size_t, c_uint32, c_uint64, c_void_p
+from typing import Any, Mapping, Optional, Tuple, Union
 
 from . import _lib
-from ._records import enum_value as _enum, from_struct
+from ._numpy import npt
+from ._records import Record, enum_value as _enum, from_struct
 from .cage import Cage
+from .mesh import Mesh
 from .fit import LsqSolver, ProjectionMode
 from .remesh import anisotropic_options, quad_options
 
@@ -107,18 +112,24 @@ _D = ScanToCageOptions.defaults()
 _CAGE = _lib.CageOptions.defaults()
 
 
-def scan_to_cage(scan, method=ScanMethod(_D["method"]), faces=_D["target"], repair=bool(_D["repair"]),
-                 components=ComponentMode(_D["components"]), weld_tolerance_rel=_D["weld_tolerance_rel"],
-                 crease_rule=_lib.crease_rule_name(_CAGE["crease_rule"]),
-                 feature_angle_degrees=_CAGE["feature_angle_degrees"],
-                 crease_angle_degrees=_CAGE["crease_angle_degrees"],
-                 input_crease_angle_degrees=_CAGE["input_crease_angle_degrees"],
-                 quad=None, anisotropic=None, fit=None, limit_levels=_D["limit_levels"],
-                 self_intersection_level=_D["self_intersection_level"],
-                 max_limit_to_scan_rel=_D["max_limit_to_scan_rel"], limit_to_scan_factor=_D["limit_to_scan_factor"],
-                 small_input_faces=_D["small_input_faces"], fallback_to_simplify=bool(_D["fallback_to_simplify"]),
-                 finer_simplify_attempts=_D["finer_simplify_attempts"],
-                 two_sided_refit_factor=_D["two_sided_refit_factor"], sharp_edges=None):
+def scan_to_cage(scan: Mesh, method: Union[ScanMethod, int, str] = ScanMethod(_D["method"]),
+                 faces: float = _D["target"], repair: bool = bool(_D["repair"]),
+                 components: Union[ComponentMode, int, str] = ComponentMode(_D["components"]),
+                 weld_tolerance_rel: float = _D["weld_tolerance_rel"],
+                 crease_rule: str = _lib.crease_rule_name(_CAGE["crease_rule"]),
+                 feature_angle_degrees: float = _CAGE["feature_angle_degrees"],
+                 crease_angle_degrees: float = _CAGE["crease_angle_degrees"],
+                 input_crease_angle_degrees: float = _CAGE["input_crease_angle_degrees"],
+                 quad: Optional[Mapping[str, Any]] = None, anisotropic: Optional[Mapping[str, Any]] = None,
+                 fit: Optional[Mapping[str, Any]] = None, limit_levels: int = _D["limit_levels"],
+                 self_intersection_level: int = _D["self_intersection_level"],
+                 max_limit_to_scan_rel: float = _D["max_limit_to_scan_rel"],
+                 limit_to_scan_factor: float = _D["limit_to_scan_factor"],
+                 small_input_faces: int = _D["small_input_faces"],
+                 fallback_to_simplify: bool = bool(_D["fallback_to_simplify"]),
+                 finer_simplify_attempts: int = _D["finer_simplify_attempts"],
+                 two_sided_refit_factor: float = _D["two_sided_refit_factor"],
+                 sharp_edges: Optional[npt.ArrayLike] = None) -> Tuple[Cage, Cage, Record]:
     """Runs the journey on `scan` (a Mesh, not changed). Returns (cage, limit, report): the fitted
     Cage with crease tags, its limit mesh (refined `limit_levels` times) as a Cage, and a record
     of every figure of cagekit_scan_to_cage_report (fallback_reason as str, methods as

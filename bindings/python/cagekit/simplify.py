@@ -8,13 +8,16 @@ quad-dominant cage built from one of its levels.
 
 or in one call: cage, report = cagekit.simplify(scan, faces=300).
 """
+from __future__ import annotations
+
 import ctypes
 import enum
+from typing import Any, List, Optional, Tuple
 
 from . import _lib
 from ._handle import Handle
-from ._numpy import np
-from ._records import from_struct
+from ._numpy import np, npt
+from ._records import Record, from_struct
 from .cage import Cage
 from .mesh import Mesh
 
@@ -37,7 +40,8 @@ class Hierarchy(Handle):
     _release_name = "cagekit_hierarchy_release"
     _kind = "hierarchy"
 
-    def __init__(self, mesh, tie_break_epsilon=_SIMPLIFY["tie_break_epsilon"], sharp_edges=None):
+    def __init__(self, mesh: Mesh, tie_break_epsilon: float = _SIMPLIFY["tie_break_epsilon"],
+                 sharp_edges: Optional[npt.ArrayLike] = None) -> None:
         """Simplifies `mesh` (valid apart from unreferenced vertices, else InvalidMeshError) to
         its coarsest level. `sharp_edges`: the host's sharp edges (vertex pairs of `mesh`), borders
         of every level and creases of every cage built from it. Long operation (progress, cancel)
@@ -51,22 +55,23 @@ class Hierarchy(Handle):
         Handle.__init__(self, out.value, mesh._context)
 
     @property
-    def level_count(self):
+    def level_count(self) -> int:
         count = ctypes.c_uint32()
         self._context._call(_lib.lib.cagekit_hierarchy_get_level_count, self._handle, ctypes.byref(count))
         return count.value
 
-    def __len__(self):
+    def __len__(self) -> int:
         return self.level_count
 
-    def level_info(self, level):
+    def level_info(self, level: int) -> Record:
         """Record (faces, vertices, error) of any level without moving there."""
         info = _lib.LevelInfo.new()
         self._context._call(_lib.lib.cagekit_hierarchy_get_level_info, self._handle, int(level),
                             ctypes.byref(info))
         return from_struct(info, "LevelInfo")
 
-    def find_level(self, faces=None, vertices=None, error=None):
+    def find_level(self, faces: Optional[float] = None, vertices: Optional[float] = None,
+                   error: Optional[float] = None) -> int:
         """The finest level with at most `faces` faces or `vertices` vertices, or the coarsest
         whose error is <= `error` (exactly one of them); the coarsest level if none has so few."""
         given = [(q, v) for q, v in ((LevelQuery.BY_FACES, faces), (LevelQuery.BY_VERTICES, vertices),
@@ -79,30 +84,31 @@ class Hierarchy(Handle):
         return level.value
 
     @property
-    def level(self):
+    def level(self) -> int:
         level = ctypes.c_uint32()
         self._context._call(_lib.lib.cagekit_hierarchy_get_current_level, self._handle, ctypes.byref(level))
         return level.value
 
     @level.setter
-    def level(self, level):
+    def level(self, level: int) -> None:
         self._context._call(_lib.lib.cagekit_hierarchy_set_level, self._handle, int(level))
 
-    def set_level(self, level=None, *, faces=None, vertices=None, error=None):
+    def set_level(self, level: Optional[int] = None, *, faces: Optional[float] = None,
+                  vertices: Optional[float] = None, error: Optional[float] = None) -> int:
         """Moves to `level`, or to find_level(faces=|vertices=|error=); returns the level."""
         if level is None:
             level = self.find_level(faces=faces, vertices=vertices, error=error)
         self.level = level
         return level
 
-    def current_info(self):
+    def current_info(self) -> Record:
         """Record of the current level: level, faces, vertices, faces_with_holes, invalid_faces,
         l2_error, l21_error."""
         info = _lib.PolygonalLevelInfo.new()
         self._context._call(_lib.lib.cagekit_hierarchy_get_current_info, self._handle, ctypes.byref(info))
         return from_struct(info, "PolygonalLevelInfo")
 
-    def face_arrays(self):
+    def face_arrays(self) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(loops_per_face, loop_sizes, loop_vertices) uint32 arrays of the current level; the
         first loop of a face is its outer loop, the others holes; vertices are input indices."""
         fn = _lib.lib.cagekit_hierarchy_get_faces
@@ -117,7 +123,7 @@ class Hierarchy(Handle):
                             ctypes.byref(indices), _lib.address(verts))
         return per_face, sizes, verts
 
-    def faces(self):
+    def faces(self) -> List[List[np.ndarray]]:
         """The current level's faces: for each face a list of loops (uint32 arrays of input
         vertex indices), outer loop first."""
         per_face, sizes, verts = self.face_arrays()
@@ -128,7 +134,7 @@ class Hierarchy(Handle):
             at += int(n)
         return out
 
-    def clusters(self):
+    def clusters(self) -> np.ndarray:
         """For each input face, the index of the current level's face that contains it."""
         fn, count = _lib.lib.cagekit_hierarchy_get_clusters, ctypes.c_uint32()
         self._context._call(fn, self._handle, 0, ctypes.byref(count), None)
@@ -136,24 +142,25 @@ class Hierarchy(Handle):
         self._context._call(fn, self._handle, count.value, ctypes.byref(count), _lib.address(out))
         return out
 
-    def polygon_mesh(self):
+    def polygon_mesh(self) -> Mesh:
         """The current level as a Mesh over the input vertices it uses (renumbered); faces with
         holes are split into constrained Delaunay triangles."""
         return Mesh._make(self._context, _lib.lib.cagekit_hierarchy_get_polygon_mesh, self._handle)
 
-    def refined_polygon_mesh(self, chord_tolerance):
+    def refined_polygon_mesh(self, chord_tolerance: float) -> Mesh:
         """polygon_mesh() with border vertices put back where a cluster border strays farther than
         chord_tolerance x the input's bbox diagonal from its level edge (same faces, more
         vertices, closer to the input at coarse levels)."""
         return Mesh._make(self._context, _lib.lib.cagekit_hierarchy_get_refined_polygon_mesh, self._handle,
                           float(chord_tolerance))
 
-    def build_cage(self, crease_rule=_lib.crease_rule_name(_CAGE["crease_rule"]),
-                   feature_angle_degrees=_CAGE["feature_angle_degrees"],
-                   crease_angle_degrees=_CAGE["crease_angle_degrees"],
-                   tag_boundary_edges=bool(_CAGE["tag_boundary_edges"]),
-                   exact_partition_limit=_CAGE["exact_partition_limit"],
-                   input_crease_angle_degrees=_CAGE["input_crease_angle_degrees"], sharp_edges=None):
+    def build_cage(self, crease_rule: str = _lib.crease_rule_name(_CAGE["crease_rule"]),
+                   feature_angle_degrees: float = _CAGE["feature_angle_degrees"],
+                   crease_angle_degrees: float = _CAGE["crease_angle_degrees"],
+                   tag_boundary_edges: bool = bool(_CAGE["tag_boundary_edges"]),
+                   exact_partition_limit: int = _CAGE["exact_partition_limit"],
+                   input_crease_angle_degrees: float = _CAGE["input_crease_angle_degrees"],
+                   sharp_edges: Optional[npt.ArrayLike] = None) -> Tuple[Cage, Record]:
         """The quad-dominant control cage of the current level with crease tags, and its report
         (quads, triangles, pentagons, other_polygons, creases, ...). crease_rule "sharp-input"
         (default): creases where the scan is sharp (input edges above feature_angle_degrees,
@@ -175,8 +182,9 @@ class Hierarchy(Handle):
         return Cage._wrap(out.value, self._context), from_struct(report, "CageReport")
 
 
-def simplify(mesh, faces=None, vertices=None, tie_break_epsilon=_SIMPLIFY["tie_break_epsilon"], sharp_edges=None,
-             **cage_options):
+def simplify(mesh: Mesh, faces: Optional[float] = None, vertices: Optional[float] = None,
+             tie_break_epsilon: float = _SIMPLIFY["tie_break_epsilon"], sharp_edges: Optional[npt.ArrayLike] = None,
+             **cage_options: Any) -> Tuple[Cage, Record]:
     """Simplifies `mesh` to at most `faces` faces or `vertices` vertices and builds the
     quad-dominant cage: (Cage, CageReport). `sharp_edges` as Hierarchy(); cage_options as
     Hierarchy.build_cage."""

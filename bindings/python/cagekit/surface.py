@@ -4,11 +4,14 @@
 A quad of the cage is one ptex face with (u, v) in [0, 1]^2; any other n-gon is n ptex faces,
 one per corner (ptex_face(cage_face, corner)). Immutable: any number of threads may evaluate.
 """
+from __future__ import annotations
+
 import ctypes
+from typing import Any, Optional, Tuple
 
 from . import _arrays, _lib
 from ._handle import Handle
-from ._numpy import np
+from ._numpy import np, npt
 from ._records import Record
 
 _DERIVATIVES = ("position", "du", "dv", "duu", "duv", "dvv")
@@ -18,17 +21,17 @@ class Surface(Handle):
     _release_name = "cagekit_surface_release"
     _kind = "surface"
 
-    def __init__(self, *args, **kwargs):
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
         raise TypeError("use Cage.surface()")
 
-    def counts(self):
+    def counts(self) -> Tuple[int, int]:
         """(ptex face count, control vertex count)."""
         faces, controls = ctypes.c_uint32(), ctypes.c_uint32()
         self._context._call(_lib.lib.cagekit_surface_get_counts, self._handle, ctypes.byref(faces),
                             ctypes.byref(controls))
         return faces.value, controls.value
 
-    def ptex_face(self, cage_face, corner=0):
+    def ptex_face(self, cage_face: int, corner: int = 0) -> int:
         out = ctypes.c_uint32()
         self._context._call(_lib.lib.cagekit_surface_get_ptex_face, self._handle, int(cage_face), int(corner),
                             ctypes.byref(out))
@@ -49,7 +52,8 @@ class Surface(Handle):
         locations["u"], locations["v"] = uv[:, 0], uv[:, 1]
         return locations
 
-    def evaluate(self, faces, uv, control_positions=None):
+    def evaluate(self, faces: npt.ArrayLike, uv: npt.ArrayLike,
+                 control_positions: Optional[npt.ArrayLike] = None) -> Record:
         """Evaluates at ptex faces `faces` ((n,) or one face) and parameters `uv` ((n, 2)).
         control_positions: None (the cage's) or moved control points (M, 3). Returns a record
         of (n, 3) arrays: position, du, dv, duu, duv, dvv."""
@@ -62,7 +66,7 @@ class Surface(Handle):
                             locations.size, _lib.address(locations), _lib.address(points))
         return Record("SurfacePoints", **{name: points[:, k, :] for k, name in enumerate(_DERIVATIVES)})
 
-    def evaluate_basis(self, face, u, v):
+    def evaluate_basis(self, face: int, u: float, v: float) -> Record:
         """The basis functions non-zero at (face, u, v): record of indices (K,) and weights
         w, wu, wv, wuu, wuv, wvv (K,), so that position = w @ control[indices]."""
         location = _lib.SurfaceLocation(int(face), float(u), float(v))

@@ -23,13 +23,28 @@ def modules():
     return out
 
 
+def type_checking_only(node):
+    """`if TYPE_CHECKING:` (or typing.TYPE_CHECKING): its body runs for type checkers only."""
+    test = node.test if isinstance(node, ast.If) else None
+    return (isinstance(test, ast.Name) and test.id == "TYPE_CHECKING") or (
+        isinstance(test, ast.Attribute) and test.attr == "TYPE_CHECKING")
+
+
 def package_imports(tree, names):
     """(module imported, line, inside a function or class) for each import of one of `names`
-    (relative imports: `from . import a`, `from .a import b`)."""
+    (relative imports: `from . import a`, `from .a import b`) that runs: the imports under
+    `if TYPE_CHECKING:` (for annotations naming a class of a module above) are left out."""
     found = []
 
-    def visit(node, nested):
+    def children(node):
         for child in ast.iter_child_nodes(node):
+            if type_checking_only(child):
+                yield from child.orelse  # the run-time branch only
+            else:
+                yield child
+
+    def visit(node, nested):
+        for child in children(node):
             if isinstance(child, ast.ImportFrom) and child.level == 1:
                 targets = [child.module] if child.module else [a.name for a in child.names]
                 found.extend((t, child.lineno, nested) for t in targets if t in names)
