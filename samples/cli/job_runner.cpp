@@ -223,6 +223,7 @@ bool likely_out_of_memory(const JobResult& result, const std::string& stderr_tex
   std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   if (lower.find("out of memory") != std::string::npos || lower.find("bad_alloc") != std::string::npos ||
       lower.find("cannot allocate memory") != std::string::npos ||
+      lower.find("failed to map segment") != std::string::npos ||  // ld.so under a small RLIMIT_AS
       lower.find("memory budget") != std::string::npos)
     return true;
   // SIGKILL that the runner did not send: the kernel's OOM killer.

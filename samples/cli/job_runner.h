@@ -47,7 +47,8 @@ JobResult run_job(const JobSpec& spec);
 
 // Whether a run most likely ended because it ran out of memory: a message on its stderr that
 // says so (the CLI's "out of memory", std::bad_alloc from an uncaught exception, "Cannot
-// allocate memory"), or a SIGKILL the runner did not send (the kernel's OOM killer).
+// allocate memory", the dynamic loader's "failed to map segment" under a small address-space
+// limit), or a SIGKILL the runner did not send (the kernel's OOM killer).
 // `stderr_text` is the captured stderr (or its beginning).
 bool likely_out_of_memory(const JobResult& result, const std::string& stderr_text);
 

@@ -205,6 +205,14 @@ def case_mixed():
           [(r["scan"], r["status"], r["faces"]) for r in table["rows"]], "resume: the same table")
     print(f"mixed: first run {first_seconds:.1f} s, resumed run {resume_seconds:.2f} s")
 
+    # --memory-limit: a limit far below what a scan needs ends it as oom (not as a crash), with a message.
+    p = batch(scans, os.path.join(root, "small"),
+              "--faces", "60", "--memory-limit", "24", "--quiet")
+    table3, _ = read_table(os.path.join(root, "small"))
+    check(p.returncode == 2 and all(r["status"] == "oom" and r["message"] for r in table3["rows"]),
+          "memory limit: every scan under 24 MiB ends as oom with a message",
+          str({r["scan"]: (r["status"], r["message"]) for r in table3["rows"] if r["status"] != "oom"}))
+
 
 def case_isolation():
     root = fresh(os.path.join(work, "isolation"))
