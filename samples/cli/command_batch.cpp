@@ -387,8 +387,24 @@ Row run_scan(const Plan& plan, const Scan& scan) {
   return row;
 }
 
+// Options as (name, value) pairs in name order ("" for a flag): the same options given in another
+// order are the same.
+std::vector<std::pair<std::string, std::string>> option_pairs(const std::vector<std::string>& words) {
+  std::vector<std::pair<std::string, std::string>> pairs;
+  for (size_t k = 0; k < words.size(); ++k) {
+    if (k + 1 < words.size() && words[k + 1].rfind("--", 0) != 0) {
+      pairs.emplace_back(words[k], words[k + 1]);
+      ++k;
+    } else {
+      pairs.emplace_back(words[k], "");
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  return pairs;
+}
+
 // The earlier result of `scan` when --resume may keep it: result.json of this file, made with the
-// same pipeline options.
+// same pipeline options (in any order).
 std::optional<Row> earlier_result(const Plan& plan, const Scan& scan) {
   const fs::path path = fs::path(plan.out) / scan.name / "result.json";
   std::ifstream in(path);
@@ -396,8 +412,14 @@ std::optional<Row> earlier_result(const Plan& plan, const Scan& scan) {
   try {
     const nlohmann::json j = nlohmann::json::parse(in);
     if (!j.is_object() || text_at(j, "format") != kResultFormat || text_at(j, "file") != scan.path ||
-        !j.contains("options") || j["options"] != nlohmann::json(plan.options))
+        !j.contains("options") || !j["options"].is_array())
       return std::nullopt;
+    std::vector<std::string> options;
+    for (const nlohmann::json& w : j["options"]) {
+      if (!w.is_string()) return std::nullopt;
+      options.push_back(w.get<std::string>());
+    }
+    if (option_pairs(options) != option_pairs(plan.options)) return std::nullopt;
     Row row = row_from_json(j);
     if (row.status.empty()) return std::nullopt;
     row.scan = scan.name;
