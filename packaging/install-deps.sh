@@ -18,8 +18,8 @@ BUILD_PACKAGES=(
   libegl-dev libgles-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libpng-dev
   nlohmann-json3-dev libcli11-dev
 )
-# The tests: GoogleTest, the Python package (and Dask's distributed for cagekit.batch) and its hosts (Blender, FreeCAD), the sanitizer and
-# fuzzer toolchain, the ABI checker, OpenCASCADE (STEP export) and the packaging tools.
+# The tests: GoogleTest, the Python package and its hosts (Blender, FreeCAD), Dask's distributed
+# (cagekit.batch on a LocalCluster), the sanitizer and fuzzer toolchain, the ABI checker, OpenCASCADE (STEP export) and the packaging tools.
 TEST_PACKAGES=(
   libgtest-dev python3 python3-numpy python3-distributed binutils blender freecad
   clang libclang-rt-14-dev
