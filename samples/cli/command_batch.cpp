@@ -269,6 +269,19 @@ void remove_quietly(const fs::path& p) {
   fs::remove(p, ec);
 }
 
+// Whether OUT_DIR/<scan> may be emptied for a new run: absent, an empty folder, or a folder with a
+// file this command or the pipeline writes (an earlier run's). Anything else (OUT_DIR inside the
+// scans' folder next to a folder of the same name, a file) is left alone.
+bool ours_or_absent(const fs::path& dir) {
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(dir, ec))) return true;
+  if (!fs::is_directory(fs::symlink_status(dir, ec))) return false;
+  if (fs::is_empty(dir, ec)) return true;
+  for (const char* marker : {"result.json", "pipeline.stderr", "pipeline.stdout"})
+    if (fs::exists(dir / marker, ec)) return true;
+  return false;
+}
+
 // Runs one scan in a child and writes OUT_DIR/<scan>/result.json last. Returns its row; a
 // cancelled scan (interrupted batch) returns status "cancelled" and writes no result.
 Row run_scan(const Plan& plan, const Scan& scan) {
@@ -277,6 +290,11 @@ Row run_scan(const Plan& plan, const Scan& scan) {
   row.scan = scan.name;
   const fs::path dir = fs::path(plan.out) / scan.name;
   std::error_code ec;
+  if (!ours_or_absent(dir)) {
+    row.status = "failed";
+    row.message = dir.string() + " exists and is not a scan folder of cagekit batch: left as it is";
+    return row;  // no result.json written into someone else's folder
+  }
   fs::remove_all(dir, ec);  // earlier outputs of this scan (result.json first among them) go
   fs::create_directories(dir, ec);
   if (ec) throw Failure(kExitBadInput, dir.string() + ": cannot create the folder: " + ec.message());

@@ -16,7 +16,9 @@ Cases (all by default):
              own status; the options reach every child (--threads 1 with --jobs 2).
   interrupt  SIGTERM while scans run: the running children are killed, exit 130, the tables hold the
              finished scans only, and --resume runs exactly the unfinished ones.
-  usage      --method simplify without --faces/--vertices, a mesh file as IN, an empty folder.
+  usage      --method simplify without --faces/--vertices, a mesh file as IN, an empty folder; a list
+             file (comments, relative paths, names after a tab, duplicate stems).
+  guard      OUT_DIR = IN_DIR with a foreign folder named like a scan: left alone, that scan fails.
 """
 import csv
 import json
@@ -29,7 +31,7 @@ import sys
 import time
 
 cli, fake, corpus, work = sys.argv[1:5]
-cases = sys.argv[5:] or ["mixed", "isolation", "interrupt", "usage"]
+cases = sys.argv[5:] or ["mixed", "isolation", "interrupt", "usage", "guard"]
 passed = failures = 0
 
 
@@ -334,7 +336,26 @@ def case_usage():
           "list: comments skipped, paths relative to the list, unique folder names, names after a tab", str(got))
 
 
+def case_guard():
+    # OUT_DIR = IN_DIR, where a folder has a scan's name: it is left alone, that scan fails, the others run.
+    # The worker through the hidden --worker option this time.
+    root = fresh(os.path.join(work, "guard"))
+    for name in ("x", "y"):
+        write(os.path.join(root, name + ".off"), "OFF\n0 0 0\n")
+    os.makedirs(os.path.join(root, "x"))
+    write(os.path.join(root, "x", "keep.txt"), "user data\n")
+    p = batch(root, root, "--faces", "10", "--worker", f"sh {fake}")
+    table, _ = read_table(root)
+    got = {r["scan"]: (r["status"], r["message"]) for r in table["rows"]}
+    check(p.returncode == 2 and got["y"][0] == "ok" and got["x"][0] == "failed" and "left as it is" in got["x"][1]
+          and os.path.isfile(os.path.join(root, "x", "keep.txt")) and not os.path.exists(os.path.join(root, "x",
+                                                                                                       "result.json")),
+          "guard: a folder not made by cagekit batch is left alone (its scan fails); --worker runs the stand-in",
+          str(got))
+
+
 for case in cases:
-    {"mixed": case_mixed, "isolation": case_isolation, "interrupt": case_interrupt, "usage": case_usage}[case]()
+    {"mixed": case_mixed, "isolation": case_isolation, "interrupt": case_interrupt, "usage": case_usage,
+     "guard": case_guard}[case]()
 print(f"{passed} passed, {failures} failed")
 sys.exit(1 if failures else 0)

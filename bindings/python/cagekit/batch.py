@@ -255,11 +255,27 @@ def run_scan(path, name, arguments, cli=None, timeout=None, memory_limit=None, d
             shutil.rmtree(work, ignore_errors=True)
 
 
+def _ours_or_absent(target):
+    """Whether out_dir/<name> may be replaced: absent, empty, or an earlier run's scan folder (the CLI's rule)."""
+    if not os.path.lexists(target):
+        return True
+    if os.path.islink(target) or not os.path.isdir(target):
+        return False
+    return not os.listdir(target) or any(os.path.exists(os.path.join(target, m))
+                                         for m in ("result.json", "pipeline.stderr", "pipeline.stdout"))
+
+
+def _replace_folder(target):
+    if not _ours_or_absent(target):
+        raise FileExistsError("%s exists and is not a scan folder of cagekit batch: left as it is" % target)
+    shutil.rmtree(target, ignore_errors=True)
+    os.makedirs(target)
+
+
 def _place(out_dir, name, folder, result_text):
     """Moves a finished scan's outputs to out_dir/<name>/, result.json last (atomic rename)."""
     target = os.path.join(out_dir, name)
-    shutil.rmtree(target, ignore_errors=True)
-    os.makedirs(target)
+    _replace_folder(target)
     for entry in sorted(os.listdir(folder)):
         if entry != "result.json":
             shutil.move(os.path.join(folder, entry), os.path.join(target, entry))
@@ -268,8 +284,7 @@ def _place(out_dir, name, folder, result_text):
 
 def _write_files(out_dir, name, files):
     target = os.path.join(out_dir, name)
-    shutil.rmtree(target, ignore_errors=True)
-    os.makedirs(target)
+    _replace_folder(target)
     for entry, content in files.items():
         if entry != "result.json":
             _write_atomic(os.path.join(target, entry), content)
@@ -439,7 +454,12 @@ def run(paths, out_dir, method="simplify", options=None, client=None, jobs=None,
                 futures[pool.submit(run_scan, scan_paths[i], names[i], arguments, cli, timeout, memory_limit, data,
                                     out_dir if transfer == "paths" else None, retries)] = i
             for future in concurrent.futures.as_completed(futures):
-                bar.update(fill(futures[future], future.result()))
+                i = futures[future]
+                try:
+                    row = fill(i, future.result())
+                except OSError as e:  # the scan's folder in out_dir cannot be written
+                    row = rows[i] = _failed_row(scan_paths[i], names[i], "failed", str(e))
+                bar.update(row)
     else:
         import distributed  # noqa: F401  (only with a client)
         token = uuid.uuid4().hex[:8]
@@ -457,6 +477,8 @@ def run(paths, out_dir, method="simplify", options=None, client=None, jobs=None,
         for i, future in zip(todo, futures):
             try:
                 fill(i, future.result())
+            except OSError as e:  # the scan's folder in out_dir cannot be written
+                rows[i] = _failed_row(scan_paths[i], names[i], "failed", str(e))
             except Exception as e:  # the task itself failed (its worker died, no CLI there, ...)
                 rows[i] = _failed_row(scan_paths[i], names[i], "crash", "task failed: %s: %s" % (type(e).__name__, e))
 
