@@ -206,11 +206,13 @@ def _one_attempt(cli, path, name, arguments, timeout, memory_limit, data, work):
         _stop(process)
         raise
     folder = os.path.join(out, name)
+    text = err.decode("utf-8", "replace").strip().splitlines()
+    if process.returncode == 64:  # usage: the arguments are wrong for every scan
+        raise ValueError("cagekit.batch: %s" % (text[0] if text else "cagekit batch: usage error (exit 64)"))
     try:
         with open(os.path.join(folder, "result.json"), encoding="utf-8") as f:
             result = json.load(f)
     except (OSError, ValueError):
-        text = err.decode("utf-8", "replace").strip().splitlines()
         why = text[0] if text else "no message"
         code = process.returncode
         what = "signal %d" % -code if code < 0 else "exit %d" % code
@@ -403,12 +405,16 @@ def run(paths, out_dir, method="simplify", options=None, client=None, jobs=None,
     else a console bar on stderr. thumbnails: OUT_DIR/<scan>/thumbnail.png for each ok scan."""
     if transfer not in ("paths", "bytes"):
         raise ValueError("cagekit.batch.run: transfer must be 'paths' or 'bytes', not %r" % (transfer,))
+    if method not in ("simplify", "quad", "anisotropic"):
+        raise ValueError("cagekit.batch.run: method must be 'simplify', 'quad' or 'anisotropic', not %r" % (method,))
     entries = _expand(paths)
     names = scan_names(entries)
     scan_paths = [os.path.abspath(p) if transfer == "paths" else p for p, _ in entries]
     out_dir = os.path.abspath(os.fspath(out_dir))
     os.makedirs(out_dir, exist_ok=True)
     arguments = cli_arguments(method, options)
+    if method == "simplify" and "--faces" not in arguments and "--vertices" not in arguments:
+        raise ValueError("cagekit.batch.run: method 'simplify' needs options={'faces': N} or {'vertices': N}")
     given_threads = any(a == "--threads" for a in arguments)
     if client is None:
         jobs = int(jobs or os.cpu_count() or 1)
@@ -477,6 +483,8 @@ def run(paths, out_dir, method="simplify", options=None, client=None, jobs=None,
         for i, future in zip(todo, futures):
             try:
                 fill(i, future.result())
+            except ValueError:  # usage: wrong arguments for every scan
+                raise
             except OSError as e:  # the scan's folder in out_dir cannot be written
                 rows[i] = _failed_row(scan_paths[i], names[i], "failed", str(e))
             except Exception as e:  # the task itself failed (its worker died, no CLI there, ...)

@@ -160,6 +160,17 @@ class Batch(unittest.TestCase):
         # crash and timeout are retried once; a clean failure is not.
         self.assertEqual(got, {"crash": ("crash", 2), "hang": ("timeout", 2), "ok": ("ok", 1), "error": ("failed", 1)})
 
+    def test_usage_errors_raise(self):
+        with self.assertRaises(ValueError):
+            batch.run(self.scans, os.path.join(self.work, "bad"), method="simplify", options={}, progress=False)
+        with self.assertRaises(ValueError):
+            batch.run(self.scans, os.path.join(self.work, "bad"), method="quadx", options={"faces": 9},
+                      progress=False)
+        # An option the CLI does not know: its usage error (exit 64) raises, it is no scan's failure.
+        with self.assertRaisesRegex(ValueError, "--bogus"):
+            batch.run(self.scans, os.path.join(self.work, "bad"), method="quad", options={"bogus": 1}, jobs=1,
+                      progress=False)
+
     def test_options(self):
         self.assertEqual(batch.cli_arguments("quad", {"fit_tolerance": 1e-3, "--no-fallback": True, "faces": None,
                                                       "no_repair": False}),
