@@ -2,8 +2,8 @@
 #pragma once
 // Runs one command in a child process with a wall-time and an address-space limit and reports
 // how it ended (exit code or signal, timed out, likely out of memory), its wall and CPU seconds
-// and its peak resident memory. Written once for the corpus harness (tests/corpus) and the
-// planned `cagekit batch`; it does not depend on the SDK.
+// and its peak resident memory. Written once for the corpus harness (tests/corpus) and
+// `cagekit batch` (command_batch.cpp); it does not depend on the SDK.
 //
 // The child runs in its own process group: on a timeout the whole group is killed with SIGKILL,
 // and after the child ends whatever it left running in its group is killed too, so a run never
