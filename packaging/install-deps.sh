@@ -18,11 +18,12 @@ BUILD_PACKAGES=(
   libegl-dev libgles-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libpng-dev
   nlohmann-json3-dev libcli11-dev
 )
-# The tests: GoogleTest, the Python package and its hosts (Blender, FreeCAD), the sanitizer and
-# fuzzer toolchain, the ABI checker, OpenCASCADE (STEP export), the packaging tools (the wheel:
-# patchelf, pip, venv, setuptools, wheel) and mypy (the Python package's type hints, test_typing.py).
+# The tests: GoogleTest, the Python package and its hosts (Blender, FreeCAD), Dask's distributed
+# (cagekit.batch on a LocalCluster), the sanitizer and fuzzer toolchain, the ABI checker, OpenCASCADE
+# (STEP export), the packaging tools (the wheel: patchelf, pip, venv, setuptools, wheel) and mypy (the
+# Python package's type hints, test_typing.py).
 TEST_PACKAGES=(
-  libgtest-dev python3 python3-numpy python3-mypy binutils blender freecad
+  libgtest-dev python3 python3-numpy python3-mypy python3-distributed binutils blender freecad
   patchelf python3-pip python3-venv python3-setuptools python3-wheel
   clang libclang-rt-14-dev
   abigail-tools

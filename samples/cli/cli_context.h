@@ -163,6 +163,12 @@ Command add_bench_deform(CLI::App& cagekit);
 Command add_render(CLI::App& cagekit);
 Command add_demo(CLI::App& cagekit);
 Command add_export_surfaces(CLI::App& cagekit);  // needs CAGEKIT_CLI_HAS_OCCT, else says so
+Command add_batch(CLI::App& cagekit);
+
+// The options of `cagekit pipeline` that shape its result (--method, --faces, the cage, fit and
+// remesh options, --limit-levels, the conditioning, --no-fallback, --two-sided-refit; not --json or
+// --quiet). `cagekit batch` declares the same ones and forwards those given to each child pipeline.
+void add_pipeline_options(Options& options);
 
 // The remesher a command runs and its options.
 struct RemeshSettings {

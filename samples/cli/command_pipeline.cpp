@@ -250,6 +250,31 @@ int command_pipeline(const Options& args) {
 
 }  // namespace
 
+void add_pipeline_options(Options& options) {
+  options.add(kMethod);
+  options.add(kFaces);
+  options.add(kVertices);
+  add_cage_options(options);
+  add_fit_options(options);  // before the remeshers': --tolerance shows the fit's default
+  add_remesh_options(options);
+  options.add(kFitTolerance);
+  options.add(kLimitLevels);
+  options.add(kNoRepair);
+  options.add(kComponents);
+  options.add(kWeldTolerance);
+  options.add(kNoFallback);
+  options.add(kTwoSidedRefit);
+  // Shared by the methods with method-dependent meanings.
+  options.app()
+      ->get_option("--feature-angle")
+      ->description("input edges sharper than DEG: sharp for simplify's sharp-input creases (0..180), feature lines "
+                    "of the remeshers (-1: none)");
+  options.app()
+      ->get_option("--tolerance")
+      ->description("simplify: the fit's tolerance (as in `cagekit fit`) [0, 1]; anisotropic: the remeshing tolerance "
+                    "[1e-07, 1], default 0.002; quad: checked, no effect (the fit's is --fit-tolerance)");
+}
+
 Command add_pipeline(CLI::App& cagekit) {
   CLI::App* app = cagekit.add_subcommand(
       "pipeline", "conditioning -> simplify or remesh -> creased cage -> fit; writes OUTDIR/cage.obj, limit.obj, "
@@ -257,28 +282,9 @@ Command add_pipeline(CLI::App& cagekit) {
   auto options = std::make_shared<Options>(app);
   options->add_positional("SCAN", "mesh file");
   options->add_positional("OUTDIR", "output folder (created with its parents)");
-  options->add(kMethod);
-  options->add(kFaces);
-  options->add(kVertices);
-  add_cage_options(*options);
-  add_fit_options(*options);  // before the remeshers': --tolerance shows the fit's default
-  add_remesh_options(*options);
-  options->add(kFitTolerance);
-  options->add(kLimitLevels);
-  options->add(kNoRepair);
-  options->add(kComponents);
-  options->add(kWeldTolerance);
-  options->add(kNoFallback);
-  options->add(kTwoSidedRefit);
+  add_pipeline_options(*options);
   options->add(kJson);
   options->add_quiet();
-  // Shared by the methods with method-dependent meanings.
-  app->get_option("--feature-angle")
-      ->description("input edges sharper than DEG: sharp for simplify's sharp-input creases (0..180), feature lines "
-                    "of the remeshers (-1: none)");
-  app->get_option("--tolerance")
-      ->description("simplify: the fit's tolerance (as in `cagekit fit`) [0, 1]; anisotropic: the remeshing tolerance "
-                    "[1e-07, 1], default 0.002; quad: checked, no effect (the fit's is --fit-tolerance)");
   return {app, [options] { return command_pipeline(*options); }};
 }
 

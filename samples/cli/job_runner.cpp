@@ -174,6 +174,10 @@ JobResult run_job(const JobSpec& spec) {
       kill(-pid, SIGKILL);
       result.timed_out = true;
     }
+    if (!result.timed_out && !result.cancelled && spec.cancel && spec.cancel->load()) {
+      kill(-pid, SIGKILL);
+      result.cancelled = true;
+    }
     std::this_thread::sleep_for(pause);
     pause = std::min(pause * 2, std::chrono::microseconds(20000));
   }
@@ -208,16 +212,18 @@ JobResult run_job(const JobSpec& spec) {
   }
   // A child that ended on its own just as the limit passed is not a timeout.
   if (result.timed_out && !(result.signaled && result.signal == SIGKILL)) result.timed_out = false;
+  if (result.cancelled && !(result.signaled && result.signal == SIGKILL)) result.cancelled = false;
   return result;
 }
 
 bool likely_out_of_memory(const JobResult& result, const std::string& stderr_text) {
-  if (!result.started || result.timed_out) return false;
+  if (!result.started || result.timed_out || result.cancelled) return false;
   if (result.exited && result.exit_code == 0) return false;
   std::string lower(stderr_text);
   std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   if (lower.find("out of memory") != std::string::npos || lower.find("bad_alloc") != std::string::npos ||
       lower.find("cannot allocate memory") != std::string::npos ||
+      lower.find("failed to map segment") != std::string::npos ||  // ld.so under a small RLIMIT_AS
       lower.find("memory budget") != std::string::npos)
     return true;
   // SIGKILL that the runner did not send: the kernel's OOM killer.
@@ -239,6 +245,8 @@ std::string describe(const JobResult& result) {
   if (!result.started) return "not started: " + result.error;
   if (result.timed_out) {
     std::snprintf(buffer, sizeof(buffer), "timed out after %.1f s", result.wall_seconds);
+  } else if (result.cancelled) {
+    std::snprintf(buffer, sizeof(buffer), "cancelled after %.1f s", result.wall_seconds);
   } else if (result.signaled) {
     std::snprintf(buffer, sizeof(buffer), "signal %d (%s)", result.signal, signal_name(result.signal));
   } else {

@@ -44,7 +44,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   std::vector<cli::Command> commands = {
       cli::add_info(app),   cli::add_convert(app),  cli::add_subdivide(app), cli::add_simplify(app),
-      cli::add_remesh(app), cli::add_fit(app),      cli::add_pipeline(app),  cli::add_bind(app),
+      cli::add_remesh(app), cli::add_fit(app),      cli::add_pipeline(app),  cli::add_batch(app), cli::add_bind(app),
       cli::add_deform(app), cli::add_bench_deform(app), cli::add_render(app), cli::add_demo(app),
       cli::add_export_surfaces(app)};
   CLI::App* version = app.add_subcommand("version", "print the library version");

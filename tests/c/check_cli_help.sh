@@ -43,6 +43,11 @@ expected = {
                 "--max-face-valence --curvature-radius --edge-length --regions --region-tolerance --weights "
                 "--refinement-passes --fit-tolerance --limit-levels --no-repair --components --weld-tolerance "
                 "--no-fallback --two-sided-refit --json --quiet",
+    "batch": "--method --faces --vertices --creases --feature-angle --crease-angle --input-crease-angle --passes "
+             "--tolerance --projection --fairing --crease-feature-reach --keep-creases --threads "
+             "--max-face-valence --curvature-radius --edge-length --regions --region-tolerance --weights "
+             "--refinement-passes --fit-tolerance --limit-levels --no-repair --components --weld-tolerance "
+             "--no-fallback --two-sided-refit --jobs --timeout --memory-limit --resume --thumbnails --json --quiet",
     "bind": "--local-frame --exact-normals --sharp-angle --threads --json --quiet",
     "deform": "--local-frame --sharp-angle --json --quiet",
     "bench-deform": "--frames --moved --threads --vertex-order --json --quiet",

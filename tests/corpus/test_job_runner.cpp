@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <ctime>
@@ -130,6 +131,32 @@ TEST_F(JobRunner, TimeoutKillsTheWholeGroup) {
   const pid_t grandchild = pid_t(std::atol(slurp(spec.stdout_path).c_str()));
   ASSERT_GT(grandchild, 0);
   EXPECT_TRUE(dead_within(grandchild, 5.0)) << "grandchild " << grandchild << " survived the timeout";
+  std::remove(spec.stdout_path.c_str());
+  std::remove(spec.stderr_path.c_str());
+}
+
+TEST_F(JobRunner, CancelKillsTheWholeGroup) {
+  // `cagekit batch` interrupted: another thread sets the flag; the child and its grandchild go.
+  JobSpec spec = shell("sleep 30 & echo $!; wait", "cancel");
+  std::atomic<bool> cancel{false};
+  spec.cancel = &cancel;
+  std::thread canceller([&cancel] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    cancel = true;
+  });
+  const JobResult r = run_job(spec);
+  canceller.join();
+  ASSERT_TRUE(r.started) << r.error;
+  EXPECT_TRUE(r.cancelled);
+  EXPECT_FALSE(r.timed_out);
+  EXPECT_TRUE(r.signaled);
+  EXPECT_EQ(r.signal, SIGKILL);
+  EXPECT_LT(r.wall_seconds, 10.0);
+  EXPECT_EQ(cagekit_jobs::describe(r).rfind("cancelled after ", 0), 0u) << cagekit_jobs::describe(r);
+  EXPECT_FALSE(cagekit_jobs::likely_out_of_memory(r, ""));  // our own SIGKILL is not an OOM kill
+  const pid_t grandchild = pid_t(std::atol(slurp(spec.stdout_path).c_str()));
+  ASSERT_GT(grandchild, 0);
+  EXPECT_TRUE(dead_within(grandchild, 5.0)) << "grandchild " << grandchild << " survived the cancel";
   std::remove(spec.stdout_path.c_str());
   std::remove(spec.stderr_path.c_str());
 }
