@@ -436,9 +436,9 @@ TEST(QuadRemesher, AResultKeepsTheInputsTopologyOrIsAnError) {
 // few failing regions, and parts of them or their neighbours failed next (folds, a boundary
 // touching itself), so the count of failing regions did not drop and the retries ended after 4
 // layouts at every re-seeded count: it fell back to simplify. A glued layout whose failing
-// regions are at most 10 % of its regions is retried whatever their count (up to 8 layouts): it
-// now gives the quad method's own valid cage of the input's topology, after more layouts than
-// the 4 of before.
+// regions are at most 10 % of its regions is retried whatever their count (up to 8 layouts,
+// until a layout with folded faces only is kept): it now gives the quad method's own valid cage
+// of the input's topology, after more layouts than the 4 of before.
 TEST(QuadRemesher, AFewFailingRegionsAreRetriedUntilTheLayoutHolds) {
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
   GTEST_SKIP() << "Release only (an 8k-triangle mesh laid out 8 times)";
