@@ -356,17 +356,22 @@ TEST(QuadRemesher, CorpusMeshesOfEachFailureClass) {
   if (ran == 0) GTEST_SKIP() << "corpus not found at " << dir;
 }
 
-// refined_elephant.off: a glue conflict that no split or merge resolves within the retries
-// (the pipeline fell back to simplify). The last resort lays the failing regions out by the
-// quad-dominant partition of their polygons of samples: a valid cage of the input's topology
-// (run_and_check), with those regions reported.
+// refined_elephant.off: a glue conflict that no split or merge resolves within the retries of
+// before 2026-12-06 (4 layouts, a retry only when the failing count drops; the pipeline fell back
+// to simplify; with today's retries, 8 layouts and a retry while few regions fail, it lays out
+// after 2 retries). The last resort lays the failing regions out by the quad-dominant partition
+// of their polygons of samples: a valid cage of the input's topology (run_and_check), with those
+// regions reported.
 TEST(QuadRemesher, RegionsWhoseLayoutStillFailsArePartitioned) {
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
   GTEST_SKIP() << "Release only (a 25k-triangle mesh laid out 4 times)";
 #endif
   const std::string path = std::string(CAGEKIT_SHARED_CORPUS) + "/cgal/refined_elephant.off";
   if (!std::ifstream(path).good()) GTEST_SKIP() << "corpus not found at " << path;
-  const Checked run = run_and_check(cagekit_test::load_mesh(path), QuadRemeshOptions{}, "refined_elephant.off");
+  QuadRemeshOptions old_retries;
+  old_retries.layout_attempts = 4;
+  old_retries.retry_few_failing_share = 0.0;
+  const Checked run = run_and_check(cagekit_test::load_mesh(path), old_retries, "refined_elephant.off");
   std::printf("refined_elephant.off: %llu regions, %llu layout retries, %llu partitioned, %llu faces, %.1f%% quads\n",
               (unsigned long long)run.result.regions, (unsigned long long)run.result.layout_retries,
               (unsigned long long)run.result.partitioned_regions, (unsigned long long)run.result.faces,
@@ -424,6 +429,45 @@ TEST(QuadRemesher, AResultKeepsTheInputsTopologyOrIsAnError) {
     EXPECT_EQ(e.status(), Status::internal_error) << e.what();
     std::printf("turbine.off: %s\n", e.what());
   }
+}
+
+// femur.off (a crumpled scan, 497 edges sharper than 90 degrees; b9_mesh.off, walls thinner than
+// the sample spacing, is the same class, left to the corpus run for time): each retry split the
+// few failing regions, and parts of them or their neighbours failed next (folds, a boundary
+// touching itself), so the count of failing regions did not drop and the retries ended after 4
+// layouts at every re-seeded count: it fell back to simplify. A glued layout whose failing
+// regions are at most 10 % of its regions is retried whatever their count (up to 8 layouts,
+// until a layout with folded faces only is kept): it now gives the quad method's own valid cage
+// of the input's topology, after more layouts than the 4 of before.
+TEST(QuadRemesher, AFewFailingRegionsAreRetriedUntilTheLayoutHolds) {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  GTEST_SKIP() << "Release only (an 8k-triangle mesh laid out 8 times)";
+#endif
+  const std::string dir = std::string(CAGEKIT_SHARED_CORPUS) + "/cgal/";
+  size_t ran = 0;
+  for (const char* name : {"femur.off"}) {
+    const std::string path = dir + name;
+    if (!std::ifstream(path).good()) continue;
+    const PolygonMesh mesh = cagekit_test::load_mesh(path);
+    const QuadRemeshResult r = cagekit::remesh_quad_dominant(mesh, QuadRemeshOptions{});
+    const cagekit::ValidationReport check = cagekit::validate_cage(r.cage);
+    EXPECT_TRUE(check.ok()) << name << ": " << check.summary();
+    const cagekit::MeshStatistics in = cagekit::compute_mesh_statistics(mesh);
+    const cagekit::MeshStatistics out = cagekit::compute_mesh_statistics(r.cage.mesh);
+    EXPECT_TRUE(out.manifold) << name;
+    EXPECT_EQ(out.genus, in.genus) << name;
+    EXPECT_EQ(out.components, in.components) << name;
+    EXPECT_EQ(out.boundary_loops, in.boundary_loops) << name;
+    std::printf("%s: %llu regions (re-seeded %llu), %llu layout retries, %llu partitioned, %llu flipped, %llu faces, "
+                "%.1f%% quads\n",
+                name, (unsigned long long)r.regions, (unsigned long long)r.reseeded_regions,
+                (unsigned long long)r.layout_retries, (unsigned long long)r.partitioned_regions,
+                (unsigned long long)r.flipped_faces, (unsigned long long)r.faces,
+                100.0 * double(r.quads) / double(std::max<uint64_t>(1, r.faces)));
+    EXPECT_GE(r.layout_retries, 4u) << name << " no longer needs more than the 4 layouts of before";
+    ++ran;
+  }
+  if (ran == 0) GTEST_SKIP() << "corpus not found at " << dir;
 }
 
 // A small hole of the input whose border two regions share: each region's arc along it is
@@ -580,6 +624,14 @@ TEST(QuadRemesher, BadOptionsAndInputAreErrors) {
     EXPECT_TRUE(validate_cage(r.cage).ok());
   }
   o.regions = 4;
+  o.layout_attempts = 0;
+  EXPECT_EQ(status_of(cylinder, o), Status::invalid_argument);
+  o.layout_attempts = 8;
+  o.retry_few_failing_share = std::nan("");
+  EXPECT_EQ(status_of(cylinder, o), Status::invalid_argument);
+  o.retry_few_failing_share = 1.5;
+  EXPECT_EQ(status_of(cylinder, o), Status::invalid_argument);
+  o.retry_few_failing_share = 0.1;
   o.sample_refinement_passes = -1;
   EXPECT_EQ(status_of(cylinder, o), Status::invalid_argument);
   o.sample_refinement_passes = 1;

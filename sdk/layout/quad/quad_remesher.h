@@ -83,6 +83,12 @@ struct QuadRemeshOptions {
   // above the previous one ends the re-seeding). Smaller regions are disks with injective maps
   // more often and span thin walls less. Empty: off (the failure is the error).
   std::vector<double> reseed_factors = {10.0 / 3.0, 20.0 / 3.0};
+  // Layouts per segmentation, the first and its retries (>= 1). A retry is made when the number
+  // of failing regions dropped, and also, whatever it did, when the layout was glued and at most
+  // retry_few_failing_share of its regions fail (0: only when it dropped, as before 2026-12-06:
+  // 4 layouts, share 0).
+  int layout_attempts = 8;
+  double retry_few_failing_share = 0.1;
 };
 
 // The RemeshQuality part: faces, vertices, quads, valences, min scaled Jacobian of cage.mesh.
