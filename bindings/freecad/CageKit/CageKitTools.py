@@ -553,8 +553,10 @@ def fit_job(scan_pos, scan_tris, cage, passes=5, keep_crease_vertices=False, pro
     return data, report
 
 
-def apply_fit(cage_obj, scan, data, report, passes):
-    """Writes fit_job's result into the cage object (one undo step)."""
+def apply_fit(cage_obj, scan, data, report, passes, surfaces=()):
+    """Writes fit_job's result into the cage object (one undo step). surfaces: (surface object,
+    surface_shape's result for the fitted cage) pairs written in the same step, before the
+    recompute (which then has nothing left to compute for them)."""
     with transaction(cage_obj.Document, "CageKit: fit"):
         write_cage(cage_obj, data)
         cage_obj.Scan = scan
@@ -563,6 +565,8 @@ def apply_fit(cage_obj, scan, data, report, passes):
         if "FitAfter" in cage_obj.PropertiesList:
             cage_obj.FitAfter = int(cage_obj.FitAfter) + int(passes)
             cage_obj.InputKey = cage_input_key(cage_obj)
+        for surface, result in surfaces:
+            write_surface(surface, result, None)
         cage_obj.Document.recompute()
     FreeCAD.Console.PrintMessage("CageKit: %r fitted in %d passes: rms %.3g -> %.3g of the diagonal\n" % (
         cage_obj.Label, len(report.passes) - 1, report.initial.rms_rel, report.final.rms_rel))
@@ -737,16 +741,24 @@ def shell_or_solid(faces, sew_tolerance):
     Shape.check(True) when invalid), seconds {"sew", "solid"} (the solid's time includes the check)."""
     t = time.perf_counter()
     sewn = sew(faces, sew_tolerance)
-    t_sew = time.perf_counter() - t
+    out = solid_of(sewn, len(faces))
+    out["seconds"]["sew"] = time.perf_counter() - t - out["seconds"]["solid"]
+    return out
+
+
+def solid_of(sewn, face_count):
+    """shell_or_solid's second half, without a document (safe on a worker thread): the sewn
+    shape -> a Part.Solid (outward) when it is one closed shell of all `face_count` faces, else
+    the shell (or the sewn shape); BRepCheck."""
     t = time.perf_counter()
     shells = sewn.Shells
     closed = False
-    if len(shells) == 1 and len(shells[0].Faces) == len(faces) and shells[0].isClosed():
+    if len(shells) == 1 and len(shells[0].Faces) == face_count and shells[0].isClosed():
         shape = Part.Solid(shells[0])
         if shape.Volume < 0:
             shape.reverse()
         closed = True
-    elif len(shells) == 1 and len(shells[0].Faces) == len(faces):
+    elif len(shells) == 1 and len(shells[0].Faces) == face_count:
         shape = shells[0]
     else:
         shape = sewn
@@ -758,7 +770,7 @@ def shell_or_solid(faces, sew_tolerance):
         except Exception as e:  # BRepCheck's findings
             message = str(e).strip() or type(e).__name__
     return {"shape": shape, "closed": closed, "shells": len(shells), "valid": valid, "check": message,
-            "seconds": {"sew": t_sew, "solid": time.perf_counter() - t}}
+            "seconds": {"sew": 0.0, "solid": time.perf_counter() - t}}
 
 
 def patches_shape(control_points, errors, sew_tolerance, slack=0.0):
@@ -1009,6 +1021,28 @@ def surface_sdk(cage, tolerance=1e-4, mode="bspline", max_level=5, max_depth=8, 
 def surface_faces(stage):
     """The Part faces of surface_sdk's result (bspline_part or patch_part)."""
     return bspline_part(stage) if stage["mode"] == "bspline" else patch_part(stage)
+
+
+def surface_sew(result):
+    """surface_finish's first half (needs a scratch document: FreeCAD's main thread): the faces
+    sewn (result["sewn"], seconds "sew")."""
+    t = time.perf_counter()
+    result["sewn"] = sew(result["faces"], result["sew_tolerance"])
+    result["seconds"]["sew"] = time.perf_counter() - t
+    return result
+
+
+def surface_solid(result):
+    """surface_finish's second half (no document: safe on a worker thread): surface_sew's shape
+    -> solid, BRepCheck; the totals."""
+    sewn = solid_of(result.pop("sewn"), len(result["faces"]))
+    t_sew = result["seconds"]["sew"]
+    result["seconds"].update(sewn.pop("seconds"))
+    result["seconds"]["sew"] = t_sew
+    result.update(sewn)
+    result["step"], result["step_bytes"], result["seconds"]["step"] = None, 0, 0.0
+    result["seconds"]["total"] = sum(result["seconds"][key] for key in ("limit", "faces", "sew", "solid"))
+    return result
 
 
 def surface_finish(result, step=None):
