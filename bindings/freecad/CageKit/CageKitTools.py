@@ -1,16 +1,19 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """CageKit in FreeCAD, without the GUI: scan mesh -> cage -> fit -> limit surface -> STEP.
 
-The workbench's commands (CageKitGui) only add dialogs around these functions, and they work
-the same in `freecadcmd`:
+The workbench's commands (CageKitGui) only add dialogs and worker threads around these
+functions, and they work the same in `freecadcmd`:
 
     import FreeCAD, CageKitTools as ck
     doc = FreeCAD.newDocument()
+    doc.UndoMode = 1                                       # freecadcmd: record undo steps
     scan = ck.import_scan("fandisk.obj", doc)              # or any Mesh::Feature
-    cage = ck.scan_to_cage(scan, faces=200)                # Part::Feature "<scan>_cage"
+    cage = ck.scan_to_cage(scan, faces=200)                # parametric cage "<scan>_cage"
     ck.fit_cage(cage, passes=5)                            # moves its control points
-    surface = ck.limit_surface(cage, tolerance=1e-4)       # Part::Feature "<cage>_surface"
+    surface = ck.limit_surface(cage, length=0.01)          # parametric "<cage>_surface", tolerance 0.01 mm
     ck.export_step(surface, "fandisk.step")
+    cage.Faces = 100; doc.recompute()                      # the cage is rebuilt, its surface follows
+    doc.undo()                                             # every function above is one undo step
 
 Without a document (a cagekit.Cage or a cage object; the dict also holds the faces, the SDK's
 record, the sewing tolerance and timings):
@@ -19,14 +22,28 @@ record, the sewing tolerance and timings):
     result["shape"], result["closed"], result["valid"], result["seconds"]
     ck.step_round_trip("out.step", result)                 # face count, solid, limit points' distances
 
-Objects: a cage is a Part::Feature whose Shape is the cage's edges and whose properties (group
-"CageKit") hold the control mesh and its tags (ControlPoints, FaceSizes, FaceIndices, Creases,
-CreaseSharpness, Corners, CornerSharpness, Holes, BoundaryRule) and a link to its Scan. The
-limit surface is a Part::Feature whose Shape has, in mode "bspline" (the default), one B-spline
+Objects: a cage is a Part::FeaturePython (CageProxy) whose Shape is the cage's edges and whose
+properties (group "CageKit") hold its inputs (Scan, Faces, CreaseAngle, Passes, KeepCreaseVertices,
+FitAfter), the control mesh and its tags (ControlPoints, FaceSizes, FaceIndices, Creases,
+CreaseSharpness, Corners, CornerSharpness, Holes, BoundaryRule) and the journey's figures. The limit
+surface is a Part::FeaturePython (SurfaceProxy) with inputs Cage, Mode, Tolerance (a length in
+document units; the SDK gets Tolerance / the bounding-box diagonal of the control points, recorded
+as ToleranceRel), MaxLevel, MaxDepth; its Shape has, in mode "bspline" (the default), one B-spline
 face per merged surface of cagekit_limit_surfaces_create (bicubic with interior knots, one per ptex
 face), or, in mode "patches", one face per patch of cagekit_limit_patches_create (bicubic, knots
-[0, 1] with multiplicity 4: a Bezier patch); sewn into a shell, a solid when the shell is closed. Coordinates are global: a scan's Placement is applied, the
-objects made have the identity Placement.
+[0, 1] with multiplicity 4: a Bezier patch); sewn into a shell, a solid when the shell is closed.
+Both recompute (execute()) when their inputs differ from those of their last computation (a digest
+in the hidden property InputKey), so an undo, a reload or a recompute without a change costs nothing.
+Plain Part::Feature cages and surfaces of older documents are still read (is_cage, fit_cage,
+limit_surface, export_step); they do not recompute. Coordinates are global: a scan's Placement is
+applied, the objects made have the identity Placement.
+
+Undo: each function that changes a document does it inside transaction(doc, name) (one undo step;
+an exception aborts it, so nothing is left behind). Jobs: the SDK work of each step is a function on
+plain arrays (read_scan_job, cage_job, fit_job, surface_sdk + surface_faces, surface_solid) that
+touches no document, so the GUI runs it on a worker thread (the SDK releases the GIL); its
+`progress(stage, fraction)` callback returning False cancels it (cagekit.CancelledError). The
+document steps (add_scan, add_cage, apply_fit, apply_surface) run on the main thread.
 
 Errors: every function raises a cagekit.CageKitError (the SDK's message), WorkbenchError (input
 this module refuses before calling the SDK) or ImportError (the library cannot be loaded).
