@@ -99,8 +99,8 @@ class Job:
     (report view + message box). outcome: None while running, then "done", "cancelled" or
     "failed"."""
 
-    def __init__(self, title, steps, finish):
-        self.title, self.steps, self.finish = title, list(steps), finish
+    def __init__(self, title, steps, finish, on_abort=None):
+        self.title, self.steps, self.finish, self.on_abort = title, list(steps), finish, on_abort
         self.value = None
         self.error = None
         self.cancelled = False
@@ -203,6 +203,11 @@ class Job:
             except Exception as e:  # never into FreeCAD's core
                 self.outcome = "failed"
                 _report(e)
+        if self.outcome != "done" and self.on_abort is not None:
+            try:
+                self.on_abort(self.outcome)
+            except Exception:
+                pass
         try:
             FreeCADGui.getMainWindow().statusBar().showMessage("CageKit: %s %s (%.1f s)" % (self.title, self.outcome,
                                                                                           seconds), 5000)
@@ -218,8 +223,58 @@ class Job:
         return self.outcome
 
 
-def start_job(title, steps, finish):
-    return Job(title, steps, finish).start()
+def start_job(title, steps, finish, on_abort=None):
+    return Job(title, steps, finish, on_abort).start()
+
+
+def _alive(obj, name, doc):
+    try:
+        return doc.getObject(name) is obj and obj.Name == name
+    except Exception:
+        return False
+
+
+def recompute_in_background(obj, kind):
+    """tools.background_recompute: a parametric cage or surface whose inputs changed (a property
+    edit, a changed scan or cage) is computed by a job on the worker thread instead of inside
+    FreeCAD's recompute; its result is written when it arrives (one undo step "CageKit: recompute")
+    and the document recomputed again (dependent objects follow, each by its own job). Returns
+    False when a job is running already (then the recompute computes synchronously). A cancelled
+    or failed job leaves the object as it was, marked touched."""
+    if current_job is not None:
+        return False
+    doc, name = obj.Document, obj.Name
+    if kind == "cage":
+        pos, tris = tools.mesh_arrays(obj.Scan)
+        options = tools.cage_options(obj)
+        steps = [("worker", lambda _, progress: tools.cage_job(pos, tris, progress=progress, **options))]
+
+        def write(result):
+            tools.apply_cage(obj, result)
+    else:
+        arrays = tools.cage_arrays(obj.Cage)
+        steps = _surface_steps(obj.Cage, arrays, tools.surface_options(obj, arrays))
+
+        def write(result):
+            tools.write_surface(obj, result, arrays)
+
+    def finish(result):
+        if not _alive(obj, name, doc):
+            return None  # deleted meanwhile
+        with tools.transaction(doc, "CageKit: recompute"):
+            write(result)
+            doc.recompute()
+        return obj
+
+    def abort(outcome):
+        if _alive(obj, name, doc):
+            obj.touch()
+
+    start_job("Recompute %s" % obj.Label, steps, finish, abort)
+    return True
+
+
+tools.background_recompute = recompute_in_background
 
 
 def _selection():

@@ -364,6 +364,21 @@ def cage_input_key(obj):
                    bool(obj.KeepCreaseVertices), int(obj.FitAfter))
 
 
+# Set by CageKitGui when the GUI is up: background_recompute(obj, kind) starts the computation of a
+# CageKit object's new result ("cage" or "surface") on a worker thread and returns True (the
+# result is written when it arrives, as one undo step "CageKit: recompute"), or returns False
+# (a job is running already): execute() then computes synchronously, as it always does without it.
+background_recompute = None
+
+
+def _in_background(obj, kind):
+    try:
+        return background_recompute is not None and bool(background_recompute(obj, kind))
+    except Exception as e:  # compute synchronously instead
+        FreeCAD.Console.PrintWarning("CageKit: no background recompute of %r: %s\n" % (obj.Label, e))
+        return False
+
+
 def _has_proxy(obj, cls):
     return type(getattr(obj, "Proxy", None)).__name__ == cls.__name__
 
@@ -390,6 +405,8 @@ class CageProxy:
     def execute(self, obj):
         key = cage_input_key(obj)
         if key and key != obj.InputKey:
+            if _in_background(obj, "cage"):
+                return  # the Shape stays until the job's result arrives
             FreeCAD.Console.PrintMessage("CageKit: rebuilding %r from %r\n" % (obj.Label, obj.Scan.Label))
             pos, tris = mesh_arrays(obj.Scan)
             apply_cage(obj, cage_job(pos, tris, **cage_options(obj)))
@@ -1218,7 +1235,7 @@ class SurfaceProxy:
             return
         a = cage_arrays(obj.Cage)
         key = surface_input_key(obj, a)
-        if key == obj.InputKey:
+        if key == obj.InputKey or _in_background(obj, "surface"):
             return
         FreeCAD.Console.PrintMessage("CageKit: recomputing %r\n" % obj.Label)
         o = surface_options(obj, a)

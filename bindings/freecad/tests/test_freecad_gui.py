@@ -271,6 +271,26 @@ def main(out_dir):
     FreeCADGui.runCommand("Std_Undo")
     check(small_surface.InputKey == key and small.FitAfter == 0,
           "Edit > Undo reverts the fit and its surface in one step")
+
+    # A property edit: FreeCAD's recompute starts a job (worker) instead of computing in place;
+    # the cage's result then recomputes its surface by a second job
+    faces_before, patches_before = len(small.FaceSizes), small_surface.PatchCount
+    small.Faces = 30
+    t = time.time()
+    doc.recompute()
+    t_recompute = time.time() - t
+    first = CageKitGui.current_job
+    wait()
+    second = CageKitGui.current_job
+    wait()
+    check(first is not None and second is not None and first.outcome == second.outcome == "done"
+          and t_recompute < 1.0 and small.Faces == 30 and len(small.FaceSizes) != faces_before
+          and small.InputKey == tools.cage_input_key(small) and small_surface.PatchCount != patches_before
+          and small_surface.InputKey == tools.surface_input_key(small_surface) and small_surface.Valid
+          and doc.UndoNames[0] == "CageKit: recompute" and not boxes,
+          "cage.Faces 50 -> 30 + recompute: returned in %.2f s, jobs %r then %r: %d -> %d cage faces, %d -> %d "
+          "surface faces" % (t_recompute, first.title if first else None, second.title if second else None,
+                             faces_before, len(small.FaceSizes), patches_before, small_surface.PatchCount))
     print("total %.1f s" % (time.time() - t0))
 
 
