@@ -291,6 +291,21 @@ def main(out_dir):
           "cage.Faces 50 -> 30 + recompute: returned in %.2f s, jobs %r then %r: %d -> %d cage faces, %d -> %d "
           "surface faces" % (t_recompute, first.title if first else None, second.title if second else None,
                              faces_before, len(small.FaceSizes), patches_before, small_surface.PatchCount))
+    # Save and open (a copy: closing a document's 3D view crashes Coin under the offscreen platform):
+    # the proxies and the view providers (icons) come back
+    import shutil
+    fcstd = os.path.join(out_dir, "clickpath.FCStd")
+    doc.saveAs(fcstd)
+    names = (cage.Name, small.Name, small_surface.Name)
+    shutil.copy(fcstd, os.path.join(out_dir, "clickpath_copy.FCStd"))
+    doc = FreeCAD.openDocument(os.path.join(out_dir, "clickpath_copy.FCStd"))
+    FreeCADGui.updateGui()
+    objs = [doc.getObject(n) for n in names]
+    check(all(o is not None for o in objs) and [type(o.Proxy).__name__ for o in objs] ==
+          ["CageProxy", "CageProxy", "SurfaceProxy"] and [type(o.ViewObject.Proxy).__name__ for o in objs] ==
+          ["ViewProviderCage", "ViewProviderCage", "ViewProviderSurface"] and objs[2].Cage is objs[1]
+          and len(objs[2].Shape.Faces) == objs[2].PatchCount,
+          "saved and reopened in the GUI: proxies, view providers and shapes back")
     print("total %.1f s" % (time.time() - t0))
 
 
