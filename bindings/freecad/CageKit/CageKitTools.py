@@ -1,16 +1,19 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """CageKit in FreeCAD, without the GUI: scan mesh -> cage -> fit -> limit surface -> STEP.
 
-The workbench's commands (CageKitGui) only add dialogs around these functions, and they work
-the same in `freecadcmd`:
+The workbench's commands (CageKitGui) only add dialogs and worker threads around these
+functions, and they work the same in `freecadcmd`:
 
     import FreeCAD, CageKitTools as ck
     doc = FreeCAD.newDocument()
+    doc.UndoMode = 1                                       # freecadcmd: record undo steps
     scan = ck.import_scan("fandisk.obj", doc)              # or any Mesh::Feature
-    cage = ck.scan_to_cage(scan, faces=200)                # Part::Feature "<scan>_cage"
+    cage = ck.scan_to_cage(scan, faces=200)                # parametric cage "<scan>_cage"
     ck.fit_cage(cage, passes=5)                            # moves its control points
-    surface = ck.limit_surface(cage, tolerance=1e-4)       # Part::Feature "<cage>_surface"
+    surface = ck.limit_surface(cage, length=0.01)          # parametric "<cage>_surface", tolerance 0.01 mm
     ck.export_step(surface, "fandisk.step")
+    cage.Faces = 100; doc.recompute()                      # the cage is rebuilt, its surface follows
+    doc.undo()                                             # every function above is one undo step
 
 Without a document (a cagekit.Cage or a cage object; the dict also holds the faces, the SDK's
 record, the sewing tolerance and timings):
@@ -19,14 +22,28 @@ record, the sewing tolerance and timings):
     result["shape"], result["closed"], result["valid"], result["seconds"]
     ck.step_round_trip("out.step", result)                 # face count, solid, limit points' distances
 
-Objects: a cage is a Part::Feature whose Shape is the cage's edges and whose properties (group
-"CageKit") hold the control mesh and its tags (ControlPoints, FaceSizes, FaceIndices, Creases,
-CreaseSharpness, Corners, CornerSharpness, Holes, BoundaryRule) and a link to its Scan. The
-limit surface is a Part::Feature whose Shape has, in mode "bspline" (the default), one B-spline
+Objects: a cage is a Part::FeaturePython (CageProxy) whose Shape is the cage's edges and whose
+properties (group "CageKit") hold its inputs (Scan, Faces, CreaseAngle, Passes, KeepCreaseVertices,
+FitAfter), the control mesh and its tags (ControlPoints, FaceSizes, FaceIndices, Creases,
+CreaseSharpness, Corners, CornerSharpness, Holes, BoundaryRule) and the journey's figures. The limit
+surface is a Part::FeaturePython (SurfaceProxy) with inputs Cage, Mode, Tolerance (a length in
+document units; the SDK gets Tolerance / the bounding-box diagonal of the control points, recorded
+as ToleranceRel), MaxLevel, MaxDepth; its Shape has, in mode "bspline" (the default), one B-spline
 face per merged surface of cagekit_limit_surfaces_create (bicubic with interior knots, one per ptex
 face), or, in mode "patches", one face per patch of cagekit_limit_patches_create (bicubic, knots
-[0, 1] with multiplicity 4: a Bezier patch); sewn into a shell, a solid when the shell is closed. Coordinates are global: a scan's Placement is applied, the
-objects made have the identity Placement.
+[0, 1] with multiplicity 4: a Bezier patch); sewn into a shell, a solid when the shell is closed.
+Both recompute (execute()) when their inputs differ from those of their last computation (a digest
+in the hidden property InputKey), so an undo, a reload or a recompute without a change costs nothing.
+Plain Part::Feature cages and surfaces of older documents are still read (is_cage, fit_cage,
+limit_surface, export_step); they do not recompute. Coordinates are global: a scan's Placement is
+applied, the objects made have the identity Placement.
+
+Undo: each function that changes a document does it inside transaction(doc, name) (one undo step;
+an exception aborts it, so nothing is left behind). Jobs: the SDK work of each step is a function on
+plain arrays (read_scan_job, cage_job, fit_job, surface_sdk + surface_faces, surface_solid) that
+touches no document, so the GUI runs it on a worker thread (the SDK releases the GIL); its
+`progress(stage, fraction)` callback returning False cancels it (cagekit.CancelledError). The
+document steps (add_scan, add_cage, apply_fit, apply_surface) run on the main thread.
 
 Errors: every function raises a cagekit.CageKitError (the SDK's message), WorkbenchError (input
 this module refuses before calling the SDK) or ImportError (the library cannot be loaded).
@@ -34,6 +51,7 @@ run_reported() turns them into a FreeCAD console error and a message for the hos
 lets an exception reach FreeCAD's core.
 """
 import contextlib
+import math
 import os
 import tempfile
 import time
@@ -177,7 +195,12 @@ def cage_arrays(obj):
 
 def cage_from_object(obj, context=None):
     """A cagekit.Cage of a cage object (the SDK validates it: InvalidMeshError names a problem)."""
-    ck, a = sdk(), cage_arrays(obj)
+    return cage_from_arrays(cage_arrays(obj), context)
+
+
+def cage_from_arrays(a, context=None):
+    """A cagekit.Cage of cage_arrays()' dict (no FreeCAD object: usable on a worker thread)."""
+    ck = sdk()
     return ck.Cage.from_arrays(a["positions"], (a["sizes"], a["flat"]), creases=a["creases"],
                                crease_sharpness=a["crease_sharpness"], corners=a["corners"],
                                corner_sharpness=a["corner_sharpness"], holes=a["holes"],
@@ -196,17 +219,74 @@ def cage_data(cage):
             "holes": cage.holes.astype(np.int64), "boundary_rule": int(cage.boundary_rule)}
 
 
+# --- undo transactions -------------------------------------------------------------------------------
+_open_transactions = {}
+
+
+@contextlib.contextmanager
+def transaction(doc, name):
+    """Every change to `doc` inside the block is one undo step named `name` (doc.openTransaction /
+    commitTransaction); an exception aborts it (abortTransaction: the changes are rolled back) and
+    is raised again. Nested blocks on the same document join the outer one. FreeCAD records undo
+    steps only while the document's UndoMode is on (the GUI's default; doc.UndoMode = 1 in
+    freecadcmd): otherwise the block just runs."""
+    key = doc.Name
+    outer = _open_transactions.get(key, 0) == 0
+    if outer:
+        doc.openTransaction(name)
+    _open_transactions[key] = _open_transactions.get(key, 0) + 1
+    try:
+        yield
+    except BaseException:
+        _open_transactions[key] -= 1
+        if outer:
+            doc.abortTransaction()
+        raise
+    _open_transactions[key] -= 1
+    if outer:
+        doc.commitTransaction()
+
+
 # --- making FreeCAD objects ----------------------------------------------------------------------------
-def _property(obj, kind, name, doc, read_only=False):
+def _property(obj, kind, name, doc, read_only=False, hidden=False):
     if name not in obj.PropertiesList:
         obj.addProperty(kind, name, GROUP, doc)
-    if read_only:
+    if hidden:
+        obj.setEditorMode(name, 2)
+    elif read_only:
         obj.setEditorMode(name, 1)
 
 
 def _vectors(points):
     V = FreeCAD.Vector
     return [V(float(p[0]), float(p[1]), float(p[2])) for p in points]
+
+
+def _digest(*items):
+    """A short hex digest of numpy arrays and plain values (the inputs a parametric object was
+    last computed from)."""
+    import hashlib
+    np = numpy()
+    h = hashlib.sha1()
+    for item in items:
+        if isinstance(item, np.ndarray):
+            h.update(str((item.dtype.str, item.shape)).encode())
+            h.update(np.ascontiguousarray(item).tobytes())
+        else:
+            h.update(repr(item).encode())
+        h.update(b"|")
+    return h.hexdigest()
+
+
+def scan_fingerprint(scan):
+    """A cheap fingerprint of a mesh object's geometry (counts, bounding box, area, volume and
+    Placement, all computed by FreeCAD): what a cage's rebuild depends on."""
+    if scan is None:
+        return None
+    mesh = scan.Mesh
+    box = mesh.BoundBox
+    return (scan.Name, mesh.CountPoints, mesh.CountFacets, box.XMin, box.YMin, box.ZMin, box.XMax, box.YMax,
+            box.ZMax, float(mesh.Area), float(mesh.Volume), tuple(scan.Placement.toMatrix().A))
 
 
 def cage_edges_shape(positions, sizes, flat):
@@ -242,37 +322,143 @@ def write_cage(obj, data):
     obj.Shape = cage_edges_shape(data["positions"], data["sizes"], data["flat"])
 
 
-def new_cage_object(doc, label, data, scan=None):
-    obj = doc.addObject("Part::Feature", "Cage")
+_CAGE_PROPERTIES = (
+    ("Scan", "App::PropertyLink", "The scanned mesh this cage is made from / fitted to (a change rebuilds the cage)"),
+    ("Faces", "App::PropertyInteger", "Asked face count of the simplified level (a change rebuilds the cage)"),
+    ("CreaseAngle", "App::PropertyAngle", "Cage edges with a dihedral angle beyond this become creases (rebuilds)"),
+    ("Passes", "App::PropertyInteger", "Fitting passes of the journey from the scan (rebuilds)"),
+    ("KeepCreaseVertices", "App::PropertyBool", "Fits do not move crease vertices (rebuilds)"),
+    ("FitAfter", "App::PropertyInteger", "Passes of the Fit command done since the cage was made (a rebuild from the "
+                                         "scan fits this many passes after the journey)"),
+    ("ControlPoints", "App::PropertyVectorList", "Control points of the Catmull-Clark cage"),
+    ("FaceSizes", "App::PropertyIntegerList", "Vertex count of each cage face"),
+    ("FaceIndices", "App::PropertyIntegerList", "Control point indices of the faces, face after face"),
+    ("Creases", "App::PropertyIntegerList", "Crease edges as control point index pairs, flattened"),
+    ("CreaseSharpness", "App::PropertyFloatList", "Sharpness per crease (10: infinitely sharp)"),
+    ("Corners", "App::PropertyIntegerList", "Corner (sharp) control points"),
+    ("CornerSharpness", "App::PropertyFloatList", "Sharpness per corner"),
+    ("Holes", "App::PropertyIntegerList", "Hole faces (not part of the limit surface)"),
+    ("BoundaryRule", "App::PropertyInteger", "0: boundary edges sharp; 1: boundary corners pinned too"),
+    ("LevelFaces", "App::PropertyInteger", "Faces of the simplification level"),
+    ("TargetFaces", "App::PropertyInteger",
+     "Face target the journey used (raised from the request while the limit strays or self-intersects)"),
+    ("FitPasses", "App::PropertyInteger", "Fitting passes done (0: not fitted)"),
+    ("FitRmsRel", "App::PropertyFloat", "RMS distance scan -> limit surface / bbox diagonal"),
+    ("InputKey", "App::PropertyString", "Digest of the inputs the cage was last built from"))
+_CAGE_INPUTS = ("Scan", "Faces", "CreaseAngle", "Passes", "KeepCreaseVertices", "FitAfter")
+_CAGE_READ_ONLY = ("LevelFaces", "TargetFaces", "FitPasses", "FitRmsRel")
+
+
+def _add_cage_properties(obj):
+    for name, kind, text in _CAGE_PROPERTIES:
+        _property(obj, kind, name, text, read_only=name in _CAGE_READ_ONLY, hidden=name == "InputKey")
+
+
+def cage_input_key(obj):
+    """The digest of what a rebuild of the cage object from its scan depends on ("" without a
+    scan: the control mesh is then the cage's own data)."""
+    scan = getattr(obj, "Scan", None)
+    if scan is None:
+        return ""
+    return _digest(scan_fingerprint(scan), int(obj.Faces), float(obj.CreaseAngle), int(obj.Passes),
+                   bool(obj.KeepCreaseVertices), int(obj.FitAfter))
+
+
+# Set by CageKitGui when the GUI is up: background_recompute(obj, kind) starts the computation of a
+# CageKit object's new result ("cage" or "surface") on a worker thread and returns True (the
+# result is written when it arrives, as one undo step "CageKit: recompute"), or returns False
+# (a job is running already): execute() then computes synchronously, as it always does without it.
+background_recompute = None
+
+
+def _in_background(obj, kind):
+    try:
+        return background_recompute is not None and bool(background_recompute(obj, kind))
+    except Exception as e:  # compute synchronously instead
+        FreeCAD.Console.PrintWarning("CageKit: no background recompute of %r: %s\n" % (obj.Label, e))
+        return False
+
+
+def _has_proxy(obj, cls):
+    return type(getattr(obj, "Proxy", None)).__name__ == cls.__name__
+
+
+class CageProxy:
+    """The Proxy of a parametric cage (Part::FeaturePython, properties in group CageKit).
+
+    execute(): when its inputs (the linked Scan's geometry, Faces, CreaseAngle, Passes,
+    KeepCreaseVertices, FitAfter) differ from those of the last build (InputKey), the cage is
+    rebuilt from the scan (cage_job: the SDK's journey, then FitAfter fitting passes); otherwise
+    (the control points edited, a Fit, an undo) only its Shape is remade from the control mesh.
+    A cage without a Scan keeps its control mesh. Serialisable: no state besides the object's
+    properties."""
+
+    Type = "CageKitCage"
+
+    def __init__(self, obj):
+        obj.Proxy = self
+        _add_cage_properties(obj)
+
+    def onDocumentRestored(self, obj):
+        _add_cage_properties(obj)
+
+    def execute(self, obj):
+        key = cage_input_key(obj)
+        if key and key != obj.InputKey:
+            if _in_background(obj, "cage"):
+                return  # the Shape stays until the job's result arrives
+            FreeCAD.Console.PrintMessage("CageKit: rebuilding %r from %r\n" % (obj.Label, obj.Scan.Label))
+            pos, tris = mesh_arrays(obj.Scan)
+            apply_cage(obj, cage_job(pos, tris, **cage_options(obj)))
+        else:
+            a = cage_arrays(obj)
+            obj.Shape = cage_edges_shape(a["positions"], a["sizes"], a["flat"])
+
+    def __getstate__(self):
+        return None
+
+    def __setstate__(self, state):
+        return None
+
+
+def new_cage_object(doc, label, data, scan=None, faces=0, crease_angle=30.0, passes=0, keep_crease_vertices=False):
+    """A parametric cage object (Part::FeaturePython with a CageProxy) holding `data`
+    (cage_data()); its inputs are set but not built from (its InputKey matches them)."""
+    obj = doc.addObject("Part::FeaturePython", "Cage")
+    CageProxy(obj)
+    if FreeCAD.GuiUp:
+        _attach_view_provider(obj, "cage")
     obj.Label = label
-    _property(obj, "App::PropertyLink", "Scan", "The scanned mesh this cage was made from / is fitted to")
-    _property(obj, "App::PropertyVectorList", "ControlPoints", "Control points of the Catmull-Clark cage")
-    _property(obj, "App::PropertyIntegerList", "FaceSizes", "Vertex count of each cage face")
-    _property(obj, "App::PropertyIntegerList", "FaceIndices", "Control point indices of the faces, face after face")
-    _property(obj, "App::PropertyIntegerList", "Creases", "Crease edges as control point index pairs, flattened")
-    _property(obj, "App::PropertyFloatList", "CreaseSharpness", "Sharpness per crease (10: infinitely sharp)")
-    _property(obj, "App::PropertyIntegerList", "Corners", "Corner (sharp) control points")
-    _property(obj, "App::PropertyFloatList", "CornerSharpness", "Sharpness per corner")
-    _property(obj, "App::PropertyIntegerList", "Holes", "Hole faces (not part of the limit surface)")
-    _property(obj, "App::PropertyInteger", "BoundaryRule", "0: boundary edges sharp; 1: boundary corners pinned too")
-    _property(obj, "App::PropertyInteger", "LevelFaces", "Faces of the simplification level", True)
-    _property(obj, "App::PropertyInteger", "TargetFaces",
-              "Face target the journey used (raised from the request while the limit strays or self-intersects)", True)
-    _property(obj, "App::PropertyInteger", "FitPasses", "Fitting passes done (0: not fitted)", True)
-    _property(obj, "App::PropertyFloat", "FitRmsRel", "RMS distance scan -> limit surface / bbox diagonal", True)
     obj.Scan = scan
+    obj.Faces = int(faces)
+    obj.CreaseAngle = float(crease_angle)
+    obj.Passes = int(passes)
+    obj.KeepCreaseVertices = bool(keep_crease_vertices)
     write_cage(obj, data)
+    obj.InputKey = cage_input_key(obj)
     return obj
 
 
+def _attach_view_provider(obj, kind):
+    try:
+        import CageKitGui
+        CageKitGui.attach_view_provider(obj, kind)
+    except Exception as e:  # the object works without its icon
+        FreeCAD.Console.PrintWarning("CageKit: no view provider for %r: %s\n" % (obj.Label, e))
+
+
 # --- the pipeline -----------------------------------------------------------------------------------------
-def import_scan(path, doc=None, context=None):
-    """Reads a scan with the SDK (OBJ, PLY, OFF, Draco, STL; a bad file raises the SDK's ParseError
-    etc. naming the file and line) into a new Mesh::Feature (polygons split into triangle fans)."""
-    import Mesh
+# Each step is a job (SDK work on plain arrays: safe on a worker thread, the SDK releases the GIL;
+# progress(stage, fraction) returning False cancels it: cagekit.CancelledError) and an apply step
+# (the document changes, on FreeCAD's main thread, inside one undo transaction). The functions
+# below run both synchronously; the GUI runs the jobs on a worker thread.
+def read_scan_job(path, progress=None):
+    """(name, positions (N, 3), triangles (F, 3)) of a mesh file read with the SDK (polygons split
+    into triangle fans)."""
+    np = numpy()
     ck = sdk()
-    doc = doc or FreeCAD.ActiveDocument or FreeCAD.newDocument()
-    with ck.Mesh.read(path, context=context) as m:
+    ctx = ck.Context(progress=progress)
+    with ck.Mesh.read(path, context=ctx) as m:
         pos = m.positions
         sizes, flat = m.face_arrays()
     if len(sizes) == 0:
@@ -282,12 +468,97 @@ def import_scan(path, doc=None, context=None):
         loop = flat[at:at + n].tolist()
         at += n
         tris.extend((loop[0], loop[k], loop[k + 1]) for k in range(1, n - 1))
-    mesh = Mesh.Mesh((_vectors(pos), tris))
     name = os.path.splitext(os.path.basename(path))[0] or "Scan"
-    obj = doc.addObject("Mesh::Feature", "Scan")
-    obj.Label = name
-    obj.Mesh = mesh
-    doc.recompute()
+    return name, np.asarray(pos, dtype=np.float64), np.array(tris, dtype=np.int64).reshape(-1, 3)
+
+
+def add_scan(doc, name, pos, tris):
+    """A new Mesh::Feature `name` (one undo step)."""
+    import Mesh
+    mesh = Mesh.Mesh((_vectors(pos), [tuple(int(i) for i in t) for t in tris]))
+    with transaction(doc, "CageKit: import scan"):
+        obj = doc.addObject("Mesh::Feature", "Scan")
+        obj.Label = name
+        obj.Mesh = mesh
+        doc.recompute()
+    return obj
+
+
+def import_scan(path, doc=None, context=None):
+    """Reads a scan with the SDK (OBJ, PLY, OFF, Draco, STL; a bad file raises the SDK's ParseError
+    etc. naming the file and line) into a new Mesh::Feature (polygons split into triangle fans).
+    One undo step."""
+    doc = doc or FreeCAD.ActiveDocument or FreeCAD.newDocument()
+    return add_scan(doc, *read_scan_job(path))
+
+
+def cage_options(obj):
+    """The keyword arguments of cage_job from a parametric cage's inputs."""
+    return {"faces": int(obj.Faces), "crease_angle": float(obj.CreaseAngle), "passes": int(obj.Passes),
+            "keep_crease_vertices": bool(obj.KeepCreaseVertices), "fit_after": int(obj.FitAfter)}
+
+
+def cage_job(pos, tris, faces=200, crease_angle=30.0, passes=0, keep_crease_vertices=False, fit_after=0,
+             progress=None):
+    """The SDK's journey (conditioning -> simplification to the finest level with at most `faces`
+    faces -> the quad-dominant cage with creases beyond `crease_angle` degrees -> `passes` fitting
+    passes -> a judged result: QualityError instead of a bad surface), then `fit_after` more
+    fitting passes. Returns a dict: options, data (cage_data()), level_faces, target_faces,
+    fit_passes, fit_rms_rel (None when not fitted), cage_quads."""
+    ck = sdk()
+    if int(faces) < 1:
+        raise WorkbenchError("faces must be at least 1, not %r" % faces)
+    options = {"faces": int(faces), "crease_angle": float(crease_angle), "passes": int(passes),
+               "keep_crease_vertices": bool(keep_crease_vertices), "fit_after": int(fit_after)}
+    ctx = ck.Context(progress=progress)
+    fit_passes, rms = 0, None
+    with ck.Mesh.from_arrays(pos, tris, context=ctx) as mesh:
+        cage, limit, report = ck.scan_to_cage(mesh, faces=int(faces), crease_angle_degrees=float(crease_angle),
+                                              fit={"max_passes": int(passes),
+                                                   "keep_crease_vertices": bool(keep_crease_vertices)})
+        limit.close()
+        if int(passes) > 0:
+            fit_passes, rms = report.fit_pass_count - 1, float(report.fit_final.rms_rel)
+        with cage:
+            if int(fit_after) > 0:
+                fitted, fit_report = ck.fit(cage, mesh, max_passes=int(fit_after),
+                                            keep_crease_vertices=bool(keep_crease_vertices))
+                with fitted:
+                    data = cage_data(fitted)
+                fit_passes += len(fit_report.passes) - 1
+                rms = float(fit_report.final.rms_rel)
+            else:
+                data = cage_data(cage)
+    return {"options": options, "data": data, "level_faces": int(report.level_faces),
+            "target_faces": int(report.simplify_target_used), "fit_passes": fit_passes, "fit_rms_rel": rms,
+            "cage_quads": int(report.cage_quads)}
+
+
+def apply_cage(obj, result):
+    """Writes cage_job's result into the cage object (its data and figures; InputKey)."""
+    write_cage(obj, result["data"])
+    obj.LevelFaces = result["level_faces"]
+    obj.TargetFaces = result["target_faces"]
+    obj.FitPasses = result["fit_passes"]
+    obj.FitRmsRel = result["fit_rms_rel"] or 0.0
+    if "InputKey" in obj.PropertiesList:
+        obj.InputKey = cage_input_key(obj)
+
+
+def add_cage(scan, result, doc=None):
+    """A new parametric cage '<scan>_cage' of cage_job's result (one undo step)."""
+    doc = doc or scan.Document
+    o = result["options"]
+    data = result["data"]
+    with transaction(doc, "CageKit: scan to cage"):
+        obj = new_cage_object(doc, scan.Label + "_cage", data, scan, o["faces"], o["crease_angle"], o["passes"],
+                              o["keep_crease_vertices"])
+        obj.FitAfter = o["fit_after"]
+        apply_cage(obj, result)
+        doc.recompute()
+    FreeCAD.Console.PrintMessage("CageKit: cage %r: %d faces (%d quads), %d creases%s\n" % (
+        obj.Label, len(data["sizes"]), result["cage_quads"], len(data["creases"]),
+        "" if result["fit_rms_rel"] is None else ", fitted (rms %.2g of the diagonal)" % result["fit_rms_rel"]))
     return obj
 
 
@@ -295,61 +566,56 @@ def scan_to_cage(scan, faces=200, crease_angle=30.0, passes=0, keep_crease_verti
                  doc=None):
     """Simplifies the mesh object `scan` to the finest level with at most `faces` faces, builds the
     quad-dominant cage with creases beyond `crease_angle` degrees, optionally fits it in `passes`
-    passes, and returns the new cage object '<scan>_cage'. Nothing is added on an error."""
-    ck = sdk()
-    if int(faces) < 1:
-        raise WorkbenchError("faces must be at least 1, not %r" % faces)
+    passes, and returns the new parametric cage object '<scan>_cage' (CageProxy: it rebuilds when
+    the scan or these options change). One undo step; nothing is added on an error."""
     pos, tris = mesh_arrays(scan)
+    result = cage_job(pos, tris, faces, crease_angle, passes, keep_crease_vertices, progress=progress)
+    return add_cage(scan, result, doc)
+
+
+def fit_job(scan_pos, scan_tris, cage, passes=5, keep_crease_vertices=False, progress=None):
+    """Fits `cage` (cage_arrays()) to the scan's arrays in `passes` passes. Returns (data
+    (cage_data()), the SDK's fit report)."""
+    ck = sdk()
+    if int(passes) < 1:
+        raise WorkbenchError("passes must be at least 1, not %r" % passes)
     ctx = ck.Context(progress=progress)
-    fit_report = None
-    with ck.Mesh.from_arrays(pos, tris, context=ctx) as mesh:
-        # The SDK's whole journey (conditioning -> simplification -> cage -> fit -> a judged
-        # result: QualityError instead of a bad surface); passes 0 measures the unfitted cage.
-        cage, limit, report = ck.scan_to_cage(mesh, faces=int(faces), crease_angle_degrees=float(crease_angle),
-                                              fit={"max_passes": int(passes),
-                                                   "keep_crease_vertices": bool(keep_crease_vertices)})
-        limit.close()
-        with cage:
-            data = cage_data(cage)
-    level_faces = report.level_faces
-    if int(passes) > 0:
-        fit_report = report
-    doc = doc or scan.Document
-    obj = new_cage_object(doc, scan.Label + "_cage", data, scan)
-    obj.LevelFaces = int(level_faces)
-    obj.TargetFaces = int(report.simplify_target_used)
-    if fit_report is not None:
-        obj.FitPasses = fit_report.fit_pass_count - 1
-        obj.FitRmsRel = float(fit_report.fit_final.rms_rel)
-    doc.recompute()
-    FreeCAD.Console.PrintMessage("CageKit: cage %r: %d faces (%d quads), %d creases%s\n" % (
-        obj.Label, len(data["sizes"]), report.cage_quads, len(data["creases"]),
-        "" if fit_report is None else ", fitted (rms %.2g of the diagonal)" % fit_report.fit_final.rms_rel))
-    return obj
+    with ck.Mesh.from_arrays(scan_pos, scan_tris, context=ctx) as mesh, cage_from_arrays(cage, ctx) as c:
+        fitted, report = ck.fit(c, mesh, max_passes=int(passes), keep_crease_vertices=bool(keep_crease_vertices))
+        with fitted:
+            data = cage_data(fitted)
+    return data, report
+
+
+def apply_fit(cage_obj, scan, data, report, passes, surfaces=()):
+    """Writes fit_job's result into the cage object (one undo step). surfaces: (surface object,
+    surface_shape's result for the fitted cage) pairs written in the same step, before the
+    recompute (which then has nothing left to compute for them)."""
+    with transaction(cage_obj.Document, "CageKit: fit"):
+        write_cage(cage_obj, data)
+        cage_obj.Scan = scan
+        cage_obj.FitPasses = int(cage_obj.FitPasses) + len(report.passes) - 1
+        cage_obj.FitRmsRel = float(report.final.rms_rel)
+        if "FitAfter" in cage_obj.PropertiesList:
+            cage_obj.FitAfter = int(cage_obj.FitAfter) + int(passes)
+            cage_obj.InputKey = cage_input_key(cage_obj)
+        for surface, result in surfaces:
+            write_surface(surface, result, None)
+        cage_obj.Document.recompute()
+    FreeCAD.Console.PrintMessage("CageKit: %r fitted in %d passes: rms %.3g -> %.3g of the diagonal\n" % (
+        cage_obj.Label, len(report.passes) - 1, report.initial.rms_rel, report.final.rms_rel))
 
 
 def fit_cage(cage_obj, scan=None, passes=5, keep_crease_vertices=False, progress=None):
     """Fits the cage object's limit surface to `scan` (default: its Scan link) and stores the
-    fitted control points in it. Returns the SDK's fit report."""
-    ck = sdk()
+    fitted control points in it (one undo step; a parametric cage adds `passes` to FitAfter).
+    Returns the SDK's fit report."""
     scan = scan if scan is not None else getattr(cage_obj, "Scan", None)
     if scan is None:
         raise WorkbenchError("cage %r has no scan: select the scan too" % cage_obj.Label)
-    if int(passes) < 1:
-        raise WorkbenchError("passes must be at least 1, not %r" % passes)
     pos, tris = mesh_arrays(scan)
-    ctx = ck.Context(progress=progress)
-    with ck.Mesh.from_arrays(pos, tris, context=ctx) as mesh, cage_from_object(cage_obj, ctx) as cage:
-        fitted, report = ck.fit(cage, mesh, max_passes=int(passes), keep_crease_vertices=bool(keep_crease_vertices))
-        with fitted:
-            data = cage_data(fitted)
-    write_cage(cage_obj, data)
-    cage_obj.Scan = scan
-    cage_obj.FitPasses = int(cage_obj.FitPasses) + len(report.passes) - 1
-    cage_obj.FitRmsRel = float(report.final.rms_rel)
-    cage_obj.Document.recompute()
-    FreeCAD.Console.PrintMessage("CageKit: %r fitted in %d passes: rms %.3g -> %.3g of the diagonal\n" % (
-        cage_obj.Label, len(report.passes) - 1, report.initial.rms_rel, report.final.rms_rel))
+    data, report = fit_job(pos, tris, cage_arrays(cage_obj), passes, keep_crease_vertices, progress)
+    apply_fit(cage_obj, scan, data, report, passes)
     return report
 
 
@@ -509,16 +775,24 @@ def shell_or_solid(faces, sew_tolerance):
     Shape.check(True) when invalid), seconds {"sew", "solid"} (the solid's time includes the check)."""
     t = time.perf_counter()
     sewn = sew(faces, sew_tolerance)
-    t_sew = time.perf_counter() - t
+    out = solid_of(sewn, len(faces))
+    out["seconds"]["sew"] = time.perf_counter() - t - out["seconds"]["solid"]
+    return out
+
+
+def solid_of(sewn, face_count):
+    """shell_or_solid's second half, without a document (safe on a worker thread): the sewn
+    shape -> a Part.Solid (outward) when it is one closed shell of all `face_count` faces, else
+    the shell (or the sewn shape); BRepCheck."""
     t = time.perf_counter()
     shells = sewn.Shells
     closed = False
-    if len(shells) == 1 and len(shells[0].Faces) == len(faces) and shells[0].isClosed():
+    if len(shells) == 1 and len(shells[0].Faces) == face_count and shells[0].isClosed():
         shape = Part.Solid(shells[0])
         if shape.Volume < 0:
             shape.reverse()
         closed = True
-    elif len(shells) == 1 and len(shells[0].Faces) == len(faces):
+    elif len(shells) == 1 and len(shells[0].Faces) == face_count:
         shape = shells[0]
     else:
         shape = sewn
@@ -530,7 +804,7 @@ def shell_or_solid(faces, sew_tolerance):
         except Exception as e:  # BRepCheck's findings
             message = str(e).strip() or type(e).__name__
     return {"shape": shape, "closed": closed, "shells": len(shells), "valid": valid, "check": message,
-            "seconds": {"sew": t_sew, "solid": time.perf_counter() - t}}
+            "seconds": {"sew": 0.0, "solid": time.perf_counter() - t}}
 
 
 def patches_shape(control_points, errors, sew_tolerance, slack=0.0):
@@ -647,20 +921,60 @@ def _sample_uv(count, surface_count, seed):
 
 @contextlib.contextmanager
 def _sdk_cage(cage, progress, feature, missing):
-    """Yields (cagekit module, cagekit.Cage) for `cage` (a cagekit.Cage, or a CageKit cage object
-    converted for the duration of the block and closed after it); WorkbenchError when the
-    installed cagekit package lacks `feature` (`missing` says what to do)."""
+    """Yields (cagekit module, cagekit.Cage) for `cage` (a cagekit.Cage; or a CageKit cage object
+    or cage_arrays()' dict, converted for the duration of the block and closed after it);
+    WorkbenchError when the installed cagekit package lacks `feature` (`missing` says what to do)."""
     ck = sdk()
     if not hasattr(ck, feature):
         raise WorkbenchError("the cagekit package at %s has no %s" % (os.path.dirname(ck.__file__), missing))
     owned = not isinstance(cage, ck.Cage)
     if owned:
-        cage = cage_from_object(cage, ck.Context(progress=progress))
+        ctx = ck.Context(progress=progress)
+        cage = cage_from_arrays(cage, ctx) if isinstance(cage, dict) else cage_from_object(cage, ctx)
     try:
         yield ck, cage
     finally:
         if owned:
             cage.close()
+
+
+def bspline_sdk(cage, tolerance=1e-4, max_level=5, samples=256, progress=None):
+    """bspline_faces' SDK stage (no FreeCAD object touched when `cage` is a cagekit.Cage or
+    cage_arrays()' dict: usable on a worker thread): a dict mode, sdk_surfaces, info, tolerance,
+    samples, seconds {"limit"}."""
+    np = numpy()
+    with _sdk_cage(cage, progress, "LimitSurfaces", "merged B-spline surfaces (cagekit_limit_surfaces_*): "
+                   "update it and libcagekit, or use mode 'patches'") as (ck, cage):
+        t = time.perf_counter()
+        with ck.LimitSurfaces(cage, tolerance=float(tolerance), max_level=int(max_level)) as limit:
+            info = limit.info
+            sdk_surfaces = list(limit)
+        t_limit = time.perf_counter() - t
+        k, uv = _sample_uv(int(samples), len(sdk_surfaces), 11)
+        with cage.surface() as evaluator:
+            ptex = np.array([sdk_surfaces[int(i)].ptex_face for i in k], dtype=np.uint32)
+            points = evaluator.evaluate(ptex, uv).position if len(k) else np.zeros((0, 3))
+    return {"mode": "bspline", "sdk_surfaces": sdk_surfaces, "info": info, "tolerance": float(tolerance),
+            "samples": (k, points), "seconds": {"limit": t_limit}}
+
+
+def bspline_part(stage):
+    """bspline_faces' FreeCAD stage: Part surfaces and faces of bspline_sdk's result."""
+    t = time.perf_counter()
+    sdk_surfaces, info = stage["sdk_surfaces"], stage["info"]
+    diag = float(info.bbox_diagonal)
+    gap = float(border_gaps(sdk_surfaces).max()) if sdk_surfaces else 0.0
+    surfaces = [part_bspline_surface(s) for s in sdk_surfaces]
+    faces = [square_face(p, side_splits(s)) for p, s in zip(surfaces, sdk_surfaces)]
+    out = dict(stage)
+    out.update({"surfaces": surfaces, "faces": faces,
+                "counts": {"faces": len(faces), "exact": int(info.exact_count),
+                           "approximated": int(info.approximated_count),
+                           "over_tolerance": int(info.over_tolerance_count), "ptex_faces": int(info.ptex_face_count)},
+                "max_error_rel": float(info.max_error_rel), "bbox_diagonal": diag,
+                "border_gap": gap, "sew_tolerance": 10.0 * gap + 1e-7 * max(diag, 1e-300),
+                "seconds": {"limit": stage["seconds"]["limit"], "faces": time.perf_counter() - t}})
+    return out
 
 
 def bspline_faces(cage, tolerance=1e-4, max_level=5, samples=256, progress=None):
@@ -676,38 +990,12 @@ def bspline_faces(cage, tolerance=1e-4, max_level=5, samples=256, progress=None)
       border_gap: the largest measured distance between shared borders (model units);
       sew_tolerance: 10 x that gap + 1e-7 of the diagonal (model units);
       samples (face index (m,), limit-surface points (m, 3) from cagekit's Surface.evaluate at the
-      surfaces' (u, v)) for checks; seconds {"limit", "faces"}."""
-    np = numpy()
-    with _sdk_cage(cage, progress, "LimitSurfaces", "merged B-spline surfaces (cagekit_limit_surfaces_*): "
-                   "update it and libcagekit, or use mode 'patches'") as (ck, cage):
-        t = time.perf_counter()
-        with ck.LimitSurfaces(cage, tolerance=float(tolerance), max_level=int(max_level)) as limit:
-            info = limit.info
-            sdk_surfaces = list(limit)
-        t_limit = time.perf_counter() - t
-        k, uv = _sample_uv(int(samples), len(sdk_surfaces), 11)
-        with cage.surface() as evaluator:
-            ptex = np.array([sdk_surfaces[int(i)].ptex_face for i in k], dtype=np.uint32)
-            points = evaluator.evaluate(ptex, uv).position if len(k) else np.zeros((0, 3))
-    t = time.perf_counter()
-    diag = float(info.bbox_diagonal)
-    gap = float(border_gaps(sdk_surfaces).max()) if sdk_surfaces else 0.0
-    surfaces = [part_bspline_surface(s) for s in sdk_surfaces]
-    faces = [square_face(p, side_splits(s)) for p, s in zip(surfaces, sdk_surfaces)]
-    return {"mode": "bspline", "surfaces": surfaces, "faces": faces, "sdk_surfaces": sdk_surfaces, "info": info,
-            "counts": {"faces": len(faces), "exact": int(info.exact_count), "approximated": int(info.approximated_count),
-                       "over_tolerance": int(info.over_tolerance_count), "ptex_faces": int(info.ptex_face_count)},
-            "max_error_rel": float(info.max_error_rel), "bbox_diagonal": diag, "tolerance": float(tolerance),
-            "border_gap": gap, "sew_tolerance": 10.0 * gap + 1e-7 * max(diag, 1e-300),
-            "samples": (k, points), "seconds": {"limit": t_limit, "faces": time.perf_counter() - t}}
+      surfaces' (u, v)) for checks; seconds {"limit", "faces"}. (bspline_sdk, then bspline_part.)"""
+    return bspline_part(bspline_sdk(cage, tolerance, max_level, samples, progress))
 
 
-def patch_faces(cage, tolerance=1e-4, max_depth=8, samples=256, progress=None):
-    """The limit surface of `cage` (a cagekit.Cage or a CageKit cage object) as one Bezier face per
-    patch of cagekit_limit_patches_create (the workbench's first mode), with vertices at the
-    quadtree's T-junctions. The same dict as bspline_faces (mode "patches"; sdk_surfaces: the
-    patches' (control points, errors, exact); border_gap: the largest patch error; sew_tolerance
-    as sew_tolerance_for)."""
+def patch_sdk(cage, tolerance=1e-4, max_depth=8, samples=256, progress=None):
+    """patch_faces' SDK stage (as bspline_sdk)."""
     np = numpy()
     with _sdk_cage(cage, progress, "LimitPatches", "limit patches (cagekit_limit_patches_create): "
                    "update it and libcagekit") as (ck, cage):
@@ -722,35 +1010,77 @@ def patch_faces(cage, tolerance=1e-4, max_depth=8, samples=256, progress=None):
         t_limit = time.perf_counter() - t
         with cage.surface() as evaluator:
             points = evaluator.evaluate(ptex, uv).position if len(k) else np.zeros((0, 3))
+    return {"mode": "patches", "sdk_surfaces": (control_points, errors, exact), "info": info,
+            "tolerance": float(tolerance), "samples": (k, points), "seconds": {"limit": t_limit}}
+
+
+def patch_part(stage):
+    """patch_faces' FreeCAD stage: Bezier surfaces and faces of patch_sdk's result."""
     t = time.perf_counter()
+    control_points, errors, exact = stage["sdk_surfaces"]
+    info = stage["info"]
     diag = float(info.bbox_diagonal)
     splits = t_junctions(control_points, errors, 1e-9 * diag)
     surfaces = [bezier_surface(cp) for cp in control_points]
     faces = [square_face(s, sp) for s, sp in zip(surfaces, splits)]
-    return {"mode": "patches", "surfaces": surfaces, "faces": faces, "sdk_surfaces": (control_points, errors, exact),
-            "info": info,
-            "counts": {"faces": len(faces), "exact": int(info.exact_count), "approximated": int(info.approximated_count),
-                       "over_tolerance": int(info.over_tolerance_count), "ptex_faces": None},
-            "max_error_rel": float(info.max_error_rel), "bbox_diagonal": diag, "tolerance": float(tolerance),
-            "border_gap": float(info.max_error), "sew_tolerance": sew_tolerance_for(control_points, info),
-            "samples": (k, points), "seconds": {"limit": t_limit, "faces": time.perf_counter() - t}}
+    out = dict(stage)
+    out.update({"surfaces": surfaces, "faces": faces,
+                "counts": {"faces": len(faces), "exact": int(info.exact_count),
+                           "approximated": int(info.approximated_count),
+                           "over_tolerance": int(info.over_tolerance_count), "ptex_faces": None},
+                "max_error_rel": float(info.max_error_rel), "bbox_diagonal": diag,
+                "border_gap": float(info.max_error), "sew_tolerance": sew_tolerance_for(control_points, info),
+                "seconds": {"limit": stage["seconds"]["limit"], "faces": time.perf_counter() - t}})
+    return out
 
 
-def surface_shape(cage, tolerance=1e-4, mode="bspline", max_level=5, max_depth=8, step=None, samples=256,
-                  progress=None):
-    """limit surface -> faces -> sewn shell -> solid (when closed) [-> STEP], without a document.
-    cage: a cagekit.Cage or a CageKit cage object; mode "bspline" (default: bspline_faces, one face
-    per merged SDK surface, max_level) or "patches" (patch_faces, one Bezier face per SDK patch,
-    max_depth); step: a path to write (export_step, atomic) or None. Returns the dict of
-    bspline_faces / patch_faces plus shell_or_solid's (shape, closed, shells, valid, check),
-    step / step_bytes when written, and seconds {"limit", "faces", "sew", "solid", "step",
-    "total"} (total: limit -> sewn solid [-> STEP])."""
+def patch_faces(cage, tolerance=1e-4, max_depth=8, samples=256, progress=None):
+    """The limit surface of `cage` (a cagekit.Cage or a CageKit cage object) as one Bezier face per
+    patch of cagekit_limit_patches_create (the workbench's first mode), with vertices at the
+    quadtree's T-junctions. The same dict as bspline_faces (mode "patches"; sdk_surfaces: the
+    patches' (control points, errors, exact); border_gap: the largest patch error; sew_tolerance
+    as sew_tolerance_for). (patch_sdk, then patch_part.)"""
+    return patch_part(patch_sdk(cage, tolerance, max_depth, samples, progress))
+
+
+def surface_sdk(cage, tolerance=1e-4, mode="bspline", max_level=5, max_depth=8, samples=256, progress=None):
+    """The SDK stage of surface_shape (bspline_sdk or patch_sdk by `mode`)."""
     if mode not in MODES:
         raise WorkbenchError("mode must be one of %s, not %r" % (", ".join(MODES), mode))
     if mode == "bspline":
-        result = bspline_faces(cage, tolerance, max_level, samples, progress)
-    else:
-        result = patch_faces(cage, tolerance, max_depth, samples, progress)
+        return bspline_sdk(cage, tolerance, max_level, samples, progress)
+    return patch_sdk(cage, tolerance, max_depth, samples, progress)
+
+
+def surface_faces(stage):
+    """The Part faces of surface_sdk's result (bspline_part or patch_part)."""
+    return bspline_part(stage) if stage["mode"] == "bspline" else patch_part(stage)
+
+
+def surface_sew(result):
+    """surface_finish's first half (needs a scratch document: FreeCAD's main thread): the faces
+    sewn (result["sewn"], seconds "sew")."""
+    t = time.perf_counter()
+    result["sewn"] = sew(result["faces"], result["sew_tolerance"])
+    result["seconds"]["sew"] = time.perf_counter() - t
+    return result
+
+
+def surface_solid(result):
+    """surface_finish's second half (no document: safe on a worker thread): surface_sew's shape
+    -> solid, BRepCheck; the totals."""
+    sewn = solid_of(result.pop("sewn"), len(result["faces"]))
+    t_sew = result["seconds"]["sew"]
+    result["seconds"].update(sewn.pop("seconds"))
+    result["seconds"]["sew"] = t_sew
+    result.update(sewn)
+    result["step"], result["step_bytes"], result["seconds"]["step"] = None, 0, 0.0
+    result["seconds"]["total"] = sum(result["seconds"][key] for key in ("limit", "faces", "sew", "solid"))
+    return result
+
+
+def surface_finish(result, step=None):
+    """Sews surface_faces' result (shell_or_solid) [and writes STEP]: surface_shape's dict."""
     sewn = shell_or_solid(result["faces"], result["sew_tolerance"])
     seconds = result["seconds"]
     seconds.update(sewn.pop("seconds"))
@@ -763,6 +1093,19 @@ def surface_shape(cage, tolerance=1e-4, mode="bspline", max_level=5, max_depth=8
         result["step_bytes"] = os.path.getsize(result["step"])
     seconds["total"] = sum(seconds[key] for key in ("limit", "faces", "sew", "solid", "step"))
     return result
+
+
+def surface_shape(cage, tolerance=1e-4, mode="bspline", max_level=5, max_depth=8, step=None, samples=256,
+                  progress=None):
+    """limit surface -> faces -> sewn shell -> solid (when closed) [-> STEP], without a document.
+    cage: a cagekit.Cage or a CageKit cage object; mode "bspline" (default: bspline_faces, one face
+    per merged SDK surface, max_level) or "patches" (patch_faces, one Bezier face per SDK patch,
+    max_depth); step: a path to write (export_step, atomic) or None. Returns the dict of
+    bspline_faces / patch_faces plus shell_or_solid's (shape, closed, shells, valid, check),
+    step / step_bytes when written, and seconds {"limit", "faces", "sew", "solid", "step",
+    "total"} (total: limit -> sewn solid [-> STEP])."""
+    stage = surface_sdk(cage, tolerance, mode, max_level, max_depth, samples, progress)
+    return surface_finish(surface_faces(stage), step)
 
 
 def step_round_trip(path, result):
@@ -809,11 +1152,15 @@ def step_round_trip(path, result):
 
 
 _SURFACE_PROPERTIES = (
+    ("Cage", "App::PropertyLink", "The cage whose limit surface this is (a change of its control mesh recomputes it)"),
     ("Mode", "App::PropertyEnumeration", "bspline: one B-spline face per merged SDK surface (per ptex face); "
                                          "patches: one Bezier face per SDK patch"),
-    ("Tolerance", "App::PropertyFloat", "Asked max distance to the limit surface / bbox diagonal"),
+    ("Tolerance", "App::PropertyLength", "Largest distance allowed between an approximated face and the limit "
+                                         "surface (document units; the SDK gets it as a fraction of the cage's "
+                                         "bounding-box diagonal: ToleranceRel)"),
     ("MaxLevel", "App::PropertyInteger", "bspline mode: largest knot level tried (1..7)"),
     ("MaxDepth", "App::PropertyInteger", "patches mode: quadtree depth allowed for approximated regions"),
+    ("ToleranceRel", "App::PropertyFloat", "Tolerance / bbox diagonal of the control points, as given to the SDK"),
     ("PatchCount", "App::PropertyInteger", "Faces: SDK surfaces (bspline) or SDK patches (patches)"),
     ("ExactPatches", "App::PropertyInteger", "Faces that are the limit surface itself"),
     ("ApproximatedPatches", "App::PropertyInteger", "Faces that approximate it"),
@@ -824,38 +1171,89 @@ _SURFACE_PROPERTIES = (
     ("SewTolerance", "App::PropertyFloat", "Tolerance used to sew the faces (model units)"),
     ("Closed", "App::PropertyBool", "The sewn shell is closed (the Shape is a solid)"),
     ("Valid", "App::PropertyBool", "The Shape passes BRepCheck (Shape.isValid())"),
-    ("Seconds", "App::PropertyFloat", "Time of limit surface -> faces -> sewn shell / solid (s)"))
+    ("Seconds", "App::PropertyFloat", "Time of limit surface -> faces -> sewn shell / solid (s)"),
+    ("InputKey", "App::PropertyString", "Digest of the inputs the surface was last computed from"))
+_SURFACE_INPUTS = ("Cage", "Mode", "Tolerance", "MaxLevel", "MaxDepth")
 
 
-def limit_surface(cage_obj, tolerance=1e-4, max_depth=8, progress=None, doc=None, mode="bspline", max_level=5):
-    """Makes (or updates) '<cage>_surface': the cage's limit surface (tolerance: fraction of the
-    cage's bounding-box diagonal) as faces sewn into a shell, a solid when closed (surface_shape).
-    mode "bspline" (default): one B-spline face per merged SDK surface (cagekit_limit_surfaces_*,
-    max_level); "patches": one Bezier face per patch of cagekit_limit_patches_create (max_depth).
-    Its properties record the mode, the options and the SDK's figures."""
-    t0 = time.time()
-    result = surface_shape(cage_obj, tolerance=tolerance, mode=mode, max_level=max_level, max_depth=max_depth,
-                           samples=0, progress=progress)
-    info = result["info"]
-    doc = doc or cage_obj.Document
-    obj = None
-    for o in doc.Objects:
-        if is_limit_surface(o) and getattr(o, "Cage", None) is cage_obj:
-            obj = o
-            break
-    if obj is None:
-        obj = doc.addObject("Part::Feature", "LimitSurface")
-        obj.Label = cage_obj.Label + "_surface"
-    _property(obj, "App::PropertyLink", "Cage", "The cage whose limit surface this is")
+def _add_surface_properties(obj):
     for name, kind, text in _SURFACE_PROPERTIES:
-        _property(obj, kind, name, text, read_only=name not in ("Mode", "Tolerance", "MaxLevel", "MaxDepth"))
-    obj.Cage = cage_obj
-    obj.Mode = list(MODES)
-    obj.Mode = mode
-    obj.Tolerance = float(tolerance)
-    obj.MaxLevel = int(max_level)
-    obj.MaxDepth = int(max_depth)
+        _property(obj, kind, name, text, read_only=name not in _SURFACE_INPUTS, hidden=name == "InputKey")
+    if not obj.getEnumerationsOfProperty("Mode"):
+        obj.Mode = list(MODES)
+
+
+def bbox_diagonal(arrays):
+    """The bounding-box diagonal of cage_arrays()' control points (the SDK's reference length)."""
+    np = numpy()
+    pos = arrays["positions"]
+    return float(np.linalg.norm(pos.max(axis=0) - pos.min(axis=0))) if len(pos) else 0.0
+
+
+def _cage_digest(a):
+    return _digest(a["positions"], a["sizes"], a["flat"], a["creases"], a["crease_sharpness"], a["corners"],
+                   a["corner_sharpness"], a["holes"], a["boundary_rule"])
+
+
+def surface_input_key(obj, arrays=None):
+    """The digest of what the surface object's computation depends on: its cage's control mesh
+    and tags, Mode, Tolerance, MaxLevel, MaxDepth."""
+    cage = getattr(obj, "Cage", None)
+    if cage is None:
+        return ""
+    a = arrays if arrays is not None else cage_arrays(cage)
+    return _digest(_cage_digest(a), str(obj.Mode), float(obj.Tolerance.Value), int(obj.MaxLevel), int(obj.MaxDepth))
+
+
+def surface_options(obj, arrays=None):
+    """The keyword arguments of surface_sdk from a surface object's inputs: the tolerance
+    (a length) as the fraction of the cage's bounding-box diagonal the SDK takes."""
+    a = arrays if arrays is not None else cage_arrays(obj.Cage)
+    diag = bbox_diagonal(a)
+    length = float(obj.Tolerance.Value)
+    return {"tolerance": length / diag if diag > 0 else math.nan, "mode": str(obj.Mode),
+            "max_level": int(obj.MaxLevel), "max_depth": int(obj.MaxDepth)}
+
+
+class SurfaceProxy:
+    """The Proxy of a parametric limit surface (Part::FeaturePython, group CageKit). execute():
+    when its inputs (the linked Cage's control mesh and tags, Mode, Tolerance, MaxLevel, MaxDepth)
+    differ from those of the last computation (InputKey), the surface is computed again
+    (surface_shape); otherwise nothing changes. Serialisable: no state besides the properties."""
+
+    Type = "CageKitSurface"
+
+    def __init__(self, obj):
+        obj.Proxy = self
+        _add_surface_properties(obj)
+
+    def onDocumentRestored(self, obj):
+        _add_surface_properties(obj)
+
+    def execute(self, obj):
+        if obj.Cage is None:
+            return
+        a = cage_arrays(obj.Cage)
+        key = surface_input_key(obj, a)
+        if key == obj.InputKey or _in_background(obj, "surface"):
+            return
+        FreeCAD.Console.PrintMessage("CageKit: recomputing %r\n" % obj.Label)
+        o = surface_options(obj, a)
+        write_surface(obj, surface_shape(a, samples=0, **o), a)
+
+    def __getstate__(self):
+        return None
+
+    def __setstate__(self, state):
+        return None
+
+
+def write_surface(obj, result, arrays):
+    """Writes surface_shape's result into the surface object (Shape, figures, InputKey)."""
+    info = result["info"]
+    mode = result["mode"]
     counts = result["counts"]
+    obj.ToleranceRel = float(result["tolerance"])
     obj.PatchCount = counts["faces"]
     obj.ExactPatches = counts["exact"]
     obj.ApproximatedPatches = counts["approximated"]
@@ -868,21 +1266,82 @@ def limit_surface(cage_obj, tolerance=1e-4, max_depth=8, progress=None, doc=None
     obj.Valid = bool(result["valid"])
     obj.Seconds = float(result["seconds"]["total"])
     obj.Shape = result["shape"]
-    doc.recompute()
+    obj.InputKey = surface_input_key(obj, arrays)
     s = result["seconds"]
     FreeCAD.Console.PrintMessage(
         "CageKit: %r (%s): %d faces (%d exact, %d approximated, max error %.2g of the diagonal), %s%s, "
         "%.1f s (limit %.1f, faces %.1f, sewing %.1f, solid %.1f)\n"
         % (obj.Label, mode, counts["faces"], counts["exact"], counts["approximated"], result["max_error_rel"],
            "closed solid" if result["closed"] else "open shell", "" if result["valid"] else " (INVALID)",
-           time.time() - t0, s["limit"], s["faces"], s["sew"], s["solid"]))
+           s["total"], s["limit"], s["faces"], s["sew"], s["solid"]))
     if counts["over_tolerance"]:
         FreeCAD.Console.PrintWarning("CageKit: %d faces exceed the tolerance or fold (max %s %d reached)\n"
                                      % (counts["over_tolerance"], "level" if mode == "bspline" else "depth",
-                                        max_level if mode == "bspline" else max_depth))
+                                        obj.MaxLevel if mode == "bspline" else obj.MaxDepth))
     if not result["valid"]:
         FreeCAD.Console.PrintWarning("CageKit: the shape fails BRepCheck: %s\n" % result["check"])
+
+
+def surface_of(cage_obj):
+    """The parametric limit surface linked to `cage_obj`, or None."""
+    for o in cage_obj.Document.Objects:
+        if _has_proxy(o, SurfaceProxy) and getattr(o, "Cage", None) is cage_obj:
+            return o
+    return None
+
+
+def surface_request(cage_obj, tolerance=1e-4, mode="bspline", max_level=5, max_depth=8, length=None):
+    """(cage_arrays(cage_obj), surface_sdk's keyword arguments, the tolerance as a length): the
+    tolerance is `length` (document units) when given, else `tolerance` (a fraction of the
+    bounding-box diagonal of the control points)."""
+    a = cage_arrays(cage_obj)
+    diag = bbox_diagonal(a)
+    if length is not None:
+        length = float(length)
+        tolerance = length / diag if diag > 0 else math.nan
+    else:
+        tolerance = float(tolerance)
+        length = tolerance * diag
+    return a, {"tolerance": tolerance, "mode": mode, "max_level": int(max_level), "max_depth": int(max_depth)}, length
+
+
+def apply_surface(cage_obj, result, arrays, length, max_level, max_depth, doc=None):
+    """Makes (or updates) the parametric surface '<cage>_surface' of `cage_obj` with surface_shape's
+    `result` computed from `arrays` (one undo step)."""
+    doc = doc or cage_obj.Document
+    with transaction(doc, "CageKit: limit surface"):
+        obj = surface_of(cage_obj)
+        if obj is None:
+            obj = doc.addObject("Part::FeaturePython", "LimitSurface")
+            SurfaceProxy(obj)
+            if FreeCAD.GuiUp:
+                _attach_view_provider(obj, "surface")
+            obj.Label = cage_obj.Label + "_surface"
+        obj.Cage = cage_obj
+        obj.Mode = result["mode"]
+        obj.Tolerance = float(length)
+        obj.MaxLevel = int(max_level)
+        obj.MaxDepth = int(max_depth)
+        write_surface(obj, result, arrays)
+        doc.recompute()
     return obj
+
+
+def limit_surface(cage_obj, tolerance=1e-4, max_depth=8, progress=None, doc=None, mode="bspline", max_level=5,
+                  length=None):
+    """Makes (or updates) the parametric surface '<cage>_surface' (SurfaceProxy: it recomputes when
+    the cage or its options change): the cage's limit surface as faces sewn into a shell, a solid
+    when closed (surface_shape). Tolerance: `length` in document units, or `tolerance` as a
+    fraction of the bounding-box diagonal of the control points; the object's Tolerance property
+    is the length. mode "bspline" (default): one B-spline face per merged SDK surface
+    (cagekit_limit_surfaces_*, max_level); "patches": one Bezier face per patch of
+    cagekit_limit_patches_create (max_depth). Its properties record the mode, the options and the
+    SDK's figures. One undo step; nothing changes on an error."""
+    if mode not in MODES:
+        raise WorkbenchError("mode must be one of %s, not %r" % (", ".join(MODES), mode))
+    arrays, options, length = surface_request(cage_obj, tolerance, mode, max_level, max_depth, length)
+    result = surface_shape(arrays, samples=0, progress=progress, **options)
+    return apply_surface(cage_obj, result, arrays, length, max_level, max_depth, doc)
 
 
 def sew_tolerance_for(control_points, info):
@@ -899,7 +1358,7 @@ def export_step(obj_or_shape, path):
     if isinstance(obj_or_shape, Part.Shape):
         shape = obj_or_shape
     elif is_cage(obj_or_shape):
-        shape = limit_surface(obj_or_shape).Shape
+        shape = (surface_of(obj_or_shape) or limit_surface(obj_or_shape)).Shape
     elif is_limit_surface(obj_or_shape):
         shape = obj_or_shape.Shape
     else:
