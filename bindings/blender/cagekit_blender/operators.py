@@ -40,6 +40,7 @@ from ._sdk import sdk
 TEST_HOLD_FRACTION = None
 last_job = None
 running_jobs = []    # the jobs of modal operators now running (tests and the sidebar read it)
+STATUS_INTERVAL = 0.5  # seconds between changes of the status-bar text of a running job
 
 
 def _active_mesh(context):
@@ -162,6 +163,9 @@ class Job:
     `finish` (a callable (context, result) -> report text) hands over to Blender."""
 
     def __init__(self, name, work, finish, context):
+        if "_OT_" in name:   # a registered class's bl_idname reads CAGEKIT_OT_fit
+            prefix, _, rest = name.partition("_OT_")
+            name = prefix.lower() + "." + rest
         self.name = name
         self.work = work
         self.finish = finish
@@ -175,12 +179,16 @@ class Job:
         self.error = None
         self.sync_progress = None        # a _Progress on the main thread (execute())
         self.timings = {}
+        self.marks = {}                  # perf_counter() at the steps' ends (the benchmark reads them)
+        self.modal_times = []            # perf_counter() at each call of the modal handler
+        self.progress_calls = 0
         self._held = False
         self.ctx = sdk().Context(progress=self._progress, memory_budget_bytes=budget)
 
     # the SDK's progress callback: the worker thread (modal) or the main thread (execute)
     def _progress(self, stage, fraction):
         self.stage, self.fraction = stage, float(fraction)
+        self.progress_calls += 1
         if self.sync_progress is not None:
             self.sync_progress(stage, fraction)
         if TEST_HOLD_FRACTION is not None and not self._held and self.fraction >= TEST_HOLD_FRACTION:
@@ -220,7 +228,10 @@ class Job:
         if self.cancel_time is not None and self.end_time is not None:
             latency = max(self.end_time - self.cancel_time, 0.0)
         last_job = {"operator": self.name, "state": state, "message": message, "timings": dict(self.timings),
-                    "cancel_latency": latency}
+                    "marks": dict(self.marks), "cancel_latency": latency,
+                    "modal_max_gap": max((b - a for a, b in zip(self.modal_times, self.modal_times[1:])),
+                                         default=None), "modal_calls": len(self.modal_times),
+                    "progress_calls": self.progress_calls}
 
 
 class _JobOperator:
@@ -240,11 +251,17 @@ class _JobOperator:
     def _begin(self, context):
         t = time.perf_counter()
         job = self._start(context)
-        job.timings["start"] = time.perf_counter() - t
+        job.marks["start_begin"], job.marks["start_end"] = t, time.perf_counter()
+        job.timings["start"] = job.marks["start_end"] - t
         return job
 
     def _end(self, context, job):
         """The finish step (main thread): report, hand-over, undo push. Returns the operator's set."""
+        job.marks["end"] = time.perf_counter()
+        if job.cancel_time is not None:
+            job.marks["cancel"] = job.cancel_time
+        if job.end_time is not None:
+            job.marks["work_end"] = job.end_time
         if job.error is not None or job.cancel_requested:
             if job.cancelled():
                 job.record("CANCELLED", "cancelled")
@@ -261,9 +278,11 @@ class _JobOperator:
         finally:
             job.result = None
         job.timings["handover"] = time.perf_counter() - t
+        job.marks["handover_begin"] = t
         undo = _undo_push("CageKit: %s" % self.bl_label)
         if undo is not None:
             job.timings["undo_push"] = undo
+        job.marks["finish_end"] = time.perf_counter()
         job.record("FINISHED", text or "")
         if text:
             self.report({'INFO'}, text)
@@ -299,24 +318,35 @@ class _JobOperator:
         wm.modal_handler_add(self)
         wm.progress_begin(0, 1000)
         running_jobs.append(job)
-        self._status(context)
+        self._status_text, self._status_time, self._status_percent = None, 0.0, -1
+        self._status(context, force=True)
         self._thread.start()
         return {'RUNNING_MODAL'}
 
-    def _status(self, context):
+    def _status(self, context, force=False):
+        """The status-bar text and the progress indicator. A status-bar change redraws regions of the
+        window, which costs tenths of a second with software OpenGL: the text changes at most every
+        STATUS_INTERVAL seconds (and on a cancel), the indicator when the whole percent changes."""
         job = self._job
-        text = "CageKit %s: %s %d%%  (Esc / right-click: cancel)" % (
-            self.bl_label, job.stage or "starting", int(100 * min(max(job.fraction, 0.0), 1.0)))
+        percent = int(100 * min(max(job.fraction, 0.0), 1.0))
         if job.cancel_requested:
             text = "CageKit %s: cancelling..." % self.bl_label
-        try:
-            context.workspace.status_text_set(text)
-        except Exception:
-            pass
-        try:
-            context.window_manager.progress_update(int(1000 * min(max(job.fraction, 0.0), 1.0)))
-        except Exception:
-            pass
+        else:
+            text = "CageKit %s: %s %d%%  (Esc / right-click: cancel)" % (self.bl_label, job.stage or "starting",
+                                                                        percent)
+        now = time.perf_counter()
+        if text != self._status_text and (force or now - self._status_time >= STATUS_INTERVAL):
+            self._status_text, self._status_time = text, now
+            try:
+                context.workspace.status_text_set(text)
+            except Exception:
+                pass
+        if percent != self._status_percent:
+            self._status_percent = percent
+            try:
+                context.window_manager.progress_update(10 * percent)
+            except Exception:
+                pass
 
     def _cleanup(self, context):
         wm = context.window_manager
@@ -336,9 +366,10 @@ class _JobOperator:
 
     def modal(self, context, event):
         job = self._job
+        job.modal_times.append(time.perf_counter())
         if event.type in {'ESC', 'RIGHTMOUSE'} and event.value == 'PRESS':
             job.cancel()
-            self._status(context)
+            self._status(context, force=True)
             return {'RUNNING_MODAL'}
         if self._thread.is_alive():
             if event.type == 'TIMER':
