@@ -125,7 +125,6 @@ def run():
     from cagekit_blender import operators
     prefs = bpy.context.preferences.addons["cagekit_blender"].preferences
     prefs.threads = args.threads
-    result["threads"] = args.threads
     if args.no_status:
         operators._JobOperator._status = lambda self, context: None
     if os.environ.get("CK_DIAG") == "text":
@@ -138,7 +137,8 @@ def run():
         def progress_only(self, context):
             context.window_manager.progress_update(int(1000 * self._job.fraction))
         operators._JobOperator._status = progress_only
-    result = {"blender": bpy.app.version_string, "mesh": args.mesh, "subdivide": args.subdivide}
+    result = {"blender": bpy.app.version_string, "mesh": args.mesh, "subdivide": args.subdivide,
+              "threads": args.threads, "load_average_at_start": os.getloadavg()}
     obj, nv, nf = make_scan()
     result.update(vertices=nv, triangles=nf)
     print("scan: %d vertices, %d triangles" % (nv, nf), flush=True)
@@ -217,6 +217,7 @@ def run():
     print("job: %s" % {k: v for k, v in job.items() if k != "marks"}, flush=True)
 
     bpy.app.timers.unregister(recorder)
+    result["load_average_at_end"] = os.getloadavg()
     excess = result["job_max_gap_s"] - result["baseline_max_gap_s"]
     t = result["job"]["timings_s"]
     print("\n## Blender responsiveness during a CageKit job (%s, %d triangles)\n" % (result["blender"], nf))
