@@ -44,6 +44,10 @@ ap.add_argument("--faces", type=int, default=1000)
 ap.add_argument("--passes", type=int, default=1)
 ap.add_argument("--cancel-after", type=float, default=3.0)
 ap.add_argument("--out", default=None)
+ap.add_argument("--fake-work", type=float, default=0.0,
+                help="control: the job's SDK work is replaced by this many seconds of sleeping in C "
+                     "(libc usleep, GIL released, no CPU) with progress 0..1, to separate Blender's own "
+                     "cost of a modal job (timer, status bar, progress indicator) from the SDK's")
 ap.add_argument("--threads", type=int, default=0, help="the add-on's Threads preference (0: all cores)")
 ap.add_argument("--no-status", action="store_true",
                 help="diagnosis: the modal operator does not update the status text and progress bar")
@@ -121,20 +125,41 @@ def gaps(t0, t1, exclude=()):
     return best, len(s)
 
 
+def long_gaps(t0, t1, origin, limit=0.2):
+    """The gaps longer than `limit` in [t0, t1] as (start relative to origin, length)."""
+    s = [t for t in stamps if t0 <= t <= t1]
+    return [(round(a - origin, 3), round(b - a, 3)) for a, b in zip(s, s[1:]) if b - a > limit]
+
+
 def run():
     from cagekit_blender import operators
+    if args.fake_work > 0:
+        import ctypes
+        libc = ctypes.CDLL("libc.so.6")
+        plain_init = operators.Job.__init__
+
+        def fake_init(self, name, work, finish, context):
+            def sleeping(job):
+                for k in range(100):
+                    if not job._progress("fake work", k / 100.0):
+                        from cagekit_blender._sdk import sdk
+                        raise sdk().CancelledError("cancelled")
+                    libc.usleep(int(args.fake_work * 1e4))
+                return None
+            plain_init(self, name, sleeping, lambda context, result: "fake work done", context)
+        operators.Job.__init__ = fake_init
     prefs = bpy.context.preferences.addons["cagekit_blender"].preferences
     prefs.threads = args.threads
     if args.no_status:
-        operators._JobOperator._status = lambda self, context: None
+        operators._JobOperator._status = lambda self, context, force=False: None
     if os.environ.get("CK_DIAG") == "text":
         plain = operators._JobOperator._status
 
-        def text_only(self, context):
+        def text_only(self, context, force=False):
             context.workspace.status_text_set("CageKit %d%%" % int(100 * self._job.fraction))
         operators._JobOperator._status = text_only
     if os.environ.get("CK_DIAG") == "progress":
-        def progress_only(self, context):
+        def progress_only(self, context, force=False):
             context.window_manager.progress_update(int(1000 * self._job.fraction))
         operators._JobOperator._status = progress_only
     result = {"blender": bpy.app.version_string, "mesh": args.mesh, "subdivide": args.subdivide,
@@ -207,13 +232,24 @@ def run():
     yield 0.5
     job = operators.last_job
     m = job["marks"]
-    exclude = [(m["start_begin"], m["start_end"])]
+    # The start step runs in invoke(); right after it Blender redraws the window (any operator
+    # does that), which with software OpenGL and a 1.1M-triangle viewport takes most of a second:
+    # the start step is counted up to the first timer callback after invoke() returned, and the
+    # finish step (hand-over, undo push) up to the first callback after the modal handler ended.
+    def first_after(t):
+        return next((x for x in stamps if x > t), t)
+    exclude = [(m["start_begin"], first_after(m["start_end"]))]
+    result["start_with_redraw_s"] = exclude[0][1] - m["start_begin"]
     if "handover_begin" in m:
-        exclude.append((m["handover_begin"], m["finish_end"]))
+        exclude.append((m["handover_begin"], first_after(m["finish_end"])))
+        result["finish_with_redraw_s"] = exclude[1][1] - m["handover_begin"]
     result["job"] = {"state": job["state"], "message": job["message"], "timings_s": job["timings"],
                      "modal_max_gap_s": job["modal_max_gap"], "progress_calls": job["progress_calls"]}
     result["job_max_gap_s"], result["job_callbacks"] = gaps(t0, t1 + 0.5, exclude)
     result["job_max_gap_with_steps_s"], _ = gaps(t0, t1 + 0.5)
+    result["job_long_gaps"] = long_gaps(t0, t1 + 0.5, m["start_end"])
+    print("job: gaps > 0.2 s (start relative to the end of the start step, length): %s; work ended at %.3f"
+          % (result["job_long_gaps"], m.get("work_end", float("nan")) - m["start_end"]), flush=True)
     print("job: %s" % {k: v for k, v in job.items() if k != "marks"}, flush=True)
 
     bpy.app.timers.unregister(recorder)
@@ -230,8 +266,12 @@ def run():
     print("| job: largest gap including the start and finish steps | %.3f |" % result["job_max_gap_with_steps_s"])
     print("| start step (reading the mesh, marked sharp edges) | %.3f |" % t.get("start", float("nan")))
     print("| work on the worker thread | %.3f |" % t.get("work", float("nan")))
+    print("| start step and Blender's redraw after invoke(), to the first timer callback | %.3f |"
+          % result.get("start_with_redraw_s", float("nan")))
     print("| finish: mesh hand-over | %.3f |" % t.get("handover", float("nan")))
     print("| finish: undo push | %.3f |" % t.get("undo_push", float("nan")))
+    print("| finish steps and Blender's redraw, to the first timer callback | %.3f |"
+          % result.get("finish_with_redraw_s", float("nan")))
     c = result["cancel"]
     print("| cancel: the modal handler's cancel to the SDK returning (target <= 0.5; at %s) | %.3f |"
           % (c["stage_at_esc"], c["sdk_latency_s"] if c["sdk_latency_s"] is not None else float("nan")))
