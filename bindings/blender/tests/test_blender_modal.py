@@ -135,8 +135,38 @@ METHOD_OPTS = dict(faces=100, passes=2, quad_edge_length=0.08, quad_regions=20, 
                    fallback_to_simplify=False)
 
 
+def guide_edges():
+    """marked_sharp_edges: sharp marks, seams and face-set borders, each only when asked for."""
+    from cagekit_blender import operators
+    obj = make_scan("guides", mark_ring=True)
+    me = obj.data
+    me.edges[5].use_seam = True
+    attr = me.attributes.new("sculpt_face_set", 'INT', 'FACE')
+    ids = np.array([1 if p.center.y >= 0 else 2 for p in me.polygons], dtype=np.int32)
+    attr.data.foreach_set("value", ids)
+    sharp = operators.marked_sharp_edges(obj)
+    seams = operators.marked_sharp_edges(obj, sharp=False, seams=True)
+    sets = operators.marked_sharp_edges(obj, sharp=False, face_sets=True)
+    co = positions(obj)
+    ends = co[sets.ravel()] if len(sets) else np.zeros((0, 3))
+    centers = np.array([p.center[:] for p in me.polygons])
+    check(len(sharp) == 48 and len(seams) == 1 and len(operators.marked_sharp_edges(obj, sharp=False)) == 0,
+          "guides: 48 edges marked sharp, 1 seam, nothing when neither is asked for")
+    faces_of = {}        # edges between a face with y >= 0 and one with y < 0, counted independently
+    for i, p in enumerate(me.polygons):
+        for k in p.edge_keys:
+            faces_of.setdefault(k, []).append(i)
+    border = sum(1 for f in faces_of.values()
+                 if len(f) == 2 and (centers[f[0], 1] >= 0) != (centers[f[1], 1] >= 0))
+    check(len(sets) == border > 0 and np.all(np.abs(ends[:, 1]) < 0.2),
+          "guides: the %d face-set border edges (attribute sculpt_face_set) are found, all near y = 0 (%d)"
+          % (border, len(sets)))
+    bpy.data.objects.remove(obj)
+
+
 def steps():
     from cagekit_blender import handlers, operators
+    guide_edges()
     # ---- a modal job to the end, with undo and redo ----------------------------------------------
     scan = make_scan("torus", mark_ring=False)
     activate(scan)
