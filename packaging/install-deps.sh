@@ -23,7 +23,7 @@ BUILD_PACKAGES=(
 # (STEP export), the packaging tools (the wheel: patchelf, pip, venv, setuptools, wheel) and mypy (the
 # Python package's type hints, test_typing.py).
 TEST_PACKAGES=(
-  libgtest-dev python3 python3-numpy python3-mypy python3-distributed binutils blender freecad
+  libgtest-dev python3 python3-numpy python3-mypy python3-distributed binutils blender freecad xvfb xauth
   patchelf python3-pip python3-venv python3-setuptools python3-wheel
   clang libclang-rt-14-dev
   abigail-tools

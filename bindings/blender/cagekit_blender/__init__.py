@@ -6,6 +6,8 @@ Operators (View3D > Object > CageKit, and the sidebar's CageKit tab):
   cagekit.fit           fit the active cage to a scan
   cagekit.bind          the scan follows later edits of the cage live (CPU deformer)
   cagekit.unbind        end it
+scan_to_cage, fit and bind run their SDK work on a worker thread when clicked (Esc / right-click
+cancels); from scripts and in background mode they run synchronously (operators.py).
 The SDK is the `cagekit` Python package over libcagekit (ctypes), bundled in the add-on zip.
 """
 
@@ -51,6 +53,15 @@ class CAGEKIT_PT_panel(bpy.types.Panel):
 
     def draw(self, context):
         layout = self.layout
+        if operators.running_jobs:
+            box = layout.box()
+            for job in operators.running_jobs:
+                box.label(text="%s: %s %d%%" % (job.name, job.stage or "starting", int(100 * job.fraction)),
+                          icon='SORTTIME')
+            box.operator(operators.CAGEKIT_OT_cancel_jobs.bl_idname, text="Cancel", icon='CANCEL')
+        settings = getattr(context.scene, "cagekit", None)
+        if settings is not None:
+            operators.draw_scan_to_cage_options(layout.box(), settings)
         col = layout.column(align=True)
         col.operator(operators.CAGEKIT_OT_scan_to_cage.bl_idname, icon='MOD_SUBSURF')
         col.operator(operators.CAGEKIT_OT_fit.bl_idname)
@@ -73,6 +84,7 @@ _classes = operators.classes + (CAGEKIT_MT_object, CAGEKIT_PT_panel)
 def register():
     for cls in _classes:
         bpy.utils.register_class(cls)
+    bpy.types.Scene.cagekit = bpy.props.PointerProperty(type=operators.CageKitSettings)
     bpy.types.VIEW3D_MT_object.append(_menu)
     handlers.register()
 
@@ -80,5 +92,6 @@ def register():
 def unregister():
     handlers.unregister()
     bpy.types.VIEW3D_MT_object.remove(_menu)
+    del bpy.types.Scene.cagekit
     for cls in reversed(_classes):
         bpy.utils.unregister_class(cls)

@@ -155,12 +155,25 @@ def on_load_pre(*_args):
     clear()
 
 
+@persistent
+def on_undo_post(*_args):
+    """Undo of a bind (the scan's 'cagekit_cage' property is gone with it) ends the binding."""
+    for scan_name, entry in list(_bound.items()):
+        scan = bpy.data.objects.get(scan_name)
+        if scan is None or scan.get("cagekit_cage") != entry.cage_name:
+            remove(scan_name)
+
+
 def register():
     if on_load_pre not in bpy.app.handlers.load_pre:
         bpy.app.handlers.load_pre.append(on_load_pre)
+    if on_undo_post not in bpy.app.handlers.undo_post:
+        bpy.app.handlers.undo_post.append(on_undo_post)
 
 
 def unregister():
     clear()
     while on_load_pre in bpy.app.handlers.load_pre:
         bpy.app.handlers.load_pre.remove(on_load_pre)
+    while on_undo_post in bpy.app.handlers.undo_post:
+        bpy.app.handlers.undo_post.remove(on_undo_post)

@@ -143,9 +143,10 @@ def transform(matrix, pos):
     return pos @ m[:3, :3].T + m[:3, 3]
 
 
-def cage_from_object(obj, matrix=None, context=None, boundary_rule=None):
-    """cagekit.Cage from a Blender mesh object: polygons, edge creases -> crease tags (boundary
-    edges: sharp), vertex creases -> corner tags (sharpness 10 c^2)."""
+def cage_arrays(obj, matrix=None, boundary_rule=None):
+    """Keyword arguments of cagekit.Cage.from_arrays for a Blender mesh object (numpy arrays only,
+    read on the main thread; the Cage can then be made on any thread): polygons, edge creases ->
+    crease tags (boundary edges: sharp), vertex creases -> corner tags (sharpness 10 c^2)."""
     ck = sdk()
     me = _mesh(obj)
     pos = positions(obj)
@@ -164,12 +165,17 @@ def cage_from_object(obj, matrix=None, context=None, boundary_rule=None):
         for mod in obj.modifiers:
             if mod.type == 'SUBSURF' and mod.boundary_smooth == 'PRESERVE_CORNERS':
                 boundary_rule = ck.BoundaryRule.EDGES_AND_CORNERS
-    return ck.Cage.from_arrays(
-        pos, (sizes, flat),
+    return dict(
+        positions=pos, faces=(sizes, flat),
         creases=edge_pairs(me)[tagged].astype(np.uint32), crease_sharpness=sharpness_from_crease(crease[tagged]),
         corners=tagged_corners.astype(np.uint32) if len(tagged_corners) else None,
         corner_sharpness=sharpness_from_crease(corners[tagged_corners]) if len(tagged_corners) else None,
-        boundary_rule=boundary_rule, context=context)
+        boundary_rule=boundary_rule)
+
+
+def cage_from_object(obj, matrix=None, context=None, boundary_rule=None):
+    """cagekit.Cage from a Blender mesh object (see cage_arrays)."""
+    return sdk().Cage.from_arrays(context=context, **cage_arrays(obj, matrix, boundary_rule))
 
 
 def new_mesh(name, pos, sizes, flat):
@@ -199,7 +205,15 @@ def edge_face_counts(me):
 
 def write_cage_into_mesh(me, cage):
     """Creases and corners of `cage` (cagekit.Cage with the mesh's vertex numbering) onto the
-    mesh's edges and vertices. Returns (edges creased, corners set, two-crease vertices).
+    mesh's edges and vertices. Returns (edges creased, corners set, two-crease vertices)
+    (write_cage_tags_into_mesh)."""
+    return write_cage_tags_into_mesh(me, cage.creases, cage.corners)
+
+
+def write_cage_tags_into_mesh(me, creases, corners):
+    """Crease tags (pairs, sharpness) and corner tags (vertices, sharpness), as Cage.creases and
+    Cage.corners give them, onto the mesh's edges and vertices. Returns (edges creased, corners
+    set, two-crease vertices).
 
     Crease tags on boundary edges are not written: OpenSubdiv makes boundary edges infinitely
     sharp anyway, and Blender adds the smaller crease of the two edges of a valence-2 vertex to
@@ -207,7 +221,7 @@ def write_cage_into_mesh(me, cage):
     would turn the cage's valence-2 boundary vertices into corners that CageKit does not have.
     Interior vertices with exactly two edges, both creased, get the same treatment from Blender
     and cannot be avoided: they are counted and returned."""
-    pairs, sharp = cage.creases
+    pairs, sharp = creases
     ev = np.sort(edge_pairs(me).astype(np.int64), axis=1)
     n = max(len(me.vertices), 1)
     keys = ev[:, 0] * n + ev[:, 1]
@@ -222,7 +236,7 @@ def write_cage_into_mesh(me, cage):
         values[order[pos[found]]] = crease_from_sharpness(sharp[found])
     values[edge_face_counts(me) < 2] = 0.0
     set_edge_creases(me, values)
-    verts, vsharp = cage.corners
+    verts, vsharp = corners
     if len(verts):
         set_vertex_creases(me, verts, crease_from_sharpness(vsharp))
     edges = edge_pairs(me)
