@@ -369,11 +369,12 @@ struct OrientResult {
   uint64_t flipped = 0, non_orientable = 0, added = 0;
 };
 
-OrientResult orient(PolygonMesh& m, const std::vector<uint8_t>& topo, bool allow_cuts) {
+OrientResult orient(PolygonMesh& m, const std::vector<uint8_t>& topo, bool allow_cuts, const TaskMonitor& monitor) {
   OrientResult res;
   const size_t nf = m.num_faces();
   detail::EdgeMap map;
   detail::build_edge_map(map, m, topo);
+  monitor.report("repair: orientation", 5.25 / 7);
   std::vector<uint8_t> flip(nf, 0), visited(nf, 0), conflict(map.num_edges(), 0);
   std::vector<uint32_t> component;
   bool any_conflict = false;
@@ -385,6 +386,7 @@ OrientResult orient(PolygonMesh& m, const std::vector<uint8_t>& topo, bool allow
     bool bad = false;
     for (size_t q = 0; q < component.size(); ++q) {
       const uint32_t f = component[q];
+      if ((q & 0xFFFF) == 0xFFFF) monitor.report("repair: orientation", 5.5 / 7);
       for (uint32_t c = m.face_offsets[f]; c < m.face_offsets[f + 1]; ++c) {
         const uint32_t e = map.corner_edge[c];
         if (map.valence(e) != 2) continue;
@@ -506,7 +508,7 @@ PolygonMesh repair_mesh(const PolygonMesh& mesh, const RepairOptions& options, R
 
   monitor.report("repair: orientation", 5.0 / 7);
   if (options.orient_consistently) {
-    const OrientResult o = orient(m, topo, options.split_non_manifold);
+    const OrientResult o = orient(m, topo, options.split_non_manifold, monitor);
     rep.flipped_faces = o.flipped;
     rep.non_orientable_components = o.non_orientable;
     rep.split_vertices += o.added;

@@ -79,6 +79,7 @@ PolygonMesh condition_input(const PolygonMesh& scan, const ConditioningOptions& 
   report.input_faces = scan.num_faces();
   if (scan.num_faces() == 0) fail(Status::invalid_mesh, "the scan has no faces (a point cloud?): nothing to remesh");
   // Corrupt input stays an error: conditioning does not guess what a bad index meant.
+  monitor.report("conditioning: validation", 0.0);
   const ValidationReport before = validate_mesh(scan, 1);
   if (before.count(MeshIssue::index_out_of_range) > 0)
     fail(Status::invalid_mesh, "the scan has faces with out-of-range vertex indices (" +
@@ -101,6 +102,7 @@ PolygonMesh condition_input(const PolygonMesh& scan, const ConditioningOptions& 
   repair.remove_unreferenced_vertices = true;  // the fit samples every vertex: only surface points
   PolygonMesh mesh = repair_mesh(scan, repair, &report.repair, monitor);
 
+  monitor.report("conditioning: components", 0.5);
   std::vector<uint32_t> component = face_components(mesh, &report.components);
   if (options.components == ComponentMode::largest && report.components > 1) {
     std::vector<uint64_t> faces(report.components, 0);
@@ -133,6 +135,7 @@ PolygonMesh condition_input(const PolygonMesh& scan, const ConditioningOptions& 
   if (mesh.num_faces() == 0)
     fail(Status::invalid_mesh, "nothing left after conditioning (" + report.summary() +
                                    "): every face of the scan is degenerate or a duplicate");
+  monitor.report("conditioning: validation", 0.75);
   const ValidationReport after = validate_mesh(mesh, 1);
   if (!after.ok()) fail(Status::internal_error, "conditioning left an invalid mesh: " + after.summary());
   monitor.log(LogLevel::info, "conditioning: " + std::to_string(report.input_faces) + " faces -> " +

@@ -81,13 +81,15 @@ std::shared_ptr<const std::vector<FeatureSegment>> sharp_feature_segments(const 
   if (!(o.fit.crease_feature_reach > 0)) return segments;
   SharpFeatures features;
   try {
-    features = detect_sharp_features(mesh, o.cage.features);
+    features = detect_sharp_features(mesh, o.cage.features, monitor);
   } catch (const Error& e) {
     if (e.status() != Status::invalid_mesh) throw;
     monitor.log(LogLevel::info, std::string("scan_to_cage: no feature lines for the fit: ") + e.what());
     return segments;
   }
+  monitor.report("sharp features", 0.9);
   *segments = feature_segments(mesh, features.edges);
+  monitor.report("sharp features", 1.0);
   return segments;
 }
 
@@ -555,7 +557,10 @@ ScanToCageResult scan_to_cage(const PolygonMesh& scan, const ScanToCageOptions& 
   r.requested = given.method;
   // Phase 1.
   r.conditioned = condition_input(scan, given.conditioning, &r.conditioning, monitor);
+  // Each step between the phases reports, so a cancel on a large scan takes effect between them.
+  monitor.report("statistics", 0.0);
   r.input_boundary_loops = compute_mesh_statistics(r.conditioned).boundary_loops;
+  monitor.report("sharp features", 0.0);
   const ScanToCageOptions with_host_edges = with_sharp_edges(given, scan, r);
   const ScanToCageOptions& options = with_host_edges;
   r.sharp_features = sharp_feature_segments(r.conditioned, options, monitor);

@@ -121,6 +121,46 @@ TEST(InputConditioning, welds_a_soup_orients_it_and_reports_every_change) {
   EXPECT_EQ(compute_mesh_statistics(mesh).genus, 0);
 }
 
+// Cancel between the set-up phases (seconds each on a million faces, no report inside them
+// before): the conditioning's validation and components, the statistics, each pass of the sharp
+// feature detection and the simplification hierarchy's set-up report, and a cancel at any of them
+// ends the run with Status::cancelled; every one is reached, in this order.
+TEST(ScanToCage, a_cancel_between_the_set_up_phases_takes_effect_there) {
+  const PolygonMesh soup = as_soup(cagekit_test::triangle_sphere(3), 5);
+  ScanToCageOptions options;
+  options.method = ScanMethod::simplify;
+  options.target = 40;
+  std::vector<std::string> stages;
+  const TaskMonitor record([&](const char* stage, double) {
+    if (stages.empty() || stages.back() != stage) stages.push_back(stage);
+    return true;
+  }, {});
+  scan_to_cage(soup, options, record);
+  const std::vector<std::string> wanted{"conditioning: validation", "repair: orientation", "conditioning: components",
+                                        "conditioning: validation", "statistics", "sharp features", "simplify"};
+  size_t at = 0;
+  for (const std::string& s : stages)
+    if (at < wanted.size() && s == wanted[at]) ++at;
+  EXPECT_EQ(at, wanted.size()) << "stage " << (at < wanted.size() ? wanted[at] : "") << " not reported in order";
+  int sharp_reports = 0;
+  const TaskMonitor count([&](const char* stage, double) { sharp_reports += std::string(stage) == "sharp features"; return true; }, {});
+  scan_to_cage(soup, options, count);
+  // The pipeline and the detection each at entry, the raw test, before and after the segments (a
+  // sphere has no sharp edge: the detection ends after its raw test).
+  EXPECT_GE(sharp_reports, 5);
+  for (const char* stop : {"conditioning: components", "statistics", "sharp features", "simplify"}) {
+    int calls = 0;
+    const TaskMonitor cancel([&](const char* stage, double) { ++calls; return std::string(stage) != stop; }, {});
+    try {
+      scan_to_cage(soup, options, cancel);
+      ADD_FAILURE() << "not cancelled at " << stop;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.status(), Status::cancelled) << stop << ": " << e.what();
+      EXPECT_NE(std::string(e.what()).find(stop), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(InputConditioning, keeps_the_largest_component_on_request) {
   std::mt19937 rng(1);
   const PolygonMesh big = cagekit_test::triangle_sphere(3), small = shifted(cagekit_test::triangle_sphere(1), {5, 0, 0});

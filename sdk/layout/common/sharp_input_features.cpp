@@ -204,7 +204,7 @@ void add_host_edges(const PolygonMesh& mesh, const std::vector<uint64_t>& host, 
   out.edges.swap(merged);
 }
 
-SharpFeatures detected_sharp_features(const PolygonMesh& mesh, const SharpFeatureOptions& o) {
+SharpFeatures detected_sharp_features(const PolygonMesh& mesh, const SharpFeatureOptions& o, const TaskMonitor& monitor) {
   SharpFeatures out;
   out.corner_flags.assign(mesh.num_face_vertices(), 0);
   const size_t nf = mesh.num_faces();
@@ -224,6 +224,7 @@ SharpFeatures detected_sharp_features(const PolygonMesh& mesh, const SharpFeatur
     const uint32_t* h = map.corners_begin(e);
     f0 = map.corner_face[h[0]], f1 = map.corner_face[h[1]];
   };
+  monitor.report("sharp features", 0.2);
   // 1. The raw test.
   std::vector<uint8_t> sharp(map.num_edges(), 0);
   std::vector<double> bend(map.num_edges(), -1.0);  // dihedral angle in degrees; -1: no two faces with normals
@@ -242,6 +243,7 @@ SharpFeatures detected_sharp_features(const PolygonMesh& mesh, const SharpFeatur
     for (uint32_t k = 0; k < mesh.face_size(f); ++k) centroid[f] += mesh.positions[mesh.face_vertex(f, k)];
     centroid[f] = centroid[f] * (1.0 / double(mesh.face_size(f)));
   }
+  monitor.report("sharp features", 0.4);
   // 2. Confirmed on the side normals (a neighbourhood's mean on either side).
   if (o.side_rings > 0) {
     const VertexFaces vf(mesh);
@@ -255,6 +257,7 @@ SharpFeatures detected_sharp_features(const PolygonMesh& mesh, const SharpFeatur
       if (!(c < cos_confirm)) sharp[e] = 0, ++out.noise_edges;
     }
   }
+  monitor.report("sharp features", 0.6);
   // 3. Feature lines: at each vertex the sharp edges are paired into continuations, straightest
   // first, where the line turns by less than max_turn_degrees; paired edges form one line. Lines
   // then end at corners (no straight continuation), at ends, and where a noisy web zigzags; a
@@ -307,6 +310,7 @@ SharpFeatures detected_sharp_features(const PolygonMesh& mesh, const SharpFeatur
     chain_length[c] += edge_length[e];
     ++chain_edges[c];
   }
+  monitor.report("sharp features", 0.8);
   // 4. The networks that stand out from the surface beside them (see side_bend_fraction).
   const std::vector<uint8_t> faceted =
       faceted_networks(mesh, map, raw, sharp, bend, centroid, edge_length, o.angle_degrees, o.max_side_bend_fraction);
@@ -332,11 +336,12 @@ SharpFeatures detected_sharp_features(const PolygonMesh& mesh, const SharpFeatur
 
 }  // namespace
 
-SharpFeatures detect_sharp_features(const PolygonMesh& mesh, const SharpFeatureOptions& o) {
+SharpFeatures detect_sharp_features(const PolygonMesh& mesh, const SharpFeatureOptions& o, const TaskMonitor& monitor) {
   check_input(mesh, o);
+  monitor.report("sharp features", 0.0);
   SharpFeatures out;
   if (o.detect) {
-    out = detected_sharp_features(mesh, o);
+    out = detected_sharp_features(mesh, o, monitor);
   } else {
     out.corner_flags.assign(mesh.num_face_vertices(), 0);
   }

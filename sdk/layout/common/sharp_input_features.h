@@ -38,6 +38,7 @@
 
 #include "core/edge_key.h"
 #include "core/polygon_mesh.h"
+#include "core/task_monitor.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 
@@ -72,8 +73,10 @@ struct SharpFeatures {
 // host's edges. Faces must be valid polygons (indices in range, >= 3 distinct vertices, finite
 // positions): else Error(invalid_mesh); options out of range, or a host edge that is not an
 // edge of `mesh`: Error(invalid_argument). Degenerate faces (zero
-// area) have no normal and make no edge sharp. O(faces x neighbours x passes).
-SharpFeatures detect_sharp_features(const PolygonMesh& mesh, const SharpFeatureOptions& options = {});
+// area) have no normal and make no edge sharp. O(faces x neighbours x passes). `monitor` gets a
+// report (stage "sharp features") between the passes: a cancel there throws Error(cancelled).
+SharpFeatures detect_sharp_features(const PolygonMesh& mesh, const SharpFeatureOptions& options = {},
+                                    const TaskMonitor& monitor = {});
 
 
 // Per input edge (edges[i] = {a, b}, vertices of `mesh`): 1 when it runs along the sharp features

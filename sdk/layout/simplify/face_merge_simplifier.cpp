@@ -1105,17 +1105,23 @@ bool Builder::apply(const Candidate& c) {
 }
 
 void Builder::run() {
+  // A report between the set-up phases (seconds each on a million faces), so a cancel takes effect there.
+  auto checkpoint = [&] { monitor_.report("simplify", 0.0); };
   std::vector<uint32_t> corners;
   choose_normalisation(corners);
   normalise_positions();
   if (mesh_.num_faces() >= 0x7fffffffu || mesh_.num_vertices() >= 0x7fffffffu)
     fail(Status::invalid_argument, "simplify: mesh too large");
+  checkpoint();
   allocate_work_state(corners);
   lock_edges();
+  checkpoint();
   init_work_faces();
   record_input_level();
+  checkpoint();
   remove_interior_valence2_vertices();
   seed_candidates();
+  checkpoint();
   merge_greedily();
   impl_.hier.level = impl_.hier.steps.size();
 }
@@ -1125,6 +1131,7 @@ void Builder::run() {
 SimplificationHierarchy::SimplificationHierarchy(const PolygonMesh& input, const SimplifyOptions& options,
                                                  const TaskMonitor& monitor)
     : impl_(std::make_unique<Impl>()) {
+  monitor.report("simplify", 0.0);
   const ValidationReport report = validate_mesh(input);
   if (!report.ok()) fail(Status::invalid_mesh, "simplify: invalid input mesh: " + report.summary());
   if (!(options.tie_break_epsilon >= 0) || !std::isfinite(options.tie_break_epsilon))
