@@ -164,6 +164,24 @@ def guide_edges():
     bpy.data.objects.remove(obj)
 
 
+def cancel_held_job(event):
+    """Generator step of steps(): waits until the running job is held mid-way (TEST_HOLD_FRACTION),
+    presses and releases `event` in the window, then waits until the job has ended."""
+    from cagekit_blender import operators
+    t = time.time()
+    while not (operators.running_jobs and operators.running_jobs[0]._held) and time.time() - t < 60:
+        yield
+    check(bool(operators.running_jobs), "the job is held mid-way (stage %r, %.2f)" % (
+        operators.running_jobs[0].stage if operators.running_jobs else None,
+        operators.running_jobs[0].fraction if operators.running_jobs else -1))
+    win, _ = ui_override()
+    win.event_simulate(type=event, value='PRESS')
+    win.event_simulate(type=event, value='RELEASE')
+    t = time.time()
+    while operators.running_jobs and time.time() - t < 30:
+        yield
+
+
 def steps():
     from cagekit_blender import handlers, operators
     guide_edges()
@@ -213,18 +231,7 @@ def steps():
     try:
         result = invoke(bpy.ops.cagekit.scan_to_cage, method='SIMPLIFY', **METHOD_OPTS)
         check(result == {'RUNNING_MODAL'}, "second Scan to Cage goes modal")
-        t = time.time()
-        while not (operators.running_jobs and operators.running_jobs[0]._held) and time.time() - t < 60:
-            yield
-        check(bool(operators.running_jobs), "the job is held mid-way (stage %r, %.2f)" % (
-            operators.running_jobs[0].stage if operators.running_jobs else None,
-            operators.running_jobs[0].fraction if operators.running_jobs else -1))
-        win, _ = ui_override()
-        win.event_simulate(type='ESC', value='PRESS')
-        win.event_simulate(type='ESC', value='RELEASE')
-        t = time.time()
-        while operators.running_jobs and time.time() - t < 30:
-            yield
+        yield from cancel_held_job('ESC')
     finally:
         operators.TEST_HOLD_FRACTION = None
     job = operators.last_job
@@ -241,15 +248,7 @@ def steps():
     try:
         result = invoke(bpy.ops.cagekit.fit, passes=3)
         check(result == {'RUNNING_MODAL'}, "Fit goes modal")
-        t = time.time()
-        while not (operators.running_jobs and operators.running_jobs[0]._held) and time.time() - t < 60:
-            yield
-        win, _ = ui_override()
-        win.event_simulate(type='RIGHTMOUSE', value='PRESS')
-        win.event_simulate(type='RIGHTMOUSE', value='RELEASE')
-        t = time.time()
-        while operators.running_jobs and time.time() - t < 30:
-            yield
+        yield from cancel_held_job('RIGHTMOUSE')
     finally:
         operators.TEST_HOLD_FRACTION = None
     job = operators.last_job
