@@ -5,10 +5,11 @@ from __future__ import annotations
 import ctypes
 import enum
 import os
-from typing import Any, Optional, Union
+from typing import Any, Literal, Optional, Tuple, Union, overload
 
 from . import _lib
-from ._records import from_struct
+from ._records import Record, from_struct
+from ._typing import StrPath
 
 
 class FileFormat(enum.IntEnum):
@@ -66,6 +67,40 @@ def write_memory(obj, fn_name, format, ply_binary, draco_position_bits, draco_sp
                        ctypes.byref(report), outs=[(blob, "cagekit_blob_release")])
     data = blob_bytes(blob)
     return (data, from_struct(report, "WriteReport")) if with_report else data
+
+
+_WRITE = _lib.WriteOptions.defaults()  # CAGEKIT_WRITE_OPTIONS_INIT, written once (in _lib)
+
+
+class Writable:
+    """write() and to_bytes() of a handle class (Mesh, Cage): its C functions are named by
+    `_write_functions` (write_file, write_memory); the handle gives `_context` and `_handle`."""
+
+    _write_functions: Tuple[str, str]
+
+    def write(self, path: StrPath, format: FormatLike = "auto", *, ply_binary: bool = bool(_WRITE["ply_binary"]),
+              draco_position_bits: int = _WRITE["draco_position_bits"],
+              draco_speed: int = _WRITE["draco_speed"]) -> Record:
+        """Writes atomically (format 'auto': by the extension); returns a record with `bytes` and
+        `max_position_error`. A cage's tags are kept by OBJ and Draco; PLY and OFF drop them with a
+        logged warning."""
+        return write_file(self, self._write_functions[0], path, format, ply_binary, draco_position_bits, draco_speed)
+
+    @overload
+    def to_bytes(self, format: FormatLike, *, ply_binary: bool = ..., draco_position_bits: int = ...,
+                 draco_speed: int = ..., report: Literal[False] = ...) -> bytes: ...
+
+    @overload
+    def to_bytes(self, format: FormatLike, *, ply_binary: bool = ..., draco_position_bits: int = ...,
+                 draco_speed: int = ..., report: Literal[True]) -> Tuple[bytes, Record]: ...
+
+    def to_bytes(self, format: FormatLike, *, ply_binary: bool = bool(_WRITE["ply_binary"]),
+                 draco_position_bits: int = _WRITE["draco_position_bits"], draco_speed: int = _WRITE["draco_speed"],
+                 report: bool = False) -> Union[bytes, Tuple[bytes, Record]]:
+        """The file's bytes in `format` ('obj', 'ply', 'off', 'drc'); with report=True also the
+        write report."""
+        return write_memory(self, self._write_functions[1], format, ply_binary, draco_position_bits, draco_speed,
+                            report)
 
 
 def blob_bytes(blob):

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import ctypes
 import enum
-from typing import Any, List, Literal, Optional, Tuple, Union, overload
+from typing import Any, List, Optional, Tuple, Union
 
 from . import _arrays, _formats, _lib
 from ._formats import FormatLike
@@ -28,7 +28,6 @@ from .surface import Surface
 
 SHARP = _lib.SHARP
 # CAGEKIT_*_OPTIONS_INIT of the structs filled here, written once (in _lib).
-_WRITE = _lib.WriteOptions.defaults()
 _SUBDIVIDE = _lib.SubdivideOptions.defaults()
 _SURFACE = _lib.SurfaceOptions.defaults()
 
@@ -45,11 +44,12 @@ def _sharpness(values, count, name):
     return a
 
 
-class Cage(Handle):
+class Cage(Handle, _formats.Writable):
     """A control cage. Tag setters modify it (one thread at a time); everything else reads."""
 
     _release_name = "cagekit_cage_release"
     _kind = "cage"
+    _write_functions = ("cagekit_cage_write_file", "cagekit_cage_write_memory")
 
     def __init__(self, mesh: Mesh) -> None:
         """A cage whose control mesh is a copy of `mesh` (which must be valid: InvalidMeshError
@@ -96,27 +96,6 @@ class Cage(Handle):
         keep, address, size = _formats.input_bytes(data)
         return cls._make(ctx, _lib.lib.cagekit_cage_read_memory, ctx._handle, address, size,
                          int(_formats.file_format(format)))
-
-    def write(self, path: StrPath, format: FormatLike = "auto", *, ply_binary: bool = bool(_WRITE["ply_binary"]),
-              draco_position_bits: int = _WRITE["draco_position_bits"],
-              draco_speed: int = _WRITE["draco_speed"]) -> Record:
-        """Writes atomically (PLY and OFF drop the tags with a logged warning)."""
-        return _formats.write_file(self, "cagekit_cage_write_file", path, format, ply_binary,
-                                   draco_position_bits, draco_speed)
-
-    @overload
-    def to_bytes(self, format: FormatLike, *, ply_binary: bool = ..., draco_position_bits: int = ...,
-                 draco_speed: int = ..., report: Literal[False] = ...) -> bytes: ...
-
-    @overload
-    def to_bytes(self, format: FormatLike, *, ply_binary: bool = ..., draco_position_bits: int = ...,
-                 draco_speed: int = ..., report: Literal[True]) -> Tuple[bytes, Record]: ...
-
-    def to_bytes(self, format: FormatLike, *, ply_binary: bool = bool(_WRITE["ply_binary"]),
-                 draco_position_bits: int = _WRITE["draco_position_bits"], draco_speed: int = _WRITE["draco_speed"],
-                 report: bool = False) -> Union[bytes, Tuple[bytes, Record]]:
-        return _formats.write_memory(self, "cagekit_cage_write_memory", format, ply_binary,
-                                     draco_position_bits, draco_speed, report)
 
     # --- control mesh ------------------------------------------------------------------------
     def mesh(self) -> Mesh:

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import ctypes
 import enum
-from typing import TYPE_CHECKING, Any, List, Literal, Optional, Tuple, Union, overload
+from typing import TYPE_CHECKING, Any, List, Optional, Tuple, Union
 
 from . import _arrays, _formats, _lib, _typing
 from ._errors import InvalidMeshError
@@ -33,8 +33,7 @@ else:
     _cage_module = _typing.loaded("cagekit.cage")  # cage.py imports this module
 
 
-# CAGEKIT_WRITE_OPTIONS_INIT and CAGEKIT_REPAIR_OPTIONS_INIT, written once (in _lib).
-_WRITE = _lib.WriteOptions.defaults()
+# CAGEKIT_REPAIR_OPTIONS_INIT, written once (in _lib).
 _REPAIR = _lib.RepairOptions.defaults()
 
 
@@ -87,11 +86,12 @@ def read_faces(obj, mesh_ptr, fn=None):
     return sizes, flat
 
 
-class Mesh(Handle):
+class Mesh(Handle, _formats.Writable):
     """An indexed polygon mesh. Reads are thread-safe; a Mesh is immutable once made."""
 
     _release_name = "cagekit_mesh_release"
     _kind = "mesh"
+    _write_functions = ("cagekit_mesh_write_file", "cagekit_mesh_write_memory")
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         raise TypeError("use Mesh.from_arrays, Mesh.read or Mesh.from_bytes")
@@ -127,30 +127,6 @@ class Mesh(Handle):
         keep, address, size = _formats.input_bytes(data)
         return cls._make(ctx, _lib.lib.cagekit_mesh_read_memory, ctx._handle, address, size,
                          int(_formats.file_format(format)))
-
-    # --- writing -----------------------------------------------------------------------------
-    def write(self, path: StrPath, format: FormatLike = "auto", *, ply_binary: bool = bool(_WRITE["ply_binary"]),
-              draco_position_bits: int = _WRITE["draco_position_bits"],
-              draco_speed: int = _WRITE["draco_speed"]) -> Record:
-        """Writes atomically; returns a record with `bytes` and `max_position_error`."""
-        return _formats.write_file(self, "cagekit_mesh_write_file", path, format, ply_binary,
-                                   draco_position_bits, draco_speed)
-
-    @overload
-    def to_bytes(self, format: FormatLike, *, ply_binary: bool = ..., draco_position_bits: int = ...,
-                 draco_speed: int = ..., report: Literal[False] = ...) -> bytes: ...
-
-    @overload
-    def to_bytes(self, format: FormatLike, *, ply_binary: bool = ..., draco_position_bits: int = ...,
-                 draco_speed: int = ..., report: Literal[True]) -> Tuple[bytes, Record]: ...
-
-    def to_bytes(self, format: FormatLike, *, ply_binary: bool = bool(_WRITE["ply_binary"]),
-                 draco_position_bits: int = _WRITE["draco_position_bits"], draco_speed: int = _WRITE["draco_speed"],
-                 report: bool = False) -> Union[bytes, Tuple[bytes, Record]]:
-        """The file's bytes in `format` ('obj', 'ply', 'off', 'drc'); with report=True also the
-        write report."""
-        return _formats.write_memory(self, "cagekit_mesh_write_memory", format, ply_binary,
-                                     draco_position_bits, draco_speed, report)
 
     # --- read-back ---------------------------------------------------------------------------
     def counts(self) -> Tuple[int, int, int]:
