@@ -173,9 +173,8 @@ std::string fit_and_judge(const ScanToCageOptions& o, ScanToCageResult& r, const
 bool self_intersects_beyond_scan(const ScanToCageOptions& o, ScanToCageResult& r, const TaskMonitor& monitor) {
   if (!o.remedy_self_intersections || r.self_intersections.pairs == 0) return false;
   if (!r.scan_self_intersections_counted) {
-    monitor.report("self-intersections", 0.0);
     try {
-      r.scan_self_intersections = count_self_intersections(r.conditioned);
+      r.scan_self_intersections = count_self_intersections(r.conditioned, &monitor, "scan self-intersections");
     } catch (const Error& e) {
       if (e.status() != Status::out_of_memory) throw;
       monitor.log(LogLevel::info, std::string("scan_to_cage: the scan's self-intersections not counted: ") + e.what());
@@ -415,10 +414,11 @@ std::string fit_and_judge(const ScanToCageOptions& o, ScanToCageResult& r, const
   if (o.self_intersection_level > 0) {
     refine.levels = o.self_intersection_level;
     const Cage level = o.self_intersection_level == o.limit_levels ? r.limit : refine_uniform(r.cage, refine, monitor);
-    r.self_intersections = count_self_intersections(level.mesh);
+    r.self_intersections = count_self_intersections(level.mesh, &monitor, "limit self-intersections");
     if (r.self_intersections.pairs >= must_beat) return "no fewer self-intersections";
     if (r.self_intersections.pairs > 0)
-      r.unfitted_self_intersections = count_self_intersections(refine_uniform(r.initial_cage, refine, monitor).mesh);
+      r.unfitted_self_intersections = count_self_intersections(refine_uniform(r.initial_cage, refine, monitor).mesh,
+                                                               &monitor, "limit self-intersections");
   }
   r.limit_error = measure_approximation_error(mesh, r.limit.mesh, 4, monitor);
 

@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "core/polygon_mesh.h"
+#include "core/task_monitor.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 
@@ -17,6 +18,11 @@ struct SelfIntersections {
 };
 
 // The mesh needs valid indices. Throws Error(internal_error) when CGAL reports a failure.
-SelfIntersections count_self_intersections(const PolygonMesh& mesh);
+// `monitor` (optional) gets `stage` reports at least every ~0.1 s of the count (a 1M-triangle scan
+// takes seconds), its fraction the share of the boxes' candidate pairs tested so far as far as it can
+// be known (the box pass's pairs are not known ahead: it reaches 1 only at the end); a cancel there
+// throws Error(cancelled) from inside the box pass.
+SelfIntersections count_self_intersections(const PolygonMesh& mesh, const TaskMonitor* monitor = nullptr,
+                                           const char* stage = "self-intersections");
 
 CAGEKIT_NAMESPACE_END

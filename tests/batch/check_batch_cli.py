@@ -19,6 +19,9 @@ Cases (all by default):
   usage      --method simplify without --faces/--vertices, a mesh file as IN, an empty folder; a list
              file (comments, relative paths, names after a tab, duplicate stems).
   guard      OUT_DIR = IN_DIR with a foreign folder named like a scan: left alone, that scan fails.
+  order      --order largest (the default) starts the scans by estimated work (file size over the
+             format's bytes per triangle), --order input in folder order; the tables stay in input
+             order; a bad --order is a usage error.
 """
 import csv
 import json
@@ -31,7 +34,7 @@ import sys
 import time
 
 cli, fake, corpus, work = sys.argv[1:5]
-cases = sys.argv[5:] or ["mixed", "isolation", "interrupt", "usage", "guard"]
+cases = sys.argv[5:] or ["mixed", "isolation", "interrupt", "usage", "guard", "order"]
 passed = failures = 0
 
 
@@ -354,8 +357,43 @@ def case_guard():
           str(got))
 
 
+def case_order():
+    # One job, the stand-in worker: the children run one after another, so the modification times of
+    # their argv.txt give the order in which the scans started.
+    root = fresh(os.path.join(work, "order"))
+    scans = fresh(os.path.join(root, "in"))
+    # Estimated triangles: a 100/45, b 9000/45 = 200, c (binary STL, 84 + 50 * 60) 60,
+    # d (ASCII STL, "solid" and not 84 + 50k bytes) 2000/250 = 8, e (Draco) 300/3 = 100.
+    write(os.path.join(scans, "a.off"), "OFF\n" + "#" * 95)
+    write(os.path.join(scans, "b.off"), "OFF\n" + "#" * 8995)
+    write(os.path.join(scans, "c.stl"), b"\0" * (84 + 50 * 60), "wb")
+    write(os.path.join(scans, "d.stl"), "solid d\n" + "#" * 1992)
+    write(os.path.join(scans, "e.drc"), b"\1" * 300, "wb")
+    env = dict(os.environ, CAGEKIT_BATCH_WORKER=f"sh {fake}")
+
+    def started(order):
+        out = fresh(os.path.join(root, "out-" + (order or "default")))
+        args = [cli, "batch", scans, out, "--faces", "10", "--jobs", "1", "--quiet"] + (["--order", order] if order
+                                                                                        else [])
+        p = subprocess.run(args, capture_output=True, text=True, env=env, timeout=120)
+        table, _ = read_table(out)
+        times = {r["scan"]: os.stat(os.path.join(out, r["scan"], "argv.txt")).st_mtime_ns for r in table["rows"]}
+        return p, table, sorted(times, key=times.get)
+
+    p, table, first = started(None)
+    check(p.returncode == 0 and first == ["b", "e", "c", "d", "a"] and table["order"] == "largest",
+          "order: by default the scans start by estimated work", f"{first} {p.returncode} {p.stderr[-300:]}")
+    check([r["scan"] for r in table["rows"]] == ["a", "b", "c", "d", "e"], "order: the table stays in input order",
+          str([r["scan"] for r in table["rows"]]))
+    p, table, first = started("input")
+    check(p.returncode == 0 and first == ["a", "b", "c", "d", "e"] and table["order"] == "input",
+          "order: --order input starts them in folder order", str(first))
+    p = batch(scans, os.path.join(root, "out-bad"), "--faces", "10", "--order", "smallest")
+    check(p.returncode != 0 and "--order" in p.stderr, "order: a bad --order is a usage error", p.stderr[-300:])
+
+
 for case in cases:
     {"mixed": case_mixed, "isolation": case_isolation, "interrupt": case_interrupt, "usage": case_usage,
-     "guard": case_guard}[case]()
+     "guard": case_guard, "order": case_order}[case]()
 print(f"{passed} passed, {failures} failed")
 sys.exit(1 if failures else 0)

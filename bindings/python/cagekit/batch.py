@@ -33,7 +33,7 @@ import threading
 import time
 import uuid
 
-__all__ = ["run", "run_scan", "find_cli", "scan_names", "cli_arguments", "COLUMNS", "STATUSES"]
+__all__ = ["run", "run_scan", "find_cli", "scan_names", "cli_arguments", "estimated_work", "COLUMNS", "STATUSES"]
 
 MESH_EXTENSIONS = (".off", ".obj", ".ply", ".stl", ".drc")
 STATUSES = ("ok", "failed", "timeout", "crash", "oom")
@@ -378,6 +378,30 @@ def _write_tables(out_dir, rows, meta):
     return summary
 
 
+def estimated_work(path):
+    """A scan's estimated work, as `cagekit batch --order largest` takes it: the file's size over its
+    format's typical bytes per triangle (binary STL 50, ASCII STL ~250, OFF/OBJ ~45, PLY ~25, Draco
+    ~3). 0 for a file that cannot be read. Only the order in which scans start depends on it."""
+    try:
+        size = os.path.getsize(path)
+    except OSError:
+        return 0.0
+    ext = os.path.splitext(os.fspath(path))[1].lower()
+    per_face = 45.0
+    if ext == ".stl":
+        try:
+            with open(path, "rb") as f:
+                head = f.read(5)
+        except OSError:
+            head = b""
+        per_face = 250.0 if head == b"solid" and size % 50 != 84 % 50 else 50.0
+    elif ext == ".ply":
+        per_face = 25.0
+    elif ext == ".drc":
+        per_face = 3.0
+    return size / per_face
+
+
 def _per_host_threads(client):
     hosts = {}
     for address, n in client.nthreads().items():
@@ -387,7 +411,7 @@ def _per_host_threads(client):
 
 
 def run(paths, out_dir, method="simplify", options=None, client=None, jobs=None, timeout=None, retries=0, cli=None,
-        memory_limit=None, transfer="paths", resume=False, progress=True, thumbnails=False):
+        memory_limit=None, transfer="paths", resume=False, progress=True, thumbnails=False, order="largest"):
     """Runs the pipeline on every scan and returns the results table (one row per scan, in input order):
     a pandas DataFrame when pandas is importable, else a list of dicts (COLUMNS, plus "attempts").
 
@@ -402,9 +426,13 @@ def run(paths, out_dir, method="simplify", options=None, client=None, jobs=None,
     whose worker died). transfer: "paths" (every worker sees the scans and out_dir at the same paths)
     or "bytes" (scans and outputs travel with the tasks; this process writes out_dir). resume: keep
     the scans with a result made with the same options. progress: distributed.progress with a client,
-    else a console bar on stderr. thumbnails: OUT_DIR/<scan>/thumbnail.png for each ok scan."""
+    else a console bar on stderr. thumbnails: OUT_DIR/<scan>/thumbnail.png for each ok scan. order:
+    which scans start first, "largest" (by estimated_work, so that the longest scans do not end the
+    batch alone; with a client also as task priorities) or "input"; the table is in input order."""
     if transfer not in ("paths", "bytes"):
         raise ValueError("cagekit.batch.run: transfer must be 'paths' or 'bytes', not %r" % (transfer,))
+    if order not in ("largest", "input"):
+        raise ValueError("cagekit.batch.run: order must be 'largest' or 'input', not %r" % (order,))
     if method not in ("simplify", "quad", "anisotropic"):
         raise ValueError("cagekit.batch.run: method must be 'simplify', 'quad' or 'anisotropic', not %r" % (method,))
     entries = _expand(paths)
@@ -440,6 +468,9 @@ def run(paths, out_dir, method="simplify", options=None, client=None, jobs=None,
             rows[i] = earlier
         else:
             todo.append(i)
+    if order == "largest":
+        work = {i: estimated_work(scan_paths[i]) for i in todo}
+        todo.sort(key=lambda i: -work[i])  # stable: input order among equals
 
     def fill(i, outcome):
         row, files = outcome
@@ -470,17 +501,18 @@ def run(paths, out_dir, method="simplify", options=None, client=None, jobs=None,
         import distributed  # noqa: F401  (only with a client)
         token = uuid.uuid4().hex[:8]
         futures = []
-        for i in todo:
+        for rank, i in enumerate(todo):
             data = None
             if transfer == "bytes":
                 with open(scan_paths[i], "rb") as f:
                     data = client.scatter(f.read(), hash=False)
             futures.append(client.submit(run_scan, scan_paths[i], names[i], arguments, cli, timeout, memory_limit, data,
                                          out_dir if transfer == "paths" else None, retries, pure=False,
-                                         retries=retries, key="cagekit-scan-%s-%d" % (token, i)))
+                                         retries=retries, key="cagekit-scan-%s-%d" % (token, i),
+                                         priority=len(todo) - rank))
         if progress and futures:
             distributed.progress(futures)
-        for i, future in zip(todo, futures):
+        for i, future in zip(todo, futures):  # in start order: the rows' order comes from i
             try:
                 fill(i, future.result())
             except ValueError:  # usage: wrong arguments for every scan

@@ -160,6 +160,46 @@ class Batch(unittest.TestCase):
         # crash and timeout are retried once; a clean failure is not.
         self.assertEqual(got, {"crash": ("crash", 2), "hang": ("timeout", 2), "ok": ("ok", 1), "error": ("failed", 1)})
 
+    def test_order(self):
+        # Largest first by estimated work (file size over the format's bytes per triangle); the table in input order.
+        fake = os.environ.get("CAGEKIT_TEST_FAKE_PIPELINE")
+        if not fake:
+            self.skipTest("CAGEKIT_TEST_FAKE_PIPELINE (tests/batch/fake_pipeline.sh) is not set")
+        scans = os.path.join(self.work, "order-in")
+        os.makedirs(scans, exist_ok=True)
+        sizes = {"a.off": 100, "b.off": 9000, "c.stl": 84 + 50 * 60, "d.drc": 300}
+        for name, size in sizes.items():
+            with open(os.path.join(scans, name), "wb") as f:
+                f.write(b"\0" * size)
+        self.assertAlmostEqual(batch.estimated_work(os.path.join(scans, "b.off")), 200.0)
+        self.assertAlmostEqual(batch.estimated_work(os.path.join(scans, "c.stl")), (84 + 50 * 60) / 50.0)
+        self.assertAlmostEqual(batch.estimated_work(os.path.join(scans, "d.drc")), 100.0)
+        self.assertEqual(batch.estimated_work(os.path.join(scans, "missing.off")), 0.0)
+        old = os.environ.get("CAGEKIT_BATCH_WORKER")
+        os.environ["CAGEKIT_BATCH_WORKER"] = "sh " + fake
+        try:
+            def started(out, **kw):
+                rows = as_list(batch.run(scans, os.path.join(self.work, out), method="quad", progress=False, **kw))
+                self.assertEqual([r["scan"] for r in rows], ["a", "b", "c", "d"])
+                times = {r["scan"]: os.stat(os.path.join(self.work, out, r["scan"], "argv.txt")).st_mtime_ns
+                         for r in rows}
+                return sorted(times, key=times.get)
+            self.assertEqual(started("order-largest", jobs=1), ["b", "d", "c", "a"])
+            self.assertEqual(started("order-input", jobs=1, order="input"), ["a", "b", "c", "d"])
+            if distributed is not None:
+                with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                              dashboard_address=None, silence_logs=40) as cluster, \
+                        distributed.Client(cluster) as client:
+                    self.assertEqual(started("order-dask", client=client), ["b", "d", "c", "a"])
+            with self.assertRaises(ValueError):
+                batch.run(scans, os.path.join(self.work, "order-bad"), method="quad", order="smallest",
+                          progress=False)
+        finally:
+            if old is None:
+                del os.environ["CAGEKIT_BATCH_WORKER"]
+            else:
+                os.environ["CAGEKIT_BATCH_WORKER"] = old
+
     def test_usage_errors_raise(self):
         with self.assertRaises(ValueError):
             batch.run(self.scans, os.path.join(self.work, "bad"), method="simplify", options={}, progress=False)

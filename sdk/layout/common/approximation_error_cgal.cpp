@@ -6,6 +6,7 @@
 #include <CGAL/Simple_cartesian.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <thread>
 #include <vector>
@@ -123,6 +124,7 @@ ApproximationError measure_approximation_error_cgal(const PolygonMesh& input, co
   if (diagonal <= 0 || input_triangles.empty() || approx_triangles.empty()) return result;
 
   // Input vertices (those on a face) -> approximation.
+  monitor.report("error", 0.0);
   AabbTree approx_tree(approx_triangles.begin(), approx_triangles.end());
   approx_tree.accelerate_distance_queries();
   std::vector<uint8_t> on_face(input.num_vertices(), 0);
@@ -142,6 +144,7 @@ ApproximationError measure_approximation_error_cgal(const PolygonMesh& input, co
   result.mean_rel = count ? sum / double(count) / diagonal : 0.0;
 
   // Samples of the approximation -> input surface.
+  monitor.report("error", 0.5);  // the input's tree takes a while on a large scan: a cancel point before it
   AabbTree input_tree(input_triangles.begin(), input_triangles.end());
   // Built now (tree and search structure) so that the worker threads' queries only read it.
   input_tree.build();
@@ -152,9 +155,13 @@ ApproximationError measure_approximation_error_cgal(const PolygonMesh& input, co
   const size_t workers = std::max<size_t>(
       1, std::min<size_t>(std::thread::hardware_concurrency(), approx_triangles.size() / 4096));
   std::vector<double> worker_max(workers, 0.0);
+  // Set when the calling thread's report throws (a cancel): the other ranges stop at their next
+  // triangle instead of running to their end before run_ranges rethrows.
+  std::atomic<bool> stop{false};
   run_ranges(approx_triangles.size(), workers, [&](size_t begin, size_t end, size_t w) {
     double local = 0;
     for (size_t t = begin; t < end; ++t) {
+      if (w != 0 && stop.load(std::memory_order_relaxed)) return;
       const Triangle& tri = approx_triangles[t];
       for (int i = 0; i <= n; ++i)
         for (int j = 0; i + j <= n; ++j) {
@@ -164,8 +171,14 @@ ApproximationError measure_approximation_error_cgal(const PolygonMesh& input, co
                         a * tri[0].z() + b * tri[1].z() + c * tri[2].z());
           local = std::max(local, input_tree.squared_distance(p));
         }
-      if (w == 0 && ((t - begin) & 0xfff) == 0)
-        monitor.report("error", 0.5 + 0.5 * double(t - begin) / double(std::max<size_t>(1, end - begin)));
+      if (w == 0 && ((t - begin) & 0xfff) == 0) {
+        try {
+          monitor.report("error", 0.5 + 0.5 * double(t - begin) / double(std::max<size_t>(1, end - begin)));
+        } catch (...) {
+          stop.store(true);
+          throw;
+        }
+      }
     }
     worker_max[w] = local;
   });
