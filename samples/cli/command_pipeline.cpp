@@ -104,7 +104,6 @@ int command_pipeline(const Options& args) {
   if (fit_tolerance >= 0.0) fit.tolerance = fit_tolerance;
   // The options of the other methods, given, are usage errors.
   if (remeshing) {
-    fit.threads = 0;  // --threads is the remesher's
     refuse_other_remesh_options(args, remesh);
     args.refuse({"--creases", "--crease-angle", "--input-crease-angle"}, "with --method " + method);
   } else {

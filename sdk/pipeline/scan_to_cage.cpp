@@ -384,7 +384,7 @@ std::string evaluate(const ScanToCageOptions& o, ScanToCageResult& r, const Task
   const PolygonMesh& mesh = r.conditioned;
   const std::string cage_problem = check_cage(r.initial_cage, r);
   if (!cage_problem.empty()) return cage_problem;
-  r.method_error = measure_approximation_error(mesh, r.initial_cage.mesh, 4, monitor);
+  r.method_error = measure_approximation_error(mesh, r.initial_cage.mesh, 4, monitor, o.fit.threads);
   return fit_and_judge(o, r, monitor, must_beat);
 }
 
@@ -420,7 +420,7 @@ std::string fit_and_judge(const ScanToCageOptions& o, ScanToCageResult& r, const
       r.unfitted_self_intersections = count_self_intersections(refine_uniform(r.initial_cage, refine, monitor).mesh,
                                                                &monitor, "limit self-intersections");
   }
-  r.limit_error = measure_approximation_error(mesh, r.limit.mesh, 4, monitor);
+  r.limit_error = measure_approximation_error(mesh, r.limit.mesh, 4, monitor, o.fit.threads);
 
   // Phase 6: the good-result rule.
   const double scan_to_limit = r.limit_error.hausdorff_rel, limit_to_scan = r.limit_error.reverse_rel;

@@ -17,7 +17,8 @@ overhead <= 10 %.
 
 usage: bench_batch.py --cli build/samples/cli/cagekit [--corpus ../shared/corpus]
          [--list tests/bench/batch_subset.txt] [--repeats 3] [--modes local1,local2,dask1,dask2,cli1,cli2]
-         [--faces 100] [--work /tmp/cagekit-bench-batch] [--json results.json]
+         [--faces 100] [--work /tmp/cagekit-bench-batch] [--json results.json] [--order largest|input]
+         [--memory-limit MB]
 Needs CAGEKIT_LIBRARY (or an installed libcagekit) for `import cagekit`, and python3-distributed for
 the dask modes.
 """
@@ -51,6 +52,10 @@ def main():
     ap.add_argument("--timeout", type=float, default=600)
     ap.add_argument("--work", default="/tmp/cagekit-bench-batch")
     ap.add_argument("--json", default="")
+    ap.add_argument("--order", default="largest", choices=["largest", "input"],
+                    help="which scans start first (cagekit batch --order)")
+    ap.add_argument("--memory-limit", type=int, default=0,
+                    help="MiB of address space per scan (--memory-limit); the largest peak RSS is reported")
     a = ap.parse_args()
     cli = os.path.abspath(a.cli)
     with open(a.list) as f:
@@ -84,20 +89,24 @@ def main():
         t = time.monotonic()
         if mode.startswith("local"):
             rows = batch.run(paths, out, method=a.method, options=options, jobs=int(mode[5:]), timeout=a.timeout,
-                             cli=cli, progress=False)
+                             cli=cli, progress=False, order=a.order, memory_limit=a.memory_limit or None)
         elif mode.startswith("dask"):
             rows = batch.run(paths, out, method=a.method, options=options, client=clusters[mode][1],
-                             timeout=a.timeout, cli=cli, progress=False)
+                             timeout=a.timeout, cli=cli, progress=False, order=a.order,
+                             memory_limit=a.memory_limit or None)
         else:
             subprocess.run([cli, "batch", listing, out, "--method", a.method, "--faces", str(a.faces), "--threads", "1",
-                            "--jobs", mode[3:], "--timeout", str(a.timeout), "--quiet"], check=False)
+                            "--jobs", mode[3:], "--timeout", str(a.timeout), "--order", a.order,
+                            "--memory-limit", str(a.memory_limit), "--quiet"], check=False)
             with open(os.path.join(out, "results.json")) as f:
                 rows = json.load(f)["rows"]
         seconds = time.monotonic() - t
         if hasattr(rows, "to_dict"):
             rows = rows.to_dict("records")
+        peaks[mode] = max([peaks.get(mode, 0.0)] + [float(r["peak_mb"] or 0.0) for r in rows])
         return seconds, [(r["scan"], r["status"], r["faces"]) for r in rows]
 
+    peaks = {}
     load_start = os.getloadavg()
     times = {m: [] for m in modes}
     results = {}
@@ -136,11 +145,15 @@ def main():
         print("dask overhead: dask2 / local2 - 1 = %+.1f %% (target <= 10 %%)" % (100 * summary["dask_overhead"]))
     for m, s in startup.items():
         print("%s: LocalCluster start-up %.2f s (not in the timed runs)" % (m, s))
-    print("same rows (scan, status, faces) in every mode: %s" % ("yes" if same else "NO"))
+    print("largest peak memory of a scan (peak_mb): %s MiB%s" % (
+        ", ".join("%s %.0f" % (m, peaks[m]) for m in modes),
+        "; --memory-limit %d MiB of address space per scan" % a.memory_limit if a.memory_limit else ""))
+    print("order: %s; same rows (scan, status, faces) in every mode: %s" % (a.order, "yes" if same else "NO"))
     if a.json:
         with open(a.json, "w") as f:
             json.dump(dict(meshes=len(paths), ok=ok, repeats=a.repeats, times=times, median=median, summary=summary,
-                           startup=startup, load=[load_start[0], load_end[0]], cpus=os.cpu_count(), same_rows=same),
+                           startup=startup, load=[load_start[0], load_end[0]], cpus=os.cpu_count(), same_rows=same,
+                           order=a.order, memory_limit_mb=a.memory_limit, peak_mb=peaks),
                       f, indent=1)
     return 0 if same else 1
 

@@ -26,9 +26,12 @@ struct ApproximationError {
   double reverse_rel = 0;
 };
 
-// Both meshes need valid indices; faces with fewer than 3 vertices are ignored.
+// Both meshes need valid indices; faces with fewer than 3 vertices are ignored. `threads`: worker
+// threads of the approximation -> input samples (0: std::thread::hardware_concurrency()); the
+// result does not depend on it.
 ApproximationError measure_approximation_error(const PolygonMesh& input, const PolygonMesh& approximation,
-                                               int samples_per_edge = 4, const TaskMonitor& monitor = {});
+                                               int samples_per_edge = 4, const TaskMonitor& monitor = {},
+                                               int threads = 0);
 
 // Distances from points to a mesh's surface (polygons fan-split from their first corner,
 // degenerate triangles and faces with bad indices skipped): one CGAL AABB tree, built once.

@@ -51,7 +51,7 @@ TriangleList fan_triangles(const PolygonMesh& mesh, std::vector<uint32_t>* face_
 
 std::vector<uint32_t> nearest_faces_cgal(const PolygonMesh& mesh, const std::vector<Vec3>& points);
 ApproximationError measure_approximation_error_cgal(const PolygonMesh& input, const PolygonMesh& approximation,
-                                                    int samples_per_edge, const TaskMonitor& monitor);
+                                                    int samples_per_edge, const TaskMonitor& monitor, int threads);
 
 }  // namespace
 
@@ -90,9 +90,9 @@ std::vector<uint32_t> nearest_faces(const PolygonMesh& mesh, const std::vector<V
 }
 
 ApproximationError measure_approximation_error(const PolygonMesh& input, const PolygonMesh& approximation,
-                                               int samples_per_edge, const TaskMonitor& monitor) {
+                                               int samples_per_edge, const TaskMonitor& monitor, int threads) {
   return detail::cgal_guarded("measure_approximation_error", [&] {
-    return measure_approximation_error_cgal(input, approximation, samples_per_edge, monitor);
+    return measure_approximation_error_cgal(input, approximation, samples_per_edge, monitor, threads);
   });
 }
 
@@ -112,7 +112,7 @@ std::vector<uint32_t> nearest_faces_cgal(const PolygonMesh& mesh, const std::vec
 }
 
 ApproximationError measure_approximation_error_cgal(const PolygonMesh& input, const PolygonMesh& approximation,
-                                                    int samples_per_edge, const TaskMonitor& monitor) {
+                                                    int samples_per_edge, const TaskMonitor& monitor, int threads) {
   ApproximationError result;
   // Two triangle lists and two CGAL AABB trees (~250 bytes per triangle with the KD-tree for
   // distance queries), plus the samples.
@@ -150,10 +150,10 @@ ApproximationError measure_approximation_error_cgal(const PolygonMesh& input, co
   input_tree.build();
   input_tree.accelerate_distance_queries();
   const int n = std::max(1, samples_per_edge);
-  // The largest distance does not depend on the order: the triangles are split over the
-  // hardware threads (progress and cancellation on the calling thread's range only).
-  const size_t workers = std::max<size_t>(
-      1, std::min<size_t>(std::thread::hardware_concurrency(), approx_triangles.size() / 4096));
+  // The largest distance does not depend on the order: the triangles are split over `threads`
+  // workers (progress and cancellation on the calling thread's range only).
+  const size_t workers =
+      std::max<size_t>(1, std::min<size_t>(size_t(resolve_threads(threads)), approx_triangles.size() / 4096));
   std::vector<double> worker_max(workers, 0.0);
   // Set when the calling thread's report throws (a cancel): the other ranges stop at their next
   // triangle instead of running to their end before run_ranges rethrows.
