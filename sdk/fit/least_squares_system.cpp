@@ -8,6 +8,7 @@
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <string>
 
@@ -228,6 +229,34 @@ struct SampleRows {
   const std::vector<FootPoint>& foot_points;
 };
 
+// Progress and cancel points of one solve: point() between steps; in a parallel loop the calling
+// thread's range (worker 0) calls loop_point() every 4096 samples, and when that throws (a cancel)
+// the other workers see `stop` and leave their ranges at the next sample.
+struct CancelPoints {
+  const TaskMonitor* monitor = nullptr;
+  const char* stage = "fit";
+  double fraction = 0.0;
+  mutable std::atomic<bool> stop{false};
+
+  void point() const {
+    if (monitor) monitor->report(stage, fraction);
+  }
+  // True when worker w should leave its range now.
+  bool loop_point(size_t w, size_t done) const {
+    if (monitor == nullptr) return false;
+    if (w != 0) return stop.load(std::memory_order_relaxed);
+    if ((done & 4095u) == 0) {
+      try {
+        point();
+      } catch (...) {
+        stop.store(true);
+        throw;
+      }
+    }
+    return false;
+  }
+};
+
 // The point-distance system over the free control vertices, as the steps of
 // solve_point_distance fill it in.
 struct PointDistanceSystem {
@@ -257,12 +286,14 @@ void index_free_vertices(const std::vector<bool>& fixed, PointDistanceSystem& s)
 // One thread's share [begin, end) of the samples summed into dense A^T A (G, F x F) and A^T P
 // (R, F x 3) over the F free columns.
 void accumulate_normal_equations(const SampleRows& data, const std::vector<int>& free_index, size_t F, size_t begin,
-                                 size_t end, std::vector<double>& G, std::vector<double>& R) {
+                                 size_t end, std::vector<double>& G, std::vector<double>& R, size_t w,
+                                 const CancelPoints& cancel) {
   G.assign(F * F, 0.0);
   R.assign(3 * F, 0.0);
   std::vector<uint32_t> indices, cols;
   std::vector<double> weights, vals;
   for (size_t i = begin; i < end; ++i) {
+    if (cancel.loop_point(w, i - begin)) return;
     const FootPoint& t = data.foot_points[i];
     data.surface.basis_values(t.ptex_face, t.u, t.v, indices, weights);
     Vec3 r = data.samples[i];
@@ -288,7 +319,8 @@ void accumulate_normal_equations(const SampleRows& data, const std::vector<int>&
 
 // The normal equations at once, per thread into dense accumulators (k^2 updates per sample with
 // k basis functions; no N-row matrix, no sparse product), summed in thread order.
-void assemble_normal_equations(const SampleRows& data, size_t workers, PointDistanceSystem& s) {
+void assemble_normal_equations(const SampleRows& data, size_t workers, PointDistanceSystem& s,
+                               const CancelPoints& cancel) {
   const size_t N = data.samples.size();
   const size_t F = size_t(s.free_count);
   check_memory_estimate(estimate_sum(estimate_product(workers, F * F * sizeof(double)),
@@ -296,7 +328,7 @@ void assemble_normal_equations(const SampleRows& data, size_t workers, PointDist
                         "least squares");
   std::vector<std::vector<double>> gram(workers), rhs(workers);
   run_ranges(N, workers, [&](size_t begin, size_t end, size_t w) {
-    accumulate_normal_equations(data, s.free_index, F, begin, end, gram[w], rhs[w]);
+    accumulate_normal_equations(data, s.free_index, F, begin, end, gram[w], rhs[w], w, cancel);
   });
   for (size_t w = 1; w < workers; ++w) {
     for (size_t k = 0; k < F * F; ++k) gram[0][k] += gram[w][k];
@@ -319,7 +351,7 @@ void assemble_normal_equations(const SampleRows& data, size_t workers, PointDist
 
 // The rows of A and P, assembled in parallel (one triplet list per thread, joined in thread
 // order).
-void assemble_rows(const SampleRows& data, size_t workers, PointDistanceSystem& s) {
+void assemble_rows(const SampleRows& data, size_t workers, PointDistanceSystem& s, const CancelPoints& cancel) {
   const size_t N = data.samples.size();
   std::vector<std::vector<Triplet>> parts(workers);
   s.P.resize(Eigen::Index(N), 3);
@@ -329,6 +361,7 @@ void assemble_rows(const SampleRows& data, size_t workers, PointDistanceSystem& 
     std::vector<uint32_t> indices;
     std::vector<double> weights;
     for (size_t i = begin; i < end; ++i) {
+      if (cancel.loop_point(w, i - begin)) return;
       const FootPoint& t = data.foot_points[i];
       data.surface.basis_values(t.ptex_face, t.u, t.v, indices, weights);
       Vec3 rhs = data.samples[i];
@@ -349,9 +382,11 @@ void assemble_rows(const SampleRows& data, size_t workers, PointDistanceSystem& 
   std::vector<Triplet> triplets;
   triplets.reserve(total);
   for (auto& part : parts) triplets.insert(triplets.end(), part.begin(), part.end());
+  cancel.point();
   s.A = SparseMatrix(Eigen::Index(N), s.free_count);
   s.A.setFromTriplets(triplets.begin(), triplets.end());
   triplets = {};
+  cancel.point();
   for (int k = 0; k < s.A.outerSize(); ++k)
     for (SparseMatrix::InnerIterator it(s.A, k); it; ++it) s.column_norm2(it.col()) += it.value() * it.value();
 }
@@ -411,11 +446,14 @@ void add_laplacian_rows(const Cage& cage, const std::vector<Vec3>& current_contr
 }
 
 // The direct solver: SimplicialLDLT of the normal equations (x, y, z share the factorisation).
-Eigen::MatrixXd solve_normal_equations(PointDistanceSystem& s) {
+Eigen::MatrixXd solve_normal_equations(PointDistanceSystem& s, const CancelPoints& cancel) {
   if (!s.dense_normal_equations) {
     const SparseMatrix At = s.A.transpose();
+    cancel.point();
     s.M = At * s.A;
+    cancel.point();
     s.AtP = At * s.P;
+    cancel.point();
   }
   Eigen::MatrixXd b = s.AtP + s.mu * s.C;
   if (s.laplacian_rows) {
@@ -478,7 +516,8 @@ Eigen::MatrixXd solve_stacked_cgls(const PointDistanceSystem& s, LeastSquaresRep
 std::vector<Vec3> solve_point_distance(const SubdivisionSurface& surface, const Cage& cage,
                                        const std::vector<Vec3>& current_control, const std::vector<Vec3>& samples,
                                        const std::vector<FootPoint>& foot_points, const std::vector<bool>& fixed,
-                                       const LeastSquaresOptions& options, LeastSquaresReport& report) {
+                                       const LeastSquaresOptions& options, LeastSquaresReport& report,
+                                       const CancelPoints& cancel) {
   PointDistanceSystem s;
   s.n = int(surface.num_control_vertices());
   index_free_vertices(fixed, s);
@@ -494,16 +533,18 @@ std::vector<Vec3> solve_point_distance(const SubdivisionSurface& surface, const 
   s.dense_normal_equations =
       options.solver == LeastSquaresSolver::direct && size_t(s.free_count) <= kDenseNormalEquationsLimit;
   s.column_norm2 = Eigen::VectorXd::Zero(s.free_count);
+  cancel.point();
   if (s.dense_normal_equations)
-    assemble_normal_equations(data, workers, s);
+    assemble_normal_equations(data, workers, s, cancel);
   else
-    assemble_rows(data, workers, s);
+    assemble_rows(data, workers, s, cancel);
   weigh_rows(options, s, report);
   gather_free_positions(current_control, s);
   if (s.laplacian_rows) add_laplacian_rows(cage, current_control, s);
+  cancel.point();
 
   const Eigen::MatrixXd x =
-      options.solver == LeastSquaresSolver::direct ? solve_normal_equations(s) : solve_stacked_cgls(s, report);
+      options.solver == LeastSquaresSolver::direct ? solve_normal_equations(s, cancel) : solve_stacked_cgls(s, report);
   if (!x.allFinite()) fail(Status::internal_error, "least squares: the solve gave non-finite positions");
   for (int j = 0; j < s.n; ++j) {
     const int k = s.free_index[size_t(j)];
@@ -516,7 +557,8 @@ std::vector<Vec3> solve_point_distance(const SubdivisionSurface& surface, const 
 std::vector<Vec3> solve_control_points(const SubdivisionSurface& surface, const Cage& cage,
                                        const std::vector<Vec3>& current_control, const std::vector<Vec3>& samples,
                                        const std::vector<FootPoint>& foot_points, const std::vector<bool>& fixed,
-                                       const LeastSquaresOptions& options, LeastSquaresReport* report) {
+                                       const LeastSquaresOptions& options, LeastSquaresReport* report,
+                                       const TaskMonitor* monitor, const char* stage, double fraction) {
   const int n = int(surface.num_control_vertices());
   if (samples.size() != foot_points.size() || current_control.size() != size_t(n) ||
       fixed.size() != size_t(n) || cage.mesh.num_vertices() != size_t(n))
@@ -534,7 +576,9 @@ std::vector<Vec3> solve_control_points(const SubdivisionSurface& surface, const 
   if (options.tangential_weight < 1)
     return solve_control_points_coupled(surface, cage, current_control, samples, foot_points, options.fairing,
                                          fixed, options.tangential_weight, options, r);
-  return solve_point_distance(surface, cage, current_control, samples, foot_points, fixed, options, r);
+  CancelPoints cancel;
+  cancel.monitor = monitor, cancel.stage = stage, cancel.fraction = fraction;
+  return solve_point_distance(surface, cage, current_control, samples, foot_points, fixed, options, r, cancel);
 }
 
 CAGEKIT_NAMESPACE_END

@@ -24,6 +24,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/task_monitor.h"
 #include "core/cage.h"
 #include "fit/closest_point_on_limit_surface.h"
 #include "subdiv/subdivision_surface.h"
@@ -64,10 +65,15 @@ struct LeastSquaresReport {
 
 // Returns the new control positions. `fixed` vertices keep their current position. Throws
 // invalid_argument for inconsistent sizes or options, internal_error when the solve fails.
+// `monitor` (optional): reports (`stage`, `fraction`) between the steps and every 4096 samples of
+// the assembly (the steps take seconds with a million samples), so a cancel there throws
+// Error(cancelled) within a fraction of a second.
 std::vector<Vec3> solve_control_points(const SubdivisionSurface& surface, const Cage& cage,
                                        const std::vector<Vec3>& current_control,
                                        const std::vector<Vec3>& samples,
                                        const std::vector<FootPoint>& foot_points, const std::vector<bool>& fixed,
-                                       const LeastSquaresOptions& options, LeastSquaresReport* report = nullptr);
+                                       const LeastSquaresOptions& options, LeastSquaresReport* report = nullptr,
+                                       const TaskMonitor* monitor = nullptr, const char* stage = "fit",
+                                       double fraction = 0.0);
 
 CAGEKIT_NAMESPACE_END

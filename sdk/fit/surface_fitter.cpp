@@ -95,6 +95,7 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
   const SubdivisionSurface surface(initial, surface_options);
   const PtexAdjacency adjacency(initial.mesh, surface);
   monitor.log(LogLevel::debug, "fit: limit surface built in " + std::to_string(seconds_since(start)) + " s");
+  monitor.report("fit", 0.0);
   const size_t n = initial.mesh.num_vertices();
   std::vector<bool> fixed(n, false);
   if (options.keep_crease_vertices_on_samples) {
@@ -128,6 +129,7 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
   if (scan_surface != nullptr && scan_surface->num_faces() > 0) {
     scan_distance = std::make_unique<SurfaceDistance>(*scan_surface);
     if (scan_distance->empty()) scan_distance.reset();
+    monitor.report("fit", 0.0);
   }
   // Crease-feature rows: the feature lines within reach, and the limit's crease-curve grid points
   // (found once the linear mesh exists).
@@ -298,8 +300,10 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
     const size_t crease_samples = crease_feature_rows(pass / passes);
     std::vector<Vec3> next =
         reverse_samples + crease_samples > 0
-            ? solve_control_points(surface, initial, control, step_samples, step_feet, fixed, lsq, &lsq_report)
-            : solve_control_points(surface, initial, control, samples, feet, fixed, lsq, &lsq_report);
+            ? solve_control_points(surface, initial, control, step_samples, step_feet, fixed, lsq, &lsq_report,
+                                   &monitor, "fit", pass / passes)
+            : solve_control_points(surface, initial, control, samples, feet, fixed, lsq, &lsq_report, &monitor,
+                                   "fit", pass / passes);
     const double lsq_seconds = seconds_since(t0);
     report.unsupported_control_vertices = lsq_report.unsupported_control_vertices;
     report.weakly_supported_control_vertices = lsq_report.weakly_supported_control_vertices;
@@ -354,7 +358,9 @@ Cage fit_cage_to_mesh(const Cage& initial, const PolygonMesh& scan, const FitOpt
   const size_t n = scan.num_vertices();
   for (uint32_t v : scan.face_vertices)
     if (v >= n) fail(Status::invalid_argument, "fit: the scan has a face vertex index out of range");
-  // Boundary edges: undirected edges used by exactly one face.
+  // Boundary edges: undirected edges used by exactly one face (a second on a million-face scan:
+  // cancel points before and after the sort).
+  monitor.report("fit", 0.0);
   std::vector<std::pair<uint32_t, uint32_t>> edges;
   edges.reserve(scan.face_vertices.size());
   for (size_t f = 0; f < scan.num_faces(); ++f) {
@@ -365,6 +371,7 @@ Cage fit_cage_to_mesh(const Cage& initial, const PolygonMesh& scan, const FitOpt
     }
   }
   std::sort(edges.begin(), edges.end());
+  monitor.report("fit", 0.0);
   std::vector<bool> on_boundary(n, false), near;
   for (size_t i = 0; i < edges.size();) {
     size_t j = i + 1;

@@ -105,12 +105,17 @@ Cage initial_cage(const PolygonMesh& mesh, ScanMethod method, const ScanToCageOp
       r.level = o.target_is_vertices ? hierarchy.level_for_vertex_count(o.target)
                                      : hierarchy.level_for_face_count(o.target);
       hierarchy.go_to_level(r.level);
+      // Going to the level, extracting it and building the cage take seconds on a million-face
+      // scan together: cancel points between them.
+      monitor.report("cage", 0.0);
       const PolygonalLevel level = hierarchy.extract();
+      monitor.report("cage", 0.5);
       r.level_faces = level.faces.size();
       r.level_faces_with_holes = 0;
       for (const auto& f : level.faces) r.level_faces_with_holes += f.loops.size() > 1;
       r.cage_report = {};
       Cage cage = build_quad_dominant_cage(hierarchy.input(), level, o.cage, &r.cage_report);
+      monitor.report("cage", 1.0);
       r.creases = r.cage_report.creases;
       return cage;
     }

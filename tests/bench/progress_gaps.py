@@ -39,6 +39,7 @@ ap.add_argument("--threads", type=int, default=0)
 ap.add_argument("--top", type=int, default=8)
 ap.add_argument("--cancel-at", default="", help="comma-separated seconds: cancel runs")
 ap.add_argument("--out", default=None)
+ap.add_argument("--log", action="store_true", help="print the SDK's debug log with times (to attribute gaps)")
 args = ap.parse_args()
 
 
@@ -89,7 +90,11 @@ def run_once(P, F, cancel_at=None):
             cancelled_at[0] = t
         return cancelled_at[0] is None
 
-    with cagekit.Context(progress=progress) as ctx:
+    def log(level, message):
+        if args.log:
+            print("  [%8.3f] %s" % (time.perf_counter() - t0[0], message), flush=True)
+
+    with cagekit.Context(progress=progress, log=log, log_level=cagekit.LogLevel.DEBUG) as ctx:
         with cagekit.Mesh.from_arrays(P, F, context=ctx) as mesh:
             t0[0] = time.perf_counter()
             outcome = "ok"
