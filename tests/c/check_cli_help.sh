@@ -47,7 +47,8 @@ expected = {
              "--tolerance --projection --fairing --crease-feature-reach --keep-creases --threads "
              "--max-face-valence --curvature-radius --edge-length --regions --region-tolerance --weights "
              "--refinement-passes --fit-tolerance --limit-levels --no-repair --components --weld-tolerance "
-             "--no-fallback --two-sided-refit --jobs --timeout --memory-limit --resume --thumbnails --json --quiet",
+             "--no-fallback --two-sided-refit --jobs --timeout --memory-limit --resume --thumbnails --order --json "
+             "--quiet",
     "bind": "--local-frame --exact-normals --sharp-angle --threads --json --quiet",
     "deform": "--local-frame --sharp-angle --json --quiet",
     "bench-deform": "--frames --moved --threads --vertex-order --json --quiet",
