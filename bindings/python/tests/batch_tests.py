@@ -3,6 +3,7 @@
 `cagekit batch` CLI give the same rows on a folder mixing good and bad scans; crashes and timeouts of
 a stand-in worker stay in their scan and are retried. Run by ctest as python.batch (CAGEKIT_CLI,
 CAGEKIT_TEST_FAKE_PIPELINE); not part of python.bindings' discovery (file name batch_tests.py)."""
+import contextlib
 import json
 import math
 import os
@@ -55,6 +56,20 @@ def rows_of(table):
     if hasattr(table, "to_dict"):
         table = table.to_dict("records")
     return [(r["scan"], r["status"], r["faces"]) for r in table]
+
+
+@contextlib.contextmanager
+def batch_worker(command):
+    """CAGEKIT_BATCH_WORKER set to `command` (inherited by each child `cagekit batch`), restored after."""
+    old = os.environ.get("CAGEKIT_BATCH_WORKER")
+    os.environ["CAGEKIT_BATCH_WORKER"] = command
+    try:
+        yield
+    finally:
+        if old is None:
+            del os.environ["CAGEKIT_BATCH_WORKER"]
+        else:
+            os.environ["CAGEKIT_BATCH_WORKER"] = old
 
 
 def as_list(table):
@@ -146,16 +161,9 @@ class Batch(unittest.TestCase):
         for name in ("crash", "hang", "ok", "error"):
             with open(os.path.join(scans, name + ".off"), "w") as f:
                 f.write("OFF\n0 0 0\n")
-        old = os.environ.get("CAGEKIT_BATCH_WORKER")
-        os.environ["CAGEKIT_BATCH_WORKER"] = "sh " + fake  # inherited by each child `cagekit batch`
-        try:
+        with batch_worker("sh " + fake):
             rows = as_list(batch.run(scans, os.path.join(self.work, "fake"), method="quad", jobs=4, timeout=1,
                                      retries=1, progress=False))
-        finally:
-            if old is None:
-                del os.environ["CAGEKIT_BATCH_WORKER"]
-            else:
-                os.environ["CAGEKIT_BATCH_WORKER"] = old
         got = {r["scan"]: (r["status"], r["attempts"]) for r in rows}
         # crash and timeout are retried once; a clean failure is not.
         self.assertEqual(got, {"crash": ("crash", 2), "hang": ("timeout", 2), "ok": ("ok", 1), "error": ("failed", 1)})
@@ -175,9 +183,7 @@ class Batch(unittest.TestCase):
         self.assertAlmostEqual(batch.estimated_work(os.path.join(scans, "c.stl")), (84 + 50 * 60) / 50.0)
         self.assertAlmostEqual(batch.estimated_work(os.path.join(scans, "d.drc")), 100.0)
         self.assertEqual(batch.estimated_work(os.path.join(scans, "missing.off")), 0.0)
-        old = os.environ.get("CAGEKIT_BATCH_WORKER")
-        os.environ["CAGEKIT_BATCH_WORKER"] = "sh " + fake
-        try:
+        with batch_worker("sh " + fake):
             def started(out, **kw):
                 rows = as_list(batch.run(scans, os.path.join(self.work, out), method="quad", progress=False, **kw))
                 self.assertEqual([r["scan"] for r in rows], ["a", "b", "c", "d"])
@@ -194,11 +200,6 @@ class Batch(unittest.TestCase):
             with self.assertRaises(ValueError):
                 batch.run(scans, os.path.join(self.work, "order-bad"), method="quad", order="smallest",
                           progress=False)
-        finally:
-            if old is None:
-                del os.environ["CAGEKIT_BATCH_WORKER"]
-            else:
-                os.environ["CAGEKIT_BATCH_WORKER"] = old
 
     def test_usage_errors_raise(self):
         with self.assertRaises(ValueError):
