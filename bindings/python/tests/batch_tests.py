@@ -152,12 +152,17 @@ class Batch(unittest.TestCase):
             with open(os.path.join(self.work, out, "results.json")) as f:
                 self.assertEqual(json.load(f)["summary"]["ok"], 2)
 
-    def test_isolation_and_retries(self):
+    def stand_in(self, folder):
+        """(the stand-in worker's path, a new scan folder in the work folder); skips without the stand-in."""
         fake = os.environ.get("CAGEKIT_TEST_FAKE_PIPELINE")
         if not fake:
             self.skipTest("CAGEKIT_TEST_FAKE_PIPELINE (tests/batch/fake_pipeline.sh) is not set")
-        scans = os.path.join(self.work, "fake-in")
+        scans = os.path.join(self.work, folder)
         os.makedirs(scans, exist_ok=True)
+        return fake, scans
+
+    def test_isolation_and_retries(self):
+        fake, scans = self.stand_in("fake-in")
         for name in ("crash", "hang", "ok", "error"):
             with open(os.path.join(scans, name + ".off"), "w") as f:
                 f.write("OFF\n0 0 0\n")
@@ -170,11 +175,7 @@ class Batch(unittest.TestCase):
 
     def test_order(self):
         # Largest first by estimated work (file size over the format's bytes per triangle); the table in input order.
-        fake = os.environ.get("CAGEKIT_TEST_FAKE_PIPELINE")
-        if not fake:
-            self.skipTest("CAGEKIT_TEST_FAKE_PIPELINE (tests/batch/fake_pipeline.sh) is not set")
-        scans = os.path.join(self.work, "order-in")
-        os.makedirs(scans, exist_ok=True)
+        fake, scans = self.stand_in("order-in")
         sizes = {"a.off": 100, "b.off": 9000, "c.stl": 84 + 50 * 60, "d.drc": 300}
         for name, size in sizes.items():
             with open(os.path.join(scans, name), "wb") as f:
