@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # README command (b), also run by CI (.ci/run): installs the dependencies, builds CageKit and
-# runs every test twice — in a Release build, and in a build with AddressSanitizer +
-# UndefinedBehaviorSanitizer (no leaks, no undefined behaviour allowed).
+# runs every test twice — in a Release build (GCC), and in a build with AddressSanitizer +
+# UndefinedBehaviorSanitizer (Clang; no leaks, no undefined behaviour allowed) that also runs the
+# libFuzzer harnesses — then the concurrency tests under ThreadSanitizer.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -16,36 +17,42 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DCAGEKIT_BUILD_TESTS=ON
 cmake --build build -j "$jobs"
 ctest --test-dir build --output-on-failure -j "$jobs"
 
-echo "== AddressSanitizer + UndefinedBehaviorSanitizer build and tests"
-cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCAGEKIT_SANITIZE=ON
+echo "== AddressSanitizer + UndefinedBehaviorSanitizer (Clang, libFuzzer's coverage): every test, then the fuzzers"
+# One sanitizer build serves both: the tree is compiled once with Clang and
+# -fsanitize=fuzzer-no-link,address,undefined (CAGEKIT_BUILD_FUZZERS), the tests run on it, and the
+# libFuzzer harnesses link the same libraries. Line tables only (-gline-tables-only): enough for
+# the sanitizers' stack traces, and less to compile and link than full -g.
+CC=clang CXX=clang++ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCAGEKIT_BUILD_FUZZERS=ON -DCAGEKIT_BUILD_TESTS=ON \
+  "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-O2 -gline-tables-only -DNDEBUG" \
+  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -gline-tables-only -DNDEBUG"
 cmake --build build-asan -j "$jobs"
-# intercept_tls_get_addr=0: GCC 12's sanitizer runtime can mistake a malloc'd dynamic-TLS block
-# (Mesa's llvmpipe, loaded with dlopen by the render and GPU tests) for a pre-2.25 glibc header
-# and LeakSanitizer's tracer then dies with "Tracer caught signal 11" at exit, at random and
-# with no leak (google/sanitizers#1322; fixed in GCC 14 / LLVM 17). Leak checking stays on.
+# intercept_tls_get_addr=0: the sanitizer runtimes before LLVM 17 / GCC 14 can mistake a malloc'd
+# dynamic-TLS block (Mesa's llvmpipe, loaded with dlopen by the render and GPU tests) for a
+# pre-2.25 glibc header and LeakSanitizer's tracer then dies with "Tracer caught signal 11" at
+# exit, at random and with no leak (google/sanitizers#1322). Leak checking stays on.
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:halt_on_error=1:detect_stack_use_after_return=1:intercept_tls_get_addr=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 export LSAN_OPTIONS="suppressions=$root/tests/sanitizer/lsan.supp"
+# Tests with heavy end-to-end cases shrink or skip them here (tests/sanitizer/sanitized_build.h
+# tells GCC's and Clang's sanitizer builds apart from Release); those cases run in the Release pass.
 ctest --test-dir build-asan --output-on-failure -j "$jobs"
 
-echo "== libFuzzer smoke (clang, ASan + UBSan): each harness over its seed corpus, then 15 s of fuzzing"
-CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DCAGEKIT_BUILD_FUZZERS=ON -DCAGEKIT_BUILD_TESTS=ON
-cmake --build build-fuzz -j "$jobs" --target cagekit_fuzzers
+echo "-- libFuzzer smoke: each harness over its regression inputs and seed corpus, then 15 s of fuzzing"
 # Known findings would be suppressed in tests/fuzz/ubsan.supp (empty: every finding so far is fixed).
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:suppressions=$root/tests/fuzz/ubsan.supp"
 for harness in fuzz_obj fuzz_ply fuzz_off fuzz_draco fuzz_stl fuzz_mesh_api fuzz_binding; do
   # Regression inputs of fixed findings must run clean.
   if [ -d "tests/fuzz/regressions/$harness" ]; then
-    build-fuzz/tests/fuzz/$harness tests/fuzz/regressions/$harness/* >/dev/null 2>&1 ||
-      { build-fuzz/tests/fuzz/$harness tests/fuzz/regressions/$harness/* 2>&1 | tail -n 40;
+    build-asan/tests/fuzz/$harness tests/fuzz/regressions/$harness/* >/dev/null 2>&1 ||
+      { build-asan/tests/fuzz/$harness tests/fuzz/regressions/$harness/* 2>&1 | tail -n 40;
         echo "test-all: $harness fails on a regression input" >&2; exit 1; }
   fi
 done
 for harness in fuzz_obj fuzz_ply fuzz_off fuzz_draco fuzz_stl fuzz_mesh_api fuzz_binding; do
   scratch=$(mktemp -d)  # new inputs and any crash reproducer go here, not into the repo
   echo "-- $harness"
-  if ! build-fuzz/tests/fuzz/$harness "$scratch" "tests/fuzz/corpus/$harness" -max_total_time=15 \
+  if ! build-asan/tests/fuzz/$harness "$scratch" "tests/fuzz/corpus/$harness" -max_total_time=15 \
       -rss_limit_mb=2048 -max_len=65536 -timeout=30 -artifact_prefix="$scratch/" -print_final_stats=1 \
       >"$scratch/log" 2>&1; then
     tail -n 60 "$scratch/log"
@@ -57,7 +64,9 @@ for harness in fuzz_obj fuzz_ply fuzz_off fuzz_draco fuzz_stl fuzz_mesh_api fuzz
 done
 
 echo "== ThreadSanitizer: the concurrency stress test and the C API tests (library + 3 programs only)"
-cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCAGEKIT_SANITIZE_THREAD=ON
+# -g1: function names and line tables for the race reports, without full debug information.
+cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCAGEKIT_SANITIZE_THREAD=ON \
+  "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG" "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG"
 cmake --build build-tsan -j "$jobs" --target stress_concurrency hostile_sizes test_capi
 export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1"
 # Kernels with high mmap randomisation (vm.mmap_rnd_bits > 28) break older TSan runtimes

@@ -23,26 +23,9 @@
 #include <time.h>
 #include <unistd.h>
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define HOSTILE_SANITIZED 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
-#define HOSTILE_SANITIZED 1
-#endif
-#endif
-#ifndef HOSTILE_SANITIZED
-#define HOSTILE_SANITIZED 0
-#endif
+#include "../sanitizer/sanitized_build.h"
 
-#if defined(__SANITIZE_ADDRESS__)
-#define HOSTILE_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define HOSTILE_ASAN 1
-#endif
-#endif
-
-#if defined(HOSTILE_ASAN)
+#if CAGEKIT_ASAN_BUILD
 /* ASan keeps freed blocks in a quarantine (256 MiB by default) whose pages stay resident, so
  * the thousands of reads of the Draco sweeps would raise the peak RSS by ~190 MiB without any
  * large allocation. Without the quarantine the RSS figure measures the reads again (options
@@ -101,7 +84,7 @@ static void run_case(const char* name, case_fn fn) {
     long rss_before, rss_after;
     double t0, seconds;
     int result;
-    if (!HOSTILE_SANITIZED) {
+    if (!CAGEKIT_SANITIZED_BUILD) {
       struct rlimit limit;
       mallopt(M_ARENA_MAX, 1);
       limit.rlim_cur = limit.rlim_max = (rlim_t)(address_space_bytes() + AS_HEADROOM_BYTES);
@@ -545,13 +528,13 @@ int main(int argc, char** argv) {
     fprintf(stderr, "cannot create a context\n");
     return 1;
   }
-  if (HOSTILE_SANITIZED)
+  if (CAGEKIT_SANITIZED_BUILD)
     printf("hostile sizes (sanitizer build: no address-space limit; peak RSS growth must stay below %ld MiB)\n",
            RSS_BOUND_KIB / 1024);
   else
     printf("hostile sizes (each case under RLIMIT_AS = current + %llu MiB; peak RSS growth must stay below %ld MiB)\n",
            (unsigned long long)(AS_HEADROOM_BYTES >> 20), RSS_BOUND_KIB / 1024);
-  if (!HOSTILE_SANITIZED) run_case("self-check: 512 MiB malloc fails under the limit", limit_self_check);
+  if (!CAGEKIT_SANITIZED_BUILD) run_case("self-check: 512 MiB malloc fails under the limit", limit_self_check);
   run_case("OBJ: face index 4e9 / 2^28 / -4e9 / 2^64", obj_huge_face_index);
   run_case("OBJ: crease tag counts 4e9", obj_huge_tag_counts);
   run_case("OBJ: one face of 70000 corners", obj_face_beyond_max_face_size);

@@ -17,6 +17,7 @@
 #include "subdiv/limit_bspline_surfaces.h"
 #include "subdiv/subdivision_surface.h"
 #include "test_support.h"
+#include "../sanitizer/sanitized_build.h"
 
 namespace {
 
@@ -301,7 +302,7 @@ TEST(LimitBSplineSurfaces, bad_options) {
 // The fitted cage of `cagekit pipeline fandisk.obj OUT --faces 200` (built here through the same
 // library call): surface count, max error, max normal jump.
 TEST(LimitBSplineSurfaces, fandisk_pipeline_cage) {
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#if CAGEKIT_SANITIZED_BUILD
   GTEST_SKIP() << "Release only (the pipeline and ~500k control points: about 10 s in Release)";
 #endif
   const std::string path = cagekit_test::shared_mesh_path("fandisk.obj");

@@ -25,6 +25,7 @@
 #include "layout/quad/remesh_constraints.h"
 #include "layout/quad/vsa_segmentation.h"
 #include "test_support.h"
+#include "../sanitizer/sanitized_build.h"
 
 using cagekit::Error;
 using cagekit::PolygonMesh;
@@ -329,7 +330,7 @@ TEST(QuadRemesher, RegionCountIsRaisedToTheFeaturePatches) {
 TEST(QuadRemesher, CorpusMeshesOfEachFailureClass) {
   const std::string dir = std::string(CAGEKIT_SHARED_CORPUS) + "/cgal/";
   std::vector<const char*> names = {"patch-01.off", "patch-30.off", "plane.off", "cylinder_locally_refined.off"};
-#if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
+#if !CAGEKIT_SANITIZED_BUILD
   names.push_back("dino.off");
   // Thin parts whose regions' layouts glued into coinciding faces (mended or split).
   names.push_back("bull.off");
@@ -349,8 +350,9 @@ TEST(QuadRemesher, CorpusMeshesOfEachFailureClass) {
                 (unsigned long long)run.result.split_regions, (unsigned long long)run.result.merged_regions,
                 (unsigned long long)run.result.layout_retries, (unsigned long long)run.result.mended_faces,
                 (unsigned long long)run.result.faces);
-    if (std::string(name) == "bull.off")
+    if (std::string(name) == "bull.off") {
       EXPECT_GT(run.result.mended_faces + run.result.layout_retries, 0u) << "bull's legs no longer make the class";
+    }
     ++ran;
   }
   if (ran == 0) GTEST_SKIP() << "corpus not found at " << dir;
@@ -363,7 +365,7 @@ TEST(QuadRemesher, CorpusMeshesOfEachFailureClass) {
 // of their polygons of samples: a valid cage of the input's topology (run_and_check), with those
 // regions reported.
 TEST(QuadRemesher, RegionsWhoseLayoutStillFailsArePartitioned) {
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#if CAGEKIT_SANITIZED_BUILD
   GTEST_SKIP() << "Release only (a 25k-triangle mesh laid out 4 times)";
 #endif
   const std::string path = std::string(CAGEKIT_SHARED_CORPUS) + "/cgal/refined_elephant.off";
@@ -386,7 +388,7 @@ TEST(QuadRemesher, RegionsWhoseLayoutStillFailsArePartitioned) {
 // result is a valid cage of the input's topology (run_and_check) made from the new segmentation,
 // reported in reseeded_regions. Without re-seeding it is the error it was.
 TEST(QuadRemesher, ALayoutThatFailsIsReseededWithMoreRegions) {
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#if CAGEKIT_SANITIZED_BUILD
   GTEST_SKIP() << "Release only (a 7k-triangle mesh laid out up to 12 times)";
 #endif
   const std::string path = std::string(CAGEKIT_SHARED_CORPUS) + "/cgal/couplingdown.off";
@@ -416,7 +418,7 @@ TEST(QuadRemesher, ALayoutThatFailsIsReseededWithMoreRegions) {
 // glued mesh's components and Euler characteristic against the input's: the result keeps the
 // input's topology (run_and_check asserts it) or is a clean error (the pipeline then falls back).
 TEST(QuadRemesher, AResultKeepsTheInputsTopologyOrIsAnError) {
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#if CAGEKIT_SANITIZED_BUILD
   GTEST_SKIP() << "Release only (a 18k-triangle mesh laid out up to 4 times)";
 #endif
   const std::string path = std::string(CAGEKIT_SHARED_CORPUS) + "/cgal/turbine.off";
@@ -440,7 +442,7 @@ TEST(QuadRemesher, AResultKeepsTheInputsTopologyOrIsAnError) {
 // until a layout with folded faces only is kept): it now gives the quad method's own valid cage
 // of the input's topology, after more layouts than the 4 of before.
 TEST(QuadRemesher, AFewFailingRegionsAreRetriedUntilTheLayoutHolds) {
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#if CAGEKIT_SANITIZED_BUILD
   GTEST_SKIP() << "Release only (an 8k-triangle mesh laid out 8 times)";
 #endif
   const std::string dir = std::string(CAGEKIT_SHARED_CORPUS) + "/cgal/";
@@ -508,8 +510,9 @@ TEST(QuadRemesher, SmallHolesKeepThreeSamples) {
   }
   ASSERT_GE(hole_arc_segments.size(), 2u) << "the regions do not share the hole's border";
   EXPECT_GE(hole_points, 3u);
-  if (hole_arc_segments.size() == 2)
+  if (hole_arc_segments.size() == 2) {
     for (const uint64_t segments : hole_arc_segments) EXPECT_GE(segments, 2u);
+  }
   // The outer border keeps its samples too: every region loop is a polygon.
   for (uint32_t r = 0; r < 2; ++r) EXPECT_TRUE(cagekit::loops_are_polygons(constraints, r));
   // The sample-count refinement asks border_loop_is_polygon before it keeps a count: one segment

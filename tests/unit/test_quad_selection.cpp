@@ -19,6 +19,7 @@
 #include "layout/quad/remesh_constraints.h"
 #include "layout/quad/vsa_segmentation.h"
 #include "test_support.h"
+#include "../sanitizer/sanitized_build.h"
 
 using cagekit::CurveNetwork;
 using cagekit::ElementWeights;
@@ -619,7 +620,7 @@ TEST(QuadCurveSelection, FandiskTableSixOneSettings) {
 // The two heaviest real-mesh runs are Release-only: under AddressSanitizer they take minutes of
 // the CI budget, and the same selection code runs on rocker-arm under the sanitizers in
 // test_quad_remesher.cpp (QuadRemesher.RockerArmTableSixOneValidCage).
-#if defined(__SANITIZE_ADDRESS__)
+#if CAGEKIT_ASAN_BUILD
 #define CAGEKIT_SKIP_UNDER_SANITIZERS() GTEST_SKIP() << "Release-only (sanitizer build): see test_quad_remesher.cpp"
 #else
 #define CAGEKIT_SKIP_UNDER_SANITIZERS() (void)0

@@ -22,6 +22,7 @@
 #include "pipeline/self_intersections.h"
 #include "subdiv/uniform_refinement.h"
 #include "test_support.h"
+#include "../sanitizer/sanitized_build.h"
 
 using namespace cagekit;
 
@@ -95,7 +96,7 @@ double bump(double x, double y) { return 0.3 * std::sin(0.4 * x) * std::cos(0.3 
 // within about two minutes there.
 // There, too, every class runs simplify and only one of the remeshers (alternating): the full
 // product took 5.5 min under ASan.
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#if CAGEKIT_SANITIZED_BUILD
 constexpr int kScale = 2;
 constexpr bool kEveryMethod = false;
 #else
@@ -326,7 +327,7 @@ TEST(ScanToCage, a_fit_that_folds_its_limit_is_fitted_again_with_fairing) {
 // two one-sided maxima drops by more than a third; the cage's topology and creases are those of
 // the one-sided result, and switching the phase off returns the one-sided result itself.
 TEST(ScanToCage, a_limit_that_bulges_from_the_scan_is_refitted_two_sided) {
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#if CAGEKIT_SANITIZED_BUILD
   GTEST_SKIP() << "Release only (a 20k-triangle scan fitted twice)";
 #endif
   const std::string path = std::string(CAGEKIT_SHARED_CORPUS) + "/cgal/camel.off";
@@ -382,7 +383,7 @@ static double crease_precision(const Cage& limit, const std::vector<FeatureSegme
 // which pull the surface and not the crease curves onto the scan, leave them off the edges. The
 // journey's fit puts them there with crease-feature rows; the same cage fitted without them does not.
 TEST(ScanToCage, crease_curves_stay_on_the_sharp_edges_of_a_stepped_flange) {
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#if CAGEKIT_SANITIZED_BUILD
   GTEST_SKIP() << "Release only (an 18k-triangle part through the journey)";
 #endif
   const std::string path = std::string(CAGEKIT_SHARED_CORPUS) + "/cgal/turbine.off";
@@ -429,7 +430,7 @@ TEST(ScanToCage, crease_curves_stay_on_the_sharp_edges_of_a_stepped_flange) {
 // fist out into spikes, and the limit strays 9.6 % of the diagonal from the scan. The journey fits
 // again with fairing 0.01 and ends good with the quad cage, without the simplify fallback.
 TEST(ScanToCage, a_fit_whose_limit_strays_is_fitted_again_with_fairing) {
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#if CAGEKIT_SANITIZED_BUILD
   GTEST_SKIP() << "Release only (a 12k-triangle scan through the quad method)";
 #endif
   const std::string path = std::string(CAGEKIT_SHARED_CORPUS) + "/cgal/hand.off";

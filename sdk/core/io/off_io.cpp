@@ -57,7 +57,9 @@ class OffReader {
     strip("ST");
     strip("C");
     strip("N");
-    const bool other_dimension = strip("4") | strip("n");
+    const bool four_d = strip("4");  // both prefixes are stripped, whichever is present
+    const bool n_d = strip("n");
+    const bool other_dimension = four_d || n_d;
     if (k != "OFF") context_.fail_at_line(lines_.line_number(), "missing OFF header");
     if (other_dimension)
       context_.fail_at_line(lines_.line_number(), "'" + std::string(keyword) + "' (not 3D) is not supported",
