@@ -19,8 +19,9 @@ ctest --test-dir build --output-on-failure -j "$jobs"
 
 echo "== AddressSanitizer + UndefinedBehaviorSanitizer (Clang, libFuzzer's coverage): every test, then the fuzzers"
 # One sanitizer build serves both: the tree is compiled once with Clang and
-# -fsanitize=fuzzer-no-link,address,undefined (CAGEKIT_BUILD_FUZZERS), the tests run on it, and the
-# libFuzzer harnesses link the same libraries. Line tables only (-gline-tables-only): enough for
+# -fsanitize=address,undefined (CAGEKIT_BUILD_FUZZERS; libFuzzer's coverage only on the libraries
+# the harnesses reach, tests/fuzz/CMakeLists.txt), the tests run on it, and the libFuzzer harnesses
+# link the same libraries. Line tables only (-gline-tables-only): enough for
 # the sanitizers' stack traces, and less to compile and link than full -g.
 CC=clang CXX=clang++ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCAGEKIT_BUILD_FUZZERS=ON -DCAGEKIT_BUILD_TESTS=ON \

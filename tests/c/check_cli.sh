@@ -10,6 +10,12 @@ tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 failures=0; passed=0
 pass() { passed=$((passed + 1)); echo "[ OK   ] $1"; }
 fail() { failures=$((failures + 1)); echo "[ FAIL ] $1"; }
+# release_only WHAT: true (and says so) in sanitizer builds (CAGEKIT_CHECK_CLI_SANITIZED set), where
+# the heavy runs WHAT take minutes each; the Release pass runs them.
+release_only() {
+  [ -n "${CAGEKIT_CHECK_CLI_SANITIZED:-}" ] || return 1
+  echo "[ SKIP ] $1: Release only (sanitizer build: minutes each there)"
+}
 json() { /usr/bin/env python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(eval(sys.argv[2], {'d': d}))" "$@"; }
 
 # 1. demo
@@ -193,9 +199,7 @@ if [ -f "$fandisk" ]; then
      [ "$(json "$tmp/fan-aniso.json" "all(k in d for k in '$remesh_keys'.split()) and d['max_face_valence'] <= 5 and d['creases'] > 100 and d['quads_pct'] > 50 and d['min_scaled_jacobian'] >= 0 and d['hausdorff_sym_rel'] < 0.02")" = True ] &&
      "$cli" info "$tmp/fan-aniso.obj" --json >"$tmp/fan-aniso-info.json" && [ "$(json "$tmp/fan-aniso-info.json" "d['valid'] and d['genus'] == 0")" = True ]
   then pass "remesh --method anisotropic: fandisk quad-dominant, creases kept, valid, genus 0"; else cat "$tmp/fan-aniso.json"; fail "remesh anisotropic"; fi
-  if [ -n "${CAGEKIT_CHECK_CLI_SANITIZED:-}" ]; then
-    echo "[ SKIP ] fandisk pipeline --method anisotropic: Release only (sanitizer build: minutes each there)"
-  else
+  if ! release_only "fandisk pipeline --method anisotropic"; then
     if "$cli" pipeline "$fandisk" "$tmp/fan-pipe" --method anisotropic --tolerance 0.002 --passes 2 --quiet &&
        [ "$(json "$tmp/fan-pipe/report.json" "d['remesh']['method'] == 'anisotropic' and d['limit']['error']['hausdorff_sym_rel'] < 0.02")" = True ]
     then pass "pipeline --method anisotropic: remesh -> fit -> limit within 2% of the diagonal"; else cat "$tmp/fan-pipe/report.json"; fail "pipeline anisotropic"; fi
@@ -205,9 +209,7 @@ if [ -f "$fandisk" ]; then
      [ "$(json "$tmp/fan-quad.json" "all(k in d for k in '$remesh_keys'.split()) and d['method'] == 'quad' and d['regions'] == 30 and d['creases'] > 50 and d['quads_pct'] > 80 and d['max_face_valence'] <= 6 and d['hausdorff_sym_rel'] < 0.03")" = True ] &&
      "$cli" info "$tmp/fan-quad.obj" --json >"$tmp/fan-quad-info.json" && [ "$(json "$tmp/fan-quad-info.json" "d['valid'] and d['genus'] == 0 and d['boundary_edges'] == 0")" = True ]
   then pass "remesh --method quad: fandisk quad-dominant, creases on sharp region boundaries, valid, closed, genus 0"; else cat "$tmp/fan-quad.json"; fail "remesh quad"; fi
-  if [ -n "${CAGEKIT_CHECK_CLI_SANITIZED:-}" ]; then
-    echo "[ SKIP ] fandisk remesh --method quad --refinement-passes 0 and pipeline --method quad: Release only (sanitizer build: minutes each there)"
-  else
+  if ! release_only "fandisk remesh --method quad --refinement-passes 0 and pipeline --method quad"; then
     if "$cli" remesh "$fandisk" "$tmp/fan-quad0.obj" --method quad --edge-length 0.10 --regions 30 --weights 500,500,500 --refinement-passes 0 --json --quiet >"$tmp/fan-quad0.json" &&
        [ "$(json "$tmp/fan-quad0.json" "d['refinement_passes'] == 0 and d['regions'] == 30 and d['quads_pct'] > 80")" = True ]
     then pass "remesh --method quad --refinement-passes 0: fandisk quad-dominant without the refinement"; else cat "$tmp/fan-quad0.json"; fail "remesh quad without refinement"; fi
