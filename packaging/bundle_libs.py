@@ -9,6 +9,8 @@ add-on zip (bindings/blender/make_addon_zip.cmake), so that both carry the same 
                                      after CAGEKIT_LIBRARY), RUNPATH $ORIGIN/libs
     PACKAGE/libs/<SONAME>            each library of the NEEDED closure that is not on ALLOWLIST,
                                      under its SONAME, RUNPATH $ORIGIN
+    PACKAGE/bin/<name>               optional executables (the wheel's `cagekit` CLI), RUNPATH
+                                     $ORIGIN/..:$ORIGIN/../libs; their closure is bundled too
 
     PACKAGE/licenses/<package>.copyright   the Debian copyright file of each bundled library's
                                      package, and licenses/BUNDLED.txt: SONAME, package, version
@@ -19,7 +21,7 @@ their RUNPATH from patchelf. Libraries on ALLOWLIST (glibc, the C++ runtime, the
 libraries) are left to the system: every Linux that runs Blender has them, and the GL ones must be
 the machine's own driver's.
 
-    python3 bundle_libs.py LIBRARY PACKAGE_DIR SONAME      prints one line per bundled file
+    python3 bundle_libs.py LIBRARY PACKAGE_DIR SONAME [EXECUTABLE ...]   prints one line per bundled file
 
 The module also holds a small ELF reader (dynamic section: NEEDED, SONAME, RUNPATH/RPATH), used by
 packaging/check_bundle.py to check the result without trusting the tools that made it.
@@ -158,7 +160,7 @@ def patchelf():
 def set_runpath(path, runpath):
     subprocess.run([patchelf(), "--set-rpath", runpath, path], check=True)
     got = elf_dynamic(path)
-    if got["runpath"] != [runpath] or got["rpath"]:
+    if got["runpath"] != runpath.split(":") or got["rpath"]:
         raise RuntimeError("%s: RUNPATH %s after patchelf, expected %s" % (path, got["runpath"], runpath))
 
 
@@ -207,19 +209,38 @@ def write_licenses(package_dir, origins):
         f.write("\n".join(lines) + "\n")
 
 
-def bundle(library, package_dir, soname):
-    """Copies `library` as package_dir/soname and its non-allowlisted closure into
-    package_dir/libs, with $ORIGIN RUNPATHs. Returns the bundled paths relative to package_dir."""
+BIN_DIR = "bin"
+
+
+def bundle(library, package_dir, soname, executables=()):
+    """Copies `library` as package_dir/soname, each of `executables` into package_dir/bin, and the
+    non-allowlisted NEEDED closure of all of them into package_dir/libs, with $ORIGIN RUNPATHs.
+    An executable finds libcagekit (under `soname`, one folder up) and the bundled libraries through
+    its RUNPATH. Returns the bundled paths relative to package_dir."""
     patchelf()  # fail before copying anything
     libs = os.path.join(package_dir, LIBS_DIR)
-    if os.path.isdir(libs):
-        shutil.rmtree(libs)
+    bins = os.path.join(package_dir, BIN_DIR)
+    for d in (libs, bins):
+        if os.path.isdir(d):
+            shutil.rmtree(d)
     os.makedirs(libs)
     main = os.path.join(package_dir, soname)
     shutil.copyfile(os.path.realpath(library), main)
     os.chmod(main, 0o755)
     bundled, origins = [soname], {}
-    for name, path in sorted(resolve_closure(library).items()):
+    closure = resolve_closure(library)
+    if executables:
+        os.makedirs(bins)
+    for exe in executables:
+        target = os.path.join(bins, os.path.basename(exe))
+        shutil.copyfile(os.path.realpath(exe), target)
+        os.chmod(target, 0o755)
+        set_runpath(target, "$ORIGIN/..:$ORIGIN/../" + LIBS_DIR)
+        bundled.append(BIN_DIR + "/" + os.path.basename(exe))
+        for name, path in resolve_closure(exe).items():
+            if name != soname:  # libcagekit itself: the copy above, not the build tree's
+                closure.setdefault(name, path)
+    for name, path in sorted(closure.items()):
         if allowed(name):
             continue
         real_soname = elf_dynamic(path)["soname"] or name
@@ -235,11 +256,11 @@ def bundle(library, package_dir, soname):
 
 
 def main(argv):
-    if len(argv) != 4:
-        sys.stderr.write("usage: bundle_libs.py LIBRARY PACKAGE_DIR SONAME\n")
+    if len(argv) < 4:
+        sys.stderr.write("usage: bundle_libs.py LIBRARY PACKAGE_DIR SONAME [EXECUTABLE ...]\n")
         return 2
     try:
-        for rel in bundle(argv[1], argv[2], argv[3]):
+        for rel in bundle(argv[1], argv[2], argv[3], argv[4:]):
             print(rel)
     except (RuntimeError, OSError, subprocess.CalledProcessError) as e:
         sys.stderr.write("bundle_libs.py: %s\n" % e)

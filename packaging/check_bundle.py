@@ -14,6 +14,8 @@ reads them; no readelf or loader involved):
     GL dispatch) or is found through its RUNPATH inside the package, as a file whose SONAME is that
     name;
   - every bundled library is needed by something (nothing dead is shipped);
+  - the executables in bin/ (the wheel's CLI) are executable; their NEEDED entries are checked as
+    above (libcagekit and the bundled libraries through their RUNPATH);
   - every bundled library is listed in licenses/BUNDLED.txt with its package's copyright file.
 Exit status 0 when every check passes, 1 with one line per failure otherwise.
 """
@@ -41,12 +43,17 @@ def check_package(pkg):
     for dirpath, _dirs, files in os.walk(pkg):
         for f in sorted(files):
             path = os.path.join(dirpath, f)
-            if ".so" in f and bundle_libs.is_elf(path):
+            if (".so" in f or os.path.basename(dirpath) == bundle_libs.BIN_DIR) and bundle_libs.is_elf(path):
                 objects.append(path)
     mains = [p for p in objects if os.path.basename(p).startswith("libcagekit.so")]
     if len(mains) != 1:
         failures.append("%s: expected one libcagekit.so.*, found %s" % (pkg, mains))
-    bundled = [p for p in objects if p not in mains]
+    executables = [p for p in objects if os.path.basename(os.path.dirname(p)) == bundle_libs.BIN_DIR]
+    for exe in executables:
+        if not os.access(exe, os.X_OK):
+            failures.append("%s: not executable" % os.path.relpath(exe, pkg))
+        report.append("%s: executable" % os.path.relpath(exe, pkg))
+    bundled = [p for p in objects if p not in mains and p not in executables]
     if not bundled:
         failures.append("%s: no bundled library next to libcagekit" % pkg)
     used = set()
@@ -126,6 +133,10 @@ def main(argv):
                 root = os.path.join(scratch, str(i))
                 with zipfile.ZipFile(path) as z:
                     z.extractall(root)
+                    for info in z.infolist():  # the modes the archive records (pip installs with them)
+                        mode = (info.external_attr >> 16) & 0o777
+                        if mode and not info.is_dir():
+                            os.chmod(os.path.join(root, info.filename), mode)
             pkgs = package_dirs(root)
             if len(pkgs) != 1:
                 failures.append("%s: expected one package folder with libcagekit, found %s" % (path, pkgs))

@@ -3,11 +3,13 @@
 """Builds the cagekit wheel from a build tree (CMake target python_wheel; the ctest fixture
 packaging.wheel.make runs it too):
 
-    python3 make_wheel.py SOURCE_DIR LIBRARY SONAME OUT_DIR
+    python3 make_wheel.py SOURCE_DIR LIBRARY SONAME OUT_DIR [CLI]
 
 SOURCE_DIR is bindings/python (pyproject.toml, setup.py, README.md, cagekit/). It is copied to
-OUT_DIR/stage (nothing is written into the source tree), libcagekit and its non-system libraries
-are bundled into stage/cagekit by packaging/bundle_libs.py, and the wheel is built offline with
+OUT_DIR/stage (nothing is written into the source tree), libcagekit, the `cagekit` CLI (CLI, as
+stage/cagekit/bin/cagekit: the console script `cagekit` of the wheel runs it, and cagekit.batch's
+workers find it there) and their non-system libraries are bundled into stage/cagekit by
+packaging/bundle_libs.py, and the wheel is built offline with
 the running interpreter's pip, setuptools and wheel (Debian's):
     python3 -m pip wheel --no-build-isolation --no-deps --no-index OUT_DIR/stage -w OUT_DIR/dist
 OUT_DIR/dist then holds exactly one wheel, cagekit-VERSION-py3-none-PLATFORM.whl; its path is printed.
@@ -23,13 +25,15 @@ import bundle_libs  # noqa: E402
 
 
 def main(argv):
-    if len(argv) != 5:
-        sys.stderr.write("usage: make_wheel.py SOURCE_DIR LIBRARY SONAME OUT_DIR\n")
+    if len(argv) not in (5, 6):
+        sys.stderr.write("usage: make_wheel.py SOURCE_DIR LIBRARY SONAME OUT_DIR [CLI]\n")
         return 2
-    source, library, soname, out = argv[1:]
-    if not os.path.exists(library):
-        sys.stderr.write("make_wheel.py: library %s not built\n" % library)
-        return 1
+    source, library, soname, out = argv[1:5]
+    executables = argv[5:]
+    for path in [library] + executables:
+        if not os.path.exists(path):
+            sys.stderr.write("make_wheel.py: %s not built\n" % path)
+            return 1
     stage, dist = os.path.join(out, "stage"), os.path.join(out, "dist")
     for d in (stage, dist):
         if os.path.isdir(d):
@@ -40,7 +44,7 @@ def main(argv):
     for name in ("pyproject.toml", "setup.py", "README.md"):
         shutil.copyfile(os.path.join(source, name), os.path.join(stage, name))
     try:
-        bundled = bundle_libs.bundle(library, os.path.join(stage, "cagekit"), soname)
+        bundled = bundle_libs.bundle(library, os.path.join(stage, "cagekit"), soname, executables)
     except (RuntimeError, OSError, subprocess.CalledProcessError) as e:
         sys.stderr.write("make_wheel.py: %s\n" % e)
         return 1

@@ -6,7 +6,8 @@ read in /proc/self/maps of the running process (ctest packaging.wheel.venv, pack
     import cagekit; ...one call...
     load_proof.check(os.path.dirname(cagekit.__file__), before, host="Blender")
 
-Every library bundled in the package (libcagekit and PACKAGE/libs/*) must be mapped exactly once,
+Every library of libcagekit's closure in the package (libcagekit and the PACKAGE/libs/* it needs;
+libs/ also holds what only the bundled CLI in bin/ needs) must be mapped exactly once,
 from the package, unless the host process had a library of the same SONAME mapped before the import:
 the loader then reuses the host's copy (a SONAME is loaded once per process), and the library is
 reported as shared with the host. Everything else coming from outside the package is a failure.
@@ -38,13 +39,29 @@ def mapped():
     return out
 
 
+def library_closure(package_dir):
+    """libcagekit's SONAME and those of the bundled libraries it needs, directly or not (read from
+    the ELF files of the package: libs/ also holds what only the bundled CLI in bin/ needs)."""
+    libs_dir = os.path.join(package_dir, bundle_libs.LIBS_DIR)
+    todo = sorted(f for f in os.listdir(package_dir) if f.startswith("libcagekit.so"))
+    seen = list(todo)
+    while todo:
+        name = todo.pop()
+        path = os.path.join(package_dir if name.startswith("libcagekit.so") else libs_dir, name)
+        for needed in bundle_libs.elf_dynamic(path)["needed"]:
+            if needed not in seen and os.path.isfile(os.path.join(libs_dir, needed)):
+                seen.append(needed)
+                todo.append(needed)
+    return sorted(seen)
+
+
 def check(package_dir, before, host="the interpreter", shared_out=None):
     """Prints where each bundled library came from; returns the list of failures (empty: passed).
     The SONAMEs shared with the host are appended to shared_out when given."""
     package_dir = os.path.realpath(package_dir)
     libs_dir = os.path.join(package_dir, bundle_libs.LIBS_DIR)
-    bundled = sorted(f for f in os.listdir(package_dir) if f.startswith("libcagekit.so"))
-    bundled += sorted(os.listdir(libs_dir))
+    bundled = library_closure(package_dir)
+    cli_only = sorted(set(os.listdir(libs_dir)) - set(bundled))
     now = mapped()
     failures, from_bundle, shared = [], [], []
     for soname in bundled:
@@ -67,6 +84,7 @@ def check(package_dir, before, host="the interpreter", shared_out=None):
     print("load proof in %s (pid %d), package %s:" % (host, os.getpid(), package_dir))
     print("  loaded from the bundle (%d): %s" % (len(from_bundle), "; ".join(from_bundle) or "none"))
     print("  shared with %s (%d): %s" % (host, len(shared), "; ".join(shared) or "none"))
+    print("  for the bundled CLI only (bin/, not the library's; %d): %s" % (len(cli_only), "; ".join(cli_only) or "none"))
     for f in failures:
         print("  FAIL " + f)
     return failures

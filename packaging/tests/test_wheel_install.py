@@ -10,7 +10,9 @@ packaging.wheel.blender), always with CAGEKIT_LIBRARY and PYTHONPATH unset and f
 venv:    a fresh `python3 -m venv --system-site-packages WORK_DIR/venv` (numpy from Debian), the wheel
          installed with `pip install --no-deps --no-index`; then, with the venv's python: the load proof
          (packaging/tests/load_proof.py: the bundled libraries are mapped from the venv) and the
-         Python test suite (bindings/python/tests) against the installed package.
+         Python test suite (bindings/python/tests) against the installed package; the bundled CLI:
+         the console script `cagekit`, its libraries resolved inside the venv, and a
+         cagekit.batch run of one generated scan that finds it with CAGEKIT_CLI unset.
 blender: `pip install --no-deps --no-index --target WORK_DIR/target` (a folder: nothing system-wide),
          then Blender runs packaging/tests/blender_wheel.py with that folder on sys.path (a job on a
          cube, the load proof with the libraries shared with Blender named, the test suite).
@@ -29,6 +31,74 @@ SKIP = 77
 def run(cmd, **kw):
     print("+ " + " ".join(cmd), flush=True)
     return subprocess.run(cmd, **kw).returncode
+
+
+def write_test_scan(path):
+    """A closed 8x8x8-cell box surface as a triangle OBJ (384 quads, 768 triangles)."""
+    n, verts, index, faces = 8, [], {}, []
+
+    def vid(p):
+        if p not in index:
+            index[p] = len(verts)
+            verts.append(p)
+        return index[p] + 1
+
+    for axis in range(3):
+        for side in (0, n):
+            for i in range(n):
+                for j in range(n):
+                    quad = []
+                    for di, dj in ((0, 0), (1, 0), (1, 1), (0, 1)):
+                        p = [0, 0, 0]
+                        p[axis], p[(axis + 1) % 3], p[(axis + 2) % 3] = side, i + di, j + dj
+                        quad.append(vid(tuple(p)))
+                    if side == 0:
+                        quad.reverse()
+                    faces += [(quad[0], quad[1], quad[2]), (quad[0], quad[2], quad[3])]
+    with open(path, "w") as f:
+        f.writelines("v %d %d %d\n" % v for v in verts)
+        f.writelines("f %d %d %d\n" % t for t in faces)
+
+
+def check_bundled_cli(venv, py, env, cwd):
+    """The CLI the wheel bundles: the console script runs it, its libraries resolve inside the venv,
+    and cagekit.batch (which finds it without CAGEKIT_CLI or PATH) runs a scan through it."""
+    failed = 0
+    env = dict(env, PATH=os.path.join(venv, "bin") + os.pathsep + "/usr/bin:/bin")
+    env.pop("CAGEKIT_CLI", None)
+    script = os.path.join(venv, "bin", "cagekit")
+    r = subprocess.run([script, "version"], env=env, cwd=cwd, capture_output=True, text=True)
+    print("+ %s version -> %d: %s" % (script, r.returncode, r.stdout.strip()), flush=True)
+    if r.returncode != 0 or not r.stdout.strip():
+        print("FAIL: the wheel's console script `cagekit version`: %s" % r.stderr.strip())
+        failed += 1
+    code = ("import cagekit._cli as c; print(c.bundled_cli())")
+    bundled = subprocess.run([py, "-c", code], env=env, cwd=cwd, capture_output=True, text=True).stdout.strip()
+    if not bundled.startswith(venv + os.sep):
+        print("FAIL: the bundled CLI %r is not inside the venv %s" % (bundled, venv))
+        return failed + 1
+    ldd = subprocess.run(["ldd", bundled], capture_output=True, text=True).stdout
+    for line in ldd.splitlines():
+        if "not found" in line or ("libcagekit" in line and venv + os.sep not in line):
+            print("FAIL: the bundled CLI's library %s" % line.strip())
+            failed += 1
+    scan = os.path.join(cwd, "box.obj")
+    write_test_scan(scan)
+    out = os.path.join(cwd, "batch")
+    code = ("import sys, cagekit.batch as b\n"
+            "cli = b.find_cli()\n"
+            "assert cli == %r, cli\n"
+            "rows = b.run([%r], %r, options={'faces': 60}, jobs=1, progress=False, timeout=300)\n"
+            "rows = rows.to_dict('records') if hasattr(rows, 'to_dict') else rows\n"
+            "print(rows[0]['status'], rows[0]['faces'], rows[0]['message'])\n"
+            "sys.exit(rows[0]['status'] != 'ok' or not rows[0]['faces'])\n" % (bundled, scan, out))
+    if run([py, "-c", code], env=env, cwd=cwd) != 0:
+        print("FAIL: cagekit.batch.run through the bundled CLI")
+        failed += 1
+    elif not os.path.isfile(os.path.join(out, "box", "cage.obj")):
+        print("FAIL: no %s after the batch" % os.path.join(out, "box", "cage.obj"))
+        failed += 1
+    return failed
 
 
 def main(argv):
@@ -72,6 +142,7 @@ def main(argv):
             failed += run(cmd, env=e, cwd=cwd) != 0
         code = "import cagekit, sys; print(cagekit.__file__); sys.exit(not cagekit.__file__.startswith(sys.prefix))"
         failed += run([py, "-c", code], env=env, cwd=cwd) != 0
+        failed += check_bundled_cli(venv, py, env, cwd)
         return 1 if failed else 0
 
     if mode == "blender":

@@ -5,7 +5,7 @@
 // OUT_DIR/<scan>/ holds the scan's pipeline outputs and result.json (its row, written last, with
 // a temporary name then a rename: a scan with a result.json is complete); OUT_DIR/results.csv and
 // results.json hold the table (one row per scan). --resume skips the scans that have a result
-// made with the same pipeline options.
+// made with the same pipeline options; --retry-failed too, but runs the failed ones again.
 #include <signal.h>
 #include <unistd.h>
 
@@ -54,6 +54,9 @@ const IntegerOption kMemoryLimit{"--memory-limit", 0, 0, 16777216, "MB",
 const FlagOption kResume{"--resume",
                          "skip the scans that already have a complete result (OUT_DIR/<scan>/result.json) made "
                          "with the same pipeline options; delete a result.json to run its scan again"};
+const FlagOption kRetryFailed{"--retry-failed",
+                              "--resume, except that the scans whose earlier result is not ok (failed, timeout, "
+                              "crash, oom) run again; the ok ones are kept"};
 const FlagOption kThumbnails{"--thumbnails",
                              "also OUT_DIR/<scan>/thumbnail.png for each ok scan (`cagekit render`: the limit "
                              "surface coloured by its two-sided distance to the scan; needs the render module)"};
@@ -648,9 +651,15 @@ int command_batch(const Options& args, const std::vector<std::string>& pipeline_
   std::vector<Row> rows(scans.size());
   std::vector<char> have(scans.size(), 0);
   std::vector<size_t> queue;
-  size_t resumed = 0, resumed_failed = 0;
+  size_t resumed = 0, resumed_failed = 0, retried = 0;
+  const bool retry_failed = args.flag(kRetryFailed);
   for (size_t i = 0; i < scans.size(); ++i) {
-    std::optional<Row> earlier = args.flag(kResume) ? earlier_result(plan, scans[i]) : std::nullopt;
+    std::optional<Row> earlier =
+        args.flag(kResume) || retry_failed ? earlier_result(plan, scans[i]) : std::nullopt;
+    if (earlier && retry_failed && earlier->status != "ok") {
+      earlier.reset();
+      ++retried;
+    }
     if (earlier) {
       rows[i] = *earlier;
       have[i] = 1;
@@ -753,6 +762,7 @@ int command_batch(const Options& args, const std::vector<std::string>& pipeline_
   s["crash"] = crash;
   s["oom"] = oom;
   s["resumed"] = resumed;
+  s["retried"] = retried;
   s["not_run"] = missing;
   s["seconds"] = json_rounded(seconds, "%.3f");
   nlohmann::ordered_json& list = j["rows"];
@@ -769,7 +779,12 @@ int command_batch(const Options& args, const std::vector<std::string>& pipeline_
     std::FILE* out = json ? stderr : stdout;
     std::fprintf(out, "cagekit batch: %zu scans: %zu ok, %zu failed, %zu timeout, %zu crash, %zu oom", scans.size(),
                  ok, failed, timeout, crash, oom);
-    if (resumed) std::fprintf(out, " (%zu resumed)", resumed);
+    if (resumed || retried) {
+      std::fprintf(out, " (");
+      if (resumed) std::fprintf(out, "%zu resumed%s", resumed, retried ? ", " : "");
+      if (retried) std::fprintf(out, "%zu failed before, run again", retried);
+      std::fprintf(out, ")");
+    }
     if (missing) std::fprintf(out, ", %zu not run (interrupted: --resume goes on)", missing);
     std::fprintf(out, " in %.1f s; %s\n", seconds, csv_path.c_str());
   }
@@ -801,6 +816,7 @@ Command add_batch(CLI::App& cagekit) {
   options->add(kTimeout);
   options->add(kMemoryLimit);
   options->add(kResume);
+  options->add(kRetryFailed);
   options->add(kThumbnails);
   options->add(kOrder);
   options->add(kBatchJson);

@@ -8,7 +8,8 @@ Cases (all by default):
   mixed      the real pipeline on a generated folder that mixes good scans with bad ones (a corrupt
              file, a point cloud, hostile sizes, an empty file) and, when CORPUS_DIR is there, the
              corpus's former crash cases: exactly the bad ones are not ok (and none of them crashes),
-             the good results are complete, the tables agree with the per-scan results, and --resume
+             the good results are complete, the tables agree with the per-scan results, --retry-failed
+             runs exactly the failed ones again, and --resume
              reruns nothing (result.json and the outputs keep their modification times).
   isolation  a stand-in worker (FAKE_PIPELINE, tests/batch/fake_pipeline.sh) that raises SIGSEGV,
              sleeps past --timeout, reports out of memory, a clean error or an uncaught exception, or
@@ -209,6 +210,21 @@ def case_mixed():
     check([(r["scan"], r["status"], r["faces"]) for r in table2["rows"]] ==
           [(r["scan"], r["status"], r["faces"]) for r in table["rows"]], "resume: the same table")
     print(f"mixed: first run {first_seconds:.1f} s, resumed run {resume_seconds:.2f} s")
+
+    # --retry-failed: exactly the scans that were not ok run again; the ok ones are kept as they are.
+    failed_before = {r["scan"] for r in table2["rows"] if r["status"] != "ok"}
+    p = batch(scans, out, "--method", "simplify", "--faces", "60", "--jobs", "2", "--retry-failed")
+    table3, _ = read_table(out)
+    resumed3 = {r["scan"] for r in table3["rows"] if r["resumed"]}
+    after = mtimes(out, names, ("result.json",))
+    rewritten = {n for n in names if after.get((n, "result.json")) != before.get((n, "result.json"))}
+    check(p.returncode == 2 and failed_before == bad and resumed3 == good and rewritten == bad
+          and table3["summary"]["retried"] == len(bad) and table3["summary"]["resumed"] == len(good)
+          and "failed before, run again" in p.stdout,
+          "retry-failed: the failed scans ran again (their result.json rewritten), the ok ones were kept",
+          f"exit {p.returncode}; resumed {sorted(resumed3)}; rewritten {sorted(rewritten)}; {json.dumps(table3['summary'])}")
+    check([(r["scan"], r["status"], r["faces"]) for r in table3["rows"]] ==
+          [(r["scan"], r["status"], r["faces"]) for r in table["rows"]], "retry-failed: the same statuses again")
 
     # --memory-limit: a limit far below what a scan needs ends it as oom (not as a crash), with a message.
     p = batch(scans, os.path.join(root, "small"),

@@ -4,8 +4,12 @@
 subset of corpus meshes (batch_subset.txt, 40 meshes) with
 
   local1 / local2   cagekit.batch.run, local pool, jobs 1 / 2
-  dask1 / dask2     cagekit.batch.run on a distributed LocalCluster of 1 / 2 worker processes
-                    (1 thread each; the cluster is started before the timed runs and reused)
+  dask1 / dask2     cagekit.batch.run on a distributed LocalCluster of 1 / 2 workers, 1 thread each;
+                    the workers are threads of this process (--dask-workers threads, the default, as
+                    cagekit.batch's docs recommend on one machine: each scan is a child process anyway)
+                    or worker processes with nannies (--dask-workers processes, as on a real cluster);
+                    dask1t / dask2t and dask1p / dask2p name the kind whatever --dask-workers says.
+                    Each cluster is started before the timed runs and reused
   cli1 / cli2       `cagekit batch --jobs 1 / 2` (no Python in the loop)
 
 each repeated R times (median reported, runs interleaved so machine load hits every mode alike).
@@ -18,7 +22,7 @@ overhead <= 10 %.
 usage: bench_batch.py --cli build/samples/cli/cagekit [--corpus ../shared/corpus]
          [--list tests/bench/batch_subset.txt] [--repeats 3] [--modes local1,local2,dask1,dask2,cli1,cli2]
          [--faces 100] [--work /tmp/cagekit-bench-batch] [--json results.json] [--order largest|input]
-         [--memory-limit MB]
+         [--memory-limit MB] [--dask-workers threads|processes]
 Needs CAGEKIT_LIBRARY (or an installed libcagekit) for `import cagekit`, and python3-distributed for
 the dask modes.
 """
@@ -40,6 +44,17 @@ os.environ["PYTHONPATH"] = os.pathsep.join([os.path.join(ROOT, "bindings", "pyth
 import cagekit.batch as batch  # noqa: E402
 
 
+def dask_size(mode):
+    """dask2 -> 2, dask2t -> 2, dask1p -> 1; 0 when `mode` is not a dask mode."""
+    digits = mode[4:].rstrip("tp")
+    return int(digits) if mode.startswith("dask") and digits.isdigit() else 0
+
+
+def dask_kind(mode, default):
+    """'threads' or 'processes': the mode's suffix (t / p), else --dask-workers."""
+    return {"t": "threads", "p": "processes"}.get(mode[-1], default)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--cli", required=True)
@@ -56,6 +71,9 @@ def main():
                     help="which scans start first (cagekit batch --order)")
     ap.add_argument("--memory-limit", type=int, default=0,
                     help="MiB of address space per scan (--memory-limit); the largest peak RSS is reported")
+    ap.add_argument("--dask-workers", default="threads", choices=["threads", "processes"],
+                    help="the LocalCluster's workers for the modes dask1 / dask2: threads of this process "
+                         "(processes=False) or worker processes (processes=True)")
     a = ap.parse_args()
     cli = os.path.abspath(a.cli)
     with open(a.list) as f:
@@ -66,6 +84,9 @@ def main():
         print("bench_batch: %d meshes of the list are missing (first: %s): skipped" % (len(missing), missing[0]))
         return 0
     modes = a.modes.split(",")
+    for m in modes:
+        if not (dask_size(m) or (m.startswith("local") and m[5:].isdigit()) or (m.startswith("cli") and m[3:].isdigit())):
+            ap.error("unknown mode %r (local<N>, cli<N>, dask<N>, dask<N>t, dask<N>p)" % m)
     options = {"faces": a.faces, "threads": 1}
     os.makedirs(a.work, exist_ok=True)
     listing = os.path.join(a.work, "list.txt")
@@ -79,7 +100,8 @@ def main():
         for m in modes:
             if m.startswith("dask"):
                 t = time.monotonic()
-                cluster = distributed.LocalCluster(n_workers=int(m[4:]), threads_per_worker=1, processes=True,
+                cluster = distributed.LocalCluster(n_workers=dask_size(m), threads_per_worker=1,
+                                                   processes=dask_kind(m, a.dask_workers) == "processes",
                                                    dashboard_address=None, silence_logs=40)
                 clusters[m] = (cluster, distributed.Client(cluster))
                 startup[m] = time.monotonic() - t
@@ -127,8 +149,9 @@ def main():
     ok = sum(s == "ok" for _, s, _ in reference)
     print()
     print("%d meshes (%d ok), --method %s --faces %d --threads 1, median of %d; load average %.2f at the start, "
-          "%.2f at the end; %d CPUs" % (len(paths), ok, a.method, a.faces, a.repeats, load_start[0], load_end[0],
-                                        os.cpu_count()))
+          "%.2f at the end; %d CPUs; dask<N> modes: worker %s" % (len(paths), ok, a.method, a.faces, a.repeats,
+                                                               load_start[0], load_end[0], os.cpu_count(),
+                                                               a.dask_workers))
     print()
     print("| mode | median s | runs s |")
     print("|---|---|---|")
@@ -136,13 +159,22 @@ def main():
         print("| %s | %.2f | %s |" % (m, median[m], ", ".join("%.2f" % t for t in times[m])))
     print()
     summary = {}
-    for kind in ("local", "dask", "cli"):
-        if kind + "1" in median and kind + "2" in median:
-            summary[kind + "_speedup"] = median[kind + "1"] / median[kind + "2"]
-            print("%s: 2 jobs / 1 job speedup %.2fx (target >= 1.7)" % (kind, summary[kind + "_speedup"]))
-    if "dask2" in median and "local2" in median:
-        summary["dask_overhead"] = median["dask2"] / median["local2"] - 1.0
-        print("dask overhead: dask2 / local2 - 1 = %+.1f %% (target <= 10 %%)" % (100 * summary["dask_overhead"]))
+    groups = {}  # label -> {jobs: mode}
+    for m in modes:
+        if m.startswith("dask"):
+            groups.setdefault("dask-" + dask_kind(m, a.dask_workers), {})[dask_size(m)] = m
+        else:
+            kind = "local" if m.startswith("local") else "cli"
+            groups.setdefault(kind, {})[int(m[len(kind):])] = m
+    for label, by_jobs in groups.items():
+        if 1 in by_jobs and 2 in by_jobs:
+            summary[label + "_speedup"] = median[by_jobs[1]] / median[by_jobs[2]]
+            print("%s: 2 jobs / 1 job speedup %.2fx (target >= 1.7)" % (label, summary[label + "_speedup"]))
+    for label, by_jobs in groups.items():
+        if label.startswith("dask") and 2 in by_jobs and "local2" in median:
+            summary[label + "_overhead"] = median[by_jobs[2]] / median["local2"] - 1.0
+            print("%s overhead: %s / local2 - 1 = %+.1f %% (target <= 10 %%)"
+                  % (label, by_jobs[2], 100 * summary[label + "_overhead"]))
     for m, s in startup.items():
         print("%s: LocalCluster start-up %.2f s (not in the timed runs)" % (m, s))
     print("largest peak memory of a scan (peak_mb): %s MiB%s" % (
@@ -153,7 +185,8 @@ def main():
         with open(a.json, "w") as f:
             json.dump(dict(meshes=len(paths), ok=ok, repeats=a.repeats, times=times, median=median, summary=summary,
                            startup=startup, load=[load_start[0], load_end[0]], cpus=os.cpu_count(), same_rows=same,
-                           order=a.order, memory_limit_mb=a.memory_limit, peak_mb=peaks),
+                           order=a.order, memory_limit_mb=a.memory_limit, peak_mb=peaks,
+                           dask_workers=a.dask_workers),
                       f, indent=1)
     return 0 if same else 1
 

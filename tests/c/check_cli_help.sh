@@ -47,7 +47,7 @@ expected = {
              "--tolerance --projection --fairing --crease-feature-reach --keep-creases --threads "
              "--max-face-valence --curvature-radius --edge-length --regions --region-tolerance --weights "
              "--refinement-passes --fit-tolerance --limit-levels --no-repair --components --weld-tolerance "
-             "--no-fallback --two-sided-refit --jobs --timeout --memory-limit --resume --thumbnails --order --json "
+             "--no-fallback --two-sided-refit --jobs --timeout --memory-limit --resume --retry-failed --thumbnails --order --json "
              "--quiet",
     "bind": "--local-frame --exact-normals --sharp-angle --threads --json --quiet",
     "deform": "--local-frame --sharp-angle --json --quiet",

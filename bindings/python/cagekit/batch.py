@@ -5,6 +5,10 @@
     table = cagekit.batch.run(["a.off", "b.stl"], "out", method="simplify", options={"faces": 300})
     table = cagekit.batch.run("scans/", "out", method="quad", client=distributed.Client("tcp://sched:8786"))
 
+On one machine, a LocalCluster of worker threads (LocalCluster(n_workers=N, threads_per_worker=1,
+processes=False)) is the one to use: each scan is its own child process already, so worker
+processes only add overhead (tests/bench/RESULTS.md, "Batch").
+
 Every scan runs in its own child process: `cagekit batch` of that one scan (so its own child
 `cagekit pipeline`, under the time and memory limits), on this machine (client=None: a local pool
 of `jobs` threads, each waiting on its child) or on a worker of a `distributed.Client` (one task
@@ -15,8 +19,9 @@ two_sided_error, scan_to_limit, limit_to_scan, used_method, fallback, ended, thu
 OUT_DIR/<scan>/ holds each scan's outputs and result.json (written last), OUT_DIR/results.csv and
 results.json the table, as `cagekit batch` writes them.
 
-The `cagekit` executable is the `cli` argument, else $CAGEKIT_CLI, else `cagekit` on PATH; on a
-cluster it is looked up on each worker. Pure Python (standard library; `distributed` only when a
+The `cagekit` executable is the `cli` argument, else $CAGEKIT_CLI, else the CLI the wheel bundles
+(cagekit/bin/cagekit), else `cagekit` on PATH; on a cluster it is looked up on each worker, so
+workers with the wheel installed need nothing else. Pure Python (standard library; `distributed` only when a
 client is given, pandas only when importable).
 """
 import concurrent.futures
@@ -33,6 +38,8 @@ import threading
 import time
 import uuid
 
+from . import _cli
+
 __all__ = ["run", "run_scan", "find_cli", "scan_names", "cli_arguments", "estimated_work", "COLUMNS", "STATUSES"]
 
 MESH_EXTENSIONS = (".off", ".obj", ".ply", ".stl", ".drc")
@@ -46,11 +53,12 @@ _GRACE_SECONDS = 60.0
 
 
 def find_cli(cli=None):
-    """The `cagekit` executable: `cli`, else $CAGEKIT_CLI, else `cagekit` on PATH (FileNotFoundError)."""
-    candidate = cli or os.environ.get("CAGEKIT_CLI") or shutil.which("cagekit")
+    """The `cagekit` executable: `cli`, else $CAGEKIT_CLI, else the CLI bundled in this package (the
+    wheel's cagekit/bin/cagekit), else `cagekit` on PATH (FileNotFoundError)."""
+    candidate = cli or os.environ.get("CAGEKIT_CLI") or _cli.bundled_cli() or shutil.which("cagekit")
     if not candidate:
-        raise FileNotFoundError("cagekit.batch: no cagekit executable: pass cli=, set CAGEKIT_CLI or put cagekit "
-                                "on PATH")
+        raise FileNotFoundError("cagekit.batch: no cagekit executable: pass cli=, set CAGEKIT_CLI, install the wheel "
+                                "(it bundles the CLI) or put cagekit on PATH")
     if os.sep not in candidate:
         found = shutil.which(candidate)
         if not found:
@@ -402,16 +410,27 @@ def estimated_work(path):
     return size / per_face
 
 
+def _host(address):
+    """The machine of a worker address: tcp://10.0.0.5:40123 -> 10.0.0.5, tls://[::1]:40123 -> [::1];
+    inproc://192.0.2.2/14463/4 (a LocalCluster with processes=False: threads of one process) -> 192.0.2.2."""
+    rest = address.split("://", 1)[-1]
+    if address.startswith("inproc://"):
+        return rest.split("/", 1)[0]
+    return rest.rsplit(":", 1)[0]
+
+
 def _per_host_threads(client):
+    """The most worker threads on one machine (> 1: scans run side by side there, so --threads 1 each)."""
     hosts = {}
     for address, n in client.nthreads().items():
-        host = address.split("://")[-1].rsplit(":", 1)[0]
+        host = _host(address)
         hosts[host] = hosts.get(host, 0) + n
     return max(hosts.values()) if hosts else 1
 
 
 def run(paths, out_dir, method="simplify", options=None, client=None, jobs=None, timeout=None, retries=0, cli=None,
-        memory_limit=None, transfer="paths", resume=False, progress=True, thumbnails=False, order="largest"):
+        memory_limit=None, transfer="paths", resume=False, retry_failed=False, progress=True, thumbnails=False,
+        order="largest"):
     """Runs the pipeline on every scan and returns the results table (one row per scan, in input order):
     a pandas DataFrame when pandas is importable, else a list of dicts (COLUMNS, plus "attempts").
 
@@ -425,7 +444,8 @@ def run(paths, out_dir, method="simplify", options=None, client=None, jobs=None,
     retries: how often a crash, timeout or out-of-memory is tried again (with a client, also a task
     whose worker died). transfer: "paths" (every worker sees the scans and out_dir at the same paths)
     or "bytes" (scans and outputs travel with the tasks; this process writes out_dir). resume: keep
-    the scans with a result made with the same options. progress: distributed.progress with a client,
+    the scans with a result made with the same options. retry_failed: resume, except that the scans
+    whose earlier result is not ok run again (`cagekit batch --retry-failed`). progress: distributed.progress with a client,
     else a console bar on stderr. thumbnails: OUT_DIR/<scan>/thumbnail.png for each ok scan. order:
     which scans start first, "largest" (by estimated_work, so that the longest scans do not end the
     batch alone; with a client also as task priorities) or "input"; the table is in input order."""
@@ -463,7 +483,9 @@ def run(paths, out_dir, method="simplify", options=None, client=None, jobs=None,
     todo = []
     pipeline_arguments = [a for a in arguments if a != "--thumbnails"]
     for i, (path, name) in enumerate(zip(scan_paths, names)):
-        earlier = _earlier(out_dir, path, name, pipeline_arguments) if resume else None
+        earlier = _earlier(out_dir, path, name, pipeline_arguments) if resume or retry_failed else None
+        if earlier is not None and retry_failed and earlier["status"] != "ok":
+            earlier = None
         if earlier is not None:
             rows[i] = earlier
         else:

@@ -135,6 +135,37 @@ class Batch(unittest.TestCase):
         self.assertEqual(before, {n: os.stat(os.path.join(out, n, "result.json")).st_mtime_ns
                                   for n in self.expected_status})
 
+    def test_retry_failed_runs_the_failed_ones(self):
+        out = os.path.join(self.work, "retry")
+        shutil.copytree(os.path.join(self.work, "local"), out)
+        before = {n: os.stat(os.path.join(out, n, "result.json")).st_mtime_ns for n in self.expected_status}
+        again = as_list(batch.run(self.scans, out, method="simplify", options={"faces": 60}, jobs=2,
+                                  retry_failed=True, progress=False))
+        after = {n: os.stat(os.path.join(out, n, "result.json")).st_mtime_ns for n in self.expected_status}
+        failed = {n for n, s in self.expected_status.items() if s != "ok"}
+        self.assertEqual({r["scan"] for r in again if not r["resumed"]}, failed)
+        self.assertEqual({n for n in self.expected_status if before[n] != after[n]}, failed)
+        self.assertEqual(rows_of(again), rows_of(self.local))
+
+    @unittest.skipIf(distributed is None, NO_DASK if distributed is None else "")
+    def test_local_cluster_of_threads(self):
+        # The one-machine set-up the docs recommend: worker threads (each only waits on its scan's child).
+        with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None,
+                                      silence_logs=40) as cluster, distributed.Client(cluster) as client:
+            rows = batch.run(self.scans, os.path.join(self.work, "dask-threads"), method="simplify",
+                             options={"faces": 60}, client=client, timeout=120, progress=False)
+        self.assertEqual(rows_of(rows), rows_of(self.local))
+        # Two scans at once on one machine: each child got --threads 1, as with jobs=2.
+        with open(os.path.join(self.work, "dask-threads", "ball", "result.json")) as f:
+            options = json.load(f)["options"]
+        self.assertIn("--threads", options)
+        self.assertEqual(options[options.index("--threads") + 1], "1")
+
+    def test_worker_hosts(self):
+        self.assertEqual(batch._host("tcp://10.0.0.5:40123"), "10.0.0.5")
+        self.assertEqual(batch._host("tls://[::1]:40123"), "[::1]")
+        self.assertEqual(batch._host("inproc://192.0.2.2/14463/4"), "192.0.2.2")
+
     @unittest.skipIf(distributed is None, NO_DASK if distributed is None else "")
     def test_local_cluster_same_rows(self):
         # Worker processes, as on a real cluster (each task's child CLI runs under its worker process).
