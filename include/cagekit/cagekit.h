@@ -940,11 +940,13 @@ typedef struct cagekit_cage_report {
 
 /* Partitions every face of the current level into convex quad-dominant cells (only diagonals
  * of its constrained Delaunay triangulation, no new vertices; thesis §3.4) and returns the
- * control cage with crease tags. options may be NULL (defaults); report may be NULL.
+ * control cage with crease tags. options may be NULL (defaults); report may be NULL. Long
+ * operation (progress, cancel; stage "cage").
  * Ownership: *out receives one reference (release it with cagekit_cage_release); the options'
  *   sharp_edges are read during the call only.
  * Errors: INVALID_HANDLE, INVALID_ARGUMENT (out NULL, bad struct_size of options or report, an
- *   option out of range or a sharp-edge pair that is not an edge, naming it), OUT_OF_MEMORY.
+ *   option out of range or a sharp-edge pair that is not an edge, naming it), CANCELLED,
+ *   OUT_OF_MEMORY.
  * Threading: reads `hierarchy`; thread-safe. */
 CAGEKIT_API cagekit_status cagekit_hierarchy_build_cage(cagekit_hierarchy hierarchy, const cagekit_cage_options* options,
                                                         cagekit_cage* out, cagekit_cage_report* report);

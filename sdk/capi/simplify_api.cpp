@@ -195,7 +195,7 @@ CAGEKIT_API cagekit_status cagekit_hierarchy_build_cage(cagekit_hierarchy hierar
     std::vector<uint64_t>& host = bo.features.host_edges;  // the hierarchy's and the options' own
     host.insert(host.end(), h.sharp_edges.begin(), h.sharp_edges.end());
     cagekit::CageBuildReport br;
-    cagekit::Cage cage = cagekit::build_quad_dominant_cage(h.hierarchy.input(), h.level, bo, &br);
+    cagekit::Cage cage = cagekit::build_quad_dominant_cage(h.hierarchy.input(), h.level, bo, &br, h.context->monitor());
     if (report) {
       const cagekit_cage_report r = cage_report_to_c(br);
       write_versioned(report, r, "cagekit_cage_report");

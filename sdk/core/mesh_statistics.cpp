@@ -19,7 +19,7 @@ MeshStatistics compute_mesh_statistics(const Cage& cage) {
   return s;
 }
 
-MeshStatistics compute_mesh_statistics(const PolygonMesh& mesh) {
+MeshStatistics compute_mesh_statistics(const PolygonMesh& mesh, const TaskMonitor& monitor) {
   using detail::kNone;
   detail::check_mesh_arrays(mesh);
   MeshStatistics s;
@@ -51,11 +51,13 @@ MeshStatistics compute_mesh_statistics(const PolygonMesh& mesh) {
     }
   }
   for (size_t v = 0; v < nv; ++v) s.unreferenced_vertices += !referenced[v];
+  monitor.report("statistics", 0.1);
 
   detail::EdgeMap map;
   detail::build_edge_map(map, mesh, topo);
   const size_t ne = map.num_edges();
   s.edges = ne;
+  monitor.report("statistics", 0.4);
 
   // Vertex components (faces joined through shared vertices), fans, orientability.
   detail::UnionFind comp(nv);
@@ -73,6 +75,7 @@ MeshStatistics compute_mesh_statistics(const PolygonMesh& mesh) {
   }
   detail::UnionFind corners(nc);
   detail::glue_fans(map, corners, [](size_t) { return true; });
+  monitor.report("statistics", 0.6);
   {
     std::vector<uint8_t> has_fan(nv, 0);
     for (size_t c = 0; c < nc && manifold; ++c) {
@@ -124,6 +127,7 @@ MeshStatistics compute_mesh_statistics(const PolygonMesh& mesh) {
     }
   }
 
+  monitor.report("statistics", 0.8);
   // Per component: V, E, F, boundary edges, boundary vertices, boundary graph components.
   std::vector<int64_t> chi(nv, 0), loops(nv, 0);
   detail::UnionFind boundary(nv);

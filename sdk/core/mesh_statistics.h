@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "core/cage.h"
+#include "core/task_monitor.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 
@@ -27,6 +28,7 @@ struct MeshStatistics {
 
 MeshStatistics compute_mesh_statistics(const Cage& cage);
 // The same without tags (creases/corners/holes are 0); avoids copying a mesh into a cage.
-MeshStatistics compute_mesh_statistics(const PolygonMesh& mesh);
+// `monitor` gets "statistics" reports between the passes (cancel points on a large mesh).
+MeshStatistics compute_mesh_statistics(const PolygonMesh& mesh, const TaskMonitor& monitor = {});
 
 CAGEKIT_NAMESPACE_END

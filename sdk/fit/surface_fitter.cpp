@@ -127,7 +127,7 @@ Cage fit_cage_to_points(const Cage& initial, const std::vector<Vec3>& samples, c
   // Surface -> scan: the scan's triangles in one tree, queried at the linear mesh's grid points.
   std::unique_ptr<SurfaceDistance> scan_distance;
   if (scan_surface != nullptr && scan_surface->num_faces() > 0) {
-    scan_distance = std::make_unique<SurfaceDistance>(*scan_surface);
+    scan_distance = std::make_unique<SurfaceDistance>(*scan_surface, monitor, "fit", 0.0);
     if (scan_distance->empty()) scan_distance.reset();
     monitor.report("fit", 0.0);
   }

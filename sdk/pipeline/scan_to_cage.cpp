@@ -106,15 +106,15 @@ Cage initial_cage(const PolygonMesh& mesh, ScanMethod method, const ScanToCageOp
                                      : hierarchy.level_for_face_count(o.target);
       hierarchy.go_to_level(r.level);
       // Going to the level, extracting it and building the cage take seconds on a million-face
-      // scan together: cancel points between them.
-      monitor.report("cage", 0.0);
+      // scan together: cancel points between them, and inside the cage build.
+      monitor.report("level", 0.0);
       const PolygonalLevel level = hierarchy.extract();
-      monitor.report("cage", 0.5);
+      monitor.report("level", 1.0);
       r.level_faces = level.faces.size();
       r.level_faces_with_holes = 0;
       for (const auto& f : level.faces) r.level_faces_with_holes += f.loops.size() > 1;
       r.cage_report = {};
-      Cage cage = build_quad_dominant_cage(hierarchy.input(), level, o.cage, &r.cage_report);
+      Cage cage = build_quad_dominant_cage(hierarchy.input(), level, o.cage, &r.cage_report, monitor);
       monitor.report("cage", 1.0);
       r.creases = r.cage_report.creases;
       return cage;
@@ -564,7 +564,7 @@ ScanToCageResult scan_to_cage(const PolygonMesh& scan, const ScanToCageOptions& 
   r.conditioned = condition_input(scan, given.conditioning, &r.conditioning, monitor);
   // Each step between the phases reports, so a cancel on a large scan takes effect between them.
   monitor.report("statistics", 0.0);
-  r.input_boundary_loops = compute_mesh_statistics(r.conditioned).boundary_loops;
+  r.input_boundary_loops = compute_mesh_statistics(r.conditioned, monitor).boundary_loops;
   monitor.report("sharp features", 0.0);
   const ScanToCageOptions with_host_edges = with_sharp_edges(given, scan, r);
   const ScanToCageOptions& options = with_host_edges;

@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "core/status.h"
 #include "layout/common/approximation_error.h"
 #include "test_support.h"
 
@@ -52,4 +53,36 @@ TEST(ApproximationError, coarse_sphere_error_matches_the_chord_height) {
   const double diagonal = 2.0 * std::sqrt(3.0);
   EXPECT_LE(e.hausdorff_rel, (1.0 - 1.0 / std::sqrt(3.0)) / diagonal + 1e-12);
   EXPECT_GE(e.hausdorff_rel, 0.8 * (1.0 - 1.0 / std::sqrt(3.0)) / diagonal);
+}
+
+TEST(SurfaceDistance, reports_while_it_builds_and_a_cancel_at_any_report_leaves_nothing) {
+  // 131,072 triangles: the tree's splits sort about 2.2M primitives in all, so it reports at
+  // least twice while it builds (about every 2^20), plus once before and once before its search
+  // structure (issue 27: a cancel inside a million-triangle tree build waited ~1 s for the next report).
+  const PolygonMesh sphere = cagekit_test::triangle_sphere(7);
+  int reports = 0;
+  const cagekit::TaskMonitor counting(
+      [&](const char* stage, double fraction) {
+        EXPECT_STREQ(stage, "fit");
+        EXPECT_EQ(fraction, 0.25);
+        ++reports;
+        return true;
+      },
+      nullptr);
+  const cagekit::SurfaceDistance distance(sphere, counting, "fit", 0.25);
+  EXPECT_GE(reports, 4);
+  EXPECT_NEAR(distance.distance({0, 0, 2}), 1.0, 1e-3);
+  EXPECT_NEAR(cagekit::norm(distance.closest_point({0, 0, 2}) - Vec3{0, 0, 1}), 0.0, 1e-3);
+  // Cancelled at each report in turn: Error(cancelled) every time (ASan: nothing leaks).
+  for (int at = 1; at <= reports; ++at) {
+    int seen = 0;
+    const cagekit::TaskMonitor cancelling([&](const char*, double) { return ++seen < at; }, nullptr);
+    try {
+      const cagekit::SurfaceDistance cancelled(sphere, cancelling);
+      ADD_FAILURE() << "no cancel at report " << at;
+    } catch (const cagekit::Error& e) {
+      EXPECT_EQ(e.status(), cagekit::Status::cancelled) << e.what();
+    }
+    EXPECT_EQ(seen, at);
+  }
 }

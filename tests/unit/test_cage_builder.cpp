@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <string>
 
 #include "core/mesh_validation.h"
 #include "layout/simplify/cage_builder.h"
@@ -268,5 +269,39 @@ TEST(CageBuilder, level_faces_are_valid_in_the_level_coordinates) {
     CageBuildReport report;
     build_quad_dominant_cage(sphere, level, {}, &report);
     EXPECT_EQ(report.unprojectable_faces, 0u);
+  }
+}
+
+TEST(CageBuilder, reports_cage_progress_and_a_cancel_stops_it) {
+  // A simplified level of a 2,048-triangle sphere: the partition loop and the crease passes report
+  // "cage" with a fraction that never decreases; a cancel at any of those reports ends the build
+  // with Error(cancelled).
+  const PolygonMesh sphere = cagekit_test::triangle_sphere(4);
+  SimplificationHierarchy hierarchy(sphere);
+  hierarchy.go_to_level(hierarchy.level_for_face_count(40));
+  const PolygonalLevel level = hierarchy.extract();
+  std::vector<double> fractions;
+  const TaskMonitor counting(
+      [&](const char* stage, double fraction) {
+        if (std::string(stage) == "cage") fractions.push_back(fraction);
+        return true;
+      },
+      nullptr);
+  const Cage cage = build_quad_dominant_cage(hierarchy.input(), level, {}, nullptr, counting);
+  EXPECT_TRUE(validate_cage(cage).ok());
+  ASSERT_GE(fractions.size(), 4u);
+  EXPECT_EQ(fractions.front(), 0.0);
+  for (size_t k = 1; k < fractions.size(); ++k) EXPECT_GE(fractions[k], fractions[k - 1]);
+  EXPECT_EQ(cage.mesh.num_faces(), build_quad_dominant_cage(hierarchy.input(), level).mesh.num_faces());
+  for (size_t at = 1; at <= fractions.size(); ++at) {
+    size_t seen = 0;
+    const TaskMonitor cancelling(
+        [&](const char* stage, double) { return std::string(stage) != "cage" || ++seen < at; }, nullptr);
+    try {
+      build_quad_dominant_cage(hierarchy.input(), level, {}, nullptr, cancelling);
+      ADD_FAILURE() << "no cancel at cage report " << at;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.status(), Status::cancelled) << e.what();
+    }
   }
 }

@@ -211,7 +211,9 @@ TEST(FitSurface, sphere_from_a_cube_cage) {
   // All 5 passes, unless the fit reached its fixed point first and stopped because the next
   // step would have raised L2 (by rounding, at the plateau).
   ASSERT_GE(report.passes.size(), 4u);
-  if (report.passes.size() < 6u) EXPECT_TRUE(report.rejected_last_step);
+  if (report.passes.size() < 6u) {
+    EXPECT_TRUE(report.rejected_last_step);
+  }
   std::printf("sphere: %.2f s\n", report.seconds);
   // Measured: 14.33% -> 0.5202% -> 0.4948% and then flat (to 4 digits) with the default options.
   for (size_t k = 1; k < report.passes.size(); ++k) {

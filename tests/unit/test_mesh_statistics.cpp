@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "core/mesh_statistics.h"
 #include "core/status.h"
@@ -19,8 +20,11 @@ namespace {
 
 using cagekit::Cage;
 using cagekit::compute_mesh_statistics;
+using cagekit::Error;
 using cagekit::MeshStatistics;
 using cagekit::PolygonMesh;
+using cagekit::Status;
+using cagekit::TaskMonitor;
 using cagekit::Vec3;
 
 PolygonMesh load_obj(const std::string& path) { return cagekit_test::load_mesh(path); }
@@ -121,6 +125,30 @@ TEST(MeshStatistics, TriangleSphere) {
   EXPECT_EQ(s.boundary_loops, 0u);
   EXPECT_TRUE(s.manifold);
   EXPECT_NEAR(s.bbox_diagonal, 2 * std::sqrt(3.0), 1e-12);
+}
+
+TEST(MeshStatistics, ReportsBetweenItsPassesAndStopsOnACancel) {
+  const PolygonMesh sphere = cagekit_test::triangle_sphere(3);
+  std::vector<double> fractions;
+  const TaskMonitor counting(
+      [&](const char* stage, double fraction) {
+        EXPECT_STREQ(stage, "statistics");
+        fractions.push_back(fraction);
+        return true;
+      },
+      nullptr);
+  const MeshStatistics s = compute_mesh_statistics(sphere, counting);
+  EXPECT_EQ(s.edges, 3u * 8 * 64 / 2);
+  ASSERT_EQ(fractions.size(), 4u);
+  for (size_t k = 1; k < fractions.size(); ++k) EXPECT_GT(fractions[k], fractions[k - 1]);
+  int seen = 0;
+  const TaskMonitor cancelling([&](const char*, double) { return ++seen < 2; }, nullptr);
+  try {
+    compute_mesh_statistics(sphere, cancelling);
+    ADD_FAILURE() << "no cancel";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.status(), Status::cancelled);
+  }
 }
 
 TEST(MeshStatistics, QuadTorusHasGenusOne) {

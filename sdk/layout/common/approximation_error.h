@@ -38,7 +38,11 @@ ApproximationError measure_approximation_error(const PolygonMesh& input, const P
 // Thread-safety: distance() may be called from any number of threads at once.
 class SurfaceDistance {
  public:
-  explicit SurfaceDistance(const PolygonMesh& mesh);
+  // Builds the tree on the calling thread, reporting (`stage`, `fraction`) to `monitor` about every
+  // 2^20 triangles sorted and before the search structure: its cancel points on a large mesh
+  // (Error(cancelled) leaves nothing behind).
+  explicit SurfaceDistance(const PolygonMesh& mesh, const TaskMonitor& monitor = {}, const char* stage = "distance",
+                           double fraction = 0.0);
   ~SurfaceDistance();
   SurfaceDistance(const SurfaceDistance&) = delete;
   SurfaceDistance& operator=(const SurfaceDistance&) = delete;

@@ -49,6 +49,25 @@ TriangleList fan_triangles(const PolygonMesh& mesh, std::vector<uint32_t>* face_
   return triangles;
 }
 
+// Builds `tree` (its hierarchy, not yet its search structure) with CGAL's own bounding-box and
+// split functors, so the tree is the one build() makes, and reports (`stage`, `fraction`) after
+// about every 2^20 primitives split: a million-triangle tree takes about a second, and the reports
+// are its cancel points. A cancel's exception leaves the tree unbuilt; its owner drops it.
+void build_reporting(AabbTree& tree, const TaskMonitor& monitor, const char* stage, double fraction) {
+  const auto compute_bbox = tree.traits().compute_bbox_object();
+  const auto split = tree.traits().split_primitives_object();
+  size_t since_report = 0;
+  const auto split_reporting = [&](auto first, auto beyond, const auto& bbox) {
+    since_report += size_t(beyond - first);
+    if (since_report >= (size_t(1) << 20)) {
+      since_report = 0;
+      monitor.report(stage, fraction);
+    }
+    split(first, beyond, bbox);
+  };
+  tree.custom_build(compute_bbox, split_reporting);
+}
+
 std::vector<uint32_t> nearest_faces_cgal(const PolygonMesh& mesh, const std::vector<Vec3>& points);
 ApproximationError measure_approximation_error_cgal(const PolygonMesh& input, const PolygonMesh& approximation,
                                                     int samples_per_edge, const TaskMonitor& monitor, int threads);
@@ -60,14 +79,19 @@ struct SurfaceDistance::Tree {
   std::unique_ptr<AabbTree> tree;
 };
 
-SurfaceDistance::SurfaceDistance(const PolygonMesh& mesh) : tree_(std::make_unique<Tree>()) {
+SurfaceDistance::SurfaceDistance(const PolygonMesh& mesh, const TaskMonitor& monitor, const char* stage,
+                                 double fraction)
+    : tree_(std::make_unique<Tree>()) {
   check_memory_estimate(estimate_product(mesh.num_face_vertices(), 250), "building a distance tree");
   tree_->triangles = fan_triangles(mesh);
   if (tree_->triangles.empty()) return;
-  tree_->tree = std::make_unique<AabbTree>(tree_->triangles.begin(), tree_->triangles.end());
+  monitor.report(stage, fraction);
+  auto tree = std::make_unique<AabbTree>(tree_->triangles.begin(), tree_->triangles.end());
   // Built now (the tree and its search structure), so that concurrent const queries only read.
-  tree_->tree->build();
-  tree_->tree->accelerate_distance_queries();
+  detail::cgal_guarded("SurfaceDistance", [&] { build_reporting(*tree, monitor, stage, fraction); });
+  monitor.report(stage, fraction);  // the search structure next: about as long again
+  detail::cgal_guarded("SurfaceDistance", [&] { tree->accelerate_distance_queries(); });
+  tree_->tree = std::move(tree);
 }
 
 SurfaceDistance::~SurfaceDistance() = default;
@@ -147,7 +171,7 @@ ApproximationError measure_approximation_error_cgal(const PolygonMesh& input, co
   monitor.report("error", 0.5);  // the input's tree takes a while on a large scan: a cancel point before it
   AabbTree input_tree(input_triangles.begin(), input_triangles.end());
   // Built now (tree and search structure) so that the worker threads' queries only read it.
-  input_tree.build();
+  build_reporting(input_tree, monitor, "error", 0.5);
   monitor.report("error", 0.5);  // the tree, then its search structure: each ~a second on a million faces
   input_tree.accelerate_distance_queries();
   const int n = std::max(1, samples_per_edge);

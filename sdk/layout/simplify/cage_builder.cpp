@@ -154,7 +154,15 @@ PolygonLoops project_face(const PolygonMesh& input, const PolygonalFace& face, c
 }
 
 Cage build_quad_dominant_cage(const PolygonMesh& input, const PolygonalLevel& level, const CageBuildOptions& options,
-                              CageBuildReport* report) {
+                              CageBuildReport* report, const TaskMonitor& monitor) {
+  // Cancel points: every 64 level faces while partitioning (0 .. 0.5 of "cage"), every 2^16 input
+  // faces and between the passes of the crease rule (0.5 .. 1).
+  const auto report_faces = [&](size_t f, size_t n) {
+    if (f % 64 == 0) monitor.report("cage", 0.5 * double(f) / double(n ? n : 1));
+  };
+  const auto report_input = [&](size_t f, double at) {
+    if ((f & 0xffff) == 0) monitor.report("cage", at);
+  };
   CageBuildReport local_report;
   CageBuildReport& r = report ? *report : local_report;
   r = CageBuildReport{};
@@ -163,6 +171,7 @@ Cage build_quad_dominant_cage(const PolygonMesh& input, const PolygonalLevel& le
   const size_t num_faces = level.faces.size();
   std::vector<FaceWork> work(num_faces);
   for (size_t f = 0; f < num_faces; ++f) {
+    report_faces(f, num_faces);
     FaceWork& w = work[f];
     w.polygon = project_face(input, level.faces[f], level.coordinates, &w.point_to_input);
     const PolygonValidity validity = check_polygon_loops(w.polygon);
@@ -235,6 +244,7 @@ Cage build_quad_dominant_cage(const PolygonMesh& input, const PolygonalLevel& le
   }
   copy_positions(input, numbering.input_vertex_of(), &cage.mesh);
   r.input_vertex_of = numbering.input_vertex_of();
+  monitor.report("cage", 0.5);
 
   // Crease tags: cage edges between clusters meeting at a sharp angle, and boundary edges.
   struct EdgeUse {
@@ -266,11 +276,14 @@ Cage build_quad_dominant_cage(const PolygonMesh& input, const PolygonalLevel& le
   if (clusters_known && (by_input || (by_angle && options.input_crease_angle_degrees >= 0))) {
     std::vector<Vec3> normal(input.num_faces());
     for (size_t f = 0; f < input.num_faces(); ++f) normal[f] = normalized(input.face_vector_area(f));
+    monitor.report("cage", 0.55);
     SharpFeatures features;
-    if (by_input) features = detect_sharp_features(input, options.features);
+    if (by_input) features = detect_sharp_features(input, options.features, monitor);
+    monitor.report("cage", 0.65);
     std::unordered_map<uint64_t, uint32_t> edge_face;
     edge_face.reserve(input.num_face_vertices());
     for (size_t f = 0; f < input.num_faces(); ++f) {
+      report_input(f, 0.65);
       const uint32_t k = input.face_size(f);
       for (uint32_t c = 0; c < k; ++c) {
         const uint32_t a = input.face_vertex(f, c), b = input.face_vertex(f, (c + 1) % k);
@@ -284,6 +297,7 @@ Cage build_quad_dominant_cage(const PolygonMesh& input, const PolygonalLevel& le
     }
     // A border edge runs along a feature when it is sharp, or zigzags one triangle beside a
     // feature line (edges_along_features: both ends on or next to it, the midpoint no farther).
+    monitor.report("cage", 0.8);
     if (by_input) {
       std::vector<std::pair<uint32_t, uint32_t>> ends(border_edges.size());
       for (size_t i = 0; i < border_edges.size(); ++i) ends[i] = {border_edges[i].a, border_edges[i].b};
@@ -364,6 +378,7 @@ Cage build_quad_dominant_cage(const PolygonMesh& input, const PolygonalLevel& le
   // (Σ vector areas): across a feature line they differ by about its angle, across the facets of
   // a faceted or noisy organic scan, whose normals scatter around the smooth surface's, they do
   // not.
+  monitor.report("cage", 0.9);
   std::vector<uint32_t> faces_first, faces_around;
   if (by_input) {
     faces_first.assign(input.num_vertices() + 1, 0);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/cage.h"
+#include "core/task_monitor.h"
 #include "layout/common/quad_dominant_partition.h"
 #include "layout/common/sharp_input_features.h"
 #include "layout/simplify/face_merge_simplifier.h"
@@ -78,8 +79,11 @@ struct CageBuildReport {
   std::vector<uint32_t> cluster_of_cage_face;  // cage face -> level face (cluster)
 };
 
+// `monitor` gets "cage" reports (fraction 0..1) through the per-face partitions and between the
+// crease passes over the input (cancel points: a second or two in all on a million-face input).
 Cage build_quad_dominant_cage(const PolygonMesh& input, const PolygonalLevel& level,
-                              const CageBuildOptions& options = {}, CageBuildReport* report = nullptr);
+                              const CageBuildOptions& options = {}, CageBuildReport* report = nullptr,
+                              const TaskMonitor& monitor = {});
 
 // The level's faces as a polygon mesh over the used input vertices: faces without holes as
 // they are, faces with holes as their constrained Delaunay triangles (polygon meshes cannot hold

@@ -357,6 +357,11 @@ class Builder {
   const PolygonMesh& mesh_;
   SimplifyOptions options_;
   const TaskMonitor& monitor_;
+  // A cancel point every 2^14 faces of a set-up pass over all faces (each pass takes about a
+  // second on a million faces).
+  void poll(size_t i) const {
+    if ((i & 0x3fff) == 0) monitor_.report("simplify", 0.0);
+  }
   PolygonalFaceSet fs_;
   std::vector<Vec3> pos_;  // normalised positions
   CandidateHeap heap_;
@@ -413,7 +418,9 @@ class Builder {
       dirty_.push_back(f);
     }
   }
-  void decimate_dirty();
+  // with_cancel_points: poll() every 2^14 faces (the set-up pass over all faces; a merge's few
+  // dirty faces need none).
+  void decimate_dirty(bool with_cancel_points = false);
   void finish_step(double error, uint32_t merged_from, uint32_t merged_into);
   bool closes_pillow(const std::vector<std::vector<uint32_t>>& loops) const;
   bool try_merge(uint32_t f, uint32_t g, double e);
@@ -740,8 +747,9 @@ bool Builder::try_remove_interior(uint32_t v) {
 
 // Removes interior valence-2 vertices of the dirty faces as long as any can be removed
 // (blocked ones are retried whenever one of their faces changes).
-void Builder::decimate_dirty() {
+void Builder::decimate_dirty(bool with_cancel_points) {
   for (size_t k = 0; k < dirty_.size(); ++k) {
+    if (with_cancel_points) poll(k);
     const uint32_t f = dirty_[k];
     bool again = true;
     for (int pass = 0; again && pass < 8 && fs_.faces[f].alive; ++pass) {
@@ -999,6 +1007,7 @@ void Builder::allocate_work_state(const std::vector<uint32_t>& corners) {
 void Builder::init_work_faces() {
   const size_t nf = mesh_.num_faces();
   for (uint32_t f = 0; f < nf; ++f) {
+    poll(f);
     WorkFace& face = fs_.faces[f];
     const uint32_t* v = mesh_.face_begin(f);
     const uint32_t n = mesh_.face_size(f);
@@ -1026,6 +1035,7 @@ void Builder::init_work_faces() {
 void Builder::record_input_level() {
   const size_t nf = mesh_.num_faces();
   for (uint32_t f = 0; f < nf; ++f) {
+    poll(f);
     rebuild_cdt(f);
     impl_.hier.add_record(f, true, fs_.faces[f].loops, fs_.faces[f].normal, fs_.faces[f].centroid, fs_.faces[f].area);
   }
@@ -1051,7 +1061,7 @@ void Builder::lock_edges() {
 void Builder::remove_interior_valence2_vertices() {
   const size_t nf = mesh_.num_faces();
   for (uint32_t f = 0; f < nf; ++f) mark_dirty(f);
-  decimate_dirty();
+  decimate_dirty(true);
   bool changed = false;
   for (const uint32_t f : dirty_)
     if (fs_.faces[f].num_loop_vertices() != mesh_.face_size(f)) changed = true;
@@ -1072,6 +1082,7 @@ void Builder::remove_interior_valence2_vertices() {
 void Builder::seed_candidates() {
   const size_t nf = mesh_.num_faces();
   for (uint32_t f = 0; f < nf; ++f) {
+    poll(f);
     push_candidates(f);
     push_boundary_candidates(f);
   }
