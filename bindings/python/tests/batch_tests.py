@@ -72,6 +72,14 @@ def batch_worker(command):
             os.environ["CAGEKIT_BATCH_WORKER"] = old
 
 
+@contextlib.contextmanager
+def local_cluster(processes):
+    """A client of a 2-worker LocalCluster (1 thread each): worker processes or worker threads."""
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=processes, dashboard_address=None,
+                                  silence_logs=40) as cluster, distributed.Client(cluster) as client:
+        yield client
+
+
 def as_list(table):
     return table.to_dict("records") if hasattr(table, "to_dict") else table
 
@@ -150,8 +158,7 @@ class Batch(unittest.TestCase):
     @unittest.skipIf(distributed is None, NO_DASK if distributed is None else "")
     def test_local_cluster_of_threads(self):
         # The one-machine set-up the docs recommend: worker threads (each only waits on its scan's child).
-        with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None,
-                                      silence_logs=40) as cluster, distributed.Client(cluster) as client:
+        with local_cluster(processes=False) as client:
             rows = batch.run(self.scans, os.path.join(self.work, "dask-threads"), method="simplify",
                              options={"faces": 60}, client=client, timeout=120, progress=False)
         self.assertEqual(rows_of(rows), rows_of(self.local))
@@ -169,8 +176,7 @@ class Batch(unittest.TestCase):
     @unittest.skipIf(distributed is None, NO_DASK if distributed is None else "")
     def test_local_cluster_same_rows(self):
         # Worker processes, as on a real cluster (each task's child CLI runs under its worker process).
-        with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
-                                      silence_logs=40) as cluster, distributed.Client(cluster) as client:
+        with local_cluster(processes=True) as client:
             by_path = batch.run(self.scans, os.path.join(self.work, "dask"), method="simplify",
                                 options={"faces": 60}, client=client, timeout=120, progress=False)
             by_bytes = batch.run(self.scans, os.path.join(self.work, "dask-bytes"), method="simplify",
