@@ -106,11 +106,16 @@ def ui_override():
 
 
 stamps = []
+draws = []  # when each draw of the 3D view ended (a SpaceView3D POST_PIXEL handler)
 
 
 def recorder():
     stamps.append(time.perf_counter())
     return 0.01
+
+
+def draw_recorder():
+    draws.append(time.perf_counter())
 
 
 def gaps(t0, t1, exclude=()):
@@ -176,6 +181,7 @@ def run():
         bpy.ops.ed.undo_push(message="bench setup")
     yield 1.0
     bpy.app.timers.register(recorder)
+    draw_handle = bpy.types.SpaceView3D.draw_handler_add(draw_recorder, (), 'WINDOW', 'POST_PIXEL')
     # Blender's first seconds (shader compilation and first draws with software GL) keep the main
     # loop busy: wait until the recorder has run every ~10 ms for 1 s (at most 120 s).
     t = time.perf_counter()
@@ -233,16 +239,24 @@ def run():
     job = operators.last_job
     m = job["marks"]
     # The start step runs in invoke(); right after it Blender redraws the window (any operator
-    # does that), which with software OpenGL and a 1.1M-triangle viewport takes most of a second:
-    # the start step is counted up to the first timer callback after invoke() returned, and the
-    # finish step (hand-over, undo push) up to the first callback after the modal handler ended.
+    # does that), which with software OpenGL and a 1.1M-triangle viewport takes most of a second.
+    # The finish step (hand-over, undo push) is followed by the redraw that shows the new object
+    # (its Subdivision Surface modifier evaluated, the scan drawn again). Each step is counted up
+    # to the first timer callback after the first 3D-view draw that ended after it (a draw
+    # handler stamps them; a timer callback may run between the step and that draw).
     def first_after(t):
         return next((x for x in stamps if x > t), t)
-    exclude = [(m["start_begin"], first_after(m["start_end"]))]
+
+    def first_draw_after(t, within=2.0):
+        """The end of the first 3D-view draw within `within` s after t (t when the view was not
+        drawn again: after invoke() it usually is not, nothing in it changed)."""
+        return next((x for x in draws if t < x <= t + within), t)
+    exclude = [(m["start_begin"], first_after(first_draw_after(m["start_end"])))]
     result["start_with_redraw_s"] = exclude[0][1] - m["start_begin"]
     if "handover_begin" in m:
-        exclude.append((m["handover_begin"], first_after(m["finish_end"])))
+        exclude.append((m["handover_begin"], first_after(first_draw_after(m["finish_end"]))))
         result["finish_with_redraw_s"] = exclude[1][1] - m["handover_begin"]
+        result["finish_redraw_end_s"] = first_draw_after(m["finish_end"]) - m["finish_end"]
     result["job"] = {"state": job["state"], "message": job["message"], "timings_s": job["timings"],
                      "modal_max_gap_s": job["modal_max_gap"], "progress_calls": job["progress_calls"]}
     result["job_max_gap_s"], result["job_callbacks"] = gaps(t0, t1 + 0.5, exclude)
@@ -251,8 +265,11 @@ def run():
     print("job: gaps > 0.2 s (start relative to the end of the start step, length): %s; work ended at %.3f"
           % (result["job_long_gaps"], m.get("work_end", float("nan")) - m["start_end"]), flush=True)
     print("job: %s" % {k: v for k, v in job.items() if k != "marks"}, flush=True)
+    result["job_marks_s"] = {k: round(v - m["start_end"], 4) for k, v in m.items()}
+    print("job marks relative to the end of the start step: %s" % result["job_marks_s"], flush=True)
 
     bpy.app.timers.unregister(recorder)
+    bpy.types.SpaceView3D.draw_handler_remove(draw_handle, 'WINDOW')
     result["load_average_at_end"] = os.getloadavg()
     excess = result["job_max_gap_s"] - result["baseline_max_gap_s"]
     t = result["job"]["timings_s"]
@@ -266,12 +283,14 @@ def run():
     print("| job: largest gap including the start and finish steps | %.3f |" % result["job_max_gap_with_steps_s"])
     print("| start step (reading the mesh, marked sharp edges) | %.3f |" % t.get("start", float("nan")))
     print("| work on the worker thread | %.3f |" % t.get("work", float("nan")))
-    print("| start step and Blender's redraw after invoke(), to the first timer callback | %.3f |"
-          % result.get("start_with_redraw_s", float("nan")))
+    print("| start step and Blender's redraw after invoke() (the first 3D-view draw), to the next timer callback | "
+          "%.3f |" % result.get("start_with_redraw_s", float("nan")))
     print("| finish: mesh hand-over | %.3f |" % t.get("handover", float("nan")))
     print("| finish: undo push | %.3f |" % t.get("undo_push", float("nan")))
-    print("| finish steps and Blender's redraw, to the first timer callback | %.3f |"
-          % result.get("finish_with_redraw_s", float("nan")))
+    print("| finish steps and Blender's redraw (the first 3D-view draw after them), to the next timer callback | "
+          "%.3f |" % result.get("finish_with_redraw_s", float("nan")))
+    print("| of which: from the end of the finish steps to the end of that draw | %.3f |"
+          % result.get("finish_redraw_end_s", float("nan")))
     c = result["cancel"]
     print("| cancel: the modal handler's cancel to the SDK returning (target <= 0.5; at %s) | %.3f |"
           % (c["stage_at_esc"], c["sdk_latency_s"] if c["sdk_latency_s"] is not None else float("nan")))
