@@ -93,6 +93,13 @@ std::string fmt_edge(uint32_t a, uint32_t b) { return "(" + std::to_string(a) + 
 struct MeshCheck {
   std::vector<uint8_t> topo;  // faces taking part in the topology checks
   detail::EdgeMap edges;
+  // Where a caller's monitor reports between the passes (none: no reports).
+  const TaskMonitor* monitor = nullptr;
+  const char* stage = "";
+  double fraction = 0.0;
+  void checkpoint() const {
+    if (monitor != nullptr) monitor->report(stage, fraction);
+  }
 };
 
 void check_mesh(const PolygonMesh& mesh, Recorder& rec, MeshCheck& out) {
@@ -150,6 +157,7 @@ void check_mesh(const PolygonMesh& mesh, Recorder& rec, MeshCheck& out) {
     });
   }
 
+  out.checkpoint();
   // Duplicates: reported, then left out of the topology checks (what is left is exactly what
   // repair_mesh still has to fix after dropping them).
   {
@@ -166,9 +174,11 @@ void check_mesh(const PolygonMesh& mesh, Recorder& rec, MeshCheck& out) {
     }
   }
 
+  out.checkpoint();
   // Edges: more than two faces, or two faces running the same way.
   detail::EdgeMap& map = out.edges;
   detail::build_edge_map(map, mesh, out.topo);
+  out.checkpoint();
   for (size_t e = 0; e < map.num_edges(); ++e) {
     const uint32_t k = map.valence(e);
     const uint32_t* h = map.corners_begin(e);
@@ -193,6 +203,7 @@ void check_mesh(const PolygonMesh& mesh, Recorder& rec, MeshCheck& out) {
   const size_t nc = mesh.face_vertices.size();
   detail::UnionFind corners(nc);
   detail::glue_fans(map, corners, [](size_t) { return true; });
+  out.checkpoint();
   std::vector<uint32_t> fans(nv, 0);
   std::vector<uint8_t> referenced(nv, 0);
   for (size_t c = 0; c < nc; ++c) {
@@ -218,6 +229,16 @@ ValidationReport validate_mesh(const PolygonMesh& mesh, size_t max_records) {
   ValidationReport report;
   Recorder rec(report, max_records);
   MeshCheck check;
+  check_mesh(mesh, rec, check);
+  return report;
+}
+
+ValidationReport validate_mesh(const PolygonMesh& mesh, size_t max_records, const TaskMonitor& monitor,
+                               const char* stage, double fraction) {
+  ValidationReport report;
+  Recorder rec(report, max_records);
+  MeshCheck check;
+  check.monitor = &monitor, check.stage = stage, check.fraction = fraction;
   check_mesh(mesh, rec, check);
   return report;
 }

@@ -9,6 +9,7 @@
 
 #include "core/cage.h"
 #include "core/polygon_mesh.h"
+#include "core/task_monitor.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 
@@ -52,6 +53,11 @@ struct ValidationReport {
 // defect is reported once, under its own kind). Throws Error(Status::invalid_mesh) only when
 // face_offsets itself is malformed.
 ValidationReport validate_mesh(const PolygonMesh& mesh, size_t max_records = 16);
+// The same with a progress report (`stage`, `fraction`) between its passes over the mesh (each
+// takes a fraction of a second on a million faces), where a cancel takes effect: throws
+// Error(Status::cancelled) when the monitor's callback asks to stop.
+ValidationReport validate_mesh(const PolygonMesh& mesh, size_t max_records, const TaskMonitor& monitor,
+                               const char* stage, double fraction);
 // Also checks the cage's tags: crease edges that are not mesh edges, corner/hole indices out
 // of range, negative or NaN sharpness (reported as index_out_of_range / non_finite_position).
 ValidationReport validate_cage(const Cage& cage, size_t max_records = 16);

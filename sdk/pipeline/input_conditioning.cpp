@@ -80,7 +80,7 @@ PolygonMesh condition_input(const PolygonMesh& scan, const ConditioningOptions& 
   if (scan.num_faces() == 0) fail(Status::invalid_mesh, "the scan has no faces (a point cloud?): nothing to remesh");
   // Corrupt input stays an error: conditioning does not guess what a bad index meant.
   monitor.report("conditioning: validation", 0.0);
-  const ValidationReport before = validate_mesh(scan, 1);
+  const ValidationReport before = validate_mesh(scan, 1, monitor, "conditioning: validation", 0.0);
   if (before.count(MeshIssue::index_out_of_range) > 0)
     fail(Status::invalid_mesh, "the scan has faces with out-of-range vertex indices (" +
                                    before.first_message[int(MeshIssue::index_out_of_range)] + ")");
@@ -136,7 +136,7 @@ PolygonMesh condition_input(const PolygonMesh& scan, const ConditioningOptions& 
     fail(Status::invalid_mesh, "nothing left after conditioning (" + report.summary() +
                                    "): every face of the scan is degenerate or a duplicate");
   monitor.report("conditioning: validation", 0.75);
-  const ValidationReport after = validate_mesh(mesh, 1);
+  const ValidationReport after = validate_mesh(mesh, 1, monitor, "conditioning: validation", 0.75);
   if (!after.ok()) fail(Status::internal_error, "conditioning left an invalid mesh: " + after.summary());
   monitor.log(LogLevel::info, "conditioning: " + std::to_string(report.input_faces) + " faces -> " +
                                   std::to_string(report.faces) + " faces, " + std::to_string(report.components) +

@@ -173,6 +173,58 @@ TEST(FitSurface, least_squares_step_at_the_true_parameters_recovers_the_control_
   EXPECT_LT(worst, 1e-8);
 }
 
+// The same with more than 1024 free control vertices: the rows of A assembled and their columns
+// filled in two passes with cancel points (issue 27: Eigen's setFromTriplets took ~0.7 s on a
+// million-sample fit without one). 80 x 80 quads (6561 control vertices), 100,000 samples at their
+// true parameters (about 1.6M entries: the fill reports inside).
+TEST(FitSurface, least_squares_rows_path_recovers_the_control_points_and_cancels_at_any_report) {
+  Cage truth;
+  truth.mesh = cagekit_test::quad_grid(80, 80, [](double x, double y) { return 3 * std::sin(0.2 * x) * std::cos(0.15 * y); });
+  const SubdivisionSurface surface(truth);
+  std::vector<Vec3> samples;
+  std::vector<FootPoint> feet;
+  for (const Sample& s : random_parameters(surface, 100000, 0.0, 9)) {
+    samples.push_back(surface.evaluate(s.face, s.u, s.v).position);
+    FootPoint f;
+    f.ptex_face = s.face;
+    f.u = s.u;
+    f.v = s.v;
+    feet.push_back(f);
+  }
+  std::vector<Vec3> start = truth.mesh.positions;
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> jitter(-0.2, 0.2);
+  for (Vec3& p : start) p = p + Vec3{jitter(rng), jitter(rng), jitter(rng)};
+  // The boundary ring is fixed at the truth (a grid's corners get little support otherwise).
+  std::vector<bool> fixed(start.size(), false);
+  for (size_t i = 0; i < start.size(); ++i) {
+    const Vec3& p = truth.mesh.positions[i];
+    if (p.x == 0 || p.y == 0 || p.x == 80 || p.y == 80) fixed[i] = true, start[i] = p;
+  }
+  LeastSquaresOptions options;
+  options.threads = 2;
+  int reports = 0;
+  const TaskMonitor counting([&](const char*, double) { return ++reports, true; }, nullptr);
+  const std::vector<Vec3> solved = solve_control_points(surface, truth, start, samples, feet, fixed, options, nullptr,
+                                                        &counting);
+  double worst = 0;
+  for (size_t i = 0; i < solved.size(); ++i) worst = std::max(worst, distance(solved[i], truth.mesh.positions[i]));
+  std::printf("rows path: worst control-point error %.3g, %d reports\n", worst, reports);
+  EXPECT_LT(worst, 1e-8);
+  EXPECT_GE(reports, 100000 / 4096 / 2 + 4);
+  // Cancelled at each report in turn (every fifth: each run costs a solve): Error(cancelled).
+  for (int at = 1; at <= reports; at += (at < reports - 12 ? 5 : 1)) {
+    int seen = 0;
+    const TaskMonitor cancelling([&](const char*, double) { return ++seen < at; }, nullptr);
+    try {
+      solve_control_points(surface, truth, start, samples, feet, fixed, options, nullptr, &cancelling);
+      ADD_FAILURE() << "no cancel at report " << at;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.status(), Status::cancelled) << e.what();
+    }
+  }
+}
+
 // The alternating fit (thesis §7.2) from a perturbed cage: monotone, and it approaches the truth.
 TEST(FitSurface, alternating_fit_approaches_a_known_surface) {
   const KnownSurface k = known_surface();

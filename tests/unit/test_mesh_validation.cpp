@@ -461,3 +461,36 @@ TEST(MeshValidation, mesh_whose_only_face_is_degenerate_validates_without_undefi
   EXPECT_FALSE(r.ok());
   EXPECT_EQ(r.count(cagekit::MeshIssue::degenerate_face), 1u);
 }
+
+TEST(MeshValidation, ReportsBetweenItsPassesAndACancelAtAnyReportThrowsCancelled) {
+  // Issue 27: each pass takes a fraction of a second on a million faces, so a host's cancel
+  // waited for the whole validation. The monitored overload reports between the passes (per
+  // face, duplicates, edges, fans) and gives the same report as the plain call.
+  cagekit::PolygonMesh mesh = cagekit_test::triangle_sphere(3);
+  mesh.add_face({0, 1, 2});  // a duplicate of face 0 (or its reverse): one issue to find
+  int reports = 0;
+  const cagekit::TaskMonitor counting(
+      [&](const char* stage, double fraction) {
+        EXPECT_STREQ(stage, "conditioning: validation");
+        EXPECT_EQ(fraction, 0.75);
+        return ++reports, true;
+      },
+      nullptr);
+  const cagekit::ValidationReport monitored =
+      cagekit::validate_mesh(mesh, 16, counting, "conditioning: validation", 0.75);
+  const cagekit::ValidationReport plain = cagekit::validate_mesh(mesh, 16);
+  EXPECT_EQ(reports, 4);
+  EXPECT_EQ(monitored.summary(), plain.summary());
+  EXPECT_FALSE(monitored.ok());
+  for (int at = 1; at <= reports; ++at) {
+    int seen = 0;
+    const cagekit::TaskMonitor cancelling([&](const char*, double) { return ++seen < at; }, nullptr);
+    try {
+      cagekit::validate_mesh(mesh, 16, cancelling, "validation", 0.0);
+      ADD_FAILURE() << "no cancel at report " << at;
+    } catch (const cagekit::Error& e) {
+      EXPECT_EQ(e.status(), cagekit::Status::cancelled) << e.what();
+    }
+    EXPECT_EQ(seen, at);
+  }
+}

@@ -993,7 +993,9 @@ void Builder::allocate_work_state(const std::vector<uint32_t>& corners) {
   fs_.faces.reserve(nf);
   advise_huge_pages(fs_.faces.data(), nf * sizeof(WorkFace));
   fs_.faces.resize(nf);
+  monitor_.report("simplify", 0.0);  // each of these allocations takes a fraction of a second on a million faces
   fs_.init_stars(corners);
+  monitor_.report("simplify", 0.0);
   heap_.init(nv);
   dirty_flag_.assign(nf, 0);
   assign_huge(ver_, nf, 0u);
@@ -1120,6 +1122,7 @@ void Builder::run() {
   auto checkpoint = [&] { monitor_.report("simplify", 0.0); };
   std::vector<uint32_t> corners;
   choose_normalisation(corners);
+  checkpoint();
   normalise_positions();
   if (mesh_.num_faces() >= 0x7fffffffu || mesh_.num_vertices() >= 0x7fffffffu)
     fail(Status::invalid_argument, "simplify: mesh too large");
@@ -1143,13 +1146,15 @@ SimplificationHierarchy::SimplificationHierarchy(const PolygonMesh& input, const
                                                  const TaskMonitor& monitor)
     : impl_(std::make_unique<Impl>()) {
   monitor.report("simplify", 0.0);
-  const ValidationReport report = validate_mesh(input);
+  const ValidationReport report = validate_mesh(input, 16, monitor, "simplify", 0.0);
   if (!report.ok()) fail(Status::invalid_mesh, "simplify: invalid input mesh: " + report.summary());
+  monitor.report("simplify", 0.0);  // the validation and the copy below each take a fraction of a second per million faces
   if (!(options.tie_break_epsilon >= 0) || !std::isfinite(options.tie_break_epsilon))
     fail(Status::invalid_argument, "simplify: tie_break_epsilon must be finite and >= 0");
   // Measured: ~1 KB per input face at the peak (bunny, 69K faces: 67 MB).
   check_memory_estimate(estimate_product(input.num_faces(), 1024), "the simplification hierarchy");
   impl_->input = input;
+  monitor.report("simplify", 0.0);
   Builder(*impl_, options, monitor).run();
   impl_->error_prefix_max.resize(impl_->stats.size());
   double m = 0;
