@@ -475,12 +475,48 @@ void add_laplacian_rows(const Cage& cage, const std::vector<Vec3>& current_contr
   s.LX_c -= weak_row_targets(L, cage, s.row_weight, s.weak_weight);
 }
 
+// A^T A, a block of columns at a time with a cancel point after each block: in one product it
+// took ~0.35 s on the 18M entries of a million-sample fit without one. Each column of the product
+// is summed the same way either way (over the column's entries of A in order), so the matrix is
+// the same as At * A's.
+SparseMatrix gram_in_column_blocks(const SparseMatrix& At, const SparseMatrix& A, const CancelPoints& cancel) {
+  using Index = SparseMatrix::StorageIndex;
+  const Eigen::Index cols = A.cols();
+  // About 2^20 entries of A per block (~0.02 s).
+  const Eigen::Index per_block =
+      std::max<Eigen::Index>(1, Eigen::Index(double(cols) * double(1 << 20) / double(std::max<Eigen::Index>(1, A.nonZeros()))));
+  if (per_block >= cols) return At * A;
+  std::vector<SparseMatrix> blocks;
+  Eigen::Index nonzeros = 0;
+  for (Eigen::Index j = 0; j < cols; j += per_block) {
+    blocks.push_back(At * A.middleCols(j, std::min(per_block, cols - j)));
+    nonzeros += blocks.back().nonZeros();
+    cancel.point();
+  }
+  SparseMatrix M(At.rows(), cols);
+  M.resizeNonZeros(nonzeros);
+  Index* outer = M.outerIndexPtr();
+  Index at = 0;
+  Eigen::Index column = 0;
+  for (SparseMatrix& block : blocks) {
+    block.makeCompressed();
+    for (Eigen::Index k = 0; k < block.cols(); ++k) outer[column + k] = at + block.outerIndexPtr()[k];
+    std::copy(block.innerIndexPtr(), block.innerIndexPtr() + block.nonZeros(), M.innerIndexPtr() + at);
+    std::copy(block.valuePtr(), block.valuePtr() + block.nonZeros(), M.valuePtr() + at);
+    at += Index(block.nonZeros());
+    column += block.cols();
+    block = SparseMatrix();
+  }
+  outer[cols] = at;
+  return M;
+}
+
 // The direct solver: SimplicialLDLT of the normal equations (x, y, z share the factorisation).
 Eigen::MatrixXd solve_normal_equations(PointDistanceSystem& s, const CancelPoints& cancel) {
   if (!s.dense_normal_equations) {
     const SparseMatrix At = s.A.transpose();
     cancel.point();
-    s.M = At * s.A;
+    s.M = gram_in_column_blocks(At, s.A, cancel);
     cancel.point();
     s.AtP = At * s.P;
     cancel.point();
