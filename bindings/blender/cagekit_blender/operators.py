@@ -41,6 +41,11 @@ TEST_HOLD_FRACTION = None
 last_job = None
 running_jobs = []    # the jobs of modal operators now running (tests and the sidebar read it)
 STATUS_INTERVAL = 0.5  # seconds between changes of the status-bar text of a running job
+# After Esc or right-click the modal handler waits this long for the SDK to stop (it stops within
+# about 0.35 s on a million-triangle scan), so the operator ends in the same call; otherwise it
+# ended only at the next handler call, after Blender's next redraw (0.5 s and more with a large
+# scan in the viewport). If the work is still running then, the operator goes on waiting modally.
+CANCEL_WAIT = 0.5
 
 
 def _active_mesh(context):
@@ -181,6 +186,7 @@ class Job:
         self.timings = {}
         self.marks = {}                  # perf_counter() at the steps' ends (the benchmark reads them)
         self.modal_times = []            # perf_counter() at each call of the modal handler
+        self.cancel_call = None          # len(modal_times) when the modal handler cancelled
         self.progress_calls = 0
         self._held = False
         self.ctx = sdk().Context(progress=self._progress, memory_budget_bytes=budget)
@@ -231,7 +237,10 @@ class Job:
                     "marks": dict(self.marks), "cancel_latency": latency,
                     "modal_max_gap": max((b - a for a, b in zip(self.modal_times, self.modal_times[1:])),
                                          default=None), "modal_calls": len(self.modal_times),
-                    "progress_calls": self.progress_calls}
+                    "progress_calls": self.progress_calls,
+                    # handler calls after the one that cancelled (0: the operator ended in that call)
+                    "modal_calls_after_cancel": (len(self.modal_times) - self.cancel_call
+                                                 if self.cancel_call is not None else None)}
 
 
 class _JobOperator:
@@ -369,8 +378,14 @@ class _JobOperator:
         job.modal_times.append(time.perf_counter())
         if event.type in {'ESC', 'RIGHTMOUSE'} and event.value == 'PRESS':
             job.cancel()
-            self._status(context, force=True)
-            return {'RUNNING_MODAL'}
+            if job.cancel_call is None:
+                job.cancel_call = len(job.modal_times)
+            self._thread.join(timeout=CANCEL_WAIT)
+            if self._thread.is_alive():
+                self._status(context, force=True)
+                return {'RUNNING_MODAL'}
+            self._cleanup(context)
+            return self._end(context, job)
         if self._thread.is_alive():
             if event.type == 'TIMER':
                 self._status(context)

@@ -238,6 +238,9 @@ def steps():
     check(job["state"] == 'CANCELLED', "Esc cancelled Scan to Cage (%s)" % job)
     check(job["cancel_latency"] is not None and job["cancel_latency"] < 0.5,
           "the SDK stopped %.3f s after the cancel (limit 0.5 s)" % (job["cancel_latency"] or -1))
+    check(job["modal_calls_after_cancel"] == 0,
+          "the operator ended in the handler call that saw Esc, not after Blender's next redraw (%s)"
+          % job["modal_calls_after_cancel"])
     check(same_scene(before, snapshot()), "the scene is as it was (objects and vertices)")
 
     # ---- right-click cancels Fit mid-way --------------------------------------------------------
@@ -255,6 +258,7 @@ def steps():
     check(job["operator"] == "cagekit.fit" and job["state"] == 'CANCELLED'
           and (job["cancel_latency"] or 1e9) < 0.5,
           "right-click cancelled Fit within 0.5 s (%s)" % job)
+    check(job["modal_calls_after_cancel"] == 0, "Fit ended in the handler call that saw the right-click")
     check(same_scene(before, snapshot()), "the cage's vertices are as they were")
 
     # ---- a modal Fit to the end; undo restores the vertices -------------------------------------
