@@ -880,7 +880,10 @@ bool Builder::try_merge(uint32_t f, uint32_t g, double e) {
   K.cdt = moments;
   K.cluster_size += D.cluster_size;
   D.alive = false;
-  D.loops.clear();
+  // Freed now, outer buffer included (clear() kept it): a dead face is never filled again, and a
+  // cancel's unwinding then frees only what the live faces hold (glibc's free of a million small
+  // blocks, not the merging, was most of the 0.3 s from a cancel to the return).
+  std::vector<std::vector<uint32_t>>().swap(D.loops);
   fs_.add_star(keep);
   mark_dirty(keep);
   mark_dirty(gone);
