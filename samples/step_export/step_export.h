@@ -35,6 +35,15 @@ struct WriteOptions {
   double sewing_tolerance = 1e-6;
   // "AP214" (AP214 CD, OCCT's default) or "AP203".
   std::string schema = "AP214";
+  // Knot removal (model units, 0: off): each surface's interior knots are removed where the
+  // surface moves by at most this much (OCCT's Geom_BSplineSurface::RemoveUKnot / RemoveVKnot,
+  // repeated until none goes). The limit surface is bicubic on all but the cells next to an
+  // extraordinary vertex, so most of a uniform knot grid's knots go, and with them most control
+  // points (STEP size). Each surface's final deviation from its input is measured (33 x 33
+  // parameter grid), kept within this value (the removal is redone with smaller steps, or not
+  // done) and reported; shared borders then differ by up to twice that, so the sewing tolerance is
+  // raised to at least 2.5 times this value.
+  double knot_removal_tolerance = 0.0;
 };
 
 struct WriteReport {
@@ -48,6 +57,9 @@ struct WriteReport {
   bool solid = false;         // a solid (one per shell, outward-oriented) was made and written
   bool valid = false;         // BRepCheck_Analyzer on the written shape
   uint64_t bytes = 0;         // size of the STEP file
+  uint64_t control_points = 0;          // in the written surfaces
+  uint64_t control_points_before = 0;   // in the input surfaces
+  double max_knot_removal_deviation = 0;  // largest measured move of a surface by knot removal
   double build_seconds = 0, sewing_seconds = 0, solid_seconds = 0, check_seconds = 0, write_seconds = 0;
 };
 

@@ -55,7 +55,14 @@ check_json "$tmp/out" 'j["read_back"]["faces"] == 6 and j["read_back"]["solids"]
 check_json "$tmp/out" 'j["read_back"]["points"] == 6 * 25 and j["read_back"]["max_distance_rel"] <= 1e-3' \
   "cube: read back: 150 limit points within 1e-3 of the diagonal"
 if head -c 13 "$tmp/cube.step" | grep -q "ISO-10303-21"; then pass "cube: a STEP (ISO-10303-21) file"; else fail "cube: not STEP"; fi
+check_json "$tmp/out" 'j["knot_removal_rel"] == 1e-4 and 0 < j["control_points"] <= j["control_points_before"] and 0 <= j["max_knot_removal_deviation_rel"] <= 1e-4' \
+  "cube: knots removed within a tenth of --tolerance by default, the move measured"
 mv "$tmp/out" "$tmp/cube.json"
+"$cli" export-surfaces "$tmp/cube.obj" "$tmp/cube0.step" --tolerance 1e-3 --knot-removal 0 >"$tmp/out" 2>"$tmp/err"
+check_json "$tmp/out" 'j["control_points"] == j["control_points_before"] and j["max_knot_removal_deviation_rel"] == 0' \
+  "cube: --knot-removal 0 keeps every control point"
+check_json "$tmp/cube.json" "j['control_points_before'] == $(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["control_points_before"])' "$tmp/out")" \
+  "cube: the same surfaces before removal either way"
 
 if "$cli" export-surfaces "$tmp/grid.obj" "$tmp/grid.step" --tolerance 1e-3 --check --schema AP203 >"$tmp/grid.json" 2>"$tmp/err"
 then pass "grid: exit 0"; else cat "$tmp/err"; fail "grid: exit $?"; fi
@@ -71,7 +78,7 @@ if [ $code -eq 2 ] && [ "$(wc -l <"$tmp/err")" -eq 1 ] && grep -q "missing.obj" 
 then pass "missing cage: exit 2, one line naming it"; else cat "$tmp/err"; fail "missing cage: exit $code"; fi
 "$cli" export-surfaces "$tmp/cube.obj" "$tmp/no/such/dir/c.step" --quiet >"$tmp/out" 2>"$tmp/err"; code=$?
 if [ $code -eq 2 ] && grep -q "c.step" "$tmp/err"; then pass "unwritable output: exit 2"; else cat "$tmp/err"; fail "unwritable output: exit $code"; fi
-for bad in "--per block" "--tolerance 0" "--tolerance 2" "--max-level 8" "--schema AP242"; do
+for bad in "--per block" "--tolerance 0" "--tolerance 2" "--max-level 8" "--schema AP242" "--knot-removal -2"; do
   # shellcheck disable=SC2086
   "$cli" export-surfaces "$tmp/cube.obj" "$tmp/b.step" $bad >"$tmp/out" 2>"$tmp/err"; code=$?
   if [ $code -eq 64 ] && [ ! -e "$tmp/b.step" ]; then pass "$bad: exit 64"; else cat "$tmp/err"; fail "$bad: exit $code"; fi

@@ -54,7 +54,7 @@ expected = {
     "bench-deform": "--frames --moved --threads --vertex-order --json --quiet",
     "render": "--mesh --cage --deformed --error --views --size --wire --creases --level --colormap --title --quiet",
     "demo": "--quiet",
-    "export-surfaces": "--tolerance --max-level --per --sewing-tolerance --schema --threads --check --quiet",
+    "export-surfaces": "--tolerance --max-level --per --sewing-tolerance --knot-removal --schema --threads --check --quiet",
     "version": "",
 }
 expected = {c: set(o.split()) for c, o in expected.items()}
