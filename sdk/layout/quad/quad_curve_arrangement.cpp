@@ -44,6 +44,7 @@ double pseudo_ccw_angle(const Vec2& from, const Vec2& to) {
 struct Fan {
   HalfEdge edge;
   Vec2 direction;
+  size_t index = 0;  // curve edges: where edge.from lies in the curve's chain
 };
 
 // At most four half-edges leave a vertex: two boundary edges and two ports, or two crossing curves.
@@ -117,8 +118,10 @@ struct Arrangement::View {
     const Chain& c = chain(a);
     return c[locate(c, id)].position;
   }
-  // Outgoing half-edges at vertex v.
-  FanList fan(uint64_t v) const {
+  // Outgoing half-edges at vertex v. `known_curve` / `known_index` (optional): where v lies in
+  // that curve's chain, when the caller knows it (face tracing arrives along a curve), which
+  // spares one linear search of a chain that may run to hundreds of crossings.
+  FanList fan(uint64_t v, int64_t known_curve = -1, size_t known_index = 0) const {
     FanList out;
     const CurveNetwork& net = arr.net_;
     if (!(v & kCrossingFlag)) {
@@ -131,18 +134,18 @@ struct Arrangement::View {
         const Chain& chain = this->chain(uint32_t(c));
         if (chain.size() < 2) continue;
         if (net.curves[c].ports[0] == p.first_port + k)
-          out.push_back({{v, c, 1}, chain.front().dir});
+          out.push_back({{v, c, 1}, chain.front().dir, 0});
         else
-          out.push_back({{v, c, -1}, chain.back().dir * -1.0});
+          out.push_back({{v, c, -1}, chain.back().dir * -1.0, chain.size() - 1});
       }
       return out;
     }
     const uint32_t curves[2] = {uint32_t((v >> 39) & 0xFFFFFF), uint32_t((v >> 15) & 0xFFFFFF)};
     for (uint32_t c : curves) {
       const Chain& chain = this->chain(c);
-      const size_t i = locate(chain, v);
-      if (i + 1 < chain.size()) out.push_back({{v, c, 1}, chain[i].dir});
-      if (i > 0) out.push_back({{v, c, -1}, chain[i].dir * -1.0});
+      const size_t i = int64_t(c) == known_curve ? known_index : locate(chain, v);
+      if (i + 1 < chain.size()) out.push_back({{v, c, 1}, chain[i].dir, i});
+      if (i > 0) out.push_back({{v, c, -1}, chain[i].dir * -1.0, i});
     }
     return out;
   }
@@ -178,16 +181,16 @@ void Arrangement::reset(const std::vector<uint32_t>& curves) {
   for (uint32_t c : list_) chains_[c] = build_chain(c, selected_);
   View view(*this);
   std::unordered_set<HalfEdge, HalfEdgeHash> visited;
-  auto trace_from = [&](const HalfEdge& h) {
+  auto trace_from = [&](const HalfEdge& h, size_t index) {
     if (visited.count(h)) return;
-    Face f = trace(view, h, visited);
+    Face f = trace(view, h, index, visited);
     add_face(std::move(f));
   };
-  for (uint32_t p = 0; p < net_.points.size(); ++p) trace_from({p, -1 - int64_t(p), 1});
+  for (uint32_t p = 0; p < net_.points.size(); ++p) trace_from({p, -1 - int64_t(p), 1}, 0);
   for (uint32_t c : list_)
     for (size_t i = 0; i + 1 < chains_[c].size(); ++i) {
-      trace_from({chains_[c][i].id, int64_t(c), 1});
-      trace_from({chains_[c][i + 1].id, int64_t(c), -1});
+      trace_from({chains_[c][i].id, int64_t(c), 1}, i);
+      trace_from({chains_[c][i + 1].id, int64_t(c), -1}, i + 1);
     }
 }
 
@@ -304,7 +307,7 @@ double Arrangement::evaluate(const std::vector<uint32_t>& removed, const std::ve
     for (const Fan& f : view.fan(v)) {
       if (f.edge.carrier < 0 && f.edge.dir < 0) continue;  // outside the region
       if (visited.count(f.edge)) continue;
-      new_faces.push_back(trace(view, f.edge, visited));
+      new_faces.push_back(trace(view, f.edge, f.index, visited));
       delta += new_faces.back().energy;
     }
   if (cacheable) delta_cache_[key] = {delta, old_faces};
@@ -463,30 +466,53 @@ std::vector<uint32_t> Arrangement::candidates_for_chain(const View& view) const 
 }
 
 template <typename Visited>
-Face Arrangement::trace(const View& view, const HalfEdge& start, Visited& visited) {
+Face Arrangement::trace(const View& view, const HalfEdge& start, size_t start_index, Visited& visited) {
   Face face;
   std::vector<uint64_t>& ids = trace_ids_;
   std::vector<Vec2>& polygon = trace_polygon_;
   ids.clear(), polygon.clear();
   face.cycle.reserve(8);
+  // The walk carries where each half-edge's start lies in its curve's chain (the target is the
+  // next chain vertex, and the next half-edge starts there), and the start's position, so that
+  // chains are searched only for the other curve through a crossing: the same faces, positions
+  // and choices as looking every vertex up (View::target, View::position).
   HalfEdge h = start;
+  size_t index = start.carrier >= 0 && start_index == kUnknownIndex
+                     ? View::locate(view.chain(uint32_t(start.carrier)), start.from)
+                     : start_index;
+  Vec2 position = view.position(start.from);
   const size_t limit = 4 * (net_.points.size() + 64 * (list_.size() + 8) * (list_.size() + 8));
   for (size_t step = 0;; ++step) {
     if (step > limit) fail(Status::internal_error, "quad selection: a face cycle does not close");
     face.cycle.push_back(h);
     visited.insert(h);
     ids.push_back(h.from);
-    polygon.push_back(view.position(h.from));
-    const auto [w, twin_direction] = view.target(h);
+    polygon.push_back(position);
+    uint64_t w = 0;
+    Vec2 twin_direction;
+    size_t w_index = 0;
+    if (h.carrier < 0) {
+      const std::pair<uint64_t, Vec2> t = view.target(h);
+      w = t.first, twin_direction = t.second;
+      position = net_.points[w].uv;
+    } else {
+      const Chain& chain = view.chain(uint32_t(h.carrier));
+      w_index = h.dir > 0 ? index + 1 : index - 1;
+      const ChainVertex& x = chain[w_index];
+      w = x.id, twin_direction = x.dir * (h.dir > 0 ? -1.0 : 1.0);
+      position = (w & kCrossingFlag) ? x.position : net_.points[w].uv;
+    }
     const HalfEdge twin{w, h.carrier, -h.dir};
     double best = std::numeric_limits<double>::infinity();
     HalfEdge next = twin;
-    for (const Fan& f : view.fan(w)) {
+    size_t next_index = w_index;
+    for (const Fan& f : view.fan(w, h.carrier, w_index)) {
       if (f.edge == twin) continue;
       const double angle = pseudo_ccw_angle(f.direction, twin_direction);  // clockwise from the twin
-      if (angle < best) best = angle, next = f.edge;
+      if (angle < best) best = angle, next = f.edge, next_index = f.index;
     }
     h = next;
+    index = next_index;
     if (h == start) break;
   }
   face.energy = rate(ids, polygon);

@@ -111,7 +111,10 @@ class Arrangement {
   std::vector<uint32_t> candidates_for_chain(const std::vector<char>& selected) const;
   std::vector<uint32_t> candidates_for_chain(const View& view) const;
   template <typename Visited>
-  Face trace(const View& view, const HalfEdge& start, Visited& visited);
+  // `start_index`: where start.from lies in the chain of start's curve (kUnknownIndex: looked up;
+  // ignored for a boundary edge).
+  Face trace(const View& view, const HalfEdge& start, size_t start_index, Visited& visited);
+  static constexpr size_t kUnknownIndex = ~size_t(0);
   double rate(const std::vector<uint64_t>& ids, const std::vector<Vec2>& polygon);
   void add_face(Face f);
   void compact_faces();
