@@ -7,6 +7,8 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <new>
+#include <type_traits>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -48,13 +50,16 @@ struct Fan {
 };
 
 // At most four half-edges leave a vertex: two boundary edges and two ports, or two crossing curves.
+// Raw storage: a std::array<Fan, 4> would zero its 4 items on every fan() (Fan's members have
+// default initialisers), a measurable share of face tracing.
 struct FanList {
-  std::array<Fan, 4> items;
+  alignas(Fan) unsigned char storage[4 * sizeof(Fan)];
   size_t count = 0;
-  void push_back(const Fan& f) { items[count++] = f; }
-  const Fan* begin() const { return items.data(); }
-  const Fan* end() const { return items.data() + count; }
+  void push_back(const Fan& f) { new (storage + count++ * sizeof(Fan)) Fan(f); }
+  const Fan* begin() const { return std::launder(reinterpret_cast<const Fan*>(storage)); }
+  const Fan* end() const { return begin() + count; }
 };
+static_assert(std::is_trivially_destructible<Fan>::value, "FanList never destroys its items");
 
 // A map of a few keys (a trial move's overrides: a handful of curves and ports), in insertion
 // order: a linear scan beats hashing and a node allocation per key.
@@ -434,7 +439,8 @@ Chain Arrangement::build_chain(uint32_t c, const Selection& selection) {
   Chain chain;
   chain.push_back({0.0, net_.ports[curve.ports[0]].point, line.front(), line[1] - line[0]});
   for (uint32_t o : candidates_for_chain(selection)) {
-    if (o == c) continue;
+    // The dense crossing table answers most pairs (no crossing) without a hash lookup.
+    if (o == c || !crosses(c, o)) continue;
     const uint32_t a = std::min(c, o), b = std::max(c, o);
     const std::vector<Crossing>& xs = crossings(a, b);
     for (uint32_t k = 0; k < xs.size(); ++k) {
