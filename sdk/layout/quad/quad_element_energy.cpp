@@ -27,9 +27,10 @@ std::vector<double> interior_angles(const std::vector<Vec2>& polygon) {
   return angles;
 }
 
-QuadEnergyTerms quad_energy_terms(const std::array<Vec2, 4>& quad) {
-  const std::vector<Vec2> polygon(quad.begin(), quad.end());
-  const std::vector<double> g = interior_angles(polygon);
+namespace {
+
+// (6.4)-(6.8) of the quad q[0..3] with interior angles g[0..3] (interior_angles of q).
+QuadEnergyTerms quad_terms(const Vec2* quad, const double* g) {
   double l[4], lmax = 0.0;
   for (int i = 0; i < 4; ++i) l[i] = hypot_length(quad[(i + 1) % 4] - quad[i]), lmax = std::max(lmax, l[i]);
   QuadEnergyTerms e;
@@ -44,10 +45,23 @@ QuadEnergyTerms quad_energy_terms(const std::array<Vec2, 4>& quad) {
   return e;
 }
 
-double angle_deviation_energy(const std::vector<Vec2>& polygon, double beta) {
+// (6.9) from the polygon's interior angles.
+double angle_deviation(const std::vector<double>& angles, double beta) {
   double e = 0.0;
-  for (double g : interior_angles(polygon)) e += std::fabs(g - beta);  // (6.9)
+  for (double g : angles) e += std::fabs(g - beta);
   return e;
+}
+
+}  // namespace
+
+QuadEnergyTerms quad_energy_terms(const std::array<Vec2, 4>& quad) {
+  const std::vector<Vec2> polygon(quad.begin(), quad.end());
+  const std::vector<double> g = interior_angles(polygon);
+  return quad_terms(quad.data(), g.data());
+}
+
+double angle_deviation_energy(const std::vector<Vec2>& polygon, double beta) {
+  return angle_deviation(interior_angles(polygon), beta);  // (6.9)
 }
 
 namespace {
@@ -77,10 +91,18 @@ double rate_convex(const std::vector<Vec2>& polygon, const std::vector<double>& 
     }
   }
   const std::vector<Vec2>& reduced = *reduced_polygon;
-  if (n == 4) return extra + quad_energy_terms({reduced[0], reduced[1], reduced[2], reduced[3]}).total;
-  if (n == 3) return extra + w.triangle * (w.polygon_offset + angle_deviation_energy(reduced, kPi / 3));
+  // The polygon's own angles when nothing was dropped (the same values interior_angles would
+  // give again); a polygon without its T-joints has other angles at their neighbours.
+  std::vector<double> reduced_angles_storage;
+  const std::vector<double>* reduced_angles = &angles;
+  if (reduced_polygon != &polygon) {
+    reduced_angles_storage = interior_angles(reduced);
+    reduced_angles = &reduced_angles_storage;
+  }
+  if (n == 4) return extra + quad_terms(reduced.data(), reduced_angles->data()).total;
+  if (n == 3) return extra + w.triangle * (w.polygon_offset + angle_deviation(*reduced_angles, kPi / 3));
   const double beta = (double(n) - 2.0) * kPi / double(n);
-  double e = extra + w.pentagon * (w.polygon_offset + angle_deviation_energy(reduced, beta));
+  double e = extra + w.pentagon * (w.polygon_offset + angle_deviation(*reduced_angles, beta));
   if (n > 5) e += w.high_valence * (double(n) - 5.0);
   return e;
 }
