@@ -85,8 +85,10 @@ struct FlatMap {
 };
 
 // The half-edges traced by one evaluate (a few dozen): a flat list beats a node-based hash set.
+// It lives in the arrangement's buffer (`items`, emptied here), reused from call to call.
 struct SmallHalfEdgeSet {
-  std::vector<HalfEdge> items;
+  explicit SmallHalfEdgeSet(std::vector<HalfEdge>& buffer) : items(buffer) { items.clear(); }
+  std::vector<HalfEdge>& items;
   size_t count(const HalfEdge& h) const { return std::find(items.begin(), items.end(), h) != items.end(); }
   void insert(const HalfEdge& h) { items.push_back(h); }  // trace inserts each half-edge once
 };
@@ -188,7 +190,7 @@ void Arrangement::reset(const std::vector<uint32_t>& curves) {
   std::unordered_set<HalfEdge, HalfEdgeHash> visited;
   auto trace_from = [&](const HalfEdge& h, size_t index) {
     if (visited.count(h)) return;
-    Face f = trace(view, h, index, visited);
+    Face f = trace(view, h, index, true, visited);
     add_face(std::move(f));
   };
   for (uint32_t p = 0; p < net_.points.size(); ++p) trace_from({p, -1 - int64_t(p), 1}, 0);
@@ -219,10 +221,13 @@ double Arrangement::evaluate(const std::vector<uint32_t>& removed, const std::ve
     for (uint32_t p : net_.curves[c].ports) view.port_override[p] = -1;
   for (uint32_t c : added)
     for (uint32_t p : net_.curves[c].ports) view.port_override[p] = c;
-  // Curves whose chain changes: R ∪ A and the selected curves crossing them.
-  std::vector<uint32_t> touched(removed);
+  // Curves whose chain changes: R ∪ A and the selected curves crossing them. (The lists below
+  // are the arrangement's buffers, reused from one evaluate to the next.)
+  std::vector<uint32_t>& touched = scratch_.touched;
+  touched.assign(removed.begin(), removed.end());
   touched.insert(touched.end(), added.begin(), added.end());
-  std::vector<uint32_t> changed = touched;
+  std::vector<uint32_t>& changed = scratch_.changed;
+  changed.assign(touched.begin(), touched.end());
   for (uint32_t c : list_)
     if (!view.selected_override.count(c))
       for (uint32_t t : touched)
@@ -234,12 +239,13 @@ double Arrangement::evaluate(const std::vector<uint32_t>& removed, const std::ve
   // included: their fans change). A selected curve they cross: the crossings that disappear or
   // appear and their chain neighbours (its pieces there merge or split). Every other vertex
   // keeps its fan and its pieces, so a face through none of them is unchanged.
-  std::vector<uint64_t> dirty_old, dirty;
+  std::vector<uint64_t>&dirty_old = scratch_.dirty_old, &dirty = scratch_.dirty;
+  dirty_old.clear(), dirty.clear();
   auto mark = [](std::vector<uint64_t>& side, uint64_t id) { side.push_back(id); };
   auto contains = [](const Chain& chain, uint64_t id) {
     return std::any_of(chain.begin(), chain.end(), [&](const ChainVertex& v) { return v.id == id; });
   };
-  std::vector<uint64_t> old_ids, new_ids;
+  std::vector<uint64_t>&old_ids = scratch_.old_ids, &new_ids = scratch_.new_ids;
   auto sorted_ids = [](const Chain& chain, std::vector<uint64_t>& ids) {
     ids.clear();
     for (const ChainVertex& v : chain) ids.push_back(v.id);
@@ -296,7 +302,7 @@ double Arrangement::evaluate(const std::vector<uint32_t>& removed, const std::ve
   }
   // Old faces through a dirty vertex.
   View old_view(*this);
-  std::vector<uint32_t> old_faces;
+  std::vector<uint32_t> old_faces;  // kept in the delta cache
   for (uint64_t v : dirty_old)
     for (const Fan& f : old_view.fan(v)) {
       auto it = face_of_.find(f.edge);
@@ -306,14 +312,15 @@ double Arrangement::evaluate(const std::vector<uint32_t>& removed, const std::ve
   old_faces.erase(std::unique(old_faces.begin(), old_faces.end()), old_faces.end());
   double delta = 0.0;
   for (uint32_t f : old_faces) delta -= faces_[f].energy;
-  SmallHalfEdgeSet visited;
-  std::vector<Face> new_faces;
+  SmallHalfEdgeSet visited(scratch_.visited);
+  std::vector<Face> new_faces;  // only to commit: a trial needs the energies, not the cycles
   for (uint64_t v : dirty)
     for (const Fan& f : view.fan(v)) {
       if (f.edge.carrier < 0 && f.edge.dir < 0) continue;  // outside the region
       if (visited.count(f.edge)) continue;
-      new_faces.push_back(trace(view, f.edge, f.index, visited));
-      delta += new_faces.back().energy;
+      Face face = trace(view, f.edge, f.index, commit, visited);
+      delta += face.energy;
+      if (commit) new_faces.push_back(std::move(face));
     }
   if (cacheable) delta_cache_[key] = {delta, old_faces};
   if (commit) {
@@ -472,12 +479,13 @@ std::vector<uint32_t> Arrangement::candidates_for_chain(const View& view) const 
 }
 
 template <typename Visited>
-Face Arrangement::trace(const View& view, const HalfEdge& start, size_t start_index, Visited& visited) {
+Face Arrangement::trace(const View& view, const HalfEdge& start, size_t start_index, bool keep_cycle,
+                        Visited& visited) {
   Face face;
   std::vector<uint64_t>& ids = trace_ids_;
   std::vector<Vec2>& polygon = trace_polygon_;
   ids.clear(), polygon.clear();
-  face.cycle.reserve(8);
+  if (keep_cycle) face.cycle.reserve(8);
   // The walk carries where each half-edge's start lies in its curve's chain (the target is the
   // next chain vertex, and the next half-edge starts there), and the start's position, so that
   // chains are searched only for the other curve through a crossing: the same faces, positions
@@ -490,7 +498,7 @@ Face Arrangement::trace(const View& view, const HalfEdge& start, size_t start_in
   const size_t limit = 4 * (net_.points.size() + 64 * (list_.size() + 8) * (list_.size() + 8));
   for (size_t step = 0;; ++step) {
     if (step > limit) fail(Status::internal_error, "quad selection: a face cycle does not close");
-    face.cycle.push_back(h);
+    if (keep_cycle) face.cycle.push_back(h);
     visited.insert(h);
     ids.push_back(h.from);
     polygon.push_back(position);

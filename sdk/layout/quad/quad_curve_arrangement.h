@@ -113,7 +113,8 @@ class Arrangement {
   template <typename Visited>
   // `start_index`: where start.from lies in the chain of start's curve (kUnknownIndex: looked up;
   // ignored for a boundary edge).
-  Face trace(const View& view, const HalfEdge& start, size_t start_index, Visited& visited);
+  // `keep_cycle` false: the face's cycle is not stored (a trial move needs only the energy).
+  Face trace(const View& view, const HalfEdge& start, size_t start_index, bool keep_cycle, Visited& visited);
   static constexpr size_t kUnknownIndex = ~size_t(0);
   double rate(const std::vector<uint64_t>& ids, const std::vector<Vec2>& polygon);
   void add_face(Face f);
@@ -149,6 +150,12 @@ class Arrangement {
   std::vector<CurveBoxes> boxes_;
   const CurveBoxes& boxes(uint32_t c);
   std::unordered_map<std::vector<uint64_t>, double, CycleHash> energy_cache_;
+  // evaluate()'s lists, kept between calls (no allocation per trial move once they have grown).
+  struct Scratch {
+    std::vector<uint32_t> touched, changed;
+    std::vector<uint64_t> dirty_old, dirty, old_ids, new_ids;
+    std::vector<HalfEdge> visited;
+  } scratch_;
   // trace()'s buffers, kept between calls (an Arrangement is used by one thread at a time).
   std::vector<uint64_t> trace_ids_, cycle_key_;
   std::vector<Vec2> trace_polygon_;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numeric>
 
 #include "core/angles.h"
@@ -17,13 +18,41 @@ namespace {
 const size_t kMaxSplitValence = 24;  // larger faces are not split (rated as they are)
 }  // namespace
 
-std::vector<double> interior_angles(const std::vector<Vec2>& polygon) {
+namespace {
+// interior_angles into `angles` (polygon.size() values).
+void interior_angles_into(const std::vector<Vec2>& polygon, double* angles) {
   const size_t n = polygon.size();
-  std::vector<double> angles(n);
   for (size_t i = 0; i < n; ++i) {
     const Vec2& p = polygon[i];
     angles[i] = ccw_angle(polygon[(i + 1) % n] - p, polygon[(i + n - 1) % n] - p);
   }
+}
+
+// A polygon's interior angles on the stack when it is small (every face the selection rates,
+// nearly), else on the heap.
+class Angles {
+ public:
+  explicit Angles(const std::vector<Vec2>& polygon) {
+    if (polygon.size() > kStack) heap_.resize(polygon.size());
+    data_ = polygon.size() > kStack ? heap_.data() : stack_;
+    interior_angles_into(polygon, data_);
+  }
+  Angles(const Angles&) = delete;
+  Angles& operator=(const Angles&) = delete;
+  const double* data() const { return data_; }
+  double operator[](size_t i) const { return data_[i]; }
+
+ private:
+  static constexpr size_t kStack = 32;
+  double stack_[kStack];
+  std::vector<double> heap_;
+  double* data_;
+};
+}  // namespace
+
+std::vector<double> interior_angles(const std::vector<Vec2>& polygon) {
+  std::vector<double> angles(polygon.size());
+  interior_angles_into(polygon, angles.data());
   return angles;
 }
 
@@ -45,10 +74,10 @@ QuadEnergyTerms quad_terms(const Vec2* quad, const double* g) {
   return e;
 }
 
-// (6.9) from the polygon's interior angles.
-double angle_deviation(const std::vector<double>& angles, double beta) {
+// (6.9) from the polygon's n interior angles.
+double angle_deviation(const double* angles, size_t n, double beta) {
   double e = 0.0;
-  for (double g : angles) e += std::fabs(g - beta);
+  for (size_t i = 0; i < n; ++i) e += std::fabs(angles[i] - beta);
   return e;
 }
 
@@ -61,12 +90,13 @@ QuadEnergyTerms quad_energy_terms(const std::array<Vec2, 4>& quad) {
 }
 
 double angle_deviation_energy(const std::vector<Vec2>& polygon, double beta) {
-  return angle_deviation(interior_angles(polygon), beta);  // (6.9)
+  const Angles angles(polygon);
+  return angle_deviation(angles.data(), polygon.size(), beta);  // (6.9)
 }
 
 namespace {
 
-double rate_convex(const std::vector<Vec2>& polygon, const std::vector<double>& angles, const ElementWeights& w,
+double rate_convex(const std::vector<Vec2>& polygon, const Angles& angles, const ElementWeights& w,
                    uint32_t& t_joints) {
   size_t n = polygon.size();
   std::vector<Vec2> without_t_joints;
@@ -93,16 +123,16 @@ double rate_convex(const std::vector<Vec2>& polygon, const std::vector<double>& 
   const std::vector<Vec2>& reduced = *reduced_polygon;
   // The polygon's own angles when nothing was dropped (the same values interior_angles would
   // give again); a polygon without its T-joints has other angles at their neighbours.
-  std::vector<double> reduced_angles_storage;
-  const std::vector<double>* reduced_angles = &angles;
+  std::unique_ptr<Angles> reduced_angles_storage;
+  const double* reduced_angles = angles.data();
   if (reduced_polygon != &polygon) {
-    reduced_angles_storage = interior_angles(reduced);
-    reduced_angles = &reduced_angles_storage;
+    reduced_angles_storage = std::make_unique<Angles>(reduced);
+    reduced_angles = reduced_angles_storage->data();
   }
-  if (n == 4) return extra + quad_terms(reduced.data(), reduced_angles->data()).total;
-  if (n == 3) return extra + w.triangle * (w.polygon_offset + angle_deviation(*reduced_angles, kPi / 3));
+  if (n == 4) return extra + quad_terms(reduced.data(), reduced_angles).total;
+  if (n == 3) return extra + w.triangle * (w.polygon_offset + angle_deviation(reduced_angles, n, kPi / 3));
   const double beta = (double(n) - 2.0) * kPi / double(n);
-  double e = extra + w.pentagon * (w.polygon_offset + angle_deviation(*reduced_angles, beta));
+  double e = extra + w.pentagon * (w.polygon_offset + angle_deviation(reduced_angles, n, beta));
   if (n > 5) e += w.high_valence * (double(n) - 5.0);
   return e;
 }
@@ -138,7 +168,7 @@ ElementRating rate_recursive(const std::vector<Vec2>& polygon, const ElementWeig
     whole_polygon_is_the_piece();
     return rating;
   }
-  const std::vector<double> angles = interior_angles(polygon);
+  const Angles angles(polygon);
   size_t concave = n;
   for (size_t i = 0; i < n; ++i)
     if (angles[i] > kPi + w.t_joint_tolerance && (concave == n || angles[i] > angles[concave])) concave = i;
