@@ -32,14 +32,16 @@ void interior_angles_into(const std::vector<Vec2>& polygon, double* angles) {
 // nearly), else on the heap.
 class Angles {
  public:
-  explicit Angles(const std::vector<Vec2>& polygon) {
-    if (polygon.size() > kStack) heap_.resize(polygon.size());
-    data_ = polygon.size() > kStack ? heap_.data() : stack_;
-    interior_angles_into(polygon, data_);
+  explicit Angles(const std::vector<Vec2>& polygon) : Angles(polygon.size()) { interior_angles_into(polygon, data_); }
+  // Uninitialised, for the caller to fill (data()).
+  explicit Angles(size_t n) {
+    if (n > kStack) heap_.resize(n);
+    data_ = n > kStack ? heap_.data() : stack_;
   }
   Angles(const Angles&) = delete;
   Angles& operator=(const Angles&) = delete;
   const double* data() const { return data_; }
+  double* data() { return data_; }
   double operator[](size_t i) const { return data_[i]; }
 
  private:
@@ -192,8 +194,22 @@ ElementRating rate_recursive(const std::vector<Vec2>& polygon, const ElementWeig
       double score = 0.0;
       for (const auto& [from, to] : {std::pair<size_t, size_t>{concave, j}, {j, concave}}) {
         part_of(from, to, indices, sub_polygon);
-        score += signed_area(sub_polygon) > 0.0 ? rate_recursive(sub_polygon, w, depth + 1, false, false).energy
-                                                : std::numeric_limits<double>::infinity();
+        // rate_recursive(sub_polygon, w, depth + 1, false, false) without recomputing what it
+        // would find again: the part's angles are the polygon's except at the diagonal's ends
+        // (same neighbours, so the same values), and its area is positive.
+        if (!(signed_area(sub_polygon) > 0.0)) {
+          score += std::numeric_limits<double>::infinity();
+          continue;
+        }
+        const size_t m = sub_polygon.size();
+        Angles sub_angles(m);
+        for (size_t i = 0; i < m; ++i)
+          sub_angles.data()[i] =
+              i == 0 || i + 1 == m
+                  ? ccw_angle(sub_polygon[(i + 1) % m] - sub_polygon[i], sub_polygon[(i + m - 1) % m] - sub_polygon[i])
+                  : angles[indices[i]];
+        uint32_t unused_t_joints = 0;
+        score += rate_convex(sub_polygon, sub_angles, w, unused_t_joints);
       }
       if (score < best_score) best_score = score, best_j = j;
     }
