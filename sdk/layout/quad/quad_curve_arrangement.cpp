@@ -201,7 +201,8 @@ void Arrangement::reset(const std::vector<uint32_t>& curves) {
     }
 }
 
-double Arrangement::evaluate(const std::vector<uint32_t>& removed, const std::vector<uint32_t>& added, bool commit) {
+double Arrangement::evaluate(const std::vector<uint32_t>& removed, const std::vector<uint32_t>& added, bool commit,
+                             double bound) {
   // A trial's ΔE depends only on the faces it removes: every face it traces reuses half-edges
   // of those faces or runs through them. So a cached ΔE stays exact while they are all alive.
   const bool cacheable = !commit && removed.size() <= 2 && added.size() <= 2;
@@ -312,6 +313,7 @@ double Arrangement::evaluate(const std::vector<uint32_t>& removed, const std::ve
   old_faces.erase(std::unique(old_faces.begin(), old_faces.end()), old_faces.end());
   double delta = 0.0;
   for (uint32_t f : old_faces) delta -= faces_[f].energy;
+  if (!commit && delta >= bound) return delta;  // the new faces can only add (see below)
   SmallHalfEdgeSet visited(scratch_.visited);
   std::vector<Face> new_faces;  // only to commit: a trial needs the energies, not the cycles
   for (uint64_t v : dirty)
@@ -321,6 +323,9 @@ double Arrangement::evaluate(const std::vector<uint32_t>& removed, const std::ve
       Face face = trace(view, f.edge, f.index, commit, visited);
       delta += face.energy;
       if (commit) new_faces.push_back(std::move(face));
+      // The faces still to trace add energies >= 0 (and rounding is monotone): the trial is
+      // known to change E by at least `bound`. Not cached (the value is partial).
+      else if (delta >= bound) return delta;
     }
   if (cacheable) delta_cache_[key] = {delta, old_faces};
   if (commit) {

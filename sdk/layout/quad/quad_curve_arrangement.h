@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <unordered_map>
 #include <vector>
 
@@ -91,7 +92,11 @@ class Arrangement {
 
   // Energy change of removing `removed` and adding `added` (ports must be free after removal);
   // applied when commit is true.
-  double evaluate(const std::vector<uint32_t>& removed, const std::vector<uint32_t>& added, bool commit);
+  // `bound` (a trial only; face energies must be >= 0): once the change is known to be at least
+  // `bound` the remaining new faces are not traced and a value >= bound is returned (a caller
+  // that compares "< bound" gets the same answer).
+  double evaluate(const std::vector<uint32_t>& removed, const std::vector<uint32_t>& added, bool commit,
+                  double bound = std::numeric_limits<double>::infinity());
 
   // Smallest crossing angle (in [0, π/2]) of curve c with the other selected curves.
   double smallest_crossing_angle(uint32_t c);
