@@ -450,16 +450,16 @@ Chain Arrangement::build_chain(uint32_t c, const Selection& selection) {
   const std::vector<Vec2>& line = curve.polyline;
   Chain chain;
   chain.push_back({0.0, net_.ports[curve.ports[0]].point, line.front(), line[1] - line[0]});
-  for (uint32_t o : candidates_for_chain(selection)) {
+  for_each_chain_candidate(selection, [&](uint32_t o) {
     // The dense crossing table answers most pairs (no crossing) without a hash lookup.
-    if (o == c || !crosses(c, o)) continue;
+    if (o == c || !crosses(c, o)) return;
     const uint32_t a = std::min(c, o), b = std::max(c, o);
     const std::vector<Crossing>& xs = crossings(a, b);
     for (uint32_t k = 0; k < xs.size(); ++k) {
       const Crossing& x = xs[k];
       chain.push_back({c == a ? x.ta : x.tb, crossing_id(a, b, k), x.position, c == a ? x.dir_a : x.dir_b});
     }
-  }
+  });
   const size_t n = line.size() - 1;
   chain.push_back({1.0, net_.ports[curve.ports[1]].point, line.back(), line[n] - line[n - 1]});
   std::sort(chain.begin() + 1, chain.end() - 1,
@@ -467,20 +467,18 @@ Chain Arrangement::build_chain(uint32_t c, const Selection& selection) {
   return chain;
 }
 
-std::vector<uint32_t> Arrangement::candidates_for_chain(const std::vector<char>& selected) const {
-  std::vector<uint32_t> out;
+template <typename F>
+void Arrangement::for_each_chain_candidate(const std::vector<char>& selected, F&& f) const {
   for (uint32_t c : list_)
-    if (selected[c]) out.push_back(c);
-  return out;
+    if (selected[c]) f(c);
 }
 
-std::vector<uint32_t> Arrangement::candidates_for_chain(const View& view) const {
-  std::vector<uint32_t> out;
+template <typename F>
+void Arrangement::for_each_chain_candidate(const View& view, F&& f) const {
   for (uint32_t c : list_)
-    if (view.is_selected(c)) out.push_back(c);
+    if (view.is_selected(c)) f(c);
   for (auto& [c, s] : view.selected_override)
-    if (s && !selected_[c]) out.push_back(c);
-  return out;
+    if (s && !selected_[c]) f(c);
 }
 
 template <typename Visited>

@@ -113,8 +113,11 @@ class Arrangement {
   bool crosses(uint32_t a, uint32_t b);
   template <typename Selection>
   Chain build_chain(uint32_t c, const Selection& selection);
-  std::vector<uint32_t> candidates_for_chain(const std::vector<char>& selected) const;
-  std::vector<uint32_t> candidates_for_chain(const View& view) const;
+  // Calls f(o) for every curve o selected in `selected` / the view (the curves a chain may cross).
+  template <typename F>
+  void for_each_chain_candidate(const std::vector<char>& selected, F&& f) const;
+  template <typename F>
+  void for_each_chain_candidate(const View& view, F&& f) const;
   template <typename Visited>
   // `start_index`: where start.from lies in the chain of start's curve (kUnknownIndex: looked up;
   // ignored for a boundary edge).

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <memory>
+#include <optional>
 #include <numeric>
 
 #include "core/angles.h"
@@ -125,12 +125,9 @@ double rate_convex(const std::vector<Vec2>& polygon, const Angles& angles, const
   const std::vector<Vec2>& reduced = *reduced_polygon;
   // The polygon's own angles when nothing was dropped (the same values interior_angles would
   // give again); a polygon without its T-joints has other angles at their neighbours.
-  std::unique_ptr<Angles> reduced_angles_storage;
+  std::optional<Angles> reduced_angles_storage;
   const double* reduced_angles = angles.data();
-  if (reduced_polygon != &polygon) {
-    reduced_angles_storage = std::make_unique<Angles>(reduced);
-    reduced_angles = reduced_angles_storage->data();
-  }
+  if (reduced_polygon != &polygon) reduced_angles = reduced_angles_storage.emplace(reduced).data();
   if (n == 4) return extra + quad_terms(reduced.data(), reduced_angles).total;
   if (n == 3) return extra + w.triangle * (w.polygon_offset + angle_deviation(reduced_angles, n, kPi / 3));
   const double beta = (double(n) - 2.0) * kPi / double(n);
