@@ -7,6 +7,8 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <new>
+#include <type_traits>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -44,16 +46,20 @@ double pseudo_ccw_angle(const Vec2& from, const Vec2& to) {
 struct Fan {
   HalfEdge edge;
   Vec2 direction;
+  size_t index = 0;  // curve edges: where edge.from lies in the curve's chain
 };
 
 // At most four half-edges leave a vertex: two boundary edges and two ports, or two crossing curves.
+// Raw storage: a std::array<Fan, 4> would zero its 4 items on every fan() (Fan's members have
+// default initialisers), a measurable share of face tracing.
 struct FanList {
-  std::array<Fan, 4> items;
+  alignas(Fan) unsigned char storage[4 * sizeof(Fan)];
   size_t count = 0;
-  void push_back(const Fan& f) { items[count++] = f; }
-  const Fan* begin() const { return items.data(); }
-  const Fan* end() const { return items.data() + count; }
+  void push_back(const Fan& f) { new (storage + count++ * sizeof(Fan)) Fan(f); }
+  const Fan* begin() const { return std::launder(reinterpret_cast<const Fan*>(storage)); }
+  const Fan* end() const { return begin() + count; }
 };
+static_assert(std::is_trivially_destructible<Fan>::value, "FanList never destroys its items");
 
 // A map of a few keys (a trial move's overrides: a handful of curves and ports), in insertion
 // order: a linear scan beats hashing and a node allocation per key.
@@ -79,8 +85,10 @@ struct FlatMap {
 };
 
 // The half-edges traced by one evaluate (a few dozen): a flat list beats a node-based hash set.
+// It lives in the arrangement's buffer (`items`, emptied here), reused from call to call.
 struct SmallHalfEdgeSet {
-  std::vector<HalfEdge> items;
+  explicit SmallHalfEdgeSet(std::vector<HalfEdge>& buffer) : items(buffer) { items.clear(); }
+  std::vector<HalfEdge>& items;
   size_t count(const HalfEdge& h) const { return std::find(items.begin(), items.end(), h) != items.end(); }
   void insert(const HalfEdge& h) { items.push_back(h); }  // trace inserts each half-edge once
 };
@@ -117,8 +125,10 @@ struct Arrangement::View {
     const Chain& c = chain(a);
     return c[locate(c, id)].position;
   }
-  // Outgoing half-edges at vertex v.
-  FanList fan(uint64_t v) const {
+  // Outgoing half-edges at vertex v. `known_curve` / `known_index` (optional): where v lies in
+  // that curve's chain, when the caller knows it (face tracing arrives along a curve), which
+  // spares one linear search of a chain that may run to hundreds of crossings.
+  FanList fan(uint64_t v, int64_t known_curve = -1, size_t known_index = 0) const {
     FanList out;
     const CurveNetwork& net = arr.net_;
     if (!(v & kCrossingFlag)) {
@@ -131,18 +141,18 @@ struct Arrangement::View {
         const Chain& chain = this->chain(uint32_t(c));
         if (chain.size() < 2) continue;
         if (net.curves[c].ports[0] == p.first_port + k)
-          out.push_back({{v, c, 1}, chain.front().dir});
+          out.push_back({{v, c, 1}, chain.front().dir, 0});
         else
-          out.push_back({{v, c, -1}, chain.back().dir * -1.0});
+          out.push_back({{v, c, -1}, chain.back().dir * -1.0, chain.size() - 1});
       }
       return out;
     }
     const uint32_t curves[2] = {uint32_t((v >> 39) & 0xFFFFFF), uint32_t((v >> 15) & 0xFFFFFF)};
     for (uint32_t c : curves) {
       const Chain& chain = this->chain(c);
-      const size_t i = locate(chain, v);
-      if (i + 1 < chain.size()) out.push_back({{v, c, 1}, chain[i].dir});
-      if (i > 0) out.push_back({{v, c, -1}, chain[i].dir * -1.0});
+      const size_t i = int64_t(c) == known_curve ? known_index : locate(chain, v);
+      if (i + 1 < chain.size()) out.push_back({{v, c, 1}, chain[i].dir, i});
+      if (i > 0) out.push_back({{v, c, -1}, chain[i].dir * -1.0, i});
     }
     return out;
   }
@@ -178,20 +188,21 @@ void Arrangement::reset(const std::vector<uint32_t>& curves) {
   for (uint32_t c : list_) chains_[c] = build_chain(c, selected_);
   View view(*this);
   std::unordered_set<HalfEdge, HalfEdgeHash> visited;
-  auto trace_from = [&](const HalfEdge& h) {
+  auto trace_from = [&](const HalfEdge& h, size_t index) {
     if (visited.count(h)) return;
-    Face f = trace(view, h, visited);
+    Face f = trace(view, h, index, true, visited);
     add_face(std::move(f));
   };
-  for (uint32_t p = 0; p < net_.points.size(); ++p) trace_from({p, -1 - int64_t(p), 1});
+  for (uint32_t p = 0; p < net_.points.size(); ++p) trace_from({p, -1 - int64_t(p), 1}, 0);
   for (uint32_t c : list_)
     for (size_t i = 0; i + 1 < chains_[c].size(); ++i) {
-      trace_from({chains_[c][i].id, int64_t(c), 1});
-      trace_from({chains_[c][i + 1].id, int64_t(c), -1});
+      trace_from({chains_[c][i].id, int64_t(c), 1}, i);
+      trace_from({chains_[c][i + 1].id, int64_t(c), -1}, i + 1);
     }
 }
 
-double Arrangement::evaluate(const std::vector<uint32_t>& removed, const std::vector<uint32_t>& added, bool commit) {
+double Arrangement::evaluate(const std::vector<uint32_t>& removed, const std::vector<uint32_t>& added, bool commit,
+                             double bound) {
   // A trial's ΔE depends only on the faces it removes: every face it traces reuses half-edges
   // of those faces or runs through them. So a cached ΔE stays exact while they are all alive.
   const bool cacheable = !commit && removed.size() <= 2 && added.size() <= 2;
@@ -211,10 +222,13 @@ double Arrangement::evaluate(const std::vector<uint32_t>& removed, const std::ve
     for (uint32_t p : net_.curves[c].ports) view.port_override[p] = -1;
   for (uint32_t c : added)
     for (uint32_t p : net_.curves[c].ports) view.port_override[p] = c;
-  // Curves whose chain changes: R ∪ A and the selected curves crossing them.
-  std::vector<uint32_t> touched(removed);
+  // Curves whose chain changes: R ∪ A and the selected curves crossing them. (The lists below
+  // are the arrangement's buffers, reused from one evaluate to the next.)
+  std::vector<uint32_t>& touched = scratch_.touched;
+  touched.assign(removed.begin(), removed.end());
   touched.insert(touched.end(), added.begin(), added.end());
-  std::vector<uint32_t> changed = touched;
+  std::vector<uint32_t>& changed = scratch_.changed;
+  changed.assign(touched.begin(), touched.end());
   for (uint32_t c : list_)
     if (!view.selected_override.count(c))
       for (uint32_t t : touched)
@@ -226,12 +240,13 @@ double Arrangement::evaluate(const std::vector<uint32_t>& removed, const std::ve
   // included: their fans change). A selected curve they cross: the crossings that disappear or
   // appear and their chain neighbours (its pieces there merge or split). Every other vertex
   // keeps its fan and its pieces, so a face through none of them is unchanged.
-  std::vector<uint64_t> dirty_old, dirty;
+  std::vector<uint64_t>&dirty_old = scratch_.dirty_old, &dirty = scratch_.dirty;
+  dirty_old.clear(), dirty.clear();
   auto mark = [](std::vector<uint64_t>& side, uint64_t id) { side.push_back(id); };
   auto contains = [](const Chain& chain, uint64_t id) {
     return std::any_of(chain.begin(), chain.end(), [&](const ChainVertex& v) { return v.id == id; });
   };
-  std::vector<uint64_t> old_ids, new_ids;
+  std::vector<uint64_t>&old_ids = scratch_.old_ids, &new_ids = scratch_.new_ids;
   auto sorted_ids = [](const Chain& chain, std::vector<uint64_t>& ids) {
     ids.clear();
     for (const ChainVertex& v : chain) ids.push_back(v.id);
@@ -288,7 +303,7 @@ double Arrangement::evaluate(const std::vector<uint32_t>& removed, const std::ve
   }
   // Old faces through a dirty vertex.
   View old_view(*this);
-  std::vector<uint32_t> old_faces;
+  std::vector<uint32_t> old_faces;  // kept in the delta cache
   for (uint64_t v : dirty_old)
     for (const Fan& f : old_view.fan(v)) {
       auto it = face_of_.find(f.edge);
@@ -298,14 +313,19 @@ double Arrangement::evaluate(const std::vector<uint32_t>& removed, const std::ve
   old_faces.erase(std::unique(old_faces.begin(), old_faces.end()), old_faces.end());
   double delta = 0.0;
   for (uint32_t f : old_faces) delta -= faces_[f].energy;
-  SmallHalfEdgeSet visited;
-  std::vector<Face> new_faces;
+  if (!commit && delta >= bound) return delta;  // the new faces can only add (see below)
+  SmallHalfEdgeSet visited(scratch_.visited);
+  std::vector<Face> new_faces;  // only to commit: a trial needs the energies, not the cycles
   for (uint64_t v : dirty)
     for (const Fan& f : view.fan(v)) {
       if (f.edge.carrier < 0 && f.edge.dir < 0) continue;  // outside the region
       if (visited.count(f.edge)) continue;
-      new_faces.push_back(trace(view, f.edge, visited));
-      delta += new_faces.back().energy;
+      Face face = trace(view, f.edge, f.index, commit, visited);
+      delta += face.energy;
+      if (commit) new_faces.push_back(std::move(face));
+      // The faces still to trace add energies >= 0 (and rounding is monotone): the trial is
+      // known to change E by at least `bound`. Not cached (the value is partial).
+      else if (delta >= bound) return delta;
     }
   if (cacheable) delta_cache_[key] = {delta, old_faces};
   if (commit) {
@@ -430,15 +450,16 @@ Chain Arrangement::build_chain(uint32_t c, const Selection& selection) {
   const std::vector<Vec2>& line = curve.polyline;
   Chain chain;
   chain.push_back({0.0, net_.ports[curve.ports[0]].point, line.front(), line[1] - line[0]});
-  for (uint32_t o : candidates_for_chain(selection)) {
-    if (o == c) continue;
+  for_each_chain_candidate(selection, [&](uint32_t o) {
+    // The dense crossing table answers most pairs (no crossing) without a hash lookup.
+    if (o == c || !crosses(c, o)) return;
     const uint32_t a = std::min(c, o), b = std::max(c, o);
     const std::vector<Crossing>& xs = crossings(a, b);
     for (uint32_t k = 0; k < xs.size(); ++k) {
       const Crossing& x = xs[k];
       chain.push_back({c == a ? x.ta : x.tb, crossing_id(a, b, k), x.position, c == a ? x.dir_a : x.dir_b});
     }
-  }
+  });
   const size_t n = line.size() - 1;
   chain.push_back({1.0, net_.ports[curve.ports[1]].point, line.back(), line[n] - line[n - 1]});
   std::sort(chain.begin() + 1, chain.end() - 1,
@@ -446,47 +467,69 @@ Chain Arrangement::build_chain(uint32_t c, const Selection& selection) {
   return chain;
 }
 
-std::vector<uint32_t> Arrangement::candidates_for_chain(const std::vector<char>& selected) const {
-  std::vector<uint32_t> out;
+template <typename F>
+void Arrangement::for_each_chain_candidate(const std::vector<char>& selected, F&& f) const {
   for (uint32_t c : list_)
-    if (selected[c]) out.push_back(c);
-  return out;
+    if (selected[c]) f(c);
 }
 
-std::vector<uint32_t> Arrangement::candidates_for_chain(const View& view) const {
-  std::vector<uint32_t> out;
+template <typename F>
+void Arrangement::for_each_chain_candidate(const View& view, F&& f) const {
   for (uint32_t c : list_)
-    if (view.is_selected(c)) out.push_back(c);
+    if (view.is_selected(c)) f(c);
   for (auto& [c, s] : view.selected_override)
-    if (s && !selected_[c]) out.push_back(c);
-  return out;
+    if (s && !selected_[c]) f(c);
 }
 
 template <typename Visited>
-Face Arrangement::trace(const View& view, const HalfEdge& start, Visited& visited) {
+Face Arrangement::trace(const View& view, const HalfEdge& start, size_t start_index, bool keep_cycle,
+                        Visited& visited) {
   Face face;
   std::vector<uint64_t>& ids = trace_ids_;
   std::vector<Vec2>& polygon = trace_polygon_;
   ids.clear(), polygon.clear();
-  face.cycle.reserve(8);
+  if (keep_cycle) face.cycle.reserve(8);
+  // The walk carries where each half-edge's start lies in its curve's chain (the target is the
+  // next chain vertex, and the next half-edge starts there), and the start's position, so that
+  // chains are searched only for the other curve through a crossing: the same faces, positions
+  // and choices as looking every vertex up (View::target, View::position).
   HalfEdge h = start;
+  size_t index = start.carrier >= 0 && start_index == kUnknownIndex
+                     ? View::locate(view.chain(uint32_t(start.carrier)), start.from)
+                     : start_index;
+  Vec2 position = view.position(start.from);
   const size_t limit = 4 * (net_.points.size() + 64 * (list_.size() + 8) * (list_.size() + 8));
   for (size_t step = 0;; ++step) {
     if (step > limit) fail(Status::internal_error, "quad selection: a face cycle does not close");
-    face.cycle.push_back(h);
+    if (keep_cycle) face.cycle.push_back(h);
     visited.insert(h);
     ids.push_back(h.from);
-    polygon.push_back(view.position(h.from));
-    const auto [w, twin_direction] = view.target(h);
+    polygon.push_back(position);
+    uint64_t w = 0;
+    Vec2 twin_direction;
+    size_t w_index = 0;
+    if (h.carrier < 0) {
+      const std::pair<uint64_t, Vec2> t = view.target(h);
+      w = t.first, twin_direction = t.second;
+      position = net_.points[w].uv;
+    } else {
+      const Chain& chain = view.chain(uint32_t(h.carrier));
+      w_index = h.dir > 0 ? index + 1 : index - 1;
+      const ChainVertex& x = chain[w_index];
+      w = x.id, twin_direction = x.dir * (h.dir > 0 ? -1.0 : 1.0);
+      position = (w & kCrossingFlag) ? x.position : net_.points[w].uv;
+    }
     const HalfEdge twin{w, h.carrier, -h.dir};
     double best = std::numeric_limits<double>::infinity();
     HalfEdge next = twin;
-    for (const Fan& f : view.fan(w)) {
+    size_t next_index = w_index;
+    for (const Fan& f : view.fan(w, h.carrier, w_index)) {
       if (f.edge == twin) continue;
       const double angle = pseudo_ccw_angle(f.direction, twin_direction);  // clockwise from the twin
-      if (angle < best) best = angle, next = f.edge;
+      if (angle < best) best = angle, next = f.edge, next_index = f.index;
     }
     h = next;
+    index = next_index;
     if (h == start) break;
   }
   face.energy = rate(ids, polygon);

@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <unordered_map>
 #include <vector>
 
@@ -91,7 +92,11 @@ class Arrangement {
 
   // Energy change of removing `removed` and adding `added` (ports must be free after removal);
   // applied when commit is true.
-  double evaluate(const std::vector<uint32_t>& removed, const std::vector<uint32_t>& added, bool commit);
+  // `bound` (a trial only; face energies must be >= 0): once the change is known to be at least
+  // `bound` the remaining new faces are not traced and a value >= bound is returned (a caller
+  // that compares "< bound" gets the same answer).
+  double evaluate(const std::vector<uint32_t>& removed, const std::vector<uint32_t>& added, bool commit,
+                  double bound = std::numeric_limits<double>::infinity());
 
   // Smallest crossing angle (in [0, π/2]) of curve c with the other selected curves.
   double smallest_crossing_angle(uint32_t c);
@@ -108,10 +113,17 @@ class Arrangement {
   bool crosses(uint32_t a, uint32_t b);
   template <typename Selection>
   Chain build_chain(uint32_t c, const Selection& selection);
-  std::vector<uint32_t> candidates_for_chain(const std::vector<char>& selected) const;
-  std::vector<uint32_t> candidates_for_chain(const View& view) const;
+  // Calls f(o) for every curve o selected in `selected` / the view (the curves a chain may cross).
+  template <typename F>
+  void for_each_chain_candidate(const std::vector<char>& selected, F&& f) const;
+  template <typename F>
+  void for_each_chain_candidate(const View& view, F&& f) const;
   template <typename Visited>
-  Face trace(const View& view, const HalfEdge& start, Visited& visited);
+  // `start_index`: where start.from lies in the chain of start's curve (kUnknownIndex: looked up;
+  // ignored for a boundary edge).
+  // `keep_cycle` false: the face's cycle is not stored (a trial move needs only the energy).
+  Face trace(const View& view, const HalfEdge& start, size_t start_index, bool keep_cycle, Visited& visited);
+  static constexpr size_t kUnknownIndex = ~size_t(0);
   double rate(const std::vector<uint64_t>& ids, const std::vector<Vec2>& polygon);
   void add_face(Face f);
   void compact_faces();
@@ -146,6 +158,12 @@ class Arrangement {
   std::vector<CurveBoxes> boxes_;
   const CurveBoxes& boxes(uint32_t c);
   std::unordered_map<std::vector<uint64_t>, double, CycleHash> energy_cache_;
+  // evaluate()'s lists, kept between calls (no allocation per trial move once they have grown).
+  struct Scratch {
+    std::vector<uint32_t> touched, changed;
+    std::vector<uint64_t> dirty_old, dirty, old_ids, new_ids;
+    std::vector<HalfEdge> visited;
+  } scratch_;
   // trace()'s buffers, kept between calls (an Arrangement is used by one thread at a time).
   std::vector<uint64_t> trace_ids_, cycle_key_;
   std::vector<Vec2> trace_polygon_;

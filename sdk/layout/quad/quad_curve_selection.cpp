@@ -61,6 +61,9 @@ class Optimizer {
   Optimizer(const CurveNetwork& net, const SelectionOptions& options, const TaskMonitor& monitor, QuadSelection& stats)
       : net_(net), options_(options), monitor_(monitor), stats_(stats), arrangement_(net, options.weights) {
     for (uint32_t c = 0; c < net.curves.size(); ++c) curve_of_[edge_key(net.curves[c].ports[0], net.curves[c].ports[1])] = c;
+    const ElementWeights& w = options.weights;
+    bounded_ = w.triangle >= 0 && w.pentagon >= 0 && w.t_joint >= 0 && w.polygon_offset >= 0 && w.high_valence >= 0 &&
+               w.invalid >= 0;
   }
   Arrangement& arrangement() { return arrangement_; }
 
@@ -82,7 +85,7 @@ class Optimizer {
       Move best_move;
       auto consider = [&](std::vector<uint32_t> removed, std::vector<uint32_t> added) {
         ++stats_.moves_evaluated;
-        const double delta = arrangement_.evaluate(removed, added, false);
+        const double delta = arrangement_.evaluate(removed, added, false, bounded_ ? best : kInfinity);
         if (delta < best) best = delta, best_move = {std::move(removed), std::move(added)};
       };
       for (size_t i = 0; i < selected.size(); ++i) {
@@ -138,7 +141,7 @@ class Optimizer {
         const auto& ports = net_.curves[c].ports;
         if (arrangement_.port_curve(ports[0]) >= 0 || arrangement_.port_curve(ports[1]) >= 0) continue;
         ++stats_.moves_evaluated;
-        const double delta = arrangement_.evaluate({}, {c}, false);
+        const double delta = arrangement_.evaluate({}, {c}, false, bounded_ ? lowest : kInfinity);
         if (delta < lowest) lowest = delta, chosen = c;
       }
       if (chosen < 0) return;  // saturated, or no curve left
@@ -242,6 +245,10 @@ class Optimizer {
   Arrangement arrangement_;
   std::unordered_map<uint64_t, uint32_t> curve_of_;
   std::vector<std::vector<uint32_t>> forward_;  // per port: the curves whose first port it is
+  // Every face energy is >= 0 (non-negative weights), so a descent's trials can stop at the best
+  // change found so far (Arrangement::evaluate's bound).
+  bool bounded_ = false;
+  static constexpr double kInfinity = std::numeric_limits<double>::infinity();
  public:
   bool polish_ = false;  // descend() also tries add and remove moves
   std::vector<char> focus_;  // per port; empty: every move (see descend())

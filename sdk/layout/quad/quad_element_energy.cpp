@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <numeric>
 
 #include "core/angles.h"
@@ -17,19 +18,50 @@ namespace {
 const size_t kMaxSplitValence = 24;  // larger faces are not split (rated as they are)
 }  // namespace
 
-std::vector<double> interior_angles(const std::vector<Vec2>& polygon) {
+namespace {
+// interior_angles into `angles` (polygon.size() values).
+void interior_angles_into(const std::vector<Vec2>& polygon, double* angles) {
   const size_t n = polygon.size();
-  std::vector<double> angles(n);
   for (size_t i = 0; i < n; ++i) {
     const Vec2& p = polygon[i];
     angles[i] = ccw_angle(polygon[(i + 1) % n] - p, polygon[(i + n - 1) % n] - p);
   }
+}
+
+// A polygon's interior angles on the stack when it is small (every face the selection rates,
+// nearly), else on the heap.
+class Angles {
+ public:
+  explicit Angles(const std::vector<Vec2>& polygon) : Angles(polygon.size()) { interior_angles_into(polygon, data_); }
+  // Uninitialised, for the caller to fill (data()).
+  explicit Angles(size_t n) {
+    if (n > kStack) heap_.resize(n);
+    data_ = n > kStack ? heap_.data() : stack_;
+  }
+  Angles(const Angles&) = delete;
+  Angles& operator=(const Angles&) = delete;
+  const double* data() const { return data_; }
+  double* data() { return data_; }
+  double operator[](size_t i) const { return data_[i]; }
+
+ private:
+  static constexpr size_t kStack = 32;
+  double stack_[kStack];
+  std::vector<double> heap_;
+  double* data_;
+};
+}  // namespace
+
+std::vector<double> interior_angles(const std::vector<Vec2>& polygon) {
+  std::vector<double> angles(polygon.size());
+  interior_angles_into(polygon, angles.data());
   return angles;
 }
 
-QuadEnergyTerms quad_energy_terms(const std::array<Vec2, 4>& quad) {
-  const std::vector<Vec2> polygon(quad.begin(), quad.end());
-  const std::vector<double> g = interior_angles(polygon);
+namespace {
+
+// (6.4)-(6.8) of the quad q[0..3] with interior angles g[0..3] (interior_angles of q).
+QuadEnergyTerms quad_terms(const Vec2* quad, const double* g) {
   double l[4], lmax = 0.0;
   for (int i = 0; i < 4; ++i) l[i] = hypot_length(quad[(i + 1) % 4] - quad[i]), lmax = std::max(lmax, l[i]);
   QuadEnergyTerms e;
@@ -44,15 +76,29 @@ QuadEnergyTerms quad_energy_terms(const std::array<Vec2, 4>& quad) {
   return e;
 }
 
-double angle_deviation_energy(const std::vector<Vec2>& polygon, double beta) {
+// (6.9) from the polygon's n interior angles.
+double angle_deviation(const double* angles, size_t n, double beta) {
   double e = 0.0;
-  for (double g : interior_angles(polygon)) e += std::fabs(g - beta);  // (6.9)
+  for (size_t i = 0; i < n; ++i) e += std::fabs(angles[i] - beta);
   return e;
+}
+
+}  // namespace
+
+QuadEnergyTerms quad_energy_terms(const std::array<Vec2, 4>& quad) {
+  const std::vector<Vec2> polygon(quad.begin(), quad.end());
+  const std::vector<double> g = interior_angles(polygon);
+  return quad_terms(quad.data(), g.data());
+}
+
+double angle_deviation_energy(const std::vector<Vec2>& polygon, double beta) {
+  const Angles angles(polygon);
+  return angle_deviation(angles.data(), polygon.size(), beta);  // (6.9)
 }
 
 namespace {
 
-double rate_convex(const std::vector<Vec2>& polygon, const std::vector<double>& angles, const ElementWeights& w,
+double rate_convex(const std::vector<Vec2>& polygon, const Angles& angles, const ElementWeights& w,
                    uint32_t& t_joints) {
   size_t n = polygon.size();
   std::vector<Vec2> without_t_joints;
@@ -77,10 +123,15 @@ double rate_convex(const std::vector<Vec2>& polygon, const std::vector<double>& 
     }
   }
   const std::vector<Vec2>& reduced = *reduced_polygon;
-  if (n == 4) return extra + quad_energy_terms({reduced[0], reduced[1], reduced[2], reduced[3]}).total;
-  if (n == 3) return extra + w.triangle * (w.polygon_offset + angle_deviation_energy(reduced, kPi / 3));
+  // The polygon's own angles when nothing was dropped (the same values interior_angles would
+  // give again); a polygon without its T-joints has other angles at their neighbours.
+  std::optional<Angles> reduced_angles_storage;
+  const double* reduced_angles = angles.data();
+  if (reduced_polygon != &polygon) reduced_angles = reduced_angles_storage.emplace(reduced).data();
+  if (n == 4) return extra + quad_terms(reduced.data(), reduced_angles).total;
+  if (n == 3) return extra + w.triangle * (w.polygon_offset + angle_deviation(reduced_angles, n, kPi / 3));
   const double beta = (double(n) - 2.0) * kPi / double(n);
-  double e = extra + w.pentagon * (w.polygon_offset + angle_deviation_energy(reduced, beta));
+  double e = extra + w.pentagon * (w.polygon_offset + angle_deviation(reduced_angles, n, beta));
   if (n > 5) e += w.high_valence * (double(n) - 5.0);
   return e;
 }
@@ -116,7 +167,7 @@ ElementRating rate_recursive(const std::vector<Vec2>& polygon, const ElementWeig
     whole_polygon_is_the_piece();
     return rating;
   }
-  const std::vector<double> angles = interior_angles(polygon);
+  const Angles angles(polygon);
   size_t concave = n;
   for (size_t i = 0; i < n; ++i)
     if (angles[i] > kPi + w.t_joint_tolerance && (concave == n || angles[i] > angles[concave])) concave = i;
@@ -140,8 +191,22 @@ ElementRating rate_recursive(const std::vector<Vec2>& polygon, const ElementWeig
       double score = 0.0;
       for (const auto& [from, to] : {std::pair<size_t, size_t>{concave, j}, {j, concave}}) {
         part_of(from, to, indices, sub_polygon);
-        score += signed_area(sub_polygon) > 0.0 ? rate_recursive(sub_polygon, w, depth + 1, false, false).energy
-                                                : std::numeric_limits<double>::infinity();
+        // rate_recursive(sub_polygon, w, depth + 1, false, false) without recomputing what it
+        // would find again: the part's angles are the polygon's except at the diagonal's ends
+        // (same neighbours, so the same values), and its area is positive.
+        if (!(signed_area(sub_polygon) > 0.0)) {
+          score += std::numeric_limits<double>::infinity();
+          continue;
+        }
+        const size_t m = sub_polygon.size();
+        Angles sub_angles(m);
+        for (size_t i = 0; i < m; ++i)
+          sub_angles.data()[i] =
+              i == 0 || i + 1 == m
+                  ? ccw_angle(sub_polygon[(i + 1) % m] - sub_polygon[i], sub_polygon[(i + m - 1) % m] - sub_polygon[i])
+                  : angles[indices[i]];
+        uint32_t unused_t_joints = 0;
+        score += rate_convex(sub_polygon, sub_angles, w, unused_t_joints);
       }
       if (score < best_score) best_score = score, best_j = j;
     }
