@@ -1002,8 +1002,10 @@ void Builder::allocate_work_state(const std::vector<uint32_t>& corners) {
   heap_.init(nv);
   dirty_flag_.assign(nf, 0);
   assign_huge(ver_, nf, 0u);
+  monitor_.report("simplify", 0.0);
   slot_stamp_.assign(nf, 0);
   slot_index_.assign(nf, 0);
+  monitor_.report("simplify", 0.0);
   impl_.hier.parent.assign(nf, kNoRecord);
   impl_.hier.current.assign(nf, kNoRecord);
 }
