@@ -195,8 +195,8 @@ typedef void (*cagekit_log_fn)(void* user_data, cagekit_log_level level, const c
  * continue, 0 to cancel (the operation then returns CAGEKIT_ERROR_CANCELLED). Called on the
  * thread that made the library call, at most every few milliseconds of work, and often enough that
  * a cancel takes effect within about half a second (measured on a 1.1M-triangle scan on a 2-core
- * machine: at most 0.3 s between calls, the call returning within 0.35 s of the cancelling one;
- * tests/bench/RESULTS.md). Must not call back into CageKit with the same context. */
+ * machine: at most 0.3 s between calls, the call returning within 0.35 s of the cancelling one).
+ * Must not call back into CageKit with the same context. */
 typedef int (*cagekit_progress_fn)(void* user_data, const char* stage, double fraction);
 
 typedef struct cagekit_context_desc {
