@@ -225,14 +225,6 @@ void check_mesh(const PolygonMesh& mesh, Recorder& rec, MeshCheck& out) {
 
 }  // namespace
 
-ValidationReport validate_mesh(const PolygonMesh& mesh, size_t max_records) {
-  ValidationReport report;
-  Recorder rec(report, max_records);
-  MeshCheck check;
-  check_mesh(mesh, rec, check);
-  return report;
-}
-
 ValidationReport validate_mesh(const PolygonMesh& mesh, size_t max_records, const TaskMonitor& monitor,
                                const char* stage, double fraction) {
   ValidationReport report;
@@ -241,6 +233,10 @@ ValidationReport validate_mesh(const PolygonMesh& mesh, size_t max_records, cons
   check.monitor = &monitor, check.stage = stage, check.fraction = fraction;
   check_mesh(mesh, rec, check);
   return report;
+}
+
+ValidationReport validate_mesh(const PolygonMesh& mesh, size_t max_records) {
+  return validate_mesh(mesh, max_records, TaskMonitor(), "", 0.0);  // a default monitor reports nothing
 }
 
 ValidationReport validate_cage(const Cage& cage, size_t max_records) {
