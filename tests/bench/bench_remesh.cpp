@@ -505,8 +505,13 @@ int run_corpus(const std::string& corpus, const std::vector<std::string>& only, 
     else if (blender)
       qf_cell = std::to_string(row.qf_q.faces) + " faces, " + time_cell(row.qf.wall, row.qf.cpu) +
                 (row.qf_invalid.empty() ? "" : ", invalid: " + row.qf_invalid);
-    const std::string ck_cell =
-        row.ck.ok ? std::to_string(row.ck.faces) + " faces, " + time_cell(row.ck.wall, row.ck.cpu) : row.ck.error;
+    std::string ck_cell = row.ck.error;
+    if (row.ck.ok) {
+      char quality[160];
+      std::snprintf(quality, sizeof quality, ", quads %.1f%%, valence-4 %.1f%%, Hausdorff sym %.3f%%, sharp recall %.1f%%",
+                    row.ck_q.quads_pct, row.ck_q.valence4_pct, 100 * row.ck_q.hausdorff_sym, recall(row.ck_q));
+      ck_cell = std::to_string(row.ck.faces) + " faces, " + time_cell(row.ck.wall, row.ck.cpu) + quality;
+    }
     std::printf("%s: %zu triangles; CageKit %s; QuadriFlow %s\n", m.name.c_str(), row.triangles, ck_cell.c_str(),
                 qf_cell.c_str());
     std::fflush(stdout);
