@@ -850,6 +850,100 @@ def part_bspline_surface(surface):
     return out
 
 
+def _bspline_basis(knots, degree, t):
+    """(len(t), n) values of the n B-spline basis functions of the full knot vector `knots` at the
+    parameters t (Cox-de Boor; t at the last knot counts in the last non-empty span)."""
+    np = numpy()
+    knots = np.asarray(knots, dtype=np.float64)
+    t = np.asarray(t, dtype=np.float64)
+    n = len(knots) - degree - 1
+    last = np.nonzero(knots[:-1] < knots[-1])[0][-1]  # the last non-empty span
+    b = ((knots[None, :-1] <= t[:, None]) & (t[:, None] < knots[None, 1:])).astype(np.float64)
+    b[t >= knots[-1], :] = 0.0
+    b[t >= knots[-1], last] = 1.0
+    for d in range(1, degree + 1):
+        nxt = np.zeros((len(t), len(knots) - d - 1))
+        for i in range(len(knots) - d - 1):
+            left = knots[i + d] - knots[i]
+            right = knots[i + d + 1] - knots[i + 1]
+            if left > 0:
+                nxt[:, i] += (t - knots[i]) / left * b[:, i]
+            if right > 0:
+                nxt[:, i] += (knots[i + d + 1] - t) / right * b[:, i + 1]
+        b = nxt
+    return b[:, :n]
+
+
+_GRID_BASES = {}
+
+
+def _grid_basis(knots, degree, count):
+    """_bspline_basis at count equidistant parameters over the knots' range, memoised (the SDK's
+    surfaces share a few knot vectors)."""
+    np = numpy()
+    key = (tuple(float(k) for k in knots), int(degree), int(count))
+    basis = _GRID_BASES.get(key)
+    if basis is None:
+        if len(_GRID_BASES) > 256:
+            _GRID_BASES.clear()
+        basis = _GRID_BASES[key] = _bspline_basis(key[0], degree, np.linspace(key[0][0], key[0][-1], count))
+    return basis
+
+
+def bspline_grid(knots_u, knots_v, degree_u, degree_v, poles, count=33):
+    """(count, count, 3) points of a non-rational B-spline surface (full knot vectors, poles
+    (n_u, n_v, 3)) on a count x count grid of its parameter domain ([i, j]: u index i, v index j)."""
+    np = numpy()
+    nu = _grid_basis(knots_u, degree_u, count)
+    nv = _grid_basis(knots_v, degree_v, count)
+    return np.stack([nu @ poles[:, :, k] @ nv.T for k in range(3)], axis=-1)
+
+
+def part_surface_grid(surface, count=33):
+    """bspline_grid of a non-rational Part.BSplineSurface, from its poles and knots."""
+    np = numpy()
+    poles = np.array([[tuple(p) for p in row] for row in surface.getPoles()])  # (NbUPoles, NbVPoles, 3)
+    return bspline_grid(surface.UKnotSequence, surface.VKnotSequence, surface.UDegree, surface.VDegree, poles, count)
+
+
+def sdk_surface_grid(surface, count=33):
+    """bspline_grid of a cagekit BSplineSurface (the points of part_bspline_surface's surface)."""
+    np = numpy()
+    poles = np.transpose(np.asarray(surface.control_points, dtype=np.float64), (1, 0, 2))  # [i along u, j, 3]
+    return bspline_grid(np.asarray(surface.knots_u, dtype=np.float64), np.asarray(surface.knots_v, dtype=np.float64),
+                        int(surface.degree_u), int(surface.degree_v), poles, count)
+
+
+def remove_knots(surface, tolerance, before=None):
+    """Removes the interior knots of a Part.BSplineSurface whose removal moves it by at most a step
+    tolerance (model units; OCCT checks each removal against the surface before it, so the moves
+    add up): first `tolerance` itself, then half as much while the result, measured against the
+    input on a 33 x 33 grid of its parameter domain (removal keeps the parametrisation), is further
+    than `tolerance` (at most four halvings; otherwise the input is kept). The same rule as the
+    CLI's export-surfaces --knot-removal. `before`: part_surface_grid(surface) when the caller has
+    it. Returns (surface, measured distance)."""
+    np = numpy()
+    if surface.NbUKnots <= 2 and surface.NbVKnots <= 2:
+        return surface, 0.0
+    before = part_surface_grid(surface) if before is None else before
+    step = float(tolerance)
+    for _ in range(5):
+        s = surface.copy()
+        for direction in ("U", "V"):
+            remove = getattr(s, "remove%sKnot" % direction)
+            i = 2
+            while i < getattr(s, "Nb%sKnots" % direction):
+                if not remove(i, 0, step):
+                    i += 1
+        if s.NbUPoles * s.NbVPoles == surface.NbUPoles * surface.NbVPoles:
+            break
+        moved = float(np.linalg.norm(part_surface_grid(s) - before, axis=2).max())
+        if moved <= tolerance:
+            return s, moved
+        step *= 0.5
+    return surface, 0.0
+
+
 def _side_uv(side, t):
     """(n, 2) (u, v) of side `side` (0: v = 0, 1: u = 1, 2: v = 1, 3: u = 0) at its parameter t."""
     np = numpy()
@@ -938,10 +1032,14 @@ def _sdk_cage(cage, progress, feature, missing):
             cage.close()
 
 
-def bspline_sdk(cage, tolerance=1e-4, max_level=5, samples=256, progress=None):
+def bspline_sdk(cage, tolerance=1e-4, max_level=5, samples=256, progress=None, knot_removal=None):
     """bspline_faces' SDK stage (no FreeCAD object touched when `cage` is a cagekit.Cage or
     cage_arrays()' dict: usable on a worker thread): a dict mode, sdk_surfaces, info, tolerance,
-    samples, seconds {"limit"}."""
+    knot_removal (the fraction of the diagonal bspline_part's knot removal may move a surface:
+    `knot_removal`, or a tenth of `tolerance` when None; 0: no removal), samples, seconds {"limit"}."""
+    knot_removal = 0.1 * float(tolerance) if knot_removal is None else float(knot_removal)
+    if not (0.0 <= knot_removal < float("inf")):
+        raise WorkbenchError("knot removal must be a finite fraction of the diagonal >= 0, not %r" % knot_removal)
     np = numpy()
     with _sdk_cage(cage, progress, "LimitSurfaces", "merged B-spline surfaces (cagekit_limit_surfaces_*): "
                    "update it and libcagekit, or use mode 'patches'") as (ck, cage):
@@ -955,7 +1053,7 @@ def bspline_sdk(cage, tolerance=1e-4, max_level=5, samples=256, progress=None):
             ptex = np.array([sdk_surfaces[int(i)].ptex_face for i in k], dtype=np.uint32)
             points = evaluator.evaluate(ptex, uv).position if len(k) else np.zeros((0, 3))
     return {"mode": "bspline", "sdk_surfaces": sdk_surfaces, "info": info, "tolerance": float(tolerance),
-            "samples": (k, points), "seconds": {"limit": t_limit}}
+            "knot_removal": knot_removal, "samples": (k, points), "seconds": {"limit": t_limit}}
 
 
 def bspline_part(stage):
@@ -965,19 +1063,30 @@ def bspline_part(stage):
     diag = float(info.bbox_diagonal)
     gap = float(border_gaps(sdk_surfaces).max()) if sdk_surfaces else 0.0
     surfaces = [part_bspline_surface(s) for s in sdk_surfaces]
+    poles_before = sum(p.NbUPoles * p.NbVPoles for p in surfaces)
+    removal = float(stage.get("knot_removal", 0.0)) * diag
+    moved = 0.0
+    if removal > 0:
+        reduced = [remove_knots(p, removal, sdk_surface_grid(q) if p.NbUKnots > 2 or p.NbVKnots > 2 else None)
+                   for p, q in zip(surfaces, sdk_surfaces)]
+        surfaces = [p for p, _ in reduced]
+        moved = max((d for _, d in reduced), default=0.0)
     faces = [square_face(p, side_splits(s)) for p, s in zip(surfaces, sdk_surfaces)]
     out = dict(stage)
     out.update({"surfaces": surfaces, "faces": faces,
                 "counts": {"faces": len(faces), "exact": int(info.exact_count),
                            "approximated": int(info.approximated_count),
-                           "over_tolerance": int(info.over_tolerance_count), "ptex_faces": int(info.ptex_face_count)},
+                           "over_tolerance": int(info.over_tolerance_count), "ptex_faces": int(info.ptex_face_count),
+                           "control_points_before": int(poles_before),
+                           "control_points": int(sum(p.NbUPoles * p.NbVPoles for p in surfaces))},
                 "max_error_rel": float(info.max_error_rel), "bbox_diagonal": diag,
-                "border_gap": gap, "sew_tolerance": 10.0 * gap + 1e-7 * max(diag, 1e-300),
+                "max_knot_removal_deviation_rel": moved / diag if diag > 0 else 0.0,
+                "border_gap": gap, "sew_tolerance": max(10.0 * gap + 1e-7 * max(diag, 1e-300), 2.5 * removal),
                 "seconds": {"limit": stage["seconds"]["limit"], "faces": time.perf_counter() - t}})
     return out
 
 
-def bspline_faces(cage, tolerance=1e-4, max_level=5, samples=256, progress=None):
+def bspline_faces(cage, tolerance=1e-4, max_level=5, samples=256, progress=None, knot_removal=None):
     """The limit surface of `cage` (a cagekit.Cage or a CageKit cage object) as the SDK's merged
     B-spline surfaces (cagekit_limit_surfaces_create: one bicubic B-spline with interior knots per
     ptex face; tolerance: fraction of the bounding-box diagonal; max_level: 1..7), in FreeCAD.
@@ -990,8 +1099,13 @@ def bspline_faces(cage, tolerance=1e-4, max_level=5, samples=256, progress=None)
       border_gap: the largest measured distance between shared borders (model units);
       sew_tolerance: 10 x that gap + 1e-7 of the diagonal (model units);
       samples (face index (m,), limit-surface points (m, 3) from cagekit's Surface.evaluate at the
-      surfaces' (u, v)) for checks; seconds {"limit", "faces"}. (bspline_sdk, then bspline_part.)"""
-    return bspline_part(bspline_sdk(cage, tolerance, max_level, samples, progress))
+      surfaces' (u, v)) for checks; seconds {"limit", "faces"};
+      knot_removal: the interior knots whose removal moves a surface by at most this fraction of the
+      diagonal (default a tenth of `tolerance`; 0: none) are removed (remove_knots), so a surface is
+      then within tolerance + knot_removal of the limit surface; counts control_points_before /
+      control_points, max_knot_removal_deviation_rel (measured on a 33 x 33 grid per surface); the
+      sewing tolerance is at least 2.5 x the removal's. (bspline_sdk, then bspline_part.)"""
+    return bspline_part(bspline_sdk(cage, tolerance, max_level, samples, progress, knot_removal))
 
 
 def patch_sdk(cage, tolerance=1e-4, max_depth=8, samples=256, progress=None):
@@ -1043,12 +1157,13 @@ def patch_faces(cage, tolerance=1e-4, max_depth=8, samples=256, progress=None):
     return patch_part(patch_sdk(cage, tolerance, max_depth, samples, progress))
 
 
-def surface_sdk(cage, tolerance=1e-4, mode="bspline", max_level=5, max_depth=8, samples=256, progress=None):
+def surface_sdk(cage, tolerance=1e-4, mode="bspline", max_level=5, max_depth=8, samples=256, progress=None,
+                knot_removal=None):
     """The SDK stage of surface_shape (bspline_sdk or patch_sdk by `mode`)."""
     if mode not in MODES:
         raise WorkbenchError("mode must be one of %s, not %r" % (", ".join(MODES), mode))
     if mode == "bspline":
-        return bspline_sdk(cage, tolerance, max_level, samples, progress)
+        return bspline_sdk(cage, tolerance, max_level, samples, progress, knot_removal)
     return patch_sdk(cage, tolerance, max_depth, samples, progress)
 
 
@@ -1096,15 +1211,15 @@ def surface_finish(result, step=None):
 
 
 def surface_shape(cage, tolerance=1e-4, mode="bspline", max_level=5, max_depth=8, step=None, samples=256,
-                  progress=None):
+                  progress=None, knot_removal=None):
     """limit surface -> faces -> sewn shell -> solid (when closed) [-> STEP], without a document.
     cage: a cagekit.Cage or a CageKit cage object; mode "bspline" (default: bspline_faces, one face
     per merged SDK surface, max_level) or "patches" (patch_faces, one Bezier face per SDK patch,
     max_depth); step: a path to write (export_step, atomic) or None. Returns the dict of
     bspline_faces / patch_faces plus shell_or_solid's (shape, closed, shells, valid, check),
     step / step_bytes when written, and seconds {"limit", "faces", "sew", "solid", "step",
-    "total"} (total: limit -> sewn solid [-> STEP])."""
-    stage = surface_sdk(cage, tolerance, mode, max_level, max_depth, samples, progress)
+    "total"} (total: limit -> sewn solid [-> STEP]). knot_removal (mode "bspline"): as bspline_faces."""
+    stage = surface_sdk(cage, tolerance, mode, max_level, max_depth, samples, progress, knot_removal)
     return surface_finish(surface_faces(stage), step)
 
 

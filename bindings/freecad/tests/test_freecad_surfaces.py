@@ -12,8 +12,10 @@ The cages are made here, so the test needs no shared files and stays small (seco
   triangles (6 ptex faces beside quads: T-junctions), the bottom's border edges creases; regular
   faces (exact surfaces), extraordinary corners (approximated ones);
 - open: the same cube without its top side (a boundary loop).
-Checks (mode "bspline", CageKitTools.surface_shape): one face per SDK surface (== ptex faces), each
-Part.BSplineSurface equal to the SDK's surface (knots, multiplicities, pole orientation), the
+Checks (mode "bspline", CageKitTools.surface_shape): one face per SDK surface (== ptex faces), the
+default knot removal (fewer control points, surfaces moved by at most a tenth of the tolerance), and
+without it each Part.BSplineSurface equal to the SDK's surface (knots, multiplicities, pole
+orientation), the
 shared borders identical, faces with vertices at the T-junctions; closed cage -> one closed shell
 -> a valid solid of positive volume; one STEP round trip (same face count, one valid solid, each
 face found again, every sampled limit-surface point within tolerance x diagonal + the sewing
@@ -135,13 +137,37 @@ def main(out_dir):
           % info.max_error_rel)
     g = np.linspace(0.0, 1.0, 5)
     uv = np.stack(np.meshgrid(g, g, indexing="ij"), axis=-1).reshape(-1, 2)
-    worst = 0.0
-    for part, sdk_surface in zip(r["surfaces"], r["sdk_surfaces"]):
-        mine = np.array([tuple(part.value(float(u), float(v))) for u, v in uv])
-        worst = max(worst, float(np.linalg.norm(mine - sdk_surface.evaluate(uv), axis=1).max()))
-    check(worst <= 1e-12 * diag and all(p.UDegree == 3 and p.VDegree == 3 and not p.isURational()
-                                        for p in r["surfaces"]),
-          "each Part.BSplineSurface equals its SDK surface at 25 (u, v) (%.1e of the diagonal)" % (worst / diag))
+
+    def largest_gap(result):
+        worst = 0.0
+        for part, sdk_surface in zip(result["surfaces"], result["sdk_surfaces"]):
+            mine = np.array([tuple(part.value(float(u), float(v))) for u, v in uv])
+            worst = max(worst, float(np.linalg.norm(mine - sdk_surface.evaluate(uv), axis=1).max()))
+        return worst
+
+    # Knot removal (the default: a tenth of the tolerance) moves surfaces by at most that much.
+    removal, counts = r["knot_removal"], r["counts"]
+    worst = largest_gap(r)
+    check(removal == 0.1 * TOLERANCE and counts["control_points"] < counts["control_points_before"]
+          and 0 < r["max_knot_removal_deviation_rel"] <= removal and worst <= (removal + 1e-12) * diag
+          and r["sew_tolerance"] >= 2.5 * removal * diag,
+          "knot removal by default (%.0e of the diagonal): %d of %d control points left, surfaces moved by at most "
+          "%.1e measured on 33 x 33 grids, %.1e at 25 (u, v) against cagekit's evaluate; sewing tolerance %.1e"
+          % (removal, counts["control_points"], counts["control_points_before"], r["max_knot_removal_deviation_rel"],
+             worst / diag, r["sew_tolerance"] / diag))
+    z = tools.bspline_faces(cage, tolerance=TOLERANCE, samples=0, knot_removal=0)
+    worst = largest_gap(z)
+    check(worst <= 1e-12 * diag and z["counts"]["control_points"] == counts["control_points_before"]
+          and z["max_knot_removal_deviation_rel"] == 0.0
+          and all(p.UDegree == 3 and p.VDegree == 3 and not p.isURational() for p in z["surfaces"]),
+          "knot_removal=0: each Part.BSplineSurface equals its SDK surface at 25 (u, v) (%.1e of the diagonal)"
+          % (worst / diag))
+    try:
+        tools.bspline_faces(cage, tolerance=TOLERANCE, samples=0, knot_removal=-1.0)
+        refused = ""
+    except tools.WorkbenchError as e:
+        refused = str(e)
+    check("knot removal" in refused, "knot_removal=-1 refused: %r" % refused)
     check(r["border_gap"] <= 1e-12 * diag, "shared borders identical (largest gap %.1e of the diagonal; sewing "
           "tolerance %.1e)" % (r["border_gap"] / diag, r["sew_tolerance"] / diag))
     split = [len(f.Edges) for f in r["faces"] if len(f.Edges) > 4]
