@@ -31,9 +31,9 @@ const TextOption kPer{"--per", "face", "face", "one B-spline surface per ptex fa
 const RealOption kSewing{"--sewing-tolerance", 1e-7, 1e-12, 1e-2, "REL",
                          "sewing tolerance relative to the bounding-box diagonal"};
 const RealOption kKnotRemoval{"--knot-removal", -1.0, -1.0, 1.0, "REL",
-                              "remove knots where a surface moves by at most REL of the diagonal (fewer control "
-                              "points, a smaller file; the move is measured and reported; 0: off, -1: a tenth of "
-                              "--tolerance)"};
+                              "remove knots where a surface moves by at most REL of the diagonal and by no more "
+                              "than --tolerance leaves it (fewer control points, a smaller file; the move is "
+                              "measured and reported; 0: off, -1: a tenth of --tolerance)"};
 const TextOption kSchema{"--schema", "AP214", "NAME", "STEP schema: AP214 or AP203"};
 const IntegerOption kThreads{"--threads", 0, 0, 1024, "N", "worker threads for the surface fits (0: all cores)"};
 const FlagOption kCheck{"--check",
@@ -94,6 +94,11 @@ int command_export_surfaces(const Options& args) {
   write.sewing_tolerance = sewing_rel * info.bbox_diagonal;
   const double removal_rel = args.real(kKnotRemoval) < 0 ? 0.1 * options.tolerance : args.real(kKnotRemoval);
   write.knot_removal_tolerance = removal_rel * info.bbox_diagonal;
+  // Each surface moves by at most what the tolerance leaves it: its two-sided distance to the limit
+  // surface grows by at most the move (triangle inequality), so it stays within the tolerance; a
+  // surface already over it keeps its knots.
+  for (size_t i = 0; i < data.size(); ++i)
+    data[i].knot_removal_budget = std::max(0.0, options.tolerance * info.bbox_diagonal - descriptors[i].error);
   write.schema = schema;
   const cagekit_step::WriteReport w = cagekit_step::write_step(data, files[1], write);
   if (!w.ok) throw Failure(kExitBadInput, files[1] + ": " + w.error);

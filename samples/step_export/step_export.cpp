@@ -237,7 +237,9 @@ WriteReport write_step(const std::vector<BSplineSurface>& surfaces, const std::s
     for (size_t i = 0; i < surfaces.size(); ++i) {
       Handle(Geom_BSplineSurface) surface = make_surface(surfaces[i]);
       report.control_points_before += uint64_t(surface->NbUPoles()) * uint64_t(surface->NbVPoles());
-      if (removal > 0) report.max_knot_removal_deviation = std::max(report.max_knot_removal_deviation, remove_knots(surface, removal));
+      const double budget = surfaces[i].knot_removal_budget < 0 ? removal
+                                                                    : std::min(removal, surfaces[i].knot_removal_budget);
+      if (budget > 0) report.max_knot_removal_deviation = std::max(report.max_knot_removal_deviation, remove_knots(surface, budget));
       report.control_points += uint64_t(surface->NbUPoles()) * uint64_t(surface->NbVPoles());
       BRepBuilderAPI_MakeFace make(surface, Precision::Confusion());
       if (!make.IsDone()) throw Invalid("surface " + std::to_string(i) + ": BRepBuilderAPI_MakeFace failed");

@@ -27,6 +27,11 @@ struct BSplineSurface {
   std::vector<double> knots_u, knots_v;
   uint32_t num_u = 0, num_v = 0;
   std::vector<double> points;
+  // This surface's share of knot removal (model units): it moves by at most
+  // min(WriteOptions::knot_removal_tolerance, this). Negative: no limit of its own. A caller that
+  // knows the surface's distance e to what it approximates passes tolerance - e (>= 0), so the
+  // surface stays within the tolerance after removal.
+  double knot_removal_budget = -1.0;
 };
 
 struct WriteOptions {

@@ -312,6 +312,16 @@ TEST(StepExport, knot_removal_takes_a_refined_piece_back_to_its_sixteen_points) 
   ASSERT_TRUE(kink.ok) << kink.error;
   EXPECT_GT(kink.control_points, 16u);
   EXPECT_LE(kink.max_knot_removal_deviation, 1e-9);  // measured against the input, whatever the steps
+  // A surface's own budget caps the removal: 0 keeps every knot; a budget above the option's
+  // value leaves the option's value in charge.
+  cagekit_step::BSplineSurface no_slack = refined, slack = refined;
+  no_slack.knot_removal_budget = 0.0;
+  slack.knot_removal_budget = 1.0;
+  const cagekit_step::WriteReport budgets = cagekit_step::write_step({no_slack, slack}, removed_path, options);
+  ASSERT_TRUE(budgets.ok) << budgets.error;
+  EXPECT_EQ(budgets.control_points_before, 70u);
+  EXPECT_EQ(budgets.control_points, 35u + 16u);
+  EXPECT_LE(budgets.max_knot_removal_deviation, 1e-9);
   options.knot_removal_tolerance = -1;
   EXPECT_FALSE(cagekit_step::write_step({refined}, removed_path, options).ok);
 }

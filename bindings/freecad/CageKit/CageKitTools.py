@@ -1067,7 +1067,11 @@ def bspline_part(stage):
     removal = float(stage.get("knot_removal", 0.0)) * diag
     moved = 0.0
     if removal > 0:
-        reduced = [remove_knots(p, removal, sdk_surface_grid(q) if p.NbUKnots > 2 or p.NbVKnots > 2 else None)
+        # A surface moves by at most what the tolerance leaves it (its two-sided distance to the
+        # limit surface grows by at most the move), and keeps its knots when it has no slack.
+        limit = float(stage["tolerance"]) * diag
+        reduced = [remove_knots(p, min(removal, limit - float(q.error)), sdk_surface_grid(q))
+                   if (p.NbUKnots > 2 or p.NbVKnots > 2) and limit - float(q.error) > 0 else (p, 0.0)
                    for p, q in zip(surfaces, sdk_surfaces)]
         surfaces = [p for p, _ in reduced]
         moved = max((d for _, d in reduced), default=0.0)
@@ -1101,8 +1105,9 @@ def bspline_faces(cage, tolerance=1e-4, max_level=5, samples=256, progress=None,
       samples (face index (m,), limit-surface points (m, 3) from cagekit's Surface.evaluate at the
       surfaces' (u, v)) for checks; seconds {"limit", "faces"};
       knot_removal: the interior knots whose removal moves a surface by at most this fraction of the
-      diagonal (default a tenth of `tolerance`; 0: none) are removed (remove_knots), so a surface is
-      then within tolerance + knot_removal of the limit surface; counts control_points_before /
+      diagonal (default a tenth of `tolerance`; 0: none), and by no more than the tolerance leaves
+      it (tolerance - its error: a surface within the tolerance stays within it), are removed
+      (remove_knots); counts control_points_before /
       control_points, max_knot_removal_deviation_rel (measured on a 33 x 33 grid per surface); the
       sewing tolerance is at least 2.5 x the removal's. (bspline_sdk, then bspline_part.)"""
     return bspline_part(bspline_sdk(cage, tolerance, max_level, samples, progress, knot_removal))
