@@ -1037,7 +1037,9 @@ def bspline_sdk(cage, tolerance=1e-4, max_level=5, samples=256, progress=None, k
     cage_arrays()' dict: usable on a worker thread): a dict mode, sdk_surfaces, info, tolerance,
     knot_removal (the fraction of the diagonal bspline_part's knot removal may move a surface:
     `knot_removal`, or a tenth of `tolerance` when None; 0: no removal), samples, seconds {"limit"}."""
-    knot_removal = 0.1 * float(tolerance) if knot_removal is None else float(knot_removal)
+    if knot_removal is None:  # a bad tolerance is the SDK's to report, with its own message
+        knot_removal = 0.1 * float(tolerance) if 0.0 < float(tolerance) < float("inf") else 0.0
+    knot_removal = float(knot_removal)
     if not (0.0 <= knot_removal < float("inf")):
         raise WorkbenchError("knot removal must be a finite fraction of the diagonal >= 0, not %r" % knot_removal)
     np = numpy()
