@@ -850,43 +850,21 @@ def part_bspline_surface(surface):
     return out
 
 
-def _bspline_basis(knots, degree, t):
-    """(len(t), n) values of the n B-spline basis functions of the full knot vector `knots` at the
-    parameters t (Cox-de Boor; t at the last knot counts in the last non-empty span)."""
-    np = numpy()
-    knots = np.asarray(knots, dtype=np.float64)
-    t = np.asarray(t, dtype=np.float64)
-    n = len(knots) - degree - 1
-    last = np.nonzero(knots[:-1] < knots[-1])[0][-1]  # the last non-empty span
-    b = ((knots[None, :-1] <= t[:, None]) & (t[:, None] < knots[None, 1:])).astype(np.float64)
-    b[t >= knots[-1], :] = 0.0
-    b[t >= knots[-1], last] = 1.0
-    for d in range(1, degree + 1):
-        nxt = np.zeros((len(t), len(knots) - d - 1))
-        for i in range(len(knots) - d - 1):
-            left = knots[i + d] - knots[i]
-            right = knots[i + d + 1] - knots[i + 1]
-            if left > 0:
-                nxt[:, i] += (t - knots[i]) / left * b[:, i]
-            if right > 0:
-                nxt[:, i] += (knots[i + d + 1] - t) / right * b[:, i + 1]
-        b = nxt
-    return b[:, :n]
-
-
 _GRID_BASES = {}
 
 
 def _grid_basis(knots, degree, count):
-    """_bspline_basis at count equidistant parameters over the knots' range, memoised (the SDK's
-    surfaces share a few knot vectors)."""
+    """cagekit's bspline_basis (the SDK surfaces' own evaluation) at count equidistant parameters
+    over the knots' range, memoised (the SDK's surfaces share a few knot vectors)."""
     np = numpy()
     key = (tuple(float(k) for k in knots), int(degree), int(count))
     basis = _GRID_BASES.get(key)
     if basis is None:
         if len(_GRID_BASES) > 256:
             _GRID_BASES.clear()
-        basis = _GRID_BASES[key] = _bspline_basis(key[0], degree, np.linspace(key[0][0], key[0][-1], count))
+        import importlib
+        bspline_basis = importlib.import_module(sdk().__name__ + ".limit_surfaces").bspline_basis
+        basis = _GRID_BASES[key] = bspline_basis(np.array(key[0]), degree, np.linspace(key[0][0], key[0][-1], count))
     return basis
 
 
