@@ -12,14 +12,7 @@
 // that trisect α_i ("ports"; the selection counts them as two points).
 //
 // Per pair of ports (p, q) on different, non-neighbouring points whose chord lies in front of both
-// tangents, (6.3) E(λ, μ) = ∫₀¹ κ²(t) dt (over the curve parameter, as printed; the arc-length
-// version ∫κ² ds has no minimiser for a U-turn: it decreases as the curve grows) is minimised
-// for λ, μ ≥ λ_min = 1e-3·|c_j − c_i| (at λ = 0 the curvature is singular at t = 0) by an 8×8
-// log-spaced grid over [0.03, 1.8]·|c_j − c_i| and a compass search from its 3 best local minima
-// and from (a·|X − c_i|, b·|X − c_j|), (a, b) = (0.95, 0.1), (0.1, 0.95), (0.67, 0.67), where the
-// tangent lines meet at X in front of both points; a trial point whose control legs
-// [c_i, c_i + λ q_i] and [c_j, c_j + μ q_j] touch is ignored (so the legs of the result never
-// cross). Facing collinear tangents (E ≡ 0) get λ = μ = |c_j − c_i|/3. Afterwards a curve whose
+// tangents, the minimum-bending-energy cubic (6.2)-(6.3) (bending_fit.h). Afterwards a curve whose
 // polyline (`polyline_segments` pieces, equal parameter steps) crosses or touches a boundary loop
 // away from its own end points, or crosses itself, is discarded.
 //
@@ -33,41 +26,10 @@
 
 #include "core/task_monitor.h"
 #include "core/vec2.h"
+#include "layout/quad/bending_fit.h"
+#include "layout/quad/plane_geometry.h"
 
 CAGEKIT_NAMESPACE_BEGIN
-
-// Geometry of the parameter plane used by the network, its selection and element energy.
-namespace plane2 {
-// Counter-clockwise angle in [0, 2π) that turns direction `from` onto direction `to`.
-double ccw_angle(const Vec2& from, const Vec2& to);
-// Closed segments [a, b] and [c, d] share a point (collinear overlaps included). When they cross
-// at a single point, *s and *t (optional) receive its parameters on the two segments.
-bool segments_intersect(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d, double* s = nullptr,
-                        double* t = nullptr);
-double signed_area(const std::vector<Vec2>& polygon);
-}  // namespace plane2
-
-struct CubicBezier2 {
-  std::array<Vec2, 4> control;
-  Vec2 eval(double t) const;
-  Vec2 derivative(double t) const;
-  Vec2 second_derivative(double t) const;
-};
-
-// (6.2): b(t) = c_i B0 + (c_i + λ q_i) B1 + (c_j + μ q_j) B2 + c_j B3.
-CubicBezier2 connecting_bezier(const Vec2& ci, const Vec2& qi, const Vec2& cj, const Vec2& qj, double lambda,
-                               double mu);
-// (6.3) by composite 4-point Gauss-Legendre over `intervals` equal pieces of [0, 1]; +inf where
-// b' vanishes at a node.
-double bending_energy(const CubicBezier2& curve, int intervals = 8);
-
-struct BendingFit {
-  double lambda = 0.0, mu = 0.0, energy = 0.0;
-  int evaluations = 0;
-  bool valid = false;  // false: every trial point had crossing legs
-};
-// Minimum of (6.3) over λ, μ (see the file comment). q_i and q_j must be unit vectors.
-BendingFit minimize_bending_energy(const Vec2& ci, const Vec2& qi, const Vec2& cj, const Vec2& qj);
 
 struct CurveNetworkOptions {
   double min_angle = 2.0943951023931957;      // ψ = 2π/3: eligibility needs α_i > ψ
