@@ -10,7 +10,7 @@ and how many runs reach the thesis's shares.
 
 Usage (library and bindings of a build):
     CAGEKIT_LIBRARY=build/sdk/capi/libcagekit.so PYTHONPATH=bindings/python \\
-        /usr/bin/python3 tests/bench/table_six_one_spread.py [--runs N] MESH.obj...
+        /usr/bin/python3 tests/bench/table_six_one_spread.py [--runs N] [--passes P] MESH.obj...
 Meshes are matched by file name: fandisk, rocker-arm (the shared meshes).
 """
 import argparse
@@ -42,6 +42,7 @@ def rotation(rng: np.random.Generator) -> np.ndarray:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=10)
+    parser.add_argument("--passes", type=int, default=1, help="sample-count refinement passes (the default: 1)")
     parser.add_argument("meshes", nargs="+")
     args = parser.parse_args()
     for path in args.meshes:
@@ -57,7 +58,8 @@ def main() -> int:
         runs = []
         for k in range(args.runs):
             turn = np.eye(3) if k == 0 else rotation(rng)
-            _, report = cagekit.remesh_quad(cagekit.Mesh.from_arrays(positions @ turn.T, face_list), **options)
+            _, report = cagekit.remesh_quad(cagekit.Mesh.from_arrays(positions @ turn.T, face_list),
+                                            refinement_passes=args.passes, **options)
             q = 100.0 * report.quads / report.faces
             v = 100.0 * report.valence4_vertices / report.interior_vertices
             runs.append((report.faces, q, v))
