@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "core/io/mesh_io.h"
+#include "core/memory_budget.h"
 #include "test_support.h"
 
 using namespace cagekit;
@@ -391,6 +392,79 @@ TEST(io_bad_input, DracoPointCloudsAndBrokenCageKitData) {
                                   encode(1, {1, 4, 1, 1, 0}, true, {5, 6, 7}).size(), FileFormat::draco, "ok.drc")
                 .mesh.positions[3],
             Vec3(5, 6, 7));
+}
+
+// libdraco reserves arrays from the counts a stream declares before it checks them; the reader
+// checks them against ReadOptions and the memory budget first (CI's fuzz_draco found a 206-byte
+// stream declaring 1.18e9 triangles that made libdraco reserve 4.7 GB).
+TEST(io_bad_input, DracoDeclaredCountsAreCheckedBeforeDecoding) {
+  // The fuzzer's stream: bitstream 1.0, edgebreaker (valence), 0x46464646 triangles.
+  const char* hex =
+      "445241434f01000101020102800104" "6e4646464646464646464646464646464646464646464646464646464646464646"
+      "4646464646464646464646464646464646464646464646464646464646464646464646616d65116361676b69745f76"
+      "65727465785f6964000810";
+  std::vector<uint8_t> hostile;
+  for (const char* c = hex; c[0] && c[1]; c += 2) hostile.push_back(uint8_t(std::stoul(std::string(c, 2), nullptr, 16)));
+  ASSERT_EQ(hostile[15], 0x6e);
+  ReadOptions fuzz_limits;
+  fuzz_limits.max_vertices = fuzz_limits.max_faces = 1u << 20;
+  expect_error(hostile, FileFormat::draco, Status::limit_exceeded, {"declares 1179010630 triangles", "max_faces"},
+               "oom.drc", fuzz_limits);
+  expect_error(hostile, FileFormat::draco, Status::limit_exceeded, {"declares 1179010630 triangles"}, "oom.drc");
+  // Under the limit but over the memory budget: refused before libdraco allocates.
+  std::vector<uint8_t> big = hostile;
+  const uint32_t triangles = 1u << 27, vertices = 3;
+  for (int k = 0; k < 4; ++k) {  // bytes 24..32: attribute data, symbols, split symbols
+    big[16 + k] = uint8_t(vertices >> (8 * k));
+    big[20 + k] = uint8_t(triangles >> (8 * k));
+    big[29 + k] = 0;
+  }
+  {
+    const ScopedMemoryBudget budget(uint64_t(1) << 30);
+    expect_error(big, FileFormat::draco, Status::out_of_memory, {"decoding the Draco stream"}, "big.drc");
+  }
+  // More vertices than triangles can carry.
+  std::vector<uint8_t> many_vertices = hostile;
+  for (int k = 0; k < 4; ++k) {
+    many_vertices[16 + k] = uint8_t(0x7fffffffu >> (8 * k));
+    many_vertices[20 + k] = uint8_t(1u >> (8 * k));
+  }
+  expect_error(many_vertices, FileFormat::draco, Status::limit_exceeded, {"vertices for 1 triangles"}, "v.drc",
+               fuzz_limits);
+
+  // Real streams of both connectivity encodings: the declared count is the triangle count, so a
+  // limit of exactly that count reads and one less is refused before decoding.
+  draco::Mesh mesh;
+  const int n = 6;  // (n+1)^2 points, 2 n^2 triangles
+  mesh.set_num_points((n + 1) * (n + 1));
+  draco::GeometryAttribute position;
+  position.Init(draco::GeometryAttribute::POSITION, nullptr, 3, draco::DT_FLOAT32, false, 12, 0);
+  draco::PointAttribute* pos = mesh.attribute(mesh.AddAttribute(position, true, (n + 1) * (n + 1)));
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const float xyz[3] = {float(i), float(j), float((i * j) % 3)};
+      pos->SetAttributeValue(draco::AttributeValueIndex(j * (n + 1) + i), xyz);
+    }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const uint32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+      mesh.AddFace({draco::PointIndex(a), draco::PointIndex(b), draco::PointIndex(d)});
+      mesh.AddFace({draco::PointIndex(a), draco::PointIndex(d), draco::PointIndex(c)});
+    }
+  for (draco::MeshEncoderMethod method : {draco::MESH_SEQUENTIAL_ENCODING, draco::MESH_EDGEBREAKER_ENCODING}) {
+    draco::Encoder e;
+    e.SetEncodingMethod(method);
+    draco::EncoderBuffer b;
+    ASSERT_TRUE(e.EncodeMeshToBuffer(mesh, &b).ok());
+    const std::vector<uint8_t> bytes(b.data(), b.data() + b.size());
+    ReadOptions exact;
+    exact.max_faces = 2 * n * n;
+    const Outcome ok = try_read(bytes, FileFormat::draco, "grid.drc", exact);
+    ASSERT_TRUE(ok.ok) << ok.message;
+    ReadOptions one_less;
+    one_less.max_faces = 2 * n * n - 1;
+    expect_error(bytes, FileFormat::draco, Status::limit_exceeded, {"declares 72 triangles"}, "grid.drc", one_less);
+  }
 }
 
 TEST(io_bad_input, UnreadableFilesAreIoErrors) {

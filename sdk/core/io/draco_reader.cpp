@@ -3,18 +3,95 @@
 // vertex order, polygons, face order and tags; any other Draco mesh is read as triangles over
 // its position values. Point clouds are refused ("not a mesh").
 #include <draco/compression/decode.h>
+#include <draco/compression/point_cloud/point_cloud_decoder.h>
+#include <draco/core/varint_decoding.h>
 #include <draco/mesh/mesh.h>
+#include <draco/metadata/metadata_decoder.h>
 
 #include <cmath>
 #include <string>
 
 #include "core/io/draco_layout.h"
 #include "core/io/io_internal.h"
+#include "core/memory_budget.h"
 
 CAGEKIT_NAMESPACE_BEGIN
 namespace io_detail {
 
 namespace {
+
+// The counts a Draco mesh stream declares ahead of its connectivity. libdraco sizes its arrays
+// from them before it reads (or checks) anything else: a few bytes can declare a billion
+// triangles and make it reserve gigabytes (found by fuzz_draco). Read here exactly as
+// libdraco 1.5 reads them (PointCloudDecoder::Decode, then the connectivity decoders).
+struct DeclaredCounts {
+  uint64_t triangles = 0;
+  uint64_t vertices = 0;  // edgebreaker: encoded vertices + split symbols; sequential: points
+};
+
+template <typename T>
+bool read_count(draco::DecoderBuffer& buffer, bool fixed_width, uint64_t& out) {
+  T value = 0;
+  const bool ok = fixed_width ? buffer.Decode(&value) : draco::DecodeVarint(&value, &buffer);
+  out = value;
+  return ok;
+}
+
+// False when the stream ends or is malformed before the counts: libdraco then fails by itself.
+bool peek_declared_counts(const uint8_t* data, size_t size, DeclaredCounts& counts) {
+  draco::DecoderBuffer buffer;
+  buffer.Init(reinterpret_cast<const char*>(data), size);
+  draco::DracoHeader header;
+  if (!draco::PointCloudDecoder::DecodeHeader(&buffer, &header).ok()) return false;
+  if (header.encoder_type != draco::TRIANGULAR_MESH) return false;
+  const uint16_t version = DRACO_BITSTREAM_VERSION(header.version_major, header.version_minor);
+  buffer.set_bitstream_version(version);
+  if (version >= DRACO_BITSTREAM_VERSION(1, 3) && (header.flags & METADATA_FLAG_MASK)) {
+    draco::GeometryMetadata metadata;
+    if (!draco::MetadataDecoder().DecodeGeometryMetadata(&buffer, &metadata)) return false;
+  }
+  if (header.encoder_method == draco::MESH_SEQUENTIAL_ENCODING) {
+    const bool fixed = version < DRACO_BITSTREAM_VERSION(2, 2);
+    return read_count<uint32_t>(buffer, fixed, counts.triangles) &&
+           read_count<uint32_t>(buffer, fixed, counts.vertices);
+  }
+  if (header.encoder_method != draco::MESH_EDGEBREAKER_ENCODING) return false;
+  uint8_t traversal = 0;
+  if (!buffer.Decode(&traversal)) return false;
+  const bool fixed = version < DRACO_BITSTREAM_VERSION(2, 0);
+  uint64_t unused = 0, encoded_vertices = 0, symbols = 0, split_symbols = 0;
+  if (version < DRACO_BITSTREAM_VERSION(2, 2) && !read_count<uint32_t>(buffer, fixed, unused)) return false;
+  if (!read_count<uint32_t>(buffer, fixed, encoded_vertices)) return false;
+  if (!read_count<uint32_t>(buffer, fixed, counts.triangles)) return false;
+  counts.vertices = encoded_vertices;
+  uint8_t attribute_data = 0;
+  if (!buffer.Decode(&attribute_data)) return true;
+  if (!read_count<uint32_t>(buffer, fixed, symbols)) return true;
+  if (!read_count<uint32_t>(buffer, fixed, split_symbols)) return true;
+  counts.vertices = encoded_vertices + split_symbols;
+  return true;
+}
+
+// Draco streams store triangles: ReadOptions::max_faces bounds the triangles a stream declares
+// (for a CageKit polygon file that is its fan triangles), and a valid stream has at most three
+// vertices per triangle (plus, for plain files, isolated points up to max_vertices).
+void check_declared_counts(const uint8_t* data, size_t size, const ReadContext& context) {
+  DeclaredCounts counts;
+  if (!peek_declared_counts(data, size, counts)) return;
+  if (counts.triangles > context.options.max_faces)
+    context.fail_here("the Draco stream declares " + std::to_string(counts.triangles) +
+                          " triangles, more than ReadOptions::max_faces",
+                      Status::limit_exceeded);
+  const uint64_t vertex_bound = estimate_sum(context.options.max_vertices, estimate_product(4, counts.triangles));
+  if (counts.vertices > vertex_bound)
+    context.fail_here("the Draco stream declares " + std::to_string(counts.vertices) + " vertices for " +
+                          std::to_string(counts.triangles) + " triangles, more than ReadOptions::max_vertices allows",
+                      Status::limit_exceeded);
+  // libdraco's corner table, traversal and attribute arrays: about 64 bytes per triangle and 48
+  // per vertex at their peak.
+  check_memory_estimate(estimate_sum(estimate_product(counts.triangles, 64), estimate_product(counts.vertices, 48)),
+                        (context.source + ": decoding the Draco stream").c_str());
+}
 
 std::unique_ptr<draco::Mesh> decode_mesh(const uint8_t* data, size_t size, const ReadContext& context) {
   if (size == 0) context.fail_here("empty file: no vertices");
@@ -24,6 +101,7 @@ std::unique_ptr<draco::Mesh> decode_mesh(const uint8_t* data, size_t size, const
   if (!type.ok()) context.fail_here(std::string("not a Draco file: ") + type.status().error_msg());
   if (type.value() == draco::POINT_CLOUD) context.fail_here("a Draco point cloud, not a mesh");
   if (type.value() != draco::TRIANGULAR_MESH) context.fail_here("not a Draco mesh");
+  check_declared_counts(data, size, context);
   draco::Decoder decoder;
   auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
   if (!decoded.ok()) context.fail_here(std::string("corrupt Draco data: ") + decoded.status().error_msg());
