@@ -40,7 +40,9 @@ FileFormat file_format_from_path(const std::string& path);
 FileFormat sniff_file_format(const uint8_t* data, size_t size);
 
 struct ReadOptions {
-  // Hard ceilings, on top of the "counts must fit in the remaining bytes" rule.
+  // Hard ceilings, on top of the "counts must fit in the remaining bytes" rule. Draco streams
+  // store triangles: there max_faces bounds the triangles the stream declares (a CageKit polygon
+  // file's fan triangles), checked before libdraco allocates for them.
   uint64_t max_vertices = uint64_t(1) << 28;
   uint64_t max_faces = uint64_t(1) << 28;
   uint32_t max_face_size = 1u << 16;
