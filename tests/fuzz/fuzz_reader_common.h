@@ -54,10 +54,11 @@ inline void check_cage_structure(const cagekit::Cage& cage) {
   (void)report.ok();
 }
 
-inline int read_one(const uint8_t* data, size_t size, cagekit::FileFormat format) {
+inline int read_one(const uint8_t* data, size_t size, cagekit::FileFormat format,
+                    const cagekit::ReadOptions& options = fuzz_read_options()) {
   cagekit::Cage cage;
   try {
-    cage = cagekit::read_cage_from_memory(data, size, format, "<fuzz>", fuzz_read_options());
+    cage = cagekit::read_cage_from_memory(data, size, format, "<fuzz>", options);
   } catch (const cagekit::Error&) {
     return 0;  // rejected input: fine
   }

@@ -429,8 +429,8 @@ TEST(io_bad_input, DracoDeclaredCountsAreCheckedBeforeDecoding) {
     many_vertices[16 + k] = uint8_t(0x7fffffffu >> (8 * k));
     many_vertices[20 + k] = uint8_t(1u >> (8 * k));
   }
-  expect_error(many_vertices, FileFormat::draco, Status::limit_exceeded, {"vertices for 1 triangles"}, "v.drc",
-               fuzz_limits);
+  expect_error(many_vertices, FileFormat::draco, Status::parse_error, {"vertices for 1 triangles", "more than the 4 "},
+               "v.drc", fuzz_limits);
 
   // Real streams of both connectivity encodings: the declared count is the triangle count, so a
   // limit of exactly that count reads and one less is refused before decoding.

@@ -27,6 +27,7 @@ namespace {
 struct DeclaredCounts {
   uint64_t triangles = 0;
   uint64_t vertices = 0;  // edgebreaker: encoded vertices + split symbols; sequential: points
+  bool edgebreaker = false;
 };
 
 template <typename T>
@@ -56,6 +57,7 @@ bool peek_declared_counts(const uint8_t* data, size_t size, DeclaredCounts& coun
            read_count<uint32_t>(buffer, fixed, counts.vertices);
   }
   if (header.encoder_method != draco::MESH_EDGEBREAKER_ENCODING) return false;
+  counts.edgebreaker = true;
   uint8_t traversal = 0;
   if (!buffer.Decode(&traversal)) return false;
   const bool fixed = version < DRACO_BITSTREAM_VERSION(2, 0);
@@ -73,8 +75,9 @@ bool peek_declared_counts(const uint8_t* data, size_t size, DeclaredCounts& coun
 }
 
 // Draco streams store triangles: ReadOptions::max_faces bounds the triangles a stream declares
-// (for a CageKit polygon file that is its fan triangles), and a valid stream has at most three
-// vertices per triangle (plus, for plain files, isolated points up to max_vertices).
+// (for a CageKit polygon file that is its fan triangles). A valid edgebreaker stream has at most
+// three vertices per triangle plus one per split symbol (at most one per triangle); a sequential
+// stream's points are at most three per triangle plus isolated points (up to max_vertices).
 void check_declared_counts(const uint8_t* data, size_t size, const ReadContext& context) {
   DeclaredCounts counts;
   if (!peek_declared_counts(data, size, counts)) return;
@@ -82,11 +85,16 @@ void check_declared_counts(const uint8_t* data, size_t size, const ReadContext& 
     context.fail_here("the Draco stream declares " + std::to_string(counts.triangles) +
                           " triangles, more than ReadOptions::max_faces",
                       Status::limit_exceeded);
-  const uint64_t vertex_bound = estimate_sum(context.options.max_vertices, estimate_product(4, counts.triangles));
+  const uint64_t vertex_bound = counts.edgebreaker ? estimate_product(4, counts.triangles)
+                                                  : estimate_sum(context.options.max_vertices,
+                                                                 estimate_product(3, counts.triangles));
   if (counts.vertices > vertex_bound)
     context.fail_here("the Draco stream declares " + std::to_string(counts.vertices) + " vertices for " +
-                          std::to_string(counts.triangles) + " triangles, more than ReadOptions::max_vertices allows",
-                      Status::limit_exceeded);
+                          std::to_string(counts.triangles) + " triangles, more than the " +
+                          std::to_string(vertex_bound) + " " +
+                          (counts.edgebreaker ? "they can have (corrupt connectivity header)"
+                                              : "they and ReadOptions::max_vertices allow"),
+                      counts.edgebreaker ? Status::parse_error : Status::limit_exceeded);
   // libdraco's corner table, traversal and attribute arrays: about 64 bytes per triangle and 48
   // per vertex at their peak.
   check_memory_estimate(estimate_sum(estimate_product(counts.triangles, 64), estimate_product(counts.vertices, 48)),
