@@ -959,12 +959,45 @@ class Builder {
     return marked;
   }
 
+  // What a segment's fit depends on besides the limit surface: its level, which legs keep the
+  // limit's tangent, which attached surfaces are exact (cover() samples those), and (inner n-gon
+  // segments) the edge midpoint it starts from.
+  std::vector<double> segment_inputs(const Segment& s) const {
+    std::vector<double> in{double(s.level), double(s.keep_tangent[0]), double(s.keep_tangent[1])};
+    for (const Attachment& a : s.attachments) in.push_back(double(exact_[a.ptex]));
+    if (s.key0 >> 62) {
+      const auto it = corners_.find(s.key0);
+      if (it != corners_.end()) in.insert(in.end(), {it->second.x, it->second.y, it->second.z});
+    }
+    return in;
+  }
+
+  // Fits the segments whose inputs changed since their last fit (a round raises few levels; the
+  // others keep their curves). segment_version_ counts each segment's fits.
   void fit_segments() {
-    corners_.clear();
+    segment_inputs_.resize(segments_.size());
+    segment_version_.resize(segments_.size(), 0);
     // Cage-edge segments first (they define the edge midpoints), then the inner ones.
     for (int pass = 0; pass < 2; ++pass)
-      for (Segment& s : segments_)
-        if (((s.key0 >> 62) != 0) == (pass == 1) && !s.attachments.empty()) fit_segment(s);
+      for (size_t i = 0; i < segments_.size(); ++i) {
+        Segment& s = segments_[i];
+        if (((s.key0 >> 62) != 0) != (pass == 1) || s.attachments.empty()) continue;
+        std::vector<double> in = segment_inputs(s);
+        if (segment_version_[i] > 0 && in == segment_inputs_[i]) continue;
+        fit_segment(s);
+        segment_inputs_[i] = std::move(in);
+        ++segment_version_[i];
+      }
+  }
+
+  // What a surface's fit depends on: its levels and its four borders' fits.
+  std::array<uint64_t, 6> surface_inputs(uint32_t p) const {
+    std::array<uint64_t, 6> in{uint64_t(level_[p][0]), uint64_t(level_[p][1]), 0, 0, 0, 0};
+    for (size_t side = 0; side < 4; ++side) {
+      const int segment = sides_[p][side].segment;
+      in[2 + side] = segment < 0 ? ~uint64_t(0) : segment_version_[size_t(segment)];
+    }
+    return in;
   }
 
   int spans_of(uint32_t ptex, int direction) const {
@@ -990,6 +1023,7 @@ class Builder {
     check_memory_estimate(estimate_product(control_points, 2 * sizeof(Vec3)), "limit B-spline surfaces");
     fit_segments();
     for (int repair = 0; repair < 2 && check_corners(); ++repair) fit_segments();
+    fitted_.resize(num_ptex);
 
     LimitBSplineSurfaces result;
     result.level = max_level;
@@ -1008,8 +1042,15 @@ class Builder {
       run_ranges(end - begin, std::min(workers, end - begin), [&](size_t b, size_t e, size_t) {
         for (size_t k = begin + b; k < begin + e; ++k) {
           const uint32_t p = ptex_list[k];
+          // A surface whose inputs did not change since the last round is the same surface.
+          const std::array<uint64_t, 6> in = surface_inputs(p);
+          if (fitted_[p].valid && fitted_[p].inputs == in) {
+            result.surfaces[k] = fitted_[p].surface;
+            continue;
+          }
           fit_surface(result.surfaces[k], p, spans_of(p, 0), spans_of(p, 1));
           measure(result.surfaces[k], spans_of(p, 0), spans_of(p, 1), tolerance);
+          fitted_[p] = {true, in, result.surfaces[k]};
         }
       });
     }
@@ -1105,7 +1146,17 @@ class Builder {
   std::vector<char> exact_;                                   // per ptex face, this round
   int threads_ = 1;
   std::vector<std::array<int, 2>> level_;                     // per ptex face: knot level in u, v (quad units)
+  // Corner points: cage vertices' limit points (evaluated once) and edge midpoints (set by their
+  // cage edge's last fit).
   std::unordered_map<uint64_t, Vec3> corners_;
+  std::vector<std::vector<double>> segment_inputs_;  // per segment: segment_inputs at its last fit
+  std::vector<uint64_t> segment_version_;             // per segment: number of fits so far
+  struct Fitted {
+    bool valid = false;
+    std::array<uint64_t, 6> inputs{};  // surface_inputs at the fit
+    LimitBSplineSurface surface;       // fitted and measured, sides not filled in yet
+  };
+  std::vector<Fitted> fitted_;  // per ptex face: its last fit (rounds refit only what changed)
 };
 
 }  // namespace

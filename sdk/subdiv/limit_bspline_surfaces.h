@@ -12,7 +12,8 @@
 // refined into the surface's knots by knot insertion (the same curve). Everything starts at
 // min_level; a surface over the tolerance, folded, or with a normal jump above
 // max_normal_jump_deg across a smooth border goes one level up in both directions with
-// its four borders, until no surface below max_level is over. (A quad side next to an n-gon is
+// its four borders, until no surface below max_level is over (each round refits only the borders
+// and surfaces whose levels or inputs changed). (A quad side next to an n-gon is
 // split at its middle knot for the two sub-faces.)
 //
 // Exact surfaces. A ptex face whose limit surface is covered by regular B-spline patches of the
