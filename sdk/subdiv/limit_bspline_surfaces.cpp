@@ -1020,7 +1020,9 @@ class Builder {
       control_points += uint64_t(spans_of(p, 0) + 3) * uint64_t(spans_of(p, 1) + 3);
       max_level = std::max({max_level, level_[p][0], level_[p][1]});
     }
-    check_memory_estimate(estimate_product(control_points, 2 * sizeof(Vec3)), "limit B-spline surfaces");
+    // The points of this round's surfaces, of the previous round's (alive until this round's
+    // result replaces them) and of the last fits kept for the next round (fitted_).
+    check_memory_estimate(estimate_product(control_points, 3 * sizeof(Vec3)), "limit B-spline surfaces");
     fit_segments();
     for (int repair = 0; repair < 2 && check_corners(); ++repair) fit_segments();
     fitted_.resize(num_ptex);
